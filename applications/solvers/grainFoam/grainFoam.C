@@ -1,0 +1,66 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam
+
+Application
+    grainFoam
+
+Group
+    grpLagrangianSolvers
+
+Description
+    Dry granular flow of rigid discs (2D) or spheres (3D) computed with
+    Non-Smooth Contact Dynamics (hard contacts, Signorini + Coulomb, no
+    restitution; nonlinear Gauss-Seidel with a contact queue; thesis
+    chapter 2) inside an OpenFOAM case.  The walls are the mesh's wall
+    patches; a one-cell-thick mesh with empty front/back selects discs.
+
+    Settings: constant/grainProperties, gravity: constant/g.
+    Initial grains: <startTime>/grainState.h5 (written by grainDeposit or by a
+    previous run; startFrom latestTime continues a run bit-for-bit).
+    Output at write times: <time>/lagrangian/grains (foamToVTK) and
+    <time>/grainState.h5.
+
+Usage
+    grainFoam [-case dir]
+\*---------------------------------------------------------------------------*/
+
+#include "grainCloud.H"
+#include "fvCFD.H"
+
+int main(int argc, char *argv[])
+{
+    argList::addNote
+    (
+        "Dry granular flow with Non-Smooth Contact Dynamics (discs in 2D,"
+        " spheres in 3D); walls are the mesh wall patches."
+    );
+
+    #include "setRootCase.H"
+    #include "createTime.H"
+    #include "createMesh.H"
+
+    grainCloud grains(mesh);
+    grains.checkState();
+
+    Info<< "\nStarting time loop\n" << endl;
+
+    while (runTime.run())
+    {
+        ++runTime;
+        Info<< "Time = " << runTime.timeName() << nl;
+
+        grains.evolve(runTime.deltaTValue());
+
+        if (runTime.writeTime())
+        {
+            grains.write();
+            Info<< "Kinetic energy = " << grains.kineticEnergy() << nl;
+        }
+        runTime.write();
+
+        runTime.printExecutionTime(Info);
+    }
+
+    Info<< "End\n" << endl;
+    return 0;
+}

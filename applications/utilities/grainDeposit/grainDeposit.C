@@ -1,0 +1,358 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam
+
+Application
+    grainDeposit
+
+Description
+    Creates the initial grains of a case: fills a box or a cellZone with
+    polydisperse grains (diameters uniform in [dMin, sizeRatio*dMin], seeded
+    random) on a loose jittered lattice, or takes an explicit list, then lets
+    them settle under gravity (NSCD, constant/grainProperties, constant/g)
+    until the largest grain speed falls below a tolerance.  Temporary walls
+    (planes) may hold the packing during settling only (e.g. the gate of a
+    column collapse, removed at release).
+
+    Writes <startTime>/grainState.h5 and <startTime>/lagrangian/grains.
+
+    system/grainDepositDict
+    \verbatim
+    material    glass;              // a material of constant/grainProperties
+    method      box;                // box | cellZone | list
+    box         { min (0 0 0); max (0.1 0.2 0); }   // method box
+    cellZone    column;             // method cellZone
+    grains      ((x y z d) ...);    // method list
+    number      2000;               // box/cellZone: number of grains ...
+    // solidFraction 0.3;           // ... or fraction of the region's volume
+    dMin        2e-3;               // [m]
+    sizeRatio   1.2;                // lambda = d_max/d_min (>= 1)
+    seed        1;
+    settle                          // optional: no settling without it
+    {
+        maxTime     5;              // [s] simulated
+        deltaT      1e-3;           // [s]
+        speedTolerance 1e-3;        // [m/s] at rest when max |v| below this
+        temporaryWalls ( { point (0.1 0 0); normal (-1 0 0); } );
+    }
+    \endverbatim
+\*---------------------------------------------------------------------------*/
+
+#include "grainCloud.H"
+#include "grainDictionaryTools.H"
+#include "fvCFD.H"
+
+#include <random>
+#include <algorithm>
+
+using namespace Foam;
+
+namespace
+{
+
+struct grainSpec { nscd::Vec3 x; double d; };
+
+// Loose jittered lattice over [lo, hi], nodes in fill order (bottom first
+// along -gravity), filtered by accept(point)
+template<class Accept>
+std::vector<nscd::Vec3> latticeNodes
+(
+    const vector& lo, const vector& hi, double spacing, int dim,
+    const vector& up, Accept accept
+)
+{
+    std::vector<nscd::Vec3> nodes;
+    const label nx = label((hi.x() - lo.x())/spacing);
+    const label ny = label((hi.y() - lo.y())/spacing);
+    const label nz = dim == 3 ? label((hi.z() - lo.z())/spacing) : 1;
+    for (label k = 0; k < nz; ++k)
+    for (label j = 0; j < ny; ++j)
+    for (label i = 0; i < nx; ++i)
+    {
+        const vector p
+        (
+            lo.x() + (i + 0.5)*spacing,
+            lo.y() + (j + 0.5)*spacing,
+            dim == 3 ? lo.z() + (k + 0.5)*spacing : 0.5*(lo.z() + hi.z())
+        );
+        if (accept(p))
+        {
+            nodes.emplace_back(p.x(), p.y(), p.z());
+        }
+    }
+    const nscd::Vec3 u(up.x(), up.y(), up.z());
+    std::stable_sort
+    (
+        nodes.begin(), nodes.end(),
+        [&u](const nscd::Vec3& a, const nscd::Vec3& b)
+        {
+            return a.dot(u) < b.dot(u) - 1e-12;
+        }
+    );
+    return nodes;
+}
+
+}
+
+
+int main(int argc, char *argv[])
+{
+    argList::addNote
+    (
+        "Create the initial grains (box, cellZone or list) and let them"
+        " settle under gravity; writes <startTime>/grainState.h5 and"
+        " <startTime>/lagrangian/grains"
+    );
+    argList::noParallel();
+
+    #include "setRootCase.H"
+    #include "createTime.H"
+    #include "createMesh.H"
+
+    IOdictionary depositDict
+    (
+        IOobject
+        (
+            "grainDepositDict",
+            runTime.system(),
+            mesh,
+            IOobject::MUST_READ,
+            IOobject::NO_WRITE
+        )
+    );
+    grainTools::checkKeywords
+    (
+        depositDict,
+        {
+            "material", "method", "box", "cellZone", "grains", "number",
+            "solidFraction", "dMin", "sizeRatio", "seed", "settle"
+        }
+    );
+
+    grainCloud settling(mesh, false);
+    const label dim = settling.dimension();
+    const label matId = settling.materialId(depositDict.get<word>("material"));
+    const word method = depositDict.get<word>("method");
+
+    std::vector<grainSpec> specs;
+
+    if (method == "list")
+    {
+        const List<FixedList<scalar, 4>> list
+        (
+            depositDict.get<List<FixedList<scalar, 4>>>("grains")
+        );
+        for (const auto& g : list)
+        {
+            if (!(g[3] > 0))
+            {
+                FatalIOErrorInFunction(depositDict)
+                    << "Grain at (" << g[0] << ' ' << g[1] << ' ' << g[2]
+                    << ") in 'grains' of " << depositDict.name()
+                    << " has diameter " << g[3] << " <= 0."
+                    << " Fix: give a positive diameter." << exit(FatalIOError);
+            }
+            specs.push_back({nscd::Vec3(g[0], g[1], dim == 3 ? g[2] : 0), g[3]});
+        }
+    }
+    else if (method == "box" || method == "cellZone")
+    {
+        const scalar dMin = grainTools::getPositive(depositDict, "dMin");
+        const scalar lambda = depositDict.getOrDefault<scalar>("sizeRatio", 1);
+        if (lambda < 1)
+        {
+            FatalIOErrorInFunction(depositDict)
+                << "sizeRatio (d_max/d_min) must be >= 1, got " << lambda
+                << exit(FatalIOError);
+        }
+        const scalar dMax = lambda*dMin;
+        const label seed = depositDict.getOrDefault<label>("seed", 1);
+        std::mt19937_64 rng(seed);
+        std::uniform_real_distribution<double> uni(0, 1);
+
+        vector lo, hi;
+        labelHashSet zoneCells;
+        if (method == "box")
+        {
+            const dictionary& b = depositDict.subDict("box");
+            grainTools::checkKeywords(b, {"min", "max"});
+            lo = b.get<vector>("min");
+            hi = b.get<vector>("max");
+        }
+        else
+        {
+            const word zoneName = depositDict.get<word>("cellZone");
+            const label zonei = mesh.cellZones().findZoneID(zoneName);
+            if (zonei < 0)
+            {
+                FatalIOErrorInFunction(depositDict)
+                    << "cellZone " << zoneName << " not found. Zones: "
+                    << flatOutput(mesh.cellZones().names()) << nl
+                    << "    Fix: create it with topoSet/setsToZones"
+                    << exit(FatalIOError);
+            }
+            zoneCells.insert(mesh.cellZones()[zonei]);
+            boundBox bb(mesh.points(), false);
+            bb = boundBox::invertedBox;
+            for (const label celli : mesh.cellZones()[zonei])
+            {
+                for (const label pointi : mesh.cellPoints()[celli])
+                {
+                    bb.add(mesh.points()[pointi]);
+                }
+            }
+            lo = bb.min();
+            hi = bb.max();
+        }
+        if (dim == 2)
+        {
+            lo.z() = mesh.bounds().min().z();
+            hi.z() = mesh.bounds().max().z();
+        }
+
+        // loose lattice: spacing 1.1 d_max, jitter within the free space
+        const scalar spacing = 1.1*dMax;
+        const vector gdir
+        (
+            -settling.system().gravity().x(),
+            -settling.system().gravity().y(),
+            -settling.system().gravity().z()
+        );
+        const scalar zMid = 0.5*(mesh.bounds().min().z() + mesh.bounds().max().z());
+        auto accept = [&](const vector& p) -> bool
+        {
+            const vector pm(p.x(), p.y(), dim == 2 ? zMid : p.z());
+            const label celli = mesh.findCell(pm);
+            if (celli < 0) return false;
+            if (method == "cellZone" && !zoneCells.found(celli)) return false;
+            return true;
+        };
+        const std::vector<nscd::Vec3> nodes =
+            latticeNodes(lo, hi, spacing, dim, gdir, accept);
+
+        const scalar meanVolume = dim == 2
+          ? constant::mathematical::pi/4*sqr(dMin)*(1 + lambda + sqr(lambda))/3
+          : constant::mathematical::pi/6*pow3(dMin)*(1 + lambda)*(1 + sqr(lambda))/4;
+        label number = 0;
+        if (depositDict.found("number"))
+        {
+            number = depositDict.get<label>("number");
+        }
+        else
+        {
+            const scalar frac = grainTools::getPositive(depositDict, "solidFraction");
+            scalar regionVolume = (hi.x() - lo.x())*(hi.y() - lo.y());
+            if (dim == 3) regionVolume *= hi.z() - lo.z();
+            number = label(frac*regionVolume/meanVolume);
+        }
+        if (number < 1 || number > label(nodes.size()))
+        {
+            FatalIOErrorInFunction(depositDict)
+                << "Cannot place " << number << " grains: the region of "
+                << depositDict.name() << " holds " << nodes.size()
+                << " grains on the loose insertion lattice (spacing "
+                << spacing << " m)." << nl
+                << "    Fix: enlarge the region (it may extend above the"
+                << " final bed, grains settle) or ask for fewer grains."
+                << exit(FatalIOError);
+        }
+        const scalar jitter = 0.5*(spacing - dMax);
+        for (label n = 0; n < number; ++n)
+        {
+            const scalar d = dMin + (dMax - dMin)*uni(rng);
+            nscd::Vec3 x = nodes[n];
+            x.x() += jitter*(2*uni(rng) - 1);
+            x.y() += jitter*(2*uni(rng) - 1);
+            if (dim == 3) x.z() += jitter*(2*uni(rng) - 1);
+            else x.z() = 0;
+            specs.push_back({x, d});
+        }
+    }
+    else
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "Unknown method " << method << " in " << depositDict.name()
+            << ". Use box, cellZone or list." << exit(FatalIOError);
+    }
+
+    for (const grainSpec& s : specs)
+    {
+        settling.system().addGrain(s.x, 0.5*s.d, matId);
+    }
+    settling.checkState();
+    Info<< "Placed " << specs.size() << " grains" << endl;
+
+    // Settle under gravity
+    if (depositDict.found("settle"))
+    {
+        const dictionary& sd = depositDict.subDict("settle");
+        grainTools::checkKeywords
+        (
+            sd, {"maxTime", "deltaT", "speedTolerance", "temporaryWalls"}
+        );
+        const scalar maxTime = grainTools::getPositive(sd, "maxTime");
+        const scalar dt = grainTools::getPositive(sd, "deltaT");
+        const scalar vTol = grainTools::getPositive(sd, "speedTolerance");
+        if (sd.found("temporaryWalls"))
+        {
+            const List<dictionary> walls(sd.get<List<dictionary>>("temporaryWalls"));
+            for (const dictionary& w : walls)
+            {
+                grainTools::checkKeywords(w, {"point", "normal"});
+                const vector p = w.get<vector>("point");
+                const vector n = w.get<vector>("normal");
+                settling.system().addPlane
+                (
+                    settling.toSystem(p), settling.toSystem(n)
+                );
+            }
+        }
+        settling.checkState();
+        scalar t = 0;
+        label step = 0;
+        scalar vmax = GREAT;
+        while (t < maxTime)
+        {
+            const nscd::StepReport r = settling.system().advance(dt, 0.1);
+            t += dt;
+            ++step;
+            vmax = 0;
+            for (const nscd::Vec3& v : settling.system().velocities())
+            {
+                vmax = max(vmax, v.norm());
+            }
+            if (step % 100 == 0)
+            {
+                Info<< "settling: t = " << t << " s, max speed " << vmax
+                    << " m/s, contacts " << r.contacts << ", sweeps "
+                    << r.sweeps << endl;
+            }
+            if (t > 20*dt && vmax < vTol)
+            {
+                break;
+            }
+        }
+        Info<< "Settled after " << t << " s (max speed " << vmax << " m/s)"
+            << endl;
+        if (vmax >= vTol)
+        {
+            WarningInFunction
+                << "Grains not at rest after maxTime " << maxTime
+                << " s (max speed " << vmax << " > speedTolerance " << vTol
+                << "). Increase settle.maxTime." << endl;
+        }
+    }
+
+    // The initial state: settled grains at rest, mesh walls only
+    grainCloud initial(mesh, false);
+    const nscd::System& s = settling.system();
+    for (std::size_t i = 0; i < s.size(); ++i)
+    {
+        initial.system().addGrain(s.positions()[i], s.radii()[i], s.materials()[i]);
+    }
+    initial.checkState();
+    initial.write();
+
+    Info<< "Wrote " << s.size() << " grains to " << runTime.timePath() << nl
+        << "End\n" << endl;
+    return 0;
+}

@@ -1,0 +1,577 @@
+#include "grainCloud.H"
+#include "grainDictionaryTools.H"
+#include "uniformDimensionedFields.H"
+#include "wallPolyPatch.H"
+#include "passiveParticleCloud.H"
+#include "IOField.H"
+#include "OSspecific.H"
+
+#include <cmath>
+
+// * * * * * * * * * * * * * * Static Data Members * * * * * * * * * * * * * //
+
+const Foam::word Foam::grainCloud::stateFileName("grainState.h5");
+const Foam::word Foam::grainCloud::cloudName("grains");
+
+
+// * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+namespace
+{
+    inline nscd::Vec3 toVec3(const Foam::vector& v)
+    {
+        return nscd::Vec3(v.x(), v.y(), v.z());
+    }
+    inline Foam::vector toVector(const nscd::Vec3& v)
+    {
+        return Foam::vector(v.x(), v.y(), v.z());
+    }
+}
+
+
+void Foam::grainCloud::readSettings()
+{
+    grainTools::checkKeywords
+    (
+        dict_,
+        {
+            "materials", "wallPatches", "maxDisplacementFraction",
+            "contactSolver", "movingWalls"
+        }
+    );
+
+    maxDisplacementFraction_ =
+        grainTools::getPositiveOrDefault(dict_, "maxDisplacementFraction", 0.1);
+    if (maxDisplacementFraction_ > 0.5)
+    {
+        FatalIOErrorInFunction(dict_)
+            << "maxDisplacementFraction " << maxDisplacementFraction_
+            << " in " << dict_.name() << " is too large: grains could cross"
+            << " each other within a sub-step. Use a value <= 0.5 (0.1 is"
+            << " the default)." << exit(FatalIOError);
+    }
+
+    const dictionary& mats = dict_.subDict("materials");
+    if (mats.empty())
+    {
+        FatalIOErrorInFunction(mats)
+            << "No material in " << mats.name()
+            << ". Add e.g. glass { density 2500; friction 0.4; }"
+            << exit(FatalIOError);
+    }
+    for (const entry& e : mats)
+    {
+        if (!e.isDict())
+        {
+            FatalIOErrorInFunction(mats)
+                << "Entry '" << e.keyword() << "' of " << mats.name()
+                << " must be a dictionary { density ...; friction ...; }"
+                << exit(FatalIOError);
+        }
+        grainTools::checkKeywords
+        (
+            e.dict(),
+            {
+                "density", "friction", "youngModulus", "poissonRatio",
+                "conductivity", "heatCapacity"
+            }
+        );
+        const scalar mu = e.dict().get<scalar>("friction");
+        if (mu < 0)
+        {
+            FatalIOErrorInFunction(e.dict())
+                << "friction of material " << e.keyword() << " must be >= 0"
+                << exit(FatalIOError);
+        }
+        grainTools::getPositive(e.dict(), "density");
+    }
+}
+
+
+void Foam::grainCloud::applySolverSettings()
+{
+    nscd::System::Settings& s = system_->settings();
+    if (dict_.found("contactSolver"))
+    {
+        const dictionary& cs = dict_.subDict("contactSolver");
+        grainTools::checkKeywords
+        (
+            cs, {"tolerance", "maxIterations", "overlapTolerance"}
+        );
+        s.tolerance =
+            grainTools::getPositiveOrDefault(cs, "tolerance", s.tolerance);
+        s.maxIterations = cs.getOrDefault<label>("maxIterations", s.maxIterations);
+        s.overlapTolerance =
+            grainTools::getPositiveOrDefault
+            (
+                cs, "overlapTolerance", s.overlapTolerance
+            );
+        if (s.maxIterations < 1)
+        {
+            FatalIOErrorInFunction(cs)
+                << "maxIterations must be >= 1" << exit(FatalIOError);
+        }
+    }
+}
+
+
+Foam::label Foam::grainCloud::materialId(const word& name) const
+{
+    const dictionary& mats = dict_.subDict("materials");
+    const wordList names(mats.toc());
+    label id = 0;
+    for (const entry& e : mats)
+    {
+        if (e.keyword() == name)
+        {
+            return id;
+        }
+        ++id;
+    }
+    FatalIOErrorInFunction(mats)
+        << "Unknown material '" << name << "'. Materials defined in "
+        << mats.name() << ": " << flatOutput(names) << exit(FatalIOError);
+    return -1;
+}
+
+
+namespace
+{
+    Foam::labelList wallPatchIds(const Foam::fvMesh& mesh, const Foam::dictionary& dict)
+    {
+        using namespace Foam;
+        const polyBoundaryMesh& pbm = mesh.boundaryMesh();
+        labelList ids;
+        if (dict.found("wallPatches"))
+        {
+            const wordRes names(dict.get<wordRes>("wallPatches"));
+            ids = pbm.patchSet(names).sortedToc();
+            if (ids.empty())
+            {
+                FatalIOErrorInFunction(dict)
+                    << "wallPatches " << flatOutput(names) << " in "
+                    << dict.name() << " matches no patch of the mesh. Patches: "
+                    << flatOutput(pbm.names()) << exit(FatalIOError);
+            }
+        }
+        else
+        {
+            DynamicList<label> w;
+            forAll(pbm, patchi)
+            {
+                if (isA<wallPolyPatch>(pbm[patchi]))
+                {
+                    w.append(patchi);
+                }
+            }
+            ids.transfer(w);
+        }
+        return ids;
+    }
+}
+
+
+void Foam::grainCloud::computePatchWallIds()
+{
+    patchWalls_.clear();
+    const labelList ids(wallPatchIds(mesh_, dict_));
+    label wallId = 0;
+    for (const label patchi : ids)
+    {
+        const polyPatch& pp = mesh_.boundaryMesh()[patchi];
+        labelList walls;
+        if (dimension_ == 2)
+        {
+            walls = identity(pp.size(), wallId);
+            wallId += pp.size();
+        }
+        else
+        {
+            walls = labelList(1, wallId++);
+        }
+        patchWalls_.insert(pp.name(), walls);
+    }
+}
+
+
+void Foam::grainCloud::addMeshWalls()
+{
+    const labelList ids(wallPatchIds(mesh_, dict_));
+    for (const label patchi : ids)
+    {
+        const polyPatch& pp = mesh_.boundaryMesh()[patchi];
+        if (dimension_ == 2)
+        {
+            // Each wall face of a one-cell-thick mesh spans the depth: its
+            // two points on the back plane give the segment.
+            for (const face& f : pp)
+            {
+                DynamicList<nscd::Vec3> back(2);
+                for (const label pointi : f)
+                {
+                    const point& p = mesh_.points()[pointi];
+                    if (p.z() < zMid_)
+                    {
+                        back.append(nscd::Vec3(p.x(), p.y(), 0));
+                    }
+                }
+                if (back.size() != 2)
+                {
+                    FatalErrorInFunction
+                        << "Wall face of patch " << pp.name() << " has "
+                        << back.size() << " points on the back plane; a 2D"
+                        << " mesh must be one cell thick in z with empty"
+                        << " front and back patches." << exit(FatalError);
+                }
+                system_->addSegment(back[0], back[1]);
+            }
+        }
+        else
+        {
+            std::vector<nscd::Vec3> vertices;
+            std::vector<std::array<int, 3>> triangles;
+            const pointField& lp = pp.localPoints();
+            vertices.reserve(lp.size());
+            for (const point& p : lp)
+            {
+                vertices.push_back(toVec3(p));
+            }
+            for (const face& f : pp.localFaces())
+            {
+                for (label k = 1; k + 1 < f.size(); ++k)
+                {
+                    triangles.push_back({f[0], f[k], f[k + 1]});
+                }
+            }
+            system_->addTriangulatedSurface(vertices, triangles);
+        }
+    }
+}
+
+
+void Foam::grainCloud::readMovingWalls()
+{
+    movingWalls_.clear();
+    if (!dict_.found("movingWalls"))
+    {
+        return;
+    }
+    const dictionary& mw = dict_.subDict("movingWalls");
+    for (const entry& e : mw)
+    {
+        if (!e.isDict() || !patchWalls_.found(e.keyword()))
+        {
+            FatalIOErrorInFunction(mw)
+                << "movingWalls entry '" << e.keyword() << "' in "
+                << mw.name() << " must be a dictionary named after a wall"
+                << " patch. Wall patches: " << flatOutput(patchWalls_.sortedToc())
+                << exit(FatalIOError);
+        }
+        const dictionary& d = e.dict();
+        grainTools::checkKeywords(d, {"velocity", "startTime", "endTime"});
+        movingWall w;
+        w.patch = e.keyword();
+        w.velocity = d.get<vector>("velocity");
+        w.startTime = d.getOrDefault<scalar>("startTime", -GREAT);
+        w.endTime = d.getOrDefault<scalar>("endTime", GREAT);
+        w.wallIds = patchWalls_[w.patch];
+        if (dimension_ == 2 && mag(w.velocity.z()) > 0)
+        {
+            FatalIOErrorInFunction(d)
+                << "velocity of moving wall " << w.patch << " has a z"
+                << " component in a 2D case" << exit(FatalIOError);
+        }
+        movingWalls_.append(w);
+    }
+}
+
+
+// * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
+
+Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
+:
+    mesh_(mesh),
+    dict_
+    (
+        IOobject
+        (
+            "grainProperties",
+            mesh.time().constant(),
+            mesh,
+            IOobject::MUST_READ,
+            IOobject::NO_WRITE
+        )
+    ),
+    dimension_(mesh.nSolutionD()),
+    zMid_(0.5*(mesh.bounds().min().z() + mesh.bounds().max().z())),
+    depth_(mesh.bounds().max().z() - mesh.bounds().min().z()),
+    maxDisplacementFraction_(0.1)
+{
+    if (dimension_ == 2 && mesh.solutionD()[vector::Z] != -1)
+    {
+        FatalErrorInFunction
+            << "2D meshes must lie in the x-y plane (one cell thick in z,"
+            << " empty front and back patches)." << exit(FatalError);
+    }
+    if (dimension_ < 2)
+    {
+        FatalErrorInFunction
+            << "The mesh is " << dimension_ << "-dimensional; grains need a"
+            << " 2D (one cell thick in z, empty front/back) or 3D mesh."
+            << exit(FatalError);
+    }
+    if (dimension_ == 3)
+    {
+        zMid_ = 0;
+        depth_ = 1;
+    }
+
+    readSettings();
+
+    const fileName statePath(mesh.time().timePath()/stateFileName);
+    try
+    {
+        if (readState)
+        {
+            if (!isFile(statePath))
+            {
+                FatalErrorInFunction
+                    << "Cannot find the grain state " << statePath << nl
+                    << "    Fix: create the initial grains with grainDeposit,"
+                    << " or start from a time directory that holds "
+                    << stateFileName << exit(FatalError);
+            }
+            system_.reset
+            (
+                new nscd::System(nscd::System::readHDF5(statePath))
+            );
+            if (system_->dimension() != dimension_)
+            {
+                FatalErrorInFunction
+                    << statePath << " holds a " << system_->dimension()
+                    << "D grain system but the mesh is " << dimension_ << "D"
+                    << exit(FatalError);
+            }
+        }
+        else
+        {
+            system_.reset(new nscd::System(dimension_));
+            const dictionary& mats = dict_.subDict("materials");
+            for (const entry& e : mats)
+            {
+                const dictionary& d = e.dict();
+                nscd::Material m;
+                m.density = d.get<scalar>("density");
+                m.friction = d.get<scalar>("friction");
+                m.youngModulus = d.getOrDefault<scalar>("youngModulus", 0);
+                m.poissonRatio = d.getOrDefault<scalar>("poissonRatio", 0);
+                m.conductivity = d.getOrDefault<scalar>("conductivity", 0);
+                m.heatCapacity = d.getOrDefault<scalar>("heatCapacity", 0);
+                system_->addMaterial(m);
+            }
+            addMeshWalls();
+        }
+    }
+    catch (const nscd::InputError& err)
+    {
+        FatalErrorInFunction
+            << "Grain system: " << err.what() << exit(FatalError);
+    }
+
+    computePatchWallIds();
+    label nMeshWalls = 0;
+    forAllConstIters(patchWalls_, iter)
+    {
+        nMeshWalls += iter.val().size();
+    }
+    if (system_->nWalls() != nMeshWalls)
+    {
+        FatalErrorInFunction
+            << statePath << " has " << system_->nWalls() << " walls but the"
+            << " wall patches of the mesh give " << nMeshWalls << "." << nl
+            << "    The mesh or wallPatches changed since the state was"
+            << " written: re-run grainDeposit." << exit(FatalError);
+    }
+    readMovingWalls();
+    applySolverSettings();
+
+    // Gravity: the standard constant/g
+    uniformDimensionedVectorField g
+    (
+        IOobject
+        (
+            "g",
+            mesh.time().constant(),
+            mesh,
+            IOobject::MUST_READ,
+            IOobject::NO_WRITE,
+            false
+        )
+    );
+    vector gv = g.value();
+    if (dimension_ == 2 && mag(gv.z()) > SMALL)
+    {
+        FatalErrorInFunction
+            << "constant/g has a z component " << gv.z() << " in a 2D case"
+            << " (x-y plane)." << exit(FatalError);
+    }
+    system_->setGravity(toVec3(gv));
+
+    Info<< "grainCloud: " << system_->size() << (dimension_ == 2 ? " discs" : " spheres")
+        << ", " << system_->nWalls() << " walls from "
+        << patchWalls_.size() << " wall patches, "
+        << movingWalls_.size() << " moving" << nl << endl;
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+Foam::vector Foam::grainCloud::meshPosition(label i) const
+{
+    const nscd::Vec3& x = system_->positions()[i];
+    return vector(x.x(), x.y(), dimension_ == 2 ? zMid_ : x.z());
+}
+
+
+nscd::Vec3 Foam::grainCloud::toSystem(const vector& p) const
+{
+    return nscd::Vec3(p.x(), p.y(), dimension_ == 2 ? 0 : p.z());
+}
+
+
+void Foam::grainCloud::checkState() const
+{
+    const std::vector<double>& r = system_->radii();
+    for (std::size_t i = 0; i < system_->size(); ++i)
+    {
+        if (!(r[i] > 0))
+        {
+            FatalErrorInFunction
+                << "Grain " << i << " has radius " << r[i] << " <= 0"
+                << exit(FatalError);
+        }
+        const vector p(meshPosition(i));
+        if (mesh_.findCell(p) < 0)
+        {
+            FatalErrorInFunction
+                << "Grain " << i << " at " << p << " (radius " << r[i]
+                << ") is outside the mesh " << mesh_.bounds() << nl
+                << "    Fix: move the grain inside the domain (check the"
+                << " region of grainDepositDict)." << exit(FatalError);
+        }
+    }
+    try
+    {
+        system_->checkInitialOverlaps();
+    }
+    catch (const nscd::InputError& err)
+    {
+        FatalErrorInFunction
+            << "Overlapping grains at start:" << nl << err.what() << nl
+            << "    Fix: regenerate the packing with grainDeposit or reduce"
+            << " the radii." << exit(FatalError);
+    }
+}
+
+
+const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
+{
+    const scalar t0 = mesh_.time().value() - dt;
+    for (const movingWall& w : movingWalls_)
+    {
+        const bool on = (t0 >= w.startTime - SMALL && t0 < w.endTime - SMALL);
+        const nscd::Vec3 v = on ? toVec3(w.velocity) : nscd::Vec3::Zero();
+        for (const label id : w.wallIds)
+        {
+            system_->setWallVelocity(id, v);
+        }
+    }
+
+    report_ = system_->advance(dt, maxDisplacementFraction_);
+
+    for (const nscd::Vec3& x : system_->positions())
+    {
+        if (!x.allFinite())
+        {
+            FatalErrorInFunction
+                << "Non-finite grain position at time " << mesh_.time().timeName()
+                << ". The last written time holds the last good state." << nl
+                << "    Fix: reduce deltaT or maxDisplacementFraction."
+                << exit(FatalError);
+        }
+    }
+
+    Info<< "NSCD: contacts " << report_.contacts
+        << ", sub-steps " << report_.substeps
+        << ", sweeps " << report_.sweeps
+        << ", residual " << report_.residual
+        << (report_.converged ? "" : " (NOT converged)")
+        << ", max overlap/d_min "
+        << report_.maxOverlap/max(system_->minDiameter(), VSMALL)
+        << endl;
+    return report_;
+}
+
+
+Foam::scalar Foam::grainCloud::kineticEnergy() const
+{
+    scalar e = 0;
+    for (std::size_t i = 0; i < system_->size(); ++i)
+    {
+        if (system_->fixed(i)) continue;
+        e += 0.5*system_->mass(i)*system_->velocities()[i].squaredNorm()
+           + 0.5*system_->inertia(i)*system_->angularVelocities()[i].squaredNorm();
+    }
+    return e;
+}
+
+
+void Foam::grainCloud::write() const
+{
+    const Time& runTime = mesh_.time();
+    mkDir(runTime.timePath());
+
+    // HDF5 state (grains are held whole on every rank: each writes its copy)
+    try
+    {
+        system_->writeHDF5(runTime.timePath()/stateFileName);
+    }
+    catch (const nscd::InputError& err)
+    {
+        FatalErrorInFunction << err.what() << exit(FatalError);
+    }
+
+    // Lagrangian cloud for foamToVTK / ParaView: the grains whose centre
+    // lies in this rank's part of the mesh
+    passiveParticleCloud cloud(mesh_, cloudName, IDLList<passiveParticle>());
+    DynamicList<label> ids(system_->size());
+    for (std::size_t i = 0; i < system_->size(); ++i)
+    {
+        const vector p(meshPosition(i));
+        const label celli = mesh_.findCell(p);
+        if (celli >= 0)
+        {
+            cloud.addParticle(new passiveParticle(mesh_, p, celli));
+            ids.append(i);
+        }
+    }
+
+    IOField<scalar> d(cloud.fieldIOobject("d", IOobject::NO_READ), ids.size());
+    IOField<vector> U(cloud.fieldIOobject("U", IOobject::NO_READ), ids.size());
+    IOField<vector> omega(cloud.fieldIOobject("omega", IOobject::NO_READ), ids.size());
+    IOField<label> grainId(cloud.fieldIOobject("grainId", IOobject::NO_READ), ids.size());
+    forAll(ids, k)
+    {
+        const label i = ids[k];
+        d[k] = 2*system_->radii()[i];
+        U[k] = toVector(system_->velocities()[i]);
+        omega[k] = toVector(system_->angularVelocities()[i]);
+        grainId[k] = i;
+    }
+    cloud.write();
+    const bool valid = ids.size() > 0;
+    d.write(valid);
+    U.write(valid);
+    omega.write(valid);
+    grainId.write(valid);
+}

@@ -1,0 +1,93 @@
+"""nscdpost: read nscdFoam case output from Python (tutorial post-processing, tests).
+
+Only the standard library and numpy are needed.  Functions:
+  time_dirs(case)              -> sorted list of (float time, str name) with grains
+  read_grains(case, time_name) -> dict with 'x' (N x 3 [m]), 'd' (N [m]), 'U' (N x 3 [m/s])
+  write_json(path, obj)        -> results.json writer (sorted keys, floats as-is)
+"""
+import json
+import os
+import re
+
+import numpy as np
+
+_FLOAT = r"[-+0-9.eE]+"
+
+
+def _foam_list_body(text):
+    """Return the text between the outermost '(' ... ')' of an OpenFOAM list file."""
+    # strip the FoamFile header
+    i = text.find("FoamFile")
+    if i >= 0:
+        j = text.find("}", i)
+        text = text[j + 1:]
+    start = text.find("(")
+    end = text.rfind(")")
+    if start < 0 or end < 0:
+        return "", 0
+    head = text[:start].strip().split()
+    n = int(head[-1]) if head and head[-1].isdigit() else None
+    return text[start + 1:end], n
+
+
+def _read_file(path):
+    with open(path) as f:
+        return f.read()
+
+
+def read_vector_field(path):
+    text = _read_file(path)
+    m = re.search(r"(\d+)\s*\{\s*\(\s*(%s)\s+(%s)\s+(%s)\s*\)\s*\}" % (_FLOAT, _FLOAT, _FLOAT), text)
+    if m:  # uniform list form  N{(x y z)}
+        return np.tile(np.array([float(m.group(k)) for k in (2, 3, 4)]), (int(m.group(1)), 1))
+    body, n = _foam_list_body(text)
+    vals = re.findall(r"\(\s*(%s)\s+(%s)\s+(%s)\s*\)" % (_FLOAT, _FLOAT, _FLOAT), body)
+    arr = np.array(vals, dtype=float).reshape(-1, 3)
+    if n is not None and len(arr) != n:
+        raise ValueError(f"{path}: expected {n} vectors, read {len(arr)}")
+    return arr
+
+
+def read_scalar_field(path):
+    text = _read_file(path)
+    body, n = _foam_list_body(text)
+    if body == "" and n is None:
+        # uniform list form  N{value}
+        m = re.search(r"(\d+)\s*\{\s*(%s)\s*\}" % _FLOAT, text)
+        if m:
+            return np.full(int(m.group(1)), float(m.group(2)))
+        return np.zeros(0)
+    arr = np.array(body.split(), dtype=float)
+    if n is not None and len(arr) != n:
+        raise ValueError(f"{path}: expected {n} scalars, read {len(arr)}")
+    return arr
+
+
+def time_dirs(case):
+    """Time directories of a case that hold a grains cloud, sorted by time."""
+    out = []
+    for name in os.listdir(case):
+        try:
+            t = float(name)
+        except ValueError:
+            continue
+        if os.path.isfile(os.path.join(case, name, "lagrangian", "grains", "positions")):
+            out.append((t, name))
+    return sorted(out)
+
+
+def read_grains(case, time_name):
+    """Grain centres, diameters and velocities written at one time."""
+    cdir = os.path.join(case, time_name, "lagrangian", "grains")
+    x = read_vector_field(os.path.join(cdir, "positions"))
+    d = read_scalar_field(os.path.join(cdir, "d"))
+    U = read_vector_field(os.path.join(cdir, "U"))
+    if not (len(x) == len(d) == len(U)):
+        raise ValueError(f"{cdir}: inconsistent grain field sizes")
+    return {"x": x, "d": d, "U": U}
+
+
+def write_json(path, obj):
+    with open(path, "w") as f:
+        json.dump(obj, f, indent=2, sort_keys=True)
+        f.write("\n")
