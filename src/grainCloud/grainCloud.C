@@ -7,6 +7,8 @@
 #include "OSspecific.H"
 
 #include <cmath>
+#include <algorithm>
+#include <utility>
 
 // * * * * * * * * * * * * * * Static Data Members * * * * * * * * * * * * * //
 
@@ -171,6 +173,92 @@ namespace
 }
 
 
+namespace
+{
+    //- The 2D wall segments of a patch of a one-cell-thick mesh: the back-plane
+    //  edge of every face, with collinear edges that touch or overlap merged
+    //  into one segment (a straight wall is one segment, so no spurious
+    //  corner contacts appear where two faces meet).
+    std::vector<std::pair<nscd::Vec3, nscd::Vec3>> patchSegments
+    (
+        const Foam::polyMesh& mesh,
+        const Foam::polyPatch& pp,
+        const Foam::scalar zMid
+    )
+    {
+        using namespace Foam;
+        struct line { nscd::Vec3 o, t; std::vector<std::pair<double, double>> iv; };
+        std::vector<line> lines;
+        const scalar tol = 1e-9*mag(mesh.bounds().span());
+        for (const face& f : pp)
+        {
+            DynamicList<nscd::Vec3> back(2);
+            for (const label pointi : f)
+            {
+                const point& p = mesh.points()[pointi];
+                if (p.z() < zMid)
+                {
+                    back.append(nscd::Vec3(p.x(), p.y(), 0));
+                }
+            }
+            if (back.size() != 2)
+            {
+                FatalErrorInFunction
+                    << "Wall face of patch " << pp.name() << " has "
+                    << back.size() << " points on the back plane; a 2D"
+                    << " mesh must be one cell thick in z with empty"
+                    << " front and back patches." << exit(FatalError);
+            }
+            const nscd::Vec3 a = back[0], b = back[1];
+            line* found = nullptr;
+            for (line& l : lines)
+            {
+                const nscd::Vec3 da = a - l.o, db = b - l.o;
+                if
+                (
+                    std::abs(da.x()*l.t.y() - da.y()*l.t.x()) < tol
+                 && std::abs(db.x()*l.t.y() - db.y()*l.t.x()) < tol
+                )
+                {
+                    found = &l;
+                    break;
+                }
+            }
+            if (!found)
+            {
+                lines.push_back({a, (b - a).normalized(), {}});
+                found = &lines.back();
+            }
+            double sa = (a - found->o).dot(found->t);
+            double sb = (b - found->o).dot(found->t);
+            if (sa > sb) std::swap(sa, sb);
+            found->iv.push_back({sa, sb});
+        }
+        std::vector<std::pair<nscd::Vec3, nscd::Vec3>> segs;
+        for (line& l : lines)
+        {
+            std::sort(l.iv.begin(), l.iv.end());
+            double s0 = l.iv[0].first, s1 = l.iv[0].second;
+            for (std::size_t k = 1; k <= l.iv.size(); ++k)
+            {
+                if (k < l.iv.size() && l.iv[k].first <= s1 + tol)
+                {
+                    s1 = std::max(s1, l.iv[k].second);
+                    continue;
+                }
+                segs.push_back({l.o + s0*l.t, l.o + s1*l.t});
+                if (k < l.iv.size())
+                {
+                    s0 = l.iv[k].first;
+                    s1 = l.iv[k].second;
+                }
+            }
+        }
+        return segs;
+    }
+}
+
+
 void Foam::grainCloud::computePatchWallIds()
 {
     patchWalls_.clear();
@@ -182,8 +270,9 @@ void Foam::grainCloud::computePatchWallIds()
         labelList walls;
         if (dimension_ == 2)
         {
-            walls = identity(pp.size(), wallId);
-            wallId += pp.size();
+            const label n = patchSegments(mesh_, pp, zMid_).size();
+            walls = identity(n, wallId);
+            wallId += n;
         }
         else
         {
@@ -202,28 +291,9 @@ void Foam::grainCloud::addMeshWalls()
         const polyPatch& pp = mesh_.boundaryMesh()[patchi];
         if (dimension_ == 2)
         {
-            // Each wall face of a one-cell-thick mesh spans the depth: its
-            // two points on the back plane give the segment.
-            for (const face& f : pp)
+            for (const auto& seg : patchSegments(mesh_, pp, zMid_))
             {
-                DynamicList<nscd::Vec3> back(2);
-                for (const label pointi : f)
-                {
-                    const point& p = mesh_.points()[pointi];
-                    if (p.z() < zMid_)
-                    {
-                        back.append(nscd::Vec3(p.x(), p.y(), 0));
-                    }
-                }
-                if (back.size() != 2)
-                {
-                    FatalErrorInFunction
-                        << "Wall face of patch " << pp.name() << " has "
-                        << back.size() << " points on the back plane; a 2D"
-                        << " mesh must be one cell thick in z with empty"
-                        << " front and back patches." << exit(FatalError);
-                }
-                system_->addSegment(back[0], back[1]);
+                system_->addSegment(seg.first, seg.second);
             }
         }
         else

@@ -1,0 +1,76 @@
+"""Write small grainFoam cases from Python (test helper)."""
+import os
+import subprocess
+
+HEADER = "FoamFile { version 2.0; format ascii; class %s; object %s; }\n"
+
+
+def write(path, cls, obj, body):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(HEADER % (cls, obj))
+        f.write(body)
+
+
+def vec(v):
+    return "(" + " ".join(f"{x:.17g}" for x in v) + ")"
+
+
+def make_box_case(case, lo, hi, cells, gravity, materials, grains=None,
+                  end_time=0.3, dt=1e-3, write_interval=0.1, two_d=True,
+                  extra_props="", deposit=None, wall_patches="walls"):
+    """A box mesh whose six (2D: four) sides are one wall patch `walls`
+    (2D: z faces `frontAndBack` empty), grainProperties, g, controlDict and,
+    if grains is given, a grainDepositDict with method list."""
+    x0, y0, z0 = lo
+    x1, y1, z1 = hi
+    nx, ny, nz = cells
+    verts = [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0),
+             (x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]
+    side = "(1 5 4 0) (0 4 7 3) (2 6 5 1) (3 7 6 2)"
+    ends = "(0 3 2 1) (4 5 6 7)"
+    if two_d:
+        bnd = (f"walls {{ type wall; faces ({side}); }}\n"
+               f"frontAndBack {{ type empty; faces ({ends}); }}\n")
+        nz = 1
+    else:
+        bnd = f"walls {{ type wall; faces ({side} {ends}); }}\n"
+    write(os.path.join(case, "system", "blockMeshDict"), "dictionary", "blockMeshDict",
+          "scale 1;\nvertices (" + " ".join(vec(v) for v in verts) + ");\n"
+          f"blocks ( hex (0 1 2 3 4 5 6 7) ({nx} {ny} {nz}) simpleGrading (1 1 1) );\n"
+          f"boundary (\n{bnd});\n")
+    write(os.path.join(case, "system", "controlDict"), "dictionary", "controlDict",
+          f"application grainFoam; startFrom latestTime; startTime 0; stopAt endTime;\n"
+          f"endTime {end_time}; deltaT {dt}; writeControl adjustableRunTime;\n"
+          f"writeInterval {write_interval}; writeFormat ascii; writePrecision 17;\n"
+          f"timeFormat general; timePrecision 8; runTimeModifiable false;\n")
+    write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
+          "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
+          "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
+          "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n")
+    write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution", "solvers {}\n")
+    write(os.path.join(case, "constant", "g"), "uniformDimensionedVectorField", "g",
+          f"dimensions [0 1 -2 0 0 0 0];\nvalue {vec(gravity)};\n")
+    mats = "\n".join(
+        f"{name} {{ density {m['density']}; friction {m['friction']}; }}"
+        for name, m in materials.items())
+    write(os.path.join(case, "constant", "grainProperties"), "dictionary", "grainProperties",
+          f"materials {{\n{mats}\n}}\n"
+          "contactSolver { tolerance 1e-8; maxIterations 5000; }\n" + extra_props)
+    if grains is not None:
+        first = next(iter(materials))
+        body = deposit if deposit is not None else (
+            f"material {first};\nmethod list;\ngrains (\n" +
+            "\n".join("(" + " ".join(f"{v:.17g}" for v in g) + ")" for g in grains) + "\n);\n")
+        write(os.path.join(case, "system", "grainDepositDict"), "dictionary",
+              "grainDepositDict", body)
+
+
+def run(app, case, env, args=(), check=True):
+    """Run an application in a case; returns CompletedProcess (stdout+stderr)."""
+    p = subprocess.run([app, "-case", case, *args], env=env, capture_output=True, text=True)
+    with open(os.path.join(case, f"log.{app}"), "w") as f:
+        f.write(p.stdout + p.stderr)
+    if check and p.returncode != 0:
+        raise AssertionError(f"{app} failed in {case}:\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}")
+    return p

@@ -1,0 +1,81 @@
+"""Bad input gives a clear FatalError naming the cause (and no crash/NaN run)."""
+import os
+
+import pytest
+
+from foamcase import make_box_case, run, write
+
+G = 9.81
+MAT = {"glass": {"density": 2500, "friction": 0.4}}
+
+
+def base(tmp_path, name, grains, **kw):
+    case = str(tmp_path / name)
+    make_box_case(case, (0, 0, 0), (0.1, 0.1, 0.01), (4, 4, 1), (0, -G, 0), MAT,
+                  grains=grains, end_time=0.01, dt=1e-3, write_interval=0.01, **kw)
+    return case
+
+
+def fails_with(p, *words):
+    out = p.stdout + p.stderr
+    assert p.returncode != 0, "expected a failure"
+    assert "FOAM FATAL" in out, out[-2000:]
+    for w in words:
+        assert w in out, f"'{w}' missing from:\n{out[-2000:]}"
+    assert "Segmentation" not in out and "sigsegv" not in out.lower()
+
+
+def test_overlapping_initial_grains(tmp_path, env):
+    case = base(tmp_path, "overlap", [(0.05, 0.01, 0, 0.01), (0.055, 0.01, 0, 0.01)])
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "Overlapping grains")
+
+
+def test_grain_outside_mesh(tmp_path, env):
+    case = base(tmp_path, "outside", [(0.5, 0.01, 0, 0.01)])
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "outside the mesh")
+
+
+def test_negative_diameter(tmp_path, env):
+    case = base(tmp_path, "negative", [(0.05, 0.01, 0, -0.01)])
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "diameter", "positive")
+
+
+def test_unknown_keyword(tmp_path, env):
+    case = base(tmp_path, "keyword", [(0.05, 0.01, 0, 0.01)], extra_props="frictoin 0.3;\n")
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "Unknown keyword", "frictoin",
+               "grainProperties")
+
+
+def test_unknown_material_keyword(tmp_path, env):
+    case = base(tmp_path, "matkey", [(0.05, 0.01, 0, 0.01)])
+    p = os.path.join(case, "constant", "grainProperties")
+    txt = open(p).read().replace("friction 0.4;", "friction 0.4; densty 3;")
+    open(p, "w").write(txt)
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "Unknown keyword", "densty")
+
+
+def test_missing_grain_properties(tmp_path, env):
+    case = base(tmp_path, "missing", [(0.05, 0.01, 0, 0.01)])
+    os.remove(os.path.join(case, "constant", "grainProperties"))
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "grainProperties")
+
+
+def test_missing_grain_state(tmp_path, env):
+    case = base(tmp_path, "nostate", [(0.05, 0.01, 0, 0.01)])
+    run("blockMesh", case, env)
+    fails_with(run("grainFoam", case, env, check=False), "grainState.h5", "grainDeposit")
+
+
+def test_unknown_material_name(tmp_path, env):
+    case = base(tmp_path, "matname", [(0.05, 0.01, 0, 0.01)])
+    p = os.path.join(case, "system", "grainDepositDict")
+    txt = open(p).read().replace("material glass;", "material sand;")
+    open(p, "w").write(txt)
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "Unknown material", "sand")
