@@ -630,6 +630,7 @@ void Foam::grainCloud::write() const
     IOField<vector> U(cloud.fieldIOobject("U", IOobject::NO_READ), ids.size());
     IOField<vector> omega(cloud.fieldIOobject("omega", IOobject::NO_READ), ids.size());
     IOField<label> grainId(cloud.fieldIOobject("grainId", IOobject::NO_READ), ids.size());
+    IOField<label> fixed(cloud.fieldIOobject("fixed", IOobject::NO_READ), ids.size());
     forAll(ids, k)
     {
         const label i = ids[k];
@@ -637,6 +638,7 @@ void Foam::grainCloud::write() const
         U[k] = toVector(system_->velocities()[i]);
         omega[k] = toVector(system_->angularVelocities()[i]);
         grainId[k] = i;
+        fixed[k] = system_->fixed(i) ? 1 : 0;
     }
     cloud.write();
     const bool valid = ids.size() > 0;
@@ -644,4 +646,5 @@ void Foam::grainCloud::write() const
     U.write(valid);
     omega.write(valid);
     grainId.write(valid);
+    fixed.write(valid);
 }

@@ -2,7 +2,8 @@
 
 Only the standard library and numpy are needed.  Functions:
   time_dirs(case)              -> sorted list of (float time, str name) with grains
-  read_grains(case, time_name) -> dict with 'x' (N x 3 [m]), 'd' (N [m]), 'U' (N x 3 [m/s])
+  read_grains(case, time_name) -> dict with 'x' (N x 3 [m]), 'd' (N [m]), 'U' (N x 3 [m/s]),
+                                'fixed' (N bool)
   write_json(path, obj)        -> results.json writer (sorted keys, floats as-is)
 """
 import json
@@ -82,9 +83,12 @@ def read_grains(case, time_name):
     x = read_vector_field(os.path.join(cdir, "positions"))
     d = read_scalar_field(os.path.join(cdir, "d"))
     U = read_vector_field(os.path.join(cdir, "U"))
-    if not (len(x) == len(d) == len(U)):
+    fixed = np.zeros(len(d), dtype=bool)
+    if os.path.isfile(os.path.join(cdir, "fixed")):
+        fixed = read_scalar_field(os.path.join(cdir, "fixed")) > 0.5
+    if not (len(x) == len(d) == len(U) == len(fixed)):
         raise ValueError(f"{cdir}: inconsistent grain field sizes")
-    return {"x": x, "d": d, "U": U}
+    return {"x": x, "d": d, "U": U, "fixed": fixed}
 
 
 def write_json(path, obj):

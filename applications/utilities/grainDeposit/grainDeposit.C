@@ -27,6 +27,7 @@ Description
     dMin        2e-3;               // [m]
     sizeRatio   1.2;                // lambda = d_max/d_min (>= 1)
     seed        1;
+    fixedRow    { from (0 0.001 0); to (0.5 0.001 0); diameter 2e-3; } // optional rough floor
     settle                          // optional: no settling without it
     {
         maxTime     5;              // [s] simulated
@@ -124,7 +125,8 @@ int main(int argc, char *argv[])
         depositDict,
         {
             "material", "method", "box", "cellZone", "grains", "number",
-            "solidFraction", "dMin", "sizeRatio", "seed", "settle"
+            "solidFraction", "dMin", "sizeRatio", "seed", "settle",
+            "fixedRow"
         }
     );
 
@@ -278,6 +280,72 @@ int main(int argc, char *argv[])
     {
         settling.system().addGrain(s.x, 0.5*s.d, matId);
     }
+
+    // A row of fixed, touching grains (a rough floor, as in Staron & Hinch 2005)
+    std::vector<grainSpec> fixedSpecs;
+    if (depositDict.found("fixedRow"))
+    {
+        const dictionary& fr = depositDict.subDict("fixedRow");
+        grainTools::checkKeywords(fr, {"from", "to", "diameter"});
+        const nscd::Vec3 a = settling.toSystem(fr.get<vector>("from"));
+        const nscd::Vec3 b = settling.toSystem(fr.get<vector>("to"));
+        const scalar d = grainTools::getPositive(fr, "diameter");
+        const label n = label((b - a).norm()/d) + 1;
+        for (label k = 0; k < n; ++k)
+        {
+            const nscd::Vec3 x =
+                n > 1 ? nscd::Vec3(a + (b - a)*(scalar(k)/(n - 1))) : a;
+            fixedSpecs.push_back({x, d});
+        }
+        Info<< "Placed a row of " << n << " fixed grains" << endl;
+    }
+
+    // Temporary walls (settling only)
+    List<dictionary> temporaryWalls;
+    if
+    (
+        depositDict.found("settle")
+     && depositDict.subDict("settle").found("temporaryWalls")
+    )
+    {
+        temporaryWalls =
+            depositDict.subDict("settle").get<List<dictionary>>("temporaryWalls");
+    }
+    std::vector<std::pair<nscd::Vec3, nscd::Vec3>> planes;
+    for (const dictionary& w : temporaryWalls)
+    {
+        grainTools::checkKeywords(w, {"point", "normal"});
+        const vector n = w.get<vector>("normal");
+        if (mag(n) < VSMALL)
+        {
+            FatalIOErrorInFunction(w)
+                << "temporaryWalls: zero normal" << exit(FatalIOError);
+        }
+        planes.push_back
+        (
+            {settling.toSystem(w.get<vector>("point")), settling.toSystem(n/mag(n))}
+        );
+    }
+
+    // Fixed grains behind a temporary wall do not take part in the settling
+    // (they would overlap the wall, and nothing can reach them)
+    for (const grainSpec& f : fixedSpecs)
+    {
+        bool behind = false;
+        for (const auto& pl : planes)
+        {
+            behind = behind || (f.x - pl.first).dot(pl.second) < 0.5*f.d;
+        }
+        if (!behind)
+        {
+            settling.system().addGrain(f.x, 0.5*f.d, matId, true);
+        }
+    }
+    for (const auto& pl : planes)
+    {
+        settling.system().addPlane(pl.first, pl.second);
+    }
+
     settling.checkState();
     Info<< "Placed " << specs.size() << " grains" << endl;
 
@@ -292,21 +360,6 @@ int main(int argc, char *argv[])
         const scalar maxTime = grainTools::getPositive(sd, "maxTime");
         const scalar dt = grainTools::getPositive(sd, "deltaT");
         const scalar vTol = grainTools::getPositive(sd, "speedTolerance");
-        if (sd.found("temporaryWalls"))
-        {
-            const List<dictionary> walls(sd.get<List<dictionary>>("temporaryWalls"));
-            for (const dictionary& w : walls)
-            {
-                grainTools::checkKeywords(w, {"point", "normal"});
-                const vector p = w.get<vector>("point");
-                const vector n = w.get<vector>("normal");
-                settling.system().addPlane
-                (
-                    settling.toSystem(p), settling.toSystem(n)
-                );
-            }
-        }
-        settling.checkState();
         scalar t = 0;
         label step = 0;
         scalar vmax = GREAT;
@@ -347,12 +400,22 @@ int main(int argc, char *argv[])
     const nscd::System& s = settling.system();
     for (std::size_t i = 0; i < s.size(); ++i)
     {
-        initial.system().addGrain(s.positions()[i], s.radii()[i], s.materials()[i]);
+        if (!s.fixed(i))
+        {
+            initial.system().addGrain
+            (
+                s.positions()[i], s.radii()[i], s.materials()[i]
+            );
+        }
+    }
+    for (const grainSpec& f : fixedSpecs)
+    {
+        initial.system().addGrain(f.x, 0.5*f.d, matId, true);
     }
     initial.checkState();
     initial.write();
 
-    Info<< "Wrote " << s.size() << " grains to " << runTime.timePath() << nl
+    Info<< "Wrote " << initial.system().size() << " grains to " << runTime.timePath() << nl
         << "End\n" << endl;
     return 0;
 }

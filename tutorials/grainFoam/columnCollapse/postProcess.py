@@ -5,7 +5,8 @@ usage: postProcess.py CASEDIR [CASEDIR ...]   (one per aspect ratio)
 
 Measured per case, from the lagrangian grains of the first and last times:
   initial_width  L_i: the gate position (grains settled against it),
-  initial_height H_i: top of the settled column, max(y + r),
+  initial_height H_i: top of the settled column, max(y + r), above the rough
+                 floor (a row of fixed grains, excluded from all measures),
   runout         L_f: right-most point, max(x + r), of the deposit, i.e. of the
                  grains connected to the left wall through contacts (gap below
                  5 % of the mean diameter); isolated grains thrown ahead do not
@@ -59,16 +60,22 @@ def measure(case):
     g0 = nscdpost.read_grains(case, times[0][1])
     g1 = nscdpost.read_grains(case, times[-1][1])
     L_i = float(params["gateX"])
-    H_i = float(np.max(g0["x"][:, 1] + 0.5 * g0["d"]))
-    r = 0.5 * g1["d"]
-    idx = deposit_cluster(g1["x"], r, 0.05 * np.mean(g1["d"]))
-    L_f = float(np.max(g1["x"][idx, 0] + r[idx]))
-    H_f = float(np.max(g1["x"][idx, 1] + r[idx]))
-    vmax = float(np.max(np.linalg.norm(g1["U"], axis=1)))
+    # the rough floor (fixed grains) is the reference level y0
+    floor = g0["fixed"]
+    y0 = float(np.max(g0["x"][floor, 1] + 0.5 * g0["d"][floor])) if floor.any() else 0.0
+    m0, m1 = ~g0["fixed"], ~g1["fixed"]
+    H_i = float(np.max(g0["x"][m0, 1] + 0.5 * g0["d"][m0])) - y0
+    x1 = g1["x"][m1]
+    r = 0.5 * g1["d"][m1]
+    idx = deposit_cluster(x1, r, 0.05 * np.mean(2 * r))
+    L_f = float(np.max(x1[idx, 0] + r[idx]))
+    H_f = float(np.max(x1[idx, 1] + r[idx])) - y0
+    vmax = float(np.max(np.linalg.norm(g1["U"][m1], axis=1)))
     return {
         "aspect_ratio": H_i / L_i,
         "nominal_aspect_ratio": float(params["aspectRatio"]),
         "grains": int(len(r)),
+        "fixed_floor_grains": int(np.count_nonzero(g1["fixed"])),
         "friction": float(params["friction"]),
         "initial_width": L_i,
         "initial_height": H_i,

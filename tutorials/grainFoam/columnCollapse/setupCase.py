@@ -26,7 +26,7 @@ def main():
     h0 = a * w0
     spacing = 1.1 * lam * dmin
     per_row = max(1, int(w0 / spacing))
-    hbox = (math.ceil(n / per_row) + 2) * spacing
+    hbox = (math.ceil(n / per_row) + 2) * spacing + dmean
     runout = 1.5 * max(1.2 * a, 1.9 * a ** (2.0 / 3.0)) * w0
     lx = w0 + runout + 10 * dmean
     ly = 1.05 * hbox
@@ -39,6 +39,9 @@ def main():
         "@DMIN@": f"{dmin:.6g}", "@LAMBDA@": f"{lam:.6g}",
         "@FRICTION@": f"{mu:.6g}", "@ENDTIME@": f"{tend:.6g}",
         "@WRITEINTERVAL@": f"{tend / 10:.6g}",
+        "@ROWTOP@": f"{dmean:.6g}", "@ROWY@": f"{0.5 * dmean:.6g}",
+        "@ROWX0@": f"{0.5 * dmean:.6g}", "@ROWX1@": f"{lx - 0.5 * dmean:.6g}",
+        "@DMEAN@": f"{dmean:.6g}",
     }
     if os.path.exists(case):
         shutil.rmtree(case)

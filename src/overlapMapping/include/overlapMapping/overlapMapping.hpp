@@ -1,0 +1,17 @@
+/**
+ * @file overlapMapping.hpp
+ * @brief Umbrella header of the overlapMapping library (grain/cell overlaps,
+ *        thesis section 3.2.1). See README.md in src/overlapMapping.
+ */
+#ifndef OVERLAPMAPPING_OVERLAPMAPPING_HPP
+#define OVERLAPMAPPING_OVERLAPMAPPING_HPP
+
+#include "overlapMapping/Types.hpp"
+#include "overlapMapping/MeshView.hpp"
+#include "overlapMapping/CellMesh.hpp"
+#include "overlapMapping/Geometry2D.hpp"
+#include "overlapMapping/Geometry3D.hpp"
+#include "overlapMapping/MeshBuilders.hpp"
+#include "overlapMapping/OverlapMapper.hpp"
+
+#endif
