@@ -327,18 +327,26 @@ int main(int argc, char *argv[])
         );
     }
 
-    // Fixed grains behind a temporary wall do not take part in the settling
-    // (they would overlap the wall, and nothing can reach them)
+    // Fixed grains behind a temporary wall take no part in the settling
+    // (nothing reaches them) and join the system afterwards; a fixed grain
+    // cut by a temporary wall is left out altogether (it would overlap the
+    // wall during settling and the settled grains after it).
+    std::vector<grainSpec> fixedLater;
     for (const grainSpec& f : fixedSpecs)
     {
-        bool behind = false;
+        scalar dist = GREAT;
         for (const auto& pl : planes)
         {
-            behind = behind || (f.x - pl.first).dot(pl.second) < 0.5*f.d;
+            dist = min(dist, (f.x - pl.first).dot(pl.second));
         }
-        if (!behind)
+        if (dist >= 0.5*f.d)
         {
             settling.system().addGrain(f.x, 0.5*f.d, matId, true);
+            fixedLater.push_back(f);
+        }
+        else if (dist <= -0.5*f.d)
+        {
+            fixedLater.push_back(f);
         }
     }
     for (const auto& pl : planes)
@@ -408,7 +416,7 @@ int main(int argc, char *argv[])
             );
         }
     }
-    for (const grainSpec& f : fixedSpecs)
+    for (const grainSpec& f : fixedLater)
     {
         initial.system().addGrain(f.x, 0.5*f.d, matId, true);
     }

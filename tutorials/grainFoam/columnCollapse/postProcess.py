@@ -11,7 +11,9 @@ Measured per case, from the lagrangian grains of the first and last times:
                  grains connected to the left wall through contacts (gap below
                  5 % of the mean diameter); isolated grains thrown ahead do not
                  count (as in Staron & Hinch 2005),
-  final_height   H_f: top of the deposit, max(y + r) over the same grains.
+  final_height   H_f: top of the deposit, max(y + r) over the same grains,
+  final_max_speed: largest grain speed in the deposit at the last time,
+  runout_change_last_interval: L_f minus the runout one write interval earlier.
 Reference: Staron & Hinch (2005) and Lube et al. (2005), see REFERENCE below.
 """
 import json
@@ -70,7 +72,13 @@ def measure(case):
     idx = deposit_cluster(x1, r, 0.05 * np.mean(2 * r))
     L_f = float(np.max(x1[idx, 0] + r[idx]))
     H_f = float(np.max(x1[idx, 1] + r[idx])) - y0
-    vmax = float(np.max(np.linalg.norm(g1["U"][m1], axis=1)))
+    vmax = float(np.max(np.linalg.norm(g1["U"][m1][idx], axis=1)))
+    # runout one write interval earlier: the front must have stopped
+    gp = nscdpost.read_grains(case, times[-2][1])
+    mp = ~gp["fixed"]
+    rp = 0.5 * gp["d"][mp]
+    idp = deposit_cluster(gp["x"][mp], rp, 0.05 * np.mean(2 * rp))
+    L_prev = float(np.max(gp["x"][mp][idp, 0] + rp[idp]))
     return {
         "aspect_ratio": H_i / L_i,
         "nominal_aspect_ratio": float(params["aspectRatio"]),
@@ -85,6 +93,8 @@ def measure(case):
         "reference_normalised_runout": float(runout_law(H_i / L_i)),
         "deposit_fraction": len(idx) / len(r),
         "final_max_speed": vmax,
+        "runout_change_last_interval": L_f - L_prev,
+        "mean_diameter": float(np.mean(2 * r)),
         "final_time": times[-1][0],
     }
 
