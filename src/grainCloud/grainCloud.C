@@ -596,7 +596,10 @@ Foam::scalar Foam::grainCloud::kineticEnergy() const
 }
 
 
-void Foam::grainCloud::write() const
+void Foam::grainCloud::write
+(
+    const std::vector<std::pair<word, const List<vector>*>>& extra
+) const
 {
     const Time& runTime = mesh_.time();
     mkDir(runTime.timePath());
@@ -647,4 +650,13 @@ void Foam::grainCloud::write() const
     omega.write(valid);
     grainId.write(valid);
     fixed.write(valid);
+    for (const auto& ex : extra)
+    {
+        IOField<vector> f(cloud.fieldIOobject(ex.first, IOobject::NO_READ), ids.size());
+        forAll(ids, k)
+        {
+            f[k] = (*ex.second)[ids[k]];
+        }
+        f.write(valid);
+    }
 }

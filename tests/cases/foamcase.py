@@ -74,3 +74,44 @@ def run(app, case, env, args=(), check=True):
     if check and p.returncode != 0:
         raise AssertionError(f"{app} failed in {case}:\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}")
     return p
+
+
+def add_fluid(case, rho, nu, drag="DallavalleDiFelice", force_model="A",
+              void_method="overlap", max_co=0.5, max_dt=1e-3, n_correctors=2,
+              n_outer=1, extra_coupling=""):
+    """Add the fluid of a vansFoam case to a case made by make_box_case:
+    0/U (no-slip walls), 0/p (fixedFluxPressure walls), transportProperties,
+    couplingProperties, fvSchemes, fvSolution, and an adjustable time step."""
+    def bc(wall, empty="frontAndBack"):
+        return (f"walls {{ {wall} }}\n    {empty} {{ type empty; }}\n")
+    two_d = "frontAndBack" in open(os.path.join(case, "system", "blockMeshDict")).read()
+    emp = "frontAndBack { type empty; }" if two_d else ""
+    write(os.path.join(case, "0", "U"), "volVectorField", "U",
+          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
+          f"boundaryField {{ walls {{ type noSlip; }} {emp} }}\n")
+    write(os.path.join(case, "0", "p"), "volScalarField", "p",
+          "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+          f"boundaryField {{ walls {{ type fixedFluxPressure; value uniform 0; }} {emp} }}\n")
+    write(os.path.join(case, "constant", "transportProperties"), "dictionary",
+          "transportProperties", f"rho {rho};\nnu {nu};\n")
+    write(os.path.join(case, "constant", "couplingProperties"), "dictionary",
+          "couplingProperties",
+          f"dragModel {drag};\nforceModel {force_model};\n"
+          f"voidFraction {{ method {void_method}; epsMin 1e-8; }}\n" + extra_coupling)
+    write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
+          "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
+          "divSchemes { default none; div(phi,U) Gauss limitedLinearV 1; }\n"
+          "laplacianSchemes { default Gauss linear corrected; }\n"
+          "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n")
+    write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution",
+          "solvers {\n"
+          "  p { solver PCG; preconditioner DIC; tolerance 1e-9; relTol 0.01; }\n"
+          "  pFinal { $p; relTol 0; }\n"
+          "  \"(U|UFinal)\" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-9; relTol 0; }\n"
+          "}\n"
+          f"PIMPLE {{ momentumPredictor yes; nOuterCorrectors {n_outer}; nCorrectors {n_correctors};\n"
+          "  nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n")
+    cd = os.path.join(case, "system", "controlDict")
+    txt = open(cd).read().replace("application grainFoam;", "application vansFoam;")
+    txt += f"adjustTimeStep yes; maxCo {max_co}; maxDeltaT {max_dt};\n"
+    open(cd, "w").write(txt)

@@ -1,0 +1,119 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam
+
+Application
+    vansFoam
+
+Description
+    Volume-Averaged Navier-Stokes (VANS) solver for an incompressible fluid
+    coupled both ways with Non-Smooth Contact Dynamics grains (thesis
+    chapter 3).  The grains are mapped onto the mesh with exact grain/cell
+    overlap volumes, so one scheme covers grains smaller than, equal to or
+    larger than the cells.
+
+    Step sequence (thesis Figure 3.8):
+      1. void fraction from the grains' positions (exact overlaps, eq. 3.43)
+      2. semi-implicit drag prediction (eq. 3.46-3.50)
+      3. fluid: PIMPLE on the VANS momentum and the mixture volume
+         conservation div(eps U) + div(phi v*) = 0 (eq. 3.51)
+      4. fluid forces onto the grains (drag + pressure gradient, model A/B)
+      5. NSCD step of the grains (sub-stepped on d_min/|v_max|)
+
+    2D: one-cell-thick mesh with empty front/back (discs); 3D: spheres.
+    Settings: constant/couplingProperties, constant/grainProperties,
+    constant/transportProperties (rho, nu), constant/g.
+
+Usage
+    vansFoam [-parallel]
+\*---------------------------------------------------------------------------*/
+
+#include "vansCloud.H"
+#include "fvCFD.H"
+#include "pimpleControl.H"
+#include "fixedFluxPressureFvPatchScalarField.H"
+
+int main(int argc, char *argv[])
+{
+    argList::addNote
+    (
+        "Volume-Averaged Navier-Stokes fluid coupled with NSCD grains"
+        " through exact overlap volumes"
+    );
+
+    #include "postProcess.H"
+    #include "addCheckCaseOptions.H"
+    #include "setRootCaseLists.H"
+    #include "createTime.H"
+    #include "createMesh.H"
+    #include "createControl.H"
+    #include "createTimeControls.H"
+    #include "createFields.H"
+    #include "initContinuityErrs.H"
+
+    Info<< "\nStarting time loop\n" << endl;
+
+    while (runTime.run())
+    {
+        #include "readTimeControls.H"
+        #include "CourantNo.H"
+        #include "setDeltaT.H"
+
+        ++runTime;
+        Info<< "Time = " << runTime.timeName() << nl << endl;
+
+        // 1. void fraction at the grains' current positions
+        cloud.mapGrains();
+        if (cloud.modelA())
+        {
+            pressureFactor = eps;
+        }
+
+        // 2. semi-implicit drag prediction
+        cloud.predictDrag(U, p, runTime.deltaTValue());
+
+        // 3. fluid
+        while (pimple.loop())
+        {
+            #include "UEqn.H"
+            while (pimple.correct())
+            {
+                #include "pEqn.H"
+            }
+        }
+
+        // 4. fluid forces on the grains, 5. NSCD
+        cloud.setFluidForces(U, p);
+        cloud.evolve(runTime.deltaTValue());
+
+        Info<< "voidFraction min/max = " << gMin(eps.primitiveField())
+            << " " << gMax(eps.primitiveField())
+            << ", max grain Reynolds number = " << cloud.maxGrainReynolds()
+            << endl;
+
+        // no NaN/Inf: stop before writing a bad state
+        if
+        (
+            !std::isfinite(gSum(mag(U.primitiveField())))
+         || !std::isfinite(gSum(mag(p.primitiveField())))
+        )
+        {
+            FatalErrorInFunction
+                << "Non-finite fluid velocity or pressure at time "
+                << runTime.timeName() << ". The last written time holds the"
+                << " last good state." << nl
+                << "    Fix: reduce maxCo / maxDeltaT in system/controlDict."
+                << exit(FatalError);
+        }
+
+        if (runTime.writeTime())
+        {
+            cloud.write();
+        }
+        runTime.write();
+
+        runTime.printExecutionTime(Info);
+    }
+
+    Info<< "End\n" << endl;
+    return 0;
+}

@@ -1,0 +1,325 @@
+#include "vansCloud.H"
+#include "grainDictionaryTools.H"
+#include "fvc.H"
+#include "fixedValueFvPatchFields.H"
+#include "zeroGradientFvPatchFields.H"
+#include "uniformDimensionedFields.H"
+
+// * * * * * * * * * * * * * * * Local Functions  * * * * * * * * * * * * * //
+
+namespace
+{
+    //- fixedValue on every non-constraint patch (walls, inlets, ...): the
+    //  solid flux through the domain boundary is zero
+    Foam::wordList solidFluxPatchTypes(const Foam::fvMesh& mesh)
+    {
+        using namespace Foam;
+        wordList types
+        (
+            mesh.boundary().size(),
+            fixedValueFvPatchVectorField::typeName
+        );
+        forAll(mesh.boundary(), patchi)
+        {
+            const word& t = mesh.boundary()[patchi].patch().type();
+            if (polyPatch::constraintType(t))
+            {
+                types[patchi] = t;
+            }
+        }
+        return types;
+    }
+
+    Foam::IOobject fieldIO(const Foam::fvMesh& mesh, const Foam::word& name,
+                           Foam::IOobject::writeOption w = Foam::IOobject::NO_WRITE)
+    {
+        return Foam::IOobject
+        (
+            name, mesh.time().timeName(), mesh, Foam::IOobject::NO_READ, w
+        );
+    }
+
+    Foam::dictionary transportDict(const Foam::fvMesh& mesh)
+    {
+        using namespace Foam;
+        IOdictionary d
+        (
+            IOobject
+            (
+                "transportProperties", mesh.time().constant(), mesh,
+                IOobject::MUST_READ, IOobject::NO_WRITE, false
+            )
+        );
+        return dictionary(d);
+    }
+}
+
+
+// * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
+
+Foam::vansCloud::vansCloud(const fvMesh& mesh)
+:
+    mesh_(mesh),
+    dict_
+    (
+        IOobject
+        (
+            "couplingProperties", mesh.time().constant(), mesh,
+            IOobject::MUST_READ, IOobject::NO_WRITE
+        )
+    ),
+    rho_(0),
+    nu_(0),
+    forceModel_(dict_.getOrDefault<word>("forceModel", "A")),
+    maxDisplacementFraction_(0.1),
+    grains_(mesh),
+    adapter_
+    (
+        mesh,
+        dict_.found("voidFraction") ? dict_.subDict("voidFraction") : dictionary::null
+    ),
+    drag_(nullptr),
+    voidFraction_
+    (
+        fieldIO(mesh, "voidFraction", IOobject::AUTO_WRITE),
+        mesh,
+        dimensionedScalar("one", dimless, 1.0),
+        zeroGradientFvPatchScalarField::typeName
+    ),
+    Kdrag_
+    (
+        fieldIO(mesh, "Kdrag"), mesh, dimensionedScalar(inv(dimTime), Zero),
+        zeroGradientFvPatchScalarField::typeName
+    ),
+    KUs_
+    (
+        fieldIO(mesh, "KUs"), mesh, dimensionedVector(dimAcceleration, Zero),
+        zeroGradientFvPatchVectorField::typeName
+    ),
+    phiVs_
+    (
+        fieldIO(mesh, "phiVs"), mesh, dimensionedVector(dimVelocity, Zero),
+        solidFluxPatchTypes(mesh)
+    ),
+    solidPressureForce_
+    (
+        fieldIO(mesh, "solidPressureForce"), mesh,
+        dimensionedVector(dimAcceleration, Zero),
+        zeroGradientFvPatchVectorField::typeName
+    )
+{
+    grainTools::checkKeywords
+    (
+        dict_,
+        {
+            "dragModel", "DallavalleDiFeliceCoeffs", "GidaspowCoeffs",
+            "voidFraction", "forceModel"
+        }
+    );
+    if (forceModel_ != "A" && forceModel_ != "B")
+    {
+        FatalIOErrorInFunction(dict_)
+            << "forceModel " << forceModel_ << " in " << dict_.name()
+            << ": use A (eq. 3.23, -eps grad p in the fluid) or B (eq. 3.24)"
+            << exit(FatalIOError);
+    }
+    drag_ = dragModel::New(dict_);
+
+    const dictionary td(transportDict(mesh));
+    rho_ = dimensionedScalar("rho", dimDensity, td).value();
+    nu_ = dimensionedScalar("nu", dimViscosity, td).value();
+    if (!(rho_ > 0) || !(nu_ > 0))
+    {
+        FatalIOErrorInFunction(td)
+            << "rho and nu in constant/transportProperties must be > 0"
+            << exit(FatalIOError);
+    }
+
+    grains_.checkState();
+    contactImpulse_.setSize(grains_.system().size(), Zero);
+    voidFraction_.oldTime();
+    mapGrains();
+    voidFraction_.oldTime() = voidFraction_;
+
+    Info<< "vansCloud: force model " << forceModel_ << ", fluid rho " << rho_
+        << " nu " << nu_ << ", void fraction min "
+        << gMin(voidFraction_.primitiveField()) << nl << endl;
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::vansCloud::mapGrains()
+{
+    adapter_.map(grains_.system());
+    adapter_.voidFraction(voidFraction_);
+}
+
+
+void Foam::vansCloud::predictDrag
+(
+    const volVectorField& U,
+    const volScalarField& p,
+    const scalar dt
+)
+{
+    const nscd::System& s = grains_.system();
+    const label n = s.size();
+    const scalar depth = adapter_.depth();
+    const volVectorField gradp(fvc::grad(p));
+
+    adapter_.gather(U, Ug_);
+    adapter_.gather(voidFraction_, epsg_);
+    adapter_.gather(gradp, gradpg_);
+
+    gamma_.setSize(n);
+    gammaStar_.setSize(n);
+    vss_.setSize(n);
+    vStar_.setSize(n);
+    ReP_.setSize(n);
+
+    const nscd::Vec3& g3 = s.gravity();
+    const vector g(g3.x(), g3.y(), g3.z());
+    const std::vector<double>& W = adapter_.grainMappedVolume();
+
+    for (label i = 0; i < n; ++i)
+    {
+        const nscd::Vec3& v3 = s.velocities()[i];
+        const vector v(v3.x(), v3.y(), v3.z());
+        const scalar d = 2*s.radii()[i];
+        const scalar slip = mag(Ug_[i] - v);
+        ReP_[i] = slip*d/nu_;
+        const scalar eps = max(epsg_[i], adapter_.epsMin());
+        gamma_[i] = W[i] > 0 ? drag_->gamma(eps, ReP_[i], d, rho_*nu_, rho_) : 0;
+
+        if (s.fixed(i))
+        {
+            gammaStar_[i] = gamma_[i];
+            vss_[i] = v;
+            vStar_[i] = v;
+            continue;
+        }
+        const scalar m = s.mass(i);
+        const scalar Wi = W[i]/depth;
+        vss_[i] =
+            v + dt*g + contactImpulse_[i]/m - (dt*Wi/m*rho_)*gradpg_[i];
+        gammaStar_[i] = gamma_[i]*m/(m + Wi*dt*gamma_[i]);
+        vStar_[i] = (m*vss_[i] + Wi*dt*gamma_[i]*Ug_[i])/(m + Wi*dt*gamma_[i]);
+    }
+
+    // Drag fields: K = sum (V_pc/V_c) gamma*/rho, K v**, and for model B
+    // the solid part of the pressure force phi grad(p)
+    scalarField& K = Kdrag_.primitiveFieldRef();
+    vectorField& KU = KUs_.primitiveFieldRef();
+    vectorField& sp = solidPressureForce_.primitiveFieldRef();
+    K = 0;
+    KU = Zero;
+    sp = Zero;
+    const auto& eg = adapter_.entryGrain();
+    const auto& ec = adapter_.entryCell();
+    const auto& ev = adapter_.entryVolume();
+    for (std::size_t e = 0; e < ec.size(); ++e)
+    {
+        const label gi = eg[e];
+        const label c = ec[e];
+        K[c] += ev[e]*gammaStar_[gi]/rho_;
+        KU[c] += ev[e]*gammaStar_[gi]/rho_*vss_[gi];
+        sp[c] += ev[e]*gradpg_[gi];
+    }
+    K /= mesh_.V();
+    KU /= mesh_.V();
+    sp /= mesh_.V();
+    Kdrag_.correctBoundaryConditions();
+    KUs_.correctBoundaryConditions();
+    solidPressureForce_.correctBoundaryConditions();
+}
+
+
+Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::solidFlux
+(
+    const volVectorField& U,
+    const scalar dt
+)
+{
+    const nscd::System& s = grains_.system();
+    const scalar depth = adapter_.depth();
+    const std::vector<double>& W = adapter_.grainMappedVolume();
+    adapter_.gather(U, Ug_);
+    for (label i = 0; i < label(s.size()); ++i)
+    {
+        if (s.fixed(i)) continue;
+        const scalar m = s.mass(i);
+        const scalar Wi = W[i]/depth;
+        vStar_[i] = (m*vss_[i] + Wi*dt*gamma_[i]*Ug_[i])/(m + Wi*dt*gamma_[i]);
+    }
+    adapter_.solidVelocity(vStar_, phiVs_);
+    return fvc::flux(phiVs_);
+}
+
+
+void Foam::vansCloud::setFluidForces
+(
+    const volVectorField& U,
+    const volScalarField& p
+)
+{
+    nscd::System& s = grains_.system();
+    const scalar depth = adapter_.depth();
+    const std::vector<double>& W = adapter_.grainMappedVolume();
+    adapter_.gather(U, Ug_);
+    const volVectorField gradp(fvc::grad(p));
+    adapter_.gather(gradp, gradpg_);
+    fluidForce_.setSize(s.size());
+    fluidVelocity_ = Ug_;
+    for (label i = 0; i < label(s.size()); ++i)
+    {
+        const scalar Wi = W[i]/depth;
+        const vector F =
+            Wi*(-rho_*gradpg_[i] + gammaStar_[i]*(Ug_[i] - vss_[i]));
+        fluidForce_[i] = F;
+        s.setExternalForce(i, nscd::Vec3(F.x(), F.y(), F.z()));
+    }
+}
+
+
+void Foam::vansCloud::updateContactImpulses()
+{
+    const nscd::System& s = grains_.system();
+    contactImpulse_ = Zero;
+    const label N = s.size();
+    // impulses of the last sub-step, scaled to the whole step
+    const scalar scale = max(grains_.report().substeps, 1);
+    for (const auto& c : s.contacts())
+    {
+        const vector r(c.impulse.x(), c.impulse.y(), c.impulse.z());
+        if (c.i >= 0 && c.i < N) contactImpulse_[c.i] += scale*r;
+        if (c.j >= 0 && c.j < N) contactImpulse_[c.j] -= scale*r;
+    }
+}
+
+
+void Foam::vansCloud::evolve(const scalar dt)
+{
+    grains_.evolve(dt);
+    updateContactImpulses();
+}
+
+
+Foam::scalar Foam::vansCloud::maxGrainReynolds() const
+{
+    return ReP_.empty() ? 0 : max(ReP_);
+}
+
+
+void Foam::vansCloud::write() const
+{
+    const label n = grains_.system().size();
+    if (fluidForce_.size() == n && fluidVelocity_.size() == n)
+    {
+        grains_.write({{"Ffluid", &fluidForce_}, {"Ufluid", &fluidVelocity_}});
+    }
+    else
+    {
+        grains_.write();
+    }
+}
