@@ -22,6 +22,7 @@ Description
     box         { min (0 0 0); max (0.1 0.2 0); }   // method box
     cellZone    column;             // method cellZone
     grains      ((x y z d) ...);    // method list
+    fixed       no;                 // method list: yes = all listed grains fixed
     number      2000;               // box/cellZone: number of grains ...
     // solidFraction 0.3;           // ... or fraction of the region's volume
     dMin        2e-3;               // [m]
@@ -126,7 +127,7 @@ int main(int argc, char *argv[])
         {
             "material", "method", "box", "cellZone", "grains", "number",
             "solidFraction", "dMin", "sizeRatio", "seed", "settle",
-            "fixedRow"
+            "fixedRow", "fixed"
         }
     );
 
@@ -276,13 +277,23 @@ int main(int argc, char *argv[])
             << ". Use box, cellZone or list." << exit(FatalIOError);
     }
 
+    // method list: `fixed yes;` makes every listed grain fixed (a packed bed)
+    const bool listFixed =
+        method == "list" && depositDict.getOrDefault<bool>("fixed", false);
+    std::vector<grainSpec> fixedSpecs;
     for (const grainSpec& s : specs)
     {
-        settling.system().addGrain(s.x, 0.5*s.d, matId);
+        if (listFixed)
+        {
+            fixedSpecs.push_back(s);
+        }
+        else
+        {
+            settling.system().addGrain(s.x, 0.5*s.d, matId);
+        }
     }
 
     // A row of fixed, touching grains (a rough floor, as in Staron & Hinch 2005)
-    std::vector<grainSpec> fixedSpecs;
     if (depositDict.found("fixedRow"))
     {
         const dictionary& fr = depositDict.subDict("fixedRow");
