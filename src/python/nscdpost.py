@@ -51,13 +51,13 @@ def read_vector_field(path):
 
 def read_scalar_field(path):
     text = _read_file(path)
+    # uniform list form  N{value}
+    m = re.search(r"^\s*(\d+)\s*\{\s*(%s)\s*\}" % _FLOAT, text, re.M)
+    if m:
+        return np.full(int(m.group(1)), float(m.group(2)))
     body, n = _foam_list_body(text)
-    if body == "" and n is None:
-        # uniform list form  N{value}
-        m = re.search(r"(\d+)\s*\{\s*(%s)\s*\}" % _FLOAT, text)
-        if m:
-            return np.full(int(m.group(1)), float(m.group(2)))
-        return np.zeros(0)
+    if body.strip() == "":
+        return np.zeros(n or 0)
     arr = np.array(body.split(), dtype=float)
     if n is not None and len(arr) != n:
         raise ValueError(f"{path}: expected {n} scalars, read {len(arr)}")

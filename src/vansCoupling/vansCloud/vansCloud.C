@@ -101,6 +101,16 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
         fieldIO(mesh, "phiVs"), mesh, dimensionedVector(dimVelocity, Zero),
         solidFluxPatchTypes(mesh)
     ),
+    Ds_
+    (
+        fieldIO(mesh, "Ds"), mesh, dimensionedScalar(dimTime, Zero),
+        solidFluxPatchTypes(mesh)
+    ),
+    Kp_
+    (
+        fieldIO(mesh, "Kp"), mesh, dimensionedScalar(dimless, Zero),
+        zeroGradientFvPatchScalarField::typeName
+    ),
     solidPressureForce_
     (
         fieldIO(mesh, "solidPressureForce"), mesh,
@@ -172,6 +182,7 @@ void Foam::vansCloud::predictDrag
     adapter_.gather(voidFraction_, epsg_);
     adapter_.gather(gradp, gradpg_);
 
+    dt_ = dt;
     gamma_.setSize(n);
     gammaStar_.setSize(n);
     vss_.setSize(n);
@@ -201,8 +212,8 @@ void Foam::vansCloud::predictDrag
         }
         const scalar m = s.mass(i);
         const scalar Wi = W[i]/depth;
-        vss_[i] =
-            v + dt*g + contactImpulse_[i]/m - (dt*Wi/m*rho_)*gradpg_[i];
+        // v**_0: v** without its (implicit) pressure-gradient part
+        vss_[i] = v + dt*g + contactImpulse_[i]/m;
         gammaStar_[i] = gamma_[i]*m/(m + Wi*dt*gamma_[i]);
         vStar_[i] = (m*vss_[i] + Wi*dt*gamma_[i]*Ug_[i])/(m + Wi*dt*gamma_[i]);
     }
@@ -212,9 +223,13 @@ void Foam::vansCloud::predictDrag
     scalarField& K = Kdrag_.primitiveFieldRef();
     vectorField& KU = KUs_.primitiveFieldRef();
     vectorField& sp = solidPressureForce_.primitiveFieldRef();
+    scalarField& D = Ds_.primitiveFieldRef();
+    scalarField& Kp = Kp_.primitiveFieldRef();
     K = 0;
     KU = Zero;
     sp = Zero;
+    D = 0;
+    Kp = 0;
     const auto& eg = adapter_.entryGrain();
     const auto& ec = adapter_.entryCell();
     const auto& ev = adapter_.entryVolume();
@@ -225,10 +240,21 @@ void Foam::vansCloud::predictDrag
         K[c] += ev[e]*gammaStar_[gi]/rho_;
         KU[c] += ev[e]*gammaStar_[gi]/rho_*vss_[gi];
         sp[c] += ev[e]*gradpg_[gi];
+        if (!s.fixed(gi))
+        {
+            const scalar m = s.mass(gi);
+            const scalar Wi = W[gi]/depth;
+            D[c] += ev[e]*Wi*dt*rho_/(m + Wi*dt*gamma_[gi]);
+            Kp[c] += ev[e]*gammaStar_[gi]*Wi*dt/m;
+        }
     }
     K /= mesh_.V();
     KU /= mesh_.V();
     sp /= mesh_.V();
+    D /= mesh_.V();
+    Kp /= mesh_.V();
+    Ds_.correctBoundaryConditions();
+    Kp_.correctBoundaryConditions();
     Kdrag_.correctBoundaryConditions();
     KUs_.correctBoundaryConditions();
     solidPressureForce_.correctBoundaryConditions();
@@ -274,8 +300,13 @@ void Foam::vansCloud::setFluidForces
     for (label i = 0; i < label(s.size()); ++i)
     {
         const scalar Wi = W[i]/depth;
+        // v** with the final pressure gradient (eq. 3.47)
+        const vector vss =
+            s.fixed(i)
+          ? vss_[i]
+          : vss_[i] - (dt_*Wi/s.mass(i)*rho_)*gradpg_[i];
         const vector F =
-            Wi*(-rho_*gradpg_[i] + gammaStar_[i]*(Ug_[i] - vss_[i]));
+            Wi*(-rho_*gradpg_[i] + gammaStar_[i]*(Ug_[i] - vss));
         fluidForce_[i] = F;
         s.setExternalForce(i, nscd::Vec3(F.x(), F.y(), F.z()));
     }

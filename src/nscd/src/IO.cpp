@@ -1,0 +1,258 @@
+// HDF5 state I/O (C API) for bit-exact restarts.
+#include "SystemImpl.H"
+
+#include <hdf5.h>
+
+#include <cmath>
+#include <string>
+
+namespace nscd
+{
+
+namespace
+{
+constexpr int formatVersion = 1;
+
+/// RAII file handle that also silences HDF5's automatic error printing.
+struct H5File
+{
+    hid_t id = -1;
+    H5E_auto2_t oldFunc = nullptr;
+    void* oldData = nullptr;
+    H5File() { H5Eget_auto2(H5E_DEFAULT, &oldFunc, &oldData); H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+    ~H5File() { if (id >= 0) H5Fclose(id); H5Eset_auto2(H5E_DEFAULT, oldFunc, oldData); }
+};
+
+struct Writer
+{
+    hid_t f;
+    std::string file;
+    template<class T>
+    void write(const std::string& name, const T* data, hsize_t rows, hsize_t cols, hid_t type)
+    {
+        hsize_t dims[2] = {rows, cols};
+        const hid_t space = H5Screate_simple(cols > 0 ? 2 : 1, dims, nullptr);
+        const hid_t ds = H5Dcreate2(f, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        herr_t st = ds >= 0 ? 0 : -1;
+        if (ds >= 0 && rows > 0) st = H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+        if (ds >= 0) H5Dclose(ds);
+        H5Sclose(space);
+        if (st < 0) throw InputError("nscd::System::writeHDF5: cannot write dataset '" + name + "' in " + file);
+    }
+    void d(const std::string& name, const std::vector<double>& a, hsize_t cols)
+    { write(name, a.data(), cols ? a.size()/cols : a.size(), cols, H5T_NATIVE_DOUBLE); }
+    void i(const std::string& name, const std::vector<int>& a, hsize_t cols)
+    { write(name, a.data(), cols ? a.size()/cols : a.size(), cols, H5T_NATIVE_INT); }
+};
+
+struct Reader
+{
+    hid_t f;
+    std::string file;
+    [[noreturn]] void fail(const std::string& what) const
+    {
+        throw InputError("nscd::System::readHDF5: " + file + ": " + what);
+    }
+    template<class T>
+    std::vector<T> read(const std::string& name, hid_t type, hsize_t cols, long expectRows = -1)
+    {
+        const hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+        if (ds < 0) fail("missing dataset '" + name + "'");
+        const hid_t space = H5Dget_space(ds);
+        const int nd = H5Sget_simple_extent_ndims(space);
+        hsize_t dims[2] = {0, 0};
+        if (nd < 1 || nd > 2 || H5Sget_simple_extent_dims(space, dims, nullptr) < 0)
+        { H5Sclose(space); H5Dclose(ds); fail("bad shape of dataset '" + name + "'"); }
+        const hsize_t c = nd == 2 ? dims[1] : 0;
+        if (c != cols || (expectRows >= 0 && dims[0] != hsize_t(expectRows)))
+        { H5Sclose(space); H5Dclose(ds); fail("unexpected size of dataset '" + name + "'"); }
+        std::vector<T> out(dims[0]*(cols ? cols : 1));
+        herr_t st = 0;
+        if (!out.empty()) st = H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+        H5Sclose(space);
+        H5Dclose(ds);
+        if (st < 0) fail("cannot read dataset '" + name + "' (corrupt file?)");
+        return out;
+    }
+    std::vector<double> d(const std::string& n, hsize_t cols, long rows = -1) { return read<double>(n, H5T_NATIVE_DOUBLE, cols, rows); }
+    std::vector<int> i(const std::string& n, hsize_t cols, long rows = -1) { return read<int>(n, H5T_NATIVE_INT, cols, rows); }
+};
+
+void put3(std::vector<double>& a, const Vec3& v) { a.push_back(v.x()); a.push_back(v.y()); a.push_back(v.z()); }
+Vec3 get3(const std::vector<double>& a, std::size_t k) { return Vec3(a[k], a[k + 1], a[k + 2]); }
+}
+
+void System::writeHDF5(const std::string& file) const
+{
+    const Impl& I = *impl_;
+    H5File h;
+    h.id = H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (h.id < 0) throw InputError("nscd::System::writeHDF5: cannot create " + file);
+    Writer w{h.id, file};
+    const std::size_t N = I.x.size();
+
+    w.i("format", {formatVersion}, 0);
+    w.i("dimension", {I.dim}, 0);
+    w.d("time", {I.time, I.lastDt, I.cohesionForce}, 0);
+    std::vector<double> g;
+    put3(g, I.g);
+    w.d("gravity", g, 0);
+    const Settings& S = I.settings;
+    w.d("settings", {S.tolerance, double(S.maxIterations), S.overlapTolerance, S.alertDistanceFactor,
+                     S.alertMargin, S.cohesionDistance, S.warmStart ? 1.0 : 0.0, double(int(S.ordering)),
+                     S.overlapSlop, S.relaxation}, 0);
+    std::vector<double> m;
+    for (const Material& a : I.materials)
+        for (double v : {a.density, a.friction, a.youngModulus, a.poissonRatio, a.conductivity, a.heatCapacity})
+            m.push_back(v);
+    w.d("materials", m, 6);
+
+    std::vector<double> x, v, om, q, f, t;
+    x.reserve(3*N); v.reserve(3*N); om.reserve(3*N); q.reserve(4*N); f.reserve(3*N); t.reserve(3*N);
+    for (std::size_t k = 0; k < N; ++k)
+    {
+        put3(x, I.x[k]); put3(v, I.v[k]); put3(om, I.w[k]); put3(f, I.force[k]); put3(t, I.torque[k]);
+        const auto& qq = I.q[k].coeffs();  // x y z w
+        for (int c = 0; c < 4; ++c) q.push_back(qq[c]);
+    }
+    w.d("positions", x, 3);
+    w.d("velocities", v, 3);
+    w.d("angularVelocities", om, 3);
+    w.d("orientations_xyzw", q, 4);
+    w.d("forces", f, 3);
+    w.d("torques", t, 3);
+    w.d("radii", I.rad, 0);
+    w.i("materialIds", I.mat, 0);
+    std::vector<int> fx(N);
+    for (std::size_t k = 0; k < N; ++k) fx[k] = (I.fix[k] ? 1 : 0) | (I.rotLock[k] ? 2 : 0);
+    w.i("fixed", fx, 0);
+
+    std::vector<int> wt;
+    std::vector<double> wd;
+    for (std::size_t k = 0; k < I.walls.size(); ++k)
+    {
+        const Wall& W = I.walls[k];
+        wt.push_back(W.type);
+        put3(wd, W.p); put3(wd, W.n); put3(wd, W.b); put3(wd, W.velocity); put3(wd, W.displacement);
+        if (W.type == TriangleWall)
+        {
+            std::vector<double> vv;
+            for (const Vec3& a : W.vertices) put3(vv, a);
+            std::vector<int> tt;
+            for (const auto& a : W.triangles) for (int c : a) tt.push_back(c);
+            w.d("wallVertices_" + std::to_string(k), vv, 3);
+            w.i("wallTriangles_" + std::to_string(k), tt, 3);
+        }
+    }
+    w.i("wallTypes", wt, 0);
+    w.d("walls", wd, 15);
+
+    std::vector<int> ij;
+    std::vector<double> cd;
+    for (const Contact& c : I.contacts)
+    {
+        ij.push_back(c.i); ij.push_back(c.j);
+        put3(cd, c.n); put3(cd, c.rt);
+        for (double a : {c.rn, c.wnn, c.wtt, c.bias, c.mu, c.coh, c.gap, c.change}) cd.push_back(a);
+    }
+    w.i("contactBodies", ij, 2);
+    w.d("contactData", cd, 14);
+    if (H5Fflush(h.id, H5F_SCOPE_LOCAL) < 0) throw InputError("nscd::System::writeHDF5: cannot flush " + file);
+}
+
+System System::readHDF5(const std::string& file)
+{
+    H5File h;
+    if (H5Fis_hdf5(file.c_str()) <= 0)
+        throw InputError("nscd::System::readHDF5: " + file + " is missing or not an HDF5 file");
+    h.id = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (h.id < 0) throw InputError("nscd::System::readHDF5: cannot open " + file);
+    Reader r{h.id, file};
+    if (r.i("format", 0, 1)[0] != formatVersion) r.fail("unsupported format version");
+    const int dim = r.i("dimension", 0, 1)[0];
+    if (dim != 2 && dim != 3) r.fail("bad dimension");
+    System s(dim);
+    Impl& I = *s.impl_;
+    const auto tm = r.d("time", 0, 3);
+    I.time = tm[0];
+    I.lastDt = tm[1];
+    I.cohesionForce = tm[2];
+    I.g = get3(r.d("gravity", 0, 3), 0);
+    const auto st = r.d("settings", 0, 10);
+    I.settings.tolerance = st[0];
+    I.settings.maxIterations = int(st[1]);
+    I.settings.overlapTolerance = st[2];
+    I.settings.alertDistanceFactor = st[3];
+    I.settings.alertMargin = st[4];
+    I.settings.cohesionDistance = st[5];
+    I.settings.warmStart = st[6] != 0;
+    I.settings.ordering = st[7] == 1.0 ? Settings::Ordering::Fifo : Settings::Ordering::Symmetric;
+    I.settings.overlapSlop = st[8];
+    I.settings.relaxation = st[9];
+    const auto m = r.d("materials", 6);
+    for (std::size_t k = 0; k < m.size()/6; ++k)
+    {
+        Material a{m[6*k], m[6*k + 1], m[6*k + 2], m[6*k + 3], m[6*k + 4], m[6*k + 5]};
+        try { s.addMaterial(a); }
+        catch (const InputError& e) { r.fail(std::string("bad material: ") + e.what()); }
+    }
+    const auto rad = r.d("radii", 0);
+    const long N = long(rad.size());
+    const auto x = r.d("positions", 3, N), v = r.d("velocities", 3, N), om = r.d("angularVelocities", 3, N),
+               q = r.d("orientations_xyzw", 4, N), f = r.d("forces", 3, N), t = r.d("torques", 3, N);
+    const auto mid = r.i("materialIds", 0, N), fx = r.i("fixed", 0, N);
+    for (long k = 0; k < N; ++k)
+    {
+        if (!(rad[k] > 0) || mid[k] < 0 || mid[k] >= int(I.materials.size())) r.fail("bad grain " + std::to_string(k));
+        I.addGrainRaw(get3(x, 3*k), rad[k], mid[k], (fx[k] & 1) != 0);
+        I.rotLock[k] = (fx[k] & 2) ? 1 : 0;
+        I.x[k] = get3(x, 3*k);
+        I.v[k] = get3(v, 3*k);
+        I.w[k] = get3(om, 3*k);
+        I.force[k] = get3(f, 3*k);
+        I.torque[k] = get3(t, 3*k);
+        I.q[k].coeffs() << q[4*k], q[4*k + 1], q[4*k + 2], q[4*k + 3];
+    }
+    const auto wt = r.i("wallTypes", 0);
+    const auto wd = r.d("walls", 15, long(wt.size()));
+    for (std::size_t k = 0; k < wt.size(); ++k)
+    {
+        Wall W;
+        W.type = wt[k];
+        if (W.type < PlaneWall || W.type > TriangleWall) r.fail("bad wall type");
+        W.p = get3(wd, 15*k); W.n = get3(wd, 15*k + 3); W.b = get3(wd, 15*k + 6);
+        W.velocity = get3(wd, 15*k + 9); W.displacement = get3(wd, 15*k + 12);
+        if (W.type == TriangleWall)
+        {
+            const auto vv = r.d("wallVertices_" + std::to_string(k), 3);
+            const auto tt = r.i("wallTriangles_" + std::to_string(k), 3);
+            for (std::size_t a = 0; a < vv.size()/3; ++a) W.vertices.push_back(get3(vv, 3*a));
+            for (std::size_t a = 0; a < tt.size()/3; ++a)
+            {
+                W.triangles.push_back({tt[3*a], tt[3*a + 1], tt[3*a + 2]});
+                for (int c = 0; c < 3; ++c)
+                    if (tt[3*a + c] < 0 || tt[3*a + c] >= int(W.vertices.size())) r.fail("bad triangle index");
+            }
+            if (W.triangles.empty()) r.fail("empty triangulated wall");
+            W.tree = buildTriangleTree(W.vertices, W.triangles);
+        }
+        I.walls.push_back(std::move(W));
+    }
+    const auto ij = r.i("contactBodies", 2);
+    const long NC = long(ij.size()/2);
+    const auto cd = r.d("contactData", 14, NC);
+    const long NB = N + long(I.walls.size());
+    I.contacts.resize(NC);
+    for (long k = 0; k < NC; ++k)
+    {
+        Contact& c = I.contacts[k];
+        c.i = ij[2*k]; c.j = ij[2*k + 1];
+        if (c.i < 0 || c.i >= N || c.j < 0 || c.j >= NB) r.fail("bad contact " + std::to_string(k));
+        c.n = get3(cd, 14*k); c.rt = get3(cd, 14*k + 3);
+        const double* p = &cd[14*k + 6];
+        c.rn = p[0]; c.wnn = p[1]; c.wtt = p[2]; c.bias = p[3]; c.mu = p[4]; c.coh = p[5]; c.gap = p[6]; c.change = p[7];
+    }
+    return s;
+}
+
+} // namespace nscd

@@ -1,0 +1,829 @@
+#include "SystemImpl.H"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace nscd
+{
+
+namespace
+{
+constexpr double pi = 3.14159265358979323846;
+
+bool finite(const Vec3& a) { return std::isfinite(a.x()) && std::isfinite(a.y()) && std::isfinite(a.z()); }
+
+/// Exact rotation update q <- exp(w dt / 2) q (w in the global frame), renormalised.
+Eigen::Quaterniond rotate(const Eigen::Quaterniond& q, const Vec3& w, double dt)
+{
+    const double a = w.norm()*dt;
+    if (a == 0.0) return q;
+    const Eigen::Quaterniond dq(Eigen::AngleAxisd(a, w/w.norm()));
+    Eigen::Quaterniond r = dq*q;
+    r.normalize();
+    return r;
+}
+}
+
+// ============================================================================
+// construction / state
+// ============================================================================
+
+System::System(int dimension) : impl_(std::make_unique<Impl>())
+{
+    if (dimension != 2 && dimension != 3)
+        throw InputError("nscd::System: dimension must be 2 or 3, got " + std::to_string(dimension));
+    impl_->dim = dimension;
+}
+
+System::~System() = default;
+System::System(System&&) noexcept = default;
+System& System::operator=(System&&) noexcept = default;
+
+int System::dimension() const { return impl_->dim; }
+
+int System::addMaterial(const Material& m)
+{
+    if (!(m.density > 0) || !std::isfinite(m.density))
+        throw InputError("nscd::System::addMaterial: density must be > 0, got " + std::to_string(m.density));
+    if (!(m.friction >= 0) || !std::isfinite(m.friction))
+        throw InputError("nscd::System::addMaterial: friction must be >= 0, got " + std::to_string(m.friction));
+    impl_->materials.push_back(m);
+    return int(impl_->materials.size()) - 1;
+}
+
+const Material& System::material(int id) const
+{
+    if (id < 0 || id >= int(impl_->materials.size()))
+        throw InputError("nscd::System::material: unknown material id " + std::to_string(id));
+    return impl_->materials[id];
+}
+
+void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
+{
+    Vec3 cc = c;
+    if (dim == 2) cc.z() = 0;
+    x.push_back(cc);
+    v.push_back(Vec3::Zero());
+    w.push_back(Vec3::Zero());
+    q.push_back(Eigen::Quaterniond::Identity());
+    rad.push_back(r);
+    mat.push_back(m);
+    fix.push_back(fixed ? 1 : 0);
+    rotLock.push_back(0);
+    force.push_back(Vec3::Zero());
+    torque.push_back(Vec3::Zero());
+    const double rho = materials[m].density;
+    if (dim == 2)
+    {
+        const double ms = rho*pi*r*r;
+        mass.push_back(ms);
+        inertia.push_back(0.5*ms*r*r);
+    }
+    else
+    {
+        const double ms = rho*4.0/3.0*pi*r*r*r;
+        mass.push_back(ms);
+        inertia.push_back(0.4*ms*r*r);
+    }
+}
+
+int System::addGrain(const Vec3& centre, double radius, int material, bool fixed)
+{
+    if (!(radius > 0) || !std::isfinite(radius))
+    {
+        std::ostringstream os;
+        os << "nscd::System::addGrain: radius must be > 0, got " << radius
+           << " for grain " << impl_->x.size();
+        throw InputError(os.str());
+    }
+    if (material < 0 || material >= int(impl_->materials.size()))
+    {
+        std::ostringstream os;
+        os << "nscd::System::addGrain: unknown material " << material << " for grain "
+           << impl_->x.size() << " (" << impl_->materials.size() << " materials defined)";
+        throw InputError(os.str());
+    }
+    if (!finite(centre)) throw InputError("nscd::System::addGrain: non-finite centre");
+    impl_->addGrainRaw(centre, radius, material, fixed);
+    return int(impl_->x.size()) - 1;
+}
+
+std::size_t System::size() const { return impl_->x.size(); }
+const std::vector<Vec3>& System::positions() const { return impl_->x; }
+std::vector<Vec3>& System::positions() { return impl_->x; }
+const std::vector<Vec3>& System::velocities() const { return impl_->v; }
+std::vector<Vec3>& System::velocities() { return impl_->v; }
+const std::vector<Vec3>& System::angularVelocities() const { return impl_->w; }
+std::vector<Vec3>& System::angularVelocities() { return impl_->w; }
+const std::vector<Eigen::Quaterniond>& System::orientations() const { return impl_->q; }
+const std::vector<double>& System::radii() const { return impl_->rad; }
+const std::vector<int>& System::materials() const { return impl_->mat; }
+bool System::fixed(std::size_t i) const { return impl_->fix.at(i) != 0; }
+bool System::rotationLocked(std::size_t i) const { return impl_->rotLock.at(i) != 0; }
+void System::setRotationLocked(std::size_t i, bool locked)
+{
+    if (i >= impl_->x.size())
+        throw InputError("nscd::System::setRotationLocked: unknown grain " + std::to_string(i));
+    impl_->rotLock[i] = locked ? 1 : 0;
+}
+double System::mass(std::size_t i) const { return impl_->mass.at(i); }
+double System::inertia(std::size_t i) const { return impl_->inertia.at(i); }
+double System::volume(std::size_t i) const
+{
+    const double r = impl_->rad.at(i);
+    return impl_->dim == 2 ? pi*r*r : 4.0/3.0*pi*r*r*r;
+}
+
+void System::setGravity(const Vec3& g)
+{
+    impl_->g = g;
+    if (impl_->dim == 2) impl_->g.z() = 0;
+}
+const Vec3& System::gravity() const { return impl_->g; }
+
+void System::setExternalForce(std::size_t i, const Vec3& f, const Vec3& t)
+{
+    if (i >= impl_->x.size())
+        throw InputError("nscd::System::setExternalForce: unknown grain " + std::to_string(i));
+    impl_->force[i] = f;
+    impl_->torque[i] = t;
+}
+
+// ============================================================================
+// walls
+// ============================================================================
+
+int System::addPlane(const Vec3& point, const Vec3& normal, const Vec3& velocity)
+{
+    if (!(normal.norm() > 0)) throw InputError("nscd::System::addPlane: zero normal");
+    Wall w;
+    w.type = PlaneWall;
+    w.p = point;
+    w.n = normal.normalized();
+    w.velocity = velocity;
+    if (impl_->dim == 2) { w.p.z() = 0; w.n.z() = 0; w.velocity.z() = 0;
+        if (!(w.n.norm() > 0)) throw InputError("nscd::System::addPlane: normal along z in 2D");
+        w.n.normalize(); }
+    impl_->walls.push_back(std::move(w));
+    return int(impl_->walls.size()) - 1;
+}
+
+int System::addSegment(const Vec3& a, const Vec3& b, const Vec3& velocity)
+{
+    if (impl_->dim != 2) throw InputError("nscd::System::addSegment: segments are 2D walls");
+    Wall w;
+    w.type = SegmentWall;
+    w.p = Vec3(a.x(), a.y(), 0);
+    w.b = Vec3(b.x(), b.y(), 0);
+    if (!((w.b - w.p).norm() > 0)) throw InputError("nscd::System::addSegment: degenerate segment");
+    w.velocity = Vec3(velocity.x(), velocity.y(), 0);
+    impl_->walls.push_back(std::move(w));
+    return int(impl_->walls.size()) - 1;
+}
+
+int System::addTriangulatedSurface(const std::vector<Vec3>& vertices,
+                                   const std::vector<std::array<int, 3>>& triangles,
+                                   const Vec3& velocity)
+{
+    if (impl_->dim != 3) throw InputError("nscd::System::addTriangulatedSurface: 3D walls only");
+    if (vertices.empty() || triangles.empty())
+        throw InputError("nscd::System::addTriangulatedSurface: empty surface");
+    for (std::size_t k = 0; k < triangles.size(); ++k)
+        for (int c : triangles[k])
+            if (c < 0 || c >= int(vertices.size()))
+                throw InputError("nscd::System::addTriangulatedSurface: triangle " + std::to_string(k)
+                                 + " has vertex index " + std::to_string(c) + " out of range");
+    Wall w;
+    w.type = TriangleWall;
+    w.vertices = vertices;
+    w.triangles = triangles;
+    w.velocity = velocity;
+    w.tree = buildTriangleTree(vertices, triangles);
+    impl_->walls.push_back(std::move(w));
+    return int(impl_->walls.size()) - 1;
+}
+
+void System::setWallVelocity(int wall, const Vec3& vel)
+{
+    if (wall < 0 || wall >= int(impl_->walls.size()))
+        throw InputError("nscd::System::setWallVelocity: unknown wall " + std::to_string(wall));
+    impl_->walls[wall].velocity = vel;
+    if (impl_->dim == 2) impl_->walls[wall].velocity.z() = 0;
+}
+
+int System::nWalls() const { return int(impl_->walls.size()); }
+
+Vec3 System::wallDisplacement(int wall) const
+{
+    if (wall < 0 || wall >= int(impl_->walls.size()))
+        throw InputError("nscd::System::wallDisplacement: unknown wall " + std::to_string(wall));
+    return impl_->walls[wall].displacement;
+}
+
+System::Settings& System::settings() { return impl_->settings; }
+const System::Settings& System::settings() const { return impl_->settings; }
+double System::time() const { return impl_->time; }
+
+double System::Impl::rMin() const
+{
+    double r = std::numeric_limits<double>::max();
+    for (double a : rad) r = std::min(r, a);
+    return rad.empty() ? 0.0 : r;
+}
+
+double System::Impl::rMax() const
+{
+    double r = 0;
+    for (double a : rad) r = std::max(r, a);
+    return r;
+}
+
+double System::minDiameter() const { return 2*impl_->rMin(); }
+
+void System::setCohesion(std::function<bool(int, int)> predicate, double force)
+{
+    if (!(force >= 0)) throw InputError("nscd::System::setCohesion: force must be >= 0");
+    impl_->cohesionPredicate = std::move(predicate);
+    impl_->cohesionForce = force;
+}
+
+// ============================================================================
+// detection
+// ============================================================================
+
+namespace
+{
+/// closest point of segment [a, b] to p
+inline Vec3 closestSegment(const Vec3& p, const Vec3& a, const Vec3& b)
+{
+    const Vec3 ab = b - a;
+    double t = (p - a).dot(ab)/ab.squaredNorm();
+    t = std::min(1.0, std::max(0.0, t));
+    return a + t*ab;
+}
+}
+
+void System::Impl::detectWalls(int i, double dt, double margin, double alertFactor)
+{
+    const int N = int(x.size());
+    const Vec3& xi = x[i];
+    const double ri = rad[i];
+    const double mu = materials[mat[i]].friction;
+    for (int wi = 0; wi < int(walls.size()); ++wi)
+    {
+        const Wall& W = walls[wi];
+        const double alert = alertFactor*dt*(speed[i] + W.velocity.norm()) + margin;
+        auto push = [&](const Vec3& n, double gap)
+        {
+            Contact c;
+            c.i = i;
+            c.j = N + wi;
+            c.n = n;
+            c.gap = gap;
+            c.mu = mu;
+            newContacts.push_back(c);
+        };
+        if (W.type == PlaneWall)
+        {
+            const double gap = (xi - (W.p + W.displacement)).dot(W.n) - ri;
+            if (gap < alert) push(W.n, gap);
+        }
+        else if (W.type == SegmentWall)
+        {
+            const Vec3 cp = closestSegment(xi, W.p + W.displacement, W.b + W.displacement);
+            const Vec3 d = xi - cp;
+            const double dn = d.norm();
+            if (dn - ri < alert && dn > 0) push(d/dn, dn - ri);
+        }
+        else
+        {
+            const Vec3 xl = xi - W.displacement;  // tree coordinates
+            trianglesNear(*W.tree, xl, ri + alert, triCandidates);
+            // candidate closest points, nearest first; a candidate is kept only
+            // if it lies strictly in front of every kept contact plane, which
+            // removes the edge/vertex points of coplanar (or shadowed)
+            // neighbouring triangles and keeps genuine corners.
+            triPoints.clear();
+            for (int t : triCandidates)
+            {
+                const auto& f = W.triangles[t];
+                const Vec3 cp = closestPointTriangle(xl, W.vertices[f[0]], W.vertices[f[1]], W.vertices[f[2]]);
+                const double dn = (xl - cp).norm();
+                if (!(dn > 0) || dn - ri >= alert) continue;
+                triPoints.push_back({dn, cp});
+            }
+            std::sort(triPoints.begin(), triPoints.end(),
+                      [](const TriPoint& a, const TriPoint& b) { return a.d < b.d; });
+            const std::size_t first = newContacts.size();
+            const double eps = 1e-9*ri;
+            for (const TriPoint& tp : triPoints)
+            {
+                const Vec3 n = (xl - tp.c)/tp.d;
+                bool keep = true;
+                for (std::size_t k = first; k < newContacts.size() && keep; ++k)
+                {
+                    const Vec3 ck = xl - (newContacts[k].gap + ri)*newContacts[k].n;
+                    if ((tp.c - ck).dot(newContacts[k].n) <= eps || newContacts[k].n.dot(n) > 1.0 - 1e-9) keep = false;
+                }
+                if (keep) push(n, tp.d - ri);
+            }
+        }
+    }
+}
+
+void System::Impl::detect(double dt)
+{
+    const int N = int(x.size());
+    newContacts.clear();
+    if (N == 0) return;
+    const Settings& S = settings;
+    const double rmin = rMin(), rmax = rMax();
+    const double margin = S.alertMargin*rmin;
+    double smax = 0;
+    for (int i = 0; i < N; ++i) smax = std::max(smax, speed[i]);
+    const double alertMax = S.alertDistanceFactor*dt*2*smax + margin;
+    double h = 2*rmax + alertMax;
+
+    // bounding box
+    Vec3 lo = x[0], hi = x[0];
+    for (int i = 1; i < N; ++i) { lo = lo.cwiseMin(x[i]); hi = hi.cwiseMax(x[i]); }
+    const int D = dim;
+    auto ncells = [&](double hh, long dims[3])
+    {
+        long tot = 1;
+        for (int d = 0; d < 3; ++d)
+        {
+            dims[d] = (d < D) ? long((hi[d] - lo[d])/hh) + 1 : 1;
+            tot *= dims[d];
+        }
+        return tot;
+    };
+    long dims[3];
+    long tot = ncells(h, dims);
+    const long cap = std::max<long>(4L*N, 64);
+    while (tot > cap) { h *= 1.5; tot = ncells(h, dims); }
+    const double ih = 1.0/h;
+
+    // counting sort of grains into cells
+    cellOf.resize(N);
+    cellStart.assign(tot + 1, 0);
+    for (int i = 0; i < N; ++i)
+    {
+        long c[3] = {0, 0, 0};
+        for (int d = 0; d < D; ++d) c[d] = std::min(dims[d] - 1, long((x[i][d] - lo[d])*ih));
+        const int cell = int(c[0] + dims[0]*(c[1] + dims[1]*c[2]));
+        cellOf[i] = cell;
+        ++cellStart[cell + 1];
+    }
+    for (long c = 0; c < tot; ++c) cellStart[c + 1] += cellStart[c];
+    cellItems.resize(N);
+    {
+        // use adjStart as a temporary cursor array
+        adjStart.assign(cellStart.begin(), cellStart.end() - 1);
+        for (int i = 0; i < N; ++i) cellItems[adjStart[cellOf[i]]++] = i;
+    }
+
+    const double af = S.alertDistanceFactor;
+    const bool hasWalls = !walls.empty();
+    for (int i = 0; i < N; ++i)
+    {
+        const int cell = cellOf[i];
+        const long cx = cell % dims[0];
+        const long cy = (cell/dims[0]) % dims[1];
+        const long cz = cell/(dims[0]*dims[1]);
+        const Vec3 xi = x[i];
+        const double ri = rad[i];
+        const double si = speed[i];
+        const bool fi = fix[i];
+        const double mui = materials[mat[i]].friction;
+        const long z0 = std::max(0L, cz - 1), z1 = std::min(dims[2] - 1, cz + 1);
+        const long y0 = std::max(0L, cy - 1), y1 = std::min(dims[1] - 1, cy + 1);
+        const long x0 = std::max(0L, cx - 1), x1 = std::min(dims[0] - 1, cx + 1);
+        for (long zz = z0; zz <= z1; ++zz)
+        for (long yy = y0; yy <= y1; ++yy)
+        {
+            const long row = dims[0]*(yy + dims[1]*zz);
+            const int b = cellStart[row + x0], e = cellStart[row + x1 + 1];
+            for (int k = b; k < e; ++k)
+            {
+                const int j = cellItems[k];
+                if (j <= i) continue;
+                if (fi && fix[j]) continue;
+                const Vec3 d = xi - x[j];
+                const double sum = ri + rad[j];
+                const double alert = af*dt*(si + speed[j]) + margin;
+                const double lim = sum + alert;
+                const double d2 = d.squaredNorm();
+                if (d2 >= lim*lim) continue;
+                const double dn = std::sqrt(d2);
+                if (!(dn > 0)) continue;
+                Contact c;
+                c.i = i;
+                c.j = j;
+                c.n = d/dn;
+                c.gap = dn - sum;
+                c.mu = 0.5*(mui + materials[mat[j]].friction);
+                newContacts.push_back(c);
+            }
+        }
+        if (hasWalls && !fi) detectWalls(i, dt, margin, af);
+    }
+}
+
+// ============================================================================
+// step
+// ============================================================================
+
+StepReport System::step(double dt)
+{
+    if (!(dt > 0) || !std::isfinite(dt))
+        throw InputError("nscd::System::step: dt must be > 0, got " + std::to_string(dt));
+    Impl& I = *impl_;
+    {
+        const Settings& S = I.settings;
+        if (!(S.tolerance > 0) || S.maxIterations < 1 || !(S.relaxation > 0 && S.relaxation < 2)
+            || !(S.overlapSlop >= 0) || !(S.alertDistanceFactor >= 0) || !(S.alertMargin >= 0))
+            throw InputError("nscd::System::step: invalid settings (need tolerance > 0, maxIterations >= 1, "
+                             "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0)");
+    }
+    const int N = int(I.x.size());
+    const int NW = int(I.walls.size());
+    const bool twoD = I.dim == 2;
+    StepReport rep;
+    rep.substeps = 1;
+
+    // ---- free velocity (eq. 2.11) ----
+    I.body.resize(N + NW);
+    I.speed.resize(N);
+    for (int i = 0; i < N; ++i)
+    {
+        Body& B = I.body[i];
+        Vec3 v = I.v[i], w = I.w[i];
+        if (I.fix[i])
+        {
+            B.im = 0;
+            B.ii = 0;
+        }
+        else
+        {
+            B.im = 1.0/I.mass[i];
+            B.ii = I.rotLock[i] ? 0.0 : 1.0/I.inertia[i];
+            v += dt*(I.g + B.im*I.force[i]);
+            w += dt*B.ii*I.torque[i];
+        }
+        if (twoD) { v.z() = 0; w.x() = 0; w.y() = 0; }
+        B.v = v;
+        B.w = w;
+        B.r = I.rad[i];
+        I.speed[i] = v.norm() + B.r*w.norm();
+    }
+    for (int k = 0; k < NW; ++k)
+    {
+        Body& B = I.body[N + k];
+        B.v = I.walls[k].velocity;
+        B.w.setZero();
+        B.im = B.ii = B.r = 0;
+    }
+
+    // ---- detection ----
+    using clock = std::chrono::steady_clock;
+    const auto t0 = clock::now();
+    I.detect(dt);
+    const auto t1 = clock::now();
+    rep.detectSeconds = std::chrono::duration<double>(t1 - t0).count();
+    std::vector<Contact>& C = I.newContacts;
+    const int NC = int(C.size());
+
+    // ---- contact constants, cohesion, warm start ----
+    const double rmin = I.rMin();
+    const double dmin = 2*rmin;
+    const double cohDist = I.settings.cohesionDistance*rmin;
+    const double slop = I.settings.overlapSlop*rmin;
+    const bool cohesion = I.cohesionForce > 0 && bool(I.cohesionPredicate);
+    // previous contacts indexed by i
+    const std::vector<Contact>& P = I.contacts;
+    const bool warm = I.settings.warmStart && !P.empty() && I.lastDt > 0;
+    if (warm)
+    {
+        I.prevStart.assign(N + 1, 0);
+        for (const Contact& c : P) if (c.i < N) ++I.prevStart[c.i + 1];
+        for (int i = 0; i < N; ++i) I.prevStart[i + 1] += I.prevStart[i];
+    }
+    const double scale = warm ? dt/I.lastDt : 0.0;
+    for (int k = 0; k < NC; ++k)
+    {
+        Contact& c = C[k];
+        const Body& A = I.body[c.i];
+        const Body& B = I.body[c.j];
+        c.wnn = A.im + B.im;
+        c.wtt = A.im + B.im + A.r*A.r*A.ii + B.r*B.r*B.ii;
+        c.iwnn = c.wnn > 0 ? 1.0/c.wnn : 0.0;
+        c.iwtt = c.wtt > 0 ? 1.0/c.wtt : 0.0;
+        // gap-based Signorini (eq. 2.37 with the gap): u_n^+ >= -g/dt; overlaps
+        // within the slop band are only held (u_n^+ >= 0), larger ones are
+        // pushed back to the band edge in one step.
+        c.bias = c.gap >= 0 ? c.gap/dt : (c.gap > -slop ? 0.0 : (c.gap + slop)/dt);
+        c.rn = 0;
+        c.rt.setZero();
+        c.change = 0;
+        c.coh = 0;
+        if (cohesion && c.gap <= cohDist)
+        {
+            const int jj = c.j < N ? c.j : -(c.j - N + 1);
+            if (I.cohesionPredicate(c.i, jj)) c.coh = I.cohesionForce*dt;
+        }
+        if (warm)
+        {
+            int best = -1;
+            double bestDot = 0.5;
+            for (int p = I.prevStart[c.i]; p < I.prevStart[c.i + 1]; ++p)
+            {
+                if (P[p].j != c.j) continue;
+                const double dd = P[p].n.dot(c.n);
+                if (dd > bestDot) { bestDot = dd; best = p; }
+            }
+            if (best >= 0)
+            {
+                const Vec3 imp = scale*(P[best].rn*P[best].n + P[best].rt);
+                c.rn = std::max(-c.coh, imp.dot(c.n));
+                c.rt = imp - imp.dot(c.n)*c.n;
+                const double lim = c.mu*(c.rn + c.coh);
+                const double tn = c.rt.norm();
+                if (tn > lim) c.rt *= (tn > 0 ? lim/tn : 0.0);
+            }
+        }
+    }
+    // apply warm-start impulses
+    if (warm)
+    {
+        for (int k = 0; k < NC; ++k)
+        {
+            Contact& c = C[k];
+            if (c.rn == 0 && c.rt.isZero()) continue;
+            Body& A = I.body[c.i];
+            Body& B = I.body[c.j];
+            const Vec3 Pm = c.rn*c.n + c.rt;
+            const Vec3 nxt = c.n.cross(c.rt);
+            A.v += A.im*Pm;
+            A.w -= A.ii*A.r*nxt;
+            B.v -= B.im*Pm;
+            B.w -= B.ii*B.r*nxt;
+        }
+    }
+
+    // ---- adjacency (contacts of each movable grain) ----
+    I.adjStart.assign(N + 1, 0);
+    for (int k = 0; k < NC; ++k)
+    {
+        const Contact& c = C[k];
+        if (!I.fix[c.i]) ++I.adjStart[c.i + 1];
+        if (c.j < N && !I.fix[c.j]) ++I.adjStart[c.j + 1];
+    }
+    for (int i = 0; i < N; ++i) I.adjStart[i + 1] += I.adjStart[i];
+    I.adjItems.resize(I.adjStart[N]);
+    {
+        I.cellOf.assign(I.adjStart.begin(), I.adjStart.end() - 1);  // cursor
+        for (int k = 0; k < NC; ++k)
+        {
+            const Contact& c = C[k];
+            if (!I.fix[c.i]) I.adjItems[I.cellOf[c.i]++] = k;
+            if (c.j < N && !I.fix[c.j]) I.adjItems[I.cellOf[c.j]++] = k;
+        }
+    }
+
+    // ---- nonlinear Gauss-Seidel with contact queue (Algorithm 2, section 2.3) ----
+    const double xi = I.settings.tolerance*dmin;
+    const long maxSolves = long(I.settings.maxIterations)*long(std::max(NC, 1));
+    long solves = 0;
+    Body* body = I.body.data();
+    Contact* cs = C.data();
+    const int* adjS = I.adjStart.data();
+    const int* adjI = I.adjItems.data();
+    // One local update (Algorithm 2 body); returns true if the contact had not
+    // converged (its impulse was changed), false if |W dr| dt < xi (the
+    // previous impulse is kept, as in Algorithm 2).
+    const double xi2 = xi*xi, dt2 = dt*dt;
+    const double omega = I.settings.relaxation;
+    // 2D: scalar tangential impulse along t = z x n (same law, fewer flops)
+    if (twoD)
+        for (int k = 0; k < NC; ++k)
+            cs[k].rts = cs[k].rt.dot(Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0));
+    auto solveOne2D = [&](int k) -> bool
+    {
+        ++solves;
+        Contact& c = cs[k];
+        Body& A = body[c.i];
+        Body& B = body[c.j];
+        const double nx = c.n.x(), ny = c.n.y();
+        const double dvx = A.v.x() - B.v.x(), dvy = A.v.y() - B.v.y();
+        // du.n and du.t with t = (-n_y, n_x): eq. 2.14-2.18 with w = w_z e_z
+        const double un = dvx*nx + dvy*ny;
+        const double ut = dvy*nx - dvx*ny - A.r*A.w.z() - B.r*B.w.z();
+        const double unFree = un - c.wnn*c.rn + c.bias;
+        const double utFree = ut - c.wtt*c.rts;
+        // eq. 2.38 (stick), 2.39-2.40 (slip forward/backward), 2.41 (W_nt = 0)
+        double rn = -unFree*c.iwnn;
+        if (rn < -c.coh) rn = -c.coh;
+        double lim = c.mu*(rn + c.coh);
+        double rt = -utFree*c.iwtt;
+        if (rt > lim) rt = lim;
+        else if (rt < -lim) rt = -lim;
+        if (omega != 1.0)
+        {
+            rn = c.rn + omega*(rn - c.rn);
+            if (rn < -c.coh) rn = -c.coh;
+            lim = c.mu*(rn + c.coh);
+            rt = c.rts + omega*(rt - c.rts);
+            if (rt > lim) rt = lim;
+            else if (rt < -lim) rt = -lim;
+        }
+        const double dn = rn - c.rn;
+        const double dtt = rt - c.rts;
+        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtt*dtt)*dt2;
+        c.change = ch;
+        if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
+        c.rn = rn;
+        c.rts = rt;
+        const double px = dn*nx - dtt*ny, py = dn*ny + dtt*nx;
+        A.v.x() += A.im*px;
+        A.v.y() += A.im*py;
+        A.w.z() -= A.ii*A.r*dtt;
+        B.v.x() -= B.im*px;
+        B.v.y() -= B.im*py;
+        B.w.z() -= B.ii*B.r*dtt;
+        return true;
+    };
+    auto solveOne3D = [&](int k) -> bool
+    {
+        ++solves;
+        Contact& c = cs[k];
+        Body& A = body[c.i];
+        Body& B = body[c.j];
+        const Vec3& n = c.n;
+        // relative velocity at the contact point (eq. 2.14-2.18, 2.28)
+        const Vec3 du = A.v - B.v - (A.r*A.w + B.r*B.w).cross(n);
+        const double un = du.dot(n);
+        // free local velocity: remove this contact's own impulse (Algorithm 2)
+        const double unFree = un - c.wnn*c.rn + c.bias;
+        const Vec3 utFree = (du - un*n) - c.wtt*c.rt;
+        // local law, closed form for diagonal W (same as solveLocalDiagonal,
+        // with precomputed inverses): eq. 2.38-2.41
+        double rn = -unFree*c.iwnn;
+        if (rn < -c.coh) rn = -c.coh;
+        const double rnt = rn + c.coh;
+        Vec3 rt;
+        if (rnt <= 0.0) rt.setZero();
+        else
+        {
+            rt = utFree*(-c.iwtt);
+            const double lim = c.mu*rnt;
+            const double n2 = rt.squaredNorm();
+            if (n2 > lim*lim) rt *= lim/std::sqrt(n2);
+        }
+        if (omega != 1.0)
+        {
+            // projected over-relaxation: r <- Proj_K(r_old + omega (r_solved - r_old))
+            rn = c.rn + omega*(rn - c.rn);
+            if (rn < -c.coh) rn = -c.coh;
+            rt = c.rt + omega*(rt - c.rt);
+            const double lim = c.mu*(rn + c.coh);
+            const double n2 = rt.squaredNorm();
+            if (n2 > lim*lim) rt *= (n2 > 0 ? lim/std::sqrt(n2) : 0.0);
+        }
+        const double dn = rn - c.rn;
+        const Vec3 dtv = rt - c.rt;
+        // squared change of the contact-point displacement |W dr|^2 dt^2
+        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtv.squaredNorm())*dt2;
+        c.change = ch;
+        if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
+        c.rn = rn;
+        c.rt = rt;
+        const Vec3 Pm = dn*n + dtv;
+        const Vec3 nxt = n.cross(dtv);
+        A.v += A.im*Pm;
+        A.w -= A.ii*A.r*nxt;
+        B.v -= B.im*Pm;
+        B.w -= B.ii*B.r*nxt;
+        return true;
+    };
+    auto solveOne = [&](int k) -> bool { return twoD ? solveOne2D(k) : solveOne3D(k); };
+    I.inQueue.assign(NC, 1);
+    char* inQ = I.inQueue.data();
+    int count = NC;
+    if (I.settings.ordering == Settings::Ordering::Fifo)
+    {
+        // FIFO contact queue (section 2.3): a non-converged contact and the
+        // contacts sharing its bodies are (re-)appended to the queue.
+        I.queue.resize(NC);
+        for (int k = 0; k < NC; ++k) I.queue[k] = k;
+        int head = 0;
+        int* queue = I.queue.data();
+        auto push = [&](int kk)
+        {
+            if (inQ[kk]) return;
+            inQ[kk] = 1;
+            int tail = head + count;
+            if (tail >= NC) tail -= NC;
+            queue[tail] = kk;
+            ++count;
+        };
+        while (count > 0 && solves < maxSolves)
+        {
+            const int k = queue[head];
+            head = (head + 1 == NC) ? 0 : head + 1;
+            --count;
+            inQ[k] = 0;
+            if (!solveOne(k)) continue;
+            push(k);
+            const Contact& c = cs[k];
+            for (int p = adjS[c.i]; p < adjS[c.i + 1]; ++p) push(adjI[p]);
+            if (c.j < N) for (int p = adjS[c.j]; p < adjS[c.j + 1]; ++p) push(adjI[p]);
+        }
+    }
+    else
+    {
+        // Same queue as a flag set, traversed in alternating (symmetric)
+        // sweeps: forward then backward over the contact list (sorted by grain).
+        // Only flagged contacts are solved; a non-converged contact flags
+        // itself and the contacts sharing its bodies. Alternating directions
+        // propagate forces through deep piles in both directions.
+        auto mark = [&](int kk) { if (!inQ[kk]) { inQ[kk] = 1; ++count; } };
+        int lo = 0, hi = NC - 1;  // range that may contain flagged contacts
+        bool forward = true;
+        while (count > 0 && solves < maxSolves)
+        {
+            int nlo = NC, nhi = -1;
+            auto visit = [&](int k)
+            {
+                if (!inQ[k]) return;
+                inQ[k] = 0;
+                --count;
+                if (!solveOne(k)) return;
+                mark(k);
+                nlo = std::min(nlo, k); nhi = std::max(nhi, k);
+                const Contact& c = cs[k];
+                for (int p = adjS[c.i]; p < adjS[c.i + 1]; ++p)
+                { const int kk = adjI[p]; mark(kk); nlo = std::min(nlo, kk); nhi = std::max(nhi, kk); }
+                if (c.j < N)
+                    for (int p = adjS[c.j]; p < adjS[c.j + 1]; ++p)
+                    { const int kk = adjI[p]; mark(kk); nlo = std::min(nlo, kk); nhi = std::max(nhi, kk); }
+            };
+            if (forward) for (int k = lo; k <= hi && solves < maxSolves; ++k) visit(k);
+            else for (int k = hi; k >= lo && solves < maxSolves; --k) visit(k);
+            lo = nlo; hi = nhi;
+            forward = !forward;
+        }
+    }
+    if (twoD)
+        for (int k = 0; k < NC; ++k)
+            cs[k].rt = cs[k].rts*Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0);
+    double res = 0;
+    for (int k = 0; k < NC; ++k) res = std::max(res, C[k].change);
+    res = std::sqrt(res);
+    for (int k = 0; k < NC; ++k) C[k].change = std::sqrt(C[k].change);
+    rep.solveSeconds = std::chrono::duration<double>(clock::now() - t1).count();
+    rep.contacts = NC;
+    rep.localSolves = solves;
+    rep.sweeps = NC > 0 ? int((solves + NC - 1)/NC) : 0;
+    rep.residual = dmin > 0 ? res/dmin : 0;
+    rep.converged = count == 0;
+
+    // ---- velocities and positions (eq. 2.9, 5.4), exact rotation ----
+    for (int i = 0; i < N; ++i)
+    {
+        const Body& B = I.body[i];
+        I.v[i] = B.v;
+        I.w[i] = B.w;
+        I.x[i] += dt*B.v;
+        I.q[i] = rotate(I.q[i], B.w, dt);
+    }
+    for (int k = 0; k < NW; ++k) I.walls[k].displacement += dt*I.walls[k].velocity;
+    I.time += dt;
+
+    // ---- final overlap ----
+    I.lastDt = dt;
+    double ov = 0;
+    for (int k = 0; k < NC; ++k) ov = std::max(ov, -I.contactGapNow(C[k]));
+    rep.maxOverlap = ov;
+
+    std::swap(I.contacts, I.newContacts);
+    return rep;
+}
+
+double System::Impl::contactGapNow(const Contact& c) const
+{
+    const int N = int(x.size());
+    if (c.j < N) return (x[c.i] - x[c.j]).norm() - rad[c.i] - rad[c.j];
+    const Wall& W = walls[c.j - N];
+    if (W.type == PlaneWall) return (x[c.i] - (W.p + W.displacement)).dot(W.n) - rad[c.i];
+    if (W.type == SegmentWall)
+        return (x[c.i] - closestSegment(x[c.i], W.p + W.displacement, W.b + W.displacement)).norm() - rad[c.i];
+    // triangles: linearised with the contact normal
+    const Vec3 du = v[c.i] - W.velocity - rad[c.i]*w[c.i].cross(c.n);
+    return c.gap + du.dot(c.n)*lastDt;
+}
+
+} // namespace nscd

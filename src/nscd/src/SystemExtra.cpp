@@ -1,0 +1,213 @@
+// Sub-stepping, checks, contact views, conductance.
+#include "SystemImpl.H"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+
+namespace nscd
+{
+
+namespace
+{
+constexpr double pi = 3.14159265358979323846;
+}
+
+double System::subStep(double dt, double fraction) const
+{
+    const Impl& I = *impl_;
+    if (!(dt > 0)) throw InputError("nscd::System::subStep: dt must be > 0");
+    if (!(fraction > 0)) throw InputError("nscd::System::subStep: fraction must be > 0");
+    const int N = int(I.x.size());
+    double vmax = 0;
+    for (int i = 0; i < N; ++i)
+    {
+        Vec3 v = I.v[i], w = I.w[i];
+        if (!I.fix[i])
+        {
+            v += dt*(I.g + I.force[i]/I.mass[i]);
+            if (!I.rotLock[i]) w += dt*I.torque[i]/I.inertia[i];
+        }
+        if (I.dim == 2) { v.z() = 0; w.x() = w.y() = 0; }
+        vmax = std::max(vmax, v.norm() + I.rad[i]*w.norm());
+    }
+    for (const Wall& W : I.walls) vmax = std::max(vmax, W.velocity.norm());
+    const double dmin = 2*I.rMin();
+    if (vmax*dt <= fraction*dmin || dmin == 0) return dt;
+    const double n = std::ceil(vmax*dt/(fraction*dmin)*(1 - 1e-12));  // guard round-off
+    return dt/n;
+}
+
+StepReport System::advance(double dt, double fraction)
+{
+    if (!(dt > 0)) throw InputError("nscd::System::advance: dt must be > 0");
+    StepReport total;
+    double remaining = dt;
+    while (remaining > 0)
+    {
+        double h = subStep(remaining, fraction);
+        if (h >= remaining*(1 - 1e-12)) h = remaining;
+        const StepReport r = step(h);
+        remaining = (h == remaining) ? 0.0 : remaining - h;
+        total.contacts = std::max(total.contacts, r.contacts);
+        total.sweeps += r.sweeps;
+        total.localSolves += r.localSolves;
+        total.residual = std::max(total.residual, r.residual);
+        total.converged = total.converged && r.converged;
+        total.substeps += 1;
+        total.maxOverlap = std::max(total.maxOverlap, r.maxOverlap);
+        total.detectSeconds += r.detectSeconds;
+        total.solveSeconds += r.solveSeconds;
+    }
+    return total;
+}
+
+void System::checkInitialOverlaps() const
+{
+    const Impl& I = *impl_;
+    const int N = int(I.x.size());
+    if (N == 0) return;
+    const double tol = I.settings.overlapTolerance*I.rMin();
+    std::vector<std::string> msgs;
+    int count = 0;
+    double worst = 0;
+    auto report = [&](const std::string& what, double ov)
+    {
+        ++count;
+        worst = std::max(worst, ov);
+        if (msgs.size() < 20)
+        {
+            std::ostringstream os;
+            os << "  " << what << ": overlap " << ov << " m";
+            msgs.push_back(os.str());
+        }
+    };
+    // grain-grain: hash grid with cell = 2 r_max
+    const double h = 2*I.rMax();
+    std::unordered_map<long long, std::vector<int>> grid;
+    auto key = [&](long a, long b, long c) { return (a*73856093LL) ^ (b*19349663LL) ^ (c*83492791LL); };
+    auto cellOf = [&](const Vec3& p, long c[3]) { for (int d = 0; d < 3; ++d) c[d] = long(std::floor(p[d]/h)); };
+    for (int i = 0; i < N; ++i) { long c[3]; cellOf(I.x[i], c); grid[key(c[0], c[1], c[2])].push_back(i); }
+    for (int i = 0; i < N; ++i)
+    {
+        long c[3];
+        cellOf(I.x[i], c);
+        for (long a = c[0] - 1; a <= c[0] + 1; ++a)
+        for (long b = c[1] - 1; b <= c[1] + 1; ++b)
+        for (long z = c[2] - 1; z <= c[2] + 1; ++z)
+        {
+            auto it = grid.find(key(a, b, z));
+            if (it == grid.end()) continue;
+            for (int j : it->second)
+            {
+                if (j <= i) continue;
+                long cj[3];
+                cellOf(I.x[j], cj);
+                if (cj[0] != a || cj[1] != b || cj[2] != z) continue;  // hash collision
+                const double ov = I.rad[i] + I.rad[j] - (I.x[i] - I.x[j]).norm();
+                if (ov > tol)
+                {
+                    std::ostringstream os;
+                    os << "grains " << i << " and " << j;
+                    report(os.str(), ov);
+                }
+            }
+        }
+    }
+    // grain-wall
+    std::vector<int> cand;
+    for (int wi = 0; wi < int(I.walls.size()); ++wi)
+    {
+        const Wall& W = I.walls[wi];
+        for (int i = 0; i < N; ++i)
+        {
+            double ov = 0;
+            if (W.type == PlaneWall) ov = I.rad[i] - (I.x[i] - (W.p + W.displacement)).dot(W.n);
+            else if (W.type == SegmentWall)
+            {
+                const Vec3 a = W.p + W.displacement, b = W.b + W.displacement;
+                const Vec3 ab = b - a;
+                const double t = std::clamp((I.x[i] - a).dot(ab)/ab.squaredNorm(), 0.0, 1.0);
+                ov = I.rad[i] - (I.x[i] - (a + t*ab)).norm();
+            }
+            else
+            {
+                const Vec3 xl = I.x[i] - W.displacement;
+                trianglesNear(*W.tree, xl, I.rad[i], cand);
+                for (int t : cand)
+                {
+                    const auto& f = W.triangles[t];
+                    const Vec3 cp = closestPointTriangle(xl, W.vertices[f[0]], W.vertices[f[1]], W.vertices[f[2]]);
+                    ov = std::max(ov, I.rad[i] - (xl - cp).norm());
+                }
+            }
+            if (ov > tol)
+            {
+                std::ostringstream os;
+                os << "grain " << i << " and wall " << wi;
+                report(os.str(), ov);
+            }
+        }
+    }
+    if (count > 0)
+    {
+        std::ostringstream os;
+        os << "nscd::System::checkInitialOverlaps: " << count << " overlap(s) above the tolerance "
+           << tol << " m (overlapTolerance " << I.settings.overlapTolerance << " x r_min), worst "
+           << worst << " m:\n";
+        for (const auto& m : msgs) os << m << "\n";
+        if (count > int(msgs.size())) os << "  ... and " << count - int(msgs.size()) << " more\n";
+        throw InputError(os.str());
+    }
+}
+
+std::size_t System::nContacts() const { return impl_->contacts.size(); }
+
+std::vector<System::ContactView> System::contacts() const
+{
+    const Impl& I = *impl_;
+    const int N = int(I.x.size());
+    std::vector<ContactView> out;
+    out.reserve(I.contacts.size());
+    for (const Contact& c : I.contacts)
+    {
+        ContactView v;
+        v.i = c.i;
+        v.j = c.j < N ? c.j : -(c.j - N + 1);
+        v.normal = c.n;
+        // contact point on A's surface (current position, normal of the last step)
+        v.point = I.x[c.i] - I.rad[c.i]*c.n;
+        v.gap = c.gap;
+        v.impulse = c.rn*c.n + c.rt;
+        out.push_back(v);
+    }
+    return out;
+}
+
+double System::contactConductance(const ContactView& c, double dt) const
+{
+    // eq. 4.2-4.3: H = 4 k_s (r_n d* / (2 pi L E* dt))^(1/4), L = 1 (per unit depth).
+    // k_s: harmonic mean of the conductivities (as the thesis text says);
+    // walls: infinite radius and Young modulus, conductivity of the grain.
+    const Impl& I = *impl_;
+    const double rn = c.impulse.dot(c.normal);
+    if (!(rn > 0) || !(dt > 0)) return 0;
+    const Material& mi = I.materials[I.mat.at(c.i)];
+    if (!(mi.youngModulus > 0) || !(mi.conductivity > 0)) return 0;
+    double invE = (1 - mi.poissonRatio*mi.poissonRatio)/mi.youngModulus;
+    double invD = 1.0/(2*I.rad[c.i]);
+    double ks = mi.conductivity;
+    if (c.j >= 0)
+    {
+        const Material& mj = I.materials[I.mat.at(c.j)];
+        if (!(mj.youngModulus > 0) || !(mj.conductivity > 0)) return 0;
+        invE += (1 - mj.poissonRatio*mj.poissonRatio)/mj.youngModulus;
+        invD += 1.0/(2*I.rad[c.j]);
+        ks = 2.0/(1.0/mi.conductivity + 1.0/mj.conductivity);
+    }
+    const double dstar = 1.0/invD, Estar = 1.0/invE;
+    return 4*ks*std::pow(rn*dstar/(2*pi*1.0*Estar*dt), 0.25);
+}
+
+} // namespace nscd

@@ -1,0 +1,144 @@
+// HDF5 state I/O: round trip, bit-exact restart, errors.
+#include "nscd/System.H"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+using namespace nscd;
+
+namespace
+{
+System makeBox(int dim, int n)
+{
+    System s(dim);
+    const int m = s.addMaterial({2500, 0.4, 1e9, 0.25, 1.2, 840});
+    const int m2 = s.addMaterial({1500, 0.2});
+    std::mt19937 gen(2);
+    std::uniform_real_distribution<double> U(0.004, 0.006);
+    const double h = 0.013;
+    for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b)
+            for (int c = 0; c < (dim == 3 ? 3 : 1); ++c)
+            {
+                const int k = s.addGrain(Vec3((a + 0.5)*h, (b + 0.5)*h, dim == 3 ? (c + 0.5)*h : 0), U(gen), (a + b) % 2 ? m : m2);
+                s.velocities()[k] = Vec3(U(gen) - 0.005, 0, 0)*100;
+            }
+    s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0.01, 0));
+    s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
+    s.addPlane(Vec3(n*h, 0, 0), Vec3(-1, 0, 0));
+    if (dim == 2) s.addSegment(Vec3(0.02, 0.5, 0), Vec3(0.06, 0.4, 0));
+    else
+    {
+        s.addTriangulatedSurface({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {{0, 1, 2}});
+        s.addPlane(Vec3(0, 0, 3*h), Vec3(0, 0, -1));
+    }
+    s.setGravity(Vec3(0.5, -9.81, 0));
+    s.setExternalForce(3, Vec3(1e-3, 2e-3, 0), Vec3(0, 0, 1e-7));
+    s.setRotationLocked(5);
+    s.settings().tolerance = 1e-5;
+    return s;
+}
+}
+
+TEST(HDF5, RoundTripEveryField)
+{
+    for (int dim : {2, 3})
+    {
+        System s = makeBox(dim, 6);
+        for (int k = 0; k < 50; ++k) s.step(1e-3);
+        const std::string f = "nscd_roundtrip.h5";
+        s.writeHDF5(f);
+        const System r = System::readHDF5(f);
+        ASSERT_EQ(r.size(), s.size());
+        EXPECT_EQ(r.dimension(), dim);
+        EXPECT_EQ(r.time(), s.time());
+        EXPECT_EQ(r.positions(), s.positions());
+        EXPECT_EQ(r.velocities(), s.velocities());
+        EXPECT_EQ(r.angularVelocities(), s.angularVelocities());
+        EXPECT_EQ(r.radii(), s.radii());
+        EXPECT_EQ(r.materials(), s.materials());
+        for (std::size_t i = 0; i < s.size(); ++i)
+        {
+            EXPECT_EQ(r.orientations()[i].coeffs(), s.orientations()[i].coeffs());
+            EXPECT_EQ(r.mass(i), s.mass(i));
+            EXPECT_EQ(r.rotationLocked(i), s.rotationLocked(i));
+        }
+        EXPECT_EQ(r.material(0).youngModulus, 1e9);
+        EXPECT_EQ(r.nWalls(), s.nWalls());
+        EXPECT_EQ(r.wallDisplacement(0), s.wallDisplacement(0));
+        EXPECT_EQ(r.gravity(), s.gravity());
+        EXPECT_EQ(r.settings().tolerance, 1e-5);
+        const auto a = s.contacts(), b = r.contacts();
+        ASSERT_EQ(a.size(), b.size());
+        for (std::size_t k = 0; k < a.size(); ++k)
+        {
+            EXPECT_EQ(a[k].i, b[k].i);
+            EXPECT_EQ(a[k].j, b[k].j);
+            EXPECT_EQ(a[k].impulse, b[k].impulse);
+        }
+        std::remove(f.c_str());
+    }
+}
+
+// Reference: restart contract, 2N steps == N steps + write + read + N steps,
+// exact (bitwise) equality of positions, velocities and orientations.
+TEST(HDF5, RestartIsBitIdentical)
+{
+    for (int dim : {2, 3})
+    {
+        const int N = 60;
+        System a = makeBox(dim, 6);
+        for (int k = 0; k < 2*N; ++k) a.step(1e-3);
+        System b = makeBox(dim, 6);
+        for (int k = 0; k < N; ++k) b.step(1e-3);
+        b.writeHDF5("nscd_restart.h5");
+        System c = System::readHDF5("nscd_restart.h5");
+        for (int k = 0; k < N; ++k) c.step(1e-3);
+        EXPECT_EQ(a.positions(), c.positions()) << "dim " << dim;
+        EXPECT_EQ(a.velocities(), c.velocities());
+        EXPECT_EQ(a.angularVelocities(), c.angularVelocities());
+        for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a.orientations()[i].coeffs(), c.orientations()[i].coeffs());
+        EXPECT_EQ(a.time(), c.time());
+        std::remove("nscd_restart.h5");
+    }
+}
+
+TEST(HDF5, MissingAndCorruptFiles)
+{
+    EXPECT_THROW(System::readHDF5("does/not/exist.h5"), InputError);
+    {
+        std::ofstream o("nscd_garbage.h5");
+        o << "this is not hdf5";
+    }
+    EXPECT_THROW(System::readHDF5("nscd_garbage.h5"), InputError);
+    // a valid HDF5 file without the expected datasets
+    System s = makeBox(2, 3);
+    s.writeHDF5("nscd_ok.h5");
+    {
+        // truncate the file: corrupt
+        std::ifstream in("nscd_ok.h5", std::ios::binary);
+        std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::ofstream o("nscd_trunc.h5", std::ios::binary);
+        o.write(data.data(), std::streamsize(data.size()/2));
+    }
+    EXPECT_THROW(System::readHDF5("nscd_trunc.h5"), InputError);
+    try { System::readHDF5("nscd_garbage.h5"); }
+    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("nscd_garbage.h5"), std::string::npos); }
+    EXPECT_THROW(s.writeHDF5("no/such/dir/x.h5"), InputError);
+    std::remove("nscd_garbage.h5");
+    std::remove("nscd_ok.h5");
+    std::remove("nscd_trunc.h5");
+}
+
+TEST(HDF5, EmptySystemRoundTrip)
+{
+    System s(3);
+    s.writeHDF5("nscd_empty.h5");
+    const System r = System::readHDF5("nscd_empty.h5");
+    EXPECT_EQ(r.size(), 0u);
+    EXPECT_EQ(r.dimension(), 3);
+    std::remove("nscd_empty.h5");
+}

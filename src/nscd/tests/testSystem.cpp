@@ -1,0 +1,157 @@
+// API errors, checks, sub-stepping, momentum conservation.
+#include "nscd/System.H"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace nscd;
+
+TEST(Errors, BadInputs)
+{
+    EXPECT_THROW(System(4), InputError);
+    System s(2);
+    EXPECT_THROW(s.addMaterial({0.0, 0.3}), InputError);
+    EXPECT_THROW(s.addMaterial({-1.0, 0.3}), InputError);
+    EXPECT_THROW(s.addMaterial({1000, -0.1}), InputError);
+    const int m = s.addMaterial({1000, 0.3});
+    EXPECT_EQ(m, 0);
+    EXPECT_THROW(s.addGrain(Vec3(0, 0, 0), -0.1, m), InputError);
+    EXPECT_THROW(s.addGrain(Vec3(0, 0, 0), 0.0, m), InputError);
+    EXPECT_THROW(s.addGrain(Vec3(0, 0, 0), 0.1, 7), InputError);
+    try { s.addGrain(Vec3(0, 0, 0), 0.1, 3); FAIL(); }
+    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("unknown material 3"), std::string::npos); }
+    EXPECT_THROW(s.addTriangulatedSurface({Vec3(0, 0, 0)}, {{0, 0, 0}}), InputError);  // 2D
+    EXPECT_THROW(s.step(0.0), InputError);
+    EXPECT_THROW(s.setWallVelocity(3, Vec3::Zero()), InputError);
+    System s3(3);
+    s3.addMaterial({1000, 0.3});
+    EXPECT_THROW(s3.addSegment(Vec3(0, 0, 0), Vec3(1, 0, 0)), InputError);
+    EXPECT_THROW(s3.addTriangulatedSurface({Vec3(0, 0, 0), Vec3(1, 0, 0)}, {{0, 1, 2}}), InputError);
+}
+
+TEST(Errors, InitialOverlapNamesThePair)
+{
+    System s(2);
+    const int m = s.addMaterial({1000, 0.3});
+    s.addGrain(Vec3(0, 0, 0), 0.1, m);
+    s.addGrain(Vec3(0.5, 0, 0), 0.1, m);
+    s.addGrain(Vec3(0.69, 0, 0), 0.1, m);  // overlaps grain 1 by 0.01
+    s.addPlane(Vec3(0, -0.1, 0), Vec3(0, 1, 0));  // grain 0 just touches: fine
+    try
+    {
+        s.checkInitialOverlaps();
+        FAIL() << "overlap not detected";
+    }
+    catch (const InputError& e)
+    {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("grains 1 and 2"), std::string::npos) << msg;
+        EXPECT_NE(msg.find("0.01"), std::string::npos) << msg;
+        EXPECT_EQ(msg.find("wall"), std::string::npos) << msg;
+    }
+    s.positions()[2].x() = 0.7;
+    EXPECT_NO_THROW(s.checkInitialOverlaps());
+    s.positions()[0].y() = -0.05;  // into the plane by 0.05
+    try { s.checkInitialOverlaps(); FAIL(); }
+    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("grain 0 and wall 0"), std::string::npos); }
+}
+
+// Reference: thesis section 5.1.3, dt_sub = O(d_min/|v_max|): the chosen
+// dt_sub satisfies |v_max| dt_sub <= fraction d_min (exact inequality).
+TEST(SubStepping, PicksDtFromDminAndVmax)
+{
+    System s(2);
+    const int m = s.addMaterial({1000, 0.3});
+    s.addGrain(Vec3(0, 0, 0), 0.01, m);
+    s.addGrain(Vec3(1, 0, 0), 0.05, m);
+    s.velocities()[1] = Vec3(3.0, 4.0, 0);  // |v| = 5
+    const double frac = 0.1, dmin = 0.02;
+    const double dt = 1e-2;
+    const double h = s.subStep(dt, frac);
+    EXPECT_LE(5.0*h, frac*dmin*(1 + 1e-12));
+    EXPECT_GT(5.0*h*2, frac*dmin);  // not needlessly small
+    const StepReport r = s.advance(dt, frac);
+    EXPECT_EQ(r.substeps, int(std::ceil(5.0*dt/(frac*dmin))));
+    EXPECT_NEAR(s.time(), dt, 1e-15);
+    // slow grains: a single step
+    s.velocities()[1] = Vec3(1e-3, 0, 0);
+    EXPECT_EQ(s.advance(dt, frac).substeps, 1);
+}
+
+// Reference: Newton's third law in every local update (eq. 2.26-2.27):
+// total linear momentum conserved to machine precision (1e-12 relative).
+TEST(Momentum, ConservedInFreeCollisions)
+{
+    for (int dim : {2, 3})
+    {
+        System s(dim);
+        const int m1 = s.addMaterial({1000, 0.4});
+        const int m2 = s.addMaterial({2500, 0.2});
+        std::mt19937 gen(11);
+        std::uniform_real_distribution<double> U(0, 1);
+        const int n = dim == 2 ? 10 : 5;
+        for (int a = 0; a < n; ++a)
+            for (int b = 0; b < n; ++b)
+                for (int c = 0; c < (dim == 3 ? n : 1); ++c)
+                {
+                    const int k = s.addGrain(Vec3(0.1*a, 0.1*b, 0.1*c), 0.02 + 0.025*U(gen), (a + b) % 2 ? m1 : m2);
+                    s.velocities()[k] = Vec3(U(gen) - 0.5, U(gen) - 0.5, dim == 3 ? U(gen) - 0.5 : 0.0);
+                    if (dim == 3) s.angularVelocities()[k] = Vec3(U(gen), U(gen), U(gen))*10;
+                    else s.angularVelocities()[k] = Vec3(0, 0, 10*U(gen));
+                }
+        auto momentum = [&]()
+        {
+            Vec3 p = Vec3::Zero();
+            for (std::size_t i = 0; i < s.size(); ++i) p += s.mass(i)*s.velocities()[i];
+            return p;
+        };
+        double scale = 0;
+        for (std::size_t i = 0; i < s.size(); ++i) scale += s.mass(i)*s.velocities()[i].norm();
+        const Vec3 p0 = momentum();
+        int contacts = 0;
+        for (int k = 0; k < 300; ++k) contacts += s.step(2e-3).contacts;
+        EXPECT_GT(contacts, 100);
+        EXPECT_LT((momentum() - p0).norm(), 1e-12*scale) << "dim " << dim;
+    }
+}
+
+TEST(Contacts, ViewAndCohesion)
+{
+    // two discs resting on a plane; the view exposes normals, impulses, walls as -(w+1)
+    System s(2);
+    const int m = s.addMaterial({1000, 0.5, 1e9, 0.3, 1.0, 800});
+    s.addGrain(Vec3(0, 0.1, 0), 0.1, m);
+    s.addGrain(Vec3(0.2, 0.1, 0), 0.1, m);
+    s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
+    s.setGravity(Vec3(0, -9.81, 0));
+    const double dt = 1e-3;
+    for (int k = 0; k < 10; ++k) s.step(dt);
+    const auto cs = s.contacts();
+    int walls = 0;
+    for (const auto& c : cs)
+    {
+        if (c.j == -1)
+        {
+            ++walls;
+            EXPECT_NEAR(c.normal.y(), 1.0, 1e-14);
+            // weight per unit depth times dt (1e-9 rel)
+            EXPECT_NEAR(c.impulse.y(), s.mass(c.i)*9.81*dt, 1e-9*s.mass(c.i)*9.81*dt);
+            EXPECT_GT(s.contactConductance(c, dt), 0.0);
+        }
+    }
+    EXPECT_EQ(walls, 2);
+    // cohesion holds a disc hanging under a ceiling: F_c > m g
+    System h(2);
+    const int mh = h.addMaterial({1000, 0.5});
+    h.addGrain(Vec3(0, -0.1, 0), 0.1, mh);
+    h.addPlane(Vec3(0, 0, 0), Vec3(0, -1, 0));
+    h.setGravity(Vec3(0, -9.81, 0));
+    h.setCohesion([](int, int j) { return j == -1; }, 2.0*h.mass(0)*9.81);
+    for (int k = 0; k < 100; ++k) h.step(dt);
+    EXPECT_NEAR(h.positions()[0].y(), -0.1, 1e-9);
+    // too weak cohesion: it falls
+    h.setCohesion([](int, int) { return true; }, 0.5*h.mass(0)*9.81);
+    for (int k = 0; k < 100; ++k) h.step(dt);
+    EXPECT_LT(h.positions()[0].y(), -0.11);
+}
