@@ -32,7 +32,7 @@ int main(int argc, char** argv)
     std::mt19937 gen(1);
     const double r0 = 1e-3;
     std::uniform_real_distribution<double> U(0.8*r0, 1.2*r0);
-    const double h = 2.6*r0;
+    const double h = (dim == 3 ? 3.2 : 2.6)*r0;
     std::uniform_real_distribution<double> J(0, 1);
     const int nz = dim == 3 ? 10 : 1;
     int nx = dim == 2 ? int(std::sqrt(N)*1.0) : int(std::sqrt(N/nz));
