@@ -4,6 +4,7 @@
 #include "fixedValueFvPatchFields.H"
 #include "zeroGradientFvPatchFields.H"
 #include "uniformDimensionedFields.H"
+#include "IOList.H"
 
 // * * * * * * * * * * * * * * * Local Functions  * * * * * * * * * * * * * //
 
@@ -86,6 +87,7 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
         dimensionedScalar("one", dimless, 1.0),
         zeroGradientFvPatchScalarField::typeName
     ),
+    restarted_(false),
     Kdrag_
     (
         fieldIO(mesh, "Kdrag"), mesh, dimensionedScalar(inv(dimTime), Zero),
@@ -147,9 +149,36 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
 
     grains_.checkState();
     contactImpulse_.setSize(grains_.system().size(), Zero);
-    voidFraction_.oldTime();
+
+    // Restart: the void fraction and the grains' last contact impulses of
+    // the start time make the next step identical to an uninterrupted run
+    // (the void fraction written at a time is the "old" one of the next step)
+    IOobject epsIO
+    (
+        "voidFraction", mesh.time().timeName(), mesh, IOobject::MUST_READ
+    );
+    IOobject impulseIO
+    (
+        "grainContactImpulse", mesh.time().timeName(), "uniform", mesh,
+        IOobject::MUST_READ, IOobject::NO_WRITE, false
+    );
     mapGrains();
-    voidFraction_.oldTime() = voidFraction_;
+    if (epsIO.typeHeaderOk<volScalarField>(true))
+    {
+        const volScalarField epsRead(epsIO, mesh);
+        voidFraction_.primitiveFieldRef() = epsRead.primitiveField();
+        voidFraction_.correctBoundaryConditions();
+        restarted_ = true;
+    }
+    voidFraction_.oldTime();
+    if (impulseIO.typeHeaderOk<IOList<vector>>(true))
+    {
+        const IOList<vector> imp(impulseIO);
+        if (imp.size() == contactImpulse_.size())
+        {
+            contactImpulse_ = imp;
+        }
+    }
 
     Info<< "vansCloud: force model " << forceModel_ << ", fluid rho " << rho_
         << " nu " << nu_ << ", void fraction min "
@@ -344,6 +373,23 @@ Foam::scalar Foam::vansCloud::maxGrainReynolds() const
 
 void Foam::vansCloud::write() const
 {
+    // the previous step's contact impulses (exact restart), binary
+    {
+        IOList<vector> imp
+        (
+            IOobject
+            (
+                "grainContactImpulse", mesh_.time().timeName(), "uniform",
+                mesh_, IOobject::NO_READ, IOobject::NO_WRITE, false
+            ),
+            contactImpulse_
+        );
+        imp.writeObject
+        (
+            IOstream::BINARY, IOstream::currentVersion,
+            IOstream::UNCOMPRESSED, true
+        );
+    }
     const label n = grains_.system().size();
     if (fluidForce_.size() == n && fluidVelocity_.size() == n)
     {
