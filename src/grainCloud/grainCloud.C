@@ -190,6 +190,11 @@ namespace
         struct line { nscd::Vec3 o, t; std::vector<std::pair<double, double>> iv; };
         std::vector<line> lines;
         const scalar tol = 1e-9*mag(mesh.bounds().span());
+
+        // back-plane edges of the patch faces, from every rank (the grains
+        // see the whole wall on every rank)
+        List<List<point>> edges(Pstream::nProcs());
+        DynamicList<point> mine;
         for (const face& f : pp)
         {
             DynamicList<nscd::Vec3> back(2);
@@ -209,7 +214,17 @@ namespace
                     << " mesh must be one cell thick in z with empty"
                     << " front and back patches." << exit(FatalError);
             }
-            const nscd::Vec3 a = back[0], b = back[1];
+            mine.append(point(back[0].x(), back[0].y(), 0));
+            mine.append(point(back[1].x(), back[1].y(), 0));
+        }
+        edges[Pstream::myProcNo()] = mine;
+        Pstream::gatherList(edges);
+        Pstream::scatterList(edges);
+        for (const List<point>& ed : edges)
+        for (label k = 0; k + 1 < ed.size(); k += 2)
+        {
+            const nscd::Vec3 a(ed[k].x(), ed[k].y(), 0);
+            const nscd::Vec3 b(ed[k + 1].x(), ed[k + 1].y(), 0);
             line* found = nullptr;
             for (line& l : lines)
             {
@@ -246,7 +261,12 @@ namespace
                     s1 = std::max(s1, l.iv[k].second);
                     continue;
                 }
-                segs.push_back({l.o + s0*l.t, l.o + s1*l.t});
+                nscd::Vec3 a = l.o + s0*l.t, b = l.o + s1*l.t;
+                if (b.x() < a.x() || (b.x() == a.x() && b.y() < a.y()))
+                {
+                    std::swap(a, b);
+                }
+                segs.push_back({a, b});
                 if (k < l.iv.size())
                 {
                     s0 = l.iv[k].first;
@@ -254,6 +274,18 @@ namespace
                 }
             }
         }
+        // canonical order, independent of the face order and decomposition
+        const scalar q = 1e-6*mag(mesh.bounds().span());
+        auto key = [q](const nscd::Vec3& v) { return std::llround(v.x()/q)*1000003LL + std::llround(v.y()/q); };
+        std::sort
+        (
+            segs.begin(), segs.end(),
+            [&key](const auto& u, const auto& v)
+            {
+                const long long ku = key(u.first), kv = key(v.first);
+                return ku != kv ? ku < kv : key(u.second) < key(v.second);
+            }
+        );
         return segs;
     }
 }
@@ -398,7 +430,14 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
 
     readSettings();
 
-    const fileName statePath(mesh.time().timePath()/stateFileName);
+    fileName statePath(mesh.time().timePath()/stateFileName);
+    if (Pstream::parRun() && !isFile(statePath))
+    {
+        // decomposed case: every rank reads the undecomposed case's state
+        // (grains are held whole on every rank)
+        statePath =
+            mesh.time().globalPath()/mesh.time().timeName()/stateFileName;
+    }
     try
     {
         if (readState)
@@ -512,6 +551,13 @@ nscd::Vec3 Foam::grainCloud::toSystem(const vector& p) const
 void Foam::grainCloud::checkState() const
 {
     const std::vector<double>& r = system_->radii();
+    labelList found(system_->size(), 0);
+    for (std::size_t i = 0; i < system_->size(); ++i)
+    {
+        found[i] = mesh_.findCell(meshPosition(i)) >= 0 ? 1 : 0;
+    }
+    Pstream::listCombineGather(found, maxEqOp<label>());
+    Pstream::listCombineScatter(found);
     for (std::size_t i = 0; i < system_->size(); ++i)
     {
         if (!(r[i] > 0))
@@ -521,7 +567,7 @@ void Foam::grainCloud::checkState() const
                 << exit(FatalError);
         }
         const vector p(meshPosition(i));
-        if (mesh_.findCell(p) < 0)
+        if (!found[i])
         {
             FatalErrorInFunction
                 << "Grain " << i << " at " << p << " (radius " << r[i]
