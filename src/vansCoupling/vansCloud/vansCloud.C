@@ -342,26 +342,36 @@ void Foam::vansCloud::setFluidForces
 }
 
 
-void Foam::vansCloud::updateContactImpulses()
-{
-    const nscd::System& s = grains_.system();
-    contactImpulse_ = Zero;
-    const label N = s.size();
-    // impulses of the last sub-step, scaled to the whole step
-    const scalar scale = max(grains_.report().substeps, 1);
-    for (const auto& c : s.contacts())
-    {
-        const vector r(c.impulse.x(), c.impulse.y(), c.impulse.z());
-        if (c.i >= 0 && c.i < N) contactImpulse_[c.i] += scale*r;
-        if (c.j >= 0 && c.j < N) contactImpulse_[c.j] -= scale*r;
-    }
-}
-
-
 void Foam::vansCloud::evolve(const scalar dt)
 {
+    nscd::System& s = grains_.system();
+    const label n = s.size();
+    List<vector> v0(n);
+    for (label i = 0; i < n; ++i)
+    {
+        const nscd::Vec3& v = s.velocities()[i];
+        v0[i] = vector(v.x(), v.y(), v.z());
+    }
+
     grains_.evolve(dt);
-    updateContactImpulses();
+
+    // Contact impulse of the whole step (all sub-steps), p^n of eq. 3.46:
+    // what changed the momentum besides gravity and the fluid force
+    const nscd::Vec3& g3 = s.gravity();
+    const vector g(g3.x(), g3.y(), g3.z());
+    for (label i = 0; i < n; ++i)
+    {
+        if (s.fixed(i))
+        {
+            contactImpulse_[i] = Zero;
+            continue;
+        }
+        const nscd::Vec3& v = s.velocities()[i];
+        const scalar m = s.mass(i);
+        const vector F = fluidForce_.size() == n ? fluidForce_[i] : vector::zero;
+        contactImpulse_[i] =
+            m*(vector(v.x(), v.y(), v.z()) - v0[i]) - dt*(m*g + F);
+    }
 }
 
 
