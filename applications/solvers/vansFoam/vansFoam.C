@@ -32,6 +32,8 @@ Usage
 #include "pimpleControl.H"
 #include "fixedFluxPressureFvPatchScalarField.H"
 
+#include <chrono>
+
 int main(int argc, char *argv[])
 {
     argList::addNote
@@ -50,6 +52,15 @@ int main(int argc, char *argv[])
     #include "createFields.H"
     #include "initContinuityErrs.H"
 
+    // wall-clock split of the step (reported at the end)
+    using clock = std::chrono::steady_clock;
+    auto seconds = [](clock::time_point a, clock::time_point b)
+    {
+        return std::chrono::duration<double>(b - a).count();
+    };
+    double tMapping = 0, tFluid = 0, tContacts = 0;
+    label nSteps = 0;
+
     Info<< "\nStarting time loop\n" << endl;
 
     while (runTime.run())
@@ -62,6 +73,7 @@ int main(int argc, char *argv[])
         Info<< "Time = " << runTime.timeName() << nl << endl;
 
         // 1. void fraction at the grains' current positions
+        const clock::time_point t0 = clock::now();
         cloud.mapGrains();
         if (cloud.modelA())
         {
@@ -70,6 +82,8 @@ int main(int argc, char *argv[])
 
         // 2. semi-implicit drag prediction
         cloud.predictDrag(U, p, runTime.deltaTValue());
+
+        const clock::time_point t1 = clock::now();
 
         // 3. fluid
         while (pimple.loop())
@@ -81,9 +95,17 @@ int main(int argc, char *argv[])
             }
         }
 
+        const clock::time_point t2 = clock::now();
+
         // 4. fluid forces on the grains, 5. NSCD
         cloud.setFluidForces(U, p);
+        const clock::time_point t3 = clock::now();
         cloud.evolve(runTime.deltaTValue());
+        const clock::time_point t4 = clock::now();
+        tMapping += seconds(t0, t1) + seconds(t2, t3);
+        tFluid += seconds(t1, t2);
+        tContacts += seconds(t3, t4);
+        ++nSteps;
 
         Info<< "voidFraction min/max = " << gMin(eps.primitiveField())
             << " " << gMax(eps.primitiveField())
@@ -113,6 +135,9 @@ int main(int argc, char *argv[])
 
         runTime.printExecutionTime(Info);
     }
+
+    Info<< "Timing [s]: steps " << nSteps << " mapping " << tMapping
+        << " fluid " << tFluid << " contacts " << tContacts << nl << endl;
 
     Info<< "End\n" << endl;
     return 0;

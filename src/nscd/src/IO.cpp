@@ -146,6 +146,9 @@ void System::writeHDF5(const std::string& file) const
     }
     w.i("wallTypes", wt, 0);
     w.d("walls", wd, 15);
+    std::vector<double> wf;
+    for (const Wall& W : I.walls) wf.push_back(W.friction);
+    w.d("wallFriction", wf, 0);
 
     std::vector<int> ij;
     std::vector<double> cd;
@@ -235,8 +238,16 @@ System System::readHDF5(const std::string& file)
             }
             if (W.triangles.empty()) r.fail("empty triangulated wall");
             W.tree = buildTriangleTree(W.vertices, W.triangles);
+            buildTriangleFeatures(W);
         }
         I.walls.push_back(std::move(W));
+        linkSegment(I.walls, int(I.walls.size()) - 1);
+    }
+    // per-wall friction (optional: files written before it existed use the grains')
+    if (H5Lexists(r.f, "wallFriction", H5P_DEFAULT) > 0)
+    {
+        const auto wf = r.d("wallFriction", 0, long(I.walls.size()));
+        for (std::size_t k = 0; k < I.walls.size(); ++k) I.walls[k].friction = wf[k];
     }
     const auto ij = r.i("contactBodies", 2);
     const long NC = long(ij.size()/2);

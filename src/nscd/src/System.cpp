@@ -181,6 +181,7 @@ int System::addSegment(const Vec3& a, const Vec3& b, const Vec3& velocity)
     if (!((w.b - w.p).norm() > 0)) throw InputError("nscd::System::addSegment: degenerate segment");
     w.velocity = Vec3(velocity.x(), velocity.y(), 0);
     impl_->walls.push_back(std::move(w));
+    linkSegment(impl_->walls, int(impl_->walls.size()) - 1);
     return int(impl_->walls.size()) - 1;
 }
 
@@ -202,6 +203,7 @@ int System::addTriangulatedSurface(const std::vector<Vec3>& vertices,
     w.triangles = triangles;
     w.velocity = velocity;
     w.tree = buildTriangleTree(vertices, triangles);
+    buildTriangleFeatures(w);
     impl_->walls.push_back(std::move(w));
     return int(impl_->walls.size()) - 1;
 }
@@ -212,6 +214,21 @@ void System::setWallVelocity(int wall, const Vec3& vel)
         throw InputError("nscd::System::setWallVelocity: unknown wall " + std::to_string(wall));
     impl_->walls[wall].velocity = vel;
     if (impl_->dim == 2) impl_->walls[wall].velocity.z() = 0;
+}
+
+void System::setWallFriction(int wall, double mu)
+{
+    if (wall < 0 || wall >= int(impl_->walls.size()))
+        throw InputError("nscd::System::setWallFriction: unknown wall " + std::to_string(wall));
+    if (!std::isfinite(mu)) throw InputError("nscd::System::setWallFriction: non-finite friction");
+    impl_->walls[wall].friction = mu < 0 ? -1.0 : mu;
+}
+
+double System::wallFriction(int wall) const
+{
+    if (wall < 0 || wall >= int(impl_->walls.size()))
+        throw InputError("nscd::System::wallFriction: unknown wall " + std::to_string(wall));
+    return impl_->walls[wall].friction;
 }
 
 int System::nWalls() const { return int(impl_->walls.size()); }
@@ -272,6 +289,8 @@ void System::Impl::detectWalls(int i, double dt, double margin, double alertFact
     const Vec3& xi = x[i];
     const double ri = rad[i];
     const double mu = materials[mat[i]].friction;
+    const std::size_t first = newContacts.size();  // wall contacts of grain i start here
+    triPoints.clear();
     for (int wi = 0; wi < int(walls.size()); ++wi)
     {
         const Wall& W = walls[wi];
@@ -283,7 +302,7 @@ void System::Impl::detectWalls(int i, double dt, double margin, double alertFact
             c.j = N + wi;
             c.n = n;
             c.gap = gap;
-            c.mu = mu;
+            c.mu = W.friction >= 0 ? W.friction : mu;
             newContacts.push_back(c);
         };
         if (W.type == PlaneWall)
@@ -293,7 +312,37 @@ void System::Impl::detectWalls(int i, double dt, double margin, double alertFact
         }
         else if (W.type == SegmentWall)
         {
-            const Vec3 cp = closestSegment(xi, W.p + W.displacement, W.b + W.displacement);
+            const Vec3 a = W.p + W.displacement, b = W.b + W.displacement;
+            const Vec3 ab = b - a;
+            const double t = (xi - a).dot(ab)/ab.squaredNorm();
+            const int end = t <= 0 ? 0 : (t >= 1 ? 1 : -1);
+            const int nb = end >= 0 ? W.segNb[end] : -1;
+            if (nb >= 0 && walls[nb].displacement == W.displacement)
+            {
+                if (W.segFlat[end])
+                {
+                    // joint with a collinear neighbour: beyond it the
+                    // neighbour's interior contact carries the grain; at the
+                    // joint itself, contact with the line (no tilted normal)
+                    if (t < -1e-9 || t > 1 + 1e-9) continue;
+                    Vec3 n(-ab.y(), ab.x(), 0.0);
+                    n.normalize();
+                    double s = (xi - a).dot(n);
+                    if (s < 0) { s = -s; n = -n; }
+                    if (s - ri < alert && s > 0) push(n, s - ri);
+                    continue;
+                }
+                // convex corner shared with a lower-numbered segment: if its
+                // closest point is the same corner, it already gave this contact
+                if (nb < wi)
+                {
+                    const Wall& T = walls[nb];
+                    const Vec3 corner = end == 0 ? a : b;
+                    const Vec3 ct = closestSegment(xi, T.p + T.displacement, T.b + T.displacement);
+                    if ((ct - corner).norm() <= 1e-9*ab.norm()) continue;
+                }
+            }
+            const Vec3 cp = a + std::min(1.0, std::max(0.0, t))*ab;
             const Vec3 d = xi - cp;
             const double dn = d.norm();
             if (dn - ri < alert && dn > 0) push(d/dn, dn - ri);
@@ -302,34 +351,56 @@ void System::Impl::detectWalls(int i, double dt, double margin, double alertFact
         {
             const Vec3 xl = xi - W.displacement;  // tree coordinates
             trianglesNear(*W.tree, xl, ri + alert, triCandidates);
-            // candidate closest points, nearest first; a candidate is kept only
-            // if it lies strictly in front of every kept contact plane, which
-            // removes the edge/vertex points of coplanar (or shadowed)
-            // neighbouring triangles and keeps genuine corners.
-            triPoints.clear();
+            // candidate closest points (filtered below, after all walls). A
+            // closest point on a flat edge or vertex (shared by coplanar
+            // triangles, see buildTriangleFeatures) is replaced by the
+            // face-plane contact, so that no tilted normal brakes a grain
+            // crossing internal edges of a triangulated plane.
             for (int t : triCandidates)
             {
                 const auto& f = W.triangles[t];
-                const Vec3 cp = closestPointTriangle(xl, W.vertices[f[0]], W.vertices[f[1]], W.vertices[f[2]]);
-                const double dn = (xl - cp).norm();
-                if (!(dn > 0) || dn - ri >= alert) continue;
-                triPoints.push_back({dn, cp});
-            }
-            std::sort(triPoints.begin(), triPoints.end(),
-                      [](const TriPoint& a, const TriPoint& b) { return a.d < b.d; });
-            const std::size_t first = newContacts.size();
-            const double eps = 1e-9*ri;
-            for (const TriPoint& tp : triPoints)
-            {
-                const Vec3 n = (xl - tp.c)/tp.d;
-                bool keep = true;
-                for (std::size_t k = first; k < newContacts.size() && keep; ++k)
+                int feat = -1;
+                Vec3 cp = closestPointTriangle(xl, W.vertices[f[0]], W.vertices[f[1]], W.vertices[f[2]], feat);
+                double dn = (xl - cp).norm();
+                if (feat >= 0 && ((W.triFlat[t] >> (feat < 3 ? 3 + feat : feat - 3)) & 1u))
                 {
-                    const Vec3 ck = xl - (newContacts[k].gap + ri)*newContacts[k].n;
-                    if ((tp.c - ck).dot(newContacts[k].n) <= eps || newContacts[k].n.dot(n) > 1.0 - 1e-9) keep = false;
+                    const Vec3& fn = W.triNormal[t];
+                    const double sd = (xl - W.vertices[f[0]]).dot(fn);
+                    dn = std::abs(sd);
+                    cp = xl - sd*fn;
                 }
-                if (keep) push(n, tp.d - ri);
+                if (!(dn > 0) || dn - ri >= alert) continue;
+                triPoints.push_back({dn, cp + W.displacement, wi});
             }
+        }
+    }
+    // triangle candidates of all triangulated walls, nearest first: a
+    // candidate is kept only if it lies strictly in front of every kept
+    // contact plane of this grain (any wall) and has a distinct normal. This
+    // merges the face contacts of neighbouring (also flat) triangles, also
+    // across patches, removes shadowed edge points, keeps genuine convex edges.
+    if (triPoints.empty()) return;
+    std::sort(triPoints.begin(), triPoints.end(),
+              [](const TriPoint& a, const TriPoint& b) { return a.d < b.d; });
+    const double eps = 1e-9*ri;
+    for (const TriPoint& tp : triPoints)
+    {
+        const Vec3 n = (xi - tp.c)/tp.d;
+        bool keep = true;
+        for (std::size_t k = first; k < newContacts.size() && keep; ++k)
+        {
+            const Vec3 ck = xi - (newContacts[k].gap + ri)*newContacts[k].n;
+            if ((tp.c - ck).dot(newContacts[k].n) <= eps || newContacts[k].n.dot(n) > 1.0 - 1e-6) keep = false;
+        }
+        if (keep)
+        {
+            Contact c;
+            c.i = i;
+            c.j = N + tp.wall;
+            c.n = n;
+            c.gap = tp.d - ri;
+            c.mu = walls[tp.wall].friction >= 0 ? walls[tp.wall].friction : mu;
+            newContacts.push_back(c);
         }
     }
 }

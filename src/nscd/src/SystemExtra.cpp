@@ -102,6 +102,7 @@ void System::checkInitialOverlaps() const
             for (int j : it->second)
             {
                 if (j <= i) continue;
+                if (I.fix[i] && I.fix[j]) continue;  // neither can move: never a contact
                 long cj[3];
                 cellOf(I.x[j], cj);
                 if (cj[0] != a || cj[1] != b || cj[2] != z) continue;  // hash collision
@@ -122,6 +123,7 @@ void System::checkInitialOverlaps() const
         const Wall& W = I.walls[wi];
         for (int i = 0; i < N; ++i)
         {
+            if (I.fix[i]) continue;  // fixed grains never contact walls
             double ov = 0;
             if (W.type == PlaneWall) ov = I.rad[i] - (I.x[i] - (W.p + W.displacement)).dot(W.n);
             else if (W.type == SegmentWall)
@@ -163,6 +165,37 @@ void System::checkInitialOverlaps() const
 }
 
 std::size_t System::nContacts() const { return impl_->contacts.size(); }
+
+void System::setContactImpulses(const std::vector<ContactView>& views, double dt)
+{
+    Impl& I = *impl_;
+    if (!(dt > 0) || !std::isfinite(dt)) throw InputError("nscd::System::setContactImpulses: dt must be > 0");
+    const int N = int(I.x.size());
+    const int NW = int(I.walls.size());
+    std::vector<Contact> cs;
+    cs.reserve(views.size());
+    for (std::size_t k = 0; k < views.size(); ++k)
+    {
+        const ContactView& v = views[k];
+        int i = v.i, j = v.j;
+        Vec3 n = v.normal, P = v.impulse;
+        const bool bad = i < 0 || i >= N || j >= N || (j < 0 && -j - 1 >= NW) || i == j || !(n.norm() > 0);
+        if (bad) throw InputError("nscd::System::setContactImpulses: bad contact " + std::to_string(k));
+        if (j >= 0 && j < i) { std::swap(i, j); n = -n; P = -P; }
+        n.normalize();
+        if (I.dim == 2) { n.z() = 0; P.z() = 0; n.normalize(); }
+        Contact c;
+        c.i = i;
+        c.j = j >= 0 ? j : N + (-j - 1);
+        c.n = n;
+        c.rn = P.dot(n);
+        c.rt = P - c.rn*n;
+        cs.push_back(c);
+    }
+    std::stable_sort(cs.begin(), cs.end(), [](const Contact& a, const Contact& b) { return a.i < b.i; });
+    I.contacts = std::move(cs);
+    I.lastDt = dt;
+}
 
 std::vector<System::ContactView> System::contacts() const
 {

@@ -1,4 +1,10 @@
-// Dense 2D deposit benchmark: N discs in a box, settled, then timed at rest.
+// Dense deposit benchmark (not a test).
+//   nscdBench suite <out.json> [quick]   the tests/bench/nscdDeposit suite (see
+//       runSuite below): settled polydisperse beds (d = 230 um, lambda = 1.2,
+//       rho = 2500, dt = 1e-4 s, box), 70,000 discs at rest with mu = 0.4 and 0,
+//       scaling 5,000 / 20,000 discs, settling from a loose lattice, 20,000
+//       spheres; writes a JSON result file. "quick" = smaller sizes (smoke run).
+// Legacy mode: N discs in a box, settled, then timed at rest.
 // Usage: nscdBench [N=20000] [settleSteps=3000] [timedSteps=100] [dim=2] [layout=hex|rain]
 // hex: 2D polydisperse discs (r in [0.95, 1] r0) on a hexagonal lattice of
 //      spacing 2 r0 in a box (a dense packing from the start; it compacts a
@@ -19,7 +25,16 @@
 
 using namespace nscd;
 
+int runSuite(int argc, char** argv);
+int legacyMain(int argc, char** argv);
+
 int main(int argc, char** argv)
+{
+    if (argc > 1 && std::string(argv[1]) == "suite") return runSuite(argc, argv);
+    return legacyMain(argc, argv);
+}
+
+int legacyMain(int argc, char** argv)
 {
     const int N = argc > 1 ? std::atoi(argv[1]) : 20000;
     const int settle = argc > 2 ? std::atoi(argv[2]) : 3000;

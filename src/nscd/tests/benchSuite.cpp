@@ -1,0 +1,420 @@
+// tests/bench/nscdDeposit suite: dense polydisperse deposits at rest.
+//
+// Grains: diameters uniform in [d_min, 1.2 d_min] (lambda = d_max/d_min = 1.2),
+// mean d = 230 um, rho = 2500 kg/m^3, dt = 1e-4 s, gravity 9.81 m/s^2, box of
+// frictional plane walls (floor, sides; 3D also front/back), solver defaults
+// (tolerance 1e-6 d_min, FIFO queue, overlapSlop 1e-4).
+//
+// Settled beds are built cheaply by mirror tiling: a narrow full-height block
+// (a "column" between two side walls) is settled from a loose lattice to rest,
+// then copies are laid side by side, every other one mirrored (x -> -x; in 3D
+// also z), so that the grains touching a side wall face their mirror images
+// across the former wall. The block's side walls are frictionless while it
+// settles (a mirror contact carries no tangential force by symmetry), so the
+// tiled bed is in equilibrium; it is relaxed a few hundred steps anyway (it
+// starts without contact impulses). Timing is then over the last
+// steps of a bed at rest (median wall seconds per step).
+#include "nscd/System.H"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace nscd;
+
+namespace
+{
+const double dMean = 230e-6, lambda = 1.2;
+const double dMin = 2*dMean/(1 + lambda), dMax = lambda*dMin;
+const double rho = 2500, dt = 1e-4, g = 9.81;
+
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+double median(std::vector<double> v)
+{
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n/2] : 0.5*(v[n/2 - 1] + v[n/2]);
+}
+
+double peakRssMb() { rusage ru{}; getrusage(RUSAGE_SELF, &ru); return ru.ru_maxrss/1024.0; }
+
+struct Bed
+{
+    int dim = 2;
+    std::vector<Vec3> x;
+    std::vector<double> r;
+    double W = 0, D = 0;  // box width (x), depth (z, 3D)
+};
+
+System makeSystem(const Bed& b, double mu)
+{
+    System s(b.dim);
+    const int m = s.addMaterial({rho, mu});
+    for (std::size_t i = 0; i < b.x.size(); ++i) s.addGrain(b.x[i], b.r[i], m);
+    s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
+    s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
+    s.addPlane(Vec3(b.W, 0, 0), Vec3(-1, 0, 0));
+    if (b.dim == 3) { s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1)); s.addPlane(Vec3(0, 0, b.D), Vec3(0, 0, -1)); }
+    s.setGravity(Vec3(0, -g, 0));
+    return s;
+}
+
+/// A block to be tiled: frictionless side walls (a mirror plane carries no
+/// tangential force), frictional floor.
+System makeBlock(const Bed& b, double mu)
+{
+    System s = makeSystem(b, mu);
+    for (int w = 1; w < s.nWalls(); ++w) s.setWallFriction(w, 0.0);
+    return s;
+}
+
+/// Loose lattice of spacing d_max (no overlap whatever the radii): 2D
+/// hexagonal rows of ncol discs; 3D square layers ncol x ncol stacked in the
+/// hollows (fcc). Polydisperse radii, seed fixed.
+Bed lattice(int dim, int n, int ncol, unsigned seed)
+{
+    Bed b;
+    b.dim = dim;
+    std::mt19937 gen(seed);
+    std::uniform_real_distribution<double> D(dMin, dMax);
+    const double s = dMax*(1 + 1e-6);
+    b.W = ncol*s;
+    b.D = dim == 3 ? ncol*s : 0;
+    for (int layer = 0; int(b.x.size()) < n; ++layer)
+    {
+        const int odd = layer % 2;
+        if (dim == 2)
+        {
+            for (int a = 0; a < ncol - odd && int(b.x.size()) < n; ++a)
+            {
+                b.x.emplace_back(s*(a + 0.5 + 0.5*odd), s*(0.5 + layer*std::sqrt(3.0)/2), 0.0);
+                b.r.push_back(0.5*D(gen));
+            }
+        }
+        else
+        {
+            for (int c = 0; c < ncol - odd && int(b.x.size()) < n; ++c)
+                for (int a = 0; a < ncol - odd && int(b.x.size()) < n; ++a)
+                {
+                    b.x.emplace_back(s*(a + 0.5 + 0.5*odd), s*(0.5 + layer/std::sqrt(2.0)), s*(c + 0.5 + 0.5*odd));
+                    b.r.push_back(0.5*D(gen));
+                }
+        }
+    }
+    return b;
+}
+
+Bed fromSystem(const System& s, const Bed& shape)
+{
+    Bed b = shape;
+    b.x = s.positions();
+    b.r = s.radii();
+    return b;
+}
+
+/// nx (x nz in 3D) mirrored copies of a settled block side by side.
+Bed tile(const Bed& b, int nx, int nz)
+{
+    Bed t;
+    t.dim = b.dim;
+    t.W = nx*b.W;
+    t.D = b.dim == 3 ? nz*b.D : 0;
+    for (int a = 0; a < nx; ++a)
+        for (int c = 0; c < (b.dim == 3 ? nz : 1); ++c)
+            for (std::size_t i = 0; i < b.x.size(); ++i)
+            {
+                Vec3 p = b.x[i];
+                p.x() = (a % 2) ? (a + 1)*b.W - p.x() : a*b.W + p.x();
+                if (b.dim == 3) p.z() = (c % 2) ? (c + 1)*b.D - p.z() : c*b.D + p.z();
+                t.x.push_back(p);
+                t.r.push_back(b.r[i]);
+            }
+    return t;
+}
+
+/// Contact impulses of the settled block mapped onto the tiled bed (same
+/// tile order and mirroring as tile()): grain pairs copied, floor contacts
+/// kept, side-wall contacts become box-wall contacts on the outside and
+/// grain-image contacts at the seams (the wall impulse is the image's).
+std::vector<System::ContactView> tileContacts(const System& blk, int nx, int nz)
+{
+    const int dim = blk.dimension();
+    const int nb = int(blk.size());
+    const int nzz = dim == 3 ? nz : 1;
+    std::vector<System::ContactView> out;
+    const auto views = blk.contacts();
+    for (int a = 0; a < nx; ++a)
+        for (int c = 0; c < nzz; ++c)
+        {
+            const int off = (a*nzz + c)*nb;
+            auto M = [&](Vec3 v) { if (a % 2) v.x() = -v.x(); if (c % 2) v.z() = -v.z(); return v; };
+            for (const auto& v : views)
+            {
+                System::ContactView t = v;
+                t.normal = M(v.normal);
+                t.impulse = M(v.impulse);
+                t.i = v.i + off;
+                if (v.j >= 0) { t.j = v.j + off; out.push_back(t); continue; }
+                const int w = -v.j - 1;
+                if (w == 0) { out.push_back(t); continue; }
+                // side wall: which side of the tile, box wall or seam
+                const bool xw = w <= 2;
+                const int idx = xw ? a : c, n = xw ? nx : nzz;
+                const bool low = (w == 1 || w == 3) != bool(idx % 2);
+                const int nbIdx = low ? idx - 1 : idx + 1;
+                if (nbIdx < 0 || nbIdx >= n)
+                {
+                    t.j = -((xw ? (low ? 1 : 2) : (low ? 3 : 4)) + 1);
+                    out.push_back(t);
+                }
+                else if (nbIdx > idx)
+                {
+                    const int offB = xw ? (nbIdx*nzz + c)*nb : (a*nzz + nbIdx)*nb;
+                    t.j = v.i + offB;
+                    out.push_back(t);
+                }
+            }
+        }
+    return out;
+}
+
+double vmax(const System& s)
+{
+    double v = 0;
+    for (const auto& a : s.velocities()) v = std::max(v, a.norm());
+    return v;
+}
+
+struct SettleResult { int steps = 0; double seconds = 0; double sweeps = 0; double vmaxEnd = 0; bool rest = false; };
+
+/// Step until max |v| < g dt/10 for 50 consecutive steps (or maxSteps).
+SettleResult settle(System& s, int maxSteps, const char* tag)
+{
+    SettleResult R;
+    const double t0 = now();
+    long sw = 0;
+    int calm = 0;
+    for (int k = 0; k < maxSteps; ++k)
+    {
+        const StepReport r = s.step(dt);
+        sw += r.sweeps;
+        R.steps = k + 1;
+        const double v = vmax(s);
+        calm = v < 0.1*g*dt ? calm + 1 : 0;
+        if (k % 200 == 0) std::fprintf(stderr, "  [%s] settle step %d contacts %d sweeps %d vmax %.2e\n", tag, k, r.contacts, r.sweeps, v);
+        if (calm >= 50) { R.rest = true; break; }
+    }
+    R.seconds = now() - t0;
+    R.sweeps = double(sw)/R.steps;
+    R.vmaxEnd = vmax(s);
+    return R;
+}
+
+struct Timed
+{
+    int grains = 0, contacts = 0, relaxSteps = 0, timedSteps = 0;
+    double relaxSeconds = 0, spsMedian = 0, spsMin = 0, spsMax = 0, sweepsMedian = 0, detectMedian = 0;
+    double maxOverlapOverR = 0, vmaxEnd = 0, maxDispOverD = 0;
+    bool converged = true;
+    bool budgetHit = false;
+};
+
+/// Relax (first steps capped at capSweeps sweeps: the tiled bed has no
+/// contact impulses yet), then time the last `timed` steps.
+Timed relaxAndTime(System& s, int relax, int timed, const char* tag, double budget = 300)
+{
+    Timed T;
+    s.settings().maxIterations = 1000;  // production setting (README)
+    T.grains = int(s.size());
+    const int keepMax = s.settings().maxIterations;
+    const double t0 = now();
+    for (int k = 0; k < relax; ++k)
+    {
+        s.settings().maxIterations = k < relax/4 ? 1000 : keepMax;
+        const StepReport r = s.step(dt);
+        if (k % 50 == 0 || k == relax - 1)
+            std::fprintf(stderr, "  [%s] relax step %d contacts %d sweeps %d vmax %.2e\n", tag, k, r.contacts, r.sweeps, vmax(s));
+        T.relaxSteps = k + 1;
+        if (now() - t0 > budget) { T.budgetHit = true; break; }  // keep the whole run bounded
+    }
+    s.settings().maxIterations = keepMax;
+    T.relaxSeconds = now() - t0;
+    const std::vector<Vec3> x0 = s.positions();
+    std::vector<double> t, sw, det;
+    for (int k = 0; k < timed; ++k)
+    {
+        const double a = now();
+        const StepReport r = s.step(dt);
+        t.push_back(now() - a);
+        sw.push_back(r.sweeps);
+        det.push_back(r.detectSeconds);
+        T.contacts = r.contacts;
+        T.timedSteps = k + 1;
+        T.maxOverlapOverR = std::max(T.maxOverlapOverR, r.maxOverlap/(0.5*dMin));
+        T.converged = T.converged && r.converged;
+        if (now() - t0 > 2*budget && k >= 4) { T.budgetHit = true; break; }
+    }
+    T.spsMedian = median(t);
+    T.spsMin = *std::min_element(t.begin(), t.end());
+    T.spsMax = *std::max_element(t.begin(), t.end());
+    T.sweepsMedian = median(sw);
+    T.detectMedian = median(det);
+    T.vmaxEnd = vmax(s);
+    for (std::size_t i = 0; i < s.size(); ++i) T.maxDispOverD = std::max(T.maxDispOverD, (s.positions()[i] - x0[i]).norm()/dMean);
+    std::fprintf(stderr, "  [%s] %d grains: %.4f s/step median, %.1f sweeps/step, %d contacts\n", tag, T.grains, T.spsMedian, T.sweepsMedian, T.contacts);
+    return T;
+}
+
+std::string timedJson(const Timed& T, const std::string& indent)
+{
+    std::ostringstream o;
+    o << indent << "\"grains\": " << T.grains << ",\n"
+      << indent << "\"contacts\": " << T.contacts << ",\n"
+      << indent << "\"seconds_per_step_median\": " << T.spsMedian << ",\n"
+      << indent << "\"seconds_per_step_min\": " << T.spsMin << ",\n"
+      << indent << "\"seconds_per_step_max\": " << T.spsMax << ",\n"
+      << indent << "\"sweeps_per_step_median\": " << T.sweepsMedian << ",\n"
+      << indent << "\"detect_seconds_per_step_median\": " << T.detectMedian << ",\n"
+      << indent << "\"converged_every_step\": " << (T.converged ? "true" : "false") << ",\n"
+      << indent << "\"max_overlap_over_rmin\": " << T.maxOverlapOverR << ",\n"
+      << indent << "\"vmax_end_m_per_s\": " << T.vmaxEnd << ",\n"
+      << indent << "\"max_displacement_over_d_during_timing\": " << T.maxDispOverD << ",\n"
+      << indent << "\"relax_steps\": " << T.relaxSteps << ",\n"
+      << indent << "\"relax_seconds\": " << T.relaxSeconds << ",\n"
+      << indent << "\"timed_steps\": " << T.timedSteps << ",\n"
+      << indent << "\"time_budget_hit\": " << (T.budgetHit ? "true" : "false");
+    return o.str();
+}
+
+std::string machineNote()
+{
+    std::ifstream f("/proc/cpuinfo");
+    std::string line, model = "unknown CPU";
+    while (std::getline(f, line))
+        if (line.rfind("model name", 0) == 0) { model = line.substr(line.find(':') + 2); break; }
+    std::ostringstream o;
+    o << model << ", 1 core (single-threaded, pinned with taskset when available; machine shared with other jobs), "
+#ifdef __GNUC__
+      << "GCC " << __GNUC__ << "." << __GNUC_MINOR__
+#endif
+      << " -O3";
+    return o.str();
+}
+}
+
+int runSuite(int argc, char** argv)
+{
+    const std::string out = argc > 2 ? argv[2] : "nscdDeposit.json";
+    const bool quick = argc > 3 && std::string(argv[3]) == "quick";
+    std::setvbuf(stderr, nullptr, _IOLBF, 0);
+    const double tStart = now();
+    // 2D block: 2,500 discs, 8 columns wide (width 8 d_max), ~330 rows:
+    // tiles 2 / 8 / 28 times for 5,000 / 20,000 / 70,000 discs.
+    const int blockN = quick ? 500 : 2500, ncol = 8;
+    const int nBig = quick ? 4 : 28;
+    const int relax = quick ? 60 : 300, timed = quick ? 20 : 100;
+    const int maxSettle = quick ? 3000 : 8000;
+
+    // ---- settling (the block, from the loose lattice), mu = 0.4 and 0 ----
+    Bed b0 = lattice(2, blockN, ncol, 1);
+    System blk = makeBlock(b0, 0.4);
+    blk.checkInitialOverlaps();
+    const SettleResult S = settle(blk, maxSettle, "block mu=0.4");
+    const Bed block = fromSystem(blk, b0);
+    System blk0 = makeBlock(b0, 0.0);
+    const SettleResult S0 = settle(blk0, maxSettle, "block mu=0");
+    const Bed block0 = fromSystem(blk0, b0);
+
+    // ---- 70,000 discs at rest ----
+    Timed big, big0;
+    {
+        System s = makeSystem(tile(block, nBig, 1), 0.4);
+        s.checkInitialOverlaps();
+        s.setContactImpulses(tileContacts(blk, nBig, 1), dt);
+        big = relaxAndTime(s, relax, timed, "2D mu=0.4");
+    }
+    const double rssAfterBig = peakRssMb();
+    {
+        System s = makeSystem(tile(block0, nBig, 1), 0.0);
+        s.checkInitialOverlaps();
+        s.setContactImpulses(tileContacts(blk0, nBig, 1), dt);
+        big0 = relaxAndTime(s, relax, timed, "2D mu=0");
+    }
+    // ---- scaling ----
+    std::vector<Timed> scaling;
+    for (int nt : {2, 8})
+    {
+        System s = makeSystem(tile(block, quick ? nt/2 : nt, 1), 0.4);
+        s.setContactImpulses(tileContacts(blk, quick ? nt/2 : nt, 1), dt);
+        scaling.push_back(relaxAndTime(s, relax, timed, "2D scaling"));
+    }
+    // ---- 3D: 2,500-sphere block (10 x 10 fcc layers), 2 x 4 mirrored tiles ----
+    Bed b3 = lattice(3, quick ? 500 : 2500, 10, 2);
+    System blk3 = makeBlock(b3, 0.4);
+    blk3.checkInitialOverlaps();
+    const SettleResult S3 = settle(blk3, maxSettle, "3D block");
+    Timed t3;
+    {
+        System s = makeSystem(tile(fromSystem(blk3, b3), 2, quick ? 1 : 4), 0.4);
+        s.checkInitialOverlaps();
+        s.setContactImpulses(tileContacts(blk3, 2, quick ? 1 : 4), dt);
+        t3 = relaxAndTime(s, quick ? relax : 200, timed, "3D");
+    }
+    const double total = now() - tStart;
+
+    std::ofstream o(out);
+    o << "{\n"
+      << "  \"benchmark\": \"nscdDeposit\",\n"
+      << "  \"wall_seconds_total\": " << total << ",\n"
+      << "  \"seconds_per_step_median\": " << big.spsMedian << ",\n"
+      << "  \"sweeps_per_step_median\": " << big.sweepsMedian << ",\n"
+      << "  \"grains\": " << big.grains << ",\n"
+      << "  \"cells\": 0,\n"
+      << "  \"target_seconds_per_step\": 0.1,\n"
+      << "  \"target_met\": " << (big.spsMedian <= 0.1 ? "true" : "false") << ",\n"
+      << "  \"peak_rss_mb\": " << rssAfterBig << ",\n"
+      << "  \"peak_rss_mb_note\": \"process peak RSS after the 70,000-disc mu = 0.4 case (block settling included)\",\n"
+      << "  \"machine\": \"" << machineNote() << "\",\n"
+      << "  \"parameters\": {\"d_mean_m\": " << dMean << ", \"d_min_m\": " << dMin << ", \"d_max_m\": " << dMax
+      << ", \"lambda\": " << lambda << ", \"diameter_distribution\": \"uniform in [d_min, d_max]\", \"density\": " << rho
+      << ", \"dt\": " << dt << ", \"gravity\": " << g << ", \"friction\": 0.4, \"tolerance_over_dmin\": 1e-6, \"max_iterations_sweeps\": 1000, \"overlap_slop_over_rmin\": 1e-4, \"ordering\": \"Fifo\"},\n"
+      << "  \"setup\": \"Mirror tiling of a settled block. A block of " << blockN << " discs (" << ncol
+      << " columns of a hexagonal lattice of spacing d_max, ~" << blockN/ncol << " rows, between two side walls and a floor) is settled from that loose lattice to rest "
+      << "(see settling); " << nBig << " copies of the settled block are laid side by side, every other one mirrored about the former side wall, so that grains that touched "
+      << "the (frictionless while settling) side wall now touch their mirror images: an exact equilibrium. The tiled bed (box " << nBig*ncol << " d_max wide, ~"
+      << int(1e3*0.9*blockN/ncol*dMax + 0.5) << " mm high) is relaxed " << relax << " steps (warm-started from the block's contact impulses, mapped onto the copies: System::setContactImpulses; the first quarter capped at 1000 sweeps/step), "
+      << "then " << timed << " steps are timed; the median wall seconds per step over these steps is reported. The frictionless case uses a block settled with mu = 0.\",\n"
+      << "  \"timed_steps\": " << timed << ",\n"
+      << "  \"mu_0_4\": {\n" << timedJson(big, "    ") << "\n  },\n"
+      << "  \"frictionless\": {\n" << timedJson(big0, "    ") << "\n  },\n"
+      << "  \"settling\": {\n"
+      << "    \"what\": \"one " << blockN << "-disc block (" << ncol << " discs wide, full bed height) from the loose hexagonal lattice of spacing d_max to rest (max |v| < g dt/10 for 50 consecutive steps), mu = 0.4; the 70,000-disc bed is made of " << nBig << " such blocks\",\n"
+      << "    \"grains\": " << blockN << ",\n    \"steps\": " << S.steps << ",\n    \"wall_seconds\": " << S.seconds
+      << ",\n    \"sweeps_per_step_mean\": " << S.sweeps << ",\n    \"reached_rest\": " << (S.rest ? "true" : "false")
+      << ",\n    \"frictionless\": {\"steps\": " << S0.steps << ", \"wall_seconds\": " << S0.seconds << ", \"sweeps_per_step_mean\": " << S0.sweeps
+      << ", \"reached_rest\": " << (S0.rest ? "true" : "false") << "}\n  },\n"
+      << "  \"scaling\": [\n";
+    for (std::size_t k = 0; k < scaling.size(); ++k)
+        o << "    {\"grains\": " << scaling[k].grains << ", \"contacts\": " << scaling[k].contacts << ", \"seconds_per_step_median\": " << scaling[k].spsMedian
+          << ", \"sweeps_per_step_median\": " << scaling[k].sweepsMedian << "},\n";
+    o << "    {\"grains\": " << big.grains << ", \"contacts\": " << big.contacts << ", \"seconds_per_step_median\": " << big.spsMedian
+      << ", \"sweeps_per_step_median\": " << big.sweepsMedian << "}\n  ],\n"
+      << "  \"3d\": {\n" << timedJson(t3, "    ") << ",\n"
+      << "    \"setup\": \"block of " << b3.x.size() << " spheres (fcc square layers 10 x 10 of spacing d_max in a box) settled to rest in "
+      << S3.steps << " steps (" << S3.seconds << " s, " << S3.sweeps << " sweeps/step, rest reached: " << (S3.rest ? "yes" : "no")
+      << "), tiled 2 x " << (quick ? 1 : 4) << " with mirroring in x and z, relaxed, timed as in 2D\"\n  },\n"
+      << "  \"profile\": \"PROFILE_PLACEHOLDER\"\n"
+      << "}\n";
+    std::fprintf(stderr, "wrote %s (%.0f s)\n", out.c_str(), total);
+    return 0;
+}
