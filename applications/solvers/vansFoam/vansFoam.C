@@ -69,6 +69,21 @@ int main(int argc, char *argv[])
         #include "CourantNo.H"
         #include "setDeltaT.H"
 
+        // a collapsing time step means the coupling went unstable: stop
+        // with the last written time as the last good state
+        if (adjustTimeStep && runTime.deltaTValue() < 1e-6*maxDeltaT)
+        {
+            FatalErrorInFunction
+                << "The time step collapsed to " << runTime.deltaTValue()
+                << " s (maxDeltaT " << maxDeltaT << " s) at time "
+                << runTime.timeName() << ": the solution is unstable."
+                << " The last written time holds the last good state." << nl
+                << "    Fix: reduce maxDeltaT/maxCo in system/controlDict, or"
+                << " use the overlap void fraction (the particle-centroid"
+                << " method is unstable for dense packings, thesis 3.2.2)."
+                << exit(FatalError);
+        }
+
         ++runTime;
         Info<< "Time = " << runTime.timeName() << nl << endl;
 

@@ -30,7 +30,12 @@ def measure(case):
         top.append(float(np.percentile(y, 99.5) + np.mean(r)))
     method = open(os.path.join(case, "constant", "couplingProperties")).read()
     method = "centroid" if "method      centroid" in method else "overlap"
-    return method, {"time": t, "front_height": front, "top_height": top}
+    out = {"time": t, "front_height": front, "top_height": top, "completed": True}
+    log = os.path.join(case, "log.vansFoam")
+    if os.path.exists(log) and "FOAM FATAL" in open(log).read():
+        out["completed"] = False
+        out["stopped"] = "unstable: the time step collapsed (see log.vansFoam)"
+    return method, out
 
 
 def main():
