@@ -1,0 +1,58 @@
+#!/usr/bin/env python3
+"""settling3D post-processing: results.json (time, mean_grain_velocity) and
+settling.png.  mean_grain_velocity: mean vertical grain velocity [m/s].  The
+reference curve is the terminal velocity of one grain of the mean diameter
+(Dallavalle + Di Felice drag at eps = 1, force balance solved in closed form):
+a dense cloud (solid fraction ~0.3-0.5) falls slower than a lone grain
+(hindered settling: return flow of the displaced water, Richardson & Zaki
+1954) and stops on the floor."""
+import math
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(os.path.dirname(__file__), "../../..")), "src", "python"))
+import nscdpost  # noqa: E402
+
+
+def terminal(d, rhop=2500.0, rho=1000.0, nu=1e-6, g=9.81):
+    w = 1e-2
+    for _ in range(200):
+        Re = w * d / nu
+        w = (rhop - rho) * g / ((0.77 * math.sqrt(Re) + 5.88) ** 2 * rho * nu / d**2)
+    return w
+
+
+def main():
+    t, v = [], []
+    dmean = None
+    for time, name in nscdpost.time_dirs("."):
+        g = nscdpost.read_grains(".", name)
+        t.append(time)
+        v.append(float(np.mean(g["U"][:, 1])))
+        dmean = float(np.mean(g["d"]))
+    wt = terminal(dmean)
+    nscdpost.write_json("results.json", {"time": t, "mean_grain_velocity": v,
+                                         "single_grain_terminal_velocity": -wt,
+                                         "mean_diameter": dmean})
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        ax.plot(t, v, "o-", label="vansFoam, 1,500 spheres")
+        ax.axhline(-wt, color="k", ls="--", label="single-grain terminal velocity")
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel("mean vertical grain velocity [m/s]")
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+        fig.tight_layout()
+        fig.savefig("settling.png", dpi=120)
+    except ImportError:
+        pass
+    print("min mean velocity", min(v), "single-grain terminal", -wt)
+
+
+if __name__ == "__main__":
+    main()
