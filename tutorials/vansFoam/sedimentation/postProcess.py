@@ -47,7 +47,8 @@ def main():
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(figsize=(5, 4))
         for k, (m, r) in enumerate(sorted(res.items())):
-            ax.plot(r["time"], r["front_height"], "-o", color=f"C{k}", label=f"{m}: leading edge")
+            tag = "" if r["completed"] else f" (unstable, stopped after t = {r['time'][-1]:g} s)"
+            ax.plot(r["time"], r["front_height"], "-o", color=f"C{k}", label=f"{m}: leading edge{tag}")
             ax.plot(r["time"], r["top_height"], "--", color=f"C{k}", label=f"{m}: top of layer")
         ax.set_xlabel("t [s]")
         ax.set_ylabel("height [m]")
