@@ -11,7 +11,7 @@
 namespace
 {
     //- fixedValue on every non-constraint patch (walls, inlets, ...): the
-    //  solid flux through the domain boundary is zero
+    //  solid flux through the domain boundary is zero, the void fraction 1
     Foam::wordList solidFluxPatchTypes(const Foam::fvMesh& mesh)
     {
         using namespace Foam;
@@ -85,7 +85,10 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
         fieldIO(mesh, "voidFraction", IOobject::AUTO_WRITE),
         mesh,
         dimensionedScalar("one", dimless, 1.0),
-        zeroGradientFvPatchScalarField::typeName
+        // on the domain boundary the areal solid fraction of grains that do
+        // not cross it is exactly 0: eps = 1 (an inlet then imposes the
+        // superficial velocity U_b, whatever rests on it)
+        solidFluxPatchTypes(mesh)
     ),
     restarted_(false),
     Kdrag_
