@@ -5,10 +5,12 @@ Only the standard library and numpy are needed.  Functions:
   read_grains(case, time_name) -> dict with 'x' (N x 3 [m]), 'd' (N [m]), 'U' (N x 3 [m/s]),
                                 'fixed' (N bool)
   write_json(path, obj)        -> results.json writer (sorted keys, floats as-is)
+  instantiate_case(base, case, subs) -> copy a template case, replacing @KEYS@
 """
 import json
 import os
 import re
+import shutil
 
 import numpy as np
 
@@ -95,3 +97,20 @@ def write_json(path, obj):
     with open(path, "w") as f:
         json.dump(obj, f, indent=2, sort_keys=True)
         f.write("\n")
+
+
+def instantiate_case(base, case, subs):
+    """Copy the template case directory `base` to `case` (replacing it) and
+    substitute every key of `subs` (e.g. "@ENDTIME@") by its value in all files."""
+    if os.path.exists(case):
+        shutil.rmtree(case)
+    shutil.copytree(base, case)
+    for root, _, files in os.walk(case):
+        for f in files:
+            p = os.path.join(root, f)
+            with open(p) as fh:
+                txt = fh.read()
+            for k, v in subs.items():
+                txt = txt.replace(k, v)
+            with open(p, "w") as fh:
+                fh.write(txt)

@@ -10,10 +10,11 @@ lattice).  The domain extends far enough for the runout of the scaling law.
 """
 import math
 import os
-import shutil
 import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../..")), "src", "python"))
+import nscdpost  # noqa: E402
 
 
 def main():
@@ -43,18 +44,7 @@ def main():
         "@ROWX0@": f"{0.5 * dmean:.6g}", "@ROWX1@": f"{lx - 0.5 * dmean:.6g}",
         "@DMEAN@": f"{dmean:.6g}",
     }
-    if os.path.exists(case):
-        shutil.rmtree(case)
-    shutil.copytree(os.path.join(here, "base"), case)
-    for root, _, files in os.walk(case):
-        for f in files:
-            p = os.path.join(root, f)
-            with open(p) as fh:
-                txt = fh.read()
-            for k, v in subs.items():
-                txt = txt.replace(k, v)
-            with open(p, "w") as fh:
-                fh.write(txt)
+    nscdpost.instantiate_case(os.path.join(here, "base"), case, subs)
     with open(os.path.join(case, "caseParameters"), "w") as fh:
         fh.write(f"aspectRatio {a}\ngateX {w0}\nnGrains {n}\nfriction {mu}\n")
     print(f"{case}: a={a} N={n} L_i={w0:.4f} m H_i~{h0:.4f} m domain {lx:.3f}x{ly:.3f} m, endTime {tend} s")

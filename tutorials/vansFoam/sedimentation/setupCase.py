@@ -6,10 +6,11 @@ the top 0.15 m of the 0.4 x 0.6 m box.
 usage: setupCase.py CASEDIR METHOD [ENDTIME] [ROWS]   (METHOD: overlap | centroid)
 """
 import os
-import shutil
 import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../..")), "src", "python"))
+import nscdpost  # noqa: E402
 
 
 def main():
@@ -24,14 +25,8 @@ def main():
     for j in range(rows):
         for i in range(ncol):
             lines.append(f"({x0 + (2 * i + 1) * r:.9g} {ytop - (2 * j + 1) * r:.9g} 0 {2 * r * (1 - 1e-9):.12g})")
-    if os.path.exists(case):
-        shutil.rmtree(case)
-    shutil.copytree(os.path.join(here, "base"), case)
-    for root, _, files in os.walk(case):
-        for f in files:
-            p = os.path.join(root, f)
-            txt = open(p).read().replace("@METHOD@", method).replace("@ENDTIME@", end)
-            open(p, "w").write(txt)
+    nscdpost.instantiate_case(os.path.join(here, "base"), case,
+                              {"@METHOD@": method, "@ENDTIME@": end})
     with open(os.path.join(case, "system", "grainDepositDict"), "w") as f:
         f.write("FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n")
         f.write("// square lattice, spacing 2r, no settling (released at t = 0)\n")
