@@ -18,7 +18,8 @@ def vec(v):
 
 def make_box_case(case, lo, hi, cells, gravity, materials, grains=None,
                   end_time=0.3, dt=1e-3, write_interval=0.1, two_d=True,
-                  extra_props="", deposit=None, wall_patches="walls"):
+                  extra_props="", deposit=None, wall_patches="walls",
+                  contact_tolerance=1e-8, max_iterations=5000):
     """A box mesh whose six (2D: four) sides are one wall patch `walls`
     (2D: z faces `frontAndBack` empty), grainProperties, g, controlDict and,
     if grains is given, a grainDepositDict with method list."""
@@ -56,7 +57,8 @@ def make_box_case(case, lo, hi, cells, gravity, materials, grains=None,
         for name, m in materials.items())
     write(os.path.join(case, "constant", "grainProperties"), "dictionary", "grainProperties",
           f"materials {{\n{mats}\n}}\n"
-          "contactSolver { tolerance 1e-8; maxIterations 5000; }\n" + extra_props)
+          f"contactSolver {{ tolerance {contact_tolerance}; maxIterations {max_iterations}; }}\n"
+          + extra_props)
     if grains is not None:
         first = next(iter(materials))
         body = deposit if deposit is not None else (
