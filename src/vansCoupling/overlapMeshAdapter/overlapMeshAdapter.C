@@ -511,6 +511,34 @@ void Foam::overlapMeshAdapter::map(const nscd::System& grains)
 }
 
 
+namespace
+{
+    //- A dimensionless, zeroGradient cell field of the current time
+    Foam::tmp<Foam::volScalarField> newDimlessField
+    (
+        const Foam::fvMesh& mesh,
+        const Foam::word& name
+    )
+    {
+        using namespace Foam;
+        return tmp<volScalarField>
+        (
+            new volScalarField
+            (
+                IOobject
+                (
+                    name, mesh.time().timeName(), mesh,
+                    IOobject::NO_READ, IOobject::NO_WRITE
+                ),
+                mesh,
+                dimensionedScalar(dimless, Zero),
+                zeroGradientFvPatchScalarField::typeName
+            )
+        );
+    }
+}
+
+
 void Foam::overlapMeshAdapter::solidFraction(volScalarField& phi) const
 {
     scalarField& f = phi.primitiveFieldRef();
@@ -527,23 +555,7 @@ Foam::tmp<Foam::volScalarField> Foam::overlapMeshAdapter::solidFraction
     const word& name
 ) const
 {
-    tmp<volScalarField> tphi
-    (
-        new volScalarField
-        (
-            IOobject
-            (
-                name,
-                mesh_.time().timeName(),
-                mesh_,
-                IOobject::NO_READ,
-                IOobject::NO_WRITE
-            ),
-            mesh_,
-            dimensionedScalar(dimless, Zero),
-            zeroGradientFvPatchScalarField::typeName
-        )
-    );
+    tmp<volScalarField> tphi(newDimlessField(mesh_, name));
     solidFraction(tphi.ref());
     return tphi;
 }
@@ -565,23 +577,7 @@ Foam::tmp<Foam::volScalarField> Foam::overlapMeshAdapter::voidFraction
     const word& name
 ) const
 {
-    tmp<volScalarField> teps
-    (
-        new volScalarField
-        (
-            IOobject
-            (
-                name,
-                mesh_.time().timeName(),
-                mesh_,
-                IOobject::NO_READ,
-                IOobject::NO_WRITE
-            ),
-            mesh_,
-            dimensionedScalar(dimless, Zero),
-            zeroGradientFvPatchScalarField::typeName
-        )
-    );
+    tmp<volScalarField> teps(newDimlessField(mesh_, name));
     voidFraction(teps.ref());
     return teps;
 }
