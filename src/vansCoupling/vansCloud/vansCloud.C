@@ -90,7 +90,6 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
         // superficial velocity U_b, whatever rests on it)
         solidFluxPatchTypes(mesh)
     ),
-    restarted_(false),
     Kdrag_
     (
         fieldIO(mesh, "Kdrag"), mesh, dimensionedScalar(inv(dimTime), Zero),
@@ -171,7 +170,6 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
         const volScalarField epsRead(epsIO, mesh);
         voidFraction_.primitiveFieldRef() = epsRead.primitiveField();
         voidFraction_.correctBoundaryConditions();
-        restarted_ = true;
     }
     voidFraction_.oldTime();
     if (impulseIO.typeHeaderOk<IOList<vector>>(true))
