@@ -160,6 +160,20 @@ void System::writeHDF5(const std::string& file) const
     }
     w.i("contactBodies", ij, 2);
     w.d("contactData", cd, 14);
+
+    // heat (optional datasets: files without them read with the defaults)
+    w.d("temperatures", I.T, 0);
+    w.d("heatSources", I.heatQ, 0);
+    std::vector<double> hx;
+    hx.reserve(2*N);
+    for (std::size_t k = 0; k < N; ++k) { hx.push_back(I.heatH[k]); hx.push_back(I.heatTf[k]); }
+    w.d("heatExchange", hx, 2);
+    std::vector<int> ft(I.fixT.begin(), I.fixT.end());
+    w.i("fixedTemperature", ft, 0);
+    std::vector<double> wT;
+    for (const Wall& W : I.walls) wT.push_back(W.temperature);  // NaN: adiabatic
+    w.d("wallTemperature", wT, 0);
+    w.d("heatSettings", {I.defaultT, S.heatTolerance, double(S.heatMaxIterations)}, 0);
     if (H5Fflush(h.id, H5F_SCOPE_LOCAL) < 0) throw InputError("nscd::System::writeHDF5: cannot flush " + file);
 }
 
@@ -262,6 +276,33 @@ System System::readHDF5(const std::string& file)
         c.n = get3(cd, 14*k); c.rt = get3(cd, 14*k + 3);
         const double* p = &cd[14*k + 6];
         c.rn = p[0]; c.wnn = p[1]; c.wtt = p[2]; c.bias = p[3]; c.mu = p[4]; c.coh = p[5]; c.gap = p[6]; c.change = p[7];
+    }
+    // heat (optional: files written before it existed keep the defaults:
+    // temperatures 0, no sources, no fixed temperatures, adiabatic walls)
+    auto has = [&](const char* name) { return H5Lexists(r.f, name, H5P_DEFAULT) > 0; };
+    if (has("heatSettings"))
+    {
+        const auto hs = r.d("heatSettings", 0, 3);
+        I.defaultT = hs[0];
+        I.settings.heatTolerance = hs[1];
+        I.settings.heatMaxIterations = int(hs[2]);
+    }
+    if (has("temperatures")) I.T = r.d("temperatures", 0, N);
+    if (has("heatSources")) I.heatQ = r.d("heatSources", 0, N);
+    if (has("heatExchange"))
+    {
+        const auto hx = r.d("heatExchange", 2, N);
+        for (long k = 0; k < N; ++k) { I.heatH[k] = hx[2*k]; I.heatTf[k] = hx[2*k + 1]; }
+    }
+    if (has("fixedTemperature"))
+    {
+        const auto ft = r.i("fixedTemperature", 0, N);
+        for (long k = 0; k < N; ++k) I.fixT[k] = ft[k] ? 1 : 0;
+    }
+    if (has("wallTemperature"))
+    {
+        const auto wT = r.d("wallTemperature", 0, long(I.walls.size()));
+        for (std::size_t k = 0; k < I.walls.size(); ++k) I.walls[k].temperature = wT[k];
     }
     return s;
 }

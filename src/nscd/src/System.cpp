@@ -50,6 +50,24 @@ int System::addMaterial(const Material& m)
         throw InputError("nscd::System::addMaterial: density must be > 0, got " + std::to_string(m.density));
     if (!(m.friction >= 0) || !std::isfinite(m.friction))
         throw InputError("nscd::System::addMaterial: friction must be >= 0, got " + std::to_string(m.friction));
+    auto nonNegative = [](const char* what, double a)
+    {
+        if (!(a >= 0) || !std::isfinite(a))
+        {
+            std::ostringstream os;
+            os << "nscd::System::addMaterial: " << what << " must be >= 0 and finite, got " << a;
+            throw InputError(os.str());
+        }
+    };
+    nonNegative("youngModulus", m.youngModulus);
+    nonNegative("conductivity", m.conductivity);
+    nonNegative("heatCapacity", m.heatCapacity);
+    if (!(m.poissonRatio > -1 && m.poissonRatio <= 0.5))
+    {
+        std::ostringstream os;
+        os << "nscd::System::addMaterial: poissonRatio must be in (-1, 0.5], got " << m.poissonRatio;
+        throw InputError(os.str());
+    }
     impl_->materials.push_back(m);
     return int(impl_->materials.size()) - 1;
 }
@@ -75,6 +93,11 @@ void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
     rotLock.push_back(0);
     force.push_back(Vec3::Zero());
     torque.push_back(Vec3::Zero());
+    T.push_back(defaultT);
+    heatQ.push_back(0);
+    heatH.push_back(0);
+    heatTf.push_back(0);
+    fixT.push_back(0);
     const double rho = materials[m].density;
     if (dim == 2)
     {
@@ -519,7 +542,10 @@ StepReport System::step(double dt)
             || !(S.overlapSlop >= 0) || !(S.alertDistanceFactor >= 0) || !(S.alertMargin >= 0))
             throw InputError("nscd::System::step: invalid settings (need tolerance > 0, maxIterations >= 1, "
                              "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0)");
+        if (!(S.heatTolerance > 0) || S.heatMaxIterations < 1)
+            throw InputError("nscd::System::step: invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
     }
+    const bool heat = I.heatCheck();  // throws before anything is changed
     const int N = int(I.x.size());
     const int NW = int(I.walls.size());
     const bool twoD = I.dim == 2;
@@ -881,6 +907,14 @@ StepReport System::step(double dt)
     rep.maxOverlap = ov;
 
     std::swap(I.contacts, I.newContacts);
+
+    // ---- temperatures (eq. 4.1-4.3), with this step's impulses ----
+    if (heat)
+    {
+        const auto t2 = clock::now();
+        I.heatStep(dt, rep);
+        rep.heatSeconds = std::chrono::duration<double>(clock::now() - t2).count();
+    }
     return rep;
 }
 

@@ -9,11 +9,6 @@
 namespace nscd
 {
 
-namespace
-{
-constexpr double pi = 3.14159265358979323846;
-}
-
 double System::subStep(double dt, double fraction) const
 {
     const Impl& I = *impl_;
@@ -59,6 +54,12 @@ StepReport System::advance(double dt, double fraction)
         total.maxOverlap = std::max(total.maxOverlap, r.maxOverlap);
         total.detectSeconds += r.detectSeconds;
         total.solveSeconds += r.solveSeconds;
+        total.wallHeat += r.wallHeat;
+        total.fixedGrainHeat += r.fixedGrainHeat;
+        total.sourceHeat += r.sourceHeat;
+        total.heatIterations += r.heatIterations;
+        total.heatResidual = std::max(total.heatResidual, r.heatResidual);
+        total.heatSeconds += r.heatSeconds;
     }
     return total;
 }
@@ -220,27 +221,11 @@ std::vector<System::ContactView> System::contacts() const
 
 double System::contactConductance(const ContactView& c, double dt) const
 {
-    // eq. 4.2-4.3: H = 4 k_s (r_n d* / (2 pi L E* dt))^(1/4), L = 1 (per unit depth).
-    // k_s: harmonic mean of the conductivities (as the thesis text says);
-    // walls: infinite radius and Young modulus, conductivity of the grain.
     const Impl& I = *impl_;
-    const double rn = c.impulse.dot(c.normal);
-    if (!(rn > 0) || !(dt > 0)) return 0;
-    const Material& mi = I.materials[I.mat.at(c.i)];
-    if (!(mi.youngModulus > 0) || !(mi.conductivity > 0)) return 0;
-    double invE = (1 - mi.poissonRatio*mi.poissonRatio)/mi.youngModulus;
-    double invD = 1.0/(2*I.rad[c.i]);
-    double ks = mi.conductivity;
-    if (c.j >= 0)
-    {
-        const Material& mj = I.materials[I.mat.at(c.j)];
-        if (!(mj.youngModulus > 0) || !(mj.conductivity > 0)) return 0;
-        invE += (1 - mj.poissonRatio*mj.poissonRatio)/mj.youngModulus;
-        invD += 1.0/(2*I.rad[c.j]);
-        ks = 2.0/(1.0/mi.conductivity + 1.0/mj.conductivity);
-    }
-    const double dstar = 1.0/invD, Estar = 1.0/invE;
-    return 4*ks*std::pow(rn*dstar/(2*pi*1.0*Estar*dt), 0.25);
+    if (c.i < 0 || c.i >= int(I.x.size()) || c.j >= int(I.x.size())
+        || (c.j < 0 && -c.j - 1 >= int(I.walls.size())))
+        throw InputError("nscd::System::contactConductance: unknown grain or wall in the contact");
+    return I.conductance(c.i, c.j, c.impulse.dot(c.normal), dt);
 }
 
 } // namespace nscd

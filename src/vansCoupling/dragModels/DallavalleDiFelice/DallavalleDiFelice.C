@@ -1,6 +1,7 @@
 #include "DallavalleDiFelice.H"
 #include "addToRunTimeSelectionTable.H"
 #include "grainDictionaryTools.H"
+#include "diFeliceExponent.H"
 
 namespace Foam
 {
@@ -30,8 +31,8 @@ Foam::scalar Foam::dragModels::DallavalleDiFelice::exponent
     {
         return 2.8;
     }
-    const scalar l = 1.5 - log10(max(epsRe, 1e-12));
-    return 2.8 - exp(-0.5*l*l);
+    // Thesis eq. 4.10 exponent plus 1 (shared with the Nusselt model)
+    return diFelice::voidageExponent(epsRe, 2.8);
 }
 
 
