@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""Set up the fluidisation cases (thesis section 3.3.2, after Peng et al.).
+
+usage: setupCase.py deposit            the settled bed, once (mesh h/d = 1)
+       setupCase.py CASEDIR HD [END]   a case at mesh h/d = HD with the bed of
+                                       deposit/ (the same grains for every mesh)
+
+The bed: ~1,600 slightly polydisperse discs (d_min = 0.2 mm, lambda = 1.2,
+rho_p = 2630, mu = 0.4) settled under gravity in a W = 8.8 mm wide box
+(40 mean diameters); the water column is H = 17.6 mm (twice the bed).  The
+thesis does not give its bed size; this one keeps h/d = 8 at 5 cells across.
+"""
+import os
+import shutil
+import sys
+
+import numpy as np
+
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
+import nscdpost  # noqa: E402
+
+D_MIN, LAMBDA = 0.2e-3, 1.2
+D_MEAN = 0.5 * (1 + LAMBDA) * D_MIN      # 0.22 mm
+WIDTH, HEIGHT = 40 * D_MEAN, 80 * D_MEAN
+N_GRAINS = 1600
+P_TOP = 103e3 / 1000.0                  # back pressure 103 kPa, kinematic [m^2/s^2]
+G = 9.81
+N_PROBES = 9
+
+
+def mesh_subs(hd, end, probes=""):
+    h = hd * D_MEAN
+    nx = max(1, round(WIDTH / h))
+    # kinematic: p_0 = p_t + g H, p_b(t) = p_0 + g H t / (1 s)   (eq. 3.53-3.54)
+    p0 = P_TOP + G * HEIGHT
+    return {"@WIDTH@": f"{WIDTH:.9g}", "@HEIGHT@": f"{HEIGHT:.9g}", "@H@": f"{WIDTH / nx:.9g}",
+            "@HD@": f"{hd:g}", "@NX@": str(nx), "@NY@": str(2 * nx), "@ENDTIME@": str(end),
+            "@PTOP@": f"{P_TOP:.12g}", "@P0@": f"{p0:.12g}",
+            "@P100@": f"{p0 + G * HEIGHT * 100:.12g}", "@PROBES@": probes}
+
+
+def deposit():
+    case = os.path.join(here, "deposit")
+    nscdpost.instantiate_case(os.path.join(here, "base"), case, mesh_subs(1, 0))
+    with open(os.path.join(case, "system", "grainDepositDict"), "w") as f:
+        f.write("FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n"
+                "material sand;\nmethod box;\n"
+                f"box {{ min (0 0 0); max ({WIDTH:.9g} {HEIGHT:.9g} 1); }}\n"
+                f"number {N_GRAINS};\ndMin {D_MIN};\nsizeRatio {LAMBDA};\nseed 3;\n"
+                "settle { maxTime 1; deltaT 2e-4; speedTolerance 2e-3; }\n")
+    print(f"{case}: {N_GRAINS} grains to settle")
+
+
+def bed_top(case):
+    g = nscdpost.read_grains(case, "0")
+    y = g["x"][:, 1] + 0.5 * g["d"]
+    # the initial top of the layer: mean of the highest grain tops over
+    # columns one d_max wide (the free surface of the packing)
+    x = g["x"][:, 0]
+    cols = np.floor(x / (LAMBDA * D_MIN)).astype(int)
+    tops = [y[cols == c].max() for c in np.unique(cols)]
+    return float(np.mean(tops))
+
+
+def setup(case, hd, end):
+    dep = os.path.join(here, "deposit")
+    top = bed_top(dep)
+    xs = [(i + 0.5) * WIDTH / N_PROBES for i in range(N_PROBES)]
+    probes = "\n".join(f"            ({x:.9g} {top:.9g} 0)" for x in xs)
+    nscdpost.instantiate_case(os.path.join(here, "base"), case, mesh_subs(hd, end, probes))
+    for item in ("grainState.h5", "lagrangian"):
+        src = os.path.join(dep, "0", item)
+        dst = os.path.join(case, "0", item)
+        (shutil.copytree if os.path.isdir(src) else shutil.copy)(src, dst)
+    nscdpost.write_json(os.path.join(case, "bed.json"),
+                        {"bed_top": top, "width": WIDTH, "height": HEIGHT, "h_over_d": hd,
+                         "d_mean": D_MEAN, "p_top": P_TOP, "p0": P_TOP + G * HEIGHT,
+                         "head_rate": HEIGHT})
+    print(f"{case}: h/d = {hd}, bed top {top * 1e3:.3f} mm, endTime {end} s")
+
+
+if __name__ == "__main__":
+    if sys.argv[1] == "deposit":
+        deposit()
+    else:
+        setup(sys.argv[1], float(sys.argv[2]), sys.argv[3] if len(sys.argv) > 3 else "0.9")
