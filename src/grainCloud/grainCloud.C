@@ -38,7 +38,7 @@ void Foam::grainCloud::readSettings()
         dict_,
         {
             "materials", "wallPatches", "maxDisplacementFraction",
-            "contactSolver", "movingWalls"
+            "contactSolver", "movingWalls", "initialTemperature"
         }
     );
 
@@ -478,6 +478,15 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
                 m.heatCapacity = d.getOrDefault<scalar>("heatCapacity", 0);
                 system_->addMaterial(m);
             }
+            // temperature of the grains added (e.g. by grainDeposit), used
+            // by vansFoam when heat transfer is on (thesis section 4.1)
+            if (dict_.found("initialTemperature"))
+            {
+                system_->setDefaultTemperature
+                (
+                    dict_.get<scalar>("initialTemperature")
+                );
+            }
             addMeshWalls();
         }
     }
@@ -647,6 +656,16 @@ void Foam::grainCloud::write
     const std::vector<std::pair<word, const List<vector>*>>& extra
 ) const
 {
+    write(extra, {});
+}
+
+
+void Foam::grainCloud::write
+(
+    const std::vector<std::pair<word, const List<vector>*>>& extra,
+    const std::vector<std::pair<word, const List<scalar>*>>& extraScalars
+) const
+{
     const Time& runTime = mesh_.time();
     mkDir(runTime.timePath());
 
@@ -699,6 +718,15 @@ void Foam::grainCloud::write
     for (const auto& ex : extra)
     {
         IOField<vector> f(cloud.fieldIOobject(ex.first, IOobject::NO_READ), ids.size());
+        forAll(ids, k)
+        {
+            f[k] = (*ex.second)[ids[k]];
+        }
+        f.write(valid);
+    }
+    for (const auto& ex : extraScalars)
+    {
+        IOField<scalar> f(cloud.fieldIOobject(ex.first, IOobject::NO_READ), ids.size());
         forAll(ids, k)
         {
             f[k] = (*ex.second)[ids[k]];

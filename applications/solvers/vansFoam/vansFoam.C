@@ -16,6 +16,8 @@ Description
       2. semi-implicit drag prediction (eq. 3.46-3.50)
       3. fluid: PIMPLE on the VANS momentum and the mixture volume
          conservation div(eps U) + div(phi v*) = 0 (eq. 3.51)
+         [3b. heat on: fluid energy, TEqn.H (eq. 4.4-4.5, 4.13), and the
+          exchanged heat handed to the grains as heat sources]
       4. fluid forces onto the grains (drag + pressure gradient, model A/B)
       5. NSCD step of the grains (sub-stepped on d_min/|v_max|)
 
@@ -33,6 +35,7 @@ Usage
 #include "fixedFluxPressureFvPatchScalarField.H"
 
 #include <chrono>
+#include <sstream>
 
 int main(int argc, char *argv[])
 {
@@ -110,6 +113,12 @@ int main(int argc, char *argv[])
             }
         }
 
+        // 3b. fluid energy (heat transfer on only, thesis eq. 4.4-4.13)
+        if (cloud.heatOn())
+        {
+            #include "TEqn.H"
+        }
+
         const clock::time_point t2 = clock::now();
 
         // 4. fluid forces on the grains, 5. NSCD
@@ -126,6 +135,30 @@ int main(int argc, char *argv[])
             << " " << gMax(eps.primitiveField())
             << ", max grain Reynolds number = " << cloud.maxGrainReynolds()
             << endl;
+
+        if (cloud.heatOn())
+        {
+            const volScalarField& T = TPtr();
+            const scalarField epsV(eps.primitiveField()*mesh.V());
+            const scalar sumEpsV = gSum(epsV);
+            const scalar Ef =
+                cloud.rho()*cloud.Cp()*gSum(epsV*T.primitiveField());
+            const scalar Eg = cloud.grainHeatContent();
+            std::ostringstream os;
+            os.precision(16);
+            os  << "heat: grain mean T = " << cloud.grainMeanTemperature()
+                << ", fluid mean T = " << Ef/(cloud.rho()*cloud.Cp()*sumEpsV)
+                << ", exchanged Q = " << cloud.stepHeat()
+                << " J, energy fluid + grains = " << Ef + Eg << " J";
+            Info<< os.str().c_str() << endl;
+            if (!std::isfinite(Ef + Eg))
+            {
+                FatalErrorInFunction
+                    << "Non-finite temperature at time " << runTime.timeName()
+                    << ". The last written time holds the last good state."
+                    << exit(FatalError);
+            }
+        }
 
         // no NaN/Inf: stop before writing a bad state
         if

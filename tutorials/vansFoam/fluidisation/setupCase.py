@@ -27,6 +27,7 @@ N_GRAINS = 1600
 P_TOP = 103e3 / 1000.0                  # back pressure 103 kPa, kinematic [m^2/s^2]
 G = 9.81
 N_PROBES = 9
+RAMP_TIME = 1.0                         # Delta t of eq. 3.53 [s]
 
 
 def mesh_subs(hd, end, probes=""):
@@ -37,11 +38,11 @@ def mesh_subs(hd, end, probes=""):
     return {"@WIDTH@": f"{WIDTH:.9g}", "@HEIGHT@": f"{HEIGHT:.9g}", "@H@": f"{WIDTH / nx:.9g}",
             "@HD@": f"{hd:g}", "@NX@": str(nx), "@NY@": str(2 * nx), "@ENDTIME@": str(end),
             "@PTOP@": f"{P_TOP:.12g}", "@P0@": f"{p0:.12g}",
-            "@P100@": f"{p0 + G * HEIGHT * 100:.12g}", "@PROBES@": probes}
+            "@P100@": f"{p0 + G * HEIGHT * 100 / RAMP_TIME:.12g}", "@PROBES@": probes}
 
 
-def deposit():
-    case = os.path.join(here, "deposit")
+def deposit(root=here):
+    case = os.path.join(root, "deposit")
     nscdpost.instantiate_case(os.path.join(here, "base"), case, mesh_subs(1, 0))
     with open(os.path.join(case, "system", "grainDepositDict"), "w") as f:
         f.write("FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n"
@@ -63,8 +64,8 @@ def bed_top(case):
     return float(np.mean(tops))
 
 
-def setup(case, hd, end):
-    dep = os.path.join(here, "deposit")
+def setup(case, hd, end, root=here):
+    dep = os.path.join(root, "deposit")
     top = bed_top(dep)
     xs = [(i + 0.5) * WIDTH / N_PROBES for i in range(N_PROBES)]
     probes = "\n".join(f"            ({x:.9g} {top:.9g} 0)" for x in xs)
@@ -76,7 +77,7 @@ def setup(case, hd, end):
     nscdpost.write_json(os.path.join(case, "bed.json"),
                         {"bed_top": top, "width": WIDTH, "height": HEIGHT, "h_over_d": hd,
                          "d_mean": D_MEAN, "p_top": P_TOP, "p0": P_TOP + G * HEIGHT,
-                         "head_rate": HEIGHT})
+                         "head_rate": HEIGHT / RAMP_TIME})
     print(f"{case}: h/d = {hd}, bed top {top * 1e3:.3f} mm, endTime {end} s")
 
 

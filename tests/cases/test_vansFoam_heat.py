@@ -1,0 +1,172 @@
+"""vansFoam energy transport (issue 5; thesis section 4.1.2, eq. 4.4-4.13).
+
+- Single fixed grain (d = 0.5 mm) in a uniform upward flow at T_in, grain at
+  T0: the flow heat capacity rho Cp U A is ~2000 times the grain's exchange
+  coefficient H_p, so the fluid stays at T_in (< 0.1 %) and the grain follows
+  the lumped exponential (thesis eq. 4.1 with q of eq. 4.13)
+      T_p(t) = T_in + (T0 - T_in) exp(-H_p t/(m c)),  H_p = k Nu pi d (sphere)
+  with Nu the Reynolds-Colburn / Di Felice correlation written here
+  independently from the thesis (eq. 4.9, 4.10, 4.12; exponent log base 10 as
+  the drag of eq. 3.32), Re = |u_p| d / nu from the fluid velocity gathered at
+  the grain (output Ufluid), eps_p = 1 - V_p/V_cell.  Checked within 2 % on the
+  excess temperature (T_p - T_in)/(T0 - T_in).
+- Closed 2D box (no-slip walls, zeroGradient T), free grains hotter than the
+  fluid settling with Boussinesq buoyancy on: fluid rho Cp sum(eps T V) +
+  grain sum(m c T) stays equal to its initial value to 1e-6 relative (and the
+  drift is < 1e-6 of the heat exchanged).
+"""
+import math
+import os
+import re
+
+import pytest
+
+from foamcase import add_fluid, make_box_case, run, write
+
+
+def nusselt_difelice_colburn(eps, Re, Pr, delta=500.0, alpha=0.4):
+    """Thesis eq. 4.12 with f of eq. 4.9 and g of eq. 4.10 (superficial Re)."""
+    x = eps * Re
+    expo = 1.8 - math.exp(-0.5 * (1.5 - math.log10(x)) ** 2)
+    g = eps ** (-expo)
+    f = (x + delta) / (0.11 * x ** 1.4 + x + delta)
+    return g * f * (0.18 * math.sqrt(x) + 1.39) ** 2 * Pr ** alpha
+
+
+def heat_lines(log):
+    """(time, grain mean T, fluid mean T, Q, E) per step from the vansFoam log."""
+    out = []
+    t = None
+    for line in log.splitlines():
+        m = re.match(r"^Time = (\S+)", line)
+        if m:
+            t = float(m.group(1))
+        m = re.match(r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
+                     r"energy fluid \+ grains = (\S+) J", line)
+        if m:
+            out.append((t,) + tuple(float(v) for v in m.groups()))
+    return out
+
+
+def set_materials(case, body, extra=""):
+    gp = os.path.join(case, "constant", "grainProperties")
+    txt = open(gp).read()
+    txt = re.sub(r"materials \{.*?\n\}\n", "materials {\n" + body + "\n}\n", txt, flags=re.S)
+    open(gp, "w").write(txt + extra)
+
+
+def add_heat(case, Cp, kappa, T_bc, T_init, extra_transport=""):
+    tp = os.path.join(case, "constant", "transportProperties")
+    open(tp, "a").write(f"Cp {Cp};\nkappa {kappa};\n" + extra_transport)
+    cp = os.path.join(case, "constant", "couplingProperties")
+    open(cp, "a").write("heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n")
+    write(os.path.join(case, "0", "T"), "volScalarField", "T",
+          f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {T_init};\nboundaryField {{ {T_bc} }}\n")
+    fs = os.path.join(case, "system", "fvSolution")
+    txt = open(fs).read().replace(
+        "solvers {\n", "solvers {\n  T { solver PBiCGStab; preconditioner DILU; tolerance 1e-14; relTol 0; }\n")
+    open(fs, "w").write(txt)
+    sc = os.path.join(case, "system", "fvSchemes")
+    txt = open(sc).read().replace("div(phi,U)", "div(phi,T) Gauss upwind; div(phi,U)")
+    open(sc, "w").write(txt)
+
+
+def test_single_grain_lumped_exponential(tmp_path, env):
+    d, h, Us = 0.5e-3, 1e-2, 0.05
+    rho, nu, Cp, kappa = 1000.0, 1e-6, 4186.0, 0.6
+    rhop, cp = 2500.0, 2.0e4
+    T_in, T0 = 300.0, 350.0
+    case = str(tmp_path / "grain")
+    nx, ny = 4, 10
+    make_box_case(case, (0, 0, 0), (nx * h, ny * h, nx * h), (nx, ny, nx), (0, 0, 0),
+                  {"glass": {"density": rhop, "friction": 0.4}},
+                  grains=[(1.5 * h, 5.5 * h, 1.5 * h, d)], end_time=0.3, dt=1e-3,
+                  write_interval=0.3, two_d=False)
+    set_materials(case, f"glass {{ density {rhop}; friction 0.4; conductivity 1; heatCapacity {cp}; }}",
+                  f"initialTemperature {T0};\n")
+    bm = os.path.join(case, "system", "blockMeshDict")
+    txt = re.sub(r"boundary \(.*\);", "boundary (\n"
+                 "inlet { type patch; faces ((1 5 4 0)); }\n"
+                 "outlet { type patch; faces ((3 7 6 2)); }\n"
+                 "walls { type wall; faces ((0 4 7 3) (2 6 5 1) (0 3 2 1) (4 5 6 7)); }\n);",
+                 open(bm).read(), flags=re.S)
+    open(bm, "w").write(txt)
+    open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
+    add_fluid(case, rho, nu)
+    write(os.path.join(case, "0", "U"), "volVectorField", "U",
+          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 %g 0);\n"
+          "boundaryField { inlet { type fixedValue; value uniform (0 %g 0); }\n"
+          " outlet { type zeroGradient; } walls { type slip; } }\n" % (Us, Us))
+    write(os.path.join(case, "0", "p"), "volScalarField", "p",
+          "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+          "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
+          " walls { type zeroGradient; } }\n")
+    fs = os.path.join(case, "system", "fvSolution")
+    txt = open(fs).read().replace("pRefCell 0; pRefValue 0;", "")
+    open(fs, "w").write(txt)
+    add_heat(case, Cp, kappa,
+             f"inlet {{ type fixedValue; value uniform {T_in}; }} outlet {{ type zeroGradient; }}"
+             " walls { type zeroGradient; }", T_in)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    log = run("vansFoam", case, env).stdout
+    steps = heat_lines(log)
+    assert len(steps) >= 290
+    tdir = os.path.join(case, "0.3", "lagrangian", "grains")
+    assert os.path.isfile(os.path.join(tdir, "T"))
+    uf = open(os.path.join(tdir, "Ufluid")).read()
+    u = [float(v) for v in re.search(r"\(\s*\(([^()]*)\)", uf).group(1).split()]
+    Re = math.sqrt(sum(c * c for c in u)) * d / nu
+    eps = 1 - math.pi / 6 * d**3 / h**3
+    Pr = Cp * rho * nu / kappa
+    Nu = nusselt_difelice_colburn(eps, Re, Pr)
+    H = kappa * Nu / d * 6 / d * math.pi / 6 * d**3      # eq. 4.13: k Nu/d S/V x V
+    mc = rhop * math.pi / 6 * d**3 * cp
+    tau = mc / H
+    # fluid temperature seen by the grain (gathered, output Tfluid) ~ T_in
+    tf = open(os.path.join(tdir, "Tfluid")).read()
+    Tf_p = float(re.search(r"\n\s*1\s*[({]\s*(\S+?)\s*[)}]", tf).group(1))
+    worst_fluid = max(abs(Tf_p - T_in), max(abs(s[2] - T_in) for s in steps)) / (T0 - T_in)
+    assert worst_fluid < 1e-3
+    errs = []
+    for t, Tg, Tf, Q, E in steps[9::10]:
+        ref = math.exp(-t / tau)
+        errs.append(abs((Tg - T_in) / (T0 - T_in) - ref) / ref)
+    print(f"Re {Re:.4g} Nu {Nu:.5g} tau {tau:.5g} s, t_end/tau {steps[-1][0]/tau:.3g}, "
+          f"max rel. error {max(errs):.3e}, fluid dev {worst_fluid:.2e}")
+    assert max(errs) < 0.02
+    assert steps[-1][0] / tau > 0.5          # a real decay was tested
+
+
+def test_closed_box_energy_conservation(tmp_path, env):
+    r = 1.5e-3
+    rho, nu, Cp, kappa = 1000.0, 1e-6, 4186.0, 0.6
+    rhop, cp = 1500.0, 800.0
+    Tf0, T0 = 300.0, 350.0
+    depth = 0.003
+    grains = [(0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001, 0, 2 * r)
+              for j in range(2) for i in range(8)]
+    case = str(tmp_path / "box")
+    make_box_case(case, (0, 0, 0), (0.04, 0.06, depth), (9, 13, 1), (0, -9.81, 0),
+                  {"grains": {"density": rhop, "friction": 0.3}}, grains=grains,
+                  end_time=0.05, dt=1e-3, write_interval=0.05)
+    set_materials(case, f"grains {{ density {rhop}; friction 0.3; conductivity 1; heatCapacity {cp}; }}",
+                  f"initialTemperature {T0};\n")
+    add_fluid(case, rho, nu)
+    add_heat(case, Cp, kappa, "walls { type zeroGradient; } frontAndBack { type empty; }", Tf0,
+             "beta 2e-4;\nTRef 300;\n")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    log = run("vansFoam", case, env).stdout
+    steps = heat_lines(log)
+    assert len(steps) >= 20
+    n = len(grains)
+    Vp = math.pi * r * r * depth
+    E0 = rho * Cp * Tf0 * (0.04 * 0.06 * depth - n * Vp) + n * rhop * Vp * cp * T0
+    Qsum = sum(s[3] for s in steps)
+    drift = max(abs(s[4] - E0) for s in steps)
+    print(f"E0 {E0:.10g} J, heat exchanged {Qsum:.4g} J, max drift {drift:.3e} J "
+          f"({drift / E0:.2e} of E0, {drift / abs(Qsum):.2e} of Q)")
+    assert Qsum < 0                     # the hot grains heat the fluid
+    assert drift < 1e-6 * E0
+    assert drift < 1e-6 * abs(Qsum)
