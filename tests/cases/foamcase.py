@@ -117,3 +117,26 @@ def add_fluid(case, rho, nu, drag="DallavalleDiFelice", force_model="A",
     txt = open(cd).read().replace("application grainFoam;", "application vansFoam;")
     txt += f"adjustTimeStep yes; maxCo {max_co}; maxDeltaT {max_dt};\n"
     open(cd, "w").write(txt)
+
+
+def inlet_outlet_box(case):
+    """Make the bottom (y = min) of a 3D make_box_case box the patch `inlet`,
+    the top the patch `outlet` and the four sides `walls`; remove the pressure
+    reference (the outlet fixes p).  Call after add_fluid."""
+    import re
+    bm = os.path.join(case, "system", "blockMeshDict")
+    with open(bm) as f:
+        txt = f.read()
+    txt = re.sub(r"boundary \(.*\);", "boundary (\n"
+                 "inlet { type patch; faces ((1 5 4 0)); }\n"
+                 "outlet { type patch; faces ((3 7 6 2)); }\n"
+                 "walls { type wall; faces ((0 4 7 3) (2 6 5 1) (0 3 2 1) (4 5 6 7)); }\n);",
+                 txt, flags=re.S)
+    with open(bm, "w") as f:
+        f.write(txt)
+    fs = os.path.join(case, "system", "fvSolution")
+    if os.path.exists(fs):
+        with open(fs) as f:
+            txt = f.read().replace("pRefCell 0; pRefValue 0;", "")
+        with open(fs, "w") as f:
+            f.write(txt)

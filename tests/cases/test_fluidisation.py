@@ -25,14 +25,13 @@ the bed stays put at 0.95 U_mf and lifts at 1.05 U_mf.
 """
 import math
 import os
-import re
 import shutil
 
 import numpy as np
 import pytest
 
 import nscdpost
-from foamcase import add_fluid, make_box_case, run, write
+from foamcase import add_fluid, inlet_outlet_box, make_box_case, run, write
 
 G = 9.81
 D, S, LAYERS = 1.0e-3, 1.1e-3, 8
@@ -68,19 +67,8 @@ def bed_case(case, env, U):
                   end_time=0.2, dt=1e-3, write_interval=0.2, two_d=False,
                   extra_props="wallPatches (inlet walls);\n",
                   contact_tolerance=1e-6, max_iterations=2000)
-    bm = os.path.join(case, "system", "blockMeshDict")
-    txt = re.sub(r"boundary \(.*\);", "boundary (\n"
-                 "inlet { type patch; faces ((1 5 4 0)); }\n"
-                 "outlet { type patch; faces ((3 7 6 2)); }\n"
-                 "walls { type wall; faces ((0 4 7 3) (2 6 5 1) (0 3 2 1) (4 5 6 7)); }\n);",
-                 open(bm).read(), flags=re.S)
-    with open(bm, "w") as f:
-        f.write(txt)
     add_fluid(case, RHO, NU, max_dt=1e-3)
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = open(fs).read().replace("pRefCell 0; pRefValue 0;", "")
-    with open(fs, "w") as f:
-        f.write(txt)
+    inlet_outlet_box(case)
     # uniform upward inflow U (superficial: the boundary void fraction is 1),
     # slip side walls (no wall shear: the flow stays uniform), open top
     write(os.path.join(case, "0", "U"), "volVectorField", "U",

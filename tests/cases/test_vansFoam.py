@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 import nscdpost
-from foamcase import add_fluid, make_box_case, run, write
+from foamcase import add_fluid, inlet_outlet_box, make_box_case, run, write
 
 G = 9.81
 
@@ -75,14 +75,6 @@ def packed_bed_case(case, model, Us, d, h, layers):
                   {"glass": {"density": 2500, "friction": 0.4}}, grains=grains,
                   end_time=0.3, dt=1e-3, write_interval=0.3, two_d=False)
     # bottom inlet, top outlet, slip side walls
-    bm = os.path.join(case, "system", "blockMeshDict")
-    txt = open(bm).read()
-    txt = re.sub(r"boundary \(.*\);", "boundary (\n"
-                 "inlet { type patch; faces ((1 5 4 0)); }\n"
-                 "outlet { type patch; faces ((3 7 6 2)); }\n"
-                 "walls { type wall; faces ((0 4 7 3) (2 6 5 1) (0 3 2 1) (4 5 6 7)); }\n);",
-                 txt, flags=re.S)
-    open(bm, "w").write(txt)
     dd = os.path.join(case, "system", "grainDepositDict")
     open(dd, "a").write("fixed yes;\n")
     add_fluid(case, 1000.0, 1e-6, drag=model, extra_coupling="")
@@ -94,9 +86,7 @@ def packed_bed_case(case, model, Us, d, h, layers):
           "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
           "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
           " walls { type zeroGradient; } }\n")
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = open(fs).read().replace("pRefCell 0; pRefValue 0;", "")
-    open(fs, "w").write(txt)
+    inlet_outlet_box(case)
     return nx, ny, y0, layers * h
 
 

@@ -21,7 +21,7 @@ import re
 
 import pytest
 
-from foamcase import add_fluid, make_box_case, run, write
+from foamcase import add_fluid, inlet_outlet_box, make_box_case, run, write
 
 
 def nusselt_difelice_colburn(eps, Re, Pr, delta=500.0, alpha=0.4):
@@ -84,13 +84,6 @@ def test_single_grain_lumped_exponential(tmp_path, env):
                   write_interval=0.3, two_d=False)
     set_materials(case, f"glass {{ density {rhop}; friction 0.4; conductivity 1; heatCapacity {cp}; }}",
                   f"initialTemperature {T0};\n")
-    bm = os.path.join(case, "system", "blockMeshDict")
-    txt = re.sub(r"boundary \(.*\);", "boundary (\n"
-                 "inlet { type patch; faces ((1 5 4 0)); }\n"
-                 "outlet { type patch; faces ((3 7 6 2)); }\n"
-                 "walls { type wall; faces ((0 4 7 3) (2 6 5 1) (0 3 2 1) (4 5 6 7)); }\n);",
-                 open(bm).read(), flags=re.S)
-    open(bm, "w").write(txt)
     open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     add_fluid(case, rho, nu)
     write(os.path.join(case, "0", "U"), "volVectorField", "U",
@@ -101,9 +94,7 @@ def test_single_grain_lumped_exponential(tmp_path, env):
           "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
           "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
           " walls { type zeroGradient; } }\n")
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = open(fs).read().replace("pRefCell 0; pRefValue 0;", "")
-    open(fs, "w").write(txt)
+    inlet_outlet_box(case)
     add_heat(case, Cp, kappa,
              f"inlet {{ type fixedValue; value uniform {T_in}; }} outlet {{ type zeroGradient; }}"
              " walls { type zeroGradient; }", T_in)
