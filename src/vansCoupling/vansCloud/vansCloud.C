@@ -199,6 +199,28 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
         }
     }
 
+    // 2D disc packings have closed pores (solid fraction ~0.82): without the
+    // fluid-side effective diameter of thesis section 3.2.3 a settled bed of
+    // fine grains gives cell void fractions < 0.1 and a stiff, unstable
+    // coupling (applications/solvers/vansFoam/README.md, "Time step and
+    // stability")
+    const scalar epsLow = gMin(voidFraction_.primitiveField());
+    const scalar kEff =
+        dict_.found("voidFraction")
+      ? dict_.subDict("voidFraction").getOrDefault<scalar>("effectiveDiameterFactor", 1)
+      : 1;
+    if (adapter_.twoD() && kEff == 1 && epsLow < 0.1 && grains_.system().size())
+    {
+        WarningInFunction
+            << "2D case with a void fraction down to " << epsLow
+            << " at the start and voidFraction.effectiveDiameterFactor 1 in "
+            << dict_.name() << ": discs pack to a solid fraction ~0.82 with"
+            << " closed pores." << nl
+            << "    Consider effectiveDiameterFactor ~0.88 (the solid fraction"
+            << " of random sphere packings, thesis section 3.2.3); dense beds"
+            << " of fine grains are otherwise unstable." << endl;
+    }
+
     Info<< "vansCloud: force model " << forceModel_ << ", fluid rho " << rho_
         << " nu " << nu_ << ", void fraction min "
         << gMin(voidFraction_.primitiveField()) << nl << endl;
