@@ -38,7 +38,8 @@ void Foam::grainCloud::readSettings()
         dict_,
         {
             "materials", "wallPatches", "maxDisplacementFraction",
-            "contactSolver", "movingWalls", "initialTemperature"
+            "contactSolver", "movingWalls", "initialTemperature",
+            "wallTemperatures"
         }
     );
 
@@ -388,6 +389,87 @@ void Foam::grainCloud::readMovingWalls()
 }
 
 
+void Foam::grainCloud::readWallTemperatures()
+{
+    wallTemperatures_.clear();
+    if (!dict_.found("wallTemperatures"))
+    {
+        return;
+    }
+    const dictionary& wt = dict_.subDict("wallTemperatures");
+    const wordList patches(patchWalls_.sortedToc());
+    // every wall patch adiabatic, then the listed ones at their temperature
+    // (a patch matched by several entries: the last one wins)
+    HashTable<scalar> Tpatch;
+    for (const entry& e : wt)
+    {
+        if (!e.isStream())
+        {
+            FatalIOErrorInFunction(wt)
+                << "wallTemperatures entry '" << e.keyword() << "' in "
+                << wt.name() << " must be '<patch or \"regex\"> <T [K]>;'"
+                << exit(FatalIOError);
+        }
+        const scalar T = wt.get<scalar>(e.keyword());
+        if (!std::isfinite(T) || T < 0)
+        {
+            FatalIOErrorInFunction(wt)
+                << "wallTemperatures " << e.keyword() << " " << T
+                << " in " << wt.name() << ": the temperature must be a"
+                << " finite value >= 0 [K]" << exit(FatalIOError);
+        }
+        const wordRe re(e.keyword());
+        bool matched = false;
+        for (const word& p : patches)
+        {
+            if (re.match(p))
+            {
+                Tpatch.set(p, T);
+                matched = true;
+            }
+        }
+        if (!matched)
+        {
+            FatalIOErrorInFunction(wt)
+                << "wallTemperatures entry '" << e.keyword() << "' in "
+                << wt.name() << " matches no wall patch. Wall patches: "
+                << flatOutput(patches) << exit(FatalIOError);
+        }
+    }
+    try
+    {
+        for (const word& p : patches)
+        {
+            for (const label id : patchWalls_[p])
+            {
+                if (Tpatch.found(p))
+                {
+                    system_->setWallTemperature(id, Tpatch[p]);
+                }
+                else
+                {
+                    system_->setWallAdiabatic(id);
+                }
+            }
+            if (Tpatch.found(p))
+            {
+                wallTemperatures_.append(std::make_pair(p, Tpatch[p]));
+            }
+        }
+    }
+    catch (const nscd::InputError& err)
+    {
+        FatalErrorInFunction
+            << "Grain system: " << err.what() << exit(FatalError);
+    }
+    for (const auto& pt : wallTemperatures_)
+    {
+        Info<< "grainCloud: wall patch " << pt.first << " at " << pt.second
+            << " K (" << patchWalls_[pt.first].size() << " walls)" << nl;
+    }
+}
+
+
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
 Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
@@ -511,6 +593,7 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
             << " written: re-run grainDeposit." << exit(FatalError);
     }
     readMovingWalls();
+    readWallTemperatures();
     applySolverSettings();
 
     // Gravity: the standard constant/g
@@ -648,6 +731,87 @@ Foam::scalar Foam::grainCloud::kineticEnergy() const
            + 0.5*system_->inertia(i)*system_->angularVelocities()[i].squaredNorm();
     }
     return e;
+}
+
+
+bool Foam::grainCloud::heatOn() const
+{
+    for (const int m : system_->materials())
+    {
+        if (system_->material(m).heatCapacity > 0)
+        {
+            return true;
+        }
+    }
+    return false;
+}
+
+
+Foam::scalar Foam::grainCloud::meanTemperature() const
+{
+    scalar s = 0;
+    label n = 0;
+    for (std::size_t i = 0; i < system_->size(); ++i)
+    {
+        if
+        (
+            system_->material(system_->materials()[i]).heatCapacity > 0
+         && !system_->fixedTemperature(i)
+        )
+        {
+            s += system_->temperatures()[i];
+            ++n;
+        }
+    }
+    return n > 0 ? s/n : 0;
+}
+
+
+Foam::List<Foam::scalar> Foam::grainCloud::temperatures() const
+{
+    const std::vector<double>& T = system_->temperatures();
+    List<scalar> l(T.size());
+    forAll(l, i)
+    {
+        l[i] = T[i];
+    }
+    return l;
+}
+
+
+Foam::List<std::pair<Foam::word, Foam::scalar>>
+Foam::grainCloud::wallHeatRates(scalar dt) const
+{
+    List<std::pair<word, scalar>> rates(wallTemperatures_.size());
+    HashTable<label> wallSlot;
+    forAll(wallTemperatures_, k)
+    {
+        rates[k] = std::make_pair(wallTemperatures_[k].first, scalar(0));
+        for (const label id : patchWalls_[wallTemperatures_[k].first])
+        {
+            wallSlot.set(Foam::name(id), k);
+        }
+    }
+    const scalar dtSub = dt/max(report_.substeps, 1);
+    const std::vector<double>& T = system_->temperatures();
+    for (const nscd::System::ContactView& c : system_->contacts())
+    {
+        if (c.j >= 0) continue;
+        const label w = -c.j - 1;
+        const auto iter = wallSlot.cfind(Foam::name(w));
+        if (!iter.found()) continue;
+        const label i = c.i;
+        if
+        (
+            system_->material(system_->materials()[i]).heatCapacity > 0
+         && !system_->fixedTemperature(i)
+        )
+        {
+            const scalar H = system_->contactConductance(c, dtSub);
+            rates[iter.val()].second += H*(system_->wallTemperature(w) - T[i]);
+        }
+    }
+    return rates;
 }
 
 

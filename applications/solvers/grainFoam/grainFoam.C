@@ -19,6 +19,11 @@ Description
     previous run; startFrom latestTime continues a run bit-for-bit).
     Output at write times: <time>/lagrangian/grains (foamToVTK) and
     <time>/grainState.h5.
+    Heat (thesis section 4.1.1, contact conduction): when a material has
+    heatCapacity > 0 the grain temperatures are integrated (nscd), walls get
+    temperatures from grainProperties wallTemperatures (others adiabatic),
+    the grain temperature T is written into lagrangian/grains and every step
+    logs the mean grain temperature and the wall heat.
 
 Usage
     grainFoam [-case dir]
@@ -41,6 +46,12 @@ int main(int argc, char *argv[])
 
     grainCloud grains(mesh);
     grains.checkState();
+    const bool heat = grains.heatOn();
+    if (heat)
+    {
+        Info<< "Heat conduction on: mean grain T = "
+            << grains.meanTemperature() << " K" << nl;
+    }
 
     Info<< "\nStarting time loop\n" << endl;
 
@@ -49,11 +60,30 @@ int main(int argc, char *argv[])
         ++runTime;
         Info<< "Time = " << runTime.timeName() << nl;
 
-        grains.evolve(runTime.deltaTValue());
+        const nscd::StepReport& rep = grains.evolve(runTime.deltaTValue());
+
+        if (heat)
+        {
+            Info<< "heat: grain mean T = " << grains.meanTemperature()
+                << " K, wall heat = " << rep.wallHeat << " J";
+            for (const auto& r : grains.wallHeatRates(runTime.deltaTValue()))
+            {
+                Info<< ", " << r.first << " " << r.second << " W";
+            }
+            Info<< ", CG iterations " << rep.heatIterations << endl;
+        }
 
         if (runTime.writeTime())
         {
-            grains.write();
+            if (heat)
+            {
+                const List<scalar> T(grains.temperatures());
+                grains.write({}, {{"T", &T}});
+            }
+            else
+            {
+                grains.write();
+            }
             Info<< "Kinetic energy = " << grains.kineticEnergy() << nl;
         }
         runTime.write();

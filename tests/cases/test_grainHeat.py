@@ -1,0 +1,117 @@
+"""grainFoam contact conduction through the OpenFOAM path (issue 5; thesis
+section 4.1.1, eq. 4.1-4.3): grainProperties `wallTemperatures` -> the nscd
+walls of the named patches -> steady conduction through a static column.
+
+Case (2D, discs per unit depth): a vertical column of N equal frictionless
+discs (d = 1 mm) stands on the floor (patch `bottom`, T_hot = 400 K) and is
+pushed against the right wall (patch `right`, T_cold = 300 K) by a tilted
+gravity g = (g_x, -g_y); left and top (patch `walls`) are adiabatic (not
+listed). Frictionless and static, the contact impulses are known in closed
+form (dt = time step, m = rho pi d^2/4):
+    floor:                 r_n = N m g_y dt
+    grain k - grain k+1:   r_n = (N - k) m g_y dt      (k = 1 bottom .. N-1)
+    grain k - right wall:  r_n = m g_x dt
+Conductances written here from eq. 4.2-4.3 as nscd implements them (L = 1
+per unit depth; k_s = k for equal grains; a wall has infinite radius and
+Young modulus: d* = d, 1/E* = (1 - nu^2)/E; two grains: d* = d/2,
+1/E* = 2 (1 - nu^2)/E):
+    H = 4 k_s (r_n d* / (2 pi E* dt))^(1/4)
+Steady state: the ladder network  H_f (T_hot - T_1) + sum_j H_kj (T_j - T_k)
++ H_w (T_cold - T_k) = 0  (tridiagonal, solved with numpy). Checked:
+  - grain temperatures (lagrangian field T) within 1e-3 (T_hot - T_cold),
+  - heat rate through the hot floor (log, per patch) = H_f (T_hot - T_1)
+    within 1 %, equal and opposite to the rate through the right wall (1 %),
+  - total wall heat of the step ~ 0 (steady) and the mean grain T in the log.
+"""
+import math
+import os
+import re
+
+import numpy as np
+
+import nscdpost
+from foamcase import make_box_case, run
+
+N = 5
+D = 1e-3
+RHO, E, NU, K, C = 2500.0, 6e10, 0.22, 1.4, 0.01   # small c: fast transient
+GX, GY = 3.0, 9.81
+T_HOT, T_COLD, T0 = 400.0, 300.0, 300.0
+DT = 1e-3
+
+
+def conductance(rn, dt, wall):
+    dstar = D if wall else D / 2
+    estar = E / (1 - NU ** 2) if wall else E / (2 * (1 - NU ** 2))
+    return 4 * K * (rn * dstar / (2 * math.pi * estar * dt)) ** 0.25
+
+
+def steady_profile():
+    m = RHO * math.pi * D ** 2 / 4
+    Hf = conductance(N * m * GY * DT, DT, True)
+    Hw = conductance(m * GX * DT, DT, True)
+    Hg = [conductance((N - k) * m * GY * DT, DT, False) for k in range(1, N)]
+    A = np.zeros((N, N))
+    b = np.zeros(N)
+    A[0, 0] += Hf
+    b[0] += Hf * T_HOT
+    for k in range(N):
+        A[k, k] += Hw
+        b[k] += Hw * T_COLD
+    for k, H in enumerate(Hg):
+        A[k, k] += H
+        A[k + 1, k + 1] += H
+        A[k, k + 1] -= H
+        A[k + 1, k] -= H
+    T = np.linalg.solve(A, b)
+    return T, Hf * (T_HOT - T[0]), Hw * (T_COLD - T).sum()
+
+
+def test_column_steady_conduction(tmp_path, env):
+    W, Hbox = 4 * D, (N + 2) * D
+    r = D / 2
+    case = str(tmp_path / "column")
+    grains = [(W - r, r + k * D, 0.0, D) for k in range(N)]
+    make_box_case(case, (0, 0, 0), (W, Hbox, D), (4, N + 2, 1), (GX, -GY, 0),
+                  {"glass": {"density": RHO, "friction": 0.0}}, grains=grains,
+                  end_time=0.6, dt=DT, write_interval=0.6, two_d=True,
+                  contact_tolerance=1e-10)
+    bm = os.path.join(case, "system", "blockMeshDict")
+    txt = open(bm).read().replace(
+        "walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1) (3 7 6 2)); }",
+        "bottom { type wall; faces ((1 5 4 0)); }\n"
+        "right { type wall; faces ((2 6 5 1)); }\n"
+        "walls { type wall; faces ((0 4 7 3) (3 7 6 2)); }")
+    open(bm, "w").write(txt)
+    gp = os.path.join(case, "constant", "grainProperties")
+    txt = open(gp).read().replace(
+        "friction 0.0; }",
+        f"friction 0.0; youngModulus {E}; poissonRatio {NU}; conductivity {K};"
+        f" heatCapacity {C}; }}")
+    # a regex entry for the floor, a plain name for the right wall
+    open(gp, "w").write(txt + f"initialTemperature {T0};\n"
+                        f"wallTemperatures {{ \"bot.*\" {T_HOT}; right {T_COLD}; }}\n")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    log = run("grainFoam", case, env).stdout
+    assert "wall patch bottom at 400 K (1 walls)" in log
+    assert "wall patch right at 300 K (1 walls)" in log
+    heat = re.findall(r"^heat: grain mean T = (\S+) K, wall heat = (\S+) J, "
+                      r"bottom (\S+) W, right (\S+) W", log, flags=re.M)
+    assert len(heat) == 600
+    Tm, Qstep, qb, qr = (float(v) for v in heat[-1])
+
+    T_exp, q_hot, q_cold = steady_profile()
+    assert q_hot > 0 and abs(q_hot + q_cold) < 1e-9 * q_hot
+    g = nscdpost.read_grains(case, "0.6")
+    order = np.argsort([x[1] for x in g["x"]])
+    T_sim = nscdpost.read_scalar_field(
+        os.path.join(case, "0.6", "lagrangian", "grains", "T"))[order]
+    assert np.abs(T_sim - T_exp).max() < 1e-3 * (T_HOT - T_COLD)
+    assert abs(qb - q_hot) < 0.01 * q_hot
+    assert abs(qr - q_cold) < 0.01 * q_hot
+    assert abs(Qstep) < 1e-3 * q_hot * DT
+    assert abs(Tm - T_exp.mean()) < 1e-3 * (T_HOT - T_COLD)
+    # static: the grains did not move
+    y = np.sort([x[1] for x in g["x"]])
+    assert np.allclose(y, [r + k * D for k in range(N)], atol=1e-3 * r)
