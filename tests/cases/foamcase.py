@@ -140,3 +140,18 @@ def inlet_outlet_box(case):
             txt = f.read().replace("pRefCell 0; pRefValue 0;", "")
         with open(fs, "w") as f:
             f.write(txt)
+
+
+def uniform_inflow(case, Us):
+    """inlet_outlet_box with a uniform upward flow Us [m/s] everywhere at the
+    start: fixedValue inlet, zeroGradient outlet, slip side walls for U; p
+    fixed (0) at the outlet, zeroGradient elsewhere."""
+    write(os.path.join(case, "0", "U"), "volVectorField", "U",
+          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 %g 0);\n"
+          "boundaryField { inlet { type fixedValue; value uniform (0 %g 0); }\n"
+          " outlet { type zeroGradient; } walls { type slip; } }\n" % (Us, Us))
+    write(os.path.join(case, "0", "p"), "volScalarField", "p",
+          "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+          "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
+          " walls { type zeroGradient; } }\n")
+    inlet_outlet_box(case)

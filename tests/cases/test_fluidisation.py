@@ -129,13 +129,13 @@ def _fluidisation_module():
     import importlib.util
     root = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
     tut = os.path.join(root, "tutorials", "vansFoam", "fluidisation")
-    spec = importlib.util.spec_from_file_location("fluidisationSetup", os.path.join(tut, "setupCase.py"))
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    spec = importlib.util.spec_from_file_location("fluidisationPost", os.path.join(tut, "postProcess.py"))
-    post = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(post)
-    return mod, post
+    mods = []
+    for name in ("setupCase", "postProcess"):
+        spec = importlib.util.spec_from_file_location("fluidisation_" + name,
+                                                      os.path.join(tut, name + ".py"))
+        mods.append(importlib.util.module_from_spec(spec))
+        spec.loader.exec_module(mods[-1])
+    return tuple(mods)
 
 
 def test_heave_under_rising_pressure(tmp_path, env):

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 import nscdpost
-from foamcase import add_fluid, inlet_outlet_box, make_box_case, run, write
+from foamcase import add_fluid, uniform_inflow, make_box_case, run, write
 
 G = 9.81
 
@@ -78,15 +78,7 @@ def packed_bed_case(case, model, Us, d, h, layers):
     dd = os.path.join(case, "system", "grainDepositDict")
     open(dd, "a").write("fixed yes;\n")
     add_fluid(case, 1000.0, 1e-6, drag=model, extra_coupling="")
-    write(os.path.join(case, "0", "U"), "volVectorField", "U",
-          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 %g 0);\n"
-          "boundaryField { inlet { type fixedValue; value uniform (0 %g 0); }\n"
-          " outlet { type zeroGradient; } walls { type slip; } }\n" % (Us, Us))
-    write(os.path.join(case, "0", "p"), "volScalarField", "p",
-          "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
-          "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
-          " walls { type zeroGradient; } }\n")
-    inlet_outlet_box(case)
+    uniform_inflow(case, Us)
     return nx, ny, y0, layers * h
 
 

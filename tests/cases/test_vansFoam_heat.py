@@ -21,7 +21,7 @@ import re
 
 import pytest
 
-from foamcase import add_fluid, inlet_outlet_box, make_box_case, run, write
+from foamcase import add_fluid, uniform_inflow, make_box_case, run, write
 
 
 def nusselt_difelice_colburn(eps, Re, Pr, delta=500.0, alpha=0.4):
@@ -86,15 +86,7 @@ def test_single_grain_lumped_exponential(tmp_path, env):
                   f"initialTemperature {T0};\n")
     open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     add_fluid(case, rho, nu)
-    write(os.path.join(case, "0", "U"), "volVectorField", "U",
-          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 %g 0);\n"
-          "boundaryField { inlet { type fixedValue; value uniform (0 %g 0); }\n"
-          " outlet { type zeroGradient; } walls { type slip; } }\n" % (Us, Us))
-    write(os.path.join(case, "0", "p"), "volScalarField", "p",
-          "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
-          "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
-          " walls { type zeroGradient; } }\n")
-    inlet_outlet_box(case)
+    uniform_inflow(case, Us)
     add_heat(case, Cp, kappa,
              f"inlet {{ type fixedValue; value uniform {T_in}; }} outlet {{ type zeroGradient; }}"
              " walls { type zeroGradient; }", T_in)

@@ -205,10 +205,7 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
     // coupling (applications/solvers/vansFoam/README.md, "Time step and
     // stability")
     const scalar epsLow = gMin(voidFraction_.primitiveField());
-    const scalar kEff =
-        dict_.found("voidFraction")
-      ? dict_.subDict("voidFraction").getOrDefault<scalar>("effectiveDiameterFactor", 1)
-      : 1;
+    const scalar kEff = adapter_.settings().effectiveDiameterFactor;
     if (adapter_.twoD() && kEff == 1 && epsLow < 0.1 && grains_.system().size())
     {
         WarningInFunction
