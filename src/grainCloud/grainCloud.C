@@ -844,16 +844,32 @@ void Foam::grainCloud::write
     }
 
     // Lagrangian cloud for foamToVTK / ParaView: the grains whose centre
-    // lies in this rank's part of the mesh
+    // lies in this rank's part of the mesh; a centre on a processor
+    // boundary is found by both sides: the lowest rank writes it, so that
+    // reconstructPar gives every grain once
     passiveParticleCloud cloud(mesh_, cloudName, IDLList<passiveParticle>());
-    DynamicList<label> ids(system_->size());
-    for (std::size_t i = 0; i < system_->size(); ++i)
+    const label n = system_->size();
+    labelList cells(n, -1);
+    labelList owner(n, labelMax);
+    for (label i = 0; i < n; ++i)
     {
-        const vector p(meshPosition(i));
-        const label celli = mesh_.findCell(p);
-        if (celli >= 0)
+        cells[i] = mesh_.findCell(meshPosition(i));
+        if (cells[i] >= 0)
         {
-            cloud.addParticle(new passiveParticle(mesh_, p, celli));
+            owner[i] = Pstream::myProcNo();
+        }
+    }
+    if (Pstream::parRun())
+    {
+        Pstream::listCombineGather(owner, minEqOp<label>());
+        Pstream::listCombineScatter(owner);
+    }
+    DynamicList<label> ids(n);
+    for (label i = 0; i < n; ++i)
+    {
+        if (cells[i] >= 0 && owner[i] == Pstream::myProcNo())
+        {
+            cloud.addParticle(new passiveParticle(mesh_, meshPosition(i), cells[i]));
             ids.append(i);
         }
     }

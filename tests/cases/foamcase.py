@@ -1,6 +1,9 @@
 """Write small grainFoam cases from Python (test helper)."""
 import os
+import re
 import subprocess
+
+import numpy as np
 
 HEADER = "FoamFile { version 2.0; format ascii; class %s; object %s; }\n"
 
@@ -78,6 +81,25 @@ def run(app, case, env, args=(), check=True):
     return p
 
 
+def run_parallel(app, case, env, n=2, delta=0.001):
+    """decomposePar the case into n x 1 x 1 slabs (simple method) and run
+    `mpirun -np n app -parallel`; writes log.<app>, skips the test when
+    mpirun cannot start here, fails on a non-zero exit.  Returns the
+    CompletedProcess (stdout + stderr)."""
+    import pytest
+    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
+          f"numberOfSubdomains {n};\nmethod simple;\nsimpleCoeffs {{ n ({n} 1 1); delta {delta}; }}\n")
+    run("decomposePar", case, env)
+    p = subprocess.run(["mpirun", "-np", str(n), app, "-parallel", "-case", case],
+                       env=env, capture_output=True, text=True)
+    with open(os.path.join(case, f"log.{app}"), "w") as f:
+        f.write(p.stdout + p.stderr)
+    if p.returncode != 0 and ("orte" in p.stderr.lower() or "slots" in p.stderr.lower()):
+        pytest.skip("mpirun cannot start here: " + p.stderr[-300:])
+    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    return p
+
+
 def add_fluid(case, rho, nu, drag="DallavalleDiFelice", force_model="A",
               void_method="overlap", max_co=0.5, max_dt=1e-3, n_correctors=2,
               n_outer=1, extra_coupling=""):
@@ -123,7 +145,6 @@ def inlet_outlet_box(case):
     """Make the bottom (y = min) of a 3D make_box_case box the patch `inlet`,
     the top the patch `outlet` and the four sides `walls`; remove the pressure
     reference (the outlet fixes p).  Call after add_fluid."""
-    import re
     bm = os.path.join(case, "system", "blockMeshDict")
     with open(bm) as f:
         txt = f.read()
@@ -155,3 +176,37 @@ def uniform_inflow(case, Us):
           "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
           " walls { type zeroGradient; } }\n")
     inlet_outlet_box(case)
+
+
+def add_scalar_transport(case, field, div_scheme, solver="solver PBiCGStab; preconditioner DILU; "
+                         "tolerance 1e-14; relTol 0;"):
+    """Add the fvSolution solver and the fvSchemes div(phi,<field>) entry of
+    a transported scalar (T, psi) to a case made by add_fluid."""
+    fs = os.path.join(case, "system", "fvSolution")
+    txt = open(fs).read().replace("solvers {\n", f"solvers {{\n  {field} {{ {solver} }}\n")
+    open(fs, "w").write(txt)
+    sc = os.path.join(case, "system", "fvSchemes")
+    txt = open(sc).read().replace("div(phi,U)", f"div(phi,{field}) {div_scheme}; div(phi,U)")
+    open(sc, "w").write(txt)
+
+
+def read_internal(path):
+    """Internal field of an ascii volScalarField/volVectorField file as a numpy
+    array (uniform fields need n: returned as a 0-d array, broadcastable)."""
+    with open(path) as f:
+        text = f.read()
+    m = re.search(r"internalField\s+nonuniform\s+List<(scalar|vector)>\s*(\d+)\s*\(", text)
+    if m is None:
+        u = re.search(r"internalField\s+uniform\s+([^;]+);", text)
+        if u is None:
+            raise ValueError(f"no internalField in {path}")
+        vals = u.group(1).strip("() ").split()
+        return np.array([float(v) for v in vals]).squeeze()
+    n = int(m.group(2))
+    body = text[m.end():]
+    if m.group(1) == "scalar":
+        vals = np.array(body.split(")", 1)[0].split(), dtype=float)
+        assert vals.size == n, (path, vals.size, n)
+        return vals
+    vecs = re.findall(r"\(([^()]+)\)", body)[:n]
+    return np.array([[float(x) for x in v.split()] for v in vecs])

@@ -19,31 +19,9 @@ import subprocess
 import numpy as np
 import pytest
 
-from foamcase import make_box_case, run, write
+from foamcase import make_box_case, run, write, read_internal
 
 MAT = {"glass": {"density": 2500, "friction": 0.4}}
-
-
-def read_internal_field(path):
-    """Internal field of an ascii volScalarField/volVectorField file as a numpy
-    array (uniform fields need n: returned as a 0-d array, broadcastable)."""
-    with open(path) as f:
-        text = f.read()
-    m = re.search(r"internalField\s+nonuniform\s+List<(scalar|vector)>\s*(\d+)\s*\(", text)
-    if m is None:
-        u = re.search(r"internalField\s+uniform\s+([^;]+);", text)
-        if u is None:
-            raise ValueError(f"no internalField in {path}")
-        vals = u.group(1).strip("() ").split()
-        return np.array([float(v) for v in vals]).squeeze()
-    n = int(m.group(2))
-    body = text[m.end():]
-    if m.group(1) == "scalar":
-        vals = np.array(body.split(")", 1)[0].split(), dtype=float)
-        assert vals.size == n, (path, vals.size, n)
-        return vals
-    vecs = re.findall(r"\(([^()]+)\)", body)[:n]
-    return np.array([[float(x) for x in v.split()] for v in vecs])
 
 
 def check_coupling_log(text, tol=1e-12):
@@ -70,8 +48,8 @@ def grain_case(tmp_path, env, name, size, cells, grains, two_d, mapping_dict=Non
     run("grainDeposit", case, env)
     p = run("grainVoidFraction", case, env, args=["-checkCoupling"])
     check_coupling_log(p.stdout)
-    phi = read_internal_field(os.path.join(case, "0", "solidFraction"))
-    eps = read_internal_field(os.path.join(case, "0", "voidFraction"))
+    phi = read_internal(os.path.join(case, "0", "solidFraction"))
+    eps = read_internal(os.path.join(case, "0", "voidFraction"))
     nz = cells[2] if not two_d else 1
     vcell = size[0] * size[1] * size[2] / (cells[0] * cells[1] * nz)
     return case, phi, eps, vcell
@@ -206,8 +184,8 @@ def test_parallel_matches_serial(tmp_path, env, two_d):
     for k in range(2):
         assert os.path.exists(os.path.join(case, f"processor{k}", "0", "solidFraction"))
     run("reconstructPar", case, env, args=["-withZero", "-fields", "(solidFraction voidFraction)"])
-    phi_p = read_internal_field(os.path.join(case, "0", "solidFraction"))
-    eps_p = read_internal_field(os.path.join(case, "0", "voidFraction"))
+    phi_p = read_internal(os.path.join(case, "0", "solidFraction"))
+    eps_p = read_internal(os.path.join(case, "0", "voidFraction"))
     np.testing.assert_allclose(phi_p, phi_s, rtol=0, atol=1e-12)
     np.testing.assert_allclose(eps_p, eps_s, rtol=0, atol=1e-12)
     vg = grain_volume(grains, two_d, size[2])
@@ -224,7 +202,7 @@ def test_2d_mesh_off_origin_in_z(tmp_path, env):
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run("grainVoidFraction", case, env)
-    phi = read_internal_field(os.path.join(case, "0", "solidFraction"))
+    phi = read_internal(os.path.join(case, "0", "solidFraction"))
     vcell = 0.01 * 0.01 * 0.025
     vg = grain_volume(grains, True, 0.025)
     assert abs(phi.sum() * vcell - vg) <= 1e-10 * vg

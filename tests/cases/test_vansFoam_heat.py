@@ -21,7 +21,7 @@ import re
 
 import pytest
 
-from foamcase import add_fluid, uniform_inflow, make_box_case, run, write
+from foamcase import add_fluid, uniform_inflow, make_box_case, run, write, add_scalar_transport
 
 
 def nusselt_difelice_colburn(eps, Re, Pr, delta=500.0, alpha=0.4):
@@ -62,13 +62,7 @@ def add_heat(case, Cp, kappa, T_bc, T_init, extra_transport=""):
     open(cp, "a").write("heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n")
     write(os.path.join(case, "0", "T"), "volScalarField", "T",
           f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {T_init};\nboundaryField {{ {T_bc} }}\n")
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = open(fs).read().replace(
-        "solvers {\n", "solvers {\n  T { solver PBiCGStab; preconditioner DILU; tolerance 1e-14; relTol 0; }\n")
-    open(fs, "w").write(txt)
-    sc = os.path.join(case, "system", "fvSchemes")
-    txt = open(sc).read().replace("div(phi,U)", "div(phi,T) Gauss upwind; div(phi,U)")
-    open(sc, "w").write(txt)
+    add_scalar_transport(case, "T", "Gauss upwind")
 
 
 def test_single_grain_lumped_exponential(tmp_path, env):

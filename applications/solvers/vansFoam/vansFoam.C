@@ -18,6 +18,7 @@ Description
          conservation div(eps U) + div(phi v*) = 0 (eq. 3.51)
          [3b. heat on: fluid energy, TEqn.H (eq. 4.4-4.5, 4.13), and the
           exchanged heat handed to the grains as heat sources]
+         [3c. vapour on: passive scalar psi, psiEqn.H (eq. 4.19)]
       4. fluid forces onto the grains (drag + pressure gradient, model A/B)
       5. NSCD step of the grains (sub-stepped on d_min/|v_max|)
 
@@ -33,6 +34,7 @@ Usage
 #include "fvCFD.H"
 #include "pimpleControl.H"
 #include "fixedFluxPressureFvPatchScalarField.H"
+#include "fvOptions.H"
 
 #include <chrono>
 #include <sstream>
@@ -53,6 +55,8 @@ int main(int argc, char *argv[])
     #include "createControl.H"
     #include "createTimeControls.H"
     #include "createFields.H"
+    #include "createFvOptions.H"
+    #include "createHeatBudget.H"
     #include "initContinuityErrs.H"
 
     // wall-clock split of the step (reported at the end)
@@ -119,6 +123,13 @@ int main(int argc, char *argv[])
             #include "TEqn.H"
         }
 
+        // 3c. vapour fraction (transportProperties vapour {}, thesis eq.
+        //     4.19); it switches cohesion off where psi >= psi^0 (eq. 4.18)
+        if (psiPtr.valid())
+        {
+            #include "psiEqn.H"
+        }
+
         const clock::time_point t2 = clock::now();
 
         // 4. fluid forces on the grains, 5. NSCD
@@ -151,6 +162,7 @@ int main(int argc, char *argv[])
                 << ", exchanged Q = " << cloud.stepHeat()
                 << " J, energy fluid + grains = " << Ef + Eg << " J";
             Info<< os.str().c_str() << endl;
+            #include "heatBudget.H"
             if (!std::isfinite(Ef + Eg))
             {
                 FatalErrorInFunction

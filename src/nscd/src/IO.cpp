@@ -160,6 +160,13 @@ void System::writeHDF5(const std::string& file) const
     }
     w.i("contactBodies", ij, 2);
     w.d("contactData", cd, 14);
+    // contact ages and the cohesion age threshold (optional datasets: files
+    // without them read with age 0 and cohesionMinAge 0)
+    std::vector<int> age;
+    age.reserve(I.contacts.size());
+    for (const Contact& c : I.contacts) age.push_back(c.age);
+    w.i("contactAge", age, 0);
+    w.i("cohesionMinAge", {S.cohesionMinAge}, 0);
 
     // heat (optional datasets: files without them read with the defaults)
     w.d("temperatures", I.T, 0);
@@ -276,6 +283,21 @@ System System::readHDF5(const std::string& file)
         c.n = get3(cd, 14*k); c.rt = get3(cd, 14*k + 3);
         const double* p = &cd[14*k + 6];
         c.rn = p[0]; c.wnn = p[1]; c.wtt = p[2]; c.bias = p[3]; c.mu = p[4]; c.coh = p[5]; c.gap = p[6]; c.change = p[7];
+    }
+    // contact ages (optional: files written before they existed read with age 0)
+    if (H5Lexists(r.f, "contactAge", H5P_DEFAULT) > 0)
+    {
+        const auto age = r.i("contactAge", 0, NC);
+        for (long k = 0; k < NC; ++k)
+        {
+            if (age[k] < 0) r.fail("negative contact age " + std::to_string(k));
+            I.contacts[k].age = age[k];
+        }
+    }
+    if (H5Lexists(r.f, "cohesionMinAge", H5P_DEFAULT) > 0)
+    {
+        I.settings.cohesionMinAge = r.i("cohesionMinAge", 0, 1)[0];
+        if (I.settings.cohesionMinAge < 0) r.fail("negative cohesionMinAge");
     }
     // heat (optional: files written before it existed keep the defaults:
     // temperatures 0, no sources, no fixed temperatures, adiabatic walls)

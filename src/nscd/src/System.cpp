@@ -285,7 +285,12 @@ double System::minDiameter() const { return 2*impl_->rMin(); }
 
 void System::setCohesion(std::function<bool(int, int)> predicate, double force)
 {
-    if (!(force >= 0)) throw InputError("nscd::System::setCohesion: force must be >= 0");
+    if (!(force >= 0) || !std::isfinite(force))
+    {
+        std::ostringstream os;
+        os << "nscd::System::setCohesion: force must be >= 0 and finite, got " << force;
+        throw InputError(os.str());
+    }
     impl_->cohesionPredicate = std::move(predicate);
     impl_->cohesionForce = force;
 }
@@ -544,6 +549,9 @@ StepReport System::step(double dt)
                              "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0)");
         if (!(S.heatTolerance > 0) || S.heatMaxIterations < 1)
             throw InputError("nscd::System::step: invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
+        if (S.cohesionMinAge < 0)
+            throw InputError("nscd::System::step: invalid settings (need cohesionMinAge >= 0, got "
+                             + std::to_string(S.cohesionMinAge) + ")");
     }
     const bool heat = I.heatCheck();  // throws before anything is changed
     const int N = int(I.x.size());
@@ -600,10 +608,13 @@ StepReport System::step(double dt)
     const double cohDist = I.settings.cohesionDistance*rmin;
     const double slop = I.settings.overlapSlop*rmin;
     const bool cohesion = I.cohesionForce > 0 && bool(I.cohesionPredicate);
-    // previous contacts indexed by i
+    const int minAge = I.settings.cohesionMinAge;
+    // previous contacts indexed by i: matched for the warm start and the
+    // contact age (the age is tracked also without warm start)
     const std::vector<Contact>& P = I.contacts;
-    const bool warm = I.settings.warmStart && !P.empty() && I.lastDt > 0;
-    if (warm)
+    const bool match = !P.empty();
+    const bool warm = I.settings.warmStart && match && I.lastDt > 0;
+    if (match)
     {
         I.prevStart.assign(N + 1, 0);
         for (const Contact& c : P) if (c.i < N) ++I.prevStart[c.i + 1];
@@ -627,14 +638,11 @@ StepReport System::step(double dt)
         c.rt.setZero();
         c.change = 0;
         c.coh = 0;
-        if (cohesion && c.gap <= cohDist)
+        c.age = 0;
+        // the same contact in the previous step: same bodies, normal within 60 degrees
+        int best = -1;
+        if (match)
         {
-            const int jj = c.j < N ? c.j : -(c.j - N + 1);
-            if (I.cohesionPredicate(c.i, jj)) c.coh = I.cohesionForce*dt;
-        }
-        if (warm)
-        {
-            int best = -1;
             double bestDot = 0.5;
             for (int p = I.prevStart[c.i]; p < I.prevStart[c.i + 1]; ++p)
             {
@@ -642,6 +650,16 @@ StepReport System::step(double dt)
                 const double dd = P[p].n.dot(c.n);
                 if (dd > bestDot) { bestDot = dd; best = p; }
             }
+            if (best >= 0) c.age = P[best].age;
+        }
+        // cohesion (eq. 4.18): close, persistent, and the user's condition
+        if (cohesion && c.gap <= cohDist && c.age >= minAge)
+        {
+            const int jj = c.j < N ? c.j : -(c.j - N + 1);
+            if (I.cohesionPredicate(c.i, jj)) c.coh = I.cohesionForce*dt;
+        }
+        if (warm)
+        {
             if (best >= 0)
             {
                 const Vec3 imp = scale*(P[best].rn*P[best].n + P[best].rt);
@@ -900,11 +918,21 @@ StepReport System::step(double dt)
     for (int k = 0; k < NW; ++k) I.walls[k].displacement += dt*I.walls[k].velocity;
     I.time += dt;
 
-    // ---- final overlap ----
+    // ---- final overlap, contact age (closed: loaded or touching) ----
     I.lastDt = dt;
     double ov = 0;
-    for (int k = 0; k < NC; ++k) ov = std::max(ov, -I.contactGapNow(C[k]));
+    int nCoh = 0;
+    for (int k = 0; k < NC; ++k)
+    {
+        Contact& c = C[k];
+        const double gapNow = I.contactGapNow(c);
+        ov = std::max(ov, -gapNow);
+        const bool closed = c.rn + c.coh > 0 || gapNow <= xi;
+        c.age = closed ? c.age + 1 : 0;
+        if (c.coh > 0) ++nCoh;
+    }
     rep.maxOverlap = ov;
+    rep.cohesiveContacts = nCoh;
 
     std::swap(I.contacts, I.newContacts);
 

@@ -60,6 +60,7 @@ StepReport System::advance(double dt, double fraction)
         total.heatIterations += r.heatIterations;
         total.heatResidual = std::max(total.heatResidual, r.heatResidual);
         total.heatSeconds += r.heatSeconds;
+        total.cohesiveContacts = r.cohesiveContacts;  // the last sub-step's
     }
     return total;
 }
@@ -180,7 +181,8 @@ void System::setContactImpulses(const std::vector<ContactView>& views, double dt
         const ContactView& v = views[k];
         int i = v.i, j = v.j;
         Vec3 n = v.normal, P = v.impulse;
-        const bool bad = i < 0 || i >= N || j >= N || (j < 0 && -j - 1 >= NW) || i == j || !(n.norm() > 0);
+        const bool bad = i < 0 || i >= N || j >= N || (j < 0 && -j - 1 >= NW) || i == j || !(n.norm() > 0)
+                         || v.age < 0;
         if (bad) throw InputError("nscd::System::setContactImpulses: bad contact " + std::to_string(k));
         if (j >= 0 && j < i) { std::swap(i, j); n = -n; P = -P; }
         n.normalize();
@@ -191,6 +193,7 @@ void System::setContactImpulses(const std::vector<ContactView>& views, double dt
         c.n = n;
         c.rn = P.dot(n);
         c.rt = P - c.rn*n;
+        c.age = v.age;
         cs.push_back(c);
     }
     std::stable_sort(cs.begin(), cs.end(), [](const Contact& a, const Contact& b) { return a.i < b.i; });
@@ -214,6 +217,8 @@ std::vector<System::ContactView> System::contacts() const
         v.point = I.x[c.i] - I.rad[c.i]*c.n;
         v.gap = c.gap;
         v.impulse = c.rn*c.n + c.rt;
+        v.age = c.age;
+        v.cohesive = c.coh > 0;
         out.push_back(v);
     }
     return out;

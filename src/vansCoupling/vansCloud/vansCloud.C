@@ -140,7 +140,7 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
             "dragModel", "DallavalleDiFeliceCoeffs", "GidaspowCoeffs",
             "voidFraction", "forceModel",
             "heatTransferModel", "DiFeliceColburnCoeffs", "GunnCoeffs",
-            "RanzMarshallCoeffs"
+            "RanzMarshallCoeffs", "cohesion"
         }
     );
     if (forceModel_ != "A" && forceModel_ != "B")
@@ -168,6 +168,8 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
         heat_ = heatTransferModel::New(dict_);
         readHeat(td);
     }
+    readVapour(td);
+    readCohesion();
     contactImpulse_.setSize(grains_.system().size(), Zero);
 
     // Restart: the void fraction and the grains' last contact impulses of
@@ -312,6 +314,244 @@ void Foam::vansCloud::readHeat(const dictionary& td)
         Info<< ", Boussinesq beta " << beta_ << " TRef " << TRef_;
     }
     Info<< endl;
+}
+
+
+void Foam::vansCloud::readVapour(const dictionary& td)
+{
+    if (!td.found("vapour"))
+    {
+        return;
+    }
+    if (!td.isDict("vapour"))
+    {
+        FatalIOErrorInFunction(td)
+            << "vapour in " << td.name() << " must be a sub-dictionary"
+            << " { D <D_v [m^2/s]>; rho <rho_v [kg/m^3]>; } (thesis eq. 4.19)"
+            << exit(FatalIOError);
+    }
+    const dictionary& vd = td.subDict("vapour");
+    grainTools::checkKeywords(vd, {"D", "rho", "bounded"});
+    const char* keys[] = {"D", "rho"};
+    const char* meaning[] =
+    {
+        "the vapour diffusion coefficient D_v [m^2/s], e.g. D 2.5e-5;",
+        "the vapour density rho_v [kg/m^3], e.g. rho 0.6;"
+    };
+    for (label k = 0; k < 2; ++k)
+    {
+        if (!vd.found(keys[k]))
+        {
+            FatalIOErrorInFunction(vd)
+                << "Missing keyword " << keys[k] << " in " << vd.name()
+                << " (vapour transport, thesis eq. 4.19)." << nl
+                << "    Fix: give " << meaning[k] << exit(FatalIOError);
+        }
+    }
+    Dv_ = dimensionedScalar("D", dimViscosity, vd).value();
+    rhov_ = dimensionedScalar("rho", dimDensity, vd).value();
+    if (!(Dv_ >= 0) || !std::isfinite(Dv_))
+    {
+        FatalIOErrorInFunction(vd)
+            << "D " << Dv_ << " in " << vd.name() << ": the vapour diffusion"
+            << " coefficient must be >= 0 [m^2/s]" << exit(FatalIOError);
+    }
+    if (!(rhov_ > 0) || !std::isfinite(rhov_))
+    {
+        FatalIOErrorInFunction(vd)
+            << "rho " << rhov_ << " in " << vd.name() << ": the vapour density"
+            << " must be > 0 [kg/m^3]" << exit(FatalIOError);
+    }
+    vapourBounded_ = vd.getOrDefault<bool>("bounded", false);
+    vapourOn_ = true;
+    Info<< "vansCloud: vapour transport on, D_v " << Dv_ << " m^2/s, rho_v "
+        << rhov_ << " kg/m^3, "
+        << (vapourBounded_ ? "bounded (advective) form" : "conservative form")
+        << endl;
+}
+
+
+void Foam::vansCloud::readCohesion()
+{
+    nscd::System& s = grains_.system();
+    if (!dict_.found("cohesion"))
+    {
+        // a state written by a run with cohesion keeps its force: off here
+        s.setCohesion(nullptr, 0);
+        s.settings().cohesionMinAge = 0;
+        return;
+    }
+    if (!dict_.isDict("cohesion"))
+    {
+        FatalIOErrorInFunction(dict_)
+            << "cohesion in " << dict_.name() << " must be a sub-dictionary"
+            << " { force <F_c0>; vapourThreshold <psi0>; minAge <steps>; }"
+            << " (thesis eq. 4.18)" << exit(FatalIOError);
+    }
+    const dictionary& cd = dict_.subDict("cohesion");
+    grainTools::checkKeywords(cd, {"force", "vapourThreshold", "minAge"});
+    if (!cd.found("force"))
+    {
+        FatalIOErrorInFunction(cd)
+            << "Missing keyword force in " << cd.name() << nl
+            << "    Fix: give the cohesion force F_c0 of thesis eq. 4.18, in N"
+            << " (3D) or N/m per unit depth (2D), e.g. force 0.2;"
+            << exit(FatalIOError);
+    }
+    cohesionForce_ = grainTools::getPositive(cd, "force");
+    cohesionMinAge_ = cd.getOrDefault<label>("minAge", 0);
+    if (cohesionMinAge_ < 0)
+    {
+        FatalIOErrorInFunction(cd)
+            << "minAge " << cohesionMinAge_ << " in " << cd.name()
+            << ": the minimum contact age (NSCD steps) must be >= 0." << nl
+            << "    Fix: minAge 0; (cohesive from the first step of contact)"
+            << " or a number of steps the contact must persist"
+            << exit(FatalIOError);
+    }
+    cohesionByVapour_ = cd.found("vapourThreshold");
+    if (cohesionByVapour_)
+    {
+        vapourThreshold_ = cd.get<scalar>("vapourThreshold");
+        if (!std::isfinite(vapourThreshold_))
+        {
+            FatalIOErrorInFunction(cd)
+                << "vapourThreshold in " << cd.name() << " must be finite"
+                << exit(FatalIOError);
+        }
+        if (!vapourOn_)
+        {
+            FatalIOErrorInFunction(cd)
+                << "vapourThreshold in " << cd.name() << " switches cohesion"
+                << " by the vapour field psi (thesis eq. 4.18), but vapour"
+                << " transport is off." << nl
+                << "    Fix: add vapour { D <m^2/s>; rho <kg/m^3>; } to"
+                << " constant/transportProperties and the field 0/psi, or"
+                << " remove vapourThreshold for cohesion everywhere (dry)."
+                << exit(FatalIOError);
+        }
+    }
+
+    s.settings().cohesionMinAge = cohesionMinAge_;
+    cellHint_.setSize(s.size(), -1);
+    try
+    {
+        if (cohesionByVapour_)
+        {
+            s.setCohesion
+            (
+                [this](int i, int j)
+                {
+                    const auto it = dryPairs_.find(pairKey(i, j));
+                    return it != dryPairs_.end() && it->second;
+                },
+                cohesionForce_
+            );
+        }
+        else
+        {
+            s.setCohesion([](int, int) { return true; }, cohesionForce_);
+        }
+    }
+    catch (const nscd::InputError& err)
+    {
+        FatalErrorInFunction << err.what() << exit(FatalError);
+    }
+    Info<< "vansCloud: cohesion F_c0 " << cohesionForce_
+        << (s.dimension() == 2 ? " N/m" : " N") << ", minAge "
+        << cohesionMinAge_ << " steps, ";
+    if (cohesionByVapour_)
+    {
+        Info<< "where psi < " << vapourThreshold_;
+    }
+    else
+    {
+        Info<< "everywhere (dry)";
+    }
+    Info<< endl;
+}
+
+
+void Foam::vansCloud::updateVapourCohesion()
+{
+    const word psiName("psi");
+    if (!mesh_.foundObject<volScalarField>(psiName))
+    {
+        FatalErrorInFunction
+            << "cohesion.vapourThreshold in " << dict_.name() << " needs the"
+            << " vapour field " << psiName << ", which the solver has not"
+            << " created." << nl << "    Fix: solve the vapour field (vansFoam"
+            << " with transportProperties vapour {} and 0/psi)."
+            << exit(FatalError);
+    }
+    const volScalarField& psi = mesh_.lookupObject<volScalarField>(psiName);
+    const scalarField& psiI = psi.primitiveField();
+    const nscd::System& s = grains_.system();
+    const std::vector<nscd::System::ContactView> cs = s.contacts();
+    const label nc = cs.size();
+    const bool twoD = s.dimension() == 2;
+    const overlapMapping::CellMesh& cm = adapter_.cellMesh();
+    cellHint_.setSize(s.size(), -1);
+
+    // 1 dry, 0 wet, -1 contact point not in a local cell
+    labelList state(nc, -1);
+    for (label k = 0; k < nc; ++k)
+    {
+        const nscd::System::ContactView& c = cs[k];
+        const nscd::Vec3& xi = s.positions()[c.i];
+        const scalar ri = s.radii()[c.i];
+        nscd::Vec3 n = c.normal;
+        scalar gap = c.gap;
+        if (c.j >= 0)
+        {
+            // grain pair: line of centres at the current positions
+            const nscd::Vec3 d = xi - s.positions()[c.j];
+            const scalar dn = d.norm();
+            if (dn > 0)
+            {
+                n = d/dn;
+                gap = dn - ri - s.radii()[c.j];
+            }
+        }
+        nscd::Vec3 p = xi - (ri + 0.5*gap)*n;
+        if (twoD)
+        {
+            p.z() = grains_.meshPosition(c.i).z();
+        }
+        const label cell =
+            cm.findCell(overlapMapping::Vec3(p.x(), p.y(), p.z()), cellHint_[c.i]);
+        if (cell >= 0)
+        {
+            cellHint_[c.i] = cell;
+            state[k] = psiI[cell] < vapourThreshold_ ? 1 : 0;
+        }
+    }
+    if (Pstream::parRun())
+    {
+        // the same decision on every rank (the grains are advanced
+        // identically everywhere): dry if dry where the point was found
+        Pstream::listCombineGather(state, maxEqOp<label>());
+        Pstream::listCombineScatter(state);
+    }
+
+    dryPairs_.clear();
+    dryPairs_.reserve(2*nc);
+    for (label k = 0; k < nc; ++k)
+    {
+        const bool dry = state[k] == 1;
+        // several contacts of a grain with one wall (a crease): dry if all are
+        const auto ins = dryPairs_.emplace(pairKey(cs[k].i, cs[k].j), dry);
+        if (!ins.second)
+        {
+            ins.first->second = ins.first->second && dry;
+        }
+    }
+    nDryPairs_ = 0;
+    nWetPairs_ = 0;
+    for (const auto& kv : dryPairs_)
+    {
+        ++(kv.second ? nDryPairs_ : nWetPairs_);
+    }
 }
 
 
@@ -482,7 +722,24 @@ void Foam::vansCloud::evolve(const scalar dt)
         v0[i] = vector(v.x(), v.y(), v.z());
     }
 
+    if (cohesionByVapour_)
+    {
+        updateVapourCohesion();
+    }
+
     grains_.evolve(dt);
+
+    if (cohesionOn())
+    {
+        Info<< "cohesion: cohesive contacts " << grains_.report().cohesiveContacts
+            << " of " << s.nContacts();
+        if (cohesionByVapour_)
+        {
+            Info<< ", pairs looked up dry " << nDryPairs_ << " wet "
+                << nWetPairs_;
+        }
+        Info<< endl;
+    }
 
     // Contact impulse of the whole step (all sub-steps), p^n of eq. 3.46:
     // what changed the momentum besides gravity and the fluid force
