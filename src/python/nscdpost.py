@@ -2,6 +2,8 @@
 
 Only the standard library and numpy are needed.  Functions:
   time_dirs(case)              -> sorted list of (float time, str name) with grains
+  read_internal_field(path)    -> internal field of an ascii vol field (numpy; scalar
+                                or N x 3), uniform fields as 0-d/3-vectors
   read_grains(case, time_name) -> dict with 'x' (N x 3 [m]), 'd' (N [m]), 'U' (N x 3 [m/s]),
                                 'fixed' (N bool)
   write_json(path, obj)        -> results.json writer (sorted keys, floats as-is)
@@ -114,3 +116,25 @@ def instantiate_case(base, case, subs):
                 txt = txt.replace(k, v)
             with open(p, "w") as fh:
                 fh.write(txt)
+
+
+def read_internal_field(path):
+    """Internal field of an ascii volScalarField/volVectorField file as a numpy
+    array (uniform fields need n: returned as a 0-d array, broadcastable)."""
+    with open(path) as f:
+        text = f.read()
+    m = re.search(r"internalField\s+nonuniform\s+List<(scalar|vector)>\s*(\d+)\s*\(", text)
+    if m is None:
+        u = re.search(r"internalField\s+uniform\s+([^;]+);", text)
+        if u is None:
+            raise ValueError(f"no internalField in {path}")
+        vals = u.group(1).strip("() ").split()
+        return np.array([float(v) for v in vals]).squeeze()
+    n = int(m.group(2))
+    body = text[m.end():]
+    if m.group(1) == "scalar":
+        vals = np.array(body.split(")", 1)[0].split(), dtype=float)
+        assert vals.size == n, (path, vals.size, n)
+        return vals
+    vecs = re.findall(r"\(([^()]+)\)", body)[:n]
+    return np.array([[float(x) for x in v.split()] for v in vecs])

@@ -3,7 +3,7 @@ import os
 import re
 import subprocess
 
-import numpy as np
+import nscdpost  # src/python (on sys.path through conftest.py)
 
 HEADER = "FoamFile { version 2.0; format ascii; class %s; object %s; }\n"
 
@@ -190,23 +190,4 @@ def add_scalar_transport(case, field, div_scheme, solver="solver PBiCGStab; prec
     open(sc, "w").write(txt)
 
 
-def read_internal(path):
-    """Internal field of an ascii volScalarField/volVectorField file as a numpy
-    array (uniform fields need n: returned as a 0-d array, broadcastable)."""
-    with open(path) as f:
-        text = f.read()
-    m = re.search(r"internalField\s+nonuniform\s+List<(scalar|vector)>\s*(\d+)\s*\(", text)
-    if m is None:
-        u = re.search(r"internalField\s+uniform\s+([^;]+);", text)
-        if u is None:
-            raise ValueError(f"no internalField in {path}")
-        vals = u.group(1).strip("() ").split()
-        return np.array([float(v) for v in vals]).squeeze()
-    n = int(m.group(2))
-    body = text[m.end():]
-    if m.group(1) == "scalar":
-        vals = np.array(body.split(")", 1)[0].split(), dtype=float)
-        assert vals.size == n, (path, vals.size, n)
-        return vals
-    vecs = re.findall(r"\(([^()]+)\)", body)[:n]
-    return np.array([[float(x) for x in v.split()] for v in vecs])
+read_internal = nscdpost.read_internal_field

@@ -23,29 +23,27 @@ import os
 
 import pytest
 
+import correlations
+
 from foamcase import run
 
 EPS, PR = 0.45, 0.71
 RES = [1.0, 10.0, 100.0, 1000.0]
 
 
-def nu_difelice_colburn(eps, Re, Pr, delta=500.0, alpha=0.4):
-    x = eps * Re                                  # superficial Reynolds number
-    expo = 1.8 - math.exp(-0.5 * (1.5 - math.log10(x)) ** 2) if x > 0 else 1.8
-    g = eps ** (-expo)
-    f = (x + delta) / (0.11 * x ** 1.4 + x + delta)
-    return g * f * (0.18 * math.sqrt(x) + 1.39) ** 2 * Pr ** alpha
+
+
+
+def nu_difelice_colburn(eps, Re, Pr, **coeffs):
+    return correlations.nusselt_difelice_colburn(eps, eps * Re, Pr, **coeffs)
 
 
 def nu_gunn(eps, Re, Pr):
-    Res = eps * Re
-    pr3 = Pr ** (1.0 / 3.0)
-    return ((7 - 10 * eps + 5 * eps**2) * (1 + 0.7 * Res**0.2 * pr3)
-            + (1.33 - 2.4 * eps + 1.2 * eps**2) * Res**0.7 * pr3)
+    return correlations.nusselt_gunn(eps, eps * Re, Pr)
 
 
 def nu_ranz_marshall(eps, Re, Pr):
-    return 2 + 0.6 * math.sqrt(Re) * Pr ** (1.0 / 3.0)
+    return correlations.nusselt_ranz_marshall(eps, eps * Re, Pr)
 
 
 REFERENCE = {"DiFeliceColburn": nu_difelice_colburn, "Gunn": nu_gunn,

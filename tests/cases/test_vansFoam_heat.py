@@ -21,16 +21,15 @@ import re
 
 import pytest
 
+import correlations
+
 from foamcase import add_fluid, uniform_inflow, make_box_case, run, write, add_scalar_transport
 
 
-def nusselt_difelice_colburn(eps, Re, Pr, delta=500.0, alpha=0.4):
-    """Thesis eq. 4.12 with f of eq. 4.9 and g of eq. 4.10 (superficial Re)."""
-    x = eps * Re
-    expo = 1.8 - math.exp(-0.5 * (1.5 - math.log10(x)) ** 2)
-    g = eps ** (-expo)
-    f = (x + delta) / (0.11 * x ** 1.4 + x + delta)
-    return g * f * (0.18 * math.sqrt(x) + 1.39) ** 2 * Pr ** alpha
+
+def nusselt_difelice_colburn_re(eps, Re, Pr):
+    """Thesis eq. 4.12 at the interstitial Re (superficial eps Re)."""
+    return correlations.nusselt_difelice_colburn(eps, eps * Re, Pr)
 
 
 def heat_lines(log):
@@ -96,7 +95,7 @@ def test_single_grain_lumped_exponential(tmp_path, env):
     Re = math.sqrt(sum(c * c for c in u)) * d / nu
     eps = 1 - math.pi / 6 * d**3 / h**3
     Pr = Cp * rho * nu / kappa
-    Nu = nusselt_difelice_colburn(eps, Re, Pr)
+    Nu = nusselt_difelice_colburn_re(eps, Re, Pr)
     H = kappa * Nu / d * 6 / d * math.pi / 6 * d**3      # eq. 4.13: k Nu/d S/V x V
     mc = rhop * math.pi / 6 * d**3 * cp
     tau = mc / H
