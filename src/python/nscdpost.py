@@ -8,6 +8,7 @@ Only the standard library and numpy are needed.  Functions:
                                 'fixed' (N bool)
   write_json(path, obj)        -> results.json writer (sorted keys, floats as-is)
   instantiate_case(base, case, subs) -> copy a template case, replacing @KEYS@
+  copy_grain_state(src, dst)   -> copy 0/grainState.h5 and 0/lagrangian of a settled case
 """
 import json
 import os
@@ -138,3 +139,13 @@ def read_internal_field(path):
         return vals
     vecs = re.findall(r"\(([^()]+)\)", body)[:n]
     return np.array([[float(x) for x in v.split()] for v in vecs])
+
+
+def copy_grain_state(src, dst, time_name="0"):
+    """Copy the grain state (grainState.h5 and lagrangian/) of case src at
+    time_name into case dst at time_name, e.g. a bed settled once by
+    grainDeposit into each case that starts from it."""
+    for item in ("grainState.h5", "lagrangian"):
+        a = os.path.join(src, time_name, item)
+        b = os.path.join(dst, time_name, item)
+        (shutil.copytree if os.path.isdir(a) else shutil.copy)(a, b)

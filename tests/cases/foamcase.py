@@ -191,3 +191,18 @@ def add_scalar_transport(case, field, div_scheme, solver="solver PBiCGStab; prec
 
 
 read_internal = nscdpost.read_internal_field
+
+
+def tutorial_modules(solver, case, names=("setupCase", "postProcess")):
+    """Import the Python scripts of tutorials/<solver>/<case> (setupCase.py,
+    postProcess.py) as modules, so that a case test reuses the tutorial's own
+    set-up and measurement on a reduced case."""
+    import importlib.util
+    root = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+    tut = os.path.join(root, "tutorials", solver, case)
+    mods = []
+    for name in names:
+        spec = importlib.util.spec_from_file_location(f"{case}_{name}", os.path.join(tut, name + ".py"))
+        mods.append(importlib.util.module_from_spec(spec))
+        spec.loader.exec_module(mods[-1])
+    return tuple(mods)

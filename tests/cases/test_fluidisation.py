@@ -31,7 +31,7 @@ import numpy as np
 import pytest
 
 import nscdpost
-from foamcase import add_fluid, inlet_outlet_box, make_box_case, run, write
+from foamcase import add_fluid, inlet_outlet_box, make_box_case, run, write, tutorial_modules
 
 G = 9.81
 D, S, LAYERS = 1.0e-3, 1.1e-3, 8
@@ -125,21 +125,8 @@ def test_minimum_fluidisation(tmp_path, env):
 # from h/d = 0.5 to 8).  Measured when written: heave at 0.2298 / 0.2294 s,
 # heave head 7.09 / 7.36 mm = 1.26 / 1.31 dh_w for h/d = 1 / 4.
 # ---------------------------------------------------------------------------
-def _fluidisation_module():
-    import importlib.util
-    root = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-    tut = os.path.join(root, "tutorials", "vansFoam", "fluidisation")
-    mods = []
-    for name in ("setupCase", "postProcess"):
-        spec = importlib.util.spec_from_file_location("fluidisation_" + name,
-                                                      os.path.join(tut, name + ".py"))
-        mods.append(importlib.util.module_from_spec(spec))
-        spec.loader.exec_module(mods[-1])
-    return tuple(mods)
-
-
 def test_heave_under_rising_pressure(tmp_path, env):
-    setup, post = _fluidisation_module()
+    setup, post = tutorial_modules("vansFoam", "fluidisation")
     setup.WIDTH, setup.HEIGHT = 20 * setup.D_MEAN, 40 * setup.D_MEAN
     setup.N_GRAINS, setup.RAMP_TIME = 400, 0.25
     root = str(tmp_path)

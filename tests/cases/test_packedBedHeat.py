@@ -59,7 +59,6 @@ and compared with the closure the run selected, written here independently
    heat picked up by the air equal to the heat the grains gave (1e-4), and
    the steady state.  ~25 s.
 """
-import importlib.util
 import json
 import math
 import os
@@ -71,10 +70,8 @@ import pytest
 from correlations import nusselt_difelice_colburn as nu_difelice_colburn, nusselt_gunn as nu_gunn
 
 import nscdpost
-from foamcase import add_fluid, make_box_case, read_internal, run, uniform_inflow, write
+from foamcase import add_fluid, make_box_case, read_internal, run, tutorial_modules, uniform_inflow, write
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-TUTORIAL = os.path.join(ROOT, "tutorials", "vansFoam", "packedBedHeat")
 
 RHO, MU, CP, KAPPA = 1.204, 2e-5, 1010.0, 0.025
 NU = MU / RHO
@@ -270,18 +267,8 @@ def test_bed_edge_velocity(tmp_path, env):
 # ---------------------------------------------------------------------------
 # 2. the tutorial's poured bed, two velocities
 # ---------------------------------------------------------------------------
-def _tutorial_modules():
-    mods = []
-    for name in ("setupCase", "postProcess"):
-        spec = importlib.util.spec_from_file_location("packedBedHeat_" + name,
-                                                      os.path.join(TUTORIAL, name + ".py"))
-        mods.append(importlib.util.module_from_spec(spec))
-        spec.loader.exec_module(mods[-1])
-    return tuple(mods)
-
-
 def test_poured_bed_nusselt(tmp_path, env):
-    setup, post = _tutorial_modules()
+    setup, post = tutorial_modules("vansFoam", "packedBedHeat")
     root = str(tmp_path)
     dep = os.path.join(root, "deposit")
     setup.deposit(root=root)

@@ -31,12 +31,12 @@ Usage
 \*---------------------------------------------------------------------------*/
 
 #include "vansCloud.H"
+#include "couplingStepTools.H"
 #include "fvCFD.H"
 #include "pimpleControl.H"
 #include "fixedFluxPressureFvPatchScalarField.H"
 #include "fvOptions.H"
 
-#include <chrono>
 #include <sstream>
 
 int main(int argc, char *argv[])
@@ -60,13 +60,9 @@ int main(int argc, char *argv[])
     #include "initContinuityErrs.H"
 
     // wall-clock split of the step (reported at the end)
-    using clock = std::chrono::steady_clock;
-    auto seconds = [](clock::time_point a, clock::time_point b)
-    {
-        return std::chrono::duration<double>(b - a).count();
-    };
-    double tMapping = 0, tFluid = 0, tContacts = 0;
-    label nSteps = 0;
+    couplingStepTimer timer;
+    using clock = couplingStepTimer::clock;
+    const auto seconds = &couplingStepTimer::seconds;
 
     Info<< "\nStarting time loop\n" << endl;
 
@@ -78,18 +74,13 @@ int main(int argc, char *argv[])
 
         // a collapsing time step means the coupling went unstable: stop
         // with the last written time as the last good state
-        if (adjustTimeStep && runTime.deltaTValue() < 1e-6*maxDeltaT)
-        {
-            FatalErrorInFunction
-                << "The time step collapsed to " << runTime.deltaTValue()
-                << " s (maxDeltaT " << maxDeltaT << " s) at time "
-                << runTime.timeName() << ": the solution is unstable."
-                << " The last written time holds the last good state." << nl
-                << "    Fix: reduce maxDeltaT/maxCo in system/controlDict, or"
-                << " use the overlap void fraction (the particle-centroid"
-                << " method is unstable for dense packings, thesis 3.2.2)."
-                << exit(FatalError);
-        }
+        checkTimeStepCollapse
+        (
+            runTime, adjustTimeStep, maxDeltaT,
+            "reduce maxDeltaT/maxCo in system/controlDict, or use the overlap"
+            " void fraction (the particle-centroid method is unstable for"
+            " dense packings, thesis 3.2.2)."
+        );
 
         ++runTime;
         Info<< "Time = " << runTime.timeName() << nl << endl;
@@ -137,10 +128,10 @@ int main(int argc, char *argv[])
         const clock::time_point t3 = clock::now();
         cloud.evolve(runTime.deltaTValue());
         const clock::time_point t4 = clock::now();
-        tMapping += seconds(t0, t1) + seconds(t2, t3);
-        tFluid += seconds(t1, t2);
-        tContacts += seconds(t3, t4);
-        ++nSteps;
+        timer.mapping += seconds(t0, t1) + seconds(t2, t3);
+        timer.fluid += seconds(t1, t2);
+        timer.contacts += seconds(t3, t4);
+        ++timer.steps;
 
         Info<< "voidFraction min/max = " << gMin(eps.primitiveField())
             << " " << gMax(eps.primitiveField())
@@ -196,8 +187,7 @@ int main(int argc, char *argv[])
         runTime.printExecutionTime(Info);
     }
 
-    Info<< "Timing [s]: steps " << nSteps << " mapping " << tMapping
-        << " fluid " << tFluid << " contacts " << tContacts << nl << endl;
+    timer.report();
 
     Info<< "End\n" << endl;
     return 0;

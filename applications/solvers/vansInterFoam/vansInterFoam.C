@@ -52,6 +52,7 @@ Usage
 \*---------------------------------------------------------------------------*/
 
 #include "vansCloud.H"
+#include "couplingStepTools.H"
 #include "grainDictionaryTools.H"
 #include "fvCFD.H"
 #include "CMULES.H"
@@ -63,7 +64,6 @@ Usage
 #include "pimpleControl.H"
 #include "fvOptions.H"
 
-#include <chrono>
 #include <sstream>
 
 int main(int argc, char *argv[])
@@ -88,13 +88,9 @@ int main(int argc, char *argv[])
     #include "setInitialDeltaT.H"
 
     // wall-clock split of the step (reported at the end)
-    using clock = std::chrono::steady_clock;
-    auto seconds = [](clock::time_point a, clock::time_point b)
-    {
-        return std::chrono::duration<double>(b - a).count();
-    };
-    double tMapping = 0, tFluid = 0, tContacts = 0;
-    label nSteps = 0;
+    couplingStepTimer timer;
+    using clock = couplingStepTimer::clock;
+    const auto seconds = &couplingStepTimer::seconds;
 
     Info<< "\nStarting time loop\n" << endl;
 
@@ -106,16 +102,11 @@ int main(int argc, char *argv[])
 
         // a collapsing time step means the coupling went unstable: stop
         // with the last written time as the last good state
-        if (adjustTimeStep && runTime.deltaTValue() < 1e-6*maxDeltaT)
-        {
-            FatalErrorInFunction
-                << "The time step collapsed to " << runTime.deltaTValue()
-                << " s (maxDeltaT " << maxDeltaT << " s) at time "
-                << runTime.timeName() << ": the solution is unstable."
-                << " The last written time holds the last good state." << nl
-                << "    Fix: reduce maxDeltaT/maxCo/maxAlphaCo in"
-                << " system/controlDict." << exit(FatalError);
-        }
+        checkTimeStepCollapse
+        (
+            runTime, adjustTimeStep, maxDeltaT,
+            "reduce maxDeltaT/maxCo/maxAlphaCo in system/controlDict."
+        );
 
         ++runTime;
         Info<< "Time = " << runTime.timeName() << nl << endl;
@@ -163,12 +154,12 @@ int main(int argc, char *argv[])
             cloud.setFluidForces(U, volScalarField("pKin", p/rhoC));
             const clock::time_point t3 = clock::now();
             cloud.evolve(runTime.deltaTValue());
-            tMapping += seconds(t2, t3);
-            tContacts += seconds(t3, clock::now());
+            timer.mapping += seconds(t2, t3);
+            timer.contacts += seconds(t3, clock::now());
         }
-        tMapping += seconds(t0, t1);
-        tFluid += seconds(t1, t2);
-        ++nSteps;
+        timer.mapping += seconds(t0, t1);
+        timer.fluid += seconds(t1, t2);
+        ++timer.steps;
 
         // water volume sum(eps alpha V) (conserved: closed domain)
         {
@@ -214,8 +205,7 @@ int main(int argc, char *argv[])
         runTime.printExecutionTime(Info);
     }
 
-    Info<< "Timing [s]: steps " << nSteps << " mapping " << tMapping
-        << " fluid " << tFluid << " contacts " << tContacts << nl << endl;
+    timer.report();
 
     Info<< "End\n" << endl;
     return 0;

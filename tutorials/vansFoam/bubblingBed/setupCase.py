@@ -23,7 +23,6 @@ The grain heat capacity is c/S: cooling runs S times faster than the bed
 hydrodynamics, and the post-processing reports physical time = S t.
 """
 import os
-import shutil
 import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -83,10 +82,7 @@ def deposit(root=here):
 def setup(case, v, end, S, root=here):
     dep = os.path.join(root, "deposit")
     nscdpost.instantiate_case(os.path.join(here, "base"), case, subs(v, end, S))
-    for item in ("grainState.h5", "lagrangian"):
-        src = os.path.join(dep, "0", item)
-        dst = os.path.join(case, "0", item)
-        (shutil.copytree if os.path.isdir(src) else shutil.copy)(src, dst)
+    nscdpost.copy_grain_state(dep, case)
     nscdpost.write_json(os.path.join(case, "case.json"),
                         {"inflow_velocity": v, "heat_time_scale": S, "T0": T0, "T_in": T_IN,
                          "n_grains": N_GRAINS, "bed_mass": MASS, "gap": GAP, "width": WIDTH,

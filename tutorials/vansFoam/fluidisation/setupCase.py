@@ -11,7 +11,6 @@ rho_p = 2630, mu = 0.4) settled under gravity in a W = 8.8 mm wide box
 thesis does not give its bed size; this one keeps h/d = 8 at 5 cells across.
 """
 import os
-import shutil
 import sys
 
 import numpy as np
@@ -70,10 +69,7 @@ def setup(case, hd, end, root=here):
     xs = [(i + 0.5) * WIDTH / N_PROBES for i in range(N_PROBES)]
     probes = "\n".join(f"            ({x:.9g} {top:.9g} 0)" for x in xs)
     nscdpost.instantiate_case(os.path.join(here, "base"), case, mesh_subs(hd, end, probes))
-    for item in ("grainState.h5", "lagrangian"):
-        src = os.path.join(dep, "0", item)
-        dst = os.path.join(case, "0", item)
-        (shutil.copytree if os.path.isdir(src) else shutil.copy)(src, dst)
+    nscdpost.copy_grain_state(dep, case)
     nscdpost.write_json(os.path.join(case, "bed.json"),
                         {"bed_top": top, "width": WIDTH, "height": HEIGHT, "h_over_d": hd,
                          "d_mean": D_MEAN, "p_top": P_TOP, "p0": P_TOP + G * HEIGHT,

@@ -19,7 +19,6 @@ Mesh: lateral cells 2 d (h/d = 2, 4 x 4 across), axial cells DY_D d
 in the bed, see README.md).
 """
 import os
-import shutil
 import sys
 
 import numpy as np
@@ -85,10 +84,7 @@ def setup(case, re, model="DiFeliceColburn", dy_d=0.125, tscheme="limitedLinear 
     dep = os.path.join(root, "deposit")
     s = subs(dy_d, re, model, tscheme)
     nscdpost.instantiate_case(os.path.join(here, "base"), case, s)
-    for item in ("grainState.h5", "lagrangian"):
-        src = os.path.join(dep, "0", item)
-        dst = os.path.join(case, "0", item)
-        (shutil.copytree if os.path.isdir(src) else shutil.copy)(src, dst)
+    nscdpost.copy_grain_state(dep, case)
     g = nscdpost.read_grains(dep, "0")
     assert g["fixed"].all(), "run `setupCase.py freeze` and grainDeposit first"
     nscdpost.write_json(os.path.join(case, "bed.json"), {
