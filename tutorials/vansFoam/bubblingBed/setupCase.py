@@ -4,7 +4,7 @@ after the pseudo-2D experiment of Patil et al.).
 
 usage: setupCase.py deposit                 the settled bed, once
        setupCase.py CASEDIR V [END [S]]     a case with inflow velocity V [m/s]
-                                            (superficial), END [s] simulated,
+                                            (superficial), END [s] simulated (default 8),
                                             heat time-scale factor S (default 5)
 
 Geometry (Table 4.1): w = 8 cm wide, h = 25 cm high, Hele-Shaw gap p = 1.5 cm
@@ -94,5 +94,5 @@ if __name__ == "__main__":
     if sys.argv[1] == "deposit":
         deposit()
     else:
-        setup(sys.argv[1], float(sys.argv[2]), float(sys.argv[3]) if len(sys.argv) > 3 else 10.0,
+        setup(sys.argv[1], float(sys.argv[2]), float(sys.argv[3]) if len(sys.argv) > 3 else 8.0,
               float(sys.argv[4]) if len(sys.argv) > 4 else 5.0)
