@@ -14,6 +14,12 @@
 
 const Foam::word Foam::grainCloud::stateFileName("grainState.h5");
 const Foam::word Foam::grainCloud::cloudName("grains");
+const Foam::word Foam::grainCloud::registryName("grainCloud");
+
+namespace Foam
+{
+    defineTypeNameAndDebug(grainCloudReference, 0);
+}
 
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
@@ -39,7 +45,7 @@ void Foam::grainCloud::readSettings()
         {
             "materials", "wallPatches", "maxDisplacementFraction",
             "contactSolver", "movingWalls", "initialTemperature",
-            "wallTemperatures"
+            "wallTemperatures", "gates"
         }
     );
 
@@ -389,6 +395,123 @@ void Foam::grainCloud::readMovingWalls()
 }
 
 
+void Foam::grainCloud::readGates(const label nMeshWalls)
+{
+    gates_.clear();
+    if (dict_.found("gates"))
+    {
+        const dictionary& gd = dict_.subDict("gates");
+        for (const entry& e : gd)
+        {
+            if (!e.isDict())
+            {
+                FatalIOErrorInFunction(gd)
+                    << "gates entry '" << e.keyword() << "' in " << gd.name()
+                    << " must be a dictionary { start (x y z); end (x y z);"
+                    << " velocity (u v w); startTime t0; endTime t1; }"
+                    << exit(FatalIOError);
+            }
+            const dictionary& d = e.dict();
+            grainTools::checkKeywords
+            (
+                d, {"start", "end", "velocity", "startTime", "endTime"}
+            );
+            gate g;
+            g.name = e.keyword();
+            g.start = d.get<vector>("start");
+            g.end = d.get<vector>("end");
+            g.velocity = d.get<vector>("velocity");
+            g.startTime = d.getOrDefault<scalar>("startTime", -GREAT);
+            g.endTime = d.getOrDefault<scalar>("endTime", GREAT);
+            g.wallId = nMeshWalls + gates_.size();
+            if (dimension_ == 2 && mag(g.velocity.z()) > 0)
+            {
+                FatalIOErrorInFunction(d)
+                    << "velocity of gate " << g.name << " in " << d.name()
+                    << " has a z component in a 2D case (x-y plane)"
+                    << exit(FatalIOError);
+            }
+            vector seg(g.end - g.start);
+            seg.z() = 0;
+            if (mag(seg) < SMALL)
+            {
+                FatalIOErrorInFunction(d)
+                    << "gate " << g.name << " in " << d.name() << ": start "
+                    << g.start << " and end " << g.end << " coincide in the"
+                    << " x-y plane. Fix: give two distinct points (2D: the"
+                    << " segment; 3D: the rectangle's bottom and top edge"
+                    << " ends, swept over the mesh depth)." << exit(FatalIOError);
+            }
+            if (!(g.endTime > g.startTime))
+            {
+                FatalIOErrorInFunction(d)
+                    << "gate " << g.name << " in " << d.name() << ": endTime "
+                    << g.endTime << " must be > startTime " << g.startTime
+                    << exit(FatalIOError);
+            }
+            gates_.append(g);
+        }
+    }
+
+    const label nWalls = system_->nWalls();
+    if (nWalls == nMeshWalls + gates_.size() && nWalls > nMeshWalls)
+    {
+        // state written with the gates (their displacement is restored)
+        return;
+    }
+    if (nWalls != nMeshWalls)
+    {
+        FatalErrorInFunction
+            << "The grain state has " << nWalls << " walls but the wall"
+            << " patches give " << nMeshWalls << " and 'gates' "
+            << gates_.size() << "." << nl
+            << "    The mesh, wallPatches or gates changed since the state"
+            << " was written: re-run grainDeposit." << exit(FatalError);
+    }
+    try
+    {
+        for (const gate& g : gates_)
+        {
+            label id = -1;
+            if (dimension_ == 2)
+            {
+                id = system_->addSegment(toSystem(g.start), toSystem(g.end));
+            }
+            else
+            {
+                const scalar z0 = mesh_.bounds().min().z();
+                const scalar z1 = mesh_.bounds().max().z();
+                const std::vector<nscd::Vec3> v
+                {
+                    nscd::Vec3(g.start.x(), g.start.y(), z0),
+                    nscd::Vec3(g.end.x(), g.end.y(), z0),
+                    nscd::Vec3(g.end.x(), g.end.y(), z1),
+                    nscd::Vec3(g.start.x(), g.start.y(), z1)
+                };
+                id = system_->addTriangulatedSurface(v, {{0, 1, 2}, {0, 2, 3}});
+            }
+            if (id != g.wallId)
+            {
+                FatalErrorInFunction
+                    << "gate " << g.name << " got wall id " << id
+                    << " instead of " << g.wallId << exit(FatalError);
+            }
+        }
+    }
+    catch (const nscd::InputError& err)
+    {
+        FatalErrorInFunction
+            << "Grain system (gates): " << err.what() << exit(FatalError);
+    }
+}
+
+
+Foam::vector Foam::grainCloud::gateDisplacement(const label gatei) const
+{
+    return toVector(system_->wallDisplacement(gates_[gatei].wallId));
+}
+
+
 void Foam::grainCloud::readWallTemperatures()
 {
     wallTemperatures_.clear();
@@ -584,7 +707,8 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
     {
         nMeshWalls += iter.val().size();
     }
-    if (system_->nWalls() != nMeshWalls)
+    readGates(nMeshWalls);
+    if (system_->nWalls() != nMeshWalls + gates_.size())
     {
         FatalErrorInFunction
             << statePath << " has " << system_->nWalls() << " walls but the"
@@ -618,10 +742,31 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
     }
     system_->setGravity(toVec3(gv));
 
+    if (!mesh.foundObject<regIOobject>(registryName))
+    {
+        reference_.reset
+        (
+            new grainCloudReference
+            (
+                IOobject
+                (
+                    registryName,
+                    mesh.time().timeName(),
+                    mesh,
+                    IOobject::NO_READ,
+                    IOobject::NO_WRITE,
+                    true
+                ),
+                *this
+            )
+        );
+    }
+
     Info<< "grainCloud: " << system_->size() << (dimension_ == 2 ? " discs" : " spheres")
         << ", " << system_->nWalls() << " walls from "
         << patchWalls_.size() << " wall patches, "
-        << movingWalls_.size() << " moving" << nl << endl;
+        << movingWalls_.size() << " moving, " << gates_.size()
+        << " gates" << nl << endl;
 }
 
 
@@ -695,6 +840,18 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
         }
     }
 
+    // gates: the velocity is weighted by the part of [t0, t0 + dt] inside
+    // [startTime, endTime] so that the displacement is exactly
+    // velocity*(min(t, endTime) - startTime) whatever the time steps
+    for (const gate& g : gates_)
+    {
+        const scalar t1 = t0 + dt;
+        const scalar on =
+            max(scalar(0), min(t1, g.endTime) - max(t0, g.startTime));
+        const scalar f = dt > 0 ? min(on/dt, scalar(1)) : 0;
+        system_->setWallVelocity(g.wallId, toVec3(f*g.velocity));
+    }
+
     report_ = system_->advance(dt, maxDisplacementFraction_);
 
     for (const nscd::Vec3& x : system_->positions())
@@ -707,6 +864,17 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
                 << "    Fix: reduce deltaT or maxDisplacementFraction."
                 << exit(FatalError);
         }
+    }
+
+    if (gates_.size())
+    {
+        const label oldPrecision = Info().precision(17);
+        forAll(gates_, gatei)
+        {
+            Info<< "gate " << gates_[gatei].name << " displacement "
+                << gateDisplacement(gatei) << nl;
+        }
+        Info().precision(oldPrecision);
     }
 
     Info<< "NSCD: contacts " << report_.contacts

@@ -135,6 +135,7 @@ int main(int argc, char *argv[])
 
         Info<< "voidFraction min/max = " << gMin(eps.primitiveField())
             << " " << gMax(eps.primitiveField())
+            << ", mean grain Reynolds number = " << cloud.meanGrainReynolds()
             << ", max grain Reynolds number = " << cloud.maxGrainReynolds()
             << endl;
 

@@ -23,13 +23,13 @@ Description
         div(phi) + div(phi_s) = 0                            (eq. 3.51)
         d(eps rho U)/dt + div(rhoPhi U) - div(mu (grad U + dev2 grad U^T))
           = -(pf + K_p) grad p + eps rho g + eps sigma kappa grad alpha
-            - rho_c K (U - v**_0)  [+ rho_c phi grad(p)_grains, model B]
+            - K (U - v**_0)  [+ phi grad(p)_grains, model B]
 
     with rho = alpha rho1 + (1 - alpha) rho2, mu likewise, pf = eps (model A)
     or 1 (model B), K, K v**_0, K_p, D_s the semi-implicit drag of
-    eq. 3.46-3.50 computed by vansCloud with its reference density rho_c
-    (transportProperties rho, nu: see README.md for the limitation) and
-    phi_s = phi_s0 - (D_s/rho_c) grad(p) the solid flux.  phiAlpha is phi
+    eq. 3.46-3.50 computed by vansCloud in dynamic units with the mixture
+    density and viscosity gathered at each grain (README.md) and
+    phi_s = phi_s0 - D_s grad(p) the solid flux.  phiAlpha is phi
     corrected (Poisson, zero boundary flux) so that d(eps)/dt + div(phiAlpha)
     = 0 where grains move (alphaEqnSubCycle.H): alpha stays bounded and the
     water volume sum(eps alpha V) is conserved to round-off (closed domain,
@@ -112,8 +112,8 @@ int main(int argc, char *argv[])
         Info<< "Time = " << runTime.timeName() << nl << endl;
 
         // 1. void fraction at the grains' current positions,
-        // 2. semi-implicit drag prediction (kinematic pressure p/rho_c: the
-        //    grains see the pressure force W grad(p), whatever rho_c is)
+        // 2. semi-implicit drag prediction with the local mixture density
+        //    and viscosity (p in Pa: the grains see the force -W grad(p))
         const clock::time_point t0 = clock::now();
         if (cloudPtr.valid())
         {
@@ -123,7 +123,8 @@ int main(int argc, char *argv[])
             {
                 pressureFactor = eps;
             }
-            cloud.predictDrag(U, volScalarField("pKin", p/rhoC), runTime.deltaTValue());
+            const volScalarField muMix("muMix", rho*mixture.nu());
+            cloud.predictDrag(U, p, rho, muMix, runTime.deltaTValue());
             pK = pressureFactor + cloud.Kp();
             pK.correctBoundaryConditions();
         }
@@ -151,7 +152,7 @@ int main(int argc, char *argv[])
         if (cloudPtr.valid())
         {
             vansCloud& cloud = cloudPtr();
-            cloud.setFluidForces(U, volScalarField("pKin", p/rhoC));
+            cloud.setFluidForces(U, p);
             const clock::time_point t3 = clock::now();
             cloud.evolve(runTime.deltaTValue());
             timer.mapping += seconds(t2, t3);
@@ -176,6 +177,8 @@ int main(int argc, char *argv[])
         {
             Info<< "voidFraction min/max = " << gMin(eps.primitiveField())
                 << " " << gMax(eps.primitiveField())
+                << ", mean grain Reynolds number = "
+                << cloudPtr->meanGrainReynolds()
                 << ", max grain Reynolds number = "
                 << cloudPtr->maxGrainReynolds() << endl;
         }

@@ -58,7 +58,11 @@ namespace
 
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
-Foam::vansCloud::vansCloud(const fvMesh& mesh)
+Foam::vansCloud::vansCloud
+(
+    const fvMesh& mesh,
+    const bool constantProperties
+)
 :
     mesh_(mesh),
     dict_
@@ -69,8 +73,11 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
             IOobject::MUST_READ, IOobject::NO_WRITE
         )
     ),
+    constantProperties_(constantProperties),
     rho_(0),
     nu_(0),
+    rhoK_(1),
+    rotation_(dict_.getOrDefault<bool>("rotationCoupling", false)),
     forceModel_(dict_.getOrDefault<word>("forceModel", "A")),
     maxDisplacementFraction_(0.1),
     grains_(mesh),
@@ -140,7 +147,7 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
             "dragModel", "DallavalleDiFeliceCoeffs", "GidaspowCoeffs",
             "voidFraction", "forceModel",
             "heatTransferModel", "DiFeliceColburnCoeffs", "GunnCoeffs",
-            "RanzMarshallCoeffs", "cohesion"
+            "RanzMarshallCoeffs", "cohesion", "rotationCoupling"
         }
     );
     if (forceModel_ != "A" && forceModel_ != "B")
@@ -153,18 +160,38 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
     drag_ = dragModel::New(dict_);
 
     const dictionary td(transportDict(mesh));
-    rho_ = dimensionedScalar("rho", dimDensity, td).value();
-    nu_ = dimensionedScalar("nu", dimViscosity, td).value();
-    if (!(rho_ > 0) || !(nu_ > 0))
+    if (constantProperties_)
     {
-        FatalIOErrorInFunction(td)
-            << "rho and nu in constant/transportProperties must be > 0"
-            << exit(FatalIOError);
+        rho_ = dimensionedScalar("rho", dimDensity, td).value();
+        nu_ = dimensionedScalar("nu", dimViscosity, td).value();
+        if (!(rho_ > 0) || !(nu_ > 0))
+        {
+            FatalIOErrorInFunction(td)
+                << "rho and nu in constant/transportProperties must be > 0"
+                << exit(FatalIOError);
+        }
+        rhoK_ = rho_;
+    }
+    else
+    {
+        // coupling fields per unit volume in dynamic units
+        Kdrag_.dimensions().reset(dimDensity/dimTime);
+        KUs_.dimensions().reset(dimForce/dimVolume);
+        Ds_.dimensions().reset(dimVolume*dimTime/dimMass);
+        solidPressureForce_.dimensions().reset(dimForce/dimVolume);
     }
 
     grains_.checkState();
     if (dict_.found("heatTransferModel"))
     {
+        if (!constantProperties_)
+        {
+            FatalIOErrorInFunction(dict_)
+                << "heatTransferModel in " << dict_.name() << ": heat"
+                << " transfer needs constant fluid properties (vansFoam)."
+                << nl << "    Fix: remove heatTransferModel."
+                << exit(FatalIOError);
+        }
         heat_ = heatTransferModel::New(dict_);
         readHeat(td);
     }
@@ -220,8 +247,17 @@ Foam::vansCloud::vansCloud(const fvMesh& mesh)
             << " of fine grains are otherwise unstable." << endl;
     }
 
-    Info<< "vansCloud: force model " << forceModel_ << ", fluid rho " << rho_
-        << " nu " << nu_ << ", void fraction min "
+    Info<< "vansCloud: force model " << forceModel_;
+    if (constantProperties_)
+    {
+        Info<< ", fluid rho " << rho_ << " nu " << nu_;
+    }
+    else
+    {
+        Info<< ", local fluid rho and mu (mixture fields)";
+    }
+    Info<< ", rotation coupling " << (rotation_ ? "on" : "off")
+        << ", void fraction min "
         << gMin(voidFraction_.primitiveField()) << nl << endl;
 }
 
@@ -571,10 +607,80 @@ void Foam::vansCloud::predictDrag
     const scalar dt
 )
 {
+    if (!constantProperties_)
+    {
+        FatalErrorInFunction
+            << "vansCloud constructed without constant fluid properties:"
+            << " call predictDrag(U, p, rho, mu, dt)" << exit(FatalError);
+    }
+    const label n = grains_.system().size();
+    rhog_.setSize(n);
+    nug_.setSize(n);
+    rhog_ = rho_;
+    nug_ = nu_;
+    predictDragCore(U, fvc::grad(p)(), dt);
+}
+
+
+void Foam::vansCloud::predictDrag
+(
+    const volVectorField& U,
+    const volScalarField& p,
+    const volScalarField& rho,
+    const volScalarField& mu,
+    const scalar dt
+)
+{
+    if (constantProperties_)
+    {
+        FatalErrorInFunction
+            << "vansCloud constructed with constant fluid properties:"
+            << " call predictDrag(U, p, dt) with the kinematic pressure"
+            << exit(FatalError);
+    }
+    const label n = grains_.system().size();
+    List<scalar> mug;
+    adapter_.gather(rho, rhog_);
+    adapter_.gather(mu, mug);
+    nug_.setSize(n);
+    forAll(nug_, i)
+    {
+        // a grain outside the mesh (W = 0) has no drag: any positive value
+        if (!(rhog_[i] > 0) || !(mug[i] > 0))
+        {
+            rhog_[i] = 1;
+            mug[i] = 1;
+        }
+        nug_[i] = mug[i]/rhog_[i];
+    }
+    predictDragCore(U, fvc::grad(p)(), dt);
+}
+
+
+Foam::vector Foam::vansCloud::leverArm(const std::size_t e) const
+{
+    const nscd::System& s = grains_.system();
+    const label gi = adapter_.entryGrain()[e];
+    const nscd::Vec3& x3 = s.positions()[gi];
+    vector r = mesh_.C()[adapter_.entryCell()[e]] - vector(x3.x(), x3.y(), x3.z());
+    if (adapter_.twoD())
+    {
+        r.z() = 0;
+    }
+    return r;
+}
+
+
+void Foam::vansCloud::predictDragCore
+(
+    const volVectorField& U,
+    const volVectorField& gradp,
+    const scalar dt
+)
+{
     const nscd::System& s = grains_.system();
     const label n = s.size();
     const scalar depth = adapter_.depth();
-    const volVectorField gradp(fvc::grad(p));
 
     adapter_.gather(U, Ug_);
     adapter_.gather(voidFraction_, epsg_);
@@ -597,9 +703,12 @@ void Foam::vansCloud::predictDrag
         const vector v(v3.x(), v3.y(), v3.z());
         const scalar d = 2*s.radii()[i];
         const scalar slip = mag(Ug_[i] - v);
-        ReP_[i] = slip*d/nu_;
+        ReP_[i] = slip*d/nug_[i];
         const scalar eps = max(epsg_[i], adapter_.epsMin());
-        gamma_[i] = W[i] > 0 ? drag_->gamma(eps, ReP_[i], d, rho_*nu_, rho_) : 0;
+        gamma_[i] =
+            W[i] > 0
+          ? drag_->gamma(eps, ReP_[i], d, rhog_[i]*nug_[i], rhog_[i])
+          : 0;
 
         if (s.fixed(i))
         {
@@ -631,18 +740,38 @@ void Foam::vansCloud::predictDrag
     const auto& eg = adapter_.entryGrain();
     const auto& ec = adapter_.entryCell();
     const auto& ev = adapter_.entryVolume();
+    if (rotation_)
+    {
+        omega_.setSize(n);
+        for (label i = 0; i < n; ++i)
+        {
+            const nscd::Vec3& w = s.angularVelocities()[i];
+            omega_[i] = vector(w.x(), w.y(), w.z());
+        }
+    }
     for (std::size_t e = 0; e < ec.size(); ++e)
     {
         const label gi = eg[e];
         const label c = ec[e];
-        K[c] += ev[e]*gammaStar_[gi]/rho_;
-        KU[c] += ev[e]*gammaStar_[gi]/rho_*vss_[gi];
+        K[c] += ev[e]*gammaStar_[gi]/rhoK_;
+        if (rotation_)
+        {
+            // rigid-body velocity of the grain at the cell (resolved
+            // regime: Brinkman penalisation of translation and rotation)
+            KU[c] +=
+                ev[e]*gammaStar_[gi]/rhoK_
+               *(vss_[gi] + (omega_[gi] ^ leverArm(e)));
+        }
+        else
+        {
+            KU[c] += ev[e]*gammaStar_[gi]/rhoK_*vss_[gi];
+        }
         sp[c] += ev[e]*gradpg_[gi];
         if (!s.fixed(gi))
         {
             const scalar m = s.mass(gi);
             const scalar Wi = W[gi]/depth;
-            D[c] += ev[e]*Wi*dt*rho_/(m + Wi*dt*gamma_[gi]);
+            D[c] += ev[e]*Wi*dt*rhoK_/(m + Wi*dt*gamma_[gi]);
             Kp[c] += ev[e]*gammaStar_[gi]*Wi*dt/m;
         }
     }
@@ -676,7 +805,29 @@ Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::solidFlux
         const scalar Wi = W[i]/depth;
         vStar_[i] = (m*vss_[i] + Wi*dt*gamma_[i]*Ug_[i])/(m + Wi*dt*gamma_[i]);
     }
-    adapter_.solidVelocity(vStar_, phiVs_);
+    if (!rotation_)
+    {
+        adapter_.solidVelocity(vStar_, phiVs_);
+    }
+    else
+    {
+        // the rigid-body velocity v*_p + omega_p x r_pc per overlap entry:
+        // the mixture flux eps U + phi v_s is then divergence free where the
+        // penalisation imposes U = v_s (a rotating grain in cells of varying
+        // eps), as for the translation
+        vectorField& f = phiVs_.primitiveFieldRef();
+        f = Zero;
+        const auto& eg = adapter_.entryGrain();
+        const auto& ec = adapter_.entryCell();
+        const auto& ev = adapter_.entryVolume();
+        for (std::size_t e = 0; e < ec.size(); ++e)
+        {
+            const label gi = eg[e];
+            f[ec[e]] += ev[e]*(vStar_[gi] + (omega_[gi] ^ leverArm(e)));
+        }
+        f /= mesh_.V();
+        phiVs_.correctBoundaryConditions();
+    }
     return fvc::flux(phiVs_);
 }
 
@@ -702,12 +853,121 @@ void Foam::vansCloud::setFluidForces
         const vector vss =
             s.fixed(i)
           ? vss_[i]
-          : vss_[i] - (dt_*Wi/s.mass(i)*rho_)*gradpg_[i];
+          : vss_[i] - (dt_*Wi/s.mass(i)*rhoK_)*gradpg_[i];
         const vector F =
-            Wi*(-rho_*gradpg_[i] + gammaStar_[i]*(Ug_[i] - vss));
+            Wi*(-rhoK_*gradpg_[i] + gammaStar_[i]*(Ug_[i] - vss));
         fluidForce_[i] = F;
-        s.setExternalForce(i, nscd::Vec3(F.x(), F.y(), F.z()));
+        if (!rotation_)
+        {
+            s.setExternalForce(i, nscd::Vec3(F.x(), F.y(), F.z()));
+        }
     }
+    if (!rotation_)
+    {
+        return;
+    }
+
+    // Rotation: per overlap entry the force on the grain is
+    //   f_pc = (V_pc/depth)(-rho grad(p)_c
+    //          + gamma*_p (U_c - v**_p(c) - omega_p x r_pc))
+    // with v**_p(c) = v**_0 - (W dt/m) rho grad(p)_c: summed over c it is
+    // F_p above (the gather weights are V_pc/W_p) plus the rotational part
+    // -gamma* omega x sum V_pc r_pc; the torque is sum r_pc x f_pc, explicit
+    // for the next NSCD step.  The fluid lost exactly sum f_pc at the cell
+    // centres x_p + r_pc: angular momentum is exchanged exactly.
+    const label n = s.size();
+    const auto& eg = adapter_.entryGrain();
+    const auto& ec = adapter_.entryCell();
+    const auto& ev = adapter_.entryVolume();
+    const vectorField& UI = U.primitiveField();
+    const vectorField& gI = gradp.primitiveField();
+    List<vector> Frot(n, Zero);
+    fluidTorque_.setSize(n);
+    fluidTorque_ = Zero;
+    for (std::size_t e = 0; e < ec.size(); ++e)
+    {
+        const label gi = eg[e];
+        const label c = ec[e];
+        const vector r = leverArm(e);
+        const scalar cp = s.fixed(gi) ? 0 : dt_*W[gi]/depth/s.mass(gi)*rhoK_;
+        const vector vs = vss_[gi] - cp*gI[c] + (omega_[gi] ^ r);
+        const vector f =
+            ev[e]/depth*(-rhoK_*gI[c] + gammaStar_[gi]*(UI[c] - vs));
+        fluidTorque_[gi] += r ^ f;
+        Frot[gi] -= ev[e]/depth*gammaStar_[gi]*(omega_[gi] ^ r);
+    }
+    if (Pstream::parRun())
+    {
+        Pstream::listCombineGather(fluidTorque_, plusEqOp<vector>());
+        Pstream::listCombineScatter(fluidTorque_);
+        Pstream::listCombineGather(Frot, plusEqOp<vector>());
+        Pstream::listCombineScatter(Frot);
+    }
+
+    // drag angular momentum exchange about the origin (mesh units):
+    // the grains gain sum_p x_p x F^drag_p + T^drag_p, the fluid loses
+    // sum_c V_c x_c x rho (K U - K v_s)_c
+    dragTorqueGrains_ = Zero;
+    for (label i = 0; i < n; ++i)
+    {
+        fluidForce_[i] += Frot[i];
+        const vector& F = fluidForce_[i];
+        const vector& T = fluidTorque_[i];
+        if (adapter_.twoD())
+        {
+            fluidTorque_[i].x() = 0;
+            fluidTorque_[i].y() = 0;
+        }
+        s.setExternalForce
+        (
+            i,
+            nscd::Vec3(F.x(), F.y(), F.z()),
+            nscd::Vec3(T.x(), T.y(), T.z())
+        );
+    }
+    // the drag part only (pressure excluded), from the per-entry forces
+    for (std::size_t e = 0; e < ec.size(); ++e)
+    {
+        const label gi = eg[e];
+        const label c = ec[e];
+        const nscd::Vec3& x3 = s.positions()[gi];
+        vector xc = mesh_.C()[c];
+        if (adapter_.twoD())
+        {
+            xc.z() = x3.z();
+        }
+        const scalar cp = s.fixed(gi) ? 0 : dt_*W[gi]/depth/s.mass(gi)*rhoK_;
+        const vector vs = vss_[gi] - cp*gI[c] + (omega_[gi] ^ leverArm(e));
+        dragTorqueGrains_ += xc ^ (ev[e]*gammaStar_[gi]*(UI[c] - vs));
+    }
+    // fluid side from the fields (K U - K v**_0 + K_p rho grad p): the
+    // pressure part of v** enters the fluid through K_p
+    dragTorqueFluid_ = Zero;
+    const vectorField& KU = KUs_.primitiveField();
+    const scalarField& K = Kdrag_.primitiveField();
+    const scalarField& Kp = Kp_.primitiveField();
+    forAll(K, c)
+    {
+        vector xc = mesh_.C()[c];
+        const vector f =
+            mesh_.V()[c]*rhoK_*(K[c]*UI[c] - KU[c] + Kp[c]*gI[c]);
+        dragTorqueFluid_ += xc ^ f;
+    }
+    reduce(dragTorqueGrains_, sumOp<vector>());
+    reduce(dragTorqueFluid_, sumOp<vector>());
+    if (adapter_.twoD())
+    {
+        // about the z axis through the origin; the in-plane components
+        // carry the arbitrary z of the cell centres
+        dragTorqueGrains_.x() = dragTorqueGrains_.y() = 0;
+        dragTorqueFluid_.x() = dragTorqueFluid_.y() = 0;
+    }
+    scalar Tmax = 0;
+    forAll(fluidTorque_, i) Tmax = max(Tmax, mag(fluidTorque_[i]));
+    Info<< "rotationCoupling: max |fluid torque| " << Tmax
+        << ", drag angular momentum rate lost by the fluid "
+        << dragTorqueFluid_.z() << " gained by the grains "
+        << dragTorqueGrains_.z() << endl;
 }
 
 
@@ -754,6 +1014,7 @@ void Foam::vansCloud::evolve(const scalar dt)
         }
         const nscd::Vec3& v = s.velocities()[i];
         const scalar m = s.mass(i);
+        // rotation on: F includes the rotational drag part
         const vector F = fluidForce_.size() == n ? fluidForce_[i] : vector::zero;
         contactImpulse_[i] =
             m*(vector(v.x(), v.y(), v.z()) - v0[i]) - dt*(m*g + F);
@@ -877,6 +1138,12 @@ Foam::scalar Foam::vansCloud::maxGrainReynolds() const
 }
 
 
+Foam::scalar Foam::vansCloud::meanGrainReynolds() const
+{
+    return ReP_.empty() ? 0 : sum(ReP_)/ReP_.size();
+}
+
+
 void Foam::vansCloud::write() const
 {
     // the previous step's contact impulses (exact restart), binary
@@ -914,7 +1181,23 @@ void Foam::vansCloud::write() const
     }
     else if (fluidForce_.size() == n && fluidVelocity_.size() == n)
     {
-        grains_.write({{"Ffluid", &fluidForce_}, {"Ufluid", &fluidVelocity_}});
+        if (rotation_ && fluidTorque_.size() == n)
+        {
+            grains_.write
+            (
+                {
+                    {"Ffluid", &fluidForce_}, {"Ufluid", &fluidVelocity_},
+                    {"Tfluid", &fluidTorque_}
+                }
+            );
+        }
+        else
+        {
+            grains_.write
+            (
+                {{"Ffluid", &fluidForce_}, {"Ufluid", &fluidVelocity_}}
+            );
+        }
     }
     else
     {

@@ -1,0 +1,80 @@
+#include "freeSurfaceTools.H"
+#include "FlatOutput.H"
+
+void Foam::freeSurfaceTools::checkKeywords
+(
+    const dictionary& dict,
+    const wordList& own
+)
+{
+    static const wordList generic
+    {
+        "type", "libs", "enabled", "log", "timeStart", "timeEnd",
+        "executeControl", "executeInterval", "writeControl", "writeInterval",
+        "region", "writePrecision", "writeToFile", "useUserTime",
+        "updateHeader"
+    };
+    for (const entry& e : dict)
+    {
+        if (!generic.found(e.keyword()) && !own.found(e.keyword()))
+        {
+            FatalIOErrorInFunction(dict)
+                << "Unknown keyword '" << e.keyword() << "' in function object"
+                << " dictionary " << dict.name() << nl
+                << "    Allowed keywords: " << flatOutput(own)
+                << " and the generic " << flatOutput(generic) << nl
+                << "    Fix: correct the spelling or remove the entry."
+                << exit(FatalIOError);
+        }
+    }
+}
+
+
+Foam::tmp<Foam::volScalarField> Foam::freeSurfaceTools::lookupOrRead
+(
+    const fvMesh& mesh,
+    const word& name
+)
+{
+    const volScalarField* fp = mesh.findObject<volScalarField>(name);
+    if (fp)
+    {
+        return tmp<volScalarField>(*fp);
+    }
+    IOobject io
+    (
+        name,
+        mesh.time().timeName(),
+        mesh,
+        IOobject::MUST_READ,
+        IOobject::NO_WRITE,
+        false
+    );
+    if (!io.typeHeaderOk<volScalarField>(true))
+    {
+        FatalErrorInFunction
+            << "Field " << name << " is neither registered nor readable at"
+            << " time " << mesh.time().timeName() << nl
+            << "    Fix: check the field name (keyword 'alpha')."
+            << exit(FatalError);
+    }
+    return tmp<volScalarField>::New(io, mesh);
+}
+
+
+Foam::vector Foam::freeSurfaceTools::getDirection
+(
+    const dictionary& dict,
+    const word& key,
+    const vector& deflt
+)
+{
+    const vector d = dict.getOrDefault<vector>(key, deflt);
+    if (mag(d) < SMALL)
+    {
+        FatalIOErrorInFunction(dict)
+            << key << " " << d << " in " << dict.name() << " is a zero vector."
+            << " Fix: give a direction, e.g. (0 1 0)." << exit(FatalIOError);
+    }
+    return d/mag(d);
+}

@@ -1,0 +1,175 @@
+"""Grain-only gate (grainProperties `gates`, src/grainCloud) and the
+granularCollapse tutorial (tutorials/vansInterFoam/granularCollapse, thesis
+section 5.2).
+
+References:
+- Gate kinematics: the gate wall moves with its prescribed velocity over
+  [startTime, endTime]: displacement = velocity (min(t, endTime) -
+  startTime) exactly (to round-off, 1e-12 m), also when startTime is not on
+  a time step (the velocity is weighted by the part of the step inside the
+  window).
+- Gate holding a column (static check): no grain crosses the gate plane
+  beyond the contact overlap tolerance (1e-6 d) while the gate is closed and
+  the grains come to rest; after the lift the column collapses through the
+  opening (grains beyond the gate).
+- Regimes: Sarlin et al. (2021, JFM 919 R6), quoted in thesis section 5.2:
+  Fr_f < 0.35 nonlinear transition, 0.35-0.87 solitary, > 0.87 bore; the
+  three tutorial configurations (reduced: 20 mm cells, 0.5 m basin) must
+  land in their regimes, with Fr_f = v_f / sqrt(g h0) from the granularFront
+  function object.
+"""
+import json
+import math
+import os
+import re
+
+import numpy as np
+import pytest
+
+import nscdpost
+from foamcase import make_box_case, run, tutorial_modules
+
+G = 9.81
+D = 0.009
+GATE = 0.05
+
+
+def gate_case(tmp_path, gates):
+    grains = [(0.0055 + 0.0097 * i + (0.0024 if j % 2 else 0), 0.0047 + 0.0095 * j, 0, D)
+              for j in range(6) for i in range(5 if j % 2 == 0 else 4)]
+    case = str(tmp_path / "gate")
+    make_box_case(case, (0, 0, 0), (0.2, 0.1, 0.01), (8, 4, 1), (0, -G, 0),
+                  {"glass": {"density": 2500, "friction": 0.5}}, grains=grains,
+                  end_time=0.4, dt=1e-3, write_interval=0.05,
+                  extra_props="gates {\n" + gates + "\n}\n")
+    return case
+
+
+def test_gate_holds_then_lifts_exactly(tmp_path, env):
+    t0, t1, v = 0.2005, 0.2705, 1.0      # start not on a step (dt = 1e-3)
+    case = gate_case(tmp_path, f"gate {{ start ({GATE} 0 0); end ({GATE} 0.1 0); "
+                               f"velocity (0 {v} 0); startTime {t0}; endTime {t1}; }}")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    p = run("grainFoam", case, env)
+    assert "1 gates" in p.stdout
+    # held: nothing beyond the gate, at rest before the lift
+    for t in ("0.05", "0.1", "0.15", "0.2"):
+        g = nscdpost.read_grains(case, t)
+        assert np.max(g["x"][:, 0] + g["d"] / 2) < GATE + 1e-6 * D, t
+    # the column behind the gate is static (a free disc may still roll on
+    # top of the pile: rolling discs without rolling resistance never stop)
+    g = nscdpost.read_grains(case, "0.2")
+    speed = np.linalg.norm(g["U"], axis=1)
+    assert np.mean(speed < 1e-4) > 0.9 and speed.max() < 0.1, speed
+    # kinematics: displacement after every step
+    steps = re.findall(r"^Time = (\S+)\ngate gate displacement \((\S+) (\S+) (\S+)\)",
+                       p.stdout, re.M)
+    assert len(steps) == 400
+    for t, dx, dy, dz in steps:
+        t = float(t)
+        expected = v * min(max(t - t0, 0.0), t1 - t0)
+        assert abs(float(dy) - expected) < 1e-12 and float(dx) == 0 and float(dz) == 0, t
+    # released: the column collapses through the opening
+    g = nscdpost.read_grains(case, "0.4")
+    assert np.max(g["x"][:, 0]) > GATE + 2 * D
+
+
+def test_gate_state_restart(tmp_path, env):
+    """The gate's displacement is part of the state: a restart from a time
+    after the lift continues from the moved gate (no second gate added)."""
+    case = gate_case(tmp_path, f"gate {{ start ({GATE} 0 0); end ({GATE} 0.1 0); "
+                               "velocity (0 1 0); startTime 0.05; endTime 0.1; }")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    cd = os.path.join(case, "system", "controlDict")
+    txt = open(cd).read()
+    open(cd, "w").write(txt.replace("endTime 0.4;", "endTime 0.1;"))
+    run("grainFoam", case, env)
+    open(cd, "w").write(txt.replace("endTime 0.4;", "endTime 0.12;"))
+    p = run("grainFoam", case, env)
+    last = re.findall(r"gate gate displacement \((\S+) (\S+) (\S+)\)", p.stdout)[-1]
+    assert float(last[1]) == pytest.approx(0.05, abs=1e-12)
+
+
+@pytest.mark.parametrize("gates,key", [
+    ("gate { start (0.05 0 0); end (0.05 0.1 0); velocity (0 1 0); startTme 0; }", "startTme"),
+    ("gate { start (0.05 0 0); end (0.05 0 0); velocity (0 1 0); }", "coincide"),
+    ("gate { start (0.05 0 0); end (0.05 0.1 0); velocity (0 1 1); }", "z component"),
+])
+def test_gate_keyword_checks(tmp_path, env, gates, key):
+    case = gate_case(tmp_path, gates)
+    run("blockMesh", case, env)
+    p = run("grainDeposit", case, env, check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0 and key in out and "grainProperties" in out, out[-1500:]
+
+
+def test_regime_classification():
+    """Bounds of Sarlin et al. (2021) as quoted in thesis section 5.2, and
+    thesis Table 5.1's Fr_f of the three PFEM-DEM runs in their regimes."""
+    _, post = tutorial_modules("vansInterFoam", "granularCollapse")
+    assert post.regime(0.0) == post.regime(0.3499) == "nonlinear_transition"
+    assert post.regime(0.35) == post.regime(0.87) == "solitary"
+    assert post.regime(0.8701) == post.regime(5) == "bore"
+    for config, row in post.TABLE_5_1.items():
+        assert post.regime(row["thesis"]) == post.EXPECTED_REGIME[config]
+        assert post.regime(row["sarlin"]) == post.EXPECTED_REGIME[config]
+    with pytest.raises(ValueError):
+        post.regime(float("nan"))
+    # piston bore: weak limit A -> h0 Fr for Fr -> 0 (linear long wave)
+    a = post.piston_bore_amplitude(0.01 * math.sqrt(G * 0.1), 0.1)
+    assert a == pytest.approx(0.1 * 0.01, rel=0.02)
+
+
+def test_three_regimes(tmp_path, env):
+    """Reduced tutorial (20 mm cells = 4 d, 0.5 m basin, 0.25 s): the three
+    configurations give Fr_f in their three regimes (Sarlin et al. 2021)
+    and a wave (positive elevation at the first gauge)."""
+    setup, post = tutorial_modules("vansInterFoam", "granularCollapse")
+    cases = []
+    for config in ("nonlinearTransition", "solitary", "bore"):
+        case = str(tmp_path / config)
+        setup.setup(case, config, dx=0.02, basin=0.5, end_time=0.25)
+        for app in ("blockMesh", "setFields", "grainDeposit", "vansInterFoam"):
+            run(app, case, env)
+        cases.append(case)
+    post.main.__globals__["sys"].argv = ["postProcess.py", str(tmp_path)] + cases
+    post.main()
+    res = json.load(open(tmp_path / "results.json"))
+    for config, expected in post.EXPECTED_REGIME.items():
+        r = res[config]
+        assert r["regime"] == expected, (config, r["front_froude_number"])
+        assert r["max_wave_amplitude"] > 0, config
+        assert os.path.isfile(tmp_path / f"{config}.png")
+    # the water volume sum(eps alpha V) may only change through the
+    # atmosphere (no overflow here): conserved to 1e-6 relative
+    for case in cases:
+        log = open(os.path.join(case, "log.vansInterFoam")).read()
+        vol = [float(v) for v in re.findall(r"water volume sum\(eps alpha V\) = (\S+) m\^3", log)]
+        assert len(vol) > 10
+        assert max(abs(v - vol[0]) for v in vol) < 1e-6 * vol[0], case
+
+
+def test_gate_3d_rectangle(tmp_path, env):
+    """3D: the gate is the vertical rectangle start-end swept over the mesh
+    depth; a sphere pushed against it by g_x stays behind it (no overlap
+    beyond 1e-6 d) until the lift, then rolls past (x beyond the gate)."""
+    case = str(tmp_path / "gate3d")
+    r = 0.005
+    make_box_case(case, (0, 0, 0), (0.1, 0.05, 0.04), (4, 2, 2), (2.0, -G, 0),
+                  {"glass": {"density": 2500, "friction": 0.5}},
+                  grains=[(0.04, r, 0.02, 2 * r)], end_time=0.3, dt=1e-3,
+                  write_interval=0.1, two_d=False,
+                  extra_props="gates { gate { start (0.05 0 0); end (0.05 0.05 0);"
+                              " velocity (0 1 0); startTime 0.1; endTime 0.2; } }\n")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    p = run("grainFoam", case, env)
+    g = nscdpost.read_grains(case, "0.1")
+    assert g["x"][0, 0] + r < 0.05 + 1e-6 * 2 * r
+    assert g["x"][0, 0] + r > 0.05 - 1e-6            # it reached the gate
+    last = re.findall(r"gate gate displacement \((\S+) (\S+) (\S+)\)", p.stdout)[-1]
+    assert float(last[1]) == pytest.approx(0.1, abs=1e-12)
+    g = nscdpost.read_grains(case, "0.3")
+    assert g["x"][0, 0] > 0.05 + r

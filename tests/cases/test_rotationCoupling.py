@@ -1,0 +1,202 @@
+"""vansFoam rotation coupling (couplingProperties rotationCoupling yes;
+issue 7, resolved regime): the Brinkman penalisation of the semi-implicit
+drag imposes v_p + omega_p x (x_c - x_p) in the cells a grain covers, and
+the fluid torque T_p = sum_c (x_c - x_p) x f_pc of the same
+overlap-distributed force is handed to NSCD as an external torque.
+
+- A fixed disc (R = 5 mm, 16 cells per diameter) spinning at omega in a
+  quiescent viscous fluid at Re = omega R d/nu = 0.005, 2D, in a square box
+  of side L = 5 d: the steady torque per unit length against the Stokes
+  rotlet T = -4 pi mu R^2 omega (Lamb 1932, art. 334; unbounded) corrected
+  for a concentric circular wall of radius R_b, T = -4 pi mu omega R^2
+  R_b^2/(R_b^2 - R^2) (Couette flow between cylinders), with R_b between
+  the inscribed (L/2) and circumscribed (L/sqrt 2) radii of the box (the
+  correction is 1.4-2.9 %); tolerance 10 % (diffuse interface: the
+  penalised region's effective radius is R +- dx/2, i.e. +-6 % on R^2).
+  The azimuthal fluid velocity at r = 1.5 R and 2 R (cell centres on the
+  axes) against omega R^2/r, bounded by the same two Couette profiles,
+  within 10 %.
+- A free disc, rho_s/rho_f = 1.01, 16 cells per diameter, released
+  spinning in a closed box without gravity: at every step the drag
+  angular-momentum rate lost by the fluid (from the fields K, K v**_0, K_p
+  and U, about the origin) equals that gained by the grain (x_p x F_p + T_p)
+  to round-off (1e-9 relative): Newton's third law for the torque; the spin
+  decays monotonically over the first 0.04 s.  Known defects, marked
+  xfail(strict): the spinning disc's outer velocity profile (pressure
+  undetermined inside the penalised disc) and the long-time stability of
+  the free disc (translation blow-up after 0.04 s).
+"""
+import math
+import os
+import re
+import struct
+import subprocess
+
+import numpy as np
+import pytest
+
+import nscdpost
+from foamcase import add_fluid, make_box_case, run
+
+
+def set_angular_velocity(case, omega_z, time="0"):
+    """Overwrite the z angular velocity of every grain in
+    <case>/<time>/grainState.h5 (contiguous float64 dataset; located with
+    h5dump, no h5py here)."""
+    path = os.path.join(case, time, "grainState.h5")
+    hdr = subprocess.run(["h5dump", "-p", "-H", "-d", "/angularVelocities", path],
+                         capture_output=True, text=True, check=True).stdout
+    assert "CONTIGUOUS" in hdr
+    off = int(re.search(r"OFFSET (\d+)", hdr).group(1))
+    n = int(re.search(r"SIMPLE \{ \( (\d+), 3 \)", hdr).group(1))
+    with open(path, "r+b") as f:
+        for i in range(n):
+            f.seek(off + 24 * i + 16)
+            f.write(struct.pack("<d", omega_z))
+    out = subprocess.run(["h5dump", "-d", "/angularVelocities", path],
+                         capture_output=True, text=True, check=True).stdout
+    assert f"{omega_z:g}" in out.replace("e+00", "")
+
+
+def disc_case(case, env, rho_s, fixed, omega, end, dt, L, d, cells, nu, write_interval=None,
+              eps_min=None):
+    make_box_case(case, (0, 0, 0), (L, L, L / cells), (cells, cells, 1), (0, 0, 0),
+                  {"disc": {"density": rho_s, "friction": 0.3}},
+                  grains=[(L / 2, L / 2, 0, d)], end_time=end, dt=dt,
+                  write_interval=write_interval or end)
+    if fixed:
+        open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
+    add_fluid(case, 1000.0, nu, max_dt=dt, max_co=0.5, n_correctors=2,
+              extra_coupling="rotationCoupling yes;\n")
+    if eps_min is not None:
+        cp = os.path.join(case, "constant", "couplingProperties")
+        txt = open(cp).read()
+        assert "epsMin 1e-8;" in txt
+        open(cp, "w").write(txt.replace("epsMin 1e-8;", f"epsMin {eps_min};"))
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    set_angular_velocity(case, omega)
+
+
+def couette_torque(mu, omega, R, Rb):
+    return -4 * math.pi * mu * omega * R**2 * Rb**2 / (Rb**2 - R**2)
+
+
+def couette_u(omega, R, Rb, r):
+    return omega * R**2 / (Rb**2 - R**2) * (Rb**2 / r - r)
+
+
+def spinning_disc(tmp_path, env):
+    """The fixed spinning disc case, run once per session directory."""
+    R, omega, mu = 0.005, 1.0, 10.0
+    d = 2 * R
+    L, cells = 5 * d, 80                    # 16 cells per diameter
+    case = str(tmp_path / "spin")
+    # viscous time (L/2)^2/nu = 0.0625 s: steady after 0.4 s
+    disc_case(case, env, 1010.0, True, omega, end=0.4, dt=0.05, L=L, d=d, cells=cells,
+              nu=mu / 1000)
+    p = run("vansFoam", case, env)
+    return case, p.stdout, R, omega, mu, L, cells
+
+
+@pytest.fixture(scope="module")
+def spin(tmp_path_factory, env):
+    return spinning_disc(tmp_path_factory.mktemp("rotation"), env)
+
+
+def test_spinning_fixed_disc_torque(spin):
+    case, out, R, omega, mu, L, cells = spin
+    assert "rotation coupling on" in out
+    assert "mean grain Reynolds number" in out
+    # the instantaneous torque fluctuates by ~15 % step to step (pressure
+    # noise inside the penalised disc, see the velocity test): mean of the
+    # last 20 steps (measured -3.36e-3 N m/m, +3 to +5 % of Couette)
+    tq = [float(v) for v in re.findall(r"max \|fluid torque\| (\S+),", out)]
+    assert len(tq) > 40
+    T = -float(np.mean(tq[-20:]))
+    Tlast = nscdpost.read_vector_field(
+        os.path.join(case, "0.4", "lagrangian", "grains", "Tfluid"))[0][2]
+    assert Tlast < 0 and abs(Tlast) == pytest.approx(tq[-1], rel=1e-12)
+    # 2D: the torque is per unit depth, as the analytical one per unit length
+    lo = couette_torque(mu, omega, R, L / 2)
+    hi = couette_torque(mu, omega, R, L / math.sqrt(2))
+    print("torque", T, "Couette", lo, hi, "rotlet", -4 * math.pi * mu * R**2 * omega)
+    assert min(lo, hi) * 1.10 <= T <= max(lo, hi) * 0.90, (T, lo, hi)
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "known defect (resolved regime): the pressure inside the penalised disc "
+    "(eps = epsMin, rAU ~ 1/K -> 0) is undetermined (|p| ~ 1e5 inside vs 10 "
+    "outside) and its gradient in the rim cells drives a tangential jet "
+    "(u = 1.85 omega R at r = 1.06 R); pEqn needs a regularised pressure "
+    "inside resolved grains"))
+def test_spinning_fixed_disc_velocity(spin):
+    case, out, R, omega, mu, L, cells = spin
+    # azimuthal velocity on the x axis through the centre, r ~ 1.5 R, 2 R
+    U = nscdpost.read_vector_field(os.path.join(case, "0.4", "U"))
+    dx = L / cells
+    j = cells // 2                         # rows j - 1, j straddle the axis
+    for r in (1.5 * R, 2 * R):
+        i = int((L / 2 + r) / dx)
+        uy = 0.5 * (U[j * cells + i][1] + U[(j - 1) * cells + i][1])
+        rc = math.hypot((i + 0.5) * dx - L / 2, 0.5 * dx)
+        uy *= rc / ((i + 0.5) * dx - L / 2)          # azimuthal component
+        ua, ub = couette_u(omega, R, L / 2, rc), couette_u(omega, R, L / math.sqrt(2), rc)
+        print("r/R", rc / R, "u", uy, "Couette", ua, ub, "rotlet", omega * R**2 / rc)
+        assert min(ua, ub) * 0.90 <= uy <= max(ua, ub) * 1.10, (rc, uy, ua, ub)
+
+
+@pytest.fixture(scope="module")
+def spin_down(tmp_path_factory, env):
+    """A free disc, rho_s/rho_f = 1.01, released spinning at 2 rad/s."""
+    R, omega = 0.005, 2.0
+    d = 2 * R
+    L, cells = 3 * d, 48                    # 16 cells per diameter
+    case = str(tmp_path_factory.mktemp("spinDown") / "spinDown")
+    # spin-down time I/(4 pi mu R^2) = rho_s R^2/(8 mu) = 3 ms ~ dt: stiff
+    disc_case(case, env, 1010.0, False, omega, end=0.05, dt=0.02, L=L, d=d, cells=cells,
+              nu=1e-3, write_interval=0.01)
+    p = run("vansFoam", case, env)
+    return case, p.stdout, omega
+
+
+def test_free_disc_newton_third_law(spin_down):
+    """At every step the drag angular-momentum rate lost by the fluid equals
+    that gained by the grain, to round-off (1e-9 of the largest)."""
+    case, out, omega = spin_down
+    lost = [float(v) for v in re.findall(r"lost by the fluid (\S+) gained", out)]
+    gained = [float(v) for v in re.findall(r"gained by the grains (\S+)", out)]
+    assert len(lost) == len(gained) > 5
+    scale = max(abs(v) for v in lost)
+    assert scale > 0
+    for a, b in zip(lost, gained):
+        assert abs(a - b) <= 1e-9 * scale, (a, b)
+
+
+def grain_series(case, name, n):
+    return [nscdpost.read_vector_field(
+        os.path.join(case, f"{0.01 * k:g}", "lagrangian", "grains", name))[0]
+        for k in range(1, n + 1)]
+
+
+def test_free_disc_spin_down_decays(spin_down):
+    """The first 0.04 s: the spin decays monotonically, never changes sign
+    (measured 2 -> 0.44 -> 0.15 -> 0.068 -> 0.035 rad/s)."""
+    case, out, omega = spin_down
+    w = [omega] + [v[2] for v in grain_series(case, "omega", 4)]
+    print("omega", w)
+    assert all(0 < b < a for a, b in zip(w, w[1:])), w
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "known defect: explicit rotation coupling at rho_s/rho_f = 1.01, 16 cells "
+    "per diameter: the grain starts translating diagonally (Cartesian-grid "
+    "asymmetry of the rotating penalisation) and the translation blows up "
+    "between 0.03 and 0.05 s (|v| 1e-3 -> 0.17 -> 1.8e2 m/s); without "
+    "rotationCoupling the disc stays at rest"))
+def test_free_disc_stable(spin_down):
+    case, out, omega = spin_down
+    v = grain_series(case, "U", 5)
+    w = [x[2] for x in grain_series(case, "omega", 5)]
+    assert max(np.linalg.norm(x) for x in v) < 0.01 * omega * 0.005, v
+    assert all(abs(x) < omega for x in w), w

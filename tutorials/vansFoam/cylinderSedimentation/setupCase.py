@@ -1,0 +1,157 @@
+#!/usr/bin/env python3
+"""Resolved-regime cases of vansFoam (thesis sections 3.3.3-3.3.4): one or a
+few discs spanning many cells in a 2D box of water-like fluid.  The grains
+are NSCD discs; in the cells they cover eps -> epsMin and the semi-implicit
+drag (eq. 3.46-3.50) penalises the fluid towards the grain velocity.
+
+write_case() writes a complete case (blockMesh, fields, dictionaries,
+grainDepositDict); it is also used by ../draftingKissingTumbling and by
+tests/cases/test_resolvedRegime.py (reduced copies).
+
+usage (the tutorial): setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [HEIGHT] [ROTATION yes|no] [MAXDT]
+  MAXDT: maxDeltaT [s], default 1e-3: at D/h = 15 maxDeltaT 2.5e-3 and 5e-3
+  give a spurious upward kick of the grain within 0.1 s (measured), 1e-3 is smooth.
+  Namkoong et al. (2008), thesis 3.3.3: D = 5 mm, rho_s/rho_f = 1.01,
+  rho_f = 996 kg/m^3, nu = 8e-7 m^2/s, box [-0.02, 0.02] x [-0.16, 0.16] m,
+  15 cells per diameter (uniform mesh: 120 x 960 cells).
+"""
+import os
+import sys
+
+HEADER = "FoamFile { version 2.0; format ascii; class %s; object %s; }\n"
+
+# Namkoong, Yoo & Choi (2008), J. Comput. Phys. 227:2151 (thesis ref. [101])
+D = 5e-3            # [m]
+RHO_F = 996.0       # [kg/m^3]
+RHO_S = 1.01 * RHO_F
+NU = 8e-7           # [m^2/s]
+UT_REF = 0.02501    # [m/s] terminal velocity (thesis 3.3.3, Re = 156)
+WIDTH = 0.04        # [m] x in [-0.02, 0.02]
+HEIGHT = 0.32       # [m] y in [-0.16, 0.16]
+
+
+def _write(path, cls, obj, body):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(HEADER % (cls, obj))
+        f.write(body)
+
+
+def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81, 0),
+               end_time=1.0, write_interval=0.05, max_co=0.5, max_dt=5e-3,
+               fixed=False, inflow=None, n_correctors=2, n_outer=1, rotation=False):
+    """Write a 2D vansFoam case.
+
+    lo, hi: (x, y) corners of the box [m]; cells: (nx, ny); the mesh is one
+    cell thick in z (depth = hi[0]-lo[0] / nx, `frontAndBack` empty).
+    grains: list of (x, y, d) [m] discs of density rho_s [kg/m^3];
+    fixed: all grains fixed (grainDeposit `fixed yes`).
+    rotation: couplingProperties `rotationCoupling yes` (grain rotation
+    imposed in the penalised cells, fluid torque on the grain).
+    inflow: None (closed box, no-slip `walls`) or U0 [m/s]: a uniform flow in
+    +x, fixedValue U0 at the `inlet` (x = lo), p = 0 at the `outlet`
+    (x = hi) and walls y = lo, hi moving at U0 (the frame of a disc
+    translating at -U0 between fixed plane walls, Faxen's problem).
+    """
+    (x0, y0), (x1, y1) = lo, hi
+    nx, ny = cells
+    dz = (x1 - x0) / nx
+    v = [(x0, y0, 0), (x1, y0, 0), (x1, y1, 0), (x0, y1, 0),
+         (x0, y0, dz), (x1, y0, dz), (x1, y1, dz), (x0, y1, dz)]
+    if inflow is None:
+        bnd = "walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1) (3 7 6 2)); }\n"
+        uB = "walls { type noSlip; }"
+        pB = "walls { type fixedFluxPressure; value uniform 0; }"
+        pref = "pRefCell 0; pRefValue 0;"
+    else:
+        bnd = ("inlet { type patch; faces ((0 4 7 3)); }\n"
+               "outlet { type patch; faces ((2 6 5 1)); }\n"
+               "walls { type wall; faces ((1 5 4 0) (3 7 6 2)); }\n")
+        uB = (f"inlet {{ type fixedValue; value uniform ({inflow} 0 0); }}\n"
+              "    outlet { type zeroGradient; }\n"
+              f"    walls {{ type fixedValue; value uniform ({inflow} 0 0); }}")
+        pB = ("inlet { type zeroGradient; }\n    outlet { type fixedValue; value uniform 0; }\n"
+              "    walls { type zeroGradient; }")
+        pref = ""
+    vs = " ".join("(%.12g %.12g %.12g)" % p for p in v)
+    _write(os.path.join(case, "system", "blockMeshDict"), "dictionary", "blockMeshDict",
+           f"scale 1;\nvertices ({vs});\n"
+           f"blocks ( hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1) );\n"
+           f"boundary (\n{bnd}frontAndBack {{ type empty; faces ((0 3 2 1) (4 5 6 7)); }}\n);\n")
+    u0 = f"({inflow} 0 0)" if inflow is not None else "(0 0 0)"
+    _write(os.path.join(case, "0", "U"), "volVectorField", "U",
+           f"dimensions [0 1 -1 0 0 0 0];\ninternalField uniform {u0};\n"
+           f"boundaryField\n{{\n    {uB}\n    frontAndBack {{ type empty; }}\n}}\n")
+    _write(os.path.join(case, "0", "p"), "volScalarField", "p",
+           "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+           f"boundaryField\n{{\n    {pB}\n    frontAndBack {{ type empty; }}\n}}\n")
+    _write(os.path.join(case, "constant", "g"), "uniformDimensionedVectorField", "g",
+           "dimensions [0 1 -2 0 0 0 0];\nvalue (%.12g %.12g %.12g);\n" % tuple(gravity))
+    _write(os.path.join(case, "constant", "transportProperties"), "dictionary",
+           "transportProperties", f"rho {rho_f!r};   // [kg/m^3]\nnu {nu!r};   // [m^2/s]\n")
+    _write(os.path.join(case, "constant", "couplingProperties"), "dictionary",
+           "couplingProperties",
+           "// resolved regime: eps -> epsMin inside the grains, the semi-implicit\n"
+           "// drag (eq. 3.46-3.50) acts as a volume penalisation (thesis 3.3.3)\n"
+           "dragModel DallavalleDiFelice;\nforceModel A;\n"
+           "voidFraction { method overlap; epsMin 1e-8; }\n"
+           + ("rotationCoupling yes;\n" if rotation else ""))
+    _write(os.path.join(case, "constant", "grainProperties"), "dictionary", "grainProperties",
+           f"materials {{ solid {{ density {rho_s!r}; friction 0; }} }}\n"
+           "maxDisplacementFraction 0.1;\n"
+           "contactSolver { tolerance 1e-6; maxIterations 1000; overlapTolerance 1e-2; }\n")
+    lines = "\n".join("(%.12g %.12g 0 %.12g)" % g for g in grains)
+    _write(os.path.join(case, "system", "grainDepositDict"), "dictionary", "grainDepositDict",
+           f"material solid;\nmethod list;\nfixed {'yes' if fixed else 'no'};\n"
+           f"grains\n(\n{lines}\n);\n")
+    _write(os.path.join(case, "system", "controlDict"), "dictionary", "controlDict",
+           "application vansFoam;\nstartFrom latestTime;\nstartTime 0;\nstopAt endTime;\n"
+           f"endTime {end_time};\ndeltaT {min(max_dt, 1e-3)};\nadjustTimeStep yes;\n"
+           f"maxCo {max_co};\nmaxDeltaT {max_dt};\nwriteControl adjustableRunTime;\n"
+           f"writeInterval {write_interval};\nwriteFormat ascii;\nwritePrecision 10;\n"
+           "timeFormat general;\ntimePrecision 8;\nrunTimeModifiable false;\n")
+    _write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
+           "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
+           "divSchemes { default none; div(phi,U) Gauss limitedLinearV 1; }\n"
+           "laplacianSchemes { default Gauss linear corrected; }\n"
+           "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n")
+    _write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution",
+           "solvers\n{\n"
+           "    p { solver GAMG; smoother DIC; tolerance 1e-9; relTol 0.01; }\n"
+           "    pFinal { $p; relTol 0; }\n"
+           "    \"(U|UFinal)\" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-9; relTol 0; }\n"
+           "}\n"
+           f"PIMPLE {{ momentumPredictor yes; nOuterCorrectors {n_outer}; nCorrectors {n_correctors};\n"
+           f"    nNonOrthogonalCorrectors 0; {pref} }}\n")
+
+
+def cylinder_case(case, end_time=4.0, cells_per_d=15, height=HEIGHT, write_interval=0.02,
+                  max_co=0.5, max_dt=5e-3, y0=None, x0=None, rotation=False):
+    """The falling cylinder of thesis 3.3.3 (Namkoong et al. 2008), box
+    [-0.02, 0.02] x [-height/2, height/2]; released from rest at
+    (x0, y0) (default: x0 = D/100, an offset that seeds the symmetry
+    breaking of the wake, y0 = height/2 - 4 D)."""
+    h = D / cells_per_d
+    nx, ny = round(WIDTH / h), round(height / h)
+    x0 = D / 100 if x0 is None else x0
+    y0 = height / 2 - 4 * D if y0 is None else y0
+    write_case(case, (-WIDTH / 2, -height / 2), (WIDTH / 2, height / 2), (nx, ny),
+               [(x0, y0, D)], RHO_S, RHO_F, NU, end_time=end_time,
+               write_interval=write_interval, max_co=max_co, max_dt=max_dt,
+               rotation=rotation)
+    return nx * ny
+
+
+def main():
+    case = sys.argv[1]
+    end = float(sys.argv[2]) if len(sys.argv) > 2 else 4.0
+    cpd = float(sys.argv[3]) if len(sys.argv) > 3 else 15
+    height = float(sys.argv[4]) if len(sys.argv) > 4 else HEIGHT
+    rot = len(sys.argv) > 5 and sys.argv[5] in ("yes", "on", "true", "1")
+    max_dt = float(sys.argv[6]) if len(sys.argv) > 6 else 1e-3
+    n = cylinder_case(case, end, cpd, height, write_interval=0.05, rotation=rot, max_dt=max_dt)
+    print(f"{case}: {n} cells, D/h = {cpd:g}, endTime {end:g} s, maxDeltaT {max_dt:g} s")
+
+
+if __name__ == "__main__":
+    main()

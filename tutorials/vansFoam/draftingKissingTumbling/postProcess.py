@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""Drafting-kissing-tumbling post-processing: results.json and positions.png.
+
+usage: postProcess.py CASEDIR
+
+x1, y1 (upper disc at t = 0) and x2, y2 (lower disc) [m] at the write times;
+kissing_time [s]: the first time the gap between the discs, |x1 - x2| - D,
+is below one cell size h (the contact resolution of the penalised fluid;
+NSCD contacts are hard, so the gap can reach 0); tumbling_time: the first
+later time the upper disc is below the lower one (y1 < y2).  None when it
+does not happen within the run.
+"""
+import os
+import sys
+
+import numpy as np
+
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, here)
+sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
+import importlib.util  # noqa: E402
+
+
+def _load(name, path):
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+# by path: both tutorials have a setupCase.py / postProcess.py
+setupCase = _load("draftingKissingTumbling_setupCase", os.path.join(here, "setupCase.py"))
+grain_history = _load(
+    "cylinderSedimentation_postProcess",
+    os.path.join(here, "..", "cylinderSedimentation", "postProcess.py")).grain_history
+
+
+def cell_size(case):
+    txt = open(os.path.join(case, "system", "blockMeshDict")).read()
+    nx = int(txt.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[0])
+    return setupCase.W / nx
+
+
+def dkt_measure(t, x, D, h):
+    """Kissing and tumbling times [s] (None if absent) of two discs with
+    centres x[2, nt, 3]."""
+    gap = np.linalg.norm(x[0] - x[1], axis=1) - D
+    k = np.nonzero(gap < h)[0]
+    kiss = float(t[k[0]]) if k.size else None
+    tumble = None
+    if kiss is not None:
+        j = np.nonzero((t > kiss) & (x[0, :, 1] < x[1, :, 1]))[0]
+        tumble = float(t[j[0]]) if j.size else None
+    return kiss, tumble, gap
+
+
+def main():
+    case = sys.argv[1] if len(sys.argv) > 1 else "case"
+    t, x, u = grain_history(case)
+    h = cell_size(case)
+    kiss, tumble, gap = dkt_measure(t, x, setupCase.D, h)
+    res = {"time": t.tolist(), "x1": x[0, :, 0].tolist(), "y1": x[0, :, 1].tolist(),
+           "x2": x[1, :, 0].tolist(), "y2": x[1, :, 1].tolist(), "gap": gap.tolist(),
+           "kissing_time": kiss, "tumbling_time": tumble, "cell_size": h,
+           "cells_per_diameter": setupCase.D / h,
+           "rotation_coupling": "rotationCoupling yes" in open(
+               os.path.join(case, "constant", "couplingProperties")).read()}
+    import nscdpost
+    nscdpost.write_json("results.json", res)
+    print(f"kissing at t = {kiss} s, tumbling (y1 < y2) at t = {tumble} s, min gap {gap.min():.2e} m")
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(1, 2, figsize=(9, 4))
+        ax[0].plot(t, 100 * x[0, :, 0], "C0", label="disc 1 (upper at t = 0)")
+        ax[0].plot(t, 100 * x[1, :, 0], "C3", label="disc 2")
+        ax[0].set_ylabel("x [cm]")
+        ax[1].plot(t, 100 * x[0, :, 1], "C0", label="disc 1")
+        ax[1].plot(t, 100 * x[1, :, 1], "C3", label="disc 2")
+        ax[1].set_ylabel("y [cm]")
+        for a in ax:
+            if kiss is not None:
+                a.axvline(kiss, color="k", ls="--", lw=0.8, label="kissing (gap < h)")
+            a.set_xlabel("t [s]")
+            a.grid(alpha=0.3)
+            a.legend(fontsize=8)
+        fig.suptitle("DKT, vansFoam (thesis 3.3.4; compare Glowinski et al. 2001, Fig. DKT)")
+        fig.tight_layout()
+        fig.savefig("positions.png", dpi=120)
+    except ImportError:
+        print("matplotlib missing: no positions.png")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,253 @@
+#!/usr/bin/env python3
+"""lituyaBay post-processing: gauge elevation, run-up, slide front Froude
+number, water volume and energy checks; results.json, gauge.png, runup.png.
+
+usage: postProcess.py CASEDIR
+
+- Gauge (x = 885 m from the initial left shore, as the wave gauge of Fritz et
+  al. 2001 at prototype scale): free-surface elevation eta(t) = int alpha dy - H
+  along the vertical x = 885 m, alpha.water sampled by the `sets` function
+  object `gauge` (cellPoint, 0.5 m spacing) every 0.1 s (reduced: 0.2 s).
+- Run-up on the right shore R(t): the highest cell centre with alpha.water
+  >= 0.5 beyond the right toe (x > L - H); resolution +-h/2 of the local cell
+  size (4 m full, 25 m reduced).  max_runup = max_t R, from engineer B's
+  `runUp` function object (every step) when it ran, else from the written
+  fields (write times; both are in results.json, and agree at write times).
+- Engineer B's `waveGauges` and `granularFront` also run; their values are
+  recorded (`waveGauges_eta_*`, `granularFront_froude_number`) but not used:
+  on this unstructured gmsh mesh `waveGauges` (probably summing alpha dy over cells whose
+  x-extents hold x = 885 m, whose y-extents overlap) gives eta = 68 m at t = 0 in
+  the reduced copy instead of 0, and `granularFront`'s front jumps when a
+  large grain enters the band at y = 0 (v_f = 167 m/s, Fr = 4.8, against a
+  grain speed of ~51 m/s there).
+- Slide front: the 10 % lowest grains; the front enters the water when the
+  lowest grain centre crosses y = 0; v_f = mean speed of the front grains at
+  the write time just before that crossing (and just after, the larger of the
+  two), Fr_f = v_f / sqrt(g H) (thesis section 5.3.1: 110 m/s, Fr = 3.18;
+  bore regime Fr_f > 0.87, Sarlin et al., thesis section 5.2).
+- Water volume sum(eps alpha V) from the solver log (every step); the water
+  balance adds the volume that left with spray through the atmosphere
+  (`atmosphereFlux`): sum(eps alpha V) + outflow = const to round-off.
+- Energy bound (conservation of energy, dissipation >= 0, air's share
+  neglected, 2 % margin): the rise of the water's centre of mass satisfies
+  dz_w(t) <= dE_slide(t) / (m_w g), dE_slide the potential energy lost by the
+  grains up to t, m_w the water mass.  The run-up bound of the issue is the
+  same ratio with the slide's whole drop down to the bay bottom,
+  R_E = m_s g (z_s0 + H) / (m_w g)  (order-of-magnitude ceiling; a thin film
+  can in principle exceed it, the centre-of-mass check cannot).
+
+References plotted: the thesis' stated numbers (section 5.3): ~60 m initial
+wave, 524 m historical run-up, 500-750 m for the thesis' 2D PFEM run.  The
+digitised gauge record of Fritz et al. (2001, 2009) (thesis Fig. 5.12) was not
+available to us: it is not plotted.
+"""
+import json
+import math
+import os
+import re
+import sys
+
+import numpy as np
+
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(os.environ.get(
+    "NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
+import nscdpost  # noqa: E402
+
+G = 9.81
+RHO_W = 1000.0
+WAVE_REF = 60.0                  # [m] initial wave height, thesis section 5.3
+RUNUP_HISTORICAL = 524.0         # [m] Miller (1960), thesis section 5.3
+RUNUP_THESIS = (500.0, 750.0)    # [m] thesis section 5.3.2, Fig. 5.11
+
+
+def water_volumes(log_text):
+    """(n,) sum(eps alpha V) [m^3] of every step of a vansInterFoam log."""
+    return np.array([float(v) for v in
+                     re.findall(r"water volume sum\(eps alpha V\) = (\S+)", log_text)])
+
+
+def atmosphere_outflow(case):
+    """(n,) cumulative water volume [m^3] that left through the atmosphere
+    after each step: sum_n F_n dt_n, F_n the `atmosphereFlux` function object's
+    sum of alphaPhi0.water over the patch (m^3/s, outflow > 0)."""
+    d = np.loadtxt(os.path.join(case, "postProcessing", "atmosphereFlux", "0",
+                                "surfaceFieldValue.dat"), comments="#", ndmin=2)
+    dt = np.diff(np.concatenate([[0.0], d[:, 0]]))
+    return np.cumsum(d[:, 1] * dt)
+
+
+def gauge_history(case, H):
+    """(t, eta) [s, m]: eta = int alpha dy - H on the gauge line of the `gauge`
+    sets function object (postProcessing/gauge/<time>/x885_alpha.water.xy,
+    from the bay bottom y = -H upwards)."""
+    root = os.path.join(case, "postProcessing", "gauge")
+    t, eta = [], []
+    for name in sorted(os.listdir(root), key=float):
+        path = os.path.join(root, name, "x885_alpha.water.xy")
+        if not os.path.isfile(path):
+            continue
+        y, alpha = np.loadtxt(path, unpack=True)
+        t.append(float(name))
+        eta.append(float(np.trapezoid(np.clip(alpha, 0, 1), y)) - H)
+    return np.array(t), np.array(eta)
+
+
+def field(case, tname, name, n):
+    """Internal scalar field `name` at time tname as an (n,) array."""
+    a = nscdpost.read_internal_field(os.path.join(case, tname, name))
+    return np.full(n, float(a)) if a.ndim == 0 else a
+
+
+def histories(case, p):
+    """Run-up, water centre of mass, slide energy and front at every write time."""
+    C = nscdpost.read_internal_field(os.path.join(case, "0", "C"))
+    V = nscdpost.read_internal_field(os.path.join(case, "0", "V"))
+    n = len(V)
+    L, H = p["bay_length"], p["water_depth"]
+    shore = C[:, 0] > L - H
+    out = {k: [] for k in ("t", "runup", "zw", "mw", "dE", "front_y", "front_v")}
+    g0 = None
+    for t, name in nscdpost.time_dirs(case):
+        alpha = np.clip(field(case, name, "alpha.water", n), 0, 1)
+        epsf = os.path.join(case, name, "voidFraction")
+        eps = field(case, name, "voidFraction", n) if os.path.isfile(epsf) else np.ones(n)
+        w = eps * alpha * V
+        wet = shore & (alpha >= 0.5)
+        out["t"].append(t)
+        out["runup"].append(float(C[wet, 1].max()) if wet.any() else -H)
+        out["mw"].append(RHO_W * float(w.sum()))
+        out["zw"].append(float(np.sum(w * C[:, 1]) / w.sum()))
+        g = nscdpost.read_grains(case, name)
+        m = p["grain_density"] * math.pi / 4 * g["d"]**2 * p["thickness"]
+        if g0 is None:
+            g0 = g
+        out["dE"].append(float(G * np.sum(m * (g0["x"][:, 1] - g["x"][:, 1]))))
+        k = max(1, len(g["d"]) // 10)
+        lead = np.argsort(g["x"][:, 1])[:k]
+        out["front_y"].append(float(g["x"][:, 1].min()))
+        out["front_v"].append(float(np.mean(np.linalg.norm(g["U"][lead], axis=1))))
+    return {k: np.array(v) for k, v in out.items()}
+
+
+def fo_table(case, name):
+    """(n, k) table of a function object's <name>/0/*.dat (first .dat file),
+    or None when the function object did not run."""
+    root = os.path.join(case, "postProcessing", name, "0")
+    if not os.path.isdir(root):
+        return None
+    dats = sorted(f for f in os.listdir(root) if f.endswith(".dat"))
+    return np.loadtxt(os.path.join(root, dats[0]), comments="#", ndmin=2) if dats else None
+
+
+def front_froude(h, H):
+    """(v_f, Fr_f, t_impact): front speed around the water entry."""
+    fy, fv, t = h["front_y"], h["front_v"], h["t"]
+    after = np.nonzero(fy < 0)[0]
+    if len(after) == 0 or after[0] == 0:
+        return float("nan"), float("nan"), float("nan")
+    i = after[0]
+    v = max(fv[i - 1], fv[i])
+    return float(v), float(v / math.sqrt(G * H)), float(t[i])
+
+
+def main():
+    case = sys.argv[1] if len(sys.argv) > 1 else "full"
+    p = json.load(open(os.path.join(case, "caseParameters.json")))
+    H = p["water_depth"]
+    vols = water_volumes(open(os.path.join(case, "log.vansInterFoam")).read())
+    out = atmosphere_outflow(case)
+    if len(out) != len(vols):
+        raise RuntimeError(f"{case}: {len(vols)} steps in the log, {len(out)} in atmosphereFlux")
+    tg, eta = gauge_history(case, H)
+    h = histories(case, p)
+    vf, fr, t_imp = front_froude(h, H)
+    mw = h["mw"][0]
+    dzw = h["zw"] - h["zw"][0]
+    ebound = h["dE"] / (mw * G)
+    runup_bound = p["slide_mass"] * G * (p["slide_centre_height"] + H) / (mw * G)
+    i = int(np.argmax(h["runup"]))
+    # engineer B's function objects (src/freeSurfaceFunctionObjects), when present
+    ru, wg, gf = fo_table(case, "runUp"), fo_table(case, "gauges"), fo_table(case, "front")
+    if ru is not None:
+        runup_t, runup, max_runup = ru[:, 0], ru[:, 1], float(ru[-1, 2])
+        max_runup_time = float(ru[int(np.argmax(ru[:, 1])), 0])
+    else:
+        runup_t, runup = h["t"], h["runup"]
+        max_runup, max_runup_time = float(h["runup"][i]), float(h["t"][i])
+    res = {
+        "mode": p["mode"],
+        "gauge_x": p["gauge_x"],
+        "gauge_time": tg.tolist(),
+        "gauge_elevation": eta.tolist(),
+        "max_gauge_elevation": float(eta.max()),
+        "runup_time": runup_t.tolist(),
+        "runup": runup.tolist(),
+        "max_runup": max_runup,
+        "max_runup_time": max_runup_time,
+        "runup_measured_by": "runUp function object (every step)" if ru is not None
+                             else "postProcess.py (write times)",
+        "max_runup_write_times": float(h["runup"][i]),
+        "waveGauges_eta_initial": float(wg[0, 1]) if wg is not None else None,
+        "waveGauges_eta_max": float(wg[:, 1].max()) if wg is not None else None,
+        "granularFront_froude_number": float(gf[-1, 4]) if gf is not None else None,
+        "runup_energy_bound": float(runup_bound),
+        "front_velocity": vf,
+        "front_froude_number": fr,
+        "front_impact_time": t_imp,
+        "water_volume_relative_change": float(np.max(np.abs(vols - vols[0])) / vols[0]),
+        "water_outflow_atmosphere": float(out[-1]),
+        "water_balance_relative_error": float(np.max(np.abs(vols + out - vols[0])) / vols[0]),
+        "water_com_rise": dzw.tolist(),
+        "water_com_energy_bound": ebound.tolist(),
+        "water_depth": H,
+        "grain_count": p["grain_count"],
+        "grain_mean_radius": p["grain_mean_radius"],
+        "slide_mass_per_metre": p["slide_mass"] / p["thickness"],
+        "cell_size_fine": p["h_fine"],
+        "reference": {
+            "initial_wave_height": WAVE_REF, "runup_historical": RUNUP_HISTORICAL,
+            "runup_thesis_2d": list(RUNUP_THESIS), "front_froude_number_thesis": 3.18,
+            "source": "thesis section 5.3 (Fritz et al. 2001 1:675 model, Miller 1960);"
+                      " gauge record of Fritz et al. not digitised here",
+        },
+    }
+    nscdpost.write_json(os.path.join(case, "results.json"), res)
+    plot(case, res, H)
+    print(f"{case}: max gauge elevation {eta.max():.1f} m, max run-up {res['max_runup']:.1f} m "
+          f"(bound {runup_bound:.0f} m), Fr_f = {fr:.2f} (v_f {vf:.1f} m/s), water volume "
+          f"change {res['water_volume_relative_change']:.2e} (spray out {out[-1]:.3g} m^3), "
+          f"balance error {res['water_balance_relative_error']:.1e}")
+
+
+def plot(case, res, H):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    ts = math.sqrt(G / H)
+    tg, eta = np.array(res["gauge_time"]), np.array(res["gauge_elevation"])
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(tg * ts, eta / H, label=f"vansInterFoam ({res['mode']}, {res['grain_count']} grains)")
+    ax.axhline(WAVE_REF / H, color="k", ls="--",
+               label="~60 m initial wave (thesis 5.3, Fritz et al. 2001)")
+    ax.set_xlabel(r"$t\,\sqrt{g/h_0}$")
+    ax.set_ylabel(r"$\eta/h_0$ at x = 885 m")
+    ax.set_title("Lituya Bay: gauge at 885 m (Fritz et al. record not digitised)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(case, "gauge.png"), dpi=120)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(res["runup_time"], res["runup"], "-", label=f"vansInterFoam run-up, right shore ({res['runup_measured_by']})")
+    ax.axhline(RUNUP_HISTORICAL, color="r", ls="--", label="524 m historical (Miller 1960)")
+    ax.axhspan(*RUNUP_THESIS, color="0.85", label="500-750 m thesis 2D PFEM (Fig. 5.11)")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("run-up [m]")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(case, "runup.png"), dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()
