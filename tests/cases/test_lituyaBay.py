@@ -34,14 +34,11 @@ import sys
 import numpy as np
 import pytest
 
-from foamcase import run
+from foamcase import run, tutorial_modules
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 TUT = os.path.join(ROOT, "tutorials", "vansInterFoam", "lituyaBay")
-sys.path.insert(0, TUT)
-sys.dont_write_bytecode = True      # no __pycache__ in the tutorial
-import postProcess as lituya  # noqa: E402
-sys.dont_write_bytecode = False
+(lituya,) = tutorial_modules("vansInterFoam", "lituyaBay", names=("postProcess",))
 
 G = 9.81
 

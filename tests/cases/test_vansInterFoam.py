@@ -36,14 +36,11 @@ import numpy as np
 import pytest
 
 import nscdpost
-from foamcase import add_fluid, make_box_case, run, write
+from foamcase import add_fluid, make_box_case, run, tutorial_modules, write
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 TUT = os.path.join(ROOT, "tutorials", "vansInterFoam", "damBreak")
-sys.path.insert(0, TUT)
-sys.dont_write_bytecode = True      # no __pycache__ in the tutorial
-import postProcess as damBreakPost  # noqa: E402
-sys.dont_write_bytecode = False
+(damBreakPost,) = tutorial_modules("vansInterFoam", "damBreak", names=("postProcess",))
 
 G = 9.81
 
