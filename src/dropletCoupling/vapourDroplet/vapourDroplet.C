@@ -1,0 +1,482 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam: vapourDroplet (see vapourDroplet.H)
+\*---------------------------------------------------------------------------*/
+
+#include "vapourDroplet.H"
+#include "grainDictionaryTools.H"
+#include "uniformDimensionedFields.H"
+#include "Switch.H"
+#include "meshTools.H"
+#include "grainCloud.H"
+#include "mathematicalConstants.H"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+using Foam::constant::mathematical::pi;
+
+// * * * * * * * * * * * * * * * * Local helpers * * * * * * * * * * * * * * //
+
+namespace
+{
+
+Foam::scalar requirePositive
+(
+    const Foam::dictionary& d,
+    const Foam::word& key,
+    const char* meaning
+)
+{
+    using namespace Foam;
+    if (!d.found(key))
+    {
+        FatalIOErrorInFunction(d)
+            << "Missing keyword '" << key << "' in " << d.name()
+            << ": " << meaning << " (thesis eq. 4.15-4.17)." << nl
+            << "    Fix: add '" << key << " <value>;'."
+            << exit(FatalIOError);
+    }
+    return grainTools::getPositive(d, key);
+}
+
+//- Overlap of a droplet of radius R with a grain of radius r at centre
+//  distance d: 2D the lens area of two discs [m^2], 3D the lens volume of
+//  two spheres [m^3] (exact, elementary geometry)
+double lensOverlap(double R, double r, double d, bool twoD)
+{
+    if (d >= R + r)
+    {
+        return 0;
+    }
+    if (d <= std::abs(R - r))
+    {
+        const double m = std::min(R, r);
+        return twoD ? pi*m*m : 4.0/3.0*pi*m*m*m;
+    }
+    if (twoD)
+    {
+        const double a1 = std::acos(std::clamp((d*d + r*r - R*R)/(2*d*r), -1.0, 1.0));
+        const double a2 = std::acos(std::clamp((d*d + R*R - r*r)/(2*d*R), -1.0, 1.0));
+        const double k = (-d + r + R)*(d + r - R)*(d - r + R)*(d + r + R);
+        return r*r*a1 + R*R*a2 - 0.5*std::sqrt(std::max(k, 0.0));
+    }
+    const double h = R + r - d;
+    return pi*h*h*(d*d + 2*d*r - 3*r*r + 2*d*R + 6*r*R - 3*R*R)/(12*d);
+}
+
+} // End anonymous namespace
+
+
+// * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+void Foam::vapourDroplet::readDict()
+{
+    const wordList allowed
+    {
+        "centre", "radius", "diameter", "velocity", "liquidDensity",
+        "latentHeat", "vapourisationTemperature", "vapourDensity", "moving",
+        "blowing", "penalisationFactor"
+    };
+    grainTools::checkKeywords(dict_, allowed);
+
+    if (!dict_.found("centre"))
+    {
+        FatalIOErrorInFunction(dict_)
+            << "Missing keyword 'centre' in " << dict_.name()
+            << ": the droplet centre x_d [m]." << nl
+            << "    Fix: add e.g. 'centre (0.005 0.0225 0.0005);'."
+            << exit(FatalIOError);
+    }
+    x_ = dict_.get<vector>("centre");
+    u_ = dict_.getOrDefault<vector>("velocity", Zero);
+
+    const bool hasR = dict_.found("radius");
+    const bool hasD = dict_.found("diameter");
+    if (hasR == hasD)
+    {
+        FatalIOErrorInFunction(dict_)
+            << (hasR ? "Both keywords 'radius' and 'diameter'" : "Neither"
+                " keyword 'radius' nor 'diameter'")
+            << " in " << dict_.name() << ": the droplet size is given by"
+            << " exactly one of them [m]." << nl
+            << "    Fix: keep one, e.g. 'diameter 2.5e-3;'."
+            << exit(FatalIOError);
+    }
+    const scalar R0 =
+        hasR
+      ? grainTools::getPositive(dict_, "radius")
+      : 0.5*grainTools::getPositive(dict_, "diameter");
+
+    rhoL_ = requirePositive(dict_, "liquidDensity", "liquid density rho_l [kg/m^3]");
+    L_ = requirePositive(dict_, "latentHeat", "latent heat of vaporisation L [J/kg]");
+    Td_ = requirePositive
+    (
+        dict_, "vapourisationTemperature", "vaporisation temperature T_d [K]"
+    );
+    moving_ = dict_.getOrDefault<Switch>("moving", false);
+    blowing_ = dict_.getOrDefault<Switch>("blowing", true);
+    penalisationFactor_ =
+        grainTools::getPositiveOrDefault(dict_, "penalisationFactor", 100);
+
+    // fluid properties
+    const IOdictionary transport
+    (
+        IOobject
+        (
+            "transportProperties", mesh_.time().constant(), mesh_,
+            IOobject::MUST_READ, IOobject::NO_WRITE, false
+        )
+    );
+    for (const word key : {"rho", "Cp", "kappa", "nu"})
+    {
+        if (!transport.found(key))
+        {
+            FatalIOErrorInFunction(transport)
+                << "Keyword '" << key << "' missing in " << transport.name()
+                << ": the droplet (" << dict_.name() << ") needs the fluid"
+                << " density, heat capacity and conductivity (heat transfer"
+                << " on) and viscosity." << nl
+                << "    Fix: add rho, nu, Cp, kappa to " << transport.name()
+                << " and heatTransferModel to couplingProperties."
+                << exit(FatalIOError);
+        }
+    }
+    rhoF_ = transport.get<scalar>("rho");
+    CpF_ = transport.get<scalar>("Cp");
+    const scalar alpha = transport.get<scalar>("kappa")/(rhoF_*CpF_);
+    diffusivity_ = max(alpha, transport.get<scalar>("nu"));
+    scalar rhoVtransport = -1;
+    if (transport.isDict("vapour"))
+    {
+        const dictionary& vd = transport.subDict("vapour");
+        rhoVtransport = vd.getOrDefault<scalar>("rho", -1);
+        diffusivity_ = max(diffusivity_, vd.getOrDefault<scalar>("D", 0));
+    }
+    if (dict_.found("vapourDensity"))
+    {
+        rhoV_ = grainTools::getPositive(dict_, "vapourDensity");
+    }
+    else if (rhoVtransport > 0)
+    {
+        rhoV_ = rhoVtransport;
+    }
+    else
+    {
+        FatalIOErrorInFunction(dict_)
+            << "No vapour density: keyword 'vapourDensity' missing in "
+            << dict_.name() << " and no vapour { rho ...; } in "
+            << transport.name() << "." << nl
+            << "    Fix: add 'vapourDensity <rho_v kg/m^3>;' (e.g. 0.6)."
+            << exit(FatalIOError);
+    }
+
+    // liquid mass from the radius (eq. 4.15 with V_p = 0)
+    const scalar V =
+        adapter_.twoD()
+      ? pi*R0*R0*adapter_.depth()
+      : 4.0/3.0*pi*R0*R0*R0;
+    m_ = rhoL_*V;
+    y0_ = x_.y();
+}
+
+
+void Foam::vapourDroplet::readRestart()
+{
+    IOobject io
+    (
+        "droplet", mesh_.time().timeName(), "uniform", mesh_,
+        IOobject::MUST_READ, IOobject::NO_WRITE, false
+    );
+    if (!io.typeHeaderOk<IOdictionary>(true))
+    {
+        return;
+    }
+    const IOdictionary d(io);
+    x_ = d.get<vector>("centre");
+    u_ = d.get<vector>("velocity");
+    m_ = d.get<scalar>("mass");
+    y0_ = d.get<scalar>("y0");
+    mdot_ = d.get<scalar>("mdot");
+    pendingVapour_ = d.get<scalar>("pendingVapour");
+    Vp_ = d.get<scalar>("grainVolume");
+    Info<< "vapourDroplet: restart from " << d.objectPath() << endl;
+}
+
+
+void Foam::vapourDroplet::writeRestart() const
+{
+    IOdictionary d
+    (
+        IOobject
+        (
+            "droplet", mesh_.time().timeName(), "uniform", mesh_,
+            IOobject::NO_READ, IOobject::NO_WRITE, false
+        )
+    );
+    d.add("centre", x_);
+    d.add("velocity", u_);
+    d.add("mass", m_);
+    d.add("y0", y0_);
+    d.add("mdot", mdot_);
+    d.add("pendingVapour", pendingVapour_);
+    d.add("grainVolume", Vp_);
+    d.regIOobject::write();
+}
+
+
+// * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
+
+Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
+:
+    mesh_(mesh),
+    dict_
+    (
+        IOobject
+        (
+            "dropletProperties", mesh.time().constant(), mesh,
+            IOobject::MUST_READ, IOobject::NO_WRITE, false
+        )
+    ),
+    rhoL_(0), L_(0), Td_(0), rhoV_(0), moving_(false), blowing_(true),
+    penalisationFactor_(100), rhoF_(0), CpF_(0), diffusivity_(0),
+    x_(Zero), u_(Zero), m_(0), y0_(0), mdot_(0), Qf_(0), Qp_(0), Ff_(Zero),
+    Vdot_(0), pendingVapour_(0), Vp_(0),
+    adapter_(mesh),
+    chi_(mesh.nCells(), Zero),
+    ring_(mesh.nCells(), Zero),
+    K_(0),
+    timeIndex_(-1)
+{
+    readDict();
+    readRestart();
+
+    Info<< "vapourDroplet: centre " << x_ << " m, radius " << radius()
+        << " m, mass " << m_ << " kg" << (adapter_.twoD() ? " (over the mesh"
+        " depth)" : "") << ", rho_l " << rhoL_ << ", L " << L_ << " J/kg, T_d "
+        << Td_ << " K, rho_v " << rhoV_ << " kg/m^3, moving "
+        << Switch(moving_) << ", blowing " << Switch(blowing_) << endl;
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+Foam::scalar Foam::vapourDroplet::radius() const
+{
+    const scalar V = volume() + Vp_;
+    return
+        adapter_.twoD()
+      ? std::sqrt(V/(pi*adapter_.depth()))
+      : std::cbrt(3*V/(4*pi));
+}
+
+
+void Foam::vapourDroplet::update()
+{
+    const Time& runTime = mesh_.time();
+    if (timeIndex_ == runTime.timeIndex())
+    {
+        return;
+    }
+    timeIndex_ = runTime.timeIndex();
+    const scalar dt = runTime.deltaTValue();
+
+    // size h of the cell holding the centre
+    // (2D: the centre's z is ignored, looked up at mid-depth)
+    const label celli = mesh_.findCell
+    (
+        point
+        (
+            x_.x(), x_.y(),
+            adapter_.twoD() ? mesh_.bounds().centre().z() : x_.z()
+        )
+    );
+    scalar h = -1;
+    if (celli >= 0)
+    {
+        h = adapter_.twoD()
+          ? std::sqrt(mesh_.V()[celli]/adapter_.depth())
+          : std::cbrt(mesh_.V()[celli]);
+    }
+    reduce(h, maxOp<scalar>());
+    if (h < 0)
+    {
+        FatalErrorInFunction
+            << "The droplet centre " << x_ << " is outside the mesh (bounds "
+            << mesh_.bounds() << ") at time " << runTime.timeName() << nl
+            << "    Fix: put 'centre' of constant/dropletProperties inside"
+            << " the domain." << exit(FatalError);
+    }
+    K_ = penalisationFactor_*(1/dt + diffusivity_/(h*h));
+
+    // absorbed grains (eq. 4.15): V_p = sum of the grain/droplet overlaps
+    // at the radius of the previous step (one fixed-point pass per step)
+    if (m_ > 0 && mesh_.foundObject<grainCloudReference>(grainCloud::registryName))
+    {
+        const nscd::System& sys =
+            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+           .cloud().system();
+        const scalar Rprev = radius();
+        const bool twoD = adapter_.twoD();
+        const auto& pos = sys.positions();
+        const auto& rad = sys.radii();
+        scalar Vp = 0;
+        for (std::size_t g = 0; g < rad.size(); ++g)
+        {
+            const double dx = pos[g][0] - x_.x();
+            const double dy = pos[g][1] - x_.y();
+            const double dz = twoD ? 0.0 : pos[g][2] - x_.z();
+            Vp += lensOverlap
+            (
+                Rprev, rad[g], std::sqrt(dx*dx + dy*dy + dz*dz), twoD
+            );
+        }
+        Vp_ = twoD ? Vp*adapter_.depth() : Vp;
+    }
+    else
+    {
+        Vp_ = 0;
+    }
+
+    // exact overlaps of the droplet (R) and of the disc R + h (ring)
+    const scalar R = radius();
+    const overlapMapping::Vec3 c(x_.x(), x_.y(), x_.z());
+    const overlapMapping::Vec3 centres[2] = {c, c};
+    const double radii[2] = {R > 0 ? R : 0.5*h, R + h};
+    adapter_.map(centres, radii, 2);
+    chi_ = 0;
+    ring_ = 0;
+    const auto& eg = adapter_.entryGrain();
+    const auto& ec = adapter_.entryCell();
+    const auto& ev = adapter_.entryVolume();
+    const scalarField& V = mesh_.V();
+    for (std::size_t k = 0; k < eg.size(); ++k)
+    {
+        const label ci = ec[k];
+        (eg[k] == 0 ? chi_ : ring_)[ci] += ev[k]/V[ci];
+    }
+    ring_ = max(ring_ - chi_, scalar(0));
+    if (!(R > 0))
+    {
+        chi_ = 0;
+    }
+    chi_ = min(chi_, scalar(1));
+
+    // vapour released by the heat of the previous step (mass conserving
+    // whatever the change of time step)
+    Vdot_ = blowing_ ? pendingVapour_/(rhoV_*dt) : 0;
+    pendingVapour_ = 0;
+}
+
+
+Foam::tmp<Foam::scalarField>
+Foam::vapourDroplet::volumeSource(const scalar Vdot) const
+{
+    auto tq = tmp<scalarField>::New(ring_.size(), Zero);
+    const scalar W = gSum(ring_*mesh_.V());
+    if (W > 0)
+    {
+        tq.ref() = Vdot*ring_/W;
+    }
+    return tq;
+}
+
+
+void Foam::vapourDroplet::setHeat(const scalar Qf, const scalar Qp)
+{
+    const scalar dt = mesh_.time().deltaTValue();
+    Qf_ = Qf;
+    Qp_ = Qp;
+    mdot_ = (Qf_ + Qp_)/L_;     // eq. 4.16
+    scalar loss = mdot_*dt;
+    if (loss > m_)
+    {
+        loss = m_;
+    }
+    m_ -= loss;
+    pendingVapour_ += loss;
+}
+
+
+void Foam::vapourDroplet::endStep()
+{
+    const Time& runTime = mesh_.time();
+    const scalar dt = runTime.deltaTValue();
+
+    if (moving_ && m_ > 0)
+    {
+        // constant/g (vansFoam registers it on the Time registry)
+        vector g(Zero);
+        if (runTime.foundObject<uniformDimensionedVectorField>("g"))
+        {
+            g = runTime.lookupObject<uniformDimensionedVectorField>("g").value();
+        }
+        else
+        {
+            FatalErrorInFunction
+                << "No gravity field g registered: the droplet motion (eq."
+                << " 4.17) needs constant/g." << nl
+                << "    Fix: add constant/g or set moving no."
+                << exit(FatalError);
+        }
+        // eq. 4.17 (F_p = 0) with F_f the surface force of the fluid.  The
+        // penalised fluid inside the droplet moves with it, so (Uhlmann
+        // 2005, J. Comput. Phys. 209, eq. 13-14) the surface force is the
+        // penalisation force plus the inside fluid's inertia and weight:
+        //   F_f = F_pen + rho_f V (du_d/dt - g)
+        // hence (m - rho_f V) du_d/dt = F_pen + (m - rho_f V) g
+        // (buoyancy included; explicit Euler, stable for m > rho_f V).
+        const scalar mEff = m_ - rhoF_*volume();
+        if (!(mEff > 0))
+        {
+            FatalErrorInFunction
+                << "Droplet lighter than the fluid it displaces (m = " << m_
+                << " kg, rho_f V = " << rhoF_*volume() << " kg): the explicit"
+                << " motion of eq. 4.17 is unstable." << nl
+                << "    Fix: moving no in constant/dropletProperties."
+                << exit(FatalError);
+        }
+        u_ += dt*(Ff_/mEff + g);
+        // 2D: no motion along the empty direction
+        meshTools::constrainDirection(mesh_, mesh_.solutionD(), u_);
+        x_ += dt*u_;
+    }
+
+    if (Pstream::master())
+    {
+        if (!datPtr_.valid())
+        {
+            const fileName dir
+            (
+                runTime.globalPath()/"postProcessing"/"droplet"
+               /runTime.timeName(runTime.startTime().value())
+            );
+            mkDir(dir);
+            datPtr_.reset(new OFstream(dir/"droplet.dat"));
+            datPtr_() << "# vapourDroplet (thesis eq. 4.15-4.17), SI units";
+            if (adapter_.twoD())
+            {
+                datPtr_() << ", m/mdot/Q/Vdot over the mesh depth "
+                    << adapter_.depth() << " m";
+            }
+            datPtr_() << nl
+                << "# time x y u v m mdot Q_f Q_p R depth Vdot V_p" << nl;
+        }
+        std::ostringstream os;
+        os.precision(16);
+        os  << runTime.value() << ' ' << x_.x() << ' ' << x_.y() << ' '
+            << u_.x() << ' ' << u_.y() << ' ' << m_ << ' ' << mdot_ << ' '
+            << Qf_ << ' ' << Qp_ << ' ' << radius() << ' ' << y0_ - x_.y()
+            << ' ' << Vdot_ << ' ' << Vp_;
+        datPtr_() << os.str().c_str() << nl;
+        datPtr_().flush();
+    }
+
+    if (runTime.writeTime())
+    {
+        writeRestart();
+    }
+}
+
+
+// ************************************************************************* //

@@ -1,0 +1,453 @@
+"""Immersed vaporising droplet (issue 8, first increment; thesis section 4.3.1,
+eq. 4.15-4.17): src/dropletCoupling, fvOption vapourDropletSource in vansFoam.
+
+(a) Droplet held fixed in a hot stagnant gas, no grains, blowing off: steady
+    conduction from a cylinder of diameter D at T_d centred in a square box of
+    side w with walls at T_w.  Reference: Incropera & DeWitt, Fundamentals of
+    Heat and Mass Transfer, Table 4.1 (conduction shape factors), case "circular
+    cylinder of length L centered in a square solid of equal length", per unit
+    depth  Q = k (T_w - T_d) S,  S = 2 pi / ln(1.08 w/D)  (w > D).
+    The droplet mass rate must be mdot = Q/L (eq. 4.16, Q_p = 0) within 5 %
+    (issue 8).  w/D = 4.  Measured mesh convergence (cells per diameter D/dx,
+    2D, implicit Euler to steady state; error of Q against the shape factor):
+    see MESH_CONVERGENCE below (-1 % at 8, -0.14 % at 16 cells per D); the
+    test runs D/dx = 16 (5 % as the issue asks, plus 1 % to catch a drift of
+    the method).
+    The radius is held constant by a large (fictitious) liquid density, so
+    that the geometry of the reference does not change during the run.
+(b) Budgets, blowing on, walls at T_w, outlet (p = 0) on top, 20 steps:
+    - energy (conservation law): rho Cp sum(eps T V) changes by the wall and
+      outlet heat + the vapour enthalpy source rho Cp T_d Vdot - Q_f per step,
+      and the droplet takes L (m_0 - m_N) = sum Q_f dt; the balance
+      Delta E_fluid + L (m_0 - m_N) = wall + outlet heat + vapour enthalpy
+      closes to 1e-6 relative to the heat taken by the droplet;
+    - Q_f logged by the droplet = minus the fvOptions source heat of the
+      solver's own heat budget (heatBudget.H) without the vapour enthalpy,
+      to 1e-8 relative (two independent integrations of the same sink);
+    - vapour mass: rho_v sum Vdot dt (released, one step lagged) = mass lost,
+      round-off; the mixture continuity div(eps U) = q holds cell by cell
+      (vansFoam's continuity error, q subtracted, < 1e-6 of Vdot; pressure
+      solver tolerance 1e-12 absolute) and the outflow through the outlet
+      (phi at the end) = Vdot of the last step to 1e-6 relative.
+"""
+import math
+import os
+import re
+
+import numpy as np
+import pytest
+
+from foamcase import add_fluid, make_box_case, run, write, add_scalar_transport
+
+# Measured (w/D = 4, steady state): D/dx -> mdot/(Q_ref/L) - 1, for the
+# default penalisationFactor 100 (src/dropletCoupling/README.md has 10 and 1e4).
+# The +0.15 % left at 48-64 cells is of the order of the accuracy of the
+# 1.08 fit of the shape factor.
+MESH_CONVERGENCE = {4: -0.054, 6: -0.023, 8: -0.0099, 12: -0.0012, 16: -0.0014,
+                    24: -0.0004, 32: 0.0023, 48: 0.0015, 64: 0.0015}
+
+D = 2.5e-3
+W = 4 * D
+DEPTH = 1e-4
+RHO, NU, CP, KAPPA = 1.0, 2e-5, 1000.0, 0.05
+T_W, T_D = 773.15, 373.15
+LATENT = 2.26e6
+RHO_V = 0.6
+
+
+def droplet_case(case, env, n_per_d, end_time, dt, blowing, rho_l, outlet=False,
+                 extra="", w_over_d=4, gravity=0.0, nu=NU, T_w=None, grains=(), T_grains=None):
+    """2D square box w x w (w = w_over_d D, n_per_d * w_over_d cells a side),
+    walls at T_w (default T_W), droplet of diameter D at the centre; with
+    outlet the top side is an open patch (p = 0, zeroGradient U, inletOutlet
+    T and psi)."""
+    w = w_over_d * D
+    n = w_over_d * n_per_d
+    T_w = T_W if T_w is None else T_w
+    make_box_case(case, (0, 0, 0), (w, w, DEPTH), (n, n, 1), (0, -gravity, 0),
+                  {"glass": {"density": 2500, "friction": 0.4}}, grains=list(grains),
+                  end_time=end_time, dt=dt, write_interval=end_time)
+    if grains:
+        open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
+        gp = os.path.join(case, "constant", "grainProperties")
+        txt = open(gp).read().replace("glass { density 2500; friction 0.4; }",
+                                      "glass { density 2500; friction 0.4; conductivity 1;"
+                                      " heatCapacity 800; }")
+        open(gp, "w").write(txt + f"initialTemperature {T_w if T_grains is None else T_grains};\n")
+    add_fluid(case, RHO, nu, max_co=0.5, max_dt=dt)
+    tp = os.path.join(case, "constant", "transportProperties")
+    open(tp, "a").write(f"Cp {CP};\nkappa {KAPPA};\nvapour {{ D 2.5e-5; rho {RHO_V}; }}\n")
+    cp = os.path.join(case, "constant", "couplingProperties")
+    open(cp, "a").write("heatTransferModel DiFeliceColburn;\n"
+                        "DiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n")
+    emp = "frontAndBack { type empty; }"
+    if outlet:
+        bm = os.path.join(case, "system", "blockMeshDict")
+        txt = open(bm).read()
+        txt = txt.replace("walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1) (3 7 6 2)); }",
+                          "walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1)); }\n"
+                          "outlet { type patch; faces ((3 7 6 2)); }")
+        open(bm, "w").write(txt)
+        write(os.path.join(case, "0", "U"), "volVectorField", "U",
+              "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
+              f"boundaryField {{ walls {{ type noSlip; }} outlet {{ type pressureInletOutletVelocity;"
+              f" value uniform (0 0 0); }} {emp} }}\n")
+        write(os.path.join(case, "0", "p"), "volScalarField", "p",
+              "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+              f"boundaryField {{ walls {{ type fixedFluxPressure; value uniform 0; }}"
+              f" outlet {{ type fixedValue; value uniform 0; }} {emp} }}\n")
+        fs = os.path.join(case, "system", "fvSolution")
+        txt = open(fs).read().replace("pRefCell 0; pRefValue 0;", "")
+        open(fs, "w").write(txt)
+        out_T = f"outlet {{ type inletOutlet; inletValue uniform {T_w}; value uniform {T_w}; }}"
+        out_psi = "outlet { type inletOutlet; inletValue uniform 0; value uniform 0; }"
+    else:
+        out_T = out_psi = ""
+    write(os.path.join(case, "0", "T"), "volScalarField", "T",
+          f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {T_w};\n"
+          f"boundaryField {{ walls {{ type fixedValue; value uniform {T_w}; }} {out_T} {emp} }}\n")
+    write(os.path.join(case, "0", "psi"), "volScalarField", "psi",
+          "dimensions [0 0 0 0 0 0 0];\ninternalField uniform 0;\n"
+          f"boundaryField {{ walls {{ type zeroGradient; }} {out_psi} {emp} }}\n")
+    add_scalar_transport(case, "T", "Gauss upwind")
+    add_scalar_transport(case, "psi", "Gauss upwind")
+    fs = os.path.join(case, "system", "fvSolution")
+    txt = open(fs).read().replace("tolerance 1e-9; relTol 0.01;", "tolerance 1e-12; relTol 0;")
+    open(fs, "w").write(txt)
+    cd = os.path.join(case, "system", "controlDict")
+    open(cd, "a").write('libs ("libdropletCoupling.so");\n')
+    write(os.path.join(case, "system", "fvOptions"), "dictionary", "fvOptions",
+          "droplet { type vapourDropletSource; }\n")
+    write(os.path.join(case, "constant", "dropletProperties"), "dictionary", "dropletProperties",
+          f"centre ({w / 2} {w / 2} {DEPTH / 2});\ndiameter {D};\nliquidDensity {rho_l};\n"
+          f"latentHeat {LATENT};\nvapourisationTemperature {T_D};\nvapourDensity {RHO_V};\n"
+          f"blowing {'yes' if blowing else 'no'};\nmoving no;\n" + extra)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+
+
+def read_droplet(case):
+    path = os.path.join(case, "postProcessing", "droplet", "0", "droplet.dat")
+    return np.loadtxt(path, ndmin=2)
+
+
+def patch_sum(path, patch):
+    """Sum of the values of a surfaceScalarField (e.g. phi [m^3/s]) over a
+    patch, from an ascii field file."""
+    txt = open(path).read()
+    block = re.search(patch + r"\s*\{(.*?)\}", txt[txt.index("boundaryField"):], re.S).group(1)
+    m = re.search(r"value\s+uniform\s+(\S+);", block)
+    if m:
+        raise AssertionError(f"uniform {m.group(1)} on {patch}: expected a flux profile")
+    m = re.search(r"value\s+nonuniform\s+List<scalar>\s*(\d+)\s*\((.*?)\)", block, re.S)
+    vals = np.array(m.group(2).split(), dtype=float)
+    assert len(vals) == int(m.group(1))
+    return float(vals.sum())
+
+
+def shape_factor_Q(k, dT, w, d):
+    """Incropera & DeWitt Table 4.1: Q per unit depth of a cylinder in a square."""
+    return k * dT * 2 * math.pi / math.log(1.08 * w / d)
+
+
+def conduction_error(tmp_path, env, n_per_d):
+    case = str(tmp_path / f"cond{n_per_d}")
+    # thermal time w^2/alpha = 2 s; 10 implicit steps of 1 s reach steady state
+    droplet_case(case, env, n_per_d, end_time=10.0, dt=1.0, blowing=False, rho_l=1e8)
+    run("vansFoam", case, env)
+    d = read_droplet(case)
+    mdot = d[-1, 6] / DEPTH
+    ref = shape_factor_Q(KAPPA, T_W - T_D, W, D) / LATENT
+    # steady: the last two steps agree
+    assert abs(d[-1, 6] - d[-2, 6]) < 1e-6 * abs(d[-1, 6])
+    return mdot / ref - 1
+
+
+def test_fixed_droplet_conduction(tmp_path, env):
+    err = conduction_error(tmp_path, env, 16)
+    print(f"D/dx = 16: mdot/(Q_ref/L) - 1 = {err:.4f}")
+    assert abs(err) < 0.05      # issue 8
+    assert abs(err) < 0.01      # the measured accuracy at 16 cells per D (-0.14 %)
+
+
+@pytest.mark.skipif(not os.environ.get("NSCD_SLOW"), reason="mesh convergence study: NSCD_SLOW=1")
+def test_fixed_droplet_mesh_convergence(tmp_path, env):
+    errs = {n: conduction_error(tmp_path, env, n) for n in (8, 16, 32)}
+    print("mesh convergence D/dx: error", errs)
+    assert abs(errs[32]) < abs(errs[8])
+
+
+def budget_lines(log):
+    """Per step: (fluid boundary, advected, sources) [J] of vansFoam's heat
+    budget, energy E [J] of the "heat:" line, global continuity error."""
+    bud, en, cont = [], [], []
+    for line in log.splitlines():
+        m = re.match(r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, sources = (\S+) J",
+                     line)
+        if m:
+            bud.append(tuple(float(v) for v in m.groups()))
+        m = re.match(r"^heat: .*energy fluid \+ grains = (\S+) J", line)
+        if m:
+            en.append(float(m.group(1)))
+        m = re.match(r"^mixture continuity errors : sum local = \S+, global = (\S+)", line)
+        if m:
+            cont.append(float(m.group(1)))
+    return np.array(bud), np.array(en), np.array(cont)
+
+
+def test_energy_and_vapour_budget(tmp_path, env):
+    case = str(tmp_path / "budget")
+    dt, n_steps = 0.01, 20
+    droplet_case(case, env, 8, end_time=dt * n_steps, dt=dt, blowing=True, rho_l=1000.0,
+                 outlet=True)
+    log = run("vansFoam", case, env).stdout
+    d = read_droplet(case)
+    bud, E, cont = budget_lines(log)
+    n = len(d)                      # >= n_steps: the Courant limit may shorten dt
+    assert n >= n_steps and len(bud) == n and len(E) == n
+    t = d[:, 0]
+    dts = np.diff(np.concatenate(([0.0], t)))
+    m0 = 1000.0 * math.pi * (D / 2) ** 2 * DEPTH
+    m, Qf, Vdot = d[:, 5], d[:, 7] + d[:, 8], d[:, 11]     # Q = Q_f + Q_p (Q_p = 0: no grains)
+    assert np.all(d[:, 8] == 0)
+    rhoCp = RHO * CP
+    E0 = rhoCp * T_W * W * W * DEPTH
+
+    # Q_f (droplet) against the solver's own source integral minus the vapour enthalpy
+    src_droplet = bud[:, 2] - rhoCp * T_D * Vdot * dts
+    assert np.allclose(-src_droplet, Qf * dts, rtol=1e-8, atol=0)
+
+    # mass: L (m0 - m) = sum Q_f dt (eq. 4.16)
+    lost = m0 - m[-1]
+    heat = np.sum(Qf * dts)
+    assert lost > 0
+    assert abs(LATENT * lost - heat) < 1e-10 * heat
+
+    # energy: fluid energy change + heat taken by the droplet (L x mass lost)
+    # = heat in through walls and outlet + enthalpy of the released vapour
+    ext = np.sum(bud[:, 0] + bud[:, 1] + rhoCp * T_D * Vdot * dts)
+    defect = (E[-1] - E0) + LATENT * (m0 - m[-1]) - ext
+    print(f"heat to droplet {heat:.6e} J, energy defect {defect:.3e} J")
+    assert abs(defect) < 1e-6 * heat
+
+    # vapour released (one step lagged) = mass lost
+    released = RHO_V * np.sum(Vdot * dts)
+    assert Vdot[0] == 0
+    assert abs(released - (m0 - m[-2])) < 1e-10 * released
+
+    # mixture continuity with the source: div(eps U) + div(phi v*) = q cell by
+    # cell, so vansFoam's continuity error (which subtracts q) stays at the
+    # pressure solver tolerance, and the outflow through the outlet at the
+    # end equals the volume source of the last step
+    Vtot = W * W * DEPTH
+    err = np.abs(cont.reshape(n, -1)[:, -1]) * Vtot / dts   # last corrector [m^3/s]
+    assert np.all(err < 1e-6 * Vdot[1:].min())
+    outflow = patch_sum(os.path.join(case, f"{dt * n_steps:g}", "phi"), "outlet")
+    print(f"outflow {outflow:.9e} m^3/s, Vdot {Vdot[-1]:.9e} m^3/s")
+    assert abs(outflow - Vdot[-1]) < 1e-6 * Vdot[-1]
+
+
+def test_restart_continues_exactly(tmp_path, env):
+    """A run stopped at a write time and restarted (state from
+    <time>/uniform/droplet: centre, velocity, mass, pending vapour) ends as the
+    uninterrupted run, to 1e-9 relative on every droplet.dat column
+    (reference: the uninterrupted run; fields are written with 17 digits).
+    The droplet moves (moving yes, initial velocity) and blows, so the
+    position, velocity, mass and lagged vapour all have to be restored."""
+    import shutil
+    dt = 0.01
+    case = str(tmp_path / "full")
+    droplet_case(case, env, 6, end_time=10 * dt, dt=dt, blowing=True, rho_l=1000.0,
+                 outlet=True, extra="")
+    dp = os.path.join(case, "constant", "dropletProperties")
+    txt = open(dp).read().replace("moving no;", "moving yes;\nvelocity (0.004 -0.01 0);")
+    open(dp, "w").write(txt)
+    cd = os.path.join(case, "system", "controlDict")
+    txt = open(cd).read().replace(f"writeInterval {10 * dt};", f"writeInterval {5 * dt};")
+    txt = txt.replace("adjustTimeStep yes;", "adjustTimeStep no;")   # same dt after restart
+    open(cd, "w").write(txt)
+    run("vansFoam", case, env)
+    full = read_droplet(case)
+    assert len(full) == 10
+    assert abs(full[-1, 2] - W / 2) > 1e-4          # it did move (m)
+    half = str(tmp_path / "half")
+    shutil.copytree(case, half)
+    shutil.rmtree(os.path.join(half, "0.1"))
+    shutil.rmtree(os.path.join(half, "postProcessing"))
+    assert os.path.isfile(os.path.join(half, "0.05", "uniform", "droplet"))
+    run("vansFoam", half, env)
+    rest = np.loadtxt(os.path.join(half, "postProcessing", "droplet", "0.05", "droplet.dat"),
+                      ndmin=2)
+    assert len(rest) == 5
+    assert np.allclose(rest, full[5:], rtol=1e-9, atol=1e-15)
+
+
+@pytest.mark.parametrize("edit, words", [
+    (lambda s: s.replace("latentHeat", "latentHeet"), ["latentHeet", "dropletProperties"]),
+    (lambda s: re.sub(r"latentHeat \S+;\n", "", s), ["latentHeat", "Missing keyword"]),
+    (lambda s: s.replace("diameter", "radius 1e-3;\ndiameter"), ["radius", "diameter"]),
+    (lambda s: s.replace("liquidDensity 1000.0", "liquidDensity -1"), ["liquidDensity", "positive"]),
+])
+def test_keyword_errors(tmp_path, env, edit, words):
+    """constant/dropletProperties is keyword-checked: unknown, missing,
+    contradictory or non-positive entries are FatalIOErrors naming the file
+    and the keyword."""
+    case = str(tmp_path / "err")
+    droplet_case(case, env, 2, end_time=0.01, dt=0.01, blowing=False, rho_l=1000.0)
+    dp = os.path.join(case, "constant", "dropletProperties")
+    txt = edit(open(dp).read())
+    open(dp, "w").write(txt)
+    p = run("vansFoam", case, env, check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0
+    assert "FOAM FATAL IO ERROR" in out
+    for w in words:
+        assert w in out, out[-1500:]
+
+
+def test_falling_droplet_added_mass(tmp_path, env):
+    """Motion (eq. 4.17, moving yes): a droplet 10 times denser than the gas,
+    released from rest in a box w = 8 D, nearly inviscid gas (nu = 1e-7,
+    viscous layer sqrt(nu t)/R < 2 % over the run), no vaporisation (walls at
+    T_d).  Early-time acceleration of a circular cylinder in an ideal fluid:
+        a = (rho_l - rho_f)/(rho_l + C_a rho_f) g,  C_a = 1
+    (added mass of a circular cylinder, e.g. Batchelor, An Introduction to
+    Fluid Dynamics, 1967, section 6.4; Newman, Marine Hydrodynamics, Table 4.2)
+    = 0.818 g.  Measured 0.79 g at 16 cells per D (the walls at 4 D raise C_a
+    by a few %, the diffuse surface slightly too); tolerance 5 %.  Without the
+    added mass (penalisation force missing) a = 0.9 g, without buoyancy 1.0 g:
+    both > 5 % away."""
+    case = str(tmp_path / "fall")
+    rho_l, dt, n_steps = 10 * RHO, 5e-4, 10
+    droplet_case(case, env, 16, end_time=n_steps * dt, dt=dt, blowing=False, rho_l=rho_l,
+                 w_over_d=8, gravity=9.81, nu=1e-7, T_w=T_D)
+    dp = os.path.join(case, "constant", "dropletProperties")
+    txt = open(dp).read().replace("moving no;", "moving yes;")
+    open(dp, "w").write(txt)
+    run("vansFoam", case, env)
+    d = read_droplet(case)
+    assert len(d) == n_steps
+    t, v = d[:, 0], d[:, 4]
+    a = -np.diff(v) / np.diff(t) / 9.81           # per-step accelerations / g
+    a_mean = float(np.mean(a[1:]))                # first step: explicit lag (a = g')
+    ref = (rho_l - RHO) / (rho_l + 1.0 * RHO)
+    print(f"a/g = {a_mean:.4f} (reference {ref:.4f}), per step {np.round(a, 4)}")
+    assert abs(a_mean / ref - 1) < 0.05
+    assert np.all(np.abs(d[:, 1] - 4 * D) < 1e-9)     # falls straight down
+
+
+def test_parallel_matches_serial(tmp_path, env):
+    """Two ranks (the droplet straddles the processor boundary x = w/2): the
+    droplet.dat columns equal the serial run's to 1e-8 relative (reference:
+    the serial run; the overlaps are exact on every rank and Q_f, F, the
+    ring weights are global sums)."""
+    import shutil
+    dt, n_steps = 0.01, 5
+    case = str(tmp_path / "serial")
+    droplet_case(case, env, 6, end_time=dt * n_steps, dt=dt, blowing=True, rho_l=1000.0,
+                 outlet=True)
+    par = str(tmp_path / "par")
+    shutil.copytree(case, par)
+    run("vansFoam", case, env)
+    from foamcase import run_parallel
+    run_parallel("vansFoam", par, env, n=2)
+    a, b = read_droplet(case), read_droplet(par)
+    assert a.shape == b.shape
+    assert np.allclose(a, b, rtol=1e-8, atol=1e-18)
+
+
+def lens_area(R, r, d):
+    """Area of the intersection of two discs (radii R, r, centre distance d)."""
+    if d >= R + r:
+        return 0.0
+    if d <= abs(R - r):
+        return math.pi * min(R, r) ** 2
+    a1 = math.acos((d * d + r * r - R * R) / (2 * d * r))
+    a2 = math.acos((d * d + R * R - r * r) / (2 * d * R))
+    return r * r * a1 + R * R * a2 - 0.5 * math.sqrt((-d + r + R) * (d + r - R) * (d - r + R) * (d + r + R))
+
+
+def test_absorbed_grains_volume(tmp_path, env):
+    """Eq. 4.15, V = V_f + V_p: two fixed grains, one wholly inside the
+    droplet (r = 0.3 R at 0.3 R from the centre), one straddling its surface
+    (r = 0.25 R at R from the centre).  The droplet radius must satisfy the
+    fixed point pi R^2 = pi R_f^2 + pi r1^2 + lens(R, r2, R) (2D, per depth)
+    with R_f the liquid radius and lens the disc-disc intersection area
+    (elementary geometry, computed here independently), to 1e-9 relative after
+    the lagged iteration (one pass per step) has converged; no grains: V_p = 0
+    (the other tests)."""
+    R0 = D / 2
+    c = 2 * D
+    grains = [(c + 0.3 * R0, c, DEPTH / 2, 0.6 * R0), (c, c + R0, DEPTH / 2, 0.5 * R0)]
+    case = str(tmp_path / "grains")
+    droplet_case(case, env, 8, end_time=0.2, dt=0.01, blowing=False, rho_l=1e8, T_w=T_D,
+                 grains=grains)
+    run("vansFoam", case, env)
+    d = read_droplet(case)
+    Rf = math.sqrt(d[-1, 5] / (1e8 * math.pi * DEPTH))
+    R = d[-1, 9]
+    A = math.pi * Rf ** 2 + math.pi * (0.3 * R0) ** 2 + lens_area(R, 0.25 * R0, R0)
+    print(f"R/R_f = {R / Rf:.9f}, fixed point R = {math.sqrt(A / math.pi):.12e}, V_p = {d[-1, 12]:.6e}")
+    assert abs(R - math.sqrt(A / math.pi)) < 1e-9 * R
+    assert abs(d[-1, 12] - (A - math.pi * Rf ** 2) * DEPTH) < 1e-6 * d[-1, 12]
+    assert R > 1.04 * Rf
+
+
+def test_grain_heat_to_droplet(tmp_path, env):
+    """Q_p (eq. 4.16): two hot fixed grains (r = 0.3 R, T_p0 = T_d + 200 K)
+    wholly inside the droplet, gas and walls at T_d.  The grains give their
+    heat to the penalised fluid at T_d (vansCloud, thesis eq. 4.13) and the
+    droplet takes it: conservation law, the grains' heat loss
+    2 m_g c (T_p0 - T_p(t)) = sum Q_p dt = L x (mass lost) to 1e-6 relative
+    (Q_f, the gas part, ~0: < 1 % of Q_p), and the grains cool."""
+    R0 = D / 2
+    c = 2 * D
+    r = 0.3 * R0
+    grains = [(c + 0.3 * R0, c, DEPTH / 2, 2 * r), (c - 0.3 * R0, c, DEPTH / 2, 2 * r)]
+    case = str(tmp_path / "hotgrains")
+    T0 = T_D + 200
+    dt, n_steps = 0.01, 10
+    droplet_case(case, env, 8, end_time=dt * n_steps, dt=dt, blowing=False, rho_l=1000.0, T_w=T_D,
+                 grains=grains, T_grains=T0)
+    log = run("vansFoam", case, env).stdout
+    d = read_droplet(case)
+    Tg = [float(v) for v in re.findall(r"^heat: grain mean T = (\S+),", log, re.M)]
+    assert len(d) == n_steps and len(Tg) == n_steps
+    Qf, Qp = d[:, 7], d[:, 8]
+    mg = 2500 * math.pi * r * r * DEPTH                # 2D disc x mesh depth
+    grain_loss = 2 * mg * 800 * (T0 - Tg[-1])
+    heat_p = np.sum(Qp * dt)
+    m0 = 1000.0 * math.pi * R0 ** 2 * DEPTH
+    print(f"grain heat loss {grain_loss:.6e} J, sum Q_p dt {heat_p:.6e} J, sum Q_f dt "
+          f"{np.sum(Qf * dt):.3e} J, T_p {Tg[-1]:.3f} K")
+    assert Tg[-1] < T0 - 1
+    assert abs(heat_p - grain_loss) < 1e-6 * grain_loss
+    assert abs(np.sum(Qf * dt)) < 0.01 * heat_p
+    assert abs(LATENT * (m0 - d[-1, 5]) - np.sum((Qf + Qp) * dt)) < 1e-10 * heat_p
+
+
+def test_tutorial_skeleton_runs(tmp_path, env):
+    """tutorials/vansFoam/dropletDigging (skeleton, Table 4.2) with its own
+    setupCase.py on its reduced bed (1 mm grains, 10 steps): the droplet
+    vaporises from the start, and its instant lifetime m/mdot is of the order
+    of ten seconds as in the thesis at the start of the fall (Figure 4.17:
+    ~10 s; accepted 2-60 s, an order-of-magnitude check of eq. 4.16 with
+    Table 4.2 properties at T_bed = 400 C)."""
+    from foamcase import tutorial_modules
+    setup, = tutorial_modules("vansFoam", "dropletDigging", names=("setupCase",))
+    root = str(tmp_path)
+    setup.deposit(1e-3, root=root)
+    dep = os.path.join(root, "deposit")
+    run("blockMesh", dep, env)
+    run("grainDeposit", dep, env)
+    case = os.path.join(root, "T400")
+    setup.setup(case, 400.0, 10 * setup.DT, root=root)
+    run("blockMesh", case, env)
+    run("vansFoam", case, env)
+    d = read_droplet(case)
+    assert len(d) >= 10
+    m, mdot = d[-1, 5], d[-1, 6]
+    assert mdot > 0 and m < d[0, 5]
+    lifetime = m / mdot
+    print(f"instant lifetime m/mdot = {lifetime:.3g} s, Q_f {d[-1, 7]:.3g} W, Q_p {d[-1, 8]:.3g} W")
+    assert 2 < lifetime < 60

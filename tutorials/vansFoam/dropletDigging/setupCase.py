@@ -1,0 +1,175 @@
+#!/usr/bin/env python3
+"""Set up the dropletDigging cases (issue 8; thesis section 4.3, Table 4.2).
+SKELETON of the first increment: the droplet model (src/dropletCoupling) is
+in place, the digging physics is not validated yet (see README.md).
+
+usage: setupCase.py deposit [D_GRAIN]   the bed: grains of diameter D_GRAIN
+                                         [m] (default 1e-3, reduced; Table 4.2:
+                                         55e-6) poured into the 10 mm wide cell
+                                         up to h_p = 22.5 mm (deposit/)
+       setupCase.py CASEDIR T_BED_C [ENDTIME]
+                                         a case at bed temperature T_BED_C
+                                         [Celsius] with the bed of deposit/
+
+2D Hele-Shaw cell (thesis Figure 4.9): w = 10 mm wide, h = 30 mm high, gap
+l = 1.5 mm (front/back wall friction, fvOption heleShawFriction, eq. 4.14),
+bed of height h_p = 22.5 mm at T_bed (grains and side/bottom walls), air
+(Table 4.2) at T_bed, open top (p = 0).  Water droplet D = 2.5 mm at
+T_d = 100 C resting on the bed surface at t = 0 (moving, blowing: vapour
+volume source, fvOption vapourDropletSource, constant/dropletProperties).
+Cohesion F_c^0 = 7.5e-4 N (per unit depth in 2D: 7.5e-4/l N/m) where
+psi < psi^0 = 0.9 (eq. 4.18).  Mesh: uniform, D/8 = 0.3125 mm cells.
+"""
+import os
+import sys
+
+import numpy as np
+
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")),
+                                "src", "python"))
+import nscdpost  # noqa: E402
+
+# Table 4.2
+RHO, MU, CP, KAPPA, BETA = 1.204, 2e-5, 1040.0, 0.026, 3e-3
+NU = MU / RHO
+D_V, RHO_V = 2e-5, 1.204
+RHO_P, C_P, K_P, FRICTION = 3200.0, 290.0, 234.0, 0.3
+W, H, H_P, GAP, D_DROP = 10e-3, 30e-3, 22.5e-3, 1.5e-3, 2.5e-3
+D_GRAIN_TABLE = 55e-6
+DT = 5e-4
+F_C0, PSI0 = 7.5e-4, 0.9
+# water (not in Table 4.2)
+RHO_L, LATENT, T_D = 958.0, 2.257e6, 373.15
+DEPTH = GAP                      # 2D mesh depth = the Hele-Shaw gap
+CELL = D_DROP / 8
+D_GRAIN_REDUCED = 1e-3
+
+
+def header(cls, obj):
+    return f"FoamFile {{ version 2.0; format ascii; class {cls}; object {obj}; }}\n"
+
+
+def write(case, rel, cls, body):
+    path = os.path.join(case, rel)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(header(cls, os.path.basename(rel)) + body)
+
+
+def mesh_and_grains(case, d_grain):
+    nx, ny = int(round(W / CELL)), int(round(H / CELL))
+    write(case, "system/blockMeshDict", "dictionary",
+          "scale 1;\nvertices ((0 0 0) (%g 0 0) (%g %g 0) (0 %g 0) (0 0 %g) (%g 0 %g) (%g %g %g) (0 %g %g));\n"
+          % (W, W, H, H, DEPTH, W, DEPTH, W, H, DEPTH, H, DEPTH)
+          + f"blocks (hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1));\n"
+          "boundary (\n walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1)); }\n"
+          " outlet { type patch; faces ((3 7 6 2)); }\n"
+          " frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n")
+    write(case, "constant/grainProperties", "dictionary",
+          f"materials {{ grains {{ density {RHO_P}; friction {FRICTION}; conductivity {K_P};"
+          f" heatCapacity {C_P}; }} }}\nwallPatches (walls);\n"
+          "contactSolver { tolerance 1e-4; maxIterations 1000; overlapTolerance 1e-2; }\n"
+          f"// grain diameter of this bed: {d_grain:g} m (Table 4.2: {D_GRAIN_TABLE:g} m)\n")
+    write(case, "constant/g", "uniformDimensionedVectorField",
+          "dimensions [0 1 -2 0 0 0 0];\nvalue (0 -9.81 0);\n")
+
+
+def deposit(d_grain=D_GRAIN_REDUCED, root=here):
+    case = os.path.join(root, "deposit")
+    mesh_and_grains(case, d_grain)
+    # ~ the number that fills w x h_p (1 mm grains: 234, bed top 20.8 mm;
+    # more do not fit the loose insertion lattice of the 30 mm cell)
+    n = int(0.82 * W * H_P / (np.pi / 4 * d_grain ** 2))
+    write(case, "system/controlDict", "dictionary",
+          "application grainDeposit; startFrom latestTime; startTime 0; stopAt endTime;\n"
+          "endTime 1; deltaT 1e-4; writeControl timeStep; writeInterval 1; writeFormat ascii;\n"
+          "writePrecision 12; timeFormat general; timePrecision 6; runTimeModifiable false;\n")
+    write(case, "system/fvSchemes", "dictionary",
+          "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
+          "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
+          "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n")
+    write(case, "system/fvSolution", "dictionary", "solvers {}\n")
+    write(case, "system/grainDepositDict", "dictionary",
+          "material grains;\nmethod box;\n"
+          f"box {{ min (0 0 0); max ({W:.9g} {H:.9g} 1); }}\n"
+          f"number {n};\ndMin {0.9 * d_grain:.9g};\nsizeRatio {1 / 0.9:.6g};\nseed 8;\n"
+          "settle { maxTime 1; deltaT 2e-4; speedTolerance 2e-3; }\n")
+    print(f"{case}: {n} grains of {d_grain:g} m to settle")
+
+
+def bed_top(dep):
+    g = nscdpost.read_grains(dep, "0")
+    return float(np.percentile(g["x"][:, 1] + 0.5 * g["d"], 98))
+
+
+def setup(case, t_bed_c, end_time=0.5, root=here):
+    dep = os.path.join(root, "deposit")
+    g = nscdpost.read_grains(dep, "0")
+    d_grain = float(np.mean(g["d"]))
+    mesh_and_grains(case, d_grain)
+    os.makedirs(os.path.join(case, "0"), exist_ok=True)
+    nscdpost.copy_grain_state(dep, case)
+    t_bed = t_bed_c + 273.15
+    top = bed_top(dep)
+    with open(os.path.join(case, "constant", "grainProperties"), "a") as f:
+        f.write(f"initialTemperature {t_bed};\nwallTemperatures {{ walls {t_bed}; }}\n")
+    emp = "frontAndBack { type empty; }"
+    write(case, "0/U", "volVectorField", "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
+          "boundaryField { walls { type noSlip; } outlet { type pressureInletOutletVelocity;"
+          f" value uniform (0 0 0); }} {emp} }}\n")
+    write(case, "0/p", "volScalarField", "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+          "boundaryField { walls { type fixedFluxPressure; value uniform 0; }"
+          f" outlet {{ type fixedValue; value uniform 0; }} {emp} }}\n")
+    write(case, "0/T", "volScalarField", f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {t_bed};\n"
+          f"boundaryField {{ walls {{ type fixedValue; value uniform {t_bed}; }}"
+          f" outlet {{ type inletOutlet; inletValue uniform {t_bed}; value uniform {t_bed}; }} {emp} }}\n")
+    write(case, "0/psi", "volScalarField", "dimensions [0 0 0 0 0 0 0];\ninternalField uniform 0;\n"
+          "boundaryField { walls { type fixedValue; value uniform 0; }"
+          f" outlet {{ type inletOutlet; inletValue uniform 0; value uniform 0; }} {emp} }}\n")
+    write(case, "constant/transportProperties", "dictionary",
+          f"rho {RHO};\nnu {NU:.10g};\nCp {CP};\nkappa {KAPPA};\nbeta {BETA};\nTRef {t_bed};\n"
+          f"vapour {{ D {D_V}; rho {RHO_V}; bounded yes; }}\n")
+    write(case, "constant/couplingProperties", "dictionary",
+          "dragModel DallavalleDiFelice;\nforceModel A;\n"
+          "voidFraction { method overlap; epsMin 1e-8; effectiveDiameterFactor 0.88; }\n"
+          "heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n"
+          f"cohesion {{ force {F_C0 / DEPTH:.9g}; vapourThreshold {PSI0}; }}\n")
+    write(case, "constant/dropletProperties", "dictionary",
+          f"centre ({W / 2:.9g} {top + D_DROP / 2:.9g} {DEPTH / 2:.9g});\ndiameter {D_DROP};\n"
+          f"velocity (0 0 0);\nliquidDensity {RHO_L};\nlatentHeat {LATENT};\n"
+          f"vapourisationTemperature {T_D};\nvapourDensity {RHO_V};\nmoving yes;\nblowing yes;\n")
+    write(case, "system/fvOptions", "dictionary",
+          "droplet { type vapourDropletSource; }\n"
+          f"heleShaw {{ type heleShawFriction; selectionMode all; gap {GAP}; fields (U); }}\n")
+    write(case, "system/controlDict", "dictionary",
+          "application vansFoam; startFrom latestTime; startTime 0; stopAt endTime;\n"
+          f"endTime {end_time}; deltaT {DT}; adjustTimeStep yes; maxCo 0.5; maxDeltaT {DT};\n"
+          f"writeControl adjustableRunTime; writeInterval {end_time / 10:g}; writeFormat ascii;\n"
+          "writePrecision 12; timeFormat general; timePrecision 6; runTimeModifiable false;\n"
+          'libs ("libdropletCoupling.so");\n')
+    write(case, "system/fvSchemes", "dictionary",
+          "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
+          "divSchemes { default none; div(phi,U) Gauss limitedLinearV 1; div(phi,T) Gauss limitedLinear 1;"
+          " div(phi,psi) Gauss limitedLinear01 1; }\n"
+          "laplacianSchemes { default Gauss linear corrected; }\n"
+          "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n")
+    write(case, "system/fvSolution", "dictionary",
+          "solvers {\n  p { solver GAMG; smoother DIC; tolerance 1e-9; relTol 0.01; }\n"
+          "  pFinal { $p; relTol 0; }\n"
+          "  \"(U|UFinal)\" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-9; relTol 0; }\n"
+          "  \"(T|psi)\" { solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0; }\n}\n"
+          "PIMPLE { momentumPredictor yes; nOuterCorrectors 1; nCorrectors 2;"
+          " nNonOrthogonalCorrectors 0; }\n")
+    nscdpost.write_json(os.path.join(case, "case.json"), {
+        "bed_temperature_C": t_bed_c, "bed_top": top, "grain_diameter": d_grain,
+        "grains": int(len(g["d"])), "droplet_diameter": D_DROP, "width": W, "height": H})
+    print(f"{case}: T_bed = {t_bed_c:g} C, {len(g['d'])} grains of {d_grain:g} m, bed top "
+          f"{top * 1e3:.3f} mm, endTime {end_time} s")
+
+
+if __name__ == "__main__":
+    if sys.argv[1] == "deposit":
+        deposit(float(sys.argv[2]) if len(sys.argv) > 2 else D_GRAIN_REDUCED)
+    else:
+        setup(sys.argv[1], float(sys.argv[2]), *(float(a) for a in sys.argv[3:4]))
