@@ -78,3 +78,43 @@ Foam::vector Foam::freeSurfaceTools::getDirection
     }
     return d/mag(d);
 }
+
+
+void Foam::freeSurfaceTools::getFrame
+(
+    const dictionary& dict,
+    vector& horizontal,
+    vector& vertical
+)
+{
+    horizontal = getDirection(dict, "horizontalDirection", vector(1, 0, 0));
+    vertical = getDirection(dict, "verticalDirection", vector(0, 1, 0));
+    if (mag(horizontal & vertical) > 1e-6)
+    {
+        FatalIOErrorInFunction(dict)
+            << "horizontalDirection and verticalDirection in " << dict.name()
+            << " are not orthogonal" << exit(FatalIOError);
+    }
+}
+
+
+Foam::Pair<Foam::scalar> Foam::freeSurfaceTools::getRange
+(
+    const dictionary& dict,
+    const word& key
+)
+{
+    if (!dict.found(key))
+    {
+        return Pair<scalar>(-GREAT, GREAT);
+    }
+    const Pair<scalar> r = dict.get<Pair<scalar>>(key);
+    if (!(r.second() > r.first()))
+    {
+        FatalIOErrorInFunction(dict)
+            << key << " (" << r.first() << " " << r.second() << ") in "
+            << dict.name() << " must be (min max) with max > min"
+            << exit(FatalIOError);
+    }
+    return r;
+}

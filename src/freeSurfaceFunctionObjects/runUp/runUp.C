@@ -79,25 +79,11 @@ bool Foam::functionObjects::runUp::read(const dictionary& dict)
                 << exit(FatalIOError);
         }
     }
-    xMin_ = -GREAT;
-    xMax_ = GREAT;
-    if (dict.found("xRange"))
-    {
-        const Pair<scalar> r = dict.get<Pair<scalar>>("xRange");
-        if (!(r.second() > r.first()))
-        {
-            FatalIOErrorInFunction(dict)
-                << "xRange must be (min max) with max > min in " << dict.name()
-                << exit(FatalIOError);
-        }
-        xMin_ = r.first();
-        xMax_ = r.second();
-    }
+    const Pair<scalar> xRange = freeSurfaceTools::getRange(dict, "xRange");
+    xMin_ = xRange.first();
+    xMax_ = xRange.second();
     stillWaterLevel_ = dict.getOrDefault<scalar>("stillWaterLevel", 0);
-    horizontal_ =
-        freeSurfaceTools::getDirection(dict, "horizontalDirection", vector(1, 0, 0));
-    vertical_ =
-        freeSurfaceTools::getDirection(dict, "verticalDirection", vector(0, 1, 0));
+    freeSurfaceTools::getFrame(dict, horizontal_, vertical_);
     return true;
 }
 

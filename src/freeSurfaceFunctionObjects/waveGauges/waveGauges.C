@@ -170,31 +170,10 @@ bool Foam::functionObjects::waveGauges::read(const dictionary& dict)
             << " abscissae, e.g. x (0.5 1.0);" << exit(FatalIOError);
     }
     stillWaterLevel_ = dict.getOrDefault<scalar>("stillWaterLevel", 0);
-    horizontal_ =
-        freeSurfaceTools::getDirection(dict, "horizontalDirection", vector(1, 0, 0));
-    vertical_ =
-        freeSurfaceTools::getDirection(dict, "verticalDirection", vector(0, 1, 0));
-    if (mag(horizontal_ & vertical_) > 1e-6)
-    {
-        FatalIOErrorInFunction(dict)
-            << "horizontalDirection and verticalDirection in " << dict.name()
-            << " are not orthogonal" << exit(FatalIOError);
-    }
-    vMin_ = -GREAT;
-    vMax_ = GREAT;
-    if (dict.found("range"))
-    {
-        const Pair<scalar> r = dict.get<Pair<scalar>>("range");
-        if (!(r.second() > r.first()))
-        {
-            FatalIOErrorInFunction(dict)
-                << "range (" << r.first() << " " << r.second() << ") in "
-                << dict.name() << " must be (min max) with max > min"
-                << exit(FatalIOError);
-        }
-        vMin_ = r.first();
-        vMax_ = r.second();
-    }
+    freeSurfaceTools::getFrame(dict, horizontal_, vertical_);
+    const Pair<scalar> range = freeSurfaceTools::getRange(dict, "range");
+    vMin_ = range.first();
+    vMax_ = range.second();
     buildColumns();
     return true;
 }
