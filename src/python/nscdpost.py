@@ -82,8 +82,16 @@ def time_dirs(case):
     return sorted(out)
 
 
+#: optional per-grain fields written by the coupled solvers (vansCloud):
+#: fluid force [N] (2D: per mesh depth), fluid velocity at the grain [m/s],
+#: grain and fluid temperature [K], fluid torque [N m] (rotationCoupling)
+OPTIONAL_GRAIN_FIELDS = ("Ffluid", "Ufluid", "T", "Tfluid", "torqueFluid")
+
+
 def read_grains(case, time_name):
-    """Grain centres, diameters and velocities written at one time."""
+    """Grain centres `x`, diameters `d`, velocities `U` and `fixed` flags
+    written at one time, plus each field of OPTIONAL_GRAIN_FIELDS present
+    (vectors as (n, 3), scalars as (n,) arrays, by the file's class)."""
     cdir = os.path.join(case, time_name, "lagrangian", "grains")
     x = read_vector_field(os.path.join(cdir, "positions"))
     d = read_scalar_field(os.path.join(cdir, "d"))
@@ -93,7 +101,18 @@ def read_grains(case, time_name):
         fixed = read_scalar_field(os.path.join(cdir, "fixed")) > 0.5
     if not (len(x) == len(d) == len(U) == len(fixed)):
         raise ValueError(f"{cdir}: inconsistent grain field sizes")
-    return {"x": x, "d": d, "U": U, "fixed": fixed}
+    out = {"x": x, "d": d, "U": U, "fixed": fixed}
+    for name in OPTIONAL_GRAIN_FIELDS:
+        path = os.path.join(cdir, name)
+        if not os.path.isfile(path):
+            continue
+        head = _read_file(path)[:2000]   # the FoamFile header
+        vector = re.search(r"class\s+vectorField", head) is not None
+        arr = (read_vector_field if vector else read_scalar_field)(path)
+        if len(arr) != len(d):
+            raise ValueError(f"{path}: {len(arr)} values for {len(d)} grains")
+        out[name] = arr
+    return out
 
 
 def write_json(path, obj):

@@ -176,6 +176,63 @@ def test_run_up_prescribed(tmp_path, env):
     assert expected_cells[1] < expected_cells[0]      # the max is kept
 
 
+def write_scalar_transport(case, time_s, a):
+    """The water fraction as the field T of OpenFOAM's scalarTransportFoam
+    (U = 0, DT = 0: T is carried unchanged from step to step), so that a
+    solver run with write times and a restart drives the function object."""
+    a = np.asarray(a).ravel()
+    write(os.path.join(case, time_s, "T"), "volScalarField", "T",
+          "dimensions [0 0 0 0 0 0 0];\n"
+          f"internalField nonuniform List<scalar> {a.size} (\n"
+          + "\n".join(f"{v:.17g}" for v in a) + "\n);\n"
+          "boundaryField { walls { type zeroGradient; } frontAndBack { type empty; } }\n")
+
+
+def test_run_up_maximum_restored_on_restart(tmp_path, env):
+    """A run writes at t = 0.5 with a high surface; the restart from 0.5
+    sees a lower one.  The maximum after the restart must still be the
+    first part's (the runUp state in 0.5/uniform/functionObjects), not the
+    lower restarted value (it was, before the state was kept)."""
+    fos = "cells { type runUp; libs (freeSurfaceFunctionObjects); alpha T; stillWaterLevel 0.2; }\n"
+    case = box(tmp_path, "restart", fos)
+    ctrl = os.path.join(case, "system", "controlDict")
+    text = open(ctrl).read().replace("application grainFoam;", "application scalarTransportFoam;")
+    text = re.sub(r"endTime [^;]*;", "endTime 0.5;", text, count=1)
+    text = re.sub(r"deltaT [^;]*;", "deltaT 0.1;", text, count=1)
+    text = re.sub(r"writeInterval [^;]*;", "writeInterval 0.5;", text, count=1)
+    open(ctrl, "w").write(text)
+    write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
+          "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
+          "divSchemes { default none; div(phi,T) Gauss upwind; }\n"
+          "laplacianSchemes { default Gauss linear corrected; }\n"
+          "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n")
+    write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution",
+          "solvers { T { solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0; } }\n"
+          "SIMPLE { nNonOrthogonalCorrectors 0; }\n")
+    write(os.path.join(case, "constant", "transportProperties"), "dictionary",
+          "transportProperties", "DT DT [0 2 -1 0 0 0 0] 0;\n")
+    write(os.path.join(case, "0", "U"), "volVectorField", "U",
+          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
+          "boundaryField { walls { type noSlip; } frontAndBack { type empty; } }\n")
+    high, low = (lambda x: 0.2307 + 0.1 * x), (lambda x: 0.21 + 0.02 * x)
+    a_high, a_low = alpha_under(high), alpha_under(low)
+    r_high = np.max(np.where(a_high >= 0.5, YC[:, None], -1.0)) - 0.2
+    r_low = np.max(np.where(a_low >= 0.5, YC[:, None], -1.0)) - 0.2
+    assert r_low < r_high - DY / 2           # the test can tell them apart
+    write_scalar_transport(case, "0", a_high)
+    run("blockMesh", case, env)
+    run("scalarTransportFoam", case, env)
+    assert os.path.isdir(os.path.join(case, "0.5", "uniform", "functionObjects"))
+    # the surface drops before the restart
+    write_scalar_transport(case, "0.5", a_low)
+    text = re.sub(r"endTime [^;]*;", "endTime 1;", open(ctrl).read(), count=1)
+    open(ctrl, "w").write(text)
+    run("scalarTransportFoam", case, env)
+    after = read_dat(case, "cells", "runUp.dat", "0.5")
+    assert np.allclose(after[:, 1], r_low, atol=1e-12), after
+    assert np.allclose(after[:, 2], r_high, atol=1e-12), after
+
+
 @pytest.mark.parametrize("fo,key", [
     ("gauges { type waveGauges; libs (freeSurfaceFunctionObjects); x (0.5); stilWaterLevel 0; }",
      "stilWaterLevel"),

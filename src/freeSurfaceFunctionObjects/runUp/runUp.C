@@ -32,6 +32,9 @@ Foam::functionObjects::runUp::runUp
     maxRunUp_(-GREAT)
 {
     read(dict);
+    // restart: the maximum so far is kept in the function-object state
+    // (<time>/uniform/functionObjects/functionObjectProperties)
+    getProperty("maxRunUp", maxRunUp_);
     if (writeToFile() && Pstream::master())
     {
         writeHeader(file(), "Run-up [m] (" + alphaName_ + " >= "
@@ -130,6 +133,7 @@ bool Foam::functionObjects::runUp::execute()
     {
         runUp_ = -GREAT;
     }
+    setProperty("maxRunUp", maxRunUp_);
     Log << type() << " " << name() << ": run-up " << runUp_
         << " m, max " << maxRunUp_ << " m" << endl;
     return true;
