@@ -19,17 +19,19 @@ grains spanning many cells, eps -> epsMin inside them, the semi-implicit drag
 - Disc released from rest in still fluid: initial acceleration
   a0 = (rho_p - rho_f) g / (rho_p + C_A rho_f), C_A = 1 the added-mass
   coefficient of a circular cylinder (potential flow; Batchelor 1967,
-  section 6.4; the walls W = 8 D away raise it by < 5 %), within 10 %.
-  KNOWN FAILURE (xfail, strict): vansFoam gives a0 ~ (rho_p - rho_f) g/rho_p,
-  no added mass (measured 0.098 m/s^2 against 0.049 m/s^2 at D/h = 10,
-  dt = 1e-3 s), and a0 depends on dt and h: D/h = 10: 0.062 (dt 2e-4),
-  0.128 (dt 5e-3); D/h = 15: 0.080, D/h = 20: 0.137 (dt 1e-3).  Values
-  above (rho_p - rho_f) g/rho_p = 0.097 m/s^2 are impossible for a body
-  released from rest (the fluid can only resist).
+  section 6.4; the walls W = 8 D away raise it by < 5 %), within 10 %, at
+  rho_p/rho_f = 1.01 and 2, independent of dt within 10 % (5x range),
+  with the opt-in resolved solid flux and balanced grain weight of
+  vansCloud (couplingProperties resolvedCellsPerDiameter 4; vansCloud.H,
+  "Resolved grains"); with the default scheme (strict xfail) a0 is up to
+  2.6x the reference and dt dependent (0.098 m/s^2 against 0.049 at dt 1e-3 s,
+  0.062 at 2e-4, 0.128 at 5e-3).
 - Falling cylinder (thesis 3.3.3, Namkoong et al. 2008): terminal velocity
   within 5 % of U_t = 2.501 cm/s (Re = 156) on a reduced copy of the
-  tutorial (see test docstring); the full tutorial (D/h = 15, maxDeltaT
-  1e-3 s) gives 2.494 cm/s on its plateau (1.3-2.0 s).
+  tutorial (see test docstring), with both schemes: the default passes
+  (2.595 cm/s, but with the wrong added mass above, strict xfail), the
+  opt-in resolved-regime scheme (right added mass) is a strict xfail at
+  2.005 cm/s (-20 %).  Neither scheme passes both checks: issue 7 open.
 """
 import math
 import os
@@ -41,6 +43,16 @@ import nscdpost
 from foamcase import run, tutorial_modules
 
 setupCase, postProcess = tutorial_modules("vansFoam", "cylinderSedimentation")
+
+#: couplingProperties entry of the opt-in resolved-regime scheme (vansCloud.H,
+#: "Resolved grains"): resolved solid flux + face-balanced grain weight
+RESOLVED = "resolvedCellsPerDiameter 4;\n"
+
+
+def opt_in_resolved(case):
+    """Switch a written case to the resolved-regime scheme."""
+    with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
+        f.write(RESOLVED)
 
 
 def faxen_drag(k):
@@ -83,27 +95,89 @@ def test_fixed_disc_between_walls_faxen(tmp_path, env):
     print("observed order (three levels, ratio sqrt 2):", math.log(d1 / d2) / math.log(math.sqrt(2)))
 
 
-@pytest.mark.xfail(strict=True, reason="vansFoam resolved regime lacks the added mass: a0 = "
-                   "(rho_p - rho_f) g/rho_p measured (issue 7 report of engineer D)")
-def test_released_disc_added_mass(tmp_path, env):
-    """Disc (D = 5 mm, rho_p/rho_f = 1.01, water-like nu = 8e-7) released
-    from rest at the centre of a 0.04 x 0.08 m box, D/h = 10, dt = 1e-3 s:
-    mean acceleration over the first 0.02 s (the Basset history force is
-    O(sqrt(nu t)/D) ~ 3 % of the added-mass force there)."""
-    case = str(tmp_path / "released")
-    setupCase.cylinder_case(case, end_time=0.02, cells_per_d=10, height=0.08,
-                            write_interval=0.02, max_dt=1e-3, y0=0.0)
+def released_disc_a0(tmp_path, env, rho_ratio, max_dt, cells_per_d=10, end=0.02, resolved=True):
+    """Initial acceleration [m/s^2] of a disc (D = 5 mm, water-like
+    nu = 8e-7) released from rest at the centre of a 0.04 x 0.08 m box
+    (walls 4 D to the sides), from the grain velocity written every
+    max(dt, 1 ms) up to `end`: least-squares fit of
+        u(t) = a0 t + c t^(3/2)
+    The t^(3/2) term is the short-time history (Basset) force of a body
+    accelerated from rest: its boundary layer grows as sqrt(nu t), the force
+    as a sqrt(t) (Basset 1888; Landau & Lifshitz, Fluid Mechanics, section
+    24), so the mean acceleration over the window is below a0 (measured:
+    -11 % after 0.01 s at rho_p/rho_f = 1.01, sqrt(nu t)/R = 0.11).
+    Returns (a0, mean acceleration over the window)."""
+    case = str(tmp_path / f"released_{rho_ratio:g}_{max_dt:g}_{cells_per_d:g}_{resolved}")
+    rho_s = setupCase.RHO_S
+    try:
+        setupCase.RHO_S = rho_ratio * setupCase.RHO_F
+        setupCase.cylinder_case(case, end_time=end, cells_per_d=cells_per_d, height=0.08,
+                                write_interval=max(max_dt, 1e-3), max_dt=max_dt, y0=0.0)
+    finally:
+        setupCase.RHO_S = rho_s
+    if resolved:
+        opt_in_resolved(case)
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
         run(app, case, env)
     t, x, u = postProcess.grain_history(case)
-    a = -u[0, -1, 1] / t[-1]
-    ref = (setupCase.RHO_S - setupCase.RHO_F) * 9.81 / (setupCase.RHO_S + setupCase.RHO_F)
-    print(f"initial acceleration {a:.4f} m/s^2, added-mass reference {ref:.4f}, "
-          f"without added mass {(setupCase.RHO_S - setupCase.RHO_F) * 9.81 / setupCase.RHO_S:.4f}")
-    assert abs(a / ref - 1) < 0.10, (a, ref)
+    assert abs(t[-1] - end) < 1e-9, t
+    tt, uu = t[1:], -u[0, 1:, 1]
+    (a0, c), *_ = np.linalg.lstsq(np.vstack([tt, tt**1.5]).T, uu, rcond=None)
+    return a0, uu[-1] / tt[-1]
 
 
-def test_falling_cylinder_terminal_velocity(tmp_path, env):
+def test_released_disc_added_mass(tmp_path, env):
+    """Disc released from rest, D/h = 10: the initial acceleration
+        a0 = (rho_p - rho_f) g / (rho_p + C_A rho_f),
+    C_A = 1 the added-mass coefficient of a circular cylinder (potential
+    flow; Batchelor 1967, section 6.4; the side walls 4 D away raise C_A by a
+    few %, which lowers a0), within 10 % at rho_p/rho_f = 1.01 and 2, and
+    independent of the time step within 10 % over a 5x range (dt = 2e-4 and
+    1e-3 s at 1.01).  Values above (rho_p - rho_f) g/rho_p (no added mass)
+    are impossible.
+    Measured (21:40 UTC 2026-11-21, vansCloud resolved solid flux + balanced
+    weight): a0/ref = 0.928 (dt 1e-3), 0.904 (2e-4), 0.918 (5e-3) at 1.01,
+    0.954 at rho_p/rho_f = 2; 0.943, 0.958 at D/h = 15, 20.  Before
+    (no B_f, K g in the cells): 2.02, 1.27 (2e-4), 2.63 (5e-3): spurious
+    rim currents of ~0.23 g dt per step from the face/cell mismatch of the
+    pressure force and the grain's weight (vansCloud.H, Resolved grains)."""
+    g = 9.81
+    res = {}
+    for rr, dt in ((1.01, 1e-3), (1.01, 2e-4), (2.0, 1e-3)):
+        a0, amean = released_disc_a0(tmp_path, env, rr, dt)
+        ref = (rr - 1) * g / (rr + 1)
+        res[(rr, dt)] = a0
+        print(f"rho_p/rho_f {rr}, dt {dt}: a0 {a0:.5f} m/s^2 (mean over 0.02 s {amean:.5f}), "
+              f"added-mass reference {ref:.5f}, without added mass {(rr - 1) * g / rr:.5f}")
+        assert amean < (rr - 1) * g / rr
+        assert abs(a0 / ref - 1) < 0.10, (rr, dt, a0, ref)
+    assert abs(res[(1.01, 2e-4)] / res[(1.01, 1e-3)] - 1) < 0.10, res
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "default scheme (no resolvedCellsPerDiameter): no consistent added mass, a0 = 2.02 x "
+    "(rho_p - rho_f) g/(rho_p + rho_f) at rho_p/rho_f = 1.01, dt 1e-3 (dt dependent: 1.27 at "
+    "2e-4, 2.63 at 5e-3); the resolved-regime scheme fixes it (test above)"))
+def test_released_disc_added_mass_default_scheme(tmp_path, env):
+    """The same released disc (rho_p/rho_f = 1.01, dt = 1e-3 s, D/h = 10)
+    with the default coupling (grains' weight in the cells, pressure force
+    on the faces, explicit solid flux): its initial acceleration should be
+    the added-mass value within 10 % too (Batchelor 1967, 6.4); it is not
+    (spurious rim force, vansCloud.H "Resolved grains"), hence the opt-in
+    scheme and this strict xfail that will flag a fix of the default."""
+    a0, amean = released_disc_a0(tmp_path, env, 1.01, 1e-3, resolved=False)
+    ref = 0.01 * 9.81 / 2.01
+    print(f"default scheme: a0 {a0:.5f} m/s^2, added-mass reference {ref:.5f}")
+    assert abs(a0 / ref - 1) < 0.10, a0
+
+
+@pytest.mark.parametrize("resolved", [
+    False,
+    pytest.param(True, marks=pytest.mark.xfail(strict=True, reason=(
+        "resolved-regime scheme: free resolved grain too slow at Re ~ 150: 2.005 cm/s at "
+        "D/h = 8 (-20 %), 2.10 at D/h = 15 (1.6 s, still rising); see the docstring"))),
+], ids=["default", "resolvedScheme"])
+def test_falling_cylinder_terminal_velocity(tmp_path, env, resolved):
     """Reduced copy of tutorials/vansFoam/cylinderSedimentation: the same
     fluid, cylinder and box width (confinement W/D = 8 as in the tutorial),
     box 0.12 m high instead of 0.32 m (the cylinder falls ~4.5 cm in 2 s: the
@@ -112,12 +186,25 @@ def test_falling_cylinder_terminal_velocity(tmp_path, env):
     = mean streamwise velocity over the last 40 % of 2 s (postProcess.measure,
     t >= 1.2 s: the full tutorial is on its plateau from 1.3 s to 2.0 s, before
     the lateral drift of the wake instability), within 5 % of U_t = 2.501 cm/s
-    (Namkoong et al. 2008, thesis 3.3.3).  Measured: 2.595 cm/s (+3.8 %);
-    the same case at maxDeltaT 5e-3 s, 3 s: 2.86 cm/s (+14 %): the resolved
-    light grain is time-step sensitive (see the added-mass test)."""
+    (Namkoong et al. 2008, thesis 3.3.3).  Default scheme (passes): 2.595
+    cm/s (+3.8 %), 2.86 cm/s at maxDeltaT 5e-3 s (+14 %): time-step
+    sensitive, with the spurious rim force that doubles the released disc's
+    initial acceleration (strict xfail above), so the agreement is partly
+    fortuitous.  Resolved-regime scheme (resolvedCellsPerDiameter 4, strict
+    xfail; measured 21:40-21:55 UTC 2026-11-21): 2.005 cm/s (-20 %; 1.962 at maxDeltaT 1e-3 s: now dt
+    independent); mean over 0.96-1.6 s, u(1.6 s): D/h = 8: 2.01, 2.02;
+    12: 2.06, 2.11; 15: 2.10, 2.17 cm/s (still rising): the drag of the
+    free resolved disc converges slowly with h.  Cross-check at low Re
+    (free disc settling midway between walls, k = D/H = 0.2, Re = 0.05,
+    against Faxen's drag): the free disc settles 15-23 % too FAST (D/h =
+    10, nu dt/h^2 = 1 and 5), while the fixed disc's drag is within 2 %
+    (test above): the free resolved grain is a heavy-fluid blob that
+    deforms within a step (viscous layer sqrt(nu dt))."""
     case = str(tmp_path / "cyl")
     setupCase.cylinder_case(case, end_time=2.0, cells_per_d=8, height=0.12, write_interval=0.05,
                             max_dt=2e-3)
+    if resolved:
+        opt_in_resolved(case)
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
         run(app, case, env)
     t, x, u = postProcess.grain_history(case)
@@ -155,3 +242,24 @@ def test_dkt_kissing(tmp_path, env):
     print(f"DKT (D/h = 6): kissing at {kiss} s, tumbling at {tumble} s, min gap {gap.min():.2e} m")
     assert kiss is not None, gap
     assert kiss > 0.3, kiss
+
+
+def test_shedding_frequency_extraction():
+    """cylinderSedimentation's postProcess.shedding_analysis on synthetic
+    signals sampled like the tutorial (every 0.02 s over 8 s): a lateral
+    oscillation at 0.90 Hz riding on a slow drift, which grows from 1 s
+    (the developed instability), is found within 2 % from its zero
+    crossings with >= 4 periods; a pure one-way drift (the falling cylinder
+    of the tutorial so far) gives 0, not a spurious frequency."""
+    t = np.arange(0.0, 8.0 + 1e-12, 0.02)
+    growth = np.clip((t - 1.0) / 2.0, 0.0, 1.0)
+    f0 = 0.90
+    ulat = 1e-3 * t / 8 + 5e-3 * growth * np.sin(2 * np.pi * f0 * t)
+    ustr = 0.025 + 1e-4 * growth * np.sin(4 * np.pi * f0 * t)
+    out = postProcess.shedding_analysis(t, ulat, ustr, f_guess=0.925)
+    print(out["shedding_frequency"], out["periods"], out["fft_frequency"])
+    assert out["periods"] >= 4
+    assert abs(out["shedding_frequency"] / f0 - 1) < 0.02
+    drift = postProcess.shedding_analysis(t, -0.5 * 0.025 * growth, ustr * 0 + 0.025,
+                                          f_guess=0.925)
+    assert drift["shedding_frequency"] == 0.0 and drift["periods"] == 0

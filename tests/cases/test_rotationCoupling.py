@@ -21,10 +21,13 @@ overlap-distributed force is handed to NSCD as an external torque.
   angular-momentum rate lost by the fluid (from the fields K, K v**_0, K_p
   and U, about the origin) equals that gained by the grain (x_p x F_p + T_p)
   to round-off (1e-9 relative): Newton's third law for the torque; the spin
-  decays monotonically over the first 0.04 s.  Known defects, marked
-  xfail(strict): the spinning disc's outer velocity profile (pressure
-  undetermined inside the penalised disc) and the long-time stability of
-  the free disc (translation blow-up after 0.04 s).
+  decays monotonically over the first 0.04 s and the disc stays at rest
+  (stable with the resolved solid flux of vansCloud, couplingProperties
+  resolvedCellsPerDiameter 4, set for every case of this module; see
+  vansCloud.H; without it the free disc diverged after 0.04 s).
+  Known defect, marked xfail(strict): the FIXED spinning disc's outer
+  velocity profile (pressure undetermined inside a fixed penalised disc:
+  the resolved solid flux applies to free grains only).
 """
 import math
 import os
@@ -67,7 +70,7 @@ def disc_case(case, env, rho_s, fixed, omega, end, dt, L, d, cells, nu, write_in
     if fixed:
         open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     add_fluid(case, 1000.0, nu, max_dt=dt, max_co=0.5, n_correctors=2,
-              extra_coupling="rotationCoupling yes;\n")
+              extra_coupling="rotationCoupling yes;\nresolvedCellsPerDiameter 4;\n")
     if eps_min is not None:
         cp = os.path.join(case, "constant", "couplingProperties")
         txt = open(cp).read()
@@ -115,7 +118,7 @@ def test_spinning_fixed_disc_torque(spin):
     assert len(tq) > 40
     T = -float(np.mean(tq[-20:]))
     Tlast = nscdpost.read_vector_field(
-        os.path.join(case, "0.4", "lagrangian", "grains", "Tfluid"))[0][2]
+        os.path.join(case, "0.4", "lagrangian", "grains", "torqueFluid"))[0][2]
     assert Tlast < 0 and abs(Tlast) == pytest.approx(tq[-1], rel=1e-12)
     # 2D: the torque is per unit depth, as the analytical one per unit length
     lo = couette_torque(mu, omega, R, L / 2)
@@ -166,7 +169,8 @@ def test_free_disc_newton_third_law(spin_down):
     case, out, omega = spin_down
     lost = [float(v) for v in re.findall(r"lost by the fluid (\S+) gained", out)]
     gained = [float(v) for v in re.findall(r"gained by the grains (\S+)", out)]
-    assert len(lost) == len(gained) > 5
+    # 5 steps to 0.05 s (dt 0.02 s, shortened to hit the write times)
+    assert len(lost) == len(gained) >= 4
     scale = max(abs(v) for v in lost)
     assert scale > 0
     for a, b in zip(lost, gained):
@@ -188,13 +192,12 @@ def test_free_disc_spin_down_decays(spin_down):
     assert all(0 < b < a for a, b in zip(w, w[1:])), w
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "known defect: explicit rotation coupling at rho_s/rho_f = 1.01, 16 cells "
-    "per diameter: the grain starts translating diagonally (Cartesian-grid "
-    "asymmetry of the rotating penalisation) and the translation blows up "
-    "between 0.03 and 0.05 s (|v| 1e-3 -> 0.17 -> 1.8e2 m/s); without "
-    "rotationCoupling the disc stays at rest"))
 def test_free_disc_stable(spin_down):
+    """The free spinning disc stays (nearly) at rest: |v| < 1 % of the rim
+    speed omega R over 0.05 s, and the spin never grows.  Failed before the
+    resolved solid flux and the balanced grain weight of vansCloud (the
+    translation blew up between 0.03 and 0.05 s, |v| 1e-3 -> 0.17 -> 1.8e2
+    m/s, from the undetermined pressure inside the disc)."""
     case, out, omega = spin_down
     v = grain_series(case, "U", 5)
     w = [x[2] for x in grain_series(case, "omega", 5)]

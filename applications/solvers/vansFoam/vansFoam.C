@@ -36,6 +36,7 @@ Usage
 #include "pimpleControl.H"
 #include "fixedFluxPressureFvPatchScalarField.H"
 #include "fvOptions.H"
+#include "IOField.H"
 
 #include <sstream>
 
@@ -125,6 +126,24 @@ int main(int argc, char *argv[])
 
         // 4. fluid forces on the grains, 5. NSCD
         cloud.setFluidForces(U, p);
+        // 4b. droplet-grain force (dropletCoupling, thesis eq. 4.17): the
+        //     droplet registers the force on each grain (IOField, nscd
+        //     units) in its fvOption correct(T); same NSCD step
+        if (mesh.foundObject<IOField<vector>>("dropletGrainForce"))
+        {
+            const IOField<vector>& Fd =
+                mesh.lookupObject<IOField<vector>>("dropletGrainForce");
+            cloud.addExternalForces(Fd);
+            if (Fd.size())
+            {
+                std::ostringstream os;
+                os.precision(16);
+                const vector sumF = sum(Fd)*cloud.adapter().depth();
+                os  << "droplet-grain force: sum over grains = (" << sumF.x()
+                    << ' ' << sumF.y() << ' ' << sumF.z() << ") N";
+                Info<< os.str().c_str() << endl;
+            }
+        }
         const clock::time_point t3 = clock::now();
         cloud.evolve(runTime.deltaTValue());
         const clock::time_point t4 = clock::now();

@@ -76,7 +76,7 @@ void Foam::vapourDroplet::readDict()
     {
         "centre", "radius", "diameter", "velocity", "liquidDensity",
         "latentHeat", "vapourisationTemperature", "vapourDensity", "moving",
-        "blowing", "penalisationFactor"
+        "blowing", "penalisationFactor", "grainDrag", "liquidViscosity"
     };
     grainTools::checkKeywords(dict_, allowed);
 
@@ -118,6 +118,28 @@ void Foam::vapourDroplet::readDict()
     blowing_ = dict_.getOrDefault<Switch>("blowing", true);
     penalisationFactor_ =
         grainTools::getPositiveOrDefault(dict_, "penalisationFactor", 100);
+    grainDrag_ = dict_.getOrDefault<Switch>("grainDrag", true);
+    // water at 100 C: 281.8e-6 Pa s (IAPWS 2008 viscosity formulation,
+    // Huber et al., J. Phys. Chem. Ref. Data 38 (2009) 101, saturated liquid)
+    muL_ = grainTools::getPositiveOrDefault(dict_, "liquidViscosity", 2.82e-4);
+
+    // drag law and grain porosity of couplingProperties (grains present)
+    {
+        IOobject io
+        (
+            "couplingProperties", mesh_.time().constant(), mesh_,
+            IOobject::MUST_READ, IOobject::NO_WRITE, false
+        );
+        if (io.typeHeaderOk<IOdictionary>(true))
+        {
+            const IOdictionary cp(io);
+            porosity_ = cp.getOrDefault<scalar>("grainPorosity", 0);
+            if (grainDrag_ && cp.found("dragModel"))
+            {
+                drag_ = dragModel::New(cp);
+            }
+        }
+    }
 
     // fluid properties
     const IOdictionary transport
@@ -239,9 +261,23 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
         )
     ),
     rhoL_(0), L_(0), Td_(0), rhoV_(0), moving_(false), blowing_(true),
-    penalisationFactor_(100), rhoF_(0), CpF_(0), diffusivity_(0),
+    penalisationFactor_(100),
+    grainDrag_(true), muL_(2.82e-4), porosity_(0), drag_(nullptr),
+    rhoF_(0), CpF_(0), diffusivity_(0),
     x_(Zero), u_(Zero), m_(0), y0_(0), mdot_(0), Qf_(0), Qp_(0), Ff_(Zero),
-    Vdot_(0), pendingVapour_(0), Vp_(0),
+    Vdot_(0), pendingVapour_(0), Vp_(0), Fp_(Zero), nGrainsIn_(0),
+    grainForce_
+    (
+        IOobject
+        (
+            "dropletGrainForce", mesh.time().timeName(), mesh,
+            IOobject::NO_READ, IOobject::NO_WRITE, true
+        ),
+        label(0)
+    ),
+    prevVelocity_(),
+    prevForce_(),
+    prevDt_(0),
     adapter_(mesh),
     chi_(mesh.nCells(), Zero),
     ring_(mesh.nCells(), Zero),
@@ -398,11 +434,157 @@ void Foam::vapourDroplet::setHeat(const scalar Qf, const scalar Qp)
 }
 
 
+void Foam::vapourDroplet::exchangeGrainMomentum
+(
+    const scalar dt,
+    const bool move,
+    const scalar mEff,
+    vector& u
+)
+{
+    Fp_ = Zero;
+    nGrainsIn_ = 0;
+    if
+    (
+        !grainDrag_ || !drag_.valid() || !(m_ > 0)
+     || !mesh_.foundObject<grainCloudReference>(grainCloud::registryName)
+    )
+    {
+        grainForce_.clear();
+        prevVelocity_.clear();
+        prevForce_.clear();
+        return;
+    }
+    const nscd::System& sys =
+        mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+       .cloud().system();
+    const label n = sys.size();
+    grainForce_.setSize(n);
+    grainForce_ = Zero;
+    const bool twoD = adapter_.twoD();
+    // nscd works per unit depth in 2D; the droplet over the mesh depth
+    const scalar depth = twoD ? adapter_.depth() : 1;
+    const scalar R = radius();
+    const scalar V = volume() + Vp_;
+    // liquid fraction of the droplet (liquid + absorbed grains, eq. 4.15)
+    const scalar epsL = max(1 - (1 - porosity_)*Vp_/V, scalar(1e-3));
+    const vector ud0 = u_;
+    const auto& pos = sys.positions();
+    const auto& vel = sys.velocities();
+    const auto& rad = sys.radii();
+
+    // gravity (liquid buoyancy on the grains inside)
+    vector gVec(Zero);
+    if (mesh_.time().foundObject<uniformDimensionedVectorField>("g"))
+    {
+        gVec = mesh_.time().lookupObject<uniformDimensionedVectorField>("g").value();
+    }
+
+    const vector gGrain(sys.gravity()[0], sys.gravity()[1], sys.gravity()[2]);
+    // other forces of the previous step (contacts, gas), eq. 3.46 p^n
+    const bool history =
+        prevVelocity_.size() == n && prevForce_.size() == n && prevDt_ > 0;
+
+    // pass 1: coefficients c'_i [kg/s] (2D: per unit depth) and the
+    // explicit liquid buoyancy -f_i (1 - n) V_i rho_l g on each grain
+    List<scalar> c(n, Zero);
+    List<vector> Fb(n, Zero);
+    List<bool> inside(n, false);
+    scalar sumC = 0;
+    vector sumCv(Zero);
+    vector sumFb(Zero);
+    for (label g = 0; g < n; ++g)
+    {
+        const double dx = pos[g][0] - x_.x();
+        const double dy = pos[g][1] - x_.y();
+        const double dz = twoD ? 0.0 : pos[g][2] - x_.z();
+        const scalar r = rad[g];
+        const scalar lens =
+            lensOverlap(R, r, std::sqrt(dx*dx + dy*dy + dz*dz), twoD);
+        if (!(lens > 0))
+        {
+            continue;
+        }
+        const scalar Vg = twoD ? pi*r*r : 4.0/3.0*pi*r*r*r;
+        const scalar f = min(lens/Vg, scalar(1));
+        const vector v(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
+        const scalar d = 2*r;
+        const scalar Re = rhoL_*mag(ud0 - v)*d/muL_;
+        const scalar gam = drag_->gamma(epsL, Re, d, muL_, rhoL_);
+        const scalar ci = f*(1 - porosity_)*Vg*gam;
+        // fixed grain: infinite mass, x = 0 (plain backward Euler drag)
+        const bool fixedGrain = sys.fixed(g);
+        const scalar mi = fixedGrain ? 0 : sys.mass(g);
+        // exponential integration over dt of m dv/dt = c (u_d - v) + F_c,
+        // F_c = m g + F_b (constant): v^{n+1} = v_t + (v - v_t) e^{-x},
+        // v_t = u_d + F_c/c, x = c dt/m; NSCD applies m g itself, so the
+        // droplet's force is c'(u_d - v) + F_b - (1 - phi)(m g + F_b),
+        // c' = phi c, phi = (1 - e^{-x})/x (exact for a free grain)
+        const scalar x = fixedGrain ? 0 : ci*dt/mi;
+        const scalar phi = x > 1e-12 ? -std::expm1(-x)/x : 1.0;
+        c[g] = phi*ci;
+        const vector Fbuoy = -f*(1 - porosity_)*Vg*rhoL_*gVec;
+        vector P(Zero);
+        if (history && !fixedGrain)
+        {
+            P = mi*(v - prevVelocity_[g])/prevDt_ - mi*gGrain - prevForce_[g];
+        }
+        Fb[g] = Fbuoy - (1 - phi)*(mi*gGrain + Fbuoy + P);
+        if (twoD)
+        {
+            Fb[g].z() = 0;
+        }
+        sumFb += depth*Fb[g];
+        sumC += c[g]*depth;
+        sumCv += c[g]*depth*v;
+        inside[g] = true;
+        ++nGrainsIn_;
+    }
+
+    // droplet: backward Euler with F_p implicit in u_d
+    if (move)
+    {
+        u = (mEff*u + dt*(sumCv - sumFb))/(mEff + dt*sumC);
+    }
+
+    // pass 2: F_i = c'_i (u_d^{n+1} - v_i), F_p = -depth sum F_i
+    for (label g = 0; g < n; ++g)
+    {
+        if (inside[g])
+        {
+            const vector v(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
+            vector F = c[g]*(u - v) + Fb[g];
+            if (twoD)
+            {
+                F.z() = 0;
+            }
+            grainForce_[g] = F;
+            Fp_ -= depth*F;
+        }
+    }
+
+    // history for the predictor P of the next step
+    prevVelocity_.setSize(n);
+    for (label g = 0; g < n; ++g)
+    {
+        prevVelocity_[g] = vector(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
+    }
+    prevForce_ = grainForce_;
+    prevDt_ = dt;
+}
+
+
 void Foam::vapourDroplet::endStep()
 {
     const Time& runTime = mesh_.time();
     const scalar dt = runTime.deltaTValue();
 
+    if (!(moving_ && m_ > 0))
+    {
+        // droplet held (or gone): the grains still feel its liquid
+        vector u = u_;
+        exchangeGrainMomentum(dt, false, 0, u);
+    }
     if (moving_ && m_ > 0)
     {
         // constant/g (vansFoam registers it on the Time registry)
@@ -419,13 +601,14 @@ void Foam::vapourDroplet::endStep()
                 << "    Fix: add constant/g or set moving no."
                 << exit(FatalError);
         }
-        // eq. 4.17 (F_p = 0) with F_f the surface force of the fluid.  The
+        // eq. 4.17 with F_f the surface force of the fluid.  The
         // penalised fluid inside the droplet moves with it, so (Uhlmann
         // 2005, J. Comput. Phys. 209, eq. 13-14) the surface force is the
         // penalisation force plus the inside fluid's inertia and weight:
         //   F_f = F_pen + rho_f V (du_d/dt - g)
         // hence (m - rho_f V) du_d/dt = F_pen + (m - rho_f V) g
-        // (buoyancy included; explicit Euler, stable for m > rho_f V).
+        // (buoyancy included; explicit Euler, stable for m > rho_f V),
+        // plus F_p implicit (exchangeGrainMomentum).
         const scalar mEff = m_ - rhoF_*volume();
         if (!(mEff > 0))
         {
@@ -436,9 +619,13 @@ void Foam::vapourDroplet::endStep()
                 << "    Fix: moving no in constant/dropletProperties."
                 << exit(FatalError);
         }
-        u_ += dt*(Ff_/mEff + g);
+        // u_d* without F_p, then the implicit grain exchange (F_p)
+        vector u = u_ + dt*(Ff_/mEff + g);
+        meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
+        exchangeGrainMomentum(dt, true, mEff, u);
         // 2D: no motion along the empty direction
-        meshTools::constrainDirection(mesh_, mesh_.solutionD(), u_);
+        meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
+        u_ = u;
         x_ += dt*u_;
     }
 
@@ -460,14 +647,17 @@ void Foam::vapourDroplet::endStep()
                     << adapter_.depth() << " m";
             }
             datPtr_() << nl
-                << "# time x y u v m mdot Q_f Q_p R depth Vdot V_p" << nl;
+                << "# time x y u v m mdot Q_f Q_p R depth Vdot V_p"
+                   " Fp_x Fp_y Fpen_x Fpen_y nGrainsIn" << nl;
         }
         std::ostringstream os;
         os.precision(16);
         os  << runTime.value() << ' ' << x_.x() << ' ' << x_.y() << ' '
             << u_.x() << ' ' << u_.y() << ' ' << m_ << ' ' << mdot_ << ' '
             << Qf_ << ' ' << Qp_ << ' ' << radius() << ' ' << y0_ - x_.y()
-            << ' ' << Vdot_ << ' ' << Vp_;
+            << ' ' << Vdot_ << ' ' << Vp_ << ' ' << Fp_.x() << ' '
+            << Fp_.y() << ' ' << Ff_.x() << ' ' << Ff_.y() << ' '
+            << nGrainsIn_;
         datPtr_() << os.str().c_str() << nl;
         datPtr_().flush();
     }

@@ -128,6 +128,21 @@ Foam::vansCloud::vansCloud
         dimensionedVector(dimAcceleration, Zero),
         zeroGradientFvPatchVectorField::typeName
     ),
+    Bs_
+    (
+        fieldIO(mesh, "Bs"), mesh, dimensionedScalar(dimless, Zero),
+        solidFluxPatchTypes(mesh)
+    ),
+    Kg_
+    (
+        fieldIO(mesh, "Kg"), mesh, dimensionedScalar(dimless, Zero),
+        solidFluxPatchTypes(mesh)
+    ),
+    resolvedCellsPerDiameter_
+    (
+        // default: off (no grain resolved; see vansCloud.H, Resolved grains)
+        dict_.getOrDefault<scalar>("resolvedCellsPerDiameter", GREAT)
+    ),
     KT_
     (
         fieldIO(mesh, "KT"), mesh, dimensionedScalar(inv(dimTime), Zero),
@@ -147,9 +162,30 @@ Foam::vansCloud::vansCloud
             "dragModel", "DallavalleDiFeliceCoeffs", "GidaspowCoeffs",
             "voidFraction", "forceModel",
             "heatTransferModel", "DiFeliceColburnCoeffs", "GunnCoeffs",
-            "RanzMarshallCoeffs", "cohesion", "rotationCoupling"
+            "RanzMarshallCoeffs", "cohesion", "rotationCoupling",
+            "resolvedCellsPerDiameter", "grainPorosity"
         }
     );
+    grainPorosity_ = dict_.getOrDefault<scalar>("grainPorosity", 0);
+    if (!(grainPorosity_ >= 0 && grainPorosity_ < 1))
+    {
+        FatalIOErrorInFunction(dict_)
+            << "grainPorosity " << grainPorosity_ << " in " << dict_.name()
+            << " must be >= 0 and < 1 (porosity n of the grains: the fluid"
+            << " sees (1 - n) of each grain's volume, thesis 4.3.2)." << nl
+            << "    Fix: e.g. grainPorosity 0.5; (default 0: solid grains)"
+            << exit(FatalIOError);
+    }
+    if (!(resolvedCellsPerDiameter_ >= 0))
+    {
+        FatalIOErrorInFunction(dict_)
+            << "resolvedCellsPerDiameter " << resolvedCellsPerDiameter_
+            << " in " << dict_.name() << " must be >= 0." << nl
+            << "    Fix: resolvedCellsPerDiameter 4; (grains spanning 4 or"
+            << " more cells per diameter get the resolved solid flux, 0: all"
+            << " grains; remove the keyword to switch it off)"
+            << exit(FatalIOError);
+    }
     if (forceModel_ != "A" && forceModel_ != "B")
     {
         FatalIOErrorInFunction(dict_)
@@ -595,7 +631,30 @@ void Foam::vansCloud::updateVapourCohesion()
 
 void Foam::vansCloud::mapGrains()
 {
-    adapter_.map(grains_.system());
+    if (grainPorosity_ > 0)
+    {
+        // porous grains (thesis 4.3.2): the fluid sees the concentric
+        // disc/sphere of the solid volume (1 - n) V_p
+        const nscd::System& s = grains_.system();
+        const scalar k =
+            adapter_.twoD()
+          ? std::sqrt(1 - grainPorosity_)
+          : std::cbrt(1 - grainPorosity_);
+        const std::size_t n = s.size();
+        std::vector<overlapMapping::Vec3> c(n);
+        std::vector<double> r(n);
+        for (std::size_t i = 0; i < n; ++i)
+        {
+            const nscd::Vec3& x = s.positions()[i];
+            c[i] = overlapMapping::Vec3(x.x(), x.y(), x.z());
+            r[i] = k*s.radii()[i];
+        }
+        adapter_.map(c.data(), r.data(), label(n));
+    }
+    else
+    {
+        adapter_.map(grains_.system());
+    }
     adapter_.voidFraction(voidFraction_);
 }
 
@@ -654,6 +713,48 @@ void Foam::vansCloud::predictDrag
         nug_[i] = mug[i]/rhog_[i];
     }
     predictDragCore(U, fvc::grad(p)(), dt);
+}
+
+
+void Foam::vansCloud::markResolved()
+{
+    const nscd::System& s = grains_.system();
+    const label n = s.size();
+    resolved_.setSize(n);
+    resolved_ = false;
+    // without constant properties (vansInterFoam) the solver does not add
+    // the B part of the solid flux: keep every grain unresolved
+    if (!constantProperties_ || n == 0)
+    {
+        return;
+    }
+    const scalar depth = adapter_.depth();
+    const bool twoD = adapter_.twoD();
+    const auto& eg = adapter_.entryGrain();
+    const auto& ec = adapter_.entryCell();
+    List<scalar> hSum(n, Zero);
+    List<scalar> nSum(n, Zero);
+    for (std::size_t e = 0; e < ec.size(); ++e)
+    {
+        const scalar Vc = mesh_.V()[ec[e]];
+        hSum[eg[e]] += twoD ? std::sqrt(Vc/depth) : std::cbrt(Vc);
+        nSum[eg[e]] += 1;
+    }
+    if (Pstream::parRun())
+    {
+        Pstream::listCombineGather(hSum, plusEqOp<scalar>());
+        Pstream::listCombineScatter(hSum);
+        Pstream::listCombineGather(nSum, plusEqOp<scalar>());
+        Pstream::listCombineScatter(nSum);
+    }
+    for (label i = 0; i < n; ++i)
+    {
+        if (nSum[i] > 0)
+        {
+            const scalar h = hSum[i]/nSum[i];
+            resolved_[i] = 2*s.radii()[i] >= resolvedCellsPerDiameter_*h;
+        }
+    }
 }
 
 
@@ -724,6 +825,7 @@ void Foam::vansCloud::predictDragCore
         gammaStar_[i] = gamma_[i]*m/(m + Wi*dt*gamma_[i]);
         vStar_[i] = (m*vss_[i] + Wi*dt*gamma_[i]*Ug_[i])/(m + Wi*dt*gamma_[i]);
     }
+    markResolved();
 
     // Drag fields: K = sum (V_pc/V_c) gamma*/rho, K v**, and for model B
     // the solid part of the pressure force phi grad(p)
@@ -732,11 +834,15 @@ void Foam::vansCloud::predictDragCore
     vectorField& sp = solidPressureForce_.primitiveFieldRef();
     scalarField& D = Ds_.primitiveFieldRef();
     scalarField& Kp = Kp_.primitiveFieldRef();
+    scalarField& B = Bs_.primitiveFieldRef();
+    scalarField& Kg = Kg_.primitiveFieldRef();
+    Kg = 0;
     K = 0;
     KU = Zero;
     sp = Zero;
     D = 0;
     Kp = 0;
+    B = 0;
     const auto& eg = adapter_.entryGrain();
     const auto& ec = adapter_.entryCell();
     const auto& ev = adapter_.entryVolume();
@@ -773,6 +879,11 @@ void Foam::vansCloud::predictDragCore
             const scalar Wi = W[gi]/depth;
             D[c] += ev[e]*Wi*dt*rhoK_/(m + Wi*dt*gamma_[gi]);
             Kp[c] += ev[e]*gammaStar_[gi]*Wi*dt/m;
+            if (resolved_[gi])
+            {
+                B[c] += ev[e]*Wi*dt*gamma_[gi]/(m + Wi*dt*gamma_[gi]);
+                Kg[c] += ev[e]*gammaStar_[gi]*dt/rhoK_;
+            }
         }
     }
     K /= mesh_.V();
@@ -780,6 +891,10 @@ void Foam::vansCloud::predictDragCore
     sp /= mesh_.V();
     D /= mesh_.V();
     Kp /= mesh_.V();
+    B /= mesh_.V();
+    Kg /= mesh_.V();
+    Bs_.correctBoundaryConditions();
+    Kg_.correctBoundaryConditions();
     Ds_.correctBoundaryConditions();
     Kp_.correctBoundaryConditions();
     Kdrag_.correctBoundaryConditions();
@@ -803,7 +918,13 @@ Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::solidFlux
         if (s.fixed(i)) continue;
         const scalar m = s.mass(i);
         const scalar Wi = W[i]/depth;
-        vStar_[i] = (m*vss_[i] + Wi*dt*gamma_[i]*Ug_[i])/(m + Wi*dt*gamma_[i]);
+        // resolved grain: only the v** part, a_p v**_0; its fluid part
+        // b_p U is added per cell with the cell's own, pressure-dependent
+        // velocity by the solver (B_f, pEqn.H)
+        const scalar b =
+            resolved_.size() == label(s.size()) && resolved_[i]
+          ? 0 : Wi*dt*gamma_[i];
+        vStar_[i] = (m*vss_[i] + b*Ug_[i])/(m + Wi*dt*gamma_[i]);
     }
     if (!rotation_)
     {
@@ -823,7 +944,18 @@ Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::solidFlux
         for (std::size_t e = 0; e < ec.size(); ++e)
         {
             const label gi = eg[e];
-            f[ec[e]] += ev[e]*(vStar_[gi] + (omega_[gi] ^ leverArm(e)));
+            // resolved grain: a_p (v**_0 + omega x r), the b_p part comes
+            // with the local fluid velocity (which the penalisation drives
+            // to v** + omega x r)
+            scalar a = 1;
+            if (!s.fixed(gi) && resolved_.size() == label(s.size()) && resolved_[gi])
+            {
+                const scalar m = s.mass(gi);
+                const scalar Wdg = W[gi]/depth*dt*gamma_[gi];
+                a = m/(m + Wdg);
+            }
+            f[ec[e]] +=
+                ev[e]*(vStar_[gi] + a*(omega_[gi] ^ leverArm(e)));
         }
         f /= mesh_.V();
         phiVs_.correctBoundaryConditions();
@@ -968,6 +1100,37 @@ void Foam::vansCloud::setFluidForces
         << ", drag angular momentum rate lost by the fluid "
         << dragTorqueFluid_.z() << " gained by the grains "
         << dragTorqueGrains_.z() << endl;
+}
+
+
+void Foam::vansCloud::addExternalForces(const UList<vector>& F)
+{
+    nscd::System& s = grains_.system();
+    const label n = s.size();
+    if (F.empty())
+    {
+        return;
+    }
+    if (F.size() != n || fluidForce_.size() != n)
+    {
+        FatalErrorInFunction
+            << "addExternalForces: " << F.size() << " forces for " << n
+            << " grains (" << fluidForce_.size() << " fluid forces): call it"
+            << " after setFluidForces with one force per grain."
+            << exit(FatalError);
+    }
+    for (label i = 0; i < n; ++i)
+    {
+        const vector Ft = fluidForce_[i] + F[i];
+        const vector T =
+            fluidTorque_.size() == n ? fluidTorque_[i] : vector(Zero);
+        s.setExternalForce
+        (
+            i,
+            nscd::Vec3(Ft.x(), Ft.y(), Ft.z()),
+            nscd::Vec3(T.x(), T.y(), T.z())
+        );
+    }
 }
 
 
@@ -1164,7 +1327,23 @@ void Foam::vansCloud::write() const
         );
     }
     const label n = grains_.system().size();
-    if (heatOn() && fluidForce_.size() == n && fluidVelocity_.size() == n)
+    if (fluidForce_.size() != n || fluidVelocity_.size() != n)
+    {
+        grains_.write();
+        return;
+    }
+    // per-grain coupling output: fluid force and velocity; with rotation
+    // the fluid torque `torqueFluid`; with heat the grain temperature `T`
+    // and the gathered fluid temperature `Tfluid`
+    std::vector<std::pair<word, const List<vector>*>> vectors
+    {
+        {"Ffluid", &fluidForce_}, {"Ufluid", &fluidVelocity_}
+    };
+    if (rotation_ && fluidTorque_.size() == n)
+    {
+        vectors.emplace_back("torqueFluid", &fluidTorque_);
+    }
+    if (heatOn())
     {
         List<scalar> Tg(n);
         for (label i = 0; i < n; ++i)
@@ -1173,34 +1352,10 @@ void Foam::vansCloud::write() const
         }
         List<scalar> Tf(Tfluid_);
         Tf.setSize(n, Zero);
-        grains_.write
-        (
-            {{"Ffluid", &fluidForce_}, {"Ufluid", &fluidVelocity_}},
-            {{"T", &Tg}, {"Tfluid", &Tf}}
-        );
-    }
-    else if (fluidForce_.size() == n && fluidVelocity_.size() == n)
-    {
-        if (rotation_ && fluidTorque_.size() == n)
-        {
-            grains_.write
-            (
-                {
-                    {"Ffluid", &fluidForce_}, {"Ufluid", &fluidVelocity_},
-                    {"Tfluid", &fluidTorque_}
-                }
-            );
-        }
-        else
-        {
-            grains_.write
-            (
-                {{"Ffluid", &fluidForce_}, {"Ufluid", &fluidVelocity_}}
-            );
-        }
+        grains_.write(vectors, {{"T", &Tg}, {"Tfluid", &Tf}});
     }
     else
     {
-        grains_.write();
+        grains_.write(vectors);
     }
 }

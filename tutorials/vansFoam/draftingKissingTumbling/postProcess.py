@@ -8,7 +8,17 @@ kissing_time [s]: the first time the gap between the discs, |x1 - x2| - D,
 is below one cell size h (the contact resolution of the penalised fluid;
 NSCD contacts are hard, so the gap can reach 0); tumbling_time: the first
 later time the upper disc is below the lower one (y1 < y2).  None when it
-does not happen within the run.
+does not happen within the run.  contact_time: the first time the gap is
+below 1 % of D (the discs touch: NSCD contact).
+
+reference_kissing_time: None.  No published kissing time for exactly this
+set-up (Glowinski et al. 2001 JCP 169:363 / Int J Multiphase Flow 25 (1999);
+Wan & Turek 2006; Feng, Hu & Joseph 1994) could be verified from the stored
+literature (issue 7, engineer I, 2026-11-21: the papers themselves were not
+in the searched corpora, no secondary source quoting a number for this
+set-up was found, and no number is written here from memory).  Until one is verified the comparison is a
+self-convergence one: the kissing time at D/h = 6 (1.55 s, tests/cases) and
+D/h = 12.5 (this tutorial), see REFERENCE_KISSING_TIME below to fill in.
 """
 import os
 import sys
@@ -35,6 +45,12 @@ grain_history = _load(
     os.path.join(here, "..", "cylinderSedimentation", "postProcess.py")).grain_history
 
 
+# Published kissing time [s] of this set-up and its source; None: not verified.
+REFERENCE_KISSING_TIME = None
+REFERENCE_KISSING_SOURCE = ("none verified: Glowinski et al. (2001), Wan & Turek (2006), Feng et al. "
+                            "(1994) not accessible in the searched literature")
+
+
 def cell_size(case):
     txt = open(os.path.join(case, "system", "blockMeshDict")).read()
     nx = int(txt.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[0])
@@ -54,6 +70,13 @@ def dkt_measure(t, x, D, h):
     return kiss, tumble, gap
 
 
+def contact_time(t, x, D, tol=0.01):
+    """First time [s] the gap between the two discs is below tol * D (None)."""
+    gap = np.linalg.norm(x[0] - x[1], axis=1) - D
+    k = np.nonzero(gap < tol * D)[0]
+    return float(t[k[0]]) if k.size else None
+
+
 def main():
     case = sys.argv[1] if len(sys.argv) > 1 else "case"
     t, x, u = grain_history(case)
@@ -62,6 +85,9 @@ def main():
     res = {"time": t.tolist(), "x1": x[0, :, 0].tolist(), "y1": x[0, :, 1].tolist(),
            "x2": x[1, :, 0].tolist(), "y2": x[1, :, 1].tolist(), "gap": gap.tolist(),
            "kissing_time": kiss, "tumbling_time": tumble, "cell_size": h,
+           "contact_time": contact_time(t, x, setupCase.D),
+           "reference_kissing_time": REFERENCE_KISSING_TIME,
+           "reference_kissing_source": REFERENCE_KISSING_SOURCE,
            "cells_per_diameter": setupCase.D / h,
            "rotation_coupling": "rotationCoupling yes" in open(
                os.path.join(case, "constant", "couplingProperties")).read()}
@@ -82,10 +108,15 @@ def main():
         for a in ax:
             if kiss is not None:
                 a.axvline(kiss, color="k", ls="--", lw=0.8, label="kissing (gap < h)")
+            if REFERENCE_KISSING_TIME is not None:
+                a.axvline(REFERENCE_KISSING_TIME, color="C2", ls=":", lw=1.2,
+                          label=f"reference kissing time ({REFERENCE_KISSING_SOURCE})")
             a.set_xlabel("t [s]")
             a.grid(alpha=0.3)
             a.legend(fontsize=8)
-        fig.suptitle("DKT, vansFoam (thesis 3.3.4; compare Glowinski et al. 2001, Fig. DKT)")
+        fig.suptitle(f"DKT, vansFoam D/h = {setupCase.D / h:.3g} (thesis 3.3.4); kissing "
+                     f"{kiss} s" + ("" if REFERENCE_KISSING_TIME is not None else
+                                    " (no verified published reference)"), fontsize=9)
         fig.tight_layout()
         fig.savefig("positions.png", dpi=120)
     except ImportError:

@@ -1,64 +1,315 @@
 #!/usr/bin/env python3
-"""Post-process the dropletDigging cases (issue 8): droplet depth vs time per
-bed temperature (thesis Figure 4.14) and final depth vs bed temperature
-(Figure 4.13), results.json (bed_temperature [C], final_depth [m], and per
-temperature time [s], depth [m], mass [kg], mdot [kg/s]).
+"""Post-process the dropletDigging cases (issue 8; thesis section 4.3.3,
+Figures 4.13-4.17).
 
-usage: postProcess.py CASE1 [CASE2 ...]   (cases made by setupCase.py)
+usage: postProcess.py [-o OUTDIR] CASE1 [CASE2 ...]   (cases made by setupCase.py)
 
-The thesis curves are not digitised here: the plot marks the regime
-thresholds the thesis reports (about 350 C and 500 C, maximum depth near
-400 C, section 4.3.3) for orientation only.
+Reads per case `case.json` (setupCase.py), the droplet history
+`postProcessing/droplet/0/droplet.dat` (src/dropletCoupling: time x y u v m
+mdot Q_f Q_p R depth Vdot V_p; 2D: m, mdot, Q, Vdot over the mesh depth l) and
+the vansFoam log (`log.vansFoam`: per step the "heat:" line with the mean
+grain temperature and the energy E = rho Cp sum(eps T V) + sum(m c T), the
+"heat budget:" line).  Writes OUTDIR/results.json (default: this directory):
+
+- `bed_temperature` [C] (list), `final_depth` [m] (list, depth of the droplet
+  centre below its initial position at the end of the run = penetration of
+  its lowest point below the bed surface, since it starts resting on it),
+  `final_time` [s], `mean_velocity` [m/s] (final_depth/final_time),
+  `stopped` (per case None or why it stopped early);
+- `cases[<T>]`: `time` [s], `depth` [m], `velocity` [m/s] (downwards
+  positive), `mass` [kg], `mdot` [kg/s], `Q_f`, `Q_p` [W],
+  `mean_grain_temperature` [K] (time series on `time`), `lifetime` [s]
+  (instant lifetime m/mdot, Figure 4.17), `vapour_velocity` [m/s] (U_v =
+  Vdot/(2 pi R l), the mean radial vapour velocity at the droplet surface),
+  `U_mf` [m/s] (Ergun, `ergun_umf`, at the bed's mean void fraction) and
+  `fluidisation_number` (time mean of U_v / U_mf), `energy_defect` (relative
+  closure of the energy budget, `energy_budget`), `stopped` (None, or why
+  the run stopped early: e.g. the droplet left the mesh, `stop_reason`);
+- the plots `dropletDigging_finalDepth.png` (Figure 4.13),
+  `dropletDigging_depth.png` (4.14, h/D against t/t_ff),
+  `dropletDigging_velocity.png` (4.15, u t_ff/R against t/t_ff),
+  `dropletDigging_grainTemperature.png` (4.16) and
+  `dropletDigging_lifetime.png` (4.17).
+
+The thesis curves are not digitised (the thesis text gives no table): the
+final-depth plot marks what section 4.3.3 states in words, the regime
+thresholds 350 C and 500 C and the maximum depth near 400 C.
+
+t_ff = sqrt(2 R_0/g) is the free-fall time over the droplet radius (the
+thesis' time scale, section 4.3.3); velocities are scaled by R_0/t_ff.
 """
 import json
+import math
 import os
+import re
 import sys
 
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
+G = 9.81
+
+# droplet.dat columns (src/dropletCoupling/README.md)
+COL = dict(t=0, x=1, y=2, u=3, v=4, m=5, mdot=6, Qf=7, Qp=8, R=9, depth=10, Vdot=11)
 
 
-def read_case(case):
+def read_droplet(case):
+    """droplet.dat of the case as an (n, >=12) array; raises FileNotFoundError."""
+    return np.loadtxt(os.path.join(case, "postProcessing", "droplet", "0", "droplet.dat"),
+                      ndmin=2)
+
+
+def read_log(case, log="log.vansFoam"):
+    """Per time step of the vansFoam log: dict of arrays `time` [s],
+    `grain_T` [K] (mean grain temperature), `E` [J] (fluid + grain energy of
+    the "heat:" line), `budget` (n, 5) [J] (fluid boundary, advected,
+    sources, grain walls, fixed grains of the "heat budget:" line)."""
+    t, gT, E, bud = [], [], [], []
+    cur = None
+    with open(os.path.join(case, log)) as f:
+        for line in f:
+            if line.startswith("Time = "):
+                cur = float(line.split()[2])
+                continue
+            m = re.match(r"^heat: grain mean T = (\S+), .*energy fluid \+ grains = (\S+) J", line)
+            if m:
+                t.append(cur)
+                gT.append(float(m.group(1)))
+                E.append(float(m.group(2)))
+                continue
+            m = re.match(r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, "
+                         r"sources = (\S+) J, grain walls = (\S+) J, fixed grains = (\S+) J", line)
+            if m:
+                bud.append([float(v) for v in m.groups()])
+    n = min(len(t), len(bud))
+    return {"time": np.array(t[:n]), "grain_T": np.array(gT[:n]), "E": np.array(E[:n]),
+            "budget": np.array(bud[:n]).reshape(n, 5)}
+
+
+def energy_budget(case, info=None):
+    """Energy budget of droplet + gas + grains + walls over the run (issue 8).
+
+    Between the end of the first step and the end of the run,
+        (E_N - E_1) + L (m_1 - m_N)
+          = sum_{k=2..N} [fluid boundary + advected + grain walls + fixed grains
+                          + rho Cp T_d Vdot dt]_k
+    E = rho Cp sum(eps T V) + sum(m c T) (vansFoam "heat:" line), L (m_1 - m_N)
+    the heat the droplet took (eq. 4.16), the bracket the heat through the
+    walls and the outlet (gas and grain-wall contact conduction) and the
+    enthalpy rho Cp T_d Vdot dt of the vapour released at T_d (the droplet's
+    source in the energy equation, src/dropletCoupling/README.md).
+    Also checks the droplet's heat against the solver's own source integral:
+    sources - rho Cp T_d Vdot dt = -(Q_f + Q_p) dt per step.
+
+    Returns dict: `defect` [J], `relative` (defect / droplet heat),
+    `droplet_heat` [J], `source_mismatch` (max relative difference of the
+    two integrations of the droplet sink).  Raises ValueError if the log and
+    droplet.dat do not have one line per step."""
+    if info is None:
+        info = json.load(open(os.path.join(case, "case.json")))
+    d = read_droplet(case)
+    lg = read_log(case)
+    n = len(d)
+    if len(lg["E"]) != n or not np.allclose(lg["time"], d[:, 0], rtol=1e-5, atol=1e-12):
+        raise ValueError(f"{case}: {n} droplet.dat lines but {len(lg['E'])} heat log lines")
+    rhoCp = info["rho"] * info["Cp"]
+    Td, L = info["T_d"], info["latent_heat"]
+    dts = np.diff(np.concatenate(([0.0], d[:, 0])))
+    vap = rhoCp * Td * d[:, COL["Vdot"]] * dts
+    b = lg["budget"]
+    ext = np.sum(b[1:, 0] + b[1:, 1] + b[1:, 3] + b[1:, 4] + vap[1:])
+    heat = L * (d[0, COL["m"]] - d[-1, COL["m"]])
+    defect = (lg["E"][-1] - lg["E"][0]) + heat - ext
+    sink = -(d[:, COL["Qf"]] + d[:, COL["Qp"]]) * dts
+    mism = np.max(np.abs((b[:, 2] - vap) - sink) / np.abs(sink))
+    return {"defect": float(defect), "relative": float(abs(defect) / heat),
+            "droplet_heat": float(heat), "source_mismatch": float(mism)}
+
+
+def ergun_umf(d, eps, rho_p, rho_f=1.204, mu=2e-5, g=G, weight_fraction=None):
+    """Minimum fluidisation velocity [m/s] from Ergun's law (Ergun 1952,
+    Chem. Eng. Prog. 48:89): the pressure drop of the bed balances its
+    buoyant weight,
+        150 mu (1-eps)^2 U/(eps^3 d^2) + 1.75 rho_f (1-eps) U^2/(eps^3 d)
+            = phi_w (rho_p - rho_f) g,
+    with phi_w = weight_fraction (solid volume per bed volume that carries
+    the weight; default 1 - eps).  d [m] grain diameter, eps fluid fraction
+    seen by the gas, rho_p [kg/m^3] grain density.  Small Re: Carman-Kozeny
+    U = phi_w (rho_p - rho_f) g eps^3 d^2 / (150 mu (1-eps)^2)."""
+    phi = 1 - eps
+    pw = phi if weight_fraction is None else weight_fraction
+    a = 1.75 * rho_f * phi / (eps ** 3 * d)
+    b = 150 * mu * phi ** 2 / (eps ** 3 * d ** 2)
+    c = pw * (rho_p - rho_f) * g
+    return float((-b + math.sqrt(b * b + 4 * a * c)) / (2 * a))
+
+
+def bed_void_fraction(case, info):
+    """Mean gas fraction eps of the bed at the start (the cells fully below
+    the bed top minus one grain diameter, away from the walls by one
+    grain), from <first write time>/voidFraction; None if not written."""
+    sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")),
+                                    "src", "python"))
+    import nscdpost
+    times = [name for t, name in nscdpost.time_dirs(case) if t > 0]
+    for t in times:
+        p = os.path.join(case, t, "voidFraction")
+        if os.path.isfile(p):
+            eps = np.asarray(nscdpost.read_scalar_field(p))
+            nx, ny = info["cells"]          # uniform mesh (setupCase.py)
+            xc = (np.arange(nx) + 0.5) * info["width"] / nx
+            yc = (np.arange(ny) + 0.5) * info["height"] / ny
+            X, Y = np.meshgrid(xc, yc)
+            cc = np.column_stack((X.ravel(), Y.ravel()))
+            sel = ((cc[:, 1] < info["bed_top"] - 2 * info["grain_diameter"])
+                   & (cc[:, 1] > 2 * info["grain_diameter"])
+                   & (cc[:, 0] > info["grain_diameter"])
+                   & (cc[:, 0] < info["width"] - info["grain_diameter"]))
+            return float(np.mean(eps[sel]))
+    return None
+
+
+def stop_reason(case, log="log.vansFoam"):
+    """None if the run ended normally, else the first line of its FOAM
+    FATAL ERROR message (e.g. the droplet centre left the mesh)."""
+    txt = open(os.path.join(case, log)).read()
+    i = txt.find("FOAM FATAL")
+    if i < 0:
+        return None
+    lines = [ln.strip() for ln in txt[i:].splitlines()[1:] if ln.strip()]
+    return lines[0] if lines else "FOAM FATAL ERROR"
+
+
+def case_results(case):
     info = json.load(open(os.path.join(case, "case.json")))
-    d = np.loadtxt(os.path.join(case, "postProcessing", "droplet", "0", "droplet.dat"), ndmin=2)
-    return info, d
+    d = read_droplet(case)
+    lg = read_log(case)
+    depth = d[:, COL["depth"]]
+    mdot = d[:, COL["mdot"]]
+    m = d[:, COL["m"]]
+    R = d[:, COL["R"]]
+    with np.errstate(divide="ignore"):
+        life = np.where(mdot > 0, m / np.where(mdot > 0, mdot, 1), np.inf)
+    uv = d[:, COL["Vdot"]] / (2 * np.pi * R * info["depth_l"])
+    res = {"time": d[:, 0].tolist(), "depth": depth.tolist(),
+           "velocity": (-d[:, COL["v"]]).tolist(), "mass": m.tolist(), "mdot": mdot.tolist(),
+           "Q_f": d[:, COL["Qf"]].tolist(), "Q_p": d[:, COL["Qp"]].tolist(),
+           "lifetime": life.tolist(), "vapour_velocity": uv.tolist()}
+    gT = np.interp(d[:, 0], lg["time"], lg["grain_T"]) if len(lg["time"]) else np.full(len(d), np.nan)
+    res["mean_grain_temperature"] = gT.tolist()
+    eps = bed_void_fraction(case, info)
+    if eps is not None:
+        umf = ergun_umf(info["grain_diameter"], eps, info["grain_density"],
+                        weight_fraction=info.get("bed_weight_fraction"))
+        res["bed_void_fraction"] = eps
+        res["U_mf"] = umf
+        res["fluidisation_number"] = float(np.mean(uv[1:]) / umf) if len(uv) > 1 else None
+    res["stopped"] = stop_reason(case)
+    try:
+        res["energy_defect"] = energy_budget(case, info)["relative"]
+    except (ValueError, FileNotFoundError) as e:
+        print("energy budget not available:", e)
+    return info, res
 
 
-def main(cases):
+def main(cases, outdir=here):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     res = {"bed_temperature": [], "final_depth": [], "cases": {}}
-    fig, ax = plt.subplots(figsize=(5, 4))
+    data = []
     for c in cases:
-        info, d = read_case(os.path.join(here, c) if not os.path.isabs(c) else c)
+        c = c if os.path.isabs(c) else os.path.join(os.getcwd(), c)
+        try:
+            info, r = case_results(c)
+        except (OSError, ValueError) as e:
+            print(f"{c}: skipped, no droplet history ({e})")
+            continue
         T = info["bed_temperature_C"]
         res["bed_temperature"].append(T)
-        res["final_depth"].append(float(d[-1, 10]))
-        res["cases"][str(T)] = {"time": d[:, 0].tolist(), "depth": d[:, 10].tolist(),
-                                "mass": d[:, 5].tolist(), "mdot": d[:, 6].tolist()}
-        ax.plot(d[:, 0], d[:, 10] / info["droplet_diameter"], label=f"{T:g} C")
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("depth / D")
-    ax.legend()
-    ax.set_title("droplet depth (thesis Fig. 4.14)")
-    fig.tight_layout()
-    fig.savefig(os.path.join(here, "dropletDigging_depth.png"), dpi=120)
+        res["final_depth"].append(r["depth"][-1])
+        res.setdefault("final_time", []).append(r["time"][-1])
+        res.setdefault("stopped", []).append(r["stopped"])
+        res["cases"][f"{T:g}"] = r
+        data.append((T, info, r))
+        print(f"T_bed {T:g} C: final depth {r['depth'][-1] * 1e3:.3f} mm, mdot(first step) "
+              f"{r['mdot'][0]:.3e} kg/s, U_v mean {np.mean(r['vapour_velocity'][1:]):.3g} m/s, "
+              f"U_mf {r.get('U_mf', float('nan')):.3g} m/s, energy defect "
+              f"{r.get('energy_defect', float('nan')):.2e}"
+              + (f", STOPPED at t = {r['time'][-1]:.3g} s: {r['stopped']}" if r["stopped"] else ""))
+    if data:
+        res["grain_diameter"] = data[0][1]["grain_diameter"]
+        res["grains"] = data[0][1]["grains"]
+    order = np.argsort(res["bed_temperature"])
+    res["bed_temperature"] = [res["bed_temperature"][i] for i in order]
+    for key in ("final_depth", "final_time", "stopped"):
+        res[key] = [res[key][i] for i in order]
+    # mean digging velocity over the run [m/s] (final depth / final time)
+    res["mean_velocity"] = [h / t for h, t in zip(res["final_depth"], res["final_time"])]
+    data = [data[i] for i in order]
+
+    def save(fig, name):
+        fig.tight_layout()
+        fig.savefig(os.path.join(outdir, name), dpi=120)
+        plt.close(fig)
+
+    # Figure 4.13
     fig, ax = plt.subplots(figsize=(5, 4))
-    ax.plot(res["bed_temperature"], np.array(res["final_depth"]) * 1e3, "o-", label="nscdFoam")
-    for t in (350, 500):
-        ax.axvline(t, color="grey", ls="--")
+    D0 = data[0][1]["droplet_diameter"] if data else 2.5e-3
+    Tb, hf = np.array(res["bed_temperature"]), np.array(res["final_depth"]) / D0
+    ax.plot(Tb, hf, "o-", label="nscdFoam")
+    stop = np.array([s is not None for s in res["stopped"]], dtype=bool)
+    if stop.any():
+        ax.plot(Tb[stop], hf[stop], "rx", ms=10, label="run stopped (e.g. droplet left the mesh)")
+    if data:
+        top = data[0][1]["bed_top"] / D0
+        ax.axhline(top, color="k", lw=0.8, label="bed height")
+        ax.set_ylim(0, 1.1 * max(top, hf.max()))
+    ax.axvspan(350, 500, color="orange", alpha=0.15, label="thesis: digging regime")
+    ax.axvline(400, color="red", ls=":", label="thesis: maximum depth")
     ax.set_xlabel("bed temperature [C]")
-    ax.set_ylabel("final depth [mm]")
-    ax.set_title("final depth (thesis Fig. 4.13; dashed: regime thresholds)")
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(os.path.join(here, "dropletDigging_finalDepth.png"), dpi=120)
-    with open(os.path.join(here, "results.json"), "w") as f:
+    ax.set_ylabel("final depth h/D")
+    ax.set_title("final depth (thesis Fig. 4.13)")
+    ax.legend(fontsize=8)
+    save(fig, "dropletDigging_finalDepth.png")
+
+    plots = [("depth", "h/D", "droplet depth (thesis Fig. 4.14)", "dropletDigging_depth.png"),
+             ("velocity", "u t_ff/R", "droplet velocity (thesis Fig. 4.15)",
+              "dropletDigging_velocity.png"),
+             ("mean_grain_temperature", "(T_p - T_d)/(T_bed - T_d)",
+              "mean grain temperature (thesis Fig. 4.16)", "dropletDigging_grainTemperature.png"),
+             ("lifetime", "m/mdot [s]", "instant lifetime (thesis Fig. 4.17)",
+              "dropletDigging_lifetime.png")]
+    for key, ylabel, title, name in plots:
+        fig, ax = plt.subplots(figsize=(5, 4))
+        for T, info, r in data:
+            R0 = info["droplet_diameter"] / 2
+            tff = math.sqrt(2 * R0 / G)
+            t = np.array(r["time"]) / tff
+            y = np.array(r[key], dtype=float)
+            if key == "depth":
+                y = y / info["droplet_diameter"]
+            elif key == "velocity":
+                y = y * tff / R0
+            elif key == "mean_grain_temperature":
+                y = (y - info["T_d"]) / (info["bed_temperature_C"] + 273.15 - info["T_d"])
+            ax.plot(t, y, label=f"{T:g} C")
+        ax.set_xlabel("t / t_ff")
+        ax.set_ylabel(ylabel)
+        if key == "lifetime":
+            ax.set_yscale("log")
+        ax.set_title(title)
+        ax.legend(fontsize=8)
+        save(fig, name)
+    with open(os.path.join(outdir, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
     print("bed temperature [C], final depth [m]:", list(zip(res["bed_temperature"], res["final_depth"])))
+    return res
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    args = sys.argv[1:]
+    out = here
+    if args[:1] == ["-o"]:
+        out, args = args[1], args[2:]
+    main(args, out)

@@ -1,24 +1,26 @@
 #!/usr/bin/env python3
 """Set up the dropletDigging cases (issue 8; thesis section 4.3, Table 4.2).
-SKELETON of the first increment: the droplet model (src/dropletCoupling) is
-in place, the digging physics is not validated yet (see README.md).
 
 usage: setupCase.py deposit [D_GRAIN]   the bed: grains of diameter D_GRAIN
-                                         [m] (default 1e-3, reduced; Table 4.2:
-                                         55e-6) poured into the 10 mm wide cell
-                                         up to h_p = 22.5 mm (deposit/)
-       setupCase.py CASEDIR T_BED_C [ENDTIME]
+                                         [m] (default 1e-3, reduced; tutorial
+                                         Allrun: 5e-4; Table 4.2: 55e-6) poured
+                                         into the 10 mm wide cell (deposit/)
+       setupCase.py CASEDIR T_BED_C [ENDTIME [POROSITY]]
                                          a case at bed temperature T_BED_C
-                                         [Celsius] with the bed of deposit/
+                                         [Celsius] with the bed of deposit/;
+                                         POROSITY none | auto | n (default none)
 
 2D Hele-Shaw cell (thesis Figure 4.9): w = 10 mm wide, h = 30 mm high, gap
 l = 1.5 mm (front/back wall friction, fvOption heleShawFriction, eq. 4.14),
-bed of height h_p = 22.5 mm at T_bed (grains and side/bottom walls), air
-(Table 4.2) at T_bed, open top (p = 0).  Water droplet D = 2.5 mm at
-T_d = 100 C resting on the bed surface at t = 0 (moving, blowing: vapour
-volume source, fvOption vapourDropletSource, constant/dropletProperties).
-Cohesion F_c^0 = 7.5e-4 N (per unit depth in 2D: 7.5e-4/l N/m) where
-psi < psi^0 = 0.9 (eq. 4.18).  Mesh: uniform, D/8 = 0.3125 mm cells.
+bed of height ~h_p at T_bed (grains and side/bottom walls), air (Table 4.2)
+at T_bed, open top (p = 0).  Water droplet D = 2.5 mm at T_d = 100 C resting
+on the bed surface at t = 0 (moving, blowing, grain-droplet force F_p:
+constant/dropletProperties, src/dropletCoupling/README.md).  Cohesion
+F_c^0 = 7.5e-4 N (per unit depth in 2D: 7.5e-4/l N/m) where psi < psi^0 = 0.9
+(eq. 4.18).  Porous grains (thesis 4.3.2, couplingProperties grainPorosity):
+porosity="auto" gives n = 1 - 0.4/phi_2D (bed solid fraction 0.4) and grain
+density (1 - n) rho_s.  Mesh: uniform, D/8 = 0.3125 mm cells (README.md).
+case.json keeps what postProcess.py needs (properties, bed, mesh).
 """
 import os
 import sys
@@ -44,6 +46,7 @@ RHO_L, LATENT, T_D = 958.0, 2.257e6, 373.15
 DEPTH = GAP                      # 2D mesh depth = the Hele-Shaw gap
 CELL = D_DROP / 8
 D_GRAIN_REDUCED = 1e-3
+PHI_BED = 0.4                    # solid fraction of the real bed (thesis 4.3.2)
 
 
 def header(cls, obj):
@@ -57,7 +60,7 @@ def write(case, rel, cls, body):
         f.write(header(cls, os.path.basename(rel)) + body)
 
 
-def mesh_and_grains(case, d_grain):
+def mesh_and_grains(case, d_grain, rho_grain=RHO_P):
     nx, ny = int(round(W / CELL)), int(round(H / CELL))
     write(case, "system/blockMeshDict", "dictionary",
           "scale 1;\nvertices ((0 0 0) (%g 0 0) (%g %g 0) (0 %g 0) (0 0 %g) (%g 0 %g) (%g %g %g) (0 %g %g));\n"
@@ -67,7 +70,7 @@ def mesh_and_grains(case, d_grain):
           " outlet { type patch; faces ((3 7 6 2)); }\n"
           " frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n")
     write(case, "constant/grainProperties", "dictionary",
-          f"materials {{ grains {{ density {RHO_P}; friction {FRICTION}; conductivity {K_P};"
+          f"materials {{ grains {{ density {rho_grain:.9g}; friction {FRICTION}; conductivity {K_P};"
           f" heatCapacity {C_P}; }} }}\nwallPatches (walls);\n"
           "contactSolver { tolerance 1e-4; maxIterations 1000; overlapTolerance 1e-2; }\n"
           f"// grain diameter of this bed: {d_grain:g} m (Table 4.2: {D_GRAIN_TABLE:g} m)\n")
@@ -103,11 +106,26 @@ def bed_top(dep):
     return float(np.percentile(g["x"][:, 1] + 0.5 * g["d"], 98))
 
 
-def setup(case, t_bed_c, end_time=0.5, root=here):
+def packing_2d(g, top):
+    """Area fraction of the discs in the bed 0 < y < top, w wide."""
+    return float(np.sum(np.pi / 4 * g["d"] ** 2) / (W * top))
+
+
+def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=None):
+    """Case CASE at bed temperature t_bed_c [C] with the bed of root/deposit.
+    porosity: None (solid discs; the gas sees the discs of radius 0.88 r,
+    section 3.2.3) or the grain porosity n of the porous-grain correction
+    (thesis 4.3.2: the gas sees (1 - n) of each disc, density (1 - n) rho_s;
+    "auto": n = 1 - 0.4/phi_2D so that the bed's solid fraction is 0.4).
+    Needs couplingProperties grainPorosity (engineer F, src/vansCoupling)."""
     dep = os.path.join(root, "deposit")
     g = nscdpost.read_grains(dep, "0")
     d_grain = float(np.mean(g["d"]))
-    mesh_and_grains(case, d_grain)
+    phi2d = packing_2d(g, bed_top(dep))
+    if porosity == "auto":
+        porosity = 1 - PHI_BED / phi2d
+    rho_grain = RHO_P * (1 - (porosity or 0.0))
+    mesh_and_grains(case, d_grain, rho_grain)
     os.makedirs(os.path.join(case, "0"), exist_ok=True)
     nscdpost.copy_grain_state(dep, case)
     t_bed = t_bed_c + 273.15
@@ -132,7 +150,9 @@ def setup(case, t_bed_c, end_time=0.5, root=here):
           f"vapour {{ D {D_V}; rho {RHO_V}; bounded yes; }}\n")
     write(case, "constant/couplingProperties", "dictionary",
           "dragModel DallavalleDiFelice;\nforceModel A;\n"
-          "voidFraction { method overlap; epsMin 1e-8; effectiveDiameterFactor 0.88; }\n"
+          "voidFraction { method overlap; epsMin 1e-8; effectiveDiameterFactor "
+          + ("0.88; }\n" if porosity is None else f"1; }}\ngrainPorosity {porosity:.6g};\n")
+          +
           "heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n"
           f"cohesion {{ force {F_C0 / DEPTH:.9g}; vapourThreshold {PSI0}; }}\n")
     write(case, "constant/dropletProperties", "dictionary",
@@ -145,7 +165,8 @@ def setup(case, t_bed_c, end_time=0.5, root=here):
     write(case, "system/controlDict", "dictionary",
           "application vansFoam; startFrom latestTime; startTime 0; stopAt endTime;\n"
           f"endTime {end_time}; deltaT {DT}; adjustTimeStep yes; maxCo 0.5; maxDeltaT {DT};\n"
-          f"writeControl adjustableRunTime; writeInterval {end_time / 10:g}; writeFormat ascii;\n"
+          f"writeControl adjustableRunTime; writeInterval {write_interval or end_time / 10:g};"
+          " writeFormat ascii;\n"
           "writePrecision 12; timeFormat general; timePrecision 6; runTimeModifiable false;\n"
           'libs ("libdropletCoupling.so");\n')
     write(case, "system/fvSchemes", "dictionary",
@@ -163,7 +184,11 @@ def setup(case, t_bed_c, end_time=0.5, root=here):
           " nNonOrthogonalCorrectors 0; }\n")
     nscdpost.write_json(os.path.join(case, "case.json"), {
         "bed_temperature_C": t_bed_c, "bed_top": top, "grain_diameter": d_grain,
-        "grains": int(len(g["d"])), "droplet_diameter": D_DROP, "width": W, "height": H})
+        "grains": int(len(g["d"])), "droplet_diameter": D_DROP, "width": W, "height": H,
+        "depth_l": DEPTH, "cells": [int(round(W / CELL)), int(round(H / CELL))],
+        "rho": RHO, "Cp": CP, "T_d": T_D, "latent_heat": LATENT,
+        "grain_density": RHO_P, "packing_2d": phi2d, "grain_porosity": porosity,
+        "bed_weight_fraction": phi2d * (1 - (porosity or 0.0))})
     print(f"{case}: T_bed = {t_bed_c:g} C, {len(g['d'])} grains of {d_grain:g} m, bed top "
           f"{top * 1e3:.3f} mm, endTime {end_time} s")
 
@@ -172,4 +197,6 @@ if __name__ == "__main__":
     if sys.argv[1] == "deposit":
         deposit(float(sys.argv[2]) if len(sys.argv) > 2 else D_GRAIN_REDUCED)
     else:
-        setup(sys.argv[1], float(sys.argv[2]), *(float(a) for a in sys.argv[3:4]))
+        por = sys.argv[4] if len(sys.argv) > 4 else "none"
+        setup(sys.argv[1], float(sys.argv[2]), *(float(a) for a in sys.argv[3:4]),
+              porosity=None if por == "none" else ("auto" if por == "auto" else float(por)))

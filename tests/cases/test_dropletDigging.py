@@ -1,0 +1,105 @@
+"""dropletDigging tutorial (issue 8; thesis section 4.3, Table 4.2): the
+reduced copy (tutorials/vansFoam/dropletDigging, its own setupCase.py and
+postProcess.py; 1 mm porous grains, grainPorosity so that the bed's solid
+fraction is 0.4 as in thesis 4.3.2) run for a short time at three bed
+temperatures, 300, 400 and 600 C (one in each of the thesis' regimes,
+section 4.3.3).
+
+(a) Energy budget (conservation law; issue 8 asks 1e-4 relative): between
+    the end of the first and of the last step,
+      Delta(E_gas + E_grains) + L (m_1 - m_N)
+        = heat through walls and outlet (gas) + wall-grain contact heat
+          + enthalpy rho Cp T_d Vdot dt of the vapour released at T_d,
+    E from vansFoam's "heat:" line, the terms from its "heat budget:" line
+    and droplet.dat (postProcess.energy_budget), relative to the heat
+    L (m_1 - m_N) the droplet took (measured ~1e-11); and the droplet's heat
+    Q_f + Q_p equals the solver's own source integral (two integrations of
+    the same sink; measured 1.5e-13, asserted 1e-6).
+(b) Conduction (Fourier's law, eq. 4.16 L mdot = Q_f + Q_p): at the first
+    contact (first step, everything at T_bed, vapour source lagged, so the
+    flow does not depend on T) the energy equation is linear in
+    T - T_bed with the source proportional to T_d - T_bed: mdot_1/(T_bed - T_d)
+    is the same at every bed temperature.  Measured spread 1.3e-4 relative
+    between 300 and 600 C (a weak, unexplained nonlinearity of the first
+    step; the levels differ by a factor 2.5), asserted 1e-3.  Over the first
+    0.05 s the droplet loses mass faster on a hotter bed (monotone in T_bed;
+    measured 2.02, 2.79, 3.97e-6 kg/s at 300, 400, 600 C).
+(c) The three regimes (thesis Figure 4.13: no digging below ~350 C, maximum
+    depth near 400 C, droplet held near the surface above ~500 C): strict
+    xfail with the numbers measured on the reduced bed (README.md "Measured"):
+    the droplet sinks through the whole 1 mm bed at every temperature, more
+    slowly on a hotter bed (bottom reached at 0.66 s at 300 C, 0.79 s at
+    400 C, 0.95 s at 600 C); the fluidisation number U_vapour/U_mf is
+    0.10-0.19 instead of ~0.2-4 for the 55 um bed of Table 4.2, and the
+    droplet's seepage through the packing (~d^2) is ~20x faster than the
+    thesis' digging.  Here (0.1 s) the depth decreases with T_bed.
+"""
+import os
+
+import numpy as np
+import pytest
+
+from foamcase import run, tutorial_modules
+
+TEMPS = (300.0, 400.0, 600.0)
+END = 0.1          # s (~300 steps each)
+
+
+@pytest.fixture(scope="module")
+def sweep(tmp_path_factory, env):
+    setup, post = tutorial_modules("vansFoam", "dropletDigging")
+    root = str(tmp_path_factory.mktemp("dropletDigging"))
+    setup.deposit(1e-3, root=root)
+    dep = os.path.join(root, "deposit")
+    run("blockMesh", dep, env)
+    run("grainDeposit", dep, env)
+    cases = {}
+    for T in TEMPS:
+        case = os.path.join(root, f"T{T:g}")
+        setup.setup(case, T, END, root=root, porosity="auto", write_interval=END / 2)
+        run("blockMesh", case, env)
+        run("vansFoam", case, env)
+        cases[T] = case
+    return setup, post, cases
+
+
+def test_energy_budget_closes(sweep):
+    setup, post, cases = sweep
+    for T, case in cases.items():
+        b = post.energy_budget(case)
+        print(f"T_bed {T:g} C: droplet heat {b['droplet_heat']:.4e} J, energy defect "
+              f"{b['relative']:.2e} relative, source mismatch {b['source_mismatch']:.2e}")
+        assert b["droplet_heat"] > 0
+        assert b["relative"] < 1e-4                 # issue 8
+        assert b["source_mismatch"] < 1e-6
+
+
+def test_mass_loss_grows_with_bed_temperature(sweep):
+    setup, post, cases = sweep
+    first, early = [], []
+    for T, case in sorted(cases.items()):
+        d = post.read_droplet(case)
+        assert len(d) > 50
+        first.append(d[0, post.COL["mdot"]] / (T + 273.15 - setup.T_D))
+        sel = d[:, 0] <= 0.05
+        early.append((d[0, post.COL["m"]] - d[sel, post.COL["m"]][-1]) / d[sel, 0][-1])
+    first, early = np.array(first), np.array(early)
+    print("mdot_1/(T_bed - T_d) [kg/(s K)]:", first, "mean mdot over 0.05 s [kg/s]:", early)
+    assert np.all(first > 0)
+    assert np.ptp(first) < 1e-3 * first.mean()     # measured 1.3e-4
+    assert np.all(np.diff(early) > 0)
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "not reproduced on the reduced bed (README.md): the droplet sinks through "
+    "the whole 1 mm bed at every T_bed, slower when hotter (bottom at 0.66 s "
+    "at 300 C, 0.79 s at 400 C, 0.95 s at 600 C); U_vapour/U_mf = 0.10-0.19 "
+    "(Table 4.2 bed ~0.2-4); depth at 0.1 s 4.6, 4.0, 3.3 mm at 300/400/600 C"))
+def test_three_regimes(sweep):
+    """Thesis Figure 4.13 / section 4.3.3: the depth at 400 C exceeds the
+    depths at 300 C and 600 C by more than a grain diameter."""
+    setup, post, cases = sweep
+    depth = {T: post.read_droplet(c)[-1, post.COL["depth"]] for T, c in cases.items()}
+    print("depth [m] at t = %g s:" % END, depth)
+    d = 1e-3
+    assert depth[400.0] > depth[300.0] + d and depth[400.0] > depth[600.0] + d

@@ -1,0 +1,146 @@
+#!/usr/bin/env python3
+"""Vortex shedding of the penalised cylinder held fixed in the frame of the
+falling cylinder (companion of the falling-cylinder tutorial, issue 7).
+
+The free falling cylinder of this tutorial (thesis 3.3.3) drifts to a wall
+instead of oscillating about the axis (see README note in results.json /
+the issue 7 report), so its lateral velocity gives no shedding frequency.
+This case measures the shedding frequency of the same resolved (volume
+penalised) cylinder with the lateral motion suppressed: the frame of a
+cylinder falling at U_t = 2.501 cm/s between fixed walls 8 D apart, i.e. a
+fixed disc (grainDeposit `fixed yes`) in a uniform inflow U_t with the walls
+moving at U_t (setupCase.write_case `inflow`), Re = U_t D/nu = 156, same
+fluid, D and width as the tutorial; 8 D upstream, 24 D downstream.  The disc
+is put D/50 off the axis to seed the wake instability.
+
+The lift (y component of the grain's `Ffluid`, the integral of the coupling
+force over its cells, written every 0.05 s) is analysed by
+postProcess.shedding_analysis (zero crossings over the developed part, number
+of periods, FFT cross-check; the drag oscillates at twice the frequency).
+Reference: the fixed unbounded cylinder at Re = 156, St = 0.2175 - 5.1064/Re =
+0.185 (Williamson 1996) and St = 0.2665 - 1.018/sqrt(Re) = 0.185 (Williamson &
+Brown 1998); the blockage D/W = 1/8 raises St by some percent.
+
+usage: fixedShedding.py setup CASEDIR [CELLS_PER_D [ENDTIME]]   (default 15, 8 s)
+       fixedShedding.py post CASEDIR      -> shedding.json, shedding.png (cwd)
+"""
+import json
+import os
+import sys
+
+import numpy as np
+
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, here)
+import importlib.util  # noqa: E402
+
+
+def _load(name, path):
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+setupCase = _load("cylinderSedimentation_setupCase", os.path.join(here, "setupCase.py"))
+post = _load("cylinderSedimentation_postProcess", os.path.join(here, "postProcess.py"))
+nscdpost = post.nscdpost
+
+UPSTREAM, DOWNSTREAM = 8, 24          # [D]
+SEED = 1.0 / 50                       # [D] lateral offset of the disc
+
+
+def setup(case, cells_per_d=15.0, end_time=8.0):
+    """Write the fixed-cylinder case; returns the number of cells."""
+    D, W = setupCase.D, setupCase.WIDTH
+    h = D / cells_per_d
+    lo, hi = (-UPSTREAM * D, -W / 2), (DOWNSTREAM * D, W / 2)
+    cells = (round((hi[0] - lo[0]) / h), round(W / h))
+    setupCase.write_case(case, lo, hi, cells, [(0.0, SEED * D, D)], setupCase.RHO_S,
+                         setupCase.RHO_F, setupCase.NU, gravity=(0, 0, 0), end_time=end_time,
+                         write_interval=0.05, max_co=0.5, max_dt=2e-3, fixed=True,
+                         inflow=setupCase.UT_REF)
+    return cells[0] * cells[1]
+
+
+def analyse(case):
+    """Shedding frequency of the lift on the fixed disc: dict for shedding.json."""
+    t, F = [], []
+    for time, name in nscdpost.time_dirs(case):
+        if time <= 0:
+            continue
+        t.append(time)
+        F.append(nscdpost.read_vector_field(os.path.join(case, name, "lagrangian", "grains",
+                                                         "Ffluid"))[0])
+    t, F = np.array(t), np.array(F)
+    U, D, nu = setupCase.UT_REF, setupCase.D, setupCase.NU
+    re = U * D / nu
+    st_ref = float(post.strouhal_reference(re))
+    sh = post.shedding_analysis(t, F[:, 1], F[:, 0], st_ref * U / D)
+    f = sh["shedding_frequency"]
+    rhoU2D = 0.5 * setupCase.RHO_F * U * U * D
+    sel = t >= (sh["window_start"] if sh["window_start"] is not None else t[-1])
+    txt = open(os.path.join(case, "system", "blockMeshDict")).read()
+    ny = int(txt.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[1])
+    return t, F, sh, {
+        "fixed_cylinder_reynolds_number": re,
+        "fixed_cylinder_cells_per_diameter": D / (setupCase.WIDTH / ny),
+        "fixed_cylinder_shedding_frequency": f,
+        "fixed_cylinder_shedding_periods_used": sh["periods"],
+        "fixed_cylinder_shedding_window": [sh["window_start"], sh["window_end"]],
+        "fixed_cylinder_shedding_frequency_fft": sh["fft_frequency"],
+        "fixed_cylinder_drag_fft_frequency_half": sh["streamwise_fft_frequency_half"],
+        "fixed_cylinder_strouhal_number": f * D / U,
+        "fixed_cylinder_mean_drag_coefficient": float(np.mean(F[sel, 0]) / rhoU2D),
+        "fixed_cylinder_lift_coefficient_amplitude": sh["oscillation_amplitude"] / rhoU2D,
+        "strouhal_reference_williamson1996": st_ref,
+        "strouhal_reference_williamson_brown1998": float(post.strouhal_williamson_brown(re)),
+    }
+
+
+def main():
+    if len(sys.argv) < 3 or sys.argv[1] not in ("setup", "post"):
+        sys.exit(__doc__)
+    case = sys.argv[2]
+    if sys.argv[1] == "setup":
+        cpd = float(sys.argv[3]) if len(sys.argv) > 3 else 15.0
+        end = float(sys.argv[4]) if len(sys.argv) > 4 else 8.0
+        n = setup(case, cpd, end)
+        print(f"{case}: fixed cylinder, {n} cells, D/h = {cpd:g}, endTime {end:g} s")
+        return
+    t, F, sh, res = analyse(case)
+    with open("shedding.json", "w") as fo:
+        json.dump(dict(res, time=t.tolist(), lift=F[:, 1].tolist(), drag=F[:, 0].tolist()),
+                  fo, indent=2, sort_keys=True)
+        fo.write("\n")
+    st, sr = res["fixed_cylinder_strouhal_number"], res["strouhal_reference_williamson1996"]
+    print(f"fixed cylinder Re = {res['fixed_cylinder_reynolds_number']:.1f}: shedding "
+          f"{res['fixed_cylinder_shedding_frequency']:.4f} Hz over {sh['periods']:.1f} periods "
+          f"(FFT {sh['fft_frequency']:.4f} Hz, drag/2 {sh['streamwise_fft_frequency_half']:.4f} Hz), "
+          f"St = {st:.4f} vs {sr:.4f} (Williamson 1996) ({100 * (st - sr) / sr:+.1f} %), "
+          f"C_D = {res['fixed_cylinder_mean_drag_coefficient']:.3f}")
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        rhoU2D = 0.5 * setupCase.RHO_F * setupCase.UT_REF ** 2 * setupCase.D
+        fig, ax = plt.subplots(figsize=(7, 3.6))
+        ax.plot(t, F[:, 1] / rhoU2D, "C3", label="$C_L$ (lift of the penalised disc)")
+        ax.plot(t, F[:, 0] / rhoU2D, "C0", label="$C_D$")
+        if sh["window_start"] is not None:
+            ax.axvspan(sh["window_start"], sh["window_end"], color="0.9", zorder=0,
+                       label="analysis window")
+        ax.set_title(f"fixed cylinder, Re = 156, D/h = {res['fixed_cylinder_cells_per_diameter']:.3g}: "
+                     f"St = {st:.3f} ({sh['periods']:.1f} periods); Williamson (1996) {sr:.3f}",
+                     fontsize=9)
+        ax.set_xlabel("t [s]")
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+        fig.tight_layout()
+        fig.savefig("shedding.png", dpi=120)
+    except ImportError:
+        print("matplotlib missing: no shedding.png")
+
+
+if __name__ == "__main__":
+    main()
