@@ -115,6 +115,40 @@ def read_grains(case, time_name):
     return out
 
 
+def read_droplet(case, time_name="0"):
+    """postProcessing/droplet/<time_name>/droplet.dat of a vansFoam case with
+    a vapourDroplet (src/dropletCoupling/README.md for the columns) as an
+    (n, ncol) array; raises FileNotFoundError."""
+    return np.loadtxt(os.path.join(case, "postProcessing", "droplet", time_name, "droplet.dat"),
+                      ndmin=2)
+
+
+def heat_log(log):
+    """Per time step of a vansFoam log (text) with heat on: dict of arrays
+    from the "heat:" lines, `time` [s] (of the preceding "Time =" line),
+    `grain_T`, `fluid_T` [K] (means), `Q` [J] (exchanged), `E` [J] (fluid +
+    grains energy), and from the "heat budget:" lines `budget` (n, 5) [J]
+    (fluid boundary, advected, sources, grain walls, fixed grains)."""
+    t, heat, bud = None, [], []
+    for line in log.splitlines():
+        m = re.match(r"^Time = (\S+)", line)
+        if m:
+            t = float(m.group(1))
+            continue
+        m = re.match(r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
+                     r"energy fluid \+ grains = (\S+) J", line)
+        if m:
+            heat.append((t,) + tuple(float(v) for v in m.groups()))
+            continue
+        m = re.match(r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, "
+                     r"sources = (\S+) J, grain walls = (\S+) J, fixed grains = (\S+) J", line)
+        if m:
+            bud.append([float(v) for v in m.groups()])
+    h = np.array(heat, dtype=float).reshape(-1, 5)
+    return {"time": h[:, 0], "grain_T": h[:, 1], "fluid_T": h[:, 2], "Q": h[:, 3], "E": h[:, 4],
+            "budget": np.array(bud, dtype=float).reshape(-1, 5)}
+
+
 def write_json(path, obj):
     with open(path, "w") as f:
         json.dump(obj, f, indent=2, sort_keys=True)

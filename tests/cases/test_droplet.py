@@ -37,6 +37,8 @@ import re
 import numpy as np
 import pytest
 
+import nscdpost
+
 from foamcase import add_fluid, make_box_case, run, write, add_scalar_transport
 
 # Measured (w/D = 4, steady state): D/dx -> mdot/(Q_ref/L) - 1, for the
@@ -129,9 +131,7 @@ def droplet_case(case, env, n_per_d, end_time, dt, blowing, rho_l, outlet=False,
     run("grainDeposit", case, env)
 
 
-def read_droplet(case):
-    path = os.path.join(case, "postProcessing", "droplet", "0", "droplet.dat")
-    return np.loadtxt(path, ndmin=2)
+read_droplet = nscdpost.read_droplet
 
 
 def patch_sum(path, patch):
@@ -183,19 +183,13 @@ def test_fixed_droplet_mesh_convergence(tmp_path, env):
 def budget_lines(log):
     """Per step: (fluid boundary, advected, sources) [J] of vansFoam's heat
     budget, energy E [J] of the "heat:" line, global continuity error."""
-    bud, en, cont = [], [], []
+    h = nscdpost.heat_log(log)
+    cont = []
     for line in log.splitlines():
-        m = re.match(r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, sources = (\S+) J",
-                     line)
-        if m:
-            bud.append(tuple(float(v) for v in m.groups()))
-        m = re.match(r"^heat: .*energy fluid \+ grains = (\S+) J", line)
-        if m:
-            en.append(float(m.group(1)))
         m = re.match(r"^mixture continuity errors : sum local = \S+, global = (\S+)", line)
         if m:
             cont.append(float(m.group(1)))
-    return np.array(bud), np.array(en), np.array(cont)
+    return h["budget"][:, :3], h["E"], np.array(cont)
 
 
 def test_energy_and_vapour_budget(tmp_path, env):

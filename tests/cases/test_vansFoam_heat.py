@@ -22,6 +22,7 @@ import re
 import pytest
 
 import correlations
+import nscdpost
 
 from foamcase import add_fluid, uniform_inflow, make_box_case, run, write, add_scalar_transport
 
@@ -34,17 +35,9 @@ def nusselt_difelice_colburn_re(eps, Re, Pr):
 
 def heat_lines(log):
     """(time, grain mean T, fluid mean T, Q, E) per step from the vansFoam log."""
-    out = []
-    t = None
-    for line in log.splitlines():
-        m = re.match(r"^Time = (\S+)", line)
-        if m:
-            t = float(m.group(1))
-        m = re.match(r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
-                     r"energy fluid \+ grains = (\S+) J", line)
-        if m:
-            out.append((t,) + tuple(float(v) for v in m.groups()))
-    return out
+    h = nscdpost.heat_log(log)
+    return [tuple(float(v) for v in r)
+            for r in zip(h["time"], h["grain_T"], h["fluid_T"], h["Q"], h["E"])]
 
 
 def set_materials(case, body, extra=""):

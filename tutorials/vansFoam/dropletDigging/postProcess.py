@@ -41,12 +41,14 @@ thesis' time scale, section 4.3.3); velocities are scaled by R_0/t_ff.
 import json
 import math
 import os
-import re
 import sys
 
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")),
+                                "src", "python"))
+import nscdpost  # noqa: E402
 G = 9.81
 
 # droplet.dat columns (src/dropletCoupling/README.md)
@@ -55,35 +57,20 @@ COL = dict(t=0, x=1, y=2, u=3, v=4, m=5, mdot=6, Qf=7, Qp=8, R=9, depth=10, Vdot
 
 def read_droplet(case):
     """droplet.dat of the case as an (n, >=12) array; raises FileNotFoundError."""
-    return np.loadtxt(os.path.join(case, "postProcessing", "droplet", "0", "droplet.dat"),
-                      ndmin=2)
+    return nscdpost.read_droplet(case)
 
 
 def read_log(case, log="log.vansFoam"):
     """Per time step of the vansFoam log: dict of arrays `time` [s],
     `grain_T` [K] (mean grain temperature), `E` [J] (fluid + grain energy of
     the "heat:" line), `budget` (n, 5) [J] (fluid boundary, advected,
-    sources, grain walls, fixed grains of the "heat budget:" line)."""
-    t, gT, E, bud = [], [], [], []
-    cur = None
+    sources, grain walls, fixed grains of the "heat budget:" line)
+    (nscdpost.heat_log, cut to the steps that have both lines)."""
     with open(os.path.join(case, log)) as f:
-        for line in f:
-            if line.startswith("Time = "):
-                cur = float(line.split()[2])
-                continue
-            m = re.match(r"^heat: grain mean T = (\S+), .*energy fluid \+ grains = (\S+) J", line)
-            if m:
-                t.append(cur)
-                gT.append(float(m.group(1)))
-                E.append(float(m.group(2)))
-                continue
-            m = re.match(r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, "
-                         r"sources = (\S+) J, grain walls = (\S+) J, fixed grains = (\S+) J", line)
-            if m:
-                bud.append([float(v) for v in m.groups()])
-    n = min(len(t), len(bud))
-    return {"time": np.array(t[:n]), "grain_T": np.array(gT[:n]), "E": np.array(E[:n]),
-            "budget": np.array(bud[:n]).reshape(n, 5)}
+        h = nscdpost.heat_log(f.read())
+    n = min(len(h["time"]), len(h["budget"]))
+    return {"time": h["time"][:n], "grain_T": h["grain_T"][:n], "E": h["E"][:n],
+            "budget": h["budget"][:n]}
 
 
 def energy_budget(case, info=None):
@@ -150,7 +137,6 @@ def bed_void_fraction(case, info):
     grain), from <first write time>/voidFraction; None if not written."""
     sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")),
                                     "src", "python"))
-    import nscdpost
     times = [name for t, name in nscdpost.time_dirs(case) if t > 0]
     for t in times:
         p = os.path.join(case, t, "voidFraction")
