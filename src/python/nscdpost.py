@@ -128,12 +128,18 @@ def heat_log(log):
     from the "heat:" lines, `time` [s] (of the preceding "Time =" line),
     `grain_T`, `fluid_T` [K] (means), `Q` [J] (exchanged), `E` [J] (fluid +
     grains energy), and from the "heat budget:" lines `budget` (n, 5) [J]
-    (fluid boundary, advected, sources, grain walls, fixed grains)."""
-    t, heat, bud = None, [], []
+    (fluid boundary, advected, sources, grain walls, fixed grains) and
+    `patches`, a list with one dict per budget line mapping each patch of
+    the preceding "heat patch" lines to its (conduction, advected) rates [W]."""
+    t, heat, bud, patches, current = None, [], [], [], {}
     for line in log.splitlines():
         m = re.match(r"^Time = (\S+)", line)
         if m:
             t = float(m.group(1))
+            continue
+        m = re.match(r"^heat patch (\S+): conduction = (\S+) W, advected = (\S+) W", line)
+        if m:
+            current[m.group(1)] = (float(m.group(2)), float(m.group(3)))
             continue
         m = re.match(r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
                      r"energy fluid \+ grains = (\S+) J", line)
@@ -144,9 +150,11 @@ def heat_log(log):
                      r"sources = (\S+) J, grain walls = (\S+) J, fixed grains = (\S+) J", line)
         if m:
             bud.append([float(v) for v in m.groups()])
+            patches.append(current)
+            current = {}
     h = np.array(heat, dtype=float).reshape(-1, 5)
     return {"time": h[:, 0], "grain_T": h[:, 1], "fluid_T": h[:, 2], "Q": h[:, 3], "E": h[:, 4],
-            "budget": np.array(bud, dtype=float).reshape(-1, 5)}
+            "budget": np.array(bud, dtype=float).reshape(-1, 5), "patches": patches}
 
 
 def write_json(path, obj):

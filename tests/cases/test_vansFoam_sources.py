@@ -43,6 +43,7 @@ import re
 import shutil
 
 import pytest
+import nscdpost
 
 from foamcase import add_fluid, make_box_case, run, write, run_parallel, read_internal
 from test_vansFoam_heat import add_heat, heat_lines, set_materials
@@ -95,21 +96,12 @@ def read_patch_value(path, patch):
 
 
 def budget_lines(log):
-    """Per step: dict of the 'heat budget' line [J] and the 'heat patch' rates [W]."""
-    out = []
-    patches = {}
-    for line in log.splitlines():
-        m = re.match(r"^heat patch (\S+): conduction = (\S+) W, advected = (\S+) W", line)
-        if m:
-            patches[m.group(1)] = (float(m.group(2)), float(m.group(3)))
-        m = re.match(r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, sources = (\S+) J, "
-                     r"grain walls = (\S+) J, fixed grains = (\S+) J", line)
-        if m:
-            v = [float(x) for x in m.groups()]
-            out.append({"boundary": v[0], "advected": v[1], "sources": v[2], "grainWalls": v[3],
-                        "fixedGrains": v[4], "total": sum(v), "patches": patches})
-            patches = {}
-    return out
+    """Per step: dict of the 'heat budget' line [J] and the 'heat patch' rates [W]
+    (parsed by nscdpost.heat_log)."""
+    h = nscdpost.heat_log(log)
+    keys = ("boundary", "advected", "sources", "grainWalls", "fixedGrains")
+    return [dict(zip(keys, v), total=float(sum(v)), patches=p)
+            for v, p in zip(h["budget"].tolist(), h["patches"])]
 
 
 def fv_options(case, body):
