@@ -265,7 +265,8 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     grainDrag_(true), muL_(2.82e-4), porosity_(0), drag_(nullptr),
     rhoF_(0), CpF_(0), diffusivity_(0),
     x_(Zero), u_(Zero), m_(0), y0_(0), mdot_(0), Qf_(0), Qp_(0), Ff_(Zero),
-    Vdot_(0), pendingVapour_(0), Vp_(0), Fp_(Zero), nGrainsIn_(0),
+    Vdot_(0), pendingVapour_(0), Vp_(0), Fp_(Zero), Fw_(Zero),
+    walls_(mesh.bounds()), wallActive_(false), nGrainsIn_(0),
     grainForce_
     (
         IOobject
@@ -541,10 +542,13 @@ void Foam::vapourDroplet::exchangeGrainMomentum
         ++nGrainsIn_;
     }
 
-    // droplet: backward Euler with F_p implicit in u_d
+    // droplet: backward Euler with F_p implicit in u_d, then the wall
+    // contact (the grains then feel the constrained u_d)
     if (move)
     {
         u = (mEff*u + dt*(sumCv - sumFb))/(mEff + dt*sumC);
+        meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
+        wallContact(dt, u);
     }
 
     // pass 2: F_i = c'_i (u_d^{n+1} - v_i), F_p = -depth sum F_i
@@ -571,6 +575,35 @@ void Foam::vapourDroplet::exchangeGrainMomentum
     }
     prevForce_ = grainForce_;
     prevDt_ = dt;
+}
+
+
+bool Foam::vapourDroplet::wallContact(const scalar dt, vector& u)
+{
+    const scalar R = radius();
+    const Vector<label>& sD = mesh_.solutionD();
+    bool active = false;
+    for (direction k = 0; k < vector::nComponents; ++k)
+    {
+        if (sD[k] < 0)
+        {
+            continue;       // empty direction (2D)
+        }
+        const scalar gLow = (x_[k] - R) - walls_.min()[k];
+        const scalar gHigh = walls_.max()[k] - (x_[k] + R);
+        if (u[k] < -gLow/dt)
+        {
+            u[k] = -gLow/dt;
+            active = true;
+        }
+        else if (u[k] > gHigh/dt)
+        {
+            u[k] = gHigh/dt;
+            active = true;
+        }
+    }
+    wallActive_ = wallActive_ || active;
+    return active;
 }
 
 
@@ -622,9 +655,15 @@ void Foam::vapourDroplet::endStep()
         // u_d* without F_p, then the implicit grain exchange (F_p)
         vector u = u_ + dt*(Ff_/mEff + g);
         meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
+        const vector uStar = u;
+        wallActive_ = false;
         exchangeGrainMomentum(dt, true, mEff, u);
         // 2D: no motion along the empty direction
         meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
+        // wall contact (no-op if the exchange already applied it)
+        wallContact(dt, u);
+        // wall reaction: closes (m - rho_f V)(u^{n+1} - u*) = dt (F_p + F_w)
+        Fw_ = wallActive_ ? vector(mEff*(u - uStar)/dt - Fp_) : vector(Zero);
         u_ = u;
         x_ += dt*u_;
     }
@@ -648,7 +687,7 @@ void Foam::vapourDroplet::endStep()
             }
             datPtr_() << nl
                 << "# time x y u v m mdot Q_f Q_p R depth Vdot V_p"
-                   " Fp_x Fp_y Fpen_x Fpen_y nGrainsIn" << nl;
+                   " Fp_x Fp_y Fpen_x Fpen_y nGrainsIn Fw_x Fw_y" << nl;
         }
         std::ostringstream os;
         os.precision(16);
@@ -657,7 +696,7 @@ void Foam::vapourDroplet::endStep()
             << Qf_ << ' ' << Qp_ << ' ' << radius() << ' ' << y0_ - x_.y()
             << ' ' << Vdot_ << ' ' << Vp_ << ' ' << Fp_.x() << ' '
             << Fp_.y() << ' ' << Ff_.x() << ' ' << Ff_.y() << ' '
-            << nGrainsIn_;
+            << nGrainsIn_ << ' ' << Fw_.x() << ' ' << Fw_.y();
         datPtr_() << os.str().c_str() << nl;
         datPtr_().flush();
     }

@@ -8,10 +8,19 @@ off the centre line (x = 0.999 cm against 1 cm), the perturbation Glowinski
 et al. (2001) used to break the symmetry; without it the pair would fall
 kissing along the axis.  SI units in the case.
 
-usage: setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [ROTATION yes|no]
-  (default 4 s, D/h = 12.5 as in thesis 3.3.4: 125 x 500 cells; maxDeltaT
-  1e-3 s: larger steps give spurious kicks of these light grains, see
-  ../cylinderSedimentation/setupCase.py)
+usage: setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [ROTATION yes|no] [MAXDT]
+  (default 4 s, D/h = 12.5 as in thesis 3.3.4: 125 x 500 cells, rotation no,
+  maxDeltaT 2.5e-4 s.  Larger steps give spurious kicks of these light grains
+  (see ../cylinderSedimentation/setupCase.py).  Measured with the vansFoam
+  build of 2026-11-21 23:02, D/h = 12.5: a single D = 2 mm disc is unstable
+  at maxDeltaT 1e-3 s (max grain Reynolds number 0.3 -> 14 within 0.015 s,
+  Courant 0.43) and stable at 5e-4 s (0.012, Courant 0.014 at t = 0.03 s);
+  the DKT pair is unstable at 1e-3 s (discs thrown sideways at 0.6 m/s by
+  t = 0.03 s) and at 5e-4 s (grain Reynolds number 0.02 -> 4.9 by
+  t = 0.02 s, with and without rotation coupling), stable at 2.5e-4 s
+  (0.012-0.013, Courant 0.006 at t = 0.04 s) until the gap is ~3 h
+  (t = 1.15 s, see Allrun).  At D/h = 6, 1e-3 s is
+  stable.  The committed 12.5 run of an earlier build was stable at 1e-3 s.)
 """
 import os
 import sys
@@ -54,8 +63,10 @@ def main():
     end = float(sys.argv[2]) if len(sys.argv) > 2 else 4.0
     cpd = float(sys.argv[3]) if len(sys.argv) > 3 else 12.5
     rot = len(sys.argv) > 4 and sys.argv[4] in ("yes", "on", "true", "1")
-    n = dkt_case(case, end, cpd, rotation=rot)
-    print(f"{case}: {n} cells, D/h = {cpd:g}, endTime {end:g} s, rotationCoupling {rot}")
+    max_dt = float(sys.argv[5]) if len(sys.argv) > 5 else 2.5e-4
+    n = dkt_case(case, end, cpd, rotation=rot, max_dt=max_dt)
+    print(f"{case}: {n} cells, D/h = {cpd:g}, endTime {end:g} s, rotationCoupling {rot}, "
+          f"maxDeltaT {max_dt:g} s")
 
 
 if __name__ == "__main__":

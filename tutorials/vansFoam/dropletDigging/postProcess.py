@@ -24,7 +24,9 @@ grain temperature and the energy E = rho Cp sum(eps T V) + sum(m c T), the
   `U_mf` [m/s] (Ergun, `ergun_umf`, at the bed's mean void fraction) and
   `fluidisation_number` (time mean of U_v / U_mf), `energy_defect` (relative
   closure of the energy budget, `energy_budget`), `stopped` (None, or why
-  the run stopped early: e.g. the droplet left the mesh, `stop_reason`);
+  the run stopped early, `stop_reason`), `bottom_reached_time` [s] (first
+  time the droplet rests on the bottom wall, wall reaction > 0; None if
+  never);
 - the plots `dropletDigging_finalDepth.png` (Figure 4.13),
   `dropletDigging_depth.png` (4.14, h/D against t/t_ff),
   `dropletDigging_velocity.png` (4.15, u t_ff/R against t/t_ff),
@@ -191,6 +193,10 @@ def case_results(case):
         res["U_mf"] = umf
         res["fluidisation_number"] = float(np.mean(uv[1:]) / umf) if len(uv) > 1 else None
     res["stopped"] = stop_reason(case)
+    # droplet on the bottom wall (wall contact, droplet.dat Fw_y > 0, third
+    # increment of src/dropletCoupling): first time, None if never
+    on_wall = np.nonzero(d[:, 19] > 0)[0] if d.shape[1] > 19 else []
+    res["bottom_reached_time"] = float(d[on_wall[0], 0]) if len(on_wall) else None
     try:
         res["energy_defect"] = energy_budget(case, info)["relative"]
     except (ValueError, FileNotFoundError) as e:
