@@ -8,19 +8,22 @@ off the centre line (x = 0.999 cm against 1 cm), the perturbation Glowinski
 et al. (2001) used to break the symmetry; without it the pair would fall
 kissing along the axis.  SI units in the case.
 
-usage: setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [ROTATION yes|no] [MAXDT]
+usage: setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [ROTATION yes|no] [MAXDT] [SCHEME]
   (default 4 s, D/h = 12.5 as in thesis 3.3.4: 125 x 500 cells, rotation no,
-  maxDeltaT 2.5e-4 s.  Larger steps give spurious kicks of these light grains
-  (see ../cylinderSedimentation/setupCase.py).  Measured with the vansFoam
-  build of 2026-11-21 23:02, D/h = 12.5: a single D = 2 mm disc is unstable
-  at maxDeltaT 1e-3 s (max grain Reynolds number 0.3 -> 14 within 0.015 s,
-  Courant 0.43) and stable at 5e-4 s (0.012, Courant 0.014 at t = 0.03 s);
-  the DKT pair is unstable at 1e-3 s (discs thrown sideways at 0.6 m/s by
-  t = 0.03 s) and at 5e-4 s (grain Reynolds number 0.02 -> 4.9 by
-  t = 0.02 s, with and without rotation coupling), stable at 2.5e-4 s
-  (0.012-0.013, Courant 0.006 at t = 0.04 s) until the gap is ~3 h
-  (t = 1.15 s, see Allrun).  At D/h = 6, 1e-3 s is
-  stable.  The committed 12.5 run of an earlier build was stable at 1e-3 s.)
+  maxDeltaT 1e-3 s, SCHEME resolved.)
+  SCHEME resolved: couplingProperties `resolvedCellsPerDiameter 4;`, the
+  resolved-regime scheme of vansCloud.H (grain velocity out of the pressure
+  solve, added mass C_A = 1); SCHEME default: no keyword (the unresolved
+  scheme for every grain).  Measured at D/h = 12.5 (issue 7): with the
+  default scheme the pair is unstable at maxDeltaT 1e-3 and 5e-4 s from the
+  start, and at 2.5e-4 s it blows up when the gap closes to ~3 h (t = 1.147
+  s: max grain Reynolds number 0.018 -> 50 within 0.03 s), with or without
+  rotation coupling; a single disc too is unstable at 1e-3 s.  That is the
+  instability of a partitioned coupling whose added mass is wrong (twice C_A
+  = 1 for one disc, tests/cases/test_resolvedRegime.py) and grows as the
+  gap to another grain or a wall closes, for these light grains
+  (rho_p/rho_f = 1.01).  With SCHEME resolved the same restart from
+  t = 1.14 s stays smooth, and the whole run is stable at 1e-3 s.
 """
 import os
 import sys
@@ -49,12 +52,18 @@ START = [(0.00999, 0.072), (0.010, 0.068)]   # [m] upper (1), lower (2)
 
 
 def dkt_case(case, end_time=4.0, cells_per_d=12.5, write_interval=0.01, rotation=False,
-             max_dt=1e-3):
+             max_dt=1e-3, resolved=False):
+    """Write the DKT case (see the module docstring); resolved: add
+    `resolvedCellsPerDiameter 4;` to constant/couplingProperties.  Returns
+    the number of cells."""
     h = D / cells_per_d
     nx, ny = round(W / h), round(H / h)
     cyl.write_case(case, (0.0, 0.0), (W, H), (nx, ny), [(x, y, D) for x, y in START],
                    RHO_P, RHO_F, NU, end_time=end_time, write_interval=write_interval,
                    max_co=0.5, max_dt=max_dt, rotation=rotation)
+    if resolved:
+        with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
+            f.write("resolvedCellsPerDiameter 4;\n")
     return nx * ny
 
 
@@ -63,10 +72,13 @@ def main():
     end = float(sys.argv[2]) if len(sys.argv) > 2 else 4.0
     cpd = float(sys.argv[3]) if len(sys.argv) > 3 else 12.5
     rot = len(sys.argv) > 4 and sys.argv[4] in ("yes", "on", "true", "1")
-    max_dt = float(sys.argv[5]) if len(sys.argv) > 5 else 2.5e-4
-    n = dkt_case(case, end, cpd, rotation=rot, max_dt=max_dt)
+    max_dt = float(sys.argv[5]) if len(sys.argv) > 5 else 1e-3
+    scheme = sys.argv[6] if len(sys.argv) > 6 else "resolved"
+    if scheme not in ("resolved", "default"):
+        sys.exit(f"setupCase.py: SCHEME must be resolved or default, not {scheme!r}")
+    n = dkt_case(case, end, cpd, rotation=rot, max_dt=max_dt, resolved=scheme == "resolved")
     print(f"{case}: {n} cells, D/h = {cpd:g}, endTime {end:g} s, rotationCoupling {rot}, "
-          f"maxDeltaT {max_dt:g} s")
+          f"maxDeltaT {max_dt:g} s, scheme {scheme}")
 
 
 if __name__ == "__main__":
