@@ -10,6 +10,7 @@ Only the standard library and numpy are needed.  Functions:
   instantiate_case(base, case, subs) -> copy a template case, replacing @KEYS@
   copy_grain_state(src, dst)   -> copy 0/grainState.h5 and 0/lagrangian of a settled case
 """
+import importlib.util
 import json
 import os
 import re
@@ -155,6 +156,16 @@ def heat_log(log):
     h = np.array(heat, dtype=float).reshape(-1, 5)
     return {"time": h[:, 0], "grain_T": h[:, 1], "fluid_T": h[:, 2], "Q": h[:, 3], "E": h[:, 4],
             "budget": np.array(bud, dtype=float).reshape(-1, 5), "patches": patches}
+
+
+def load_module(name, path):
+    """Import the Python file `path` as a module named `name` without
+    putting it on sys.path (tutorials share file names: setupCase.py,
+    postProcess.py)."""
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
 
 
 def write_json(path, obj):

@@ -197,12 +197,7 @@ def tutorial_modules(solver, case, names=("setupCase", "postProcess")):
     """Import the Python scripts of tutorials/<solver>/<case> (setupCase.py,
     postProcess.py) as modules, so that a case test reuses the tutorial's own
     set-up and measurement on a reduced case."""
-    import importlib.util
     root = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
     tut = os.path.join(root, "tutorials", solver, case)
-    mods = []
-    for name in names:
-        spec = importlib.util.spec_from_file_location(f"{case}_{name}", os.path.join(tut, name + ".py"))
-        mods.append(importlib.util.module_from_spec(spec))
-        spec.loader.exec_module(mods[-1])
-    return tuple(mods)
+    return tuple(nscdpost.load_module(f"{case}_{name}", os.path.join(tut, name + ".py"))
+                 for name in names)

@@ -473,19 +473,24 @@ def difelice_gamma(eps, Re, d, mu):
     return eps ** -x * (0.77 * math.sqrt(er) + 5.88) ** 2 * mu / d**2
 
 
+def rk4(rate, y, t_end, n):
+    """y(t_end) of dy/dt = rate(y) from y(0) = y, classical Runge-Kutta with n steps."""
+    h = t_end / n
+    for _ in range(n):
+        k1 = rate(y)
+        k2 = rate(y + 0.5 * h * k1)
+        k3 = rate(y + 0.5 * h * k2)
+        k4 = rate(y + h * k3)
+        y += h * (k1 + 2 * k2 + 2 * k3 + k4) / 6
+    return y
+
+
 def grain_relaxation_reference(t_end, u_d, rho_p, d, eps, n=20000):
     """Slip u_d - v(t) of a grain released at rest in liquid moving at u_d:
     rho_p dv/dt = gamma(eps, Re(u_d - v)) (u_d - v), RK4 with n steps."""
     def rate(w):
         return -difelice_gamma(eps, RHO_W * abs(w) * d / MU_W, d, MU_W) * w / rho_p
-    w, h = u_d, t_end / n
-    for _ in range(n):
-        k1 = rate(w)
-        k2 = rate(w + 0.5 * h * k1)
-        k3 = rate(w + 0.5 * h * k2)
-        k4 = rate(w + h * k3)
-        w += h * (k1 + 2 * k2 + 2 * k3 + k4) / 6
-    return w
+    return rk4(rate, u_d, t_end, n)
 
 
 def porous_bed_pressure_gradient(tmp_path, env, n, ny=12, nx=3):
@@ -587,14 +592,7 @@ def test_grain_relaxes_in_held_droplet(tmp_path, env, porosity):
     def reference(t, N=2000):
         def rate(v):
             return ((2500 - RHO_W - RHO) * G - difelice_gamma(eps, RHO_W * abs(v) * dg / MU_W, dg, MU_W) * v) / 2500
-        v, h = 0.0, t / N
-        for _ in range(N):
-            k1 = rate(v)
-            k2 = rate(v + 0.5 * h * k1)
-            k3 = rate(v + 0.5 * h * k2)
-            k4 = rate(v + h * k3)
-            v += h * (k1 + 2 * k2 + 2 * k3 + k4) / 6
-        return v
+        return rk4(rate, 0.0, t, N)
     times = nscdpost.time_dirs(case)[1:]
     assert len(times) == 6
     for t, name in times:

@@ -48,9 +48,10 @@ def alpha_under(h):
     return np.clip((h(X) - (Y - 0.5 * DY)) / DY, 0.0, 1.0)
 
 
-def write_alpha(case, time, a):
+def write_alpha(case, time, a, field="alpha.water"):
+    """Cell values a of the water fraction as <case>/<time>/<field>."""
     a = np.asarray(a).ravel()
-    write(os.path.join(case, time, "alpha.water"), "volScalarField", "alpha.water",
+    write(os.path.join(case, time, field), "volScalarField", field,
           "dimensions [0 0 0 0 0 0 0];\n"
           f"internalField nonuniform List<scalar> {a.size} (\n"
           + "\n".join(f"{v:.17g}" for v in a) + "\n);\n"
@@ -180,12 +181,7 @@ def write_scalar_transport(case, time_s, a):
     """The water fraction as the field T of OpenFOAM's scalarTransportFoam
     (U = 0, DT = 0: T is carried unchanged from step to step), so that a
     solver run with write times and a restart drives the function object."""
-    a = np.asarray(a).ravel()
-    write(os.path.join(case, time_s, "T"), "volScalarField", "T",
-          "dimensions [0 0 0 0 0 0 0];\n"
-          f"internalField nonuniform List<scalar> {a.size} (\n"
-          + "\n".join(f"{v:.17g}" for v in a) + "\n);\n"
-          "boundaryField { walls { type zeroGradient; } frontAndBack { type empty; } }\n")
+    write_alpha(case, time_s, a, field="T")
 
 
 def test_run_up_maximum_restored_on_restart(tmp_path, env):

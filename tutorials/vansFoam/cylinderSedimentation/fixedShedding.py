@@ -32,19 +32,11 @@ import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, here)
-import importlib.util  # noqa: E402
+sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
+import nscdpost  # noqa: E402
 
-
-def _load(name, path):
-    spec = importlib.util.spec_from_file_location(name, path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-setupCase = _load("cylinderSedimentation_setupCase", os.path.join(here, "setupCase.py"))
-post = _load("cylinderSedimentation_postProcess", os.path.join(here, "postProcess.py"))
-nscdpost = post.nscdpost
+setupCase = nscdpost.load_module("cylinderSedimentation_setupCase", os.path.join(here, "setupCase.py"))
+post = nscdpost.load_module("cylinderSedimentation_postProcess", os.path.join(here, "postProcess.py"))
 
 UPSTREAM, DOWNSTREAM = 8, 24          # [D]
 SEED = 1.0 / 50                       # [D] lateral offset of the disc

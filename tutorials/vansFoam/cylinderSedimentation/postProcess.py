@@ -38,12 +38,8 @@ here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, here)
 sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
 import nscdpost  # noqa: E402
-import importlib.util  # noqa: E402
 
-_spec = importlib.util.spec_from_file_location("cylinderSedimentation_setupCase",
-                                               os.path.join(here, "setupCase.py"))
-setupCase = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(setupCase)
+setupCase = nscdpost.load_module("cylinderSedimentation_setupCase", os.path.join(here, "setupCase.py"))
 
 
 def grain_history(case):

@@ -48,19 +48,12 @@ import numpy as np
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, here)
 sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
-import importlib.util  # noqa: E402
-
-
-def _load(name, path):
-    spec = importlib.util.spec_from_file_location(name, path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+import nscdpost  # noqa: E402
 
 
 # by path: both tutorials have a setupCase.py / postProcess.py
-setupCase = _load("draftingKissingTumbling_setupCase", os.path.join(here, "setupCase.py"))
-grain_history = _load(
+setupCase = nscdpost.load_module("draftingKissingTumbling_setupCase", os.path.join(here, "setupCase.py"))
+grain_history = nscdpost.load_module(
     "cylinderSedimentation_postProcess",
     os.path.join(here, "..", "cylinderSedimentation", "postProcess.py")).grain_history
 

@@ -28,21 +28,14 @@ usage: setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [ROTATION yes|no] [MAXDT] [S
 import os
 import sys
 
-import importlib.util
-
 here = os.path.dirname(os.path.abspath(__file__))
-
-
-def _load(name, path):
-    spec = importlib.util.spec_from_file_location(name, path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
+import nscdpost  # noqa: E402
 
 
 # write_case() of the falling-cylinder tutorial
-cyl = _load("cylinderSedimentation_setupCase",
-            os.path.join(here, "..", "cylinderSedimentation", "setupCase.py"))
+cyl = nscdpost.load_module("cylinderSedimentation_setupCase",
+                          os.path.join(here, "..", "cylinderSedimentation", "setupCase.py"))
 
 W, H = 0.02, 0.08          # [m]
 D = 0.002                  # [m]
