@@ -266,7 +266,8 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     rhoF_(0), CpF_(0), diffusivity_(0),
     x_(Zero), u_(Zero), m_(0), y0_(0), mdot_(0), Qf_(0), Qp_(0), Ff_(Zero),
     Vdot_(0), pendingVapour_(0), Vp_(0), Fp_(Zero), Fw_(Zero),
-    walls_(mesh.bounds()), wallActive_(false), nGrainsIn_(0),
+    walls_(mesh.bounds()), wallActive_(false),
+    wallClamped_(false), S_(Zero), nGrainsIn_(0),
     grainForce_
     (
         IOobject
@@ -439,125 +440,203 @@ void Foam::vapourDroplet::exchangeGrainMomentum
 (
     const scalar dt,
     const bool move,
-    const scalar mEff,
+    const vector& gVec,
     vector& u
 )
 {
     Fp_ = Zero;
+    S_ = Zero;
+    Fw_ = Zero;
     nGrainsIn_ = 0;
-    if
-    (
-        !grainDrag_ || !drag_.valid() || !(m_ > 0)
-     || !mesh_.foundObject<grainCloudReference>(grainCloud::registryName)
-    )
-    {
-        grainForce_.clear();
-        prevVelocity_.clear();
-        prevForce_.clear();
-        return;
-    }
-    const nscd::System& sys =
-        mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
-       .cloud().system();
-    const label n = sys.size();
-    grainForce_.setSize(n);
-    grainForce_ = Zero;
     const bool twoD = adapter_.twoD();
     // nscd works per unit depth in 2D; the droplet over the mesh depth
     const scalar depth = twoD ? adapter_.depth() : 1;
     const scalar R = radius();
     const scalar V = volume() + Vp_;
-    // liquid fraction of the droplet (liquid + absorbed grains, eq. 4.15)
-    const scalar epsL = max(1 - (1 - porosity_)*Vp_/V, scalar(1e-3));
-    const vector ud0 = u_;
-    const auto& pos = sys.positions();
-    const auto& vel = sys.velocities();
-    const auto& rad = sys.radii();
+    const vector un = u_;
 
-    // gravity (liquid buoyancy on the grains inside)
-    vector gVec(Zero);
-    if (mesh_.time().foundObject<uniformDimensionedVectorField>("g"))
+    const bool grains =
+        grainDrag_ && drag_.valid() && m_ > 0
+     && mesh_.foundObject<grainCloudReference>(grainCloud::registryName);
+
+    // Per grain i (nscd units): the force of the droplet on the grain,
+    //   F_i = k_i (u - u^n) + e_i + w_i S,
+    // linear in the droplet velocity u = u_d^{n+1} and in the surface
+    // force S (see vapourDroplet.H).  Droplet sums (droplet units, x depth
+    // in 2D): C = sum k_i [kg/s], Bv = sum (k_i u^n - e_i) [N],
+    // W = sum w_i [-] (~ 1 - eps_l), so that
+    //   F_p = -depth sum F_i = -C u + Bv - W S.
+    label n = 0;
+    List<scalar> k;
+    List<vector> e;
+    List<scalar> w;
+    List<bool> inside;
+    scalar C = 0;
+    scalar W = 0;
+    vector Bv(Zero);
+    const nscd::System* sysPtr = nullptr;
+    if (grains)
     {
-        gVec = mesh_.time().lookupObject<uniformDimensionedVectorField>("g").value();
+        sysPtr =
+            &mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+            .cloud().system();
+        n = sysPtr->size();
     }
-
-    const vector gGrain(sys.gravity()[0], sys.gravity()[1], sys.gravity()[2]);
-    // other forces of the previous step (contacts, gas), eq. 3.46 p^n
-    const bool history =
-        prevVelocity_.size() == n && prevForce_.size() == n && prevDt_ > 0;
-
-    // pass 1: coefficients c'_i [kg/s] (2D: per unit depth) and the
-    // explicit liquid buoyancy -f_i (1 - n) V_i rho_l g on each grain
-    List<scalar> c(n, Zero);
-    List<vector> Fb(n, Zero);
-    List<bool> inside(n, false);
-    scalar sumC = 0;
-    vector sumCv(Zero);
-    vector sumFb(Zero);
-    for (label g = 0; g < n; ++g)
+    else
     {
-        const double dx = pos[g][0] - x_.x();
-        const double dy = pos[g][1] - x_.y();
-        const double dz = twoD ? 0.0 : pos[g][2] - x_.z();
-        const scalar r = rad[g];
-        const scalar lens =
-            lensOverlap(R, r, std::sqrt(dx*dx + dy*dy + dz*dz), twoD);
-        if (!(lens > 0))
-        {
-            continue;
-        }
-        const scalar Vg = twoD ? pi*r*r : 4.0/3.0*pi*r*r*r;
-        const scalar f = min(lens/Vg, scalar(1));
-        const vector v(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
-        const scalar d = 2*r;
-        const scalar Re = rhoL_*mag(ud0 - v)*d/muL_;
-        const scalar gam = drag_->gamma(epsL, Re, d, muL_, rhoL_);
-        const scalar ci = f*(1 - porosity_)*Vg*gam;
-        // fixed grain: infinite mass, x = 0 (plain backward Euler drag)
-        const bool fixedGrain = sys.fixed(g);
-        const scalar mi = fixedGrain ? 0 : sys.mass(g);
-        // exponential integration over dt of m dv/dt = c (u_d - v) + F_c,
-        // F_c = m g + F_b (constant): v^{n+1} = v_t + (v - v_t) e^{-x},
-        // v_t = u_d + F_c/c, x = c dt/m; NSCD applies m g itself, so the
-        // droplet's force is c'(u_d - v) + F_b - (1 - phi)(m g + F_b),
-        // c' = phi c, phi = (1 - e^{-x})/x (exact for a free grain)
-        const scalar x = fixedGrain ? 0 : ci*dt/mi;
-        const scalar phi = x > 1e-12 ? -std::expm1(-x)/x : 1.0;
-        c[g] = phi*ci;
-        const vector Fbuoy = -f*(1 - porosity_)*Vg*rhoL_*gVec;
-        vector P(Zero);
-        if (history && !fixedGrain)
-        {
-            P = mi*(v - prevVelocity_[g])/prevDt_ - mi*gGrain - prevForce_[g];
-        }
-        Fb[g] = Fbuoy - (1 - phi)*(mi*gGrain + Fbuoy + P);
-        if (twoD)
-        {
-            Fb[g].z() = 0;
-        }
-        sumFb += depth*Fb[g];
-        sumC += c[g]*depth;
-        sumCv += c[g]*depth*v;
-        inside[g] = true;
-        ++nGrainsIn_;
+        grainForce_.clear();
+        prevVelocity_.clear();
+        prevForce_.clear();
     }
+    if (grains)
+    {
+        const nscd::System& sys = *sysPtr;
+        grainForce_.setSize(n);
+        grainForce_ = Zero;
+        k.setSize(n, Zero);
+        e.setSize(n, Zero);
+        w.setSize(n, Zero);
+        inside.setSize(n, false);
+        // liquid fraction of the droplet (liquid + absorbed grains, eq. 4.15)
+        const scalar epsL = max(1 - (1 - porosity_)*Vp_/V, scalar(1e-3));
+        const auto& pos = sys.positions();
+        const auto& vel = sys.velocities();
+        const auto& rad = sys.radii();
+        const vector gGrain(sys.gravity()[0], sys.gravity()[1], sys.gravity()[2]);
+        // other forces of the previous step (contacts, gas), eq. 3.46 p^n
+        const bool history =
+            prevVelocity_.size() == n && prevForce_.size() == n && prevDt_ > 0;
 
-    // droplet: backward Euler with F_p implicit in u_d, then the wall
-    // contact (the grains then feel the constrained u_d)
+        for (label g = 0; g < n; ++g)
+        {
+            const double dx = pos[g][0] - x_.x();
+            const double dy = pos[g][1] - x_.y();
+            const double dz = twoD ? 0.0 : pos[g][2] - x_.z();
+            const scalar r = rad[g];
+            const scalar lens =
+                lensOverlap(R, r, std::sqrt(dx*dx + dy*dy + dz*dz), twoD);
+            if (!(lens > 0))
+            {
+                continue;
+            }
+            const scalar Vg = twoD ? pi*r*r : 4.0/3.0*pi*r*r*r;
+            const scalar f = min(lens/Vg, scalar(1));
+            const vector v(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
+            const scalar d = 2*r;
+            const scalar Re = rhoL_*mag(un - v)*d/muL_;
+            const scalar gam = drag_->gamma(epsL, Re, d, muL_, rhoL_);
+            // liquid-displacing volume a_i = f_i (1 - n) V_i (2D: per depth)
+            const scalar a = f*(1 - porosity_)*Vg;
+            const scalar ci = a*gam;
+            if (sys.fixed(g))
+            {
+                // fixed grain (infinite mass): backward Euler drag
+                // c_i (u - v_i) and the full pressure share a_i S/V
+                k[g] = ci;
+                e[g] = ci*(un - v);
+                w[g] = a/V;
+            }
+            else
+            {
+                // exponential integration over dt of
+                //   m dv/dt = c (u(t) - v) + F_c,
+                // u(t) = u^n + (t/dt)(u - u^n) (the droplet's constant
+                // acceleration over the step), F_c = m g + a S/V + P
+                // constant: exact impulse over the step
+                //   m (v^{n+1} - v^n)/dt = c' (u^n - v^n)
+                //     + (1 - phi) m (u - u^n)/dt + phi F_c,
+                // c' = phi c, phi = (1 - e^{-x})/x, x = c dt/m; NSCD
+                // applies m g and the contacts itself, so the droplet's
+                // force is the above minus m g + P
+                const scalar mi = sys.mass(g);
+                const scalar x = ci*dt/mi;
+                const scalar phi = x > 1e-12 ? -std::expm1(-x)/x : 1.0;
+                vector P(Zero);
+                if (history)
+                {
+                    P = mi*(v - prevVelocity_[g])/prevDt_ - mi*gGrain
+                      - prevForce_[g];
+                }
+                k[g] = (1 - phi)*mi/dt;
+                e[g] = phi*ci*(un - v) - (1 - phi)*(mi*gGrain + P);
+                w[g] = phi*a/V;
+            }
+            if (twoD)
+            {
+                e[g].z() = 0;
+            }
+            C += depth*k[g];
+            W += depth*w[g];
+            Bv += depth*(k[g]*un - e[g]);
+            inside[g] = true;
+            ++nGrainsIn_;
+        }
+        // the liquid keeps a share 1 - W > 0 of S (round-off guard for a
+        // droplet with almost no liquid left: cap W at 1 - 1e-3 by scaling
+        // all w_i, which keeps F_p = -depth sum F_i exact)
+        const scalar Wmax = 1 - 1e-3;
+        if (W > Wmax)
+        {
+            const scalar s = Wmax/W;
+            forAll(w, g)
+            {
+                w[g] *= s;
+            }
+            W = Wmax;
+        }
+    }
+    const scalar beta = 1 - W;
+
+    // Droplet velocity u^{n+1} and surface force S.  Liquid (eq. 4.17 with
+    // F_f + F_w = S):  m (u - u^n)/dt = m g + S + F_p = m g + beta S - C u + Bv
+    const scalar VfRhoF = rhoF_*volume();
     if (move)
     {
-        u = (mEff*u + dt*(sumCv - sumFb))/(mEff + dt*sumC);
+        // free: S = F_pen + rho_f V_f ((u - u^n)/dt - g) (Uhlmann), linear
+        // in u: (M' + dt C) u = M' u^n + dt (M' g + beta F_pen + Bv),
+        // M' = m - beta rho_f V_f >= m - rho_f V_f > 0
+        const scalar Mp = m_ - beta*VfRhoF;
+        u = (Mp*un + dt*(Mp*gVec + beta*Ff_ + Bv))/(Mp + dt*C);
         meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
+        // wall contact: the clamped components of u are imposed, S there
+        // follows from the liquid balance (it contains the wall reaction)
+        wallClamped_ = false;
         wallContact(dt, u);
+        for (direction k = 0; k < vector::nComponents; ++k)
+        {
+            const scalar acc = (u[k] - un[k])/dt;
+            if (wallClamped_[k])
+            {
+                S_[k] = (m_*(acc - gVec[k]) + C*u[k] - Bv[k])/beta;
+            }
+            else
+            {
+                S_[k] = Ff_[k] + VfRhoF*(acc - gVec[k]);
+            }
+        }
     }
+    else
+    {
+        // held: u = u^n, S (holder included) from the liquid balance with
+        // du/dt = 0
+        u = un;
+        S_ = (-m_*gVec + C*u - Bv)/beta;
+    }
+    meshTools::constrainDirection(mesh_, mesh_.solutionD(), S_);
 
-    // pass 2: F_i = c'_i (u_d^{n+1} - v_i), F_p = -depth sum F_i
+    if (!grains)
+    {
+        return;
+    }
+    const nscd::System& sys = *sysPtr;
+    const auto& vel = sys.velocities();
+
+    // F_i = k_i (u^{n+1} - u^n) + e_i + w_i S, F_p = -depth sum F_i
     for (label g = 0; g < n; ++g)
     {
         if (inside[g])
         {
-            const vector v(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
-            vector F = c[g]*(u - v) + Fb[g];
+            vector F = k[g]*(u - un) + e[g] + w[g]*S_;
             if (twoD)
             {
                 F.z() = 0;
@@ -595,11 +674,13 @@ bool Foam::vapourDroplet::wallContact(const scalar dt, vector& u)
         {
             u[k] = -gLow/dt;
             active = true;
+            wallClamped_[k] = true;
         }
         else if (u[k] > gHigh/dt)
         {
             u[k] = gHigh/dt;
             active = true;
+            wallClamped_[k] = true;
         }
     }
     wallActive_ = wallActive_ || active;
@@ -612,21 +693,22 @@ void Foam::vapourDroplet::endStep()
     const Time& runTime = mesh_.time();
     const scalar dt = runTime.deltaTValue();
 
+    // constant/g (vansFoam registers it on the Time registry)
+    vector g(Zero);
+    if (runTime.foundObject<uniformDimensionedVectorField>("g"))
+    {
+        g = runTime.lookupObject<uniformDimensionedVectorField>("g").value();
+    }
+
     if (!(moving_ && m_ > 0))
     {
         // droplet held (or gone): the grains still feel its liquid
         vector u = u_;
-        exchangeGrainMomentum(dt, false, 0, u);
+        exchangeGrainMomentum(dt, false, g, u);
     }
     if (moving_ && m_ > 0)
     {
-        // constant/g (vansFoam registers it on the Time registry)
-        vector g(Zero);
-        if (runTime.foundObject<uniformDimensionedVectorField>("g"))
-        {
-            g = runTime.lookupObject<uniformDimensionedVectorField>("g").value();
-        }
-        else
+        if (!runTime.foundObject<uniformDimensionedVectorField>("g"))
         {
             FatalErrorInFunction
                 << "No gravity field g registered: the droplet motion (eq."
@@ -638,10 +720,10 @@ void Foam::vapourDroplet::endStep()
         // penalised fluid inside the droplet moves with it, so (Uhlmann
         // 2005, J. Comput. Phys. 209, eq. 13-14) the surface force is the
         // penalisation force plus the inside fluid's inertia and weight:
-        //   F_f = F_pen + rho_f V (du_d/dt - g)
-        // hence (m - rho_f V) du_d/dt = F_pen + (m - rho_f V) g
-        // (buoyancy included; explicit Euler, stable for m > rho_f V),
-        // plus F_p implicit (exchangeGrainMomentum).
+        //   F_f = F_pen + rho_f V_f (du_d/dt - g)
+        // hence (m - rho_f V_f) du_d/dt = F_pen + F_p + F_w
+        // + (m - rho_f V_f) g (buoyancy included; F_pen explicit, F_p
+        // and F_w implicit: exchangeGrainMomentum)
         const scalar mEff = m_ - rhoF_*volume();
         if (!(mEff > 0))
         {
@@ -652,18 +734,23 @@ void Foam::vapourDroplet::endStep()
                 << "    Fix: moving no in constant/dropletProperties."
                 << exit(FatalError);
         }
-        // u_d* without F_p, then the implicit grain exchange (F_p)
-        vector u = u_ + dt*(Ff_/mEff + g);
-        meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
-        const vector uStar = u;
+        // u_d* = the velocity without F_p and F_w
+        vector uStar = u_ + dt*(Ff_/mEff + g);
+        meshTools::constrainDirection(mesh_, mesh_.solutionD(), uStar);
         wallActive_ = false;
-        exchangeGrainMomentum(dt, true, mEff, u);
-        // 2D: no motion along the empty direction
-        meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
-        // wall contact (no-op if the exchange already applied it)
-        wallContact(dt, u);
-        // wall reaction: closes (m - rho_f V)(u^{n+1} - u*) = dt (F_p + F_w)
-        Fw_ = wallActive_ ? vector(mEff*(u - uStar)/dt - Fp_) : vector(Zero);
+        vector u = u_;
+        exchangeGrainMomentum(dt, true, g, u);
+        // wall reaction where the contact was active: closes
+        // (m - rho_f V_f)(u^{n+1} - u*) = dt (F_p + F_w) (= S - F_f)
+        if (wallActive_)
+        {
+            const vector Fw(mEff*(u - uStar)/dt - Fp_);
+            for (direction k = 0; k < vector::nComponents; ++k)
+            {
+                // only the wall-normal components the contact clamped
+                Fw_[k] = (wallClamped_[k] ? Fw[k] : 0);
+            }
+        }
         u_ = u;
         x_ += dt*u_;
     }
@@ -687,7 +774,8 @@ void Foam::vapourDroplet::endStep()
             }
             datPtr_() << nl
                 << "# time x y u v m mdot Q_f Q_p R depth Vdot V_p"
-                   " Fp_x Fp_y Fpen_x Fpen_y nGrainsIn Fw_x Fw_y" << nl;
+                   " Fp_x Fp_y Fpen_x Fpen_y nGrainsIn Fw_x Fw_y S_x S_y"
+                << nl;
         }
         std::ostringstream os;
         os.precision(16);
@@ -696,7 +784,8 @@ void Foam::vapourDroplet::endStep()
             << Qf_ << ' ' << Qp_ << ' ' << radius() << ' ' << y0_ - x_.y()
             << ' ' << Vdot_ << ' ' << Vp_ << ' ' << Fp_.x() << ' '
             << Fp_.y() << ' ' << Ff_.x() << ' ' << Ff_.y() << ' '
-            << nGrainsIn_ << ' ' << Fw_.x() << ' ' << Fw_.y();
+            << nGrainsIn_ << ' ' << Fw_.x() << ' ' << Fw_.y() << ' '
+            << S_.x() << ' ' << S_.y();
         datPtr_() << os.str().c_str() << nl;
         datPtr_().flush();
     }
