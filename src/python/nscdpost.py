@@ -158,6 +158,13 @@ def heat_log(log):
             "budget": np.array(bud, dtype=float).reshape(-1, 5), "patches": patches}
 
 
+def trapezoid(y, x):
+    """Trapezoidal integral of y(x) (numpy.trapezoid from numpy 2.0,
+    numpy.trapz before: Debian 12's python3-numpy is 1.24)."""
+    f = getattr(np, "trapezoid", None) or np.trapz
+    return f(y, x)
+
+
 def load_module(name, path):
     """Import the Python file `path` as a module named `name` without
     putting it on sys.path (tutorials share file names: setupCase.py,

@@ -46,6 +46,11 @@ grains spanning many cells, eps -> epsMin inside them, the semi-implicit drag
 - Free disc settling midway between walls at Re 0.05 (strict xfail): the
   free resolved disc is not Galilean consistent with the fixed disc above
   (1.23 x Faxen's settling velocity at D/h = 10, nu dt/h^2 = 5).
+- Galilean consistency at Re ~ 140 (falling cylinder released on the
+  centreline, D/h = 8): the disc fixed in the frame of the free one (inflow
+  and walls following the free disc's measured fall speed U(t)) must carry
+  the free disc's net weight (rho_p - rho_f) V (g - dU/dt), within 10 %:
+  0.956 over 2-2.5 s (the frame transformation is exact; see the test).
 """
 import math
 import os
@@ -366,3 +371,113 @@ def test_shedding_frequency_extraction():
     drift = postProcess.shedding_analysis(t, -0.5 * 0.025 * growth, ustr * 0 + 0.025,
                                           f_guess=0.925)
     assert drift["shedding_frequency"] == 0.0 and drift["periods"] == 0
+
+
+def free_disc_on_centreline(case, env, end, write_interval=0.05, cells_per_d=8, height=0.10):
+    """Reduced falling cylinder (setupCase.cylinder_case, as
+    test_falling_cylinder_terminal_velocity) released from rest ON the
+    centreline (x0 = 0: symmetric mesh and wake), opt-in resolved scheme,
+    maxDeltaT 2e-3 s.  Returns (t [s], fall speed [m/s], lateral speed
+    [m/s]) at the write times (every `write_interval`)."""
+    setupCase.cylinder_case(case, end_time=end, cells_per_d=cells_per_d, height=height,
+                            write_interval=write_interval, max_dt=2e-3, x0=0.0)
+    opt_in_resolved(case)
+    for app in ("blockMesh", "grainDeposit", "vansFoam"):
+        run(app, case, env)
+    t, x, u = postProcess.grain_history(case)
+    assert abs(t[-1] - end) < 1e-9, t
+    return t, -u[0, :, 1], u[0, :, 0]
+
+
+def fixed_disc_comoving(case, env, t_u, u_fall, end, upstream=6, downstream=10,
+                        write_interval=0.05, cells_per_d=8):
+    """The same disc FIXED in the frame that moves with the free disc:
+    channel of the box width (setupCase.WIDTH, disc on its axis), `upstream`
+    and `downstream` diameters of inlet and outlet length, inflow and walls
+    at the free disc's fall speed u_fall(t_u) (table, linear in t; inlet
+    fixedFluxPressure, outlet p = 0), no gravity (the hydrostatic part is
+    taken out, see test_free_fixed_disc_galilean_consistency).  Returns
+    (t [s], Ffluid along the flow [N/m]) at the write times > 0."""
+    D, W = setupCase.D, setupCase.WIDTH
+    h = D / cells_per_d
+    setupCase.write_case(case, (-upstream * D, -W / 2), (downstream * D, W / 2),
+                         (round((upstream + downstream) * D / h), round(W / h)), [(0.0, 0.0, D)],
+                         setupCase.RHO_S, setupCase.RHO_F, setupCase.NU, gravity=(0, 0, 0),
+                         end_time=end, write_interval=write_interval, max_co=0.5, max_dt=2e-3,
+                         fixed=True, inflow=list(zip(t_u, u_fall)),
+                         inlet_pressure="fixedFluxPressure")
+    for app in ("blockMesh", "grainDeposit", "vansFoam"):
+        run(app, case, env)
+    t, F = [], []
+    for time, name in nscdpost.time_dirs(case):
+        if time > 0:
+            t.append(time)
+            F.append(nscdpost.read_vector_field(
+                os.path.join(case, name, "lagrangian", "grains", "Ffluid"))[0, 0])
+    return np.array(t), np.array(F)
+
+
+def test_free_fixed_disc_galilean_consistency(tmp_path, env):
+    """Galilean (frame) consistency of the resolved coupling at Re ~ 140:
+    the free falling disc and the same disc held fixed in the frame that
+    moves with it must carry the same fluid force.
+    Set-up: the falling cylinder of thesis 3.3.3 (Namkoong et al. 2008:
+    D = 5 mm, rho_p/rho_f = 1.01, nu = 8e-7 m^2/s, box 8 D wide), reduced as
+    in test_falling_cylinder_terminal_velocity (D/h = 8, maxDeltaT 2e-3 s,
+    opt-in resolved scheme) but released from rest ON the centreline (x0 = 0,
+    symmetric mesh: no lateral motion, measured |u_x| < 1e-7 m/s, so the
+    disc frame is a pure translation) in a box 0.10 m high (0.12 m gives the
+    same speed within 0.01 %, measured), run to 2.5 s.
+    1. free disc: fall speed U(t) at the write times (every 0.05 s); mean
+       2.248 cm/s over 2.0-2.5 s, within 0.75 % of the 2-3 s mean of the
+       same disc (0.12 m box) run to 3 s (2.265 cm/s; u(3 s) = 2.29,
+       vansCloud.H "Known limits"), Re 140.
+    2. the disc fixed in a channel of the same width and mesh, 6 D of inlet,
+       10 D of outlet length, inflow and walls at U(t) (the free history as
+       a table, fixedFluxPressure inlet), no gravity.  Transforming the
+       free disc's problem to its frame (uniform fictitious acceleration
+       -a = -dU/dt, hydrostatic pressure of g - a removed) gives exactly
+       this problem, and the disc's momentum balance in that frame gives the
+       fluid force on the fixed disc along the flow:
+           F_fixed(t) = (rho_p - rho_f) V (g - a(t)),   V = pi D^2/4,
+       i.e. the net weight W up to a/g < 1e-3 (exact, at any time, not only
+       at terminal speed).  F_fixed includes the pressure gradient and
+       added-mass force of the accelerating flow, ~(1 + C_A) rho_f V a,
+       which takes the place of the free disc's residual acceleration
+       (mean 0.85 mm/s^2 over the window: 2.5 % of W); matching the whole
+       history also
+       gives both wakes the same age (a fixed disc at constant U has an
+       older wake and less drag: 0.93 W at 2.29 cm/s over 2-2.5 s, scaled
+       to 2.248 with D ~ U^1.9 0.90 W, 0.92 W after removing the free
+       disc's residual acceleration from W; O's runs, vansCloud.H).
+    Asserted: the window mean (2.0-2.5 s, trapezoidal) of F_fixed (the
+    grain's `Ffluid`) over (rho_p - rho_f) V (g - mean a) within 10 % of 1.
+    Measured (02:00 UTC 2026-11-22, D/h 8): 0.956 (windows 1-1.5, 1.5-2 s:
+    0.952, 0.950); inlet/outlet 8 D/16 D (O's co-moving frame): 0.951, so
+    6 D/10 D changes it by 0.5 %; 4 D/8 D: 0.982 (too short).  Runs in
+    ~60 s (free 2.5 s of 64 x 160 cells, fixed 64 x 128).  The free disc's acceleration oscillates (0.2 s period, a
+    between -0.5 and 4.5 mm/s^2) and the fixed disc's force follows it via
+    the imposed acceleration (+-6 % of W): the windows average it out.
+    Why 10 %: both discs see the same mesh, so the discretisation error
+    cancels only in part; the remaining 4 % deficit of the fixed disc is of
+    the order of the D/h = 8 resolution error of the free disc (its speed
+    is 2.29, 2.33, 2.35 cm/s at D/h 8, 12, 16 at 3 s, ~6 % in drag with
+    D ~ U^1.9, measured by O, vansCloud.H "Known limits"); 10 % still
+    catches the 27-33 % free/fixed excess that the offset release gave."""
+    end, t1, t2 = 2.5, 2.0, 2.5
+    t, u, ulat = free_disc_on_centreline(str(tmp_path / "free"), env, end)
+    assert np.abs(ulat).max() < 1e-3 * u.max(), "free disc left the centreline: no pure translation"
+    sel = (t > t1 - 1e-9) & (t < t2 + 1e-9)
+    u_mean = nscdpost.trapezoid(u[sel], t[sel]) / (t2 - t1)
+    abar = (np.interp(t2, t, u) - np.interp(t1, t, u)) / (t2 - t1)
+    tf, F = fixed_disc_comoving(str(tmp_path / "fixed"), env, t, u, end)
+    assert abs(tf[-1] - end) < 1e-9, tf
+    sf = (tf > t1 - 1e-9) & (tf < t2 + 1e-9)
+    F_mean = nscdpost.trapezoid(F[sf], tf[sf]) / (t2 - t1)
+    V = math.pi * setupCase.D ** 2 / 4
+    W = (setupCase.RHO_S - setupCase.RHO_F) * V * (9.81 - abar)
+    print(f"free disc: mean fall speed {u_mean * 100:.4f} cm/s over {t1}-{t2} s "
+          f"(Re {u_mean * setupCase.D / setupCase.NU:.0f}), mean acceleration {abar * 1e3:.3f} mm/s^2")
+    print(f"fixed disc in its frame: mean Ffluid {F_mean:.6e} N/m, net weight (rho_p - rho_f) V (g - a) "
+          f"{W:.6e} N/m, ratio {F_mean / W:.4f}")
+    assert abs(F_mean / W - 1) < 0.10, F_mean / W

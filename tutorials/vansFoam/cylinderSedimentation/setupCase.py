@@ -39,7 +39,8 @@ def _write(path, cls, obj, body):
 
 def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81, 0),
                end_time=1.0, write_interval=0.05, max_co=0.5, max_dt=5e-3,
-               fixed=False, inflow=None, n_correctors=2, n_outer=1, rotation=False):
+               fixed=False, inflow=None, n_correctors=2, n_outer=1, rotation=False,
+               inlet_pressure="zeroGradient"):
     """Write a 2D vansFoam case.
 
     lo, hi: (x, y) corners of the box [m]; cells: (nx, ny); the mesh is one
@@ -51,7 +52,13 @@ def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81,
     inflow: None (closed box, no-slip `walls`) or U0 [m/s]: a uniform flow in
     +x, fixedValue U0 at the `inlet` (x = lo), p = 0 at the `outlet`
     (x = hi) and walls y = lo, hi moving at U0 (the frame of a disc
-    translating at -U0 between fixed plane walls, Faxen's problem).
+    translating at -U0 between fixed plane walls, Faxen's problem);
+    or a list of (t [s], U0 [m/s]) pairs: the same with U0(t) interpolated
+    linearly in that table (OpenFOAM uniformFixedValue; the frame of a disc
+    translating with a prescribed velocity history, initial field U0(0)).
+    inlet_pressure: p condition at the `inlet` when inflow is given,
+    "zeroGradient" or "fixedFluxPressure" (needed at Re ~ 100 and for an
+    accelerating inflow: the pressure gradient then carries dU0/dt).
     """
     (x0, y0), (x1, y1) = lo, hi
     nx, ny = cells
@@ -64,13 +71,25 @@ def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81,
         pB = "walls { type fixedFluxPressure; value uniform 0; }"
         pref = "pRefCell 0; pRefValue 0;"
     else:
+        if inlet_pressure not in ("zeroGradient", "fixedFluxPressure"):
+            raise ValueError(f"inlet_pressure {inlet_pressure!r}: zeroGradient or fixedFluxPressure")
+        if isinstance(inflow, (int, float)):
+            u_in = f"type fixedValue; value uniform ({inflow} 0 0);"
+            u_init = f"{inflow}"
+        else:
+            tab = " ".join("(%.12g (%.12g 0 0))" % (t, u) for t, u in inflow)
+            u_in = f"type uniformFixedValue; uniformValue table ({tab});"
+            u_init = "%.12g" % inflow[0][1]
         bnd = ("inlet { type patch; faces ((0 4 7 3)); }\n"
                "outlet { type patch; faces ((2 6 5 1)); }\n"
                "walls { type wall; faces ((1 5 4 0) (3 7 6 2)); }\n")
-        uB = (f"inlet {{ type fixedValue; value uniform ({inflow} 0 0); }}\n"
+        uB = (f"inlet {{ {u_in} }}\n"
               "    outlet { type zeroGradient; }\n"
-              f"    walls {{ type fixedValue; value uniform ({inflow} 0 0); }}")
-        pB = ("inlet { type zeroGradient; }\n    outlet { type fixedValue; value uniform 0; }\n"
+              f"    walls {{ {u_in} }}")
+        p_in = ("type zeroGradient;" if inlet_pressure == "zeroGradient"
+                else "type fixedFluxPressure; value uniform 0;")
+        pB = (f"inlet {{ {p_in} }}\n"
+              "    outlet { type fixedValue; value uniform 0; }\n"
               "    walls { type zeroGradient; }")
         pref = ""
     vs = " ".join("(%.12g %.12g %.12g)" % p for p in v)
@@ -78,7 +97,7 @@ def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81,
            f"scale 1;\nvertices ({vs});\n"
            f"blocks ( hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1) );\n"
            f"boundary (\n{bnd}frontAndBack {{ type empty; faces ((0 3 2 1) (4 5 6 7)); }}\n);\n")
-    u0 = f"({inflow} 0 0)" if inflow is not None else "(0 0 0)"
+    u0 = f"({u_init} 0 0)" if inflow is not None else "(0 0 0)"
     _write(os.path.join(case, "0", "U"), "volVectorField", "U",
            f"dimensions [0 1 -1 0 0 0 0];\ninternalField uniform {u0};\n"
            f"boundaryField\n{{\n    {uB}\n    frontAndBack {{ type empty; }}\n}}\n")

@@ -89,7 +89,7 @@ def gauge_history(case, H):
             continue
         y, alpha = np.loadtxt(path, unpack=True)
         t.append(float(name))
-        eta.append(float(np.trapezoid(np.clip(alpha, 0, 1), y)) - H)
+        eta.append(float(nscdpost.trapezoid(np.clip(alpha, 0, 1), y)) - H)
     return np.array(t), np.array(eta)
 
 
