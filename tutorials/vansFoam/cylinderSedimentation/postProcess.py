@@ -226,6 +226,8 @@ def main():
         "cells_per_diameter": setupCase.D / (setupCase.WIDTH / nx),
         "rotation_coupling": "rotationCoupling yes" in open(
             os.path.join(case, "constant", "couplingProperties")).read(),
+        "scheme": ("resolved" if "resolvedCellsPerDiameter" in open(
+            os.path.join(case, "constant", "couplingProperties")).read() else "default"),
         "terminal_velocity": ut,
         "max_streamwise_velocity": float(ustr.max()),
         "terminal_velocity_reference": ref,
