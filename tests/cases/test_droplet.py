@@ -1009,3 +1009,68 @@ def test_free_droplet_is_weightless_inside(tmp_path, env):
     w_old = RHO_W * G / gam * (1 - math.exp(-t[-1] * gam / rho_s))
     print(f"former hydrostatic model: |v_i - u_d| ~ {w_old:.2e} m/s (Stokes-limit drag)")
     assert w_old > 100 * bound
+
+
+
+@pytest.mark.parametrize("nu_gas", [2e-5, 1e-9])
+def test_dense_suspension_settles_steadily(tmp_path, env, nu_gas):
+    """Issue 8 (Table 4.2: 55 um grains at dt = 5e-4 s): a dense square
+    lattice of 481 free 50 um grains (spacing 1.02 d, phi_2D = 0.755, no
+    contacts) fills the inner half (r < R/2) of a HELD droplet (moving no,
+    water, gravity on).  The suspension must settle at the model's steady
+    hindered-settling speed (src/dropletCoupling/README.md, "Liquid pressure
+    on the grains": held droplet, S from the liquid balance, S = -(m_d + M) g
+    at steady state, so every grain fully inside has c_i v_i = (m_i - rho_mix
+    V_i) g):
+      v = (rho_s - rho_mix) g / gamma(eps_l, Re),  rho_mix = (m_d + M)/V,
+    gamma the DallavalleDiFelice law (thesis eq. 3.32, difelice_gamma) at the
+    droplet's own eps_l = 1 - V_p/V (droplet.dat).  200 steps of dt = 5e-4 s,
+    checked at 4 write times.
+    - nu_gas = 1e-9 (gas resistance negligible): the reference itself, mean
+      v_y within 2 % of -v, every grain within 5 %, |v_x| < 0.05 v
+      (measured mean -1.0 %, -3.2..+1.4 %, |v_x| < 0.016 v).
+    - nu_gas = 2e-5 (the other cases' gas): the gas inside the penalised
+      droplet drags the dense lattice (eps_g = 0.245: vansCloud's implicit
+      factor b_i = W dt gamma*/m ~ 0.8) and can only slow it: every grain
+      -15 %..+2 %, mean -10 %..0 (measured mean -5.7 %, -10.2..-0.2 %),
+      |v_x| < 0.1 v (0.04), no time-step collapse (200 steps).  This is the
+      case of the issue: without the gas-drag part of the predictor
+      (vapourDroplet.H, "Gas drag of the grains inside") the droplet's and
+      vansCloud's predictors over-correct each other (linear growth factor
+      -1.4 per step at b = 0.83, x = 1): F_p flips sign every step, the
+      grains reach 0.4-1.3 m/s (700 x v) and the time step collapses (269
+      steps instead of 200), measured."""
+    import nscdpost
+    R0, c, G, dg = D / 2, 2 * D, 9.81, 5e-5
+    a = 1.02 * dg
+    k = int(0.5 * R0 / a)
+    grains = [(c + i * a, c + j * a, DEPTH / 2, dg)
+              for j in range(-k, k + 1) for i in range(-k, k + 1)
+              if math.hypot(i * a, j * a) < 0.5 * R0]
+    dt, n = 5e-4, 200
+    case = str(tmp_path / "dense")
+    droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
+                 grains=grains, fixed_grains=False, write_interval=dt * n / 4, gravity=G,
+                 nu=nu_gas, extra=f"liquidViscosity {MU_W};\n")
+    run("vansFoam", case, env)
+    d = read_droplet(case)
+    m_d, R, Vp = d[-1, 5], d[-1, 9], d[-1, 12]
+    V = math.pi * R**2 * DEPTH
+    eps = 1 - Vp / V
+    rho_mix = (m_d + 2500 * Vp) / V
+    v = 1e-3
+    for _ in range(50):
+        v = (2500 - rho_mix) * G / difelice_gamma(eps, RHO_W * v * dg / MU_W, dg, MU_W)
+    lo, hi, mlo, mhi, xmax = ((-0.15, 0.02, -0.10, 0.0, 0.1) if nu_gas > 1e-6
+                              else (-0.05, 0.05, -0.02, 0.02, 0.05))
+    for tw, name in nscdpost.time_dirs(case)[1:]:
+        gr = nscdpost.read_grains(case, name)
+        rel = -gr["U"][:, 1] / v - 1
+        vx = np.abs(gr["U"][:, 0]).max() / v
+        print(f"nu_gas {nu_gas:g}, t = {tw:g} s: {len(grains)} grains, v_ref = {v:.4e} m/s "
+              f"(eps_l {eps:.4f}, rho_mix {rho_mix:.1f}), v_y/v_ref - 1 mean {rel.mean():+.4f} "
+              f"in [{rel.min():+.4f}, {rel.max():+.4f}], max |v_x|/v_ref {vx:.3f}")
+        assert np.all((rel > lo) & (rel < hi))
+        assert mlo < rel.mean() < mhi
+        assert vx < xmax
+    assert len(d) == n and np.all(d[:, 17] == len(grains))

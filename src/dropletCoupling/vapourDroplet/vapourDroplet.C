@@ -280,6 +280,8 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     prevVelocity_(),
     prevForce_(),
     prevDt_(0),
+    prevVelocity2_(),
+    gasForceChange_(),
     adapter_(mesh),
     chi_(mesh.nCells(), Zero),
     ring_(mesh.nCells(), Zero),
@@ -471,6 +473,7 @@ void Foam::vapourDroplet::exchangeGrainMomentum
     List<vector> e;
     List<scalar> w;
     List<bool> inside;
+    List<vector> gasChangeOut;
     scalar C = 0;
     scalar W = 0;
     vector Bv(Zero);
@@ -487,6 +490,8 @@ void Foam::vapourDroplet::exchangeGrainMomentum
         grainForce_.clear();
         prevVelocity_.clear();
         prevForce_.clear();
+        prevVelocity2_.clear();
+        gasForceChange_.clear();
     }
     if (grains)
     {
@@ -506,6 +511,55 @@ void Foam::vapourDroplet::exchangeGrainMomentum
         // other forces of the previous step (contacts, gas), eq. 3.46 p^n
         const bool history =
             prevVelocity_.size() == n && prevForce_.size() == n && prevDt_ > 0;
+        const bool history2 =
+            history && prevVelocity2_.size() == n && gasForceChange_.size() == n;
+        gasChangeOut.setSize(n, Zero);
+        List<vector>& gasChange = gasChangeOut;
+
+        // relaxation factor b_i = W_i dt gamma*_i/m_i of the gas drag of
+        // vansCloud (eq. 3.48-3.50), estimated per grain as the cell's
+        // volume-weighted mean over the free grains in the cell (field Kp =
+        // sum_p (V_pc/V_c) b_p over the solid fraction 1 - eps) at the cell
+        // of the grain centre; 0 without a vansCloud (no field Kp) or for a
+        // grain outside the mesh; max over the processors
+        List<scalar> bGas(n, Zero);
+        {
+            const volScalarField* KpPtr =
+                mesh_.findObject<volScalarField>("Kp");
+            const volScalarField* epsPtr =
+                mesh_.findObject<volScalarField>("voidFraction");
+            if (history && KpPtr && epsPtr)
+            {
+                const scalar zc = mesh_.bounds().centre().z();
+                for (label g = 0; g < n; ++g)
+                {
+                    const vector xg
+                    (
+                        pos[g][0], pos[g][1], twoD ? zc : pos[g][2]
+                    );
+                    vector dx = xg - x_;
+                    if (twoD)
+                    {
+                        dx.z() = 0;
+                    }
+                    if (sys.fixed(g) || mag(dx) > R + rad[g])
+                    {
+                        continue;
+                    }
+                    const label c = mesh_.findCell(xg);
+                    if (c >= 0)
+                    {
+                        const scalar phiS = 1 - (*epsPtr)[c];
+                        bGas[g] =
+                            phiS > SMALL
+                          ? min(max((*KpPtr)[c]/phiS, scalar(0)), scalar(1))
+                          : 0;
+                    }
+                }
+                Pstream::listCombineGather(bGas, maxEqOp<scalar>());
+                Pstream::listCombineScatter(bGas);
+            }
+        }
 
         for (label g = 0; g < n; ++g)
         {
@@ -556,6 +610,23 @@ void Foam::vapourDroplet::exchangeGrainMomentum
                 {
                     P = mi*(v - prevVelocity_[g])/prevDt_ - mi*gGrain
                       - prevForce_[g];
+                    // change of vansCloud's gas force over the step
+                    // (vapourDroplet.H, "Gas drag of the grains inside"):
+                    //   G^n - G^{n-1} = b_i (G^{n-1} - G^{n-2}
+                    //     - m_i (2 dv^n - dv^{n-1})/dt),  dv^n = v^n - v^{n-1}
+                    const vector dvn = v - prevVelocity_[g];
+                    const vector dvp =
+                        history2
+                      ? vector(prevVelocity_[g] - prevVelocity2_[g])
+                      : vector(Zero);
+                    const vector dGp =
+                        history2 ? gasForceChange_[g] : vector(Zero);
+                    gasChange[g] = bGas[g]*(dGp - mi*(2*dvn - dvp)/dt);
+                    if (twoD)
+                    {
+                        gasChange[g].z() = 0;
+                    }
+                    P += gasChange[g];
                 }
                 k[g] = (1 - phi)*mi/dt;
                 e[g] = phi*ci*(un - v) - (1 - phi)*(mi*gGrain + P);
@@ -647,6 +718,8 @@ void Foam::vapourDroplet::exchangeGrainMomentum
     }
 
     // history for the predictor P of the next step
+    prevVelocity2_ = prevVelocity_;
+    gasForceChange_ = gasChangeOut;
     prevVelocity_.setSize(n);
     for (label g = 0; g < n; ++g)
     {
