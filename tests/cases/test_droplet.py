@@ -59,7 +59,8 @@ RHO_V = 0.6
 
 def droplet_case(case, env, n_per_d, end_time, dt, blowing, rho_l, outlet=False,
                  extra="", w_over_d=4, gravity=0.0, nu=NU, T_w=None, grains=(), T_grains=None,
-                 fixed_grains=True, write_interval=None, coupling="", rho_f=RHO):
+                 fixed_grains=True, write_interval=None, coupling="", rho_f=RHO, moving=False,
+                 centre=None):
     """2D square box w x w (w = w_over_d D, n_per_d * w_over_d cells a side),
     walls at T_w (default T_W), droplet of diameter D at the centre; with
     outlet the top side is an open patch (p = 0, zeroGradient U, inletOutlet
@@ -123,10 +124,11 @@ def droplet_case(case, env, n_per_d, end_time, dt, blowing, rho_l, outlet=False,
     open(cd, "a").write('libs ("libdropletCoupling.so");\n')
     write(os.path.join(case, "system", "fvOptions"), "dictionary", "fvOptions",
           "droplet { type vapourDropletSource; }\n")
+    cx, cy = (w / 2, w / 2) if centre is None else centre
     write(os.path.join(case, "constant", "dropletProperties"), "dictionary", "dropletProperties",
-          f"centre ({w / 2} {w / 2} {DEPTH / 2});\ndiameter {D};\nliquidDensity {rho_l};\n"
+          f"centre ({cx} {cy} {DEPTH / 2});\ndiameter {D};\nliquidDensity {rho_l};\n"
           f"latentHeat {LATENT};\nvapourisationTemperature {T_D};\nvapourDensity {RHO_V};\n"
-          f"blowing {'yes' if blowing else 'no'};\nmoving no;\n" + extra)
+          f"blowing {'yes' if blowing else 'no'};\nmoving {'yes' if moving else 'no'};\n" + extra)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
 
@@ -255,10 +257,7 @@ def test_restart_continues_exactly(tmp_path, env):
     dt = 0.01
     case = str(tmp_path / "full")
     droplet_case(case, env, 6, end_time=10 * dt, dt=dt, blowing=True, rho_l=1000.0,
-                 outlet=True, extra="")
-    dp = os.path.join(case, "constant", "dropletProperties")
-    txt = open(dp).read().replace("moving no;", "moving yes;\nvelocity (0.004 -0.01 0);")
-    open(dp, "w").write(txt)
+                 outlet=True, extra="velocity (0.004 -0.01 0);\n", moving=True)
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read().replace(f"writeInterval {10 * dt};", f"writeInterval {5 * dt};")
     txt = txt.replace("adjustTimeStep yes;", "adjustTimeStep no;")   # same dt after restart
@@ -318,10 +317,7 @@ def test_falling_droplet_added_mass(tmp_path, env):
     case = str(tmp_path / "fall")
     rho_l, dt, n_steps = 10 * RHO, 5e-4, 10
     droplet_case(case, env, 16, end_time=n_steps * dt, dt=dt, blowing=False, rho_l=rho_l,
-                 w_over_d=8, gravity=9.81, nu=1e-7, T_w=T_D)
-    dp = os.path.join(case, "constant", "dropletProperties")
-    txt = open(dp).read().replace("moving no;", "moving yes;")
-    open(dp, "w").write(txt)
+                 w_over_d=8, gravity=9.81, nu=1e-7, T_w=T_D, moving=True)
     run("vansFoam", case, env)
     d = read_droplet(case)
     assert len(d) == n_steps
@@ -502,7 +498,6 @@ def porous_bed_pressure_gradient(tmp_path, env, n, ny=12, nx=3):
     with the same DallavalleDiFelice law, eps dp/dy = (1 - eps) gamma u,
     u = U_s/eps, evaluated here at eps = 1 - (1 - n) pi d^3/(6 h^3)."""
     from foamcase import uniform_inflow, read_internal
-    import nscdpost
     d, h, Us, rho, mu = 0.999e-3, 1e-3, 2e-3, 1000.0, 1e-3
     case = str(tmp_path / f"bed{n}")
     grains = [((i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h, d)
@@ -580,7 +575,6 @@ def test_grain_relaxes_in_held_droplet(tmp_path, env, porosity):
     Porous grain (grainPorosity 0.5, density (1 - n) 2500 as the README
     prescribes): mass, weight, drag and buoyancy all scale with (1 - n), so
     the same curve (eps_l = 1 - (1 - n) V_p/V)."""
-    import nscdpost
     R0, c, dg, G = D / 2, 2 * D, 1e-4, 9.81
     dt, n = 5e-4, 24
     case = str(tmp_path / "relax")
@@ -625,7 +619,6 @@ def test_grain_droplet_momentum_exchange(tmp_path, env):
     - grain momentum: sum m_i (v_i^{n+1} - v_i^n) = dt (sum F_fluid,i + sum m_i g
       - F_p/depth) to 1e-8 relative to the droplet impulse (written states,
       17 digits), i.e. droplet + grains + gas exchange closes."""
-    import nscdpost
     R0, c, G = D / 2, 2 * D, 9.81
     dgs = [1e-4, 1.5e-4, 2e-4, 2e-4]
     grains = [(c + 0.3 * R0, c, DEPTH / 2, dgs[0]), (c - 0.4 * R0, c + 0.2 * R0, DEPTH / 2, dgs[1]),
@@ -634,10 +627,7 @@ def test_grain_droplet_momentum_exchange(tmp_path, env):
     case = str(tmp_path / "momentum")
     droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
                  grains=grains, fixed_grains=False, write_interval=dt, gravity=G,
-                 extra="velocity (0.05 -0.02 0);\n")
-    dp = os.path.join(case, "constant", "dropletProperties")
-    txt = open(dp).read().replace("moving no;", "moving yes;")
-    open(dp, "w").write(txt)
+                 extra="velocity (0.05 -0.02 0);\n", moving=True)
     log = run("vansFoam", case, env).stdout
     d = read_droplet(case)
     sums = [tuple(float(x) for x in m) for m in
@@ -725,10 +715,7 @@ def seepage_run(tmp_path, env, dg):
     case = str(tmp_path / f"seep{dg:g}")
     droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
                  grains=grains, fixed_grains=True, gravity=G, nu=1e-9,
-                 extra=f"liquidViscosity {MU_W};\n")
-    dp = os.path.join(case, "constant", "dropletProperties")
-    txt = open(dp).read().replace("moving no;", "moving yes;")
-    open(dp, "w").write(txt)
+                 extra=f"liquidViscosity {MU_W};\n", moving=True)
     run("vansFoam", case, env)
     return read_droplet(case)
 
@@ -825,11 +812,7 @@ def test_droplet_lands_on_wall(tmp_path, env, with_grain):
     grains = [(W / 2, gap0 + dg / 2, DEPTH / 2, dg)] if with_grain else ()
     droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
                  gravity=G, extra=f"liquidViscosity {MU_W};\n", grains=grains,
-                 fixed_grains=False)
-    dp = os.path.join(case, "constant", "dropletProperties")
-    txt = open(dp).read().replace("moving no;", "moving yes;").replace(
-        f"centre ({W / 2} {W / 2} {DEPTH / 2});", f"centre ({W / 2} {R0 + gap0} {DEPTH / 2});")
-    open(dp, "w").write(txt)
+                 fixed_grains=False, moving=True, centre=(W / 2, R0 + gap0))
     run("vansFoam", case, env)
     d = read_droplet(case)
     assert len(d) == n and d.shape[1] >= 20
@@ -877,7 +860,6 @@ def test_supported_grain_gets_full_drag(tmp_path, env):
     predictor of the other forces (eq. 3.46 p^n) the fixed point is the full
     force: F_p within 1 % after 30 steps.  The fixed grain's share is exact
     by construction."""
-    import nscdpost
     R0, c, G, u = D / 2, 2 * D, 9.81, 0.01
     df, dg = 4e-4, 5e-5
     y_free = c - R0 + 1e-4
@@ -966,7 +948,6 @@ def test_free_droplet_is_weightless_inside(tmp_path, env):
     Measured with the former model (same case): max |v_i - u_d| = 0.73 /
     1.15 / 1.37 / 1.49 cm/s at 2.5 / 5 / 7.5 / 10 ms (300 x the bound), and
     the droplet fell 1.0 % faster than g (the reaction of the buoyancy)."""
-    import nscdpost
     R0, c, G = D / 2, 2 * D, 9.81
     rho_f, rho_s = 1e-3, 2500.0
     dgs = [1e-4, 1.5e-4, 2e-4]
@@ -976,10 +957,7 @@ def test_free_droplet_is_weightless_inside(tmp_path, env):
     case = str(tmp_path / "weightless")
     droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
                  grains=grains, fixed_grains=False, write_interval=dt * n / 4, gravity=G,
-                 rho_f=rho_f, extra=f"liquidViscosity {MU_W};\n")
-    dp = os.path.join(case, "constant", "dropletProperties")
-    txt = open(dp).read().replace("moving no;", "moving yes;")
-    open(dp, "w").write(txt)
+                 rho_f=rho_f, extra=f"liquidViscosity {MU_W};\n", moving=True)
     run("vansFoam", case, env)
     d = read_droplet(case)
     assert len(d) == n and np.all(d[:, 17] == 3)
@@ -1011,7 +989,6 @@ def test_free_droplet_is_weightless_inside(tmp_path, env):
     assert w_old > 100 * bound
 
 
-
 @pytest.mark.parametrize("nu_gas", [2e-5, 1e-9])
 def test_dense_suspension_settles_steadily(tmp_path, env, nu_gas):
     """Issue 8 (Table 4.2: 55 um grains at dt = 5e-4 s): a dense square
@@ -1040,7 +1017,6 @@ def test_dense_suspension_settles_steadily(tmp_path, env, nu_gas):
       -1.4 per step at b = 0.83, x = 1): F_p flips sign every step, the
       grains reach 0.4-1.3 m/s (700 x v) and the time step collapses (269
       steps instead of 200), measured."""
-    import nscdpost
     R0, c, G, dg = D / 2, 2 * D, 9.81, 5e-5
     a = 1.02 * dg
     k = int(0.5 * R0 / a)
