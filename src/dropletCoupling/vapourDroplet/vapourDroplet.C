@@ -478,14 +478,7 @@ void Foam::vapourDroplet::exchangeGrainMomentum
     scalar W = 0;
     vector Bv(Zero);
     const nscd::System* sysPtr = nullptr;
-    if (grains)
-    {
-        sysPtr =
-            &mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
-            .cloud().system();
-        n = sysPtr->size();
-    }
-    else
+    if (!grains)
     {
         grainForce_.clear();
         prevVelocity_.clear();
@@ -493,8 +486,12 @@ void Foam::vapourDroplet::exchangeGrainMomentum
         prevVelocity2_.clear();
         gasForceChange_.clear();
     }
-    if (grains)
+    else
     {
+        sysPtr =
+            &mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+            .cloud().system();
+        n = sysPtr->size();
         const nscd::System& sys = *sysPtr;
         grainForce_.setSize(n);
         grainForce_ = Zero;
