@@ -222,7 +222,70 @@ void Foam::vapourDroplet::readRestart()
     mdot_ = d.get<scalar>("mdot");
     pendingVapour_ = d.get<scalar>("pendingVapour");
     Vp_ = d.get<scalar>("grainVolume");
+    if (d.found("grainHistory"))
+    {
+        restartHistory_ = d.subDict("grainHistory");
+    }
     Info<< "vapourDroplet: restart from " << d.objectPath() << endl;
+}
+
+
+void Foam::vapourDroplet::restoreGrainHistory(const nscd::System& sys)
+{
+    const dictionary h(restartHistory_);
+    restartHistory_.clear();
+    const label n = sys.size();
+    const labelList grains(h.get<labelList>("grains"));
+    const List<vector> v1(h.get<List<vector>>("velocity"));
+    const List<vector> F1(h.get<List<vector>>("force"));
+    const bool second = h.found("velocity2");
+    const List<vector> v2(second ? h.get<List<vector>>("velocity2") : v1);
+    const List<vector> dG
+    (
+        second ? h.get<List<vector>>("gasForceChange") : List<vector>(v1.size(), Zero)
+    );
+    if
+    (
+        v1.size() != grains.size() || F1.size() != grains.size()
+     || v2.size() != grains.size() || dG.size() != grains.size()
+     || (grains.size() && (min(grains) < 0 || max(grains) >= n))
+    )
+    {
+        FatalIOErrorInFunction(h)
+            << "grainHistory of the droplet restart file does not match the "
+            << n << " grains of the restarted case (list sizes or grain"
+            << " labels)." << nl
+            << "    Fix: restart from a time written by the same case, or"
+            << " delete grainHistory from <time>/uniform/droplet (the first"
+            << " step then runs without the contact predictor)."
+            << exit(FatalIOError);
+    }
+    const auto& vel = sys.velocities();
+    const bool twoD = adapter_.twoD();
+    prevVelocity_.setSize(n);
+    forAll(prevVelocity_, g)
+    {
+        prevVelocity_[g] =
+            vector(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
+    }
+    prevVelocity2_ = prevVelocity_;
+    prevForce_.setSize(n, Zero);
+    prevForce_ = Zero;
+    gasForceChange_.setSize(n, Zero);
+    gasForceChange_ = Zero;
+    forAll(grains, j)
+    {
+        prevVelocity_[grains[j]] = v1[j];
+        prevVelocity2_[grains[j]] = v2[j];
+        prevForce_[grains[j]] = F1[j];
+        gasForceChange_[grains[j]] = dG[j];
+    }
+    if (!second)
+    {
+        prevVelocity2_.clear();
+        gasForceChange_.clear();
+    }
+    prevDt_ = h.get<scalar>("dt");
 }
 
 
@@ -243,6 +306,58 @@ void Foam::vapourDroplet::writeRestart() const
     d.add("mdot", mdot_);
     d.add("pendingVapour", pendingVapour_);
     d.add("grainVolume", Vp_);
+    // predictor history of the grains near the droplet (vapourDroplet.H,
+    // "Gas drag of the grains inside", Restart)
+    const label n = prevVelocity_.size();
+    if
+    (
+        n > 0 && prevForce_.size() == n && prevDt_ > 0
+     && mesh_.foundObject<grainCloudReference>(grainCloud::registryName)
+    )
+    {
+        const nscd::System& sys =
+            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+            .cloud().system();
+        const bool second =
+            prevVelocity2_.size() == n && gasForceChange_.size() == n;
+        const bool twoD = adapter_.twoD();
+        const scalar R = radius();
+        DynamicList<label> grains;
+        if (label(sys.size()) == n)
+        {
+            const auto& pos = sys.positions();
+            const auto& rad = sys.radii();
+            for (label g = 0; g < n; ++g)
+            {
+                const scalar dx = pos[g][0] - x_.x();
+                const scalar dy = pos[g][1] - x_.y();
+                const scalar dz = twoD ? 0.0 : pos[g][2] - x_.z();
+                if (sqrt(dx*dx + dy*dy + dz*dz) < 2*R + rad[g])
+                {
+                    grains.append(g);
+                }
+            }
+        }
+        dictionary h;
+        h.add("dt", prevDt_);
+        h.add("grains", labelList(grains));
+        h.add("velocity", List<vector>(UIndirectList<vector>(prevVelocity_, grains)));
+        h.add("force", List<vector>(UIndirectList<vector>(prevForce_, grains)));
+        if (second)
+        {
+            h.add
+            (
+                "velocity2",
+                List<vector>(UIndirectList<vector>(prevVelocity2_, grains))
+            );
+            h.add
+            (
+                "gasForceChange",
+                List<vector>(UIndirectList<vector>(gasForceChange_, grains))
+            );
+        }
+        d.add("grainHistory", h);
+    }
     d.regIOobject::write();
 }
 
@@ -493,6 +608,10 @@ void Foam::vapourDroplet::exchangeGrainMomentum
             .cloud().system();
         n = sysPtr->size();
         const nscd::System& sys = *sysPtr;
+        if (!restartHistory_.empty())
+        {
+            restoreGrainHistory(sys);
+        }
         grainForce_.setSize(n);
         grainForce_ = Zero;
         k.setSize(n, Zero);
