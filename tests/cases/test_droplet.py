@@ -278,6 +278,24 @@ def test_restart_continues_exactly(tmp_path, env):
     assert np.allclose(rest, full[5:], rtol=1e-9, atol=1e-15)
 
 
+def held_suspension_case(case, env, r_frac, n, write_every, nu_gas, dg=5e-5):
+    """A HELD droplet (D, water, gravity on, no heat) of diameter D at
+    (2D, 2D) whose inner disc r < r_frac R is filled with a square lattice of
+    free grains of diameter dg (spacing 1.02 dg, phi_2D = 0.755, no
+    contacts), gas viscosity nu_gas; n steps of dt = 5e-4 s, written every
+    write_every steps.  Returns (grains, dt)."""
+    R0, c, a = D / 2, 2 * D, 1.02 * dg
+    k = int(r_frac * R0 / a)
+    grains = [(c + i * a, c + j * a, DEPTH / 2, dg)
+              for j in range(-k, k + 1) for i in range(-k, k + 1)
+              if math.hypot(i * a, j * a) < r_frac * R0]
+    dt = 5e-4
+    droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
+                 grains=grains, fixed_grains=False, write_interval=dt * write_every,
+                 gravity=9.81, nu=nu_gas, extra=f"liquidViscosity {MU_W};\n")
+    return grains, dt
+
+
 def test_restart_with_grains_continues_exactly(tmp_path, env):
     """The grains' contact predictor of the droplet (vapourDroplet.H, "Gas
     drag of the grains inside") has a history (v^{n-1}, v^{n-2}, F^{n-1},
@@ -293,17 +311,9 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     it: bit-identical; the first step after the restart then runs without
     the predictor), so the test fails if the history is lost."""
     import shutil
-    R0, c, G, dg = D / 2, 2 * D, 9.81, 5e-5
-    a = 1.02 * dg
-    k = int(0.25 * R0 / a)
-    grains = [(c + i * a, c + j * a, DEPTH / 2, dg)
-              for j in range(-k, k + 1) for i in range(-k, k + 1)
-              if math.hypot(i * a, j * a) < 0.25 * R0]
-    dt, n = 5e-4, 40
+    n = 40
     case = str(tmp_path / "full")
-    droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
-                 grains=grains, fixed_grains=False, write_interval=dt * n / 2, gravity=G,
-                 nu=2e-5, extra=f"liquidViscosity {MU_W};\n")
+    grains, dt = held_suspension_case(case, env, 0.25, n, n // 2, 2e-5)
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read().replace("adjustTimeStep yes;", "adjustTimeStep no;")
     open(cd, "w").write(txt)
@@ -1084,17 +1094,9 @@ def test_dense_suspension_settles_steadily(tmp_path, env, nu_gas):
       -1.4 per step at b = 0.83, x = 1): F_p flips sign every step, the
       grains reach 0.4-1.3 m/s (700 x v) and the time step collapses (269
       steps instead of 200), measured."""
-    R0, c, G, dg = D / 2, 2 * D, 9.81, 5e-5
-    a = 1.02 * dg
-    k = int(0.5 * R0 / a)
-    grains = [(c + i * a, c + j * a, DEPTH / 2, dg)
-              for j in range(-k, k + 1) for i in range(-k, k + 1)
-              if math.hypot(i * a, j * a) < 0.5 * R0]
-    dt, n = 5e-4, 200
+    G, dg, n = 9.81, 5e-5, 200
     case = str(tmp_path / "dense")
-    droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
-                 grains=grains, fixed_grains=False, write_interval=dt * n / 4, gravity=G,
-                 nu=nu_gas, extra=f"liquidViscosity {MU_W};\n")
+    grains, dt = held_suspension_case(case, env, 0.5, n, n // 4, nu_gas, dg)
     run("vansFoam", case, env)
     d = read_droplet(case)
     m_d, R, Vp = d[-1, 5], d[-1, 9], d[-1, 12]
