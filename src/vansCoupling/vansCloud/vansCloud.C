@@ -143,6 +143,18 @@ Foam::vansCloud::vansCloud
         // default: off (no grain resolved; see vansCloud.H, Resolved grains)
         dict_.getOrDefault<scalar>("resolvedCellsPerDiameter", GREAT)
     ),
+    rigidViscosityRatio_
+    (
+        // default 1000, 0 with rotationCoupling (vansCloud.H, Resolved
+        // grains: rigid interior, its limit for spin transients); only
+        // used with resolved grains
+        dict_.getOrDefault<scalar>("rigidViscosityRatio", rotation_ ? 0 : 1000)
+    ),
+    Br_
+    (
+        fieldIO(mesh, "Br"), mesh, dimensionedScalar(dimless, Zero),
+        zeroGradientFvPatchScalarField::typeName
+    ),
     KT_
     (
         fieldIO(mesh, "KT"), mesh, dimensionedScalar(inv(dimTime), Zero),
@@ -163,7 +175,7 @@ Foam::vansCloud::vansCloud
             "voidFraction", "forceModel",
             "heatTransferModel", "DiFeliceColburnCoeffs", "GunnCoeffs",
             "RanzMarshallCoeffs", "cohesion", "rotationCoupling",
-            "resolvedCellsPerDiameter", "grainPorosity"
+            "resolvedCellsPerDiameter", "grainPorosity", "rigidViscosityRatio"
         }
     );
     grainPorosity_ = dict_.getOrDefault<scalar>("grainPorosity", 0);
@@ -184,6 +196,15 @@ Foam::vansCloud::vansCloud
             << "    Fix: resolvedCellsPerDiameter 4; (grains spanning 4 or"
             << " more cells per diameter get the resolved solid flux, 0: all"
             << " grains; remove the keyword to switch it off)"
+            << exit(FatalIOError);
+    }
+    if (!(rigidViscosityRatio_ >= 0))
+    {
+        FatalIOErrorInFunction(dict_)
+            << "rigidViscosityRatio " << rigidViscosityRatio_
+            << " in " << dict_.name() << " must be >= 0 (viscosity"
+            << " nu (1 + lambda) inside resolved free grains)." << nl
+            << "    Fix: rigidViscosityRatio 1000; (0: off)"
             << exit(FatalIOError);
     }
     if (forceModel_ != "A" && forceModel_ != "B")
@@ -291,6 +312,11 @@ Foam::vansCloud::vansCloud
     else
     {
         Info<< ", local fluid rho and mu (mixture fields)";
+    }
+    if (rigidViscosity())
+    {
+        Info<< ", rigid viscosity ratio " << rigidViscosityRatio_
+            << " in resolved free grains";
     }
     Info<< ", rotation coupling " << (rotation_ ? "on" : "off")
         << ", void fraction min "
@@ -758,6 +784,23 @@ void Foam::vansCloud::markResolved()
 }
 
 
+Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::rigidViscosityf() const
+{
+    const dimensionedScalar nu("nu", dimViscosity, nu_);
+    // chi = max(0, 2 Br - 1): 0 in cells at most half covered, 1 in fully
+    // covered ones, continuous in Br (smooth in time as the grain moves)
+    const volScalarField chi(max(2*Br_ - 1, dimensionedScalar(dimless, Zero)));
+    const volScalarField nuPen(nu*(1 + rigidViscosityRatio_*chi));
+    // harmonic face mean (viscosities in series), minus the fluid's own nu,
+    // clipped at 0 (round-off where neither cell is penalised)
+    return max
+    (
+        1/fvc::interpolate(1/nuPen) - nu,
+        dimensionedScalar(dimViscosity, Zero)
+    );
+}
+
+
 Foam::vector Foam::vansCloud::leverArm(const std::size_t e) const
 {
     const nscd::System& s = grains_.system();
@@ -836,6 +879,8 @@ void Foam::vansCloud::predictDragCore
     scalarField& Kp = Kp_.primitiveFieldRef();
     scalarField& B = Bs_.primitiveFieldRef();
     scalarField& Kg = Kg_.primitiveFieldRef();
+    scalarField& Br = Br_.primitiveFieldRef();
+    Br = 0;
     Kg = 0;
     K = 0;
     KU = Zero;
@@ -883,6 +928,7 @@ void Foam::vansCloud::predictDragCore
             {
                 B[c] += ev[e]*Wi*dt*gamma_[gi]/(m + Wi*dt*gamma_[gi]);
                 Kg[c] += ev[e]*gammaStar_[gi]*dt/rhoK_;
+                Br[c] += ev[e];
             }
         }
     }
@@ -893,6 +939,8 @@ void Foam::vansCloud::predictDragCore
     Kp /= mesh_.V();
     B /= mesh_.V();
     Kg /= mesh_.V();
+    Br /= mesh_.V();
+    Br_.correctBoundaryConditions();
     Bs_.correctBoundaryConditions();
     Kg_.correctBoundaryConditions();
     Ds_.correctBoundaryConditions();

@@ -151,7 +151,10 @@ def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81,
            "solvers\n{\n"
            "    p { solver GAMG; smoother DIC; tolerance 1e-9; relTol 0.01; }\n"
            "    pFinal { $p; relTol 0; }\n"
-           "    \"(U|UFinal)\" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-9; relTol 0; }\n"
+           # Krylov solver for U: the resolved grains' viscosity penalty
+           # (couplingProperties rigidViscosityRatio, vansCloud.H) makes
+           # the momentum matrix stiff, Gauss-Seidel stalls there
+           "    \"(U|UFinal)\" { solver PBiCGStab; preconditioner DILU; tolerance 1e-9; relTol 0; }\n"
            "}\n"
            f"PIMPLE {{ momentumPredictor yes; nOuterCorrectors {n_outer}; nCorrectors {n_correctors};\n"
            f"    nNonOrthogonalCorrectors 0; {pref} }}\n")
