@@ -309,7 +309,9 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     written).  Without grainHistory the restart is NOT exact (asserted:
     grain velocities off by > 1e-6 relative; measured 1.3e-4, and 0 with
     it: bit-identical; the first step after the restart then runs without
-    the predictor), so the test fails if the history is lost."""
+    the predictor), so the test fails if the history is lost.  A history
+    that does not fit the case's grains (a label out of range) is a
+    FatalIOError naming grainHistory and the fix."""
     import shutil
     n = 40
     case = str(tmp_path / "full")
@@ -327,21 +329,23 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     hist = open(os.path.join(case, mid, "uniform", "droplet")).read()
     assert "grainHistory" in hist
 
-    def restart(name, drop_history):
+    def restart(name, edit_history=None, check=True):
         half = str(tmp_path / name)
         shutil.copytree(case, half)
         shutil.rmtree(os.path.join(half, last))
         shutil.rmtree(os.path.join(half, "postProcessing"))
-        if drop_history:
+        if edit_history:
             f = os.path.join(half, mid, "uniform", "droplet")
-            txt = open(f).read()
-            open(f, "w").write(txt[:txt.index("grainHistory")] + "\n")
-        run("vansFoam", half, env)
+            txt = edit_history(open(f).read())
+            open(f, "w").write(txt)
+        p = run("vansFoam", half, env, check=check)
+        if not check:
+            return p
         rest = np.loadtxt(os.path.join(half, "postProcessing", "droplet", mid, "droplet.dat"),
                           ndmin=2)
         return rest, nscdpost.read_grains(half, last)["U"]
 
-    rest, u_rest = restart("half", False)
+    rest, u_rest = restart("half")
     scale = np.abs(u_full[:, :2]).max()
     err = np.abs(u_rest[:, :2] - u_full[:, :2]).max() / scale
     print(f"{len(grains)} grains, restart with history: max grain velocity error {err:.2e} "
@@ -349,10 +353,16 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     assert len(rest) == n // 2
     assert np.allclose(rest, full[n // 2:], rtol=1e-9, atol=1e-15)
     assert err < 1e-9
-    _, u_lost = restart("lost", True)
+    _, u_lost = restart("lost", lambda txt: txt[:txt.index("grainHistory")] + "\n")
     err_lost = np.abs(u_lost[:, :2] - u_full[:, :2]).max() / scale
     print(f"restart without grainHistory: max grain velocity error {err_lost:.2e}")
     assert err_lost > 1e-6
+    # a history that does not fit the grains of the case: a clear error
+    p = restart("bad", lambda txt: re.sub(r"\bgrains\b[^;]*;", "grains (99999);", txt, count=1),
+                check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0
+    assert "grainHistory" in out and "Fix" in out and "FOAM FATAL IO ERROR" in out, out[-2000:]
 
 
 @pytest.mark.parametrize("edit, words", [
