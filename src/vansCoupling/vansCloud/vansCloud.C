@@ -784,6 +784,24 @@ void Foam::vansCloud::markResolved()
 }
 
 
+bool Foam::vansCloud::fixedResolved() const
+{
+    const nscd::System& s = grains_.system();
+    if (resolved_.size() != label(s.size()))
+    {
+        return false;
+    }
+    forAll(resolved_, i)
+    {
+        if (resolved_[i] && s.fixed(i))
+        {
+            return true;
+        }
+    }
+    return false;
+}
+
+
 Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::rigidViscosityf() const
 {
     const dimensionedScalar nu("nu", dimViscosity, nu_);
