@@ -193,25 +193,6 @@ def add_scalar_transport(case, field, div_scheme, solver="solver PBiCGStab; prec
 read_internal = nscdpost.read_internal_field
 
 
-#: Krylov U solver for the resolved scheme's viscosity penalty (couplingProperties
-#: rigidViscosityRatio, vansCloud.H "Resolved grains"): it makes the U matrix
-#: nearly singular inside the grains, where Gauss-Seidel stalls (1000 sweeps,
-#: residual 1e-3, measured); PBiCGStab converges in ~15 iterations (vansFoam
-#: warns about a smoothSolver)
-KRYLOV_U = '"(U|UFinal)" { solver PBiCGStab; preconditioner DILU; tolerance 1e-9; relTol 0; }'
-
-
-def krylov_U(case):
-    """Replace the U solver of a written case's system/fvSolution by KRYLOV_U."""
-    path = os.path.join(case, "system", "fvSolution")
-    with open(path) as f:
-        txt = f.read()
-    new, n = re.subn(r'"\(U\|UFinal\)"\s*\{[^}]*\}', KRYLOV_U, txt)
-    assert n == 1, path
-    with open(path, "w") as f:
-        f.write(new)
-
-
 def tutorial_modules(solver, case, names=("setupCase", "postProcess")):
     """Import the Python scripts of tutorials/<solver>/<case> (setupCase.py,
     postProcess.py) as modules, so that a case test reuses the tutorial's own

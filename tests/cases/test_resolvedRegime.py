@@ -49,7 +49,8 @@ grains spanning many cells, eps -> epsMin inside them, the semi-implicit drag
   interior of resolved free grains (viscosity penalty, couplingProperties
   rigidViscosityRatio, default 1000 with resolvedCellsPerDiameter;
   vansCloud.H "Resolved grains"); without it 1.23 x (asserted > 1.10).
-  The resolved scheme needs a Krylov U solver (krylov_U).
+  The resolved scheme needs a Krylov U solver (setupCase.write_case writes
+  PBiCGStab).
 - Galilean consistency at Re ~ 140 (falling cylinder released on the
   centreline, D/h = 8): the disc fixed in the frame of the free one (inflow
   and walls following the free disc's measured fall speed U(t)) must carry
@@ -63,22 +64,11 @@ import numpy as np
 import pytest
 
 import nscdpost
-from foamcase import krylov_U, run, tutorial_modules
+from foamcase import run, tutorial_modules
 
 setupCase, postProcess = tutorial_modules("vansFoam", "cylinderSedimentation")
 
-#: couplingProperties entry of the opt-in resolved-regime scheme (vansCloud.H,
-#: "Resolved grains"): resolved solid flux + face-balanced grain weight
-RESOLVED = "resolvedCellsPerDiameter 4;\n"
-
-
-def opt_in_resolved(case, extra=""):
-    """Switch a written case to the resolved-regime scheme (with its rigid
-    interior, vansCloud.H "Resolved grains"; `extra`: more couplingProperties
-    entries) and a Krylov U solver."""
-    with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
-        f.write(RESOLVED + extra)
-    krylov_U(case)
+opt_in_resolved = setupCase.opt_in_resolved
 
 
 def faxen_drag(k):

@@ -33,8 +33,9 @@ overlap-distributed force is handed to NSCD as an external torque.
   G/2 (Stokes, Jeffery 1922) within 5 %, with the rigid interior of
   resolved free grains switched on (rigidViscosityRatio 1000: off by
   default with rotationCoupling, vansCloud.H "Resolved grains") and a
-  Krylov U solver (krylov_U): the penalty's transpose part lets the rigid
-  region spin.  The other cases here run without the penalty.
+  Krylov U solver (written by setupCase.write_case): the penalty's
+  transpose part lets the rigid region spin.  The other cases here run
+  without the penalty.
 """
 import math
 import os
@@ -46,7 +47,7 @@ import numpy as np
 import pytest
 
 import nscdpost
-from foamcase import add_fluid, krylov_U, make_box_case, run, tutorial_modules
+from foamcase import add_fluid, make_box_case, run, tutorial_modules
 
 setupCase, = tutorial_modules("vansFoam", "cylinderSedimentation", names=("setupCase",))
 
@@ -249,9 +250,7 @@ def test_free_disc_spins_in_shear(tmp_path, env):
     setupCase.write_case(case, (-H / 2, -H / 2), (H / 2, H / 2), (n, n), [(0.0, 0.0, D)],
                          1000.0, 1000.0, nu, gravity=(0, 0, 0), end_time=0.3,
                          write_interval=0.1, max_co=100, max_dt=5 * h * h / nu, rotation=True)
-    with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
-        f.write("resolvedCellsPerDiameter 4;\nrigidViscosityRatio 1000;\n")
-    krylov_U(case)
+    setupCase.opt_in_resolved(case, "rigidViscosityRatio 1000;\n")
     run("blockMesh", case, env)
     run("postProcess", case, env, args=("-func", "writeCellCentres", "-time", "0"))
     ctxt = open(os.path.join(case, "0", "C")).read()

@@ -177,6 +177,15 @@ def cylinder_case(case, end_time=4.0, cells_per_d=15, height=HEIGHT, write_inter
     return nx * ny
 
 
+def opt_in_resolved(case, extra=""):
+    """Switch a written case to the resolved-regime scheme of vansCloud.H
+    ("Resolved grains"): append `resolvedCellsPerDiameter 4;` and `extra`
+    (more couplingProperties entries) to constant/couplingProperties.  The
+    U solver written by write_case (PBiCGStab) suits its viscosity penalty."""
+    with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
+        f.write("resolvedCellsPerDiameter 4;\n" + extra)
+
+
 def main():
     case = sys.argv[1]
     end = float(sys.argv[2]) if len(sys.argv) > 2 else 4.0
@@ -190,8 +199,7 @@ def main():
                  "use resolved or default")
     n = cylinder_case(case, end, cpd, height, write_interval=0.05, rotation=rot, max_dt=max_dt)
     if scheme == "resolved":
-        with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
-            f.write("resolvedCellsPerDiameter 4;\n")
+        opt_in_resolved(case)
     print(f"{case}: {n} cells, D/h = {cpd:g}, endTime {end:g} s, maxDeltaT {max_dt:g} s, "
           f"scheme {scheme}")
 

@@ -55,8 +55,7 @@ def dkt_case(case, end_time=4.0, cells_per_d=12.5, write_interval=0.01, rotation
                    RHO_P, RHO_F, NU, end_time=end_time, write_interval=write_interval,
                    max_co=0.5, max_dt=max_dt, rotation=rotation)
     if resolved:
-        with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
-            f.write("resolvedCellsPerDiameter 4;\n")
+        cyl.opt_in_resolved(case)
     return nx * ny
 
 
