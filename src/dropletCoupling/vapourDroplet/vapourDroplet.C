@@ -269,10 +269,8 @@ void Foam::vapourDroplet::restoreGrainHistory(const nscd::System& sys)
             vector(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
     }
     prevVelocity2_ = prevVelocity_;
-    prevForce_.setSize(n, Zero);
-    prevForce_ = Zero;
-    gasForceChange_.setSize(n, Zero);
-    gasForceChange_ = Zero;
+    prevForce_ = List<vector>(n, Zero);
+    gasForceChange_ = List<vector>(n, Zero);
     forAll(grains, j)
     {
         prevVelocity_[grains[j]] = v1[j];
@@ -588,7 +586,8 @@ void Foam::vapourDroplet::exchangeGrainMomentum
     List<vector> e;
     List<scalar> w;
     List<bool> inside;
-    List<vector> gasChangeOut;
+    // predicted change of vansCloud's gas force on each grain [N]
+    List<vector> gasChange;
     scalar C = 0;
     scalar W = 0;
     vector Bv(Zero);
@@ -629,8 +628,7 @@ void Foam::vapourDroplet::exchangeGrainMomentum
             prevVelocity_.size() == n && prevForce_.size() == n && prevDt_ > 0;
         const bool history2 =
             history && prevVelocity2_.size() == n && gasForceChange_.size() == n;
-        gasChangeOut.setSize(n, Zero);
-        List<vector>& gasChange = gasChangeOut;
+        gasChange.setSize(n, Zero);
 
         // relaxation factor b_i = W_i dt gamma*_i/m_i of the gas drag of
         // vansCloud (eq. 3.48-3.50), estimated per grain as the cell's
@@ -835,7 +833,7 @@ void Foam::vapourDroplet::exchangeGrainMomentum
 
     // history for the predictor P of the next step
     prevVelocity2_ = prevVelocity_;
-    gasForceChange_ = gasChangeOut;
+    gasForceChange_.transfer(gasChange);
     prevVelocity_.setSize(n);
     for (label g = 0; g < n; ++g)
     {
