@@ -38,8 +38,13 @@ section 4.3.3).
     Table 4.2, and the droplet's seepage through the packing (~d^2, 1 mm
     grains) is far faster than the thesis' digging.  Here (0.1 s) the depth is 3.7,
     3.3, 2.9 mm, decreasing with T_bed.
+(d) The similarity scaling of the tutorial (setupCase.similarity_factors,
+    Allrun SIMILARITY=<d_ref>): gas and liquid viscosity x (d/d_ref)^2 keep
+    Ergun's U_mf of the Table 4.2 bed in its Carman-Kozeny range (Ergun
+    1952), and the dictionaries carry the scaled values.
 """
 import os
+import re
 
 import numpy as np
 import pytest
@@ -65,11 +70,11 @@ def sweep(tmp_path_factory, env):
         run("blockMesh", case, env)
         run("vansFoam", case, env)
         cases[T] = case
-    return setup, post, cases
+    return setup, post, cases, root
 
 
 def test_energy_budget_closes(sweep):
-    setup, post, cases = sweep
+    setup, post, cases, root = sweep
     for T, case in cases.items():
         b = post.energy_budget(case)
         print(f"T_bed {T:g} C: droplet heat {b['droplet_heat']:.4e} J, energy defect "
@@ -80,7 +85,7 @@ def test_energy_budget_closes(sweep):
 
 
 def test_mass_loss_grows_with_bed_temperature(sweep):
-    setup, post, cases = sweep
+    setup, post, cases, root = sweep
     first, early = [], []
     for T, case in sorted(cases.items()):
         d = post.read_droplet(case)
@@ -103,8 +108,53 @@ def test_mass_loss_grows_with_bed_temperature(sweep):
 def test_three_regimes(sweep):
     """Thesis Figure 4.13 / section 4.3.3: the depth at 400 C exceeds the
     depths at 300 C and 600 C by more than a grain diameter."""
-    setup, post, cases = sweep
+    setup, post, cases, root = sweep
     depth = {T: post.read_droplet(c)[-1, post.COL["depth"]] for T, c in cases.items()}
     print("depth [m] at t = %g s:" % END, depth)
     d = 1e-3
     assert depth[400.0] > depth[300.0] + d and depth[400.0] > depth[600.0] + d
+
+
+def test_similarity_scaling_keeps_umf(sweep, tmp_path):
+    """(d) The scaled bed's U_mf equals the 55 um bed's: Ergun's law
+    (postProcess.ergun_umf, Ergun 1952) at the thesis' bed (eps = 0.607,
+    rho_s = 3200 kg/m^3, weight fraction 0.4) for d = 0.18567 mm (the 0.2 mm
+    bed's mean) with the gas viscosity x s against d = 55 um with 2e-5 Pa s:
+    within 0.5 % (Carman-Kozeny range, the inertial term is ~5e-4 of the
+    pressure gradient there; measured +0.13 %), while unscaled the 0.2 mm
+    bed's U_mf is ~s = 11.4 x larger (so the check can fail).  And setup()
+    writes gas nu x s, liquidViscosity x s and the cohesion x d/d_ref
+    (here on the 1 mm bed of the sweep, mean d 0.947 mm: s = 296.7),
+    unscaled by default.  < 1 s."""
+    setup, post = sweep[0], sweep[1]
+    root = sweep[3]
+    d, dref = 1.8567e-4, 55e-6
+    f = setup.similarity_factors(d, dref)
+    assert abs(f["s"] - (d / dref) ** 2) < 1e-12 and abs(f["c"] - d / dref) < 1e-12
+    with pytest.raises(ValueError):
+        setup.similarity_factors(d, 0.0)
+    u_ref = post.ergun_umf(dref, 0.607, 3200.0, mu=2e-5, weight_fraction=0.4)
+    u_sim = post.ergun_umf(d, 0.607, 3200.0, mu=2e-5 * f["s"], weight_fraction=0.4)
+    u_raw = post.ergun_umf(d, 0.607, 3200.0, mu=2e-5, weight_fraction=0.4)
+    print(f"U_mf: 55 um {u_ref:.5f}, scaled {u_sim:.5f}, unscaled {u_raw:.5f} m/s")
+    assert abs(u_sim / u_ref - 1) < 5e-3, (u_sim, u_ref)
+    assert u_raw / u_ref > 0.9 * f["s"], (u_raw, u_ref)
+
+    def entry(case, dictionary, pattern):
+        txt = open(os.path.join(case, "constant", dictionary)).read()
+        return float(re.search(pattern, txt).group(1))
+
+    plain, scaled = str(tmp_path / "plain"), str(tmp_path / "scaled")
+    setup.setup(plain, 400.0, 0.01, root=root, porosity="auto")
+    setup.setup(scaled, 400.0, 0.01, root=root, porosity="auto", similarity=dref)
+    ratio_nu = entry(scaled, "transportProperties", r"\bnu\s+([0-9.eE+-]+);") / \
+        entry(plain, "transportProperties", r"\bnu\s+([0-9.eE+-]+);")
+    ratio_mu = entry(scaled, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);") / \
+        entry(plain, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);")
+    ratio_fc = entry(scaled, "couplingProperties", r"force\s+([0-9.eE+-]+);") / \
+        entry(plain, "couplingProperties", r"force\s+([0-9.eE+-]+);")
+    print(f"1 mm bed scaled to 55 um: nu x {ratio_nu:.2f}, mu_l x {ratio_mu:.2f}, F_c x {ratio_fc:.3f}")
+    assert abs(ratio_nu - ratio_mu) < 1e-6 * ratio_nu
+    assert abs(ratio_fc ** 2 - ratio_nu) < 1e-5 * ratio_nu
+    assert ratio_nu > 100          # 1 mm / 55 um: s ~ 330
+    assert abs(entry(plain, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);") - 2.82e-4) < 1e-12

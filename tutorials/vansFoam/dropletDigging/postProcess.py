@@ -2,7 +2,7 @@
 """Post-process the dropletDigging cases (issue 8; thesis section 4.3.3,
 Figures 4.13-4.17).
 
-usage: postProcess.py [-o OUTDIR] CASE1 [CASE2 ...]   (cases made by setupCase.py)
+usage: postProcess.py [-o OUTDIR] [--snap] CASE1 [CASE2 ...]   (cases made by setupCase.py)
 
 Reads per case `case.json` (setupCase.py), the droplet history
 `postProcessing/droplet/0/droplet.dat` (src/dropletCoupling: time x y u v m
@@ -26,7 +26,15 @@ grain temperature and the energy E = rho Cp sum(eps T V) + sum(m c T), the
   closure of the energy budget, `energy_budget`), `stopped` (None, or why
   the run stopped early, `stop_reason`), `bottom_reached_time` [s] (first
   time the droplet rests on the bottom wall, wall reaction > 0; None if
-  never);
+  never), `psi_max` (largest vapour fraction of the log's "psi min/max"
+  lines), `Re_mf` (rho U_mf d/eta) and `ergun_inertial_fraction` (share of
+  Ergun's inertial term in the pressure gradient at U_mf), `summary` (depth
+  at 0.1/0.3/0.6/1.0/1.5 s, end sinking speed, U_v/U_mf over 0.1-0.3 s, R,
+  grains inside, m/mdot at 0.01 s and at the end) and `bed` (per written time,
+  `bed_diagnostics`: superficial gas speed in the bed next to the droplet
+  over U_mf, ejected grains, cohesive grains next to the droplet);
+- with `--snap`: per case `snap_T<T>_<time>s.png` at the written times
+  nearest 0.3 s, half the run and the end (`snapshot`);
 - the plots `dropletDigging_finalDepth.png` (Figure 4.13),
   `dropletDigging_depth.png` (4.14, h/D against t/t_ff),
   `dropletDigging_velocity.png` (4.15, u t_ff/R against t/t_ff),
@@ -43,6 +51,7 @@ thesis' time scale, section 4.3.3); velocities are scaled by R_0/t_ff.
 import json
 import math
 import os
+import re
 import sys
 
 import numpy as np
@@ -58,8 +67,30 @@ COL = dict(t=0, x=1, y=2, u=3, v=4, m=5, mdot=6, Qf=7, Qp=8, R=9, depth=10, Vdot
 
 
 def read_droplet(case):
-    """droplet.dat of the case as an (n, >=12) array; raises FileNotFoundError."""
-    return nscdpost.read_droplet(case)
+    """droplet.dat of the case as an (n, >=12) array; raises FileNotFoundError.
+    A run restarted at time t_r writes postProcessing/droplet/<t_r>/droplet.dat:
+    the parts are joined in time order, each part cut at the next one's start
+    time (its directory name)."""
+    base = os.path.join(case, "postProcessing", "droplet")
+    parts = sorted((float(n), n) for n in os.listdir(base) if _is_number(n)) \
+        if os.path.isdir(base) else []
+    if len(parts) <= 1:
+        return nscdpost.read_droplet(case)
+    out = []
+    for k, (t0, name) in enumerate(parts):
+        a = nscdpost.read_droplet(case, name)
+        if k + 1 < len(parts):
+            a = a[a[:, 0] <= parts[k + 1][0] * (1 + 1e-12)]
+        out.append(a)
+    return np.concatenate(out)
+
+
+def _is_number(name):
+    try:
+        float(name)
+        return True
+    except ValueError:
+        return False
 
 
 def read_log(case, log="log.vansFoam"):
@@ -168,6 +199,154 @@ def stop_reason(case, log="log.vansFoam"):
     return lines[0] if lines else "FOAM FATAL ERROR"
 
 
+def psi_max(case, log="log.vansFoam"):
+    """Largest vapour fraction psi over the run, from the log's
+    "psi min/max = a b" lines (vansFoam psiEqn.H); None if there are none."""
+    txt = open(os.path.join(case, log)).read()
+    v = [float(b) for b in re.findall(r"psi min/max = \S+ (\S+)", txt)]
+    return max(v) if v else None
+
+
+def cohesion_threshold(case):
+    """psi^0 of couplingProperties `cohesion { vapourThreshold }` (eq. 4.18);
+    None without cohesion."""
+    txt = open(os.path.join(case, "constant", "couplingProperties")).read()
+    m = re.search(r"vapourThreshold\s+([0-9.eE+-]+)", txt)
+    return float(m.group(1)) if m else None
+
+
+def bed_diagnostics(case, info, d, umf):
+    """Bed-side digging diagnostics at every written time t > 0 (issue 8):
+
+    - `ring_speed` [m/s]: mean superficial gas speed eps |u| over the cells
+      with R + dx < r < R + 3 dx from the droplet centre, below its equator
+      (y < y_d) and below the initial bed top minus dx (in the bed), dx the
+      cell size; `ring_radial` [m/s]: mean outward radial superficial flux
+      eps u.r_hat over the same cells; `ring_speed_over_Umf`,
+      `ring_radial_over_Umf`: both over U_mf (Ergun, `ergun_umf`);
+    - `ejected`: grains outside the droplet (r > R) whose centre is more than
+      5 d above the initial bed top (d the mean grain diameter; chimney /
+      ejection), `above_top_1d`: the same count above top + d (crater rim);
+    - `cohesive_near`: fraction of the grains with R < r < R + 2 d whose cell
+      has psi < psi^0 (cohesive, eq. 4.18; psi of the cell holding the grain
+      centre, as vansCloud evaluates it; per grain, not per contact:
+      contacts are not written), `near_grains` their number.
+    Uniform mesh (setupCase.py).  d: droplet.dat array.  Returns a dict of
+    lists on `time`."""
+    nx, ny = info["cells"]
+    W, H = info["width"], info["height"]
+    dx = W / nx
+    xc = (np.arange(nx) + 0.5) * dx
+    yc = (np.arange(ny) + 0.5) * H / ny
+    X, Y = (a.ravel() for a in np.meshgrid(xc, yc))
+    top, dg = info["bed_top"], info["grain_diameter"]
+    psi0 = cohesion_threshold(case)
+    out = {k: [] for k in ("time", "ring_speed", "ring_radial", "ring_speed_over_Umf",
+                           "ring_radial_over_Umf", "ejected", "above_top_1d",
+                           "cohesive_near", "near_grains")}
+    for t, tn in nscdpost.time_dirs(case):
+        if t <= 0 or not os.path.isfile(os.path.join(case, tn, "voidFraction")):
+            continue
+        k = int(np.argmin(np.abs(d[:, 0] - t)))
+        xd, yd, R = d[k, COL["x"]], d[k, COL["y"]], d[k, COL["R"]]
+        U = np.asarray(nscdpost.read_internal_field(os.path.join(case, tn, "U")))[:, :2]
+        eps = np.asarray(nscdpost.read_internal_field(os.path.join(case, tn, "voidFraction")))
+        psi = np.asarray(nscdpost.read_internal_field(os.path.join(case, tn, "psi")))
+        r = np.hypot(X - xd, Y - yd)
+        ring = (r > R + dx) & (r < R + 3 * dx) & (Y < yd) & (Y < top - dx)
+        if ring.any():
+            us = eps[ring] * np.linalg.norm(U[ring], axis=1)
+            nr = np.column_stack((X[ring] - xd, Y[ring] - yd)) / r[ring][:, None]
+            ur = eps[ring] * np.sum(U[ring] * nr, axis=1)
+            sp, rad = float(np.mean(us)), float(np.mean(ur))
+        else:
+            sp = rad = float("nan")
+        g = nscdpost.read_grains(case, tn)
+        gx, gy = g["x"][:, 0], g["x"][:, 1]
+        rg = np.hypot(gx - xd, gy - yd)
+        near = (rg > R) & (rg < R + 2 * dg)
+        if psi0 is not None and near.any():
+            ci = (np.clip((gx / dx).astype(int), 0, nx - 1)
+                  + nx * np.clip((gy / (H / ny)).astype(int), 0, ny - 1))
+            coh = float(np.mean(psi[ci[near]] < psi0))
+        else:
+            coh = None
+        out["time"].append(float(t))
+        out["ring_speed"].append(sp)
+        out["ring_radial"].append(rad)
+        out["ring_speed_over_Umf"].append(sp / umf)
+        out["ring_radial_over_Umf"].append(rad / umf)
+        out["ejected"].append(int(np.sum((rg > R) & (gy > top + 5 * dg))))
+        out["above_top_1d"].append(int(np.sum((rg > R) & (gy > top + dg))))
+        out["cohesive_near"].append(coh)
+        out["near_grains"].append(int(np.sum(near)))
+    return out
+
+
+def summary(d, uv, umf, times=(0.1, 0.3, 0.6, 1.0, 1.5)):
+    """Table figures of a run (README.md tables): `depth_at` [m] at `times`
+    reached, `sinking_speed_end` [m/s] (linear fit of the depth over the last
+    0.2 s, or the last 30 % of a shorter run), `Uv_over_Umf_01_03` (mean U_v
+    over 0.1-0.3 s over U_mf; None if not reached or no U_mf), `R_end` [m],
+    `grains_inside_end`, `lifetime_start` (m/mdot at 0.01 s) and
+    `lifetime_end` [s], `mass_ratio_end` (m/m_0).  d: droplet.dat array,
+    uv [m/s]: U_v on d's steps, umf [m/s] or None."""
+    t, depth = d[:, 0], d[:, COL["depth"]]
+    R, m, mdot = d[:, COL["R"]], d[:, COL["m"]], d[:, COL["mdot"]]
+    out = {"depth_at": {f"{x:g}": float(np.interp(x, t, depth)) for x in times
+                        if x <= t[-1] + 1e-9}}
+    win = t >= t[-1] - min(0.2, 0.3 * t[-1])
+    out["sinking_speed_end"] = float(np.polyfit(t[win], depth[win], 1)[0]) if win.sum() > 2 else None
+    w = (t >= 0.1) & (t <= 0.3)
+    out["Uv_over_Umf_01_03"] = float(np.mean(uv[w]) / umf) if (w.any() and umf) else None
+    out["R_end"] = float(R[-1])
+    out["grains_inside_end"] = int(d[-1, 17]) if d.shape[1] > 17 else None
+    out["lifetime_start"] = float(np.interp(0.01, t, m / mdot))
+    out["lifetime_end"] = float(m[-1] / mdot[-1])
+    out["mass_ratio_end"] = float(m[-1] / m[0])
+    return out
+
+
+def snapshot(case, time_name, out):
+    """PNG of the grains at one written time, coloured by speed [mm/s], with
+    the droplet circle (droplet.dat at the nearest step) and the initial bed
+    top (dashed); left the whole cell, right a zoom of 3 R around the droplet."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import EllipseCollection
+    info = json.load(open(os.path.join(case, "case.json")))
+    g = nscdpost.read_grains(case, time_name)
+    d = read_droplet(case)
+    t = float(time_name)
+    k = int(np.argmin(np.abs(d[:, 0] - t)))
+    xd, yd, R = d[k, COL["x"]] * 1e3, d[k, COL["y"]] * 1e3, d[k, COL["R"]] * 1e3
+    sp = np.linalg.norm(g["U"], axis=1) * 1e3
+    fig, axs = plt.subplots(1, 2, figsize=(10, 6))
+    for ax, zoom in zip(axs, (False, True)):
+        ec = EllipseCollection(g["d"] * 1e3, g["d"] * 1e3, 0, units="xy",
+                               offsets=g["x"][:, :2] * 1e3, transOffset=ax.transData,
+                               array=sp, cmap="viridis")
+        ec.set_clim(0, max(5.0, float(np.percentile(sp, 99.5))))
+        ax.add_collection(ec)
+        ax.add_patch(plt.Circle((xd, yd), R, fill=False, color="r", lw=1.5))
+        ax.axhline(info["bed_top"] * 1e3, color="k", ls="--", lw=0.8)
+        ax.set_aspect("equal")
+        if zoom:
+            ax.set_xlim(xd - 3 * R, xd + 3 * R)
+            ax.set_ylim(yd - 3 * R, yd + 3 * R)
+        else:
+            ax.set_xlim(0, info["width"] * 1e3)
+            ax.set_ylim(0, info["height"] * 1e3)
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+    fig.colorbar(ec, ax=axs, label="grain speed [mm/s]")
+    axs[0].set_title(f"T_bed {info['bed_temperature_C']:g} C, d {info['grain_diameter'] * 1e3:.3f} mm,"
+                     f" t = {t:g} s")
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+
+
 def case_results(case):
     info = json.load(open(os.path.join(case, "case.json")))
     d = read_droplet(case)
@@ -186,12 +365,21 @@ def case_results(case):
     gT = np.interp(d[:, 0], lg["time"], lg["grain_T"]) if len(lg["time"]) else np.full(len(d), np.nan)
     res["mean_grain_temperature"] = gT.tolist()
     eps = bed_void_fraction(case, info)
+    mu = info.get("mu", 2e-5)             # gas viscosity of the case (similarity scaling)
     if eps is not None:
-        umf = ergun_umf(info["grain_diameter"], eps, info["grain_density"],
-                        weight_fraction=info.get("bed_weight_fraction"))
+        umf = ergun_umf(info["grain_diameter"], eps, info["grain_density"], rho_f=info["rho"],
+                        mu=mu, weight_fraction=info.get("bed_weight_fraction"))
         res["bed_void_fraction"] = eps
         res["U_mf"] = umf
         res["fluidisation_number"] = float(np.mean(uv[1:]) / umf) if len(uv) > 1 else None
+        res["Re_mf"] = info["rho"] * umf * info["grain_diameter"] / mu
+        ph, dg = 1 - eps, info["grain_diameter"]
+        visc = 150 * mu * ph ** 2 * umf / (eps ** 3 * dg ** 2)
+        iner = 1.75 * info["rho"] * ph * umf ** 2 / (eps ** 3 * dg)
+        res["ergun_inertial_fraction"] = iner / (visc + iner)
+        res["bed"] = bed_diagnostics(case, info, d, umf)
+    res["psi_max"] = psi_max(case)
+    res["summary"] = summary(d, uv, res.get("U_mf"))
     res["stopped"] = stop_reason(case)
     # droplet on the bottom wall (wall contact, droplet.dat Fw_y > 0, third
     # increment of src/dropletCoupling): first time, None if never
@@ -204,7 +392,7 @@ def case_results(case):
     return info, res
 
 
-def main(cases, outdir=here):
+def main(cases, outdir=here, snap=False):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -224,6 +412,13 @@ def main(cases, outdir=here):
         res.setdefault("stopped", []).append(r["stopped"])
         res["cases"][f"{T:g}"] = r
         data.append((T, info, r))
+        if snap:
+            tn = [(t, n) for t, n in nscdpost.time_dirs(c) if t > 0]
+            if tn:
+                pick = {min(tn, key=lambda a: abs(a[0] - x))[1]
+                        for x in (0.3, 0.5 * tn[-1][0], tn[-1][0])}
+                for n in sorted(pick, key=float):
+                    snapshot(c, n, os.path.join(outdir, f"snap_T{T:g}_{n}s.png"))
         print(f"T_bed {T:g} C: final depth {r['depth'][-1] * 1e3:.3f} mm, mdot(first step) "
               f"{r['mdot'][0]:.3e} kg/s, U_v mean {np.mean(r['vapour_velocity'][1:]):.3g} m/s, "
               f"U_mf {r.get('U_mf', float('nan')):.3g} m/s, energy defect "
@@ -304,4 +499,5 @@ if __name__ == "__main__":
     out = here
     if args[:1] == ["-o"]:
         out, args = args[1], args[2:]
-    main(args, out)
+    snap = "--snap" in args
+    main([a for a in args if a != "--snap"], out, snap)

@@ -21,6 +21,10 @@ F_c^0 = 7.5e-4 N (per unit depth in 2D: 7.5e-4/l N/m) where psi < psi^0 = 0.9
 porosity="auto" gives n = 1 - 0.4/phi_2D (bed solid fraction 0.4) and grain
 density (1 - n) rho_s.  Mesh: uniform, D/8 = 0.3125 mm cells (README.md).
 case.json keeps what postProcess.py needs (properties, bed, mesh).
+Similarity scaling (off by default; Allrun env SIMILARITY=<d_ref>, setup(...,
+similarity=d_ref)): gas and liquid viscosity x (d/d_ref)^2, cohesion x d/d_ref,
+d the bed's mean grain diameter (`similarity_factors`, README.md "Measured,
+similarity-scaled 0.2 mm bed").
 """
 import os
 import sys
@@ -47,6 +51,27 @@ DEPTH = GAP                      # 2D mesh depth = the Hele-Shaw gap
 CELL = D_DROP / 8
 D_GRAIN_REDUCED = 1e-3
 PHI_BED = 0.4                    # solid fraction of the real bed (thesis 4.3.2)
+MU_L = 2.82e-4                   # liquid (water, 100 C) viscosity [Pa s]: dropletProperties default
+
+
+def similarity_factors(d_grain, d_ref):
+    """A-priori similarity scaling of a bed of grains d_grain [m] to the
+    reference grain d_ref [m] (Table 4.2: 55e-6), issue 8 / README.md
+    "Measured, similarity-scaled 0.2 mm bed".  With s = (d_grain/d_ref)^2:
+      - gas dynamic viscosity eta_g x s (transportProperties nu x s, rho kept),
+      - liquid viscosity mu_l x s (dropletProperties liquidViscosity),
+      - cohesion F_c^0 x d_grain/d_ref,
+    which keeps the Table 4.2 values of U_mf (Carman-Kozeny: ~ d^2/eta_g), the
+    liquid's Darcy seepage speed (~ k/mu_l, k ~ d^2), the grains' Stokes time
+    rho_s d^2/(18 eta_g) and the 2D bed tensile strength ~ F_c/d.  Not kept:
+    the droplet's gas Reynolds number (/ s), the gas Prandtl number (x s), the
+    grain-gas thermal relaxation time (~ d^2/k_f), the grain Bond number and D/d.
+    Returns dict s (viscosity factor) and c (cohesion factor); raises
+    ValueError if d_ref <= 0."""
+    if not d_ref > 0:
+        raise ValueError(f"similarity_factors: reference grain diameter {d_ref} must be > 0")
+    r = d_grain / d_ref
+    return {"s": r * r, "c": r}
 
 
 def header(cls, obj):
@@ -173,16 +198,24 @@ def packing_2d(g, top):
     return float(np.sum(np.pi / 4 * g["d"] ** 2) / (W * top))
 
 
-def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=None):
+def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=None,
+          similarity=None, deposit_root=None):
     """Case CASE at bed temperature t_bed_c [C] with the bed of root/deposit.
     porosity: None (solid discs; the gas sees the discs of radius 0.88 r,
     section 3.2.3) or the grain porosity n of the porous-grain correction
     (thesis 4.3.2: the gas sees (1 - n) of each disc, density (1 - n) rho_s;
     "auto": n = 1 - 0.4/phi_2D so that the bed's solid fraction is 0.4).
-    Needs couplingProperties grainPorosity (engineer F, src/vansCoupling)."""
-    dep = os.path.join(root, "deposit")
+    Needs couplingProperties grainPorosity (engineer F, src/vansCoupling).
+    similarity: None (default, Table 4.2 gas, liquid and cohesion) or the
+    reference grain diameter d_ref [m] (e.g. 55e-6) of the similarity scaling
+    `similarity_factors(d, d_ref)`, d = the bed's MEAN grain diameter (0.186 mm
+    for the 0.2 mm bed).  deposit_root: directory holding deposit/ (default
+    root), so that a scaled bed reuses the unscaled bed's deposit."""
+    dep = os.path.join(deposit_root or root, "deposit")
     g = nscdpost.read_grains(dep, "0")
     d_grain = float(np.mean(g["d"]))
+    sim = similarity_factors(d_grain, similarity) if similarity else {"s": 1.0, "c": 1.0}
+    nu, mu_l, f_c0 = NU * sim["s"], MU_L * sim["s"], F_C0 * sim["c"]
     phi2d = packing_2d(g, bed_top(dep))
     if porosity == "auto":
         porosity = 1 - PHI_BED / phi2d
@@ -208,7 +241,7 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
           "boundaryField { walls { type fixedValue; value uniform 0; }"
           f" outlet {{ type inletOutlet; inletValue uniform 0; value uniform 0; }} {emp} }}\n")
     write(case, "constant/transportProperties", "dictionary",
-          f"rho {RHO};\nnu {NU:.10g};\nCp {CP};\nkappa {KAPPA};\nbeta {BETA};\nTRef {t_bed};\n"
+          f"rho {RHO};\nnu {nu:.10g};\nCp {CP};\nkappa {KAPPA};\nbeta {BETA};\nTRef {t_bed};\n"
           f"vapour {{ D {D_V}; rho {RHO_V}; bounded yes; }}\n")
     write(case, "constant/couplingProperties", "dictionary",
           "dragModel DallavalleDiFelice;\nforceModel A;\n"
@@ -216,11 +249,12 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
           + ("0.88; }\n" if porosity is None else f"1; }}\ngrainPorosity {porosity:.6g};\n")
           +
           "heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n"
-          f"cohesion {{ force {F_C0 / DEPTH:.9g}; vapourThreshold {PSI0}; }}\n")
+          f"cohesion {{ force {f_c0 / DEPTH:.9g}; vapourThreshold {PSI0}; }}\n")
     write(case, "constant/dropletProperties", "dictionary",
           f"centre ({W / 2:.9g} {top + D_DROP / 2:.9g} {DEPTH / 2:.9g});\ndiameter {D_DROP};\n"
           f"velocity (0 0 0);\nliquidDensity {RHO_L};\nlatentHeat {LATENT};\n"
-          f"vapourisationTemperature {T_D};\nvapourDensity {RHO_V};\nmoving yes;\nblowing yes;\n")
+          f"vapourisationTemperature {T_D};\nvapourDensity {RHO_V};\nmoving yes;\nblowing yes;\n"
+          f"liquidViscosity {mu_l:.9g};\n")
     write(case, "system/fvOptions", "dictionary",
           "droplet { type vapourDropletSource; }\n"
           f"heleShaw {{ type heleShawFriction; selectionMode all; gap {GAP}; fields (U); }}\n")
@@ -248,7 +282,9 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
         "bed_temperature_C": t_bed_c, "bed_top": top, "grain_diameter": d_grain,
         "grains": int(len(g["d"])), "droplet_diameter": D_DROP, "width": W, "height": H,
         "depth_l": DEPTH, "cells": [int(round(W / CELL)), int(round(H / CELL))],
-        "rho": RHO, "Cp": CP, "T_d": T_D, "latent_heat": LATENT,
+        "rho": RHO, "Cp": CP, "mu": nu * RHO, "liquid_viscosity": mu_l,
+        "cohesion_force": f_c0, "similarity_reference_diameter": similarity,
+        "similarity_s": sim["s"], "T_d": T_D, "latent_heat": LATENT,
         "grain_density": RHO_P, "packing_2d": phi2d, "grain_porosity": porosity,
         "bed_weight_fraction": phi2d * (1 - (porosity or 0.0))})
     print(f"{case}: T_bed = {t_bed_c:g} C, {len(g['d'])} grains of {d_grain:g} m, bed top "
