@@ -275,7 +275,10 @@ def test_free_disc_spins_in_shear(tmp_path, env):
     assert k1 == 1 and k2 == 1
     open(upath, "w").write(ut)
     run("grainDeposit", case, env)
-    run("vansFoam", case, env)
+    p = run("vansFoam", case, env)
+    # the 2D closed-pore warning (vansCloud) is for packings of grains
+    # smaller than the cells, not for one resolved disc (eps ~ 1e-8 inside)
+    assert "closed pores" not in p.stdout + p.stderr
     for t, name in nscdpost.time_dirs(case):
         if t <= 0:
             continue
@@ -346,3 +349,31 @@ def test_free_disc_spin_conserves_angular_momentum(tmp_path, env, penalty):
     assert len(ratios) == 2, ratios
     assert abs(ratios[0] - 1) < 0.01, ratios
     assert abs(ratios[1] - 1) < 0.02, ratios
+
+
+def test_closed_pore_warning_only_for_fine_grains(tmp_path, env):
+    """The 2D closed-pore warning of vansCloud (effectiveDiameterFactor 1 and
+    a cell void fraction < 0.1 at the start, thesis 3.2.3) is printed for a
+    dense packing of discs smaller than the cells (a hexagonal lattice of
+    touching discs d = h/2: solid fraction pi/(2 sqrt 3) = 0.907, cell void
+    fraction ~0.09), and not for cells that one grain covers more than half
+    (the resolved disc of test_free_disc_spins_in_shear, eps ~1e-8 inside
+    by design).  < 5 s."""
+    h, nx = 0.004, 6
+    d = h / 2 * 1.0005                       # touching within 0.05 %
+    grains = []
+    for j in range(int(nx * h / (d * math.sqrt(3) / 2)) - 1):
+        y = d / 2 + j * d * math.sqrt(3) / 2
+        x0 = d / 2 + (d / 2 if j % 2 else 0)
+        for i in range(int((nx * h - x0 - d / 2) / d) + 1):
+            grains.append((x0 + i * d, y, h / 2, d))
+    case = str(tmp_path / "finePack")
+    make_box_case(case, (0, 0, 0), (nx * h, nx * h, h), (nx, nx, 1), (0, 0, 0),
+                  {"s": {"density": 2500.0, "friction": 0.3}}, grains=grains,
+                  end_time=1e-3, dt=1e-3, write_interval=1e-3)
+    add_fluid(case, 1000.0, 1e-6, max_dt=1e-3)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    p = run("vansFoam", case, env, check=False)
+    out = p.stdout + p.stderr
+    assert "closed pores" in out, out[-2000:]

@@ -290,7 +290,29 @@ Foam::vansCloud::vansCloud
     // fine grains gives cell void fractions < 0.1 and a stiff, unstable
     // coupling (applications/solvers/vansFoam/README.md, "Time step and
     // stability")
-    const scalar epsLow = gMin(voidFraction_.primitiveField());
+    // Cells more than half covered by ONE grain (a grain larger than the
+    // cell: resolved or semi-resolved, eps -> epsMin there by design) do
+    // not count: the warning is about packings of grains smaller than
+    // the cells (a single resolved cylinder used to trigger it)
+    scalarField oneGrainShare(mesh.nCells(), Zero);
+    {
+        const auto& ec = adapter_.entryCell();
+        const auto& ev = adapter_.entryVolume();
+        for (std::size_t e = 0; e < ec.size(); ++e)
+        {
+            const label c = ec[e];
+            oneGrainShare[c] = max(oneGrainShare[c], ev[e]/mesh.V()[c]);
+        }
+    }
+    scalar epsLow = GREAT;
+    forAll(oneGrainShare, c)
+    {
+        if (oneGrainShare[c] < 0.5)
+        {
+            epsLow = min(epsLow, voidFraction_[c]);
+        }
+    }
+    reduce(epsLow, minOp<scalar>());
     const scalar kEff = adapter_.settings().effectiveDiameterFactor;
     if (adapter_.twoD() && kEff == 1 && epsLow < 0.1 && grains_.system().size())
     {
