@@ -70,17 +70,25 @@ def read_scalar_field(path):
     return arr
 
 
-def time_dirs(case):
-    """Time directories of a case that hold a grains cloud, sorted by time."""
+def numeric_dirs(path):
+    """(t, name) of the entries of PATH whose name is a number (time
+    directories, postProcessing/<fo>/<start time>), sorted by t; [] if PATH
+    is not a directory."""
+    if not os.path.isdir(path):
+        return []
     out = []
-    for name in os.listdir(case):
+    for name in os.listdir(path):
         try:
-            t = float(name)
+            out.append((float(name), name))
         except ValueError:
             continue
-        if os.path.isfile(os.path.join(case, name, "lagrangian", "grains", "positions")):
-            out.append((t, name))
     return sorted(out)
+
+
+def time_dirs(case):
+    """Time directories of a case that hold a grains cloud, sorted by time."""
+    return [(t, name) for t, name in numeric_dirs(case)
+            if os.path.isfile(os.path.join(case, name, "lagrangian", "grains", "positions"))]
 
 
 #: optional per-grain fields written by the coupled solvers (vansCloud):
@@ -122,6 +130,23 @@ def read_droplet(case, time_name="0"):
     (n, ncol) array; raises FileNotFoundError."""
     return np.loadtxt(os.path.join(case, "postProcessing", "droplet", time_name, "droplet.dat"),
                       ndmin=2)
+
+
+def read_droplet_history(case):
+    """The whole droplet.dat history of a case, restarts included: a run
+    restarted at t_r writes postProcessing/droplet/<t_r>/droplet.dat; the
+    parts are joined in time order, each cut at the next one's start time.
+    Same array as read_droplet(case) for a run that was not restarted."""
+    parts = numeric_dirs(os.path.join(case, "postProcessing", "droplet"))
+    if len(parts) <= 1:
+        return read_droplet(case, parts[0][1] if parts else "0")
+    out = []
+    for k, (t0, name) in enumerate(parts):
+        a = read_droplet(case, name)
+        if k + 1 < len(parts):
+            a = a[a[:, 0] <= parts[k + 1][0] * (1 + 1e-12)]
+        out.append(a)
+    return np.concatenate(out)
 
 
 def heat_log(log):

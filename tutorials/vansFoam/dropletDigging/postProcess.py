@@ -67,30 +67,10 @@ COL = dict(t=0, x=1, y=2, u=3, v=4, m=5, mdot=6, Qf=7, Qp=8, R=9, depth=10, Vdot
 
 
 def read_droplet(case):
-    """droplet.dat of the case as an (n, >=12) array; raises FileNotFoundError.
-    A run restarted at time t_r writes postProcessing/droplet/<t_r>/droplet.dat:
-    the parts are joined in time order, each part cut at the next one's start
-    time (its directory name)."""
-    base = os.path.join(case, "postProcessing", "droplet")
-    parts = sorted((float(n), n) for n in os.listdir(base) if _is_number(n)) \
-        if os.path.isdir(base) else []
-    if len(parts) <= 1:
-        return nscdpost.read_droplet(case)
-    out = []
-    for k, (t0, name) in enumerate(parts):
-        a = nscdpost.read_droplet(case, name)
-        if k + 1 < len(parts):
-            a = a[a[:, 0] <= parts[k + 1][0] * (1 + 1e-12)]
-        out.append(a)
-    return np.concatenate(out)
-
-
-def _is_number(name):
-    try:
-        float(name)
-        return True
-    except ValueError:
-        return False
+    """droplet.dat of the case as an (n, >=12) array, the parts of a
+    restarted run joined (nscdpost.read_droplet_history); raises
+    FileNotFoundError."""
+    return nscdpost.read_droplet_history(case)
 
 
 def read_log(case, log="log.vansFoam"):
@@ -146,6 +126,14 @@ def energy_budget(case, info=None):
             "droplet_heat": float(heat), "source_mismatch": float(mism)}
 
 
+def ergun_coefficients(d, eps, rho_f, mu):
+    """Ergun's law (Ergun 1952) as -dp/dx = a U^2 + b U for the superficial
+    speed U [m/s]: a = 1.75 rho_f (1-eps)/(eps^3 d) (inertial), b = 150 mu
+    (1-eps)^2/(eps^3 d^2) (viscous).  d [m], mu [Pa s], rho_f [kg/m^3]."""
+    phi = 1 - eps
+    return 1.75 * rho_f * phi / (eps ** 3 * d), 150 * mu * phi ** 2 / (eps ** 3 * d ** 2)
+
+
 def ergun_umf(d, eps, rho_p, rho_f=1.204, mu=2e-5, g=G, weight_fraction=None):
     """Minimum fluidisation velocity [m/s] from Ergun's law (Ergun 1952,
     Chem. Eng. Prog. 48:89): the pressure drop of the bed balances its
@@ -158,8 +146,7 @@ def ergun_umf(d, eps, rho_p, rho_f=1.204, mu=2e-5, g=G, weight_fraction=None):
     U = phi_w (rho_p - rho_f) g eps^3 d^2 / (150 mu (1-eps)^2)."""
     phi = 1 - eps
     pw = phi if weight_fraction is None else weight_fraction
-    a = 1.75 * rho_f * phi / (eps ** 3 * d)
-    b = 150 * mu * phi ** 2 / (eps ** 3 * d ** 2)
+    a, b = ergun_coefficients(d, eps, rho_f, mu)
     c = pw * (rho_p - rho_f) * g
     return float((-b + math.sqrt(b * b + 4 * a * c)) / (2 * a))
 
@@ -373,10 +360,8 @@ def case_results(case):
         res["U_mf"] = umf
         res["fluidisation_number"] = float(np.mean(uv[1:]) / umf) if len(uv) > 1 else None
         res["Re_mf"] = info["rho"] * umf * info["grain_diameter"] / mu
-        ph, dg = 1 - eps, info["grain_diameter"]
-        visc = 150 * mu * ph ** 2 * umf / (eps ** 3 * dg ** 2)
-        iner = 1.75 * info["rho"] * ph * umf ** 2 / (eps ** 3 * dg)
-        res["ergun_inertial_fraction"] = iner / (visc + iner)
+        a, b = ergun_coefficients(info["grain_diameter"], eps, info["rho"], mu)
+        res["ergun_inertial_fraction"] = a * umf / (a * umf + b)
         res["bed"] = bed_diagnostics(case, info, d, umf)
     res["psi_max"] = psi_max(case)
     res["summary"] = summary(d, uv, res.get("U_mf"))
