@@ -253,3 +253,19 @@ def copy_grain_state(src, dst, time_name="0"):
         a = os.path.join(src, time_name, item)
         b = os.path.join(dst, time_name, item)
         (shutil.copytree if os.path.isdir(a) else shutil.copy)(a, b)
+
+
+def power_law_fit(h, f, p_grid):
+    """Least-squares fit f(h) = f_inf + C h^p over all levels: p scanned over
+    p_grid, f_inf and C linear for each p (grid-convergence studies,
+    tests/bench/*Convergence).  Returns (p, f_inf, C, rms misfit)."""
+    h = np.asarray(h, float)
+    f = np.asarray(f, float)
+    best = None
+    for p in p_grid:
+        A = np.column_stack([np.ones_like(h), h ** p])
+        coef, *_ = np.linalg.lstsq(A, f, rcond=None)
+        r = float(np.sqrt(np.mean((A @ coef - f) ** 2)))
+        if best is None or r < best[3]:
+            best = (float(p), float(coef[0]), float(coef[1]), r)
+    return best

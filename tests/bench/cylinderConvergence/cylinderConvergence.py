@@ -171,17 +171,10 @@ def richardson3(h, phi, safety=SAFETY_FACTOR):
 
 def power_fit(h, phi, p_grid=np.linspace(0.1, 6.0, 591)):
     """Least-squares fit phi(h) = phi_inf + C h^p over all levels (p on a
-    grid, phi_inf and C linear); returns dict(order, phi_inf, C, rms)."""
-    h = np.asarray(h, float)
-    phi = np.asarray(phi, float)
-    best = None
-    for p in p_grid:
-        A = np.vstack([np.ones_like(h), h ** p]).T
-        coef, *_ = np.linalg.lstsq(A, phi, rcond=None)
-        rms = float(np.sqrt(np.mean((A @ coef - phi) ** 2)))
-        if best is None or rms < best["rms"]:
-            best = {"order": float(p), "phi_inf": float(coef[0]), "C": float(coef[1]), "rms": rms}
-    return best
+    grid, phi_inf and C linear; nscdpost.power_law_fit); returns
+    dict(order, phi_inf, C, rms)."""
+    p, phi_inf, C, rms = nscdpost.power_law_fit(h, phi, p_grid)
+    return {"order": p, "phi_inf": phi_inf, "C": C, "rms": rms}
 
 
 def cells_per_d_for(phi_ext, C, p, target, tol):
@@ -215,6 +208,17 @@ def run_level(work, cpd, end):
     return case
 
 
+def grid_and_cost(case):
+    """(nx, ny) of the case's blockMeshDict and the per-step CPU seconds of
+    log.vansFoam (restarts concatenated: the resets dropped), with the log."""
+    bm = open(os.path.join(case, "system", "blockMeshDict")).read()
+    nx, ny = (int(v) for v in bm.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[:2])
+    log = open(os.path.join(case, "log.vansFoam")).read()
+    exe = [float(v) for v in re.findall(r"^ExecutionTime = (\S+) s", log, re.M)]
+    dexe = np.diff(exe)
+    return nx, ny, exe, dexe[dexe > 0], log
+
+
 def measure_level(case):
     """The measures of one case directory (see the module docstring) and its
     cost from log.vansFoam; raises ValueError if it did not reach the end
@@ -226,16 +230,11 @@ def measure_level(case):
     sel = (t >= PLATEAU_WINDOW[0] - 1e-9) & (t <= PLATEAU_WINDOW[1] + 1e-9)
     upto = t <= PLATEAU_WINDOW[1] + 1e-9      # same span at every level
     on = np.nonzero(upto & (np.abs(ulat) >= ONSET_FRACTION * UT_REF))[0]
-    bm = open(os.path.join(case, "system", "blockMeshDict")).read()
-    nx, ny = (int(v) for v in bm.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[:2])
+    nx, ny, exe, dexe, log = grid_and_cost(case)
     cpd = setupCase.D / (setupCase.WIDTH / nx)
-    log = open(os.path.join(case, "log.vansFoam")).read()
     times = [float(v) for v in re.findall(r"^Time = (\S+)", log, re.M)]
-    exe = [float(v) for v in re.findall(r"^ExecutionTime = (\S+) s", log, re.M)]
     clock = [float(v) for v in re.findall(r"ClockTime = (\S+) s", log)]
     steps = sum(1 for tt in times if tt <= PLATEAU_WINDOW[1] + 1e-9)
-    dexe = np.diff(exe)
-    dexe = dexe[dexe > 0]                     # restarts concatenated: drop the resets
     ipk = int(np.argmax(ustr[upto]))
     return {
         "case": os.path.abspath(case),
@@ -269,12 +268,7 @@ def measure_short(case):
     through the start-up): the SENSITIVITY_WINDOWS it covers and its cost."""
     t, x, u = postProcess.grain_history(case)
     ustr = -u[0, :, 1]
-    bm = open(os.path.join(case, "system", "blockMeshDict")).read()
-    nx, ny = (int(v) for v in bm.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[:2])
-    exe = [float(v) for v in re.findall(r"^ExecutionTime = (\S+) s",
-                                        open(os.path.join(case, "log.vansFoam")).read(), re.M)]
-    dexe = np.diff(exe)
-    dexe = dexe[dexe > 0]
+    nx, ny, _, dexe, _ = grid_and_cost(case)
     out = {"case": os.path.abspath(case), "cells_per_diameter": setupCase.D / (setupCase.WIDTH / nx),
            "h": setupCase.WIDTH / nx, "cells": nx * ny, "end_time": float(t[-1]),
            "cpu_seconds_per_step_median": float(np.median(dexe)) if dexe.size else None}

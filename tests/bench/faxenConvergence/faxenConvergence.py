@@ -52,6 +52,7 @@ sys.path.insert(0, os.path.join(ROOT, "tests", "cases"))
 sys.path.insert(0, os.path.join(ROOT, "src", "python"))
 
 import conftest  # noqa: E402  (paths + foam_env)
+import nscdpost  # noqa: E402
 import test_resolvedRegime as trr  # noqa: E402
 
 
@@ -108,15 +109,8 @@ def fit_power(h, y):
 
 def fit_richardson(h, f):
     """Fit F(h) = F_inf + C h^p (all levels, least squares; p by a 1-D scan
-    over [0.2, 4], F_inf and C linear).  Returns (p, F_inf, C, rms)."""
-    best = None
-    for p in np.linspace(0.2, 4.0, 3801):
-        A = np.column_stack([np.ones_like(h), h ** p])
-        coef, *_ = np.linalg.lstsq(A, f, rcond=None)
-        r = float(np.sqrt(np.mean((A @ coef - f) ** 2)))
-        if best is None or r < best[3]:
-            best = (float(p), float(coef[0]), float(coef[1]), r)
-    return best
+    over [0.2, 4], nscdpost.power_law_fit).  Returns (p, F_inf, C, rms)."""
+    return nscdpost.power_law_fit(h, f, np.linspace(0.2, 4.0, 3801))
 
 
 def main():
