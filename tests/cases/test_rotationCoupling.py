@@ -327,7 +327,8 @@ def test_free_disc_spin_conserves_angular_momentum(tmp_path, env, penalty):
     C = nscdpost.read_internal_field(os.path.join(case, "0", "C"))
     h = L / cells
     V = h ** 3                               # one cell deep, depth l = h
-    I0 = rho_s * math.pi * R ** 4 * h / 2 * omega
+    inertia = rho_s * math.pi * R ** 4 * h / 2     # disc of depth h
+    I0 = inertia * omega
     r = C[:, :2] - L / 2
     ratios = []
     for t, name in nscdpost.time_dirs(case):
@@ -340,7 +341,7 @@ def test_free_disc_spin_conserves_angular_momentum(tmp_path, env, penalty):
         xp = nscdpost.read_vector_field(os.path.join(gdir, "positions"))[0]
         assert np.hypot(*(xp[:2] - L / 2)) < 1e-3 * d, xp
         Lf = rho_f * np.sum(eps * (r[:, 0] * U[:, 1] - r[:, 1] * U[:, 0])) * V
-        Lg = rho_s * math.pi * R ** 4 * h / 2 * w
+        Lg = inertia * w
         ratios.append((Lg + Lf) / I0)
         print(f"t {t:g} s: omega {w:.5f} rad/s, (L_grain + L_fluid)/L_0 = {ratios[-1]:.4f} "
               f"(grain {Lg / I0:.4f})")
