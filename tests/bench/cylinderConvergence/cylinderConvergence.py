@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Benchmark: grid convergence of the terminal velocity of the falling
-cylinder (issue 7; thesis 3.3.3, Namkoong, Yoo & Choi 2008, J. Comput. Phys.
-227:2151: U_t = 2.501 cm/s, Re = 156).
+cylinder (issue 7; thesis 3.3.3, Namkoong, Yoo & Choi 2008, J. Fluid Mech.
+604:33-53, "... a freely falling circular cylinder in an infinite fluid":
+U_t = 2.501 cm/s, Re = 156).
 
 The case is the full tutorial tutorials/vansFoam/cylinderSedimentation
 (setupCase.py CASEDIR END D/h 0.32 yes 1e-3 resolved: 0.04 x 0.32 m box,
@@ -192,16 +193,22 @@ def cells_per_d_for(phi_ext, C, p, target, tol):
 # --------------------------------------------------------------------------- #
 # one level
 # --------------------------------------------------------------------------- #
-def run_level(work, cpd, end):
+def run_level(work, cpd, end, walls=None, height=None):
     """Set up and run the tutorial case at D/h = cpd to `end` [s] in
-    work/L<cpd>/case; returns the case directory."""
-    d = os.path.join(work, f"L{cpd:g}")
+    work/L<cpd>/case (walls: None, the tutorial box with its walls at 4 D
+    from the axis, or their distance in diameters, setupCase's WALLS, in
+    work/L<cpd>_W<walls>/case; height: the box height [m], default
+    setupCase.HEIGHT); returns the case directory."""
+    height = setupCase.HEIGHT if height is None else height
+    d = os.path.join(work, f"L{cpd:g}" + ("" if walls is None else f"_W{walls:g}")
+                     + ("" if height == setupCase.HEIGHT else f"_H{height:g}"))
     case = os.path.join(d, "case")
     if os.path.exists(d):
         shutil.rmtree(d)
     os.makedirs(d)
     subprocess.run([sys.executable, os.path.join(TUT, "setupCase.py"), case, str(end), str(cpd),
-                    "0.32", "yes", "1e-3", "resolved"], check=True, stdout=subprocess.DEVNULL)
+                    str(height), "yes", "1e-3", "resolved"]
+                   + ([] if walls is None else [str(walls)]), check=True, stdout=subprocess.DEVNULL)
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
         with open(os.path.join(case, f"log.{app}"), "w") as log:
             subprocess.run([app], cwd=case, stdout=log, stderr=subprocess.STDOUT, check=True)
@@ -209,14 +216,15 @@ def run_level(work, cpd, end):
 
 
 def grid_and_cost(case):
-    """(nx, ny) of the case's blockMeshDict and the per-step CPU seconds of
-    log.vansFoam (restarts concatenated: the resets dropped), with the log."""
-    bm = open(os.path.join(case, "system", "blockMeshDict")).read()
-    nx, ny = (int(v) for v in bm.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[:2])
+    """(nx, cells) of the case's blockMeshDict (setupCase.mesh_layout: nx
+    across the uniform block of width setupCase.WIDTH, cells over all
+    blocks) and the per-step CPU seconds of log.vansFoam (restarts
+    concatenated: the resets dropped), with the log."""
+    nx, cells, _, _ = setupCase.mesh_layout(case)
     log = open(os.path.join(case, "log.vansFoam")).read()
     exe = [float(v) for v in re.findall(r"^ExecutionTime = (\S+) s", log, re.M)]
     dexe = np.diff(exe)
-    return nx, ny, exe, dexe[dexe > 0], log
+    return nx, cells, exe, dexe[dexe > 0], log
 
 
 def measure_level(case):
@@ -230,7 +238,7 @@ def measure_level(case):
     sel = (t >= PLATEAU_WINDOW[0] - 1e-9) & (t <= PLATEAU_WINDOW[1] + 1e-9)
     upto = t <= PLATEAU_WINDOW[1] + 1e-9      # same span at every level
     on = np.nonzero(upto & (np.abs(ulat) >= ONSET_FRACTION * UT_REF))[0]
-    nx, ny, exe, dexe, log = grid_and_cost(case)
+    nx, cells, exe, dexe, log = grid_and_cost(case)
     cpd = setupCase.D / (setupCase.WIDTH / nx)
     times = [float(v) for v in re.findall(r"^Time = (\S+)", log, re.M)]
     clock = [float(v) for v in re.findall(r"ClockTime = (\S+) s", log)]
@@ -240,7 +248,7 @@ def measure_level(case):
         "case": os.path.abspath(case),
         "cells_per_diameter": cpd,
         "h": setupCase.WIDTH / nx,
-        "cells": nx * ny,
+        "cells": cells,
         "end_time": float(t[-1]),
         "steps_to_3.5s": steps,
         "cpu_seconds_per_step_median": float(np.median(dexe)) if dexe.size else None,
@@ -268,9 +276,9 @@ def measure_short(case):
     through the start-up): the SENSITIVITY_WINDOWS it covers and its cost."""
     t, x, u = postProcess.grain_history(case)
     ustr = -u[0, :, 1]
-    nx, ny, _, dexe, _ = grid_and_cost(case)
+    nx, cells, _, dexe, _ = grid_and_cost(case)
     out = {"case": os.path.abspath(case), "cells_per_diameter": setupCase.D / (setupCase.WIDTH / nx),
-           "h": setupCase.WIDTH / nx, "cells": nx * ny, "end_time": float(t[-1]),
+           "h": setupCase.WIDTH / nx, "cells": cells, "end_time": float(t[-1]),
            "cpu_seconds_per_step_median": float(np.median(dexe)) if dexe.size else None}
     for k, (a, b) in SENSITIVITY_WINDOWS.items():
         if t[-1] >= b - 1e-9:
@@ -400,7 +408,7 @@ def post(cases, wall=None, short=()):
         "benchmark": "cylinderConvergence",
         "case": "tutorials/vansFoam/cylinderSedimentation setupCase.py CASE 3.5 D/h 0.32 yes 1e-3 "
                 "resolved (full box, rotation coupling, resolved scheme, released D/100 off axis)",
-        "reference": "Namkoong, Yoo & Choi (2008), J. Comput. Phys. 227:2151: U_t = 2.501 cm/s, "
+        "reference": "Namkoong, Yoo & Choi (2008), J. Fluid Mech. 604:33-53 (a cylinder in an INFINITE fluid): U_t = 2.501 cm/s, "
                      "Re 156 (thesis 3.3.3)",
         "terminal_velocity_reference": UT_REF,
         "measure": f"plateau_velocity: mean -U_y at the write times (every 0.05 s) in "
@@ -503,13 +511,20 @@ def main():
     if a.post:
         return post(a.levels, short=a.short)
     cpds = [float(v) for v in a.levels] or [8, 10, 12, 15]
-    work = a.workdir or tempfile.mkdtemp(prefix="cylinderConvergence")
+    run_then_post(a.workdir, "cylinderConvergence", [(c, a.end, {}) for c in cpds], post)
+
+
+def run_then_post(workdir, prefix, runs, post_fn):
+    """run_level(work, cpd, end, **options) for each (cpd, end, options) of
+    `runs`, one after the other, in `workdir` (None: a temporary directory
+    named `prefix`..., removed at the end), then post_fn(cases, wall seconds)."""
+    work = workdir or tempfile.mkdtemp(prefix=prefix)
     t0 = time.time()
     try:
-        cases = [run_level(work, c, a.end) for c in cpds]
-        post(cases, time.time() - t0)
+        cases = [run_level(work, cpd, end, **options) for cpd, end, options in runs]
+        post_fn(cases, time.time() - t0)
     finally:
-        if not a.workdir:
+        if not workdir:
             shutil.rmtree(work, ignore_errors=True)
 
 

@@ -215,8 +215,7 @@ def main():
     f_ref = st_ref * ref / setupCase.D
     sh = shedding_analysis(t, ulat, ustr, f_ref)
     f = sh["shedding_frequency"]
-    txt = open(os.path.join(case, "system", "blockMeshDict")).read()
-    nx = int(txt.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[0])
+    nx, _, walls, _ = setupCase.mesh_layout(case)
     res = {
         "time": t.tolist(),
         "streamwise_velocity": ustr.tolist(),
@@ -224,6 +223,7 @@ def main():
         "x": x[0, :, 0].tolist(),
         "y": x[0, :, 1].tolist(),
         "cells_per_diameter": setupCase.D / (setupCase.WIDTH / nx),
+        "walls_from_axis_in_D": walls / setupCase.D,
         "rotation_coupling": "rotationCoupling yes" in open(
             os.path.join(case, "constant", "couplingProperties")).read(),
         "scheme": ("resolved" if "resolvedCellsPerDiameter" in open(

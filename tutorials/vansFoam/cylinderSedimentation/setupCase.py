@@ -8,7 +8,7 @@ write_case() writes a complete case (blockMesh, fields, dictionaries,
 grainDepositDict); it is also used by ../draftingKissingTumbling and by
 tests/cases/test_resolvedRegime.py (reduced copies).
 
-usage (the tutorial): setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [HEIGHT] [ROTATION yes|no] [MAXDT] [SCHEME]
+usage (the tutorial): setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [HEIGHT] [ROTATION yes|no] [MAXDT] [SCHEME] [WALLS]
   SCHEME resolved (default): couplingProperties `resolvedCellsPerDiameter 4;`,
   the resolved-regime scheme of vansCloud.H (grain velocity out of the
   pressure solve, added mass C_A = 1, stable as the cylinder nears a wall);
@@ -22,18 +22,22 @@ usage (the tutorial): setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [HEIGHT] [ROT
   3.15 s (tests/bench/results/cylinderSedimentation.json).  Its 2.4-2.6
   cm/s plateau is fortuitous (+18 % when released on the axis; vansCloud.H,
   Known limits).
+  WALLS: the side walls' distance from the axis in diameters, default 4
+  (the thesis box); larger: graded side blocks (setupCase.side_blocks).
   MAXDT: maxDeltaT [s], default 1e-3: at D/h = 15 maxDeltaT 2.5e-3 and 5e-3
   give a spurious upward kick of the grain within 0.1 s (measured), 1e-3 is smooth.
   Namkoong et al. (2008), thesis 3.3.3: D = 5 mm, rho_s/rho_f = 1.01,
   rho_f = 996 kg/m^3, nu = 8e-7 m^2/s, box [-0.02, 0.02] x [-0.16, 0.16] m,
   15 cells per diameter (uniform mesh: 120 x 960 cells).
 """
+import math
 import os
+import re
 import sys
 
 HEADER = "FoamFile { version 2.0; format ascii; class %s; object %s; }\n"
 
-# Namkoong, Yoo & Choi (2008), J. Comput. Phys. 227:2151 (thesis ref. [101])
+# Namkoong, Yoo & Choi (2008), J. Fluid Mech. 604:33-53 (a cylinder in an INFINITE fluid) (thesis ref. [101])
 D = 5e-3            # [m]
 RHO_F = 996.0       # [kg/m^3]
 RHO_S = 1.01 * RHO_F
@@ -53,7 +57,7 @@ def _write(path, cls, obj, body):
 def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81, 0),
                end_time=1.0, write_interval=0.05, max_co=0.5, max_dt=5e-3,
                fixed=False, inflow=None, n_correctors=2, n_outer=1, rotation=False,
-               inlet_pressure="zeroGradient"):
+               inlet_pressure="zeroGradient", side=None):
     """Write a 2D vansFoam case.
 
     lo, hi: (x, y) corners of the box [m]; cells: (nx, ny); the mesh is one
@@ -72,6 +76,12 @@ def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81,
     inlet_pressure: p condition at the `inlet` when inflow is given,
     "zeroGradient" or "fixedFluxPressure" (needed at Re ~ 100 and for an
     accelerating inflow: the pressure gradient then carries dU0/dt).
+    side: None, or (width [m], n, ratio): a closed box only (inflow None),
+    widened by a block of `width` on each side of [lo, hi] in x, of n cells
+    growing geometrically away from the box, first cell (x1-x0)/nx, last
+    over first `ratio` (blockMesh simpleGrading): the walls move out to
+    x0 - width, x1 + width at the cost of 2 n ny cells.  Used to measure the
+    walls' effect on a grain that stays in the uniform middle block.
     """
     (x0, y0), (x1, y1) = lo, hi
     nx, ny = cells
@@ -105,11 +115,16 @@ def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81,
               "    outlet { type fixedValue; value uniform 0; }\n"
               "    walls { type zeroGradient; }")
         pref = ""
-    vs = " ".join("(%.12g %.12g %.12g)" % p for p in v)
-    _write(os.path.join(case, "system", "blockMeshDict"), "dictionary", "blockMeshDict",
-           f"scale 1;\nvertices ({vs});\n"
-           f"blocks ( hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1) );\n"
-           f"boundary (\n{bnd}frontAndBack {{ type empty; faces ((0 3 2 1) (4 5 6 7)); }}\n);\n")
+    if side is None:
+        vs = " ".join("(%.12g %.12g %.12g)" % p for p in v)
+        _write(os.path.join(case, "system", "blockMeshDict"), "dictionary", "blockMeshDict",
+               f"scale 1;\nvertices ({vs});\n"
+               f"blocks ( hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1) );\n"
+               f"boundary (\n{bnd}frontAndBack {{ type empty; faces ((0 3 2 1) (4 5 6 7)); }}\n);\n")
+    else:
+        if inflow is not None:
+            raise ValueError("side blocks: closed box only (inflow None)")
+        _write_widened_mesh(case, lo, hi, cells, side)
     u0 = f"({u_init} 0 0)" if inflow is not None else "(0 0 0)"
     _write(os.path.join(case, "0", "U"), "volVectorField", "U",
            f"dimensions [0 1 -1 0 0 0 0];\ninternalField uniform {u0};\n"
@@ -160,21 +175,103 @@ def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81,
            f"    nNonOrthogonalCorrectors 0; {pref} }}\n")
 
 
+def _write_widened_mesh(case, lo, hi, cells, side):
+    """blockMeshDict of write_case's closed box [lo, hi] (nx x ny uniform
+    cells) between two graded side blocks side = (width, n, ratio): three
+    blocks in x, walls on the outer faces, `frontAndBack` empty."""
+    (x0, y0), (x1, y1) = lo, hi
+    nx, ny = cells
+    width, n_side, ratio = side
+    dz = (x1 - x0) / nx
+    xs = (x0 - width, x0, x1, x1 + width)
+
+    def vid(i, j, k):        # vertex (x index i, y index j, z index k)
+        return 8 * k + 4 * j + i
+    verts = [(xs[i], (y0, y1)[j], (0.0, dz)[k]) for k in (0, 1) for j in (0, 1) for i in range(4)]
+    vs = " ".join("(%.12g %.12g %.12g)" % p for p in verts)
+    blocks, walls, empty = [], [], []
+    for b, (n, grade) in enumerate(((n_side, 1.0 / ratio), (nx, 1.0), (n_side, ratio))):
+        hexv = (vid(b, 0, 0), vid(b + 1, 0, 0), vid(b + 1, 1, 0), vid(b, 1, 0),
+                vid(b, 0, 1), vid(b + 1, 0, 1), vid(b + 1, 1, 1), vid(b, 1, 1))
+        blocks.append("hex (%s) (%d %d 1) simpleGrading (%.12g 1 1)"
+                      % (" ".join(map(str, hexv)), n, ny, grade))
+        for j in (0, 1):     # bottom and top
+            walls.append((vid(b, j, 0), vid(b + 1, j, 0), vid(b + 1, j, 1), vid(b, j, 1)))
+        for k in (0, 1):
+            empty.append((vid(b, 0, k), vid(b, 1, k), vid(b + 1, 1, k), vid(b + 1, 0, k)))
+    walls += [(vid(0, 0, 0), vid(0, 0, 1), vid(0, 1, 1), vid(0, 1, 0)),
+              (vid(3, 0, 0), vid(3, 1, 0), vid(3, 1, 1), vid(3, 0, 1))]
+
+    def faces(fs):
+        return " ".join("(%s)" % " ".join(map(str, f)) for f in fs)
+    _write(os.path.join(case, "system", "blockMeshDict"), "dictionary", "blockMeshDict",
+           f"scale 1;\nvertices ({vs});\nblocks (\n" + "\n".join(blocks) + "\n);\n"
+           f"boundary (\nwalls {{ type wall; faces ({faces(walls)}); }}\n"
+           f"frontAndBack {{ type empty; faces ({faces(empty)}); }}\n);\n")
+
+
+def side_blocks(h, width, growth=1.1):
+    """(width, n, ratio) for write_case's `side`: the fewest cells growing by
+    at most `growth` per cell from h [m] that fill `width` [m] (the last
+    cell then grows by exactly that factor from its neighbour's size)."""
+    n = max(1, math.ceil(math.log(1.0 + width * (growth - 1.0) / h) / math.log(growth)))
+    # solve h (q^n - 1)/(q - 1) = width for q (bisection, q in (1, growth])
+    lo_q, hi_q = 1.0 + 1e-12, growth
+    for _ in range(200):
+        q = 0.5 * (lo_q + hi_q)
+        if h * (q ** n - 1.0) / (q - 1.0) > width:
+            hi_q = q
+        else:
+            lo_q = q
+    return width, n, q ** (n - 1)
+
+
+def mesh_layout(case):
+    """(nx, cells, walls, height) of a case written by write_case: nx the
+    cells across the uniform block (the only block, or the middle one
+    between graded side blocks), cells the total over all blocks, walls the
+    largest |x| of the vertices [m] (for cylinder_case's box, centred on
+    x = 0: the side walls' distance from the axis), height its y extent [m].
+    Raises ValueError if system/blockMeshDict has no such layout."""
+    path = os.path.join(case, "system", "blockMeshDict")
+    bm = open(path).read()
+    blocks = re.findall(r"hex \([\d ]+\) \((\d+) (\d+) 1\) simpleGrading \((\S+) 1 1\)", bm)
+    uniform = [int(b[0]) for b in blocks if float(b[2]) == 1.0]
+    if not blocks or len(uniform) != 1:
+        raise ValueError(f"{path}: {len(blocks)} 2D hex blocks, {len(uniform)} uniform; "
+                         "expected write_case's layout (one uniform block)")
+    verts = re.search(r"vertices \((.*?)\);", bm, re.S).group(1)
+    pts = [[float(c) for c in v.split()] for v in re.findall(r"\(([^()]*)\)", verts)]
+    walls = max(abs(p[0]) for p in pts)
+    height = max(p[1] for p in pts) - min(p[1] for p in pts)
+    return uniform[0], sum(int(b[0]) * int(b[1]) for b in blocks), walls, height
+
+
 def cylinder_case(case, end_time=4.0, cells_per_d=15, height=HEIGHT, write_interval=0.02,
-                  max_co=0.5, max_dt=5e-3, y0=None, x0=None, rotation=False):
+                  max_co=0.5, max_dt=5e-3, y0=None, x0=None, rotation=False,
+                  wall_distance=None):
     """The falling cylinder of thesis 3.3.3 (Namkoong et al. 2008), box
     [-0.02, 0.02] x [-height/2, height/2]; released from rest at
     (x0, y0) (default: x0 = D/100, an offset that seeds the symmetry
-    breaking of the wake, y0 = height/2 - 4 D)."""
+    breaking of the wake, y0 = height/2 - 4 D).
+    wall_distance: None (the thesis box, walls at x = +-4 D) or the walls'
+    distance from the axis [m] > WIDTH/2: the uniform box keeps its cells
+    and graded side blocks (side_blocks, growth 1.1 per cell) fill the rest.
+    Returns the number of cells."""
     h = D / cells_per_d
     nx, ny = round(WIDTH / h), round(height / h)
     x0 = D / 100 if x0 is None else x0
     y0 = height / 2 - 4 * D if y0 is None else y0
+    side = None
+    if wall_distance is not None and wall_distance > WIDTH / 2 * (1 + 1e-9):
+        side = side_blocks(WIDTH / nx, wall_distance - WIDTH / 2)
+    elif wall_distance is not None and wall_distance < WIDTH / 2 * (1 - 1e-9):
+        raise ValueError(f"wall_distance {wall_distance} m: at least WIDTH/2 = {WIDTH / 2} m")
     write_case(case, (-WIDTH / 2, -height / 2), (WIDTH / 2, height / 2), (nx, ny),
                [(x0, y0, D)], RHO_S, RHO_F, NU, end_time=end_time,
                write_interval=write_interval, max_co=max_co, max_dt=max_dt,
-               rotation=rotation)
-    return nx * ny
+               rotation=rotation, side=side)
+    return nx * ny + (0 if side is None else 2 * side[1] * ny)
 
 
 def opt_in_resolved(case, extra=""):
@@ -194,10 +291,15 @@ def main():
     rot = len(sys.argv) > 5 and sys.argv[5] in ("yes", "on", "true", "1")
     max_dt = float(sys.argv[6]) if len(sys.argv) > 6 else 1e-3
     scheme = sys.argv[7] if len(sys.argv) > 7 else "resolved"
+    walls = float(sys.argv[8]) if len(sys.argv) > 8 else WIDTH / 2 / D
     if scheme not in ("resolved", "default"):
         sys.exit(f"setupCase.py: SCHEME {scheme!r} unknown (7th argument): "
                  "use resolved or default")
-    n = cylinder_case(case, end, cpd, height, write_interval=0.05, rotation=rot, max_dt=max_dt)
+    if walls < WIDTH / 2 / D - 1e-9:
+        sys.exit(f"setupCase.py: WALLS {walls:g} (8th argument, walls' distance from the "
+                 f"axis in diameters): at least {WIDTH / 2 / D:g} (the thesis box)")
+    n = cylinder_case(case, end, cpd, height, write_interval=0.05, rotation=rot, max_dt=max_dt,
+                      wall_distance=walls * D)
     if scheme == "resolved":
         opt_in_resolved(case)
     print(f"{case}: {n} cells, D/h = {cpd:g}, endTime {end:g} s, maxDeltaT {max_dt:g} s, "

@@ -66,9 +66,8 @@ REFERENCE_KISSING_SOURCE = ("none verified: Glowinski et al. (2001), Wan & Turek
 
 
 def cell_size(case):
-    txt = open(os.path.join(case, "system", "blockMeshDict")).read()
-    nx = int(txt.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[0])
-    return setupCase.W / nx
+    """The cell size [m] of a case written by setupCase (uniform mesh)."""
+    return setupCase.W / setupCase.cyl.mesh_layout(case)[0]
 
 
 def dkt_measure(t, x, D, h):
