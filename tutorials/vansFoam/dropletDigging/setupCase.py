@@ -91,8 +91,27 @@ def contact_tolerance(d_grain):
     agitated 6000-grain bed (0.2 mm) hits maxIterations 1000 at every step
     with 1e-4 (0.5 s/step, NSCD 87 % of the time, perf) and needs 60-400
     sweeps with 1e-3 (max overlap 1.05e-3 d_min; velocity error ~1e-3
-    d/dt ~ 0.7 mm/s, well below the droplet's seepage speed ~2 cm/s)."""
+    d/dt ~ 0.7 mm/s, well below the droplet's seepage speed ~2 cm/s).
+    Env CONTACT_TOL=<tol> overrides it (README.md "Measured, contact-tolerance
+    study"); raises ValueError if it is not a number in (0, 0.1]."""
+    env = os.environ.get("CONTACT_TOL")
+    if env:
+        tol = float(env)
+        if not 0 < tol <= 0.1:
+            raise ValueError(f"CONTACT_TOL={env}: the contact tolerance (relative to d_min) "
+                             "must be in (0, 0.1]")
+        return tol
     return 1e-4 if d_grain >= 0.45e-3 else 1e-3
+
+
+def contact_max_iterations():
+    """NSCD maxIterations (sweeps per step): 1000, or env CONTACT_MAXITER
+    (e.g. 3000 with CONTACT_TOL=1e-4); raises ValueError if it is not a
+    positive integer."""
+    n = int(os.environ.get("CONTACT_MAXITER", "1000"))
+    if n < 1:
+        raise ValueError(f"CONTACT_MAXITER={n}: must be a positive integer")
+    return n
 
 
 def mesh_and_grains(case, d_grain, rho_grain=RHO_P):
@@ -107,7 +126,8 @@ def mesh_and_grains(case, d_grain, rho_grain=RHO_P):
     write(case, "constant/grainProperties", "dictionary",
           f"materials {{ grains {{ density {rho_grain:.9g}; friction {FRICTION}; conductivity {K_P};"
           f" heatCapacity {C_P}; }} }}\nwallPatches (walls);\n"
-          f"contactSolver {{ tolerance {contact_tolerance(d_grain):g}; maxIterations 1000;"
+          f"contactSolver {{ tolerance {contact_tolerance(d_grain):g};"
+          f" maxIterations {contact_max_iterations()};"
           " overlapTolerance 1e-2; }\n"
           f"// grain diameter of this bed: {d_grain:g} m (Table 4.2: {D_GRAIN_TABLE:g} m)\n")
     write(case, "constant/g", "uniformDimensionedVectorField",
