@@ -303,8 +303,9 @@ def test_falling_cylinder_terminal_velocity(tmp_path, env):
       wide middle block keeps its uniform cells, graded side blocks fill
       the rest, setupCase.side_blocks), because the reference is
       unbounded: at D/h = 12 the thesis box's walls slow the cylinder by
-      6.5 % on the plateau (2.251 -> 2.397 cm/s, walls at 12 D; 24 D gives
-      the same within 0.2 % through 2.65 s; tests/bench/cylinderConfinement).
+      6.5 % on the plateau (2.251 -> 2.397 cm/s, walls at 12 D; 2.412 with
+      the walls at 24 D: 12 D is a slightly conservative choice; at D/h 20
+      2.323 -> 2.4905 cm/s, -0.42 %; tests/bench/cylinderConfinement).
     Measured (2026-11-22): 2.3965 cm/s (-4.18 %), max |x| 1.05 mm; the
     same to 4 digits in the 0.32 m box (2.397); 56 064 cells, 3500 steps,
     ~6.5 min on one core (14 min with three other jobs on the 2 vCPUs).
