@@ -90,8 +90,9 @@ def post(cases, wall=None):
                           "box_plateau_velocity_error": box[0]["plateau_velocity"] / UT_REF - 1})
     res = {
         "benchmark": "cylinderConfinement",
-        "case": "tutorials/vansFoam/cylinderSedimentation setupCase.py CASE 3.5 D/h 0.32 yes 1e-3 "
-                "resolved WALLS (walls WALLS x D from the axis; 4 = the thesis box)",
+        "case": "tutorials/vansFoam/cylinderSedimentation setupCase.py CASE 3.5 D/h HEIGHT yes 1e-3 "
+                "resolved WALLS (walls WALLS x D from the axis, 4 = the thesis box; HEIGHT "
+                "box_height of each run, 0.32 m = the thesis box)",
         "reference": "Namkoong, Yoo & Choi (2008), J. Fluid Mech. 604:33-53: U_t = 2.501 cm/s, "
                      "Re 156, cylinder in an infinite fluid (thesis 3.3.3)",
         "terminal_velocity_reference": UT_REF,
