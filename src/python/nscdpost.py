@@ -93,8 +93,11 @@ def time_dirs(case):
 
 #: optional per-grain fields written by the coupled solvers (vansCloud):
 #: fluid force [N] (2D: per mesh depth), fluid velocity at the grain [m/s],
-#: grain and fluid temperature [K], fluid torque [N m] (rotationCoupling)
-OPTIONAL_GRAIN_FIELDS = ("Ffluid", "Ufluid", "T", "Tfluid", "torqueFluid")
+#: grain and fluid temperature [K], fluid torque [N m] (rotationCoupling);
+#: and the grains' persistent index grainId (grainCloud; the written order
+#: changes between times and with the decomposition: sort by it to follow a
+#: grain)
+OPTIONAL_GRAIN_FIELDS = ("Ffluid", "Ufluid", "T", "Tfluid", "torqueFluid", "grainId")
 
 
 def read_grains(case, time_name):

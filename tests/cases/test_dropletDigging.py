@@ -133,9 +133,8 @@ def test_droplet_without_evaporation(sweep, env):
 
     def positions(time_name):
         """Grain centres (x, y) [m] at a write time, ordered by grainId."""
-        ids = nscdpost.read_scalar_field(os.path.join(case, time_name, "lagrangian", "grains",
-                                                      "grainId")).astype(int)
-        return nscdpost.read_grains(case, time_name)["x"][np.argsort(ids), :2]
+        g = nscdpost.read_grains(case, time_name)
+        return g["x"][np.argsort(g["grainId"]), :2]
     x0, x1 = positions("0.05"), positions("0.1")
     info = json.load(open(os.path.join(case, "case.json")))
     lower = (x0[:, 1] < 0.5 * info["bed_top"]) & (x1[:, 1] < 0.5 * info["bed_top"])

@@ -194,8 +194,7 @@ def test_parallel_matches_serial(tmp_path, env):
     name = nscdpost.time_dirs(serial)[-1][1]
     gs = nscdpost.read_grains(serial, name)
     gp = nscdpost.read_grains(par, name)
-    ids_s = nscdpost.read_scalar_field(os.path.join(serial, name, "lagrangian", "grains", "grainId"))
-    ids_p = nscdpost.read_scalar_field(os.path.join(par, name, "lagrangian", "grains", "grainId"))
+    ids_s, ids_p = gs["grainId"], gp["grainId"]
     assert sorted(ids_p) == sorted(ids_s) == list(range(30))
     xs = gs["x"][np.argsort(ids_s)]
     xp = gp["x"][np.argsort(ids_p)]
