@@ -256,6 +256,59 @@ double System::wallFriction(int wall) const
 
 int System::nWalls() const { return int(impl_->walls.size()); }
 
+// droplets (capillary entry barrier, System.H)
+
+namespace
+{
+void checkDroplet(const System::Droplet& d, const char* where)
+{
+    const bool ok = std::isfinite(d.radius) && d.radius > 0 && std::isfinite(d.mass) && d.mass >= 0
+                    && std::isfinite(d.surfaceTension) && d.surfaceTension >= 0
+                    && d.centre.allFinite() && d.velocity.allFinite() && d.force.allFinite();
+    if (!ok)
+    {
+        std::ostringstream os;
+        os << where << ": invalid droplet (need radius > 0, mass >= 0, surfaceTension >= 0, finite"
+           << " centre/velocity/force), got radius " << d.radius << ", mass " << d.mass
+           << ", surfaceTension " << d.surfaceTension;
+        throw InputError(os.str());
+    }
+}
+}
+
+int System::addDroplet(const Droplet& d)
+{
+    checkDroplet(d, "nscd::System::addDroplet");
+    impl_->droplets.push_back(d);
+    return int(impl_->droplets.size()) - 1;
+}
+
+System::Droplet& System::droplet(int id)
+{
+    if (id < 0 || id >= int(impl_->droplets.size()))
+        throw InputError("nscd::System::droplet: unknown droplet " + std::to_string(id));
+    return impl_->droplets[id];
+}
+
+const System::Droplet& System::droplet(int id) const
+{
+    if (id < 0 || id >= int(impl_->droplets.size()))
+        throw InputError("nscd::System::droplet: unknown droplet " + std::to_string(id));
+    return impl_->droplets[id];
+}
+
+int System::nDroplets() const { return int(impl_->droplets.size()); }
+
+double System::capillaryEntryForce(int dimension, double sigma, double r, double h)
+{
+    const double Fmax = dimension == 2 ? 2*sigma : 2*M_PI*sigma*r;
+    if (h <= r) return Fmax;              // threshold (rising branch replaced)
+    if (h >= 2*r) return 0.0;             // fully inside
+    const double c = 1 - h/r;             // cos(phi), phi in (pi/2, pi)
+    const double s2 = std::max(0.0, 1 - c*c);
+    return dimension == 2 ? Fmax*std::sqrt(s2) : Fmax*s2;
+}
+
 Vec3 System::wallDisplacement(int wall) const
 {
     if (wall < 0 || wall >= int(impl_->walls.size()))
@@ -532,6 +585,39 @@ void System::Impl::detect(double dt)
     }
 }
 
+void System::Impl::detectDroplets(double dt)
+{
+    const int N = int(x.size());
+    const int NW = int(walls.size());
+    const Settings& S = settings;
+    const double margin = S.alertMargin*rMin();
+    for (int k = 0; k < int(droplets.size()); ++k)
+    {
+        const System::Droplet& D = droplets[k];
+        if (!(D.surfaceTension > 0)) continue;
+        const Body& B = body[N + NW + k];
+        const double sd = B.v.norm();
+        for (int i = 0; i < N; ++i)
+        {
+            const Vec3 d = x[i] - D.centre;
+            const double dn = d.norm();
+            const double ri = rad[i];
+            const double gap = dn - D.radius - ri;
+            const double alert = S.alertDistanceFactor*dt*(speed[i] + sd) + margin;
+            if (!(gap > -2*ri) || gap >= alert || !(dn > 0)) continue;
+            if (fix[i] && B.im == 0) continue;   // neither body can move
+            Contact c;
+            c.i = i;
+            c.j = N + NW + k;
+            c.n = d/dn;
+            c.gap = gap;
+            c.mu = 0;
+            c.cap = System::capillaryEntryForce(dim, D.surfaceTension, ri, -gap)*dt;
+            newContacts.push_back(c);
+        }
+    }
+}
+
 // ============================================================================
 // step
 // ============================================================================
@@ -553,15 +639,18 @@ StepReport System::step(double dt)
             throw InputError("nscd::System::step: invalid settings (need cohesionMinAge >= 0, got "
                              + std::to_string(S.cohesionMinAge) + ")");
     }
+    for (const Droplet& d : I.droplets) checkDroplet(d, "nscd::System::step");
     const bool heat = I.heatCheck();  // throws before anything is changed
     const int N = int(I.x.size());
     const int NW = int(I.walls.size());
+    const int ND = int(I.droplets.size());
+    const int NB = N + NW + ND;  // bodies: grains, walls, droplets
     const bool twoD = I.dim == 2;
     StepReport rep;
     rep.substeps = 1;
 
     // ---- free velocity (eq. 2.11) ----
-    I.body.resize(N + NW);
+    I.body.resize(NB);
     I.speed.resize(N);
     for (int i = 0; i < N; ++i)
     {
@@ -592,11 +681,24 @@ StepReport System::step(double dt)
         B.w.setZero();
         B.im = B.ii = B.r = 0;
     }
+    for (int k = 0; k < ND; ++k)
+    {
+        // droplet: translation only, its own forces (no System gravity)
+        const Droplet& D = I.droplets[k];
+        Body& B = I.body[N + NW + k];
+        B.im = D.mass > 0 ? 1.0/D.mass : 0.0;
+        B.v = D.velocity + dt*B.im*D.force;
+        if (twoD) B.v.z() = 0;
+        B.w.setZero();
+        B.ii = B.r = 0;
+    }
 
     // ---- detection ----
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
     I.detect(dt);
+    const int NC0 = int(I.newContacts.size());  // grain-grain and grain-wall contacts
+    I.detectDroplets(dt);                        // then grain-droplet ones
     const auto t1 = clock::now();
     rep.detectSeconds = std::chrono::duration<double>(t1 - t0).count();
     std::vector<Contact>& C = I.newContacts;
@@ -633,7 +735,7 @@ StepReport System::step(double dt)
         // gap-based Signorini (eq. 2.37 with the gap): u_n^+ >= -g/dt; overlaps
         // within the slop band are only held (u_n^+ >= 0), larger ones are
         // pushed back to the band edge in one step.
-        c.bias = c.gap >= 0 ? c.gap/dt : (c.gap > -slop ? 0.0 : (c.gap + slop)/dt);
+        c.bias = c.gap >= 0 || k >= NC0 ? c.gap/dt : (c.gap > -slop ? 0.0 : (c.gap + slop)/dt);
         c.rn = 0;
         c.rt.setZero();
         c.change = 0;
@@ -653,7 +755,7 @@ StepReport System::step(double dt)
             if (best >= 0) c.age = P[best].age;
         }
         // cohesion (eq. 4.18): close, persistent, and the user's condition
-        if (cohesion && c.gap <= cohDist && c.age >= minAge)
+        if (cohesion && k < NC0 && c.gap <= cohDist && c.age >= minAge)
         {
             const int jj = c.j < N ? c.j : -(c.j - N + 1);
             if (I.cohesionPredicate(c.i, jj)) c.coh = I.cohesionForce*dt;
@@ -690,22 +792,25 @@ StepReport System::step(double dt)
     }
 
     // ---- adjacency (contacts of each movable grain) ----
-    I.adjStart.assign(N + 1, 0);
+    // (bodies of all kinds; walls and fixed grains have none, a movable
+    // droplet lists its contacts: a change of its velocity re-flags them)
+    auto movableB = [&](int j) { return j < N ? !I.fix[j] : I.body[j].im > 0; };
+    I.adjStart.assign(NB + 1, 0);
     for (int k = 0; k < NC; ++k)
     {
         const Contact& c = C[k];
         if (!I.fix[c.i]) ++I.adjStart[c.i + 1];
-        if (c.j < N && !I.fix[c.j]) ++I.adjStart[c.j + 1];
+        if (movableB(c.j)) ++I.adjStart[c.j + 1];
     }
-    for (int i = 0; i < N; ++i) I.adjStart[i + 1] += I.adjStart[i];
-    I.adjItems.resize(I.adjStart[N]);
+    for (int i = 0; i < NB; ++i) I.adjStart[i + 1] += I.adjStart[i];
+    I.adjItems.resize(I.adjStart[NB]);
     {
         I.cellOf.assign(I.adjStart.begin(), I.adjStart.end() - 1);  // cursor
         for (int k = 0; k < NC; ++k)
         {
             const Contact& c = C[k];
             if (!I.fix[c.i]) I.adjItems[I.cellOf[c.i]++] = k;
-            if (c.j < N && !I.fix[c.j]) I.adjItems[I.cellOf[c.j]++] = k;
+            if (movableB(c.j)) I.adjItems[I.cellOf[c.j]++] = k;
         }
     }
 
@@ -742,6 +847,7 @@ StepReport System::step(double dt)
         // eq. 2.38 (stick), 2.39-2.40 (slip forward/backward), 2.41 (W_nt = 0)
         double rn = -unFree*c.iwnn;
         if (rn < -c.coh) rn = -c.coh;
+        if (rn > c.cap) rn = c.cap;  // droplet contacts: capillary entry impulse
         double lim = c.mu*(rn + c.coh);
         double rt = -utFree*c.iwtt;
         if (rt > lim) rt = lim;
@@ -750,6 +856,7 @@ StepReport System::step(double dt)
         {
             rn = c.rn + omega*(rn - c.rn);
             if (rn < -c.coh) rn = -c.coh;
+            if (rn > c.cap) rn = c.cap;
             lim = c.mu*(rn + c.coh);
             rt = c.rts + omega*(rt - c.rts);
             if (rt > lim) rt = lim;
@@ -788,6 +895,7 @@ StepReport System::step(double dt)
         // with precomputed inverses): eq. 2.38-2.41
         double rn = -unFree*c.iwnn;
         if (rn < -c.coh) rn = -c.coh;
+        if (rn > c.cap) rn = c.cap;  // droplet contacts: capillary entry impulse
         const double rnt = rn + c.coh;
         Vec3 rt;
         if (rnt <= 0.0) rt.setZero();
@@ -803,6 +911,7 @@ StepReport System::step(double dt)
             // projected over-relaxation: r <- Proj_K(r_old + omega (r_solved - r_old))
             rn = c.rn + omega*(rn - c.rn);
             if (rn < -c.coh) rn = -c.coh;
+            if (rn > c.cap) rn = c.cap;
             rt = c.rt + omega*(rt - c.rt);
             const double lim = c.mu*(rn + c.coh);
             const double n2 = rt.squaredNorm();
@@ -855,7 +964,7 @@ StepReport System::step(double dt)
             push(k);
             const Contact& c = cs[k];
             for (int p = adjS[c.i]; p < adjS[c.i + 1]; ++p) push(adjI[p]);
-            if (c.j < N) for (int p = adjS[c.j]; p < adjS[c.j + 1]; ++p) push(adjI[p]);
+            for (int p = adjS[c.j]; p < adjS[c.j + 1]; ++p) push(adjI[p]);
         }
     }
     else
@@ -882,9 +991,8 @@ StepReport System::step(double dt)
                 const Contact& c = cs[k];
                 for (int p = adjS[c.i]; p < adjS[c.i + 1]; ++p)
                 { const int kk = adjI[p]; mark(kk); nlo = std::min(nlo, kk); nhi = std::max(nhi, kk); }
-                if (c.j < N)
-                    for (int p = adjS[c.j]; p < adjS[c.j + 1]; ++p)
-                    { const int kk = adjI[p]; mark(kk); nlo = std::min(nlo, kk); nhi = std::max(nhi, kk); }
+                for (int p = adjS[c.j]; p < adjS[c.j + 1]; ++p)
+                { const int kk = adjI[p]; mark(kk); nlo = std::min(nlo, kk); nhi = std::max(nhi, kk); }
             };
             if (forward) for (int k = lo; k <= hi && solves < maxSolves; ++k) visit(k);
             else for (int k = hi; k >= lo && solves < maxSolves; --k) visit(k);
@@ -916,13 +1024,21 @@ StepReport System::step(double dt)
         I.q[i] = rotate(I.q[i], B.w, dt);
     }
     for (int k = 0; k < NW; ++k) I.walls[k].displacement += dt*I.walls[k].velocity;
+    for (int k = 0; k < ND; ++k)
+    {
+        Droplet& D = I.droplets[k];
+        if (D.mass > 0) D.velocity = I.body[N + NW + k].v;
+        D.centre += dt*D.velocity;
+    }
+    for (int k = NC0; k < NC; ++k)  // impulse -r on the droplet (body B)
+        I.droplets[C[k].j - N - NW].impulse -= C[k].rn*C[k].n;
     I.time += dt;
 
     // ---- final overlap, contact age (closed: loaded or touching) ----
     I.lastDt = dt;
     double ov = 0;
     int nCoh = 0;
-    for (int k = 0; k < NC; ++k)
+    for (int k = 0; k < NC0; ++k)
     {
         Contact& c = C[k];
         const double gapNow = I.contactGapNow(c);
@@ -934,6 +1050,8 @@ StepReport System::step(double dt)
     rep.maxOverlap = ov;
     rep.cohesiveContacts = nCoh;
 
+    // droplet contacts are not kept (no warm start, views, heat or I/O)
+    C.resize(NC0);
     std::swap(I.contacts, I.newContacts);
 
     // ---- temperatures (eq. 4.1-4.3), with this step's impulses ----

@@ -28,6 +28,12 @@ double System::subStep(double dt, double fraction) const
         vmax = std::max(vmax, v.norm() + I.rad[i]*w.norm());
     }
     for (const Wall& W : I.walls) vmax = std::max(vmax, W.velocity.norm());
+    for (const Droplet& D : I.droplets)
+    {
+        Vec3 v = D.velocity;
+        if (D.mass > 0) v += dt*D.force/D.mass;
+        vmax = std::max(vmax, v.norm());
+    }
     const double dmin = 2*I.rMin();
     if (vmax*dt <= fraction*dmin || dmin == 0) return dt;
     const double n = std::ceil(vmax*dt/(fraction*dmin)*(1 - 1e-12));  // guard round-off
