@@ -49,6 +49,9 @@ section 4.3.3).
     the droplet (no capillary force in eq. 4.17), so the liquid seeps
     through a packing that does not move (dropletDigging/README.md,
     "contact-tolerance study"): the reason regime (i) is missing.
+(f) With the capillary entry barrier (dropletProperties surfaceTension,
+    src/dropletCoupling/README.md "Fifth increment") the droplet at T_d
+    rests on the bed and the grains carry its weight (statics).
 """
 import json
 import os
@@ -144,6 +147,44 @@ def test_droplet_without_evaporation(sweep, env):
           f"depth at {END} s: T_d {1e3 * dn:.2f} mm, 300 C {1e3 * dh:.2f} mm")
     assert lower.sum() > 50 and move < 1e-2
     assert dn >= dh
+
+
+def test_capillary_barrier_holds_droplet(sweep, env):
+    """(f) Capillary entry barrier (src/dropletCoupling/README.md, nscd
+    System::Droplet): the droplet of (e) at T_d with surfaceTension 58.91
+    mN/m (water at 100 C, IAPWS R1-76(2014)).  A grain enters the droplet
+    only if pushed by more than 2 sigma = 0.118 N/m (2D, per unit depth),
+    2.6 times the droplet's weight per depth (0.046 N/m), so the droplet
+    rests on the bed instead of sinking through it as in (e):
+    - depth at 0.1 s < 0.5 d (measured 0.13 mm = 0.14 d; without the
+      barrier 4.8 mm, test (e));
+    - statics of eq. 4.17 at rest: over 0.05-0.1 s the capillary force of
+      the grains carries the apparent weight (m - rho_f V_f) g, the mean
+      of F_c + F_pen + F_p + F_w within 1 % of it (measured -0.05 %, the
+      residual is the droplet's jitter at the contact tolerance) and F_c
+      alone within 2 % (measured -0.05 %).  The droplet starts resting on
+      the bed (setupCase.resting_height)."""
+    setup, post, cases, root = sweep
+    case = os.path.join(root, "T100_sigma")
+    setup.setup(case, 100.0, END, root=root, porosity="auto", write_interval=END / 2,
+                sigma=setup.SIGMA_WATER)
+    run("blockMesh", case, env)
+    run("vansFoam", case, env)
+    d = post.read_droplet(case)
+    C = post.COL
+    info = json.load(open(os.path.join(case, "case.json")))
+    late = d[:, C["t"]] > 0.05
+    m = d[late, C["m"]]
+    weight = np.mean((m - setup.RHO * m / setup.RHO_L) * 9.81)
+    fc = np.mean(d[late, C["Fc_y"]])
+    total = np.mean(d[late, C["Fc_y"]] + d[late, C["Fpen_y"]] + d[late, C["Fp_y"]]
+                    + d[late, C["Fw_y"]])
+    depth = d[-1, C["depth"]]
+    print(f"depth at {END} s: {1e3 * depth:.3f} mm ({depth / info['grain_diameter']:.2f} d); "
+          f"F_c/W {fc / weight:.5f}, (F_c + F_pen + F_p + F_w)/W {total / weight:.5f}")
+    assert depth < 0.5 * info["grain_diameter"]
+    assert abs(total / weight - 1) < 1e-2
+    assert abs(fc / weight - 1) < 2e-2
 
 
 @pytest.mark.xfail(strict=True, reason=(

@@ -76,7 +76,8 @@ void Foam::vapourDroplet::readDict()
     {
         "centre", "radius", "diameter", "velocity", "liquidDensity",
         "latentHeat", "vapourisationTemperature", "vapourDensity", "moving",
-        "blowing", "penalisationFactor", "grainDrag", "liquidViscosity"
+        "blowing", "penalisationFactor", "grainDrag", "liquidViscosity",
+        "surfaceTension"
     };
     grainTools::checkKeywords(dict_, allowed);
 
@@ -122,6 +123,16 @@ void Foam::vapourDroplet::readDict()
     // water at 100 C: 281.8e-6 Pa s (IAPWS 2008 viscosity formulation,
     // Huber et al., J. Phys. Chem. Ref. Data 38 (2009) 101, saturated liquid)
     muL_ = grainTools::getPositiveOrDefault(dict_, "liquidViscosity", 2.82e-4);
+    // capillary entry barrier (vapourDroplet.H, "Capillary entry barrier")
+    sigma_ = dict_.getOrDefault<scalar>("surfaceTension", 0);
+    if (!(sigma_ >= 0) || !std::isfinite(sigma_))
+    {
+        FatalIOErrorInFunction(dict_)
+            << "surfaceTension " << sigma_ << " in " << dict_.name()
+            << " must be >= 0 [N/m]." << nl
+            << "    Fix: e.g. 'surfaceTension 0.0589;' (water at 100 C) or"
+            << " 0 (no capillary barrier)." << exit(FatalIOError);
+    }
 
     // drag law and grain porosity of couplingProperties (grains present)
     {
@@ -375,12 +386,13 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     ),
     rhoL_(0), L_(0), Td_(0), rhoV_(0), moving_(false), blowing_(true),
     penalisationFactor_(100),
-    grainDrag_(true), muL_(2.82e-4), porosity_(0), drag_(nullptr),
+    grainDrag_(true), muL_(2.82e-4), sigma_(0), porosity_(0), drag_(nullptr),
     rhoF_(0), CpF_(0), diffusivity_(0),
     x_(Zero), u_(Zero), m_(0), y0_(0), mdot_(0), Qf_(0), Qp_(0), Ff_(Zero),
     Vdot_(0), pendingVapour_(0), Vp_(0), Fp_(Zero), Fw_(Zero),
     walls_(mesh.bounds()), wallActive_(false),
-    wallClamped_(false), S_(Zero), nGrainsIn_(0),
+    wallClamped_(false), S_(Zero), nGrainsIn_(0), Mp_(0), Fc_(Zero),
+    barrierId_(-1), barrierActive_(false),
     grainForce_
     (
         IOobject
@@ -781,6 +793,7 @@ void Foam::vapourDroplet::exchangeGrainMomentum
         // in u: (M' + dt C) u = M' u^n + dt (M' g + beta F_pen + Bv),
         // M' = m - beta rho_f V_f >= m - rho_f V_f > 0
         const scalar Mp = m_ - beta*VfRhoF;
+        Mp_ = Mp;
         u = (Mp*un + dt*(Mp*gVec + beta*Ff_ + Bv))/(Mp + dt*C);
         meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
         // wall contact: the clamped components of u are imposed, S there
@@ -804,6 +817,7 @@ void Foam::vapourDroplet::exchangeGrainMomentum
     {
         // held: u = u^n, S (holder included) from the liquid balance with
         // du/dt = 0
+        Mp_ = 0;
         u = un;
         S_ = (-m_*gVec + C*u - Bv)/beta;
     }
@@ -887,13 +901,16 @@ void Foam::vapourDroplet::endStep()
         g = runTime.lookupObject<uniformDimensionedVectorField>("g").value();
     }
 
-    if (!(moving_ && m_ > 0))
+    const bool move = moving_ && m_ > 0;
+    Fc_ = Zero;
+    vector u = u_;
+    vector uStar = u_;
+    if (!move)
     {
         // droplet held (or gone): the grains still feel its liquid
-        vector u = u_;
         exchangeGrainMomentum(dt, false, g, u);
     }
-    if (moving_ && m_ > 0)
+    else
     {
         if (!runTime.foundObject<uniformDimensionedVectorField>("g"))
         {
@@ -922,10 +939,9 @@ void Foam::vapourDroplet::endStep()
                 << exit(FatalError);
         }
         // u_d* = the velocity without F_p and F_w
-        vector uStar = u_ + dt*(Ff_/mEff + g);
+        uStar = u_ + dt*(Ff_/mEff + g);
         meshTools::constrainDirection(mesh_, mesh_.solutionD(), uStar);
         wallActive_ = false;
-        vector u = u_;
         exchangeGrainMomentum(dt, true, g, u);
         // wall reaction where the contact was active: closes
         // (m - rho_f V_f)(u^{n+1} - u*) = dt (F_p + F_w) (= S - F_f)
@@ -938,10 +954,151 @@ void Foam::vapourDroplet::endStep()
                 Fw_[k] = (wallClamped_[k] ? Fw[k] : 0);
             }
         }
+    }
+
+    // capillary entry barrier: the droplet moves inside the NSCD step of
+    // the grains (vapourDroplet.H); the step is finished by
+    // afterGrainStep(), which grainCloud::evolve calls
+    nscd::System* sysPtr = nullptr;
+    if (sigma_ > 0 && mesh_.foundObject<grainCloudReference>(grainCloud::registryName))
+    {
+        grainCloud& cloud =
+            mesh_.lookupObjectRef<grainCloudReference>(grainCloud::registryName)
+           .cloud();
+        sysPtr = &cloud.system();
+        if (barrierId_ < 0)
+        {
+            nscd::System::Droplet d;
+            d.radius = radius() > 0 ? radius() : 1;
+            barrierId_ = sysPtr->addDroplet(d);
+            cloud.setPostEvolve("vapourDroplet", [this]() { afterGrainStep(); });
+            // grains inside the surface at the start are pushed out with up
+            // to F_max each and kick the droplet: say so
+            const bool twoD = adapter_.twoD();
+            const auto& pos = sysPtr->positions();
+            const auto& rad = sysPtr->radii();
+            label nIn = 0;
+            for (std::size_t gi = 0; gi < rad.size(); ++gi)
+            {
+                const scalar dx = pos[gi][0] - x_.x();
+                const scalar dy = pos[gi][1] - x_.y();
+                const scalar dz = twoD ? 0.0 : pos[gi][2] - x_.z();
+                const scalar gap =
+                    std::sqrt(dx*dx + dy*dy + dz*dz) - radius() - rad[gi];
+                if (gap < -1e-3*rad[gi] && gap > -2*rad[gi])
+                {
+                    ++nIn;
+                }
+            }
+            if (nIn > 0)
+            {
+                WarningInFunction
+                    << nIn << " grains cross the droplet surface at time "
+                    << runTime.timeName() << " (" << dict_.name()
+                    << ": centre " << x_ << ", radius " << radius() << "):"
+                    << " the capillary barrier (surfaceTension " << sigma_
+                    << ") pushes each out with up to its entry force, which"
+                    << " kicks the droplet." << nl
+                    << "    Fix: start the droplet resting on the bed (no"
+                    << " grain inside its surface)." << endl;
+            }
+        }
+    }
+    if (sysPtr)
+    {
+        const bool twoD = adapter_.twoD();
+        const scalar depth = twoD ? adapter_.depth() : 1;
+        nscd::System::Droplet& d = sysPtr->droplet(barrierId_);
+        d.centre = nscd::Vec3(x_.x(), x_.y(), twoD ? 0.0 : x_.z());
+        d.radius = radius() > 0 ? radius() : 1;
+        d.impulse.setZero();
+        d.surfaceTension = m_ > 0 ? sigma_ : 0;
+        if (move)
+        {
+            // the droplet's equation of exchangeGrainMomentum,
+            // Mp (u - u^n) = dt F, with the capillary impulse added by NSCD
+            const vector F(Mp_*(u - u_)/dt);
+            d.mass = Mp_/depth;
+            d.velocity = nscd::Vec3(u_.x(), u_.y(), twoD ? 0.0 : u_.z());
+            d.force = nscd::Vec3(F.x(), F.y(), twoD ? 0.0 : F.z())/depth;
+        }
+        else
+        {
+            // held: a fixed surface
+            d.mass = 0;
+            d.velocity.setZero();
+            d.force.setZero();
+        }
+        barrierActive_ = true;
+        return;
+    }
+
+    if (move)
+    {
         u_ = u;
         x_ += dt*u_;
     }
+    finishStep();
+}
 
+
+void Foam::vapourDroplet::afterGrainStep()
+{
+    if (!barrierActive_)
+    {
+        return;
+    }
+    barrierActive_ = false;
+    const scalar dt = mesh_.time().deltaTValue();
+    const bool twoD = adapter_.twoD();
+    const scalar depth = twoD ? adapter_.depth() : 1;
+    const nscd::System& sys =
+        mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+       .cloud().system();
+    const nscd::System::Droplet& d = sys.droplet(barrierId_);
+
+    // capillary force on the droplet over the step [N] (2D: over the depth)
+    Fc_ = vector(d.impulse.x(), d.impulse.y(), twoD ? 0.0 : d.impulse.z())*depth/dt;
+    meshTools::constrainDirection(mesh_, mesh_.solutionD(), Fc_);
+
+    if (moving_ && m_ > 0)
+    {
+        vector u(d.velocity.x(), d.velocity.y(), twoD ? 0.0 : d.velocity.z());
+        meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
+        const vector xNew(d.centre.x(), d.centre.y(), twoD ? x_.z() : d.centre.z());
+        // the walls stay impenetrable: the capillary impulse may push the
+        // droplet towards a wall (x_ is still x^n here)
+        vector uc = u;
+        const FixedList<bool, 3> clampedBefore = wallClamped_;
+        wallClamped_ = false;
+        if (wallContact(dt, uc))
+        {
+            for (direction k = 0; k < vector::nComponents; ++k)
+            {
+                if (wallClamped_[k])
+                {
+                    Fw_[k] += Mp_*(uc[k] - u[k])/dt;
+                }
+            }
+            x_ += dt*uc;
+        }
+        else
+        {
+            x_ = xNew;
+        }
+        for (direction k = 0; k < vector::nComponents; ++k)
+        {
+            wallClamped_[k] = wallClamped_[k] || clampedBefore[k];
+        }
+        u_ = uc;
+    }
+    finishStep();
+}
+
+
+void Foam::vapourDroplet::finishStep()
+{
+    const Time& runTime = mesh_.time();
     if (Pstream::master())
     {
         if (!datPtr_.valid())
@@ -962,6 +1119,7 @@ void Foam::vapourDroplet::endStep()
             datPtr_() << nl
                 << "# time x y u v m mdot Q_f Q_p R depth Vdot V_p"
                    " Fp_x Fp_y Fpen_x Fpen_y nGrainsIn Fw_x Fw_y S_x S_y"
+                   " Fc_x Fc_y"
                 << nl;
         }
         std::ostringstream os;
@@ -972,7 +1130,7 @@ void Foam::vapourDroplet::endStep()
             << ' ' << Vdot_ << ' ' << Vp_ << ' ' << Fp_.x() << ' '
             << Fp_.y() << ' ' << Ff_.x() << ' ' << Ff_.y() << ' '
             << nGrainsIn_ << ' ' << Fw_.x() << ' ' << Fw_.y() << ' '
-            << S_.x() << ' ' << S_.y();
+            << S_.x() << ' ' << S_.y() << ' ' << Fc_.x() << ' ' << Fc_.y();
         datPtr_() << os.str().c_str() << nl;
         datPtr_().flush();
     }

@@ -63,7 +63,9 @@ import nscdpost  # noqa: E402
 G = 9.81
 
 # droplet.dat columns (src/dropletCoupling/README.md)
-COL = dict(t=0, x=1, y=2, u=3, v=4, m=5, mdot=6, Qf=7, Qp=8, R=9, depth=10, Vdot=11)
+COL = dict(t=0, x=1, y=2, u=3, v=4, m=5, mdot=6, Qf=7, Qp=8, R=9, depth=10, Vdot=11,
+           Vp=12, Fp_x=13, Fp_y=14, Fpen_x=15, Fpen_y=16, nGrainsIn=17, Fw_x=18, Fw_y=19,
+           S_x=20, S_y=21, Fc_x=22, Fc_y=23)
 
 
 def read_droplet(case):
