@@ -243,7 +243,11 @@ def surface_tension(value=None):
     4.17).  Raises ValueError if it is not a number >= 0."""
     if value is None:
         env = os.environ.get("SURFACE_TENSION", "")
-        value = SIGMA_WATER if env == "water" else float(env or 0)
+        try:
+            value = SIGMA_WATER if env == "water" else float(env or 0)
+        except ValueError:
+            raise ValueError(f"SURFACE_TENSION={env}: give the surface tension in N/m "
+                             "(e.g. 0.05891) or 'water'") from None
     value = float(value)
     if not value >= 0:
         raise ValueError(f"surface tension {value} N/m must be >= 0 (SURFACE_TENSION)")
