@@ -904,7 +904,6 @@ void Foam::vapourDroplet::endStep()
     const bool move = moving_ && m_ > 0;
     Fc_ = Zero;
     vector u = u_;
-    vector uStar = u_;
     if (!move)
     {
         // droplet held (or gone): the grains still feel its liquid
@@ -939,7 +938,7 @@ void Foam::vapourDroplet::endStep()
                 << exit(FatalError);
         }
         // u_d* = the velocity without F_p and F_w
-        uStar = u_ + dt*(Ff_/mEff + g);
+        vector uStar = u_ + dt*(Ff_/mEff + g);
         meshTools::constrainDirection(mesh_, mesh_.solutionD(), uStar);
         wallActive_ = false;
         exchangeGrainMomentum(dt, true, g, u);
