@@ -267,6 +267,7 @@ TEST(WallEdges, WallFriction)
     for (int k = 0; k < 1000; ++k) t.step(1e-4);  // tan 30 > 0.4: slides with the grain's mu
     const double a = g0*(std::sin(theta) - 0.4*std::cos(theta));
     EXPECT_NEAR(t.velocities()[0].x(), g0*std::sin(theta)*0.1 + a*0.1, 1e-6);
+    std::remove("wallFriction.h5");
 }
 
 // setContactImpulses seeds the warm start: a copy of a resting column given
