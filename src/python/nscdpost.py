@@ -227,13 +227,18 @@ def instantiate_case(base, case, subs):
 
 
 def read_internal_field(path):
-    """Internal field of an ascii volScalarField/volVectorField file as a numpy
-    array (uniform fields need n: returned as a 0-d array, broadcastable)."""
+    """Internal field of an ascii volScalarField/volVectorField file, or the
+    values of a volScalarField::Internal (DimensionedField, keyword `value`),
+    as a numpy array (uniform fields need n: returned as a 0-d array,
+    broadcastable)."""
     with open(path) as f:
         text = f.read()
-    m = re.search(r"internalField\s+nonuniform\s+List<(scalar|vector)>\s*(\d+)\s*\(", text)
+    # a vol field's boundary patches have `value` entries too: internalField
+    # is looked for first, `value` only in a file without it
+    key = "internalField" if re.search(r"^internalField\s", text, re.M) else "value"
+    m = re.search(key + r"\s+nonuniform\s+List<(scalar|vector)>\s*(\d+)\s*\(", text)
     if m is None:
-        u = re.search(r"internalField\s+uniform\s+([^;]+);", text)
+        u = re.search(key + r"\s+uniform\s+([^;]+);", text)
         if u is None:
             raise ValueError(f"no internalField in {path}")
         vals = u.group(1).strip("() ").split()

@@ -194,11 +194,14 @@ def budget_lines(log):
     return h["budget"][:, :3], h["E"], np.array(cont)
 
 
-def test_energy_and_vapour_budget(tmp_path, env):
+@pytest.mark.parametrize("release", ["uniform", "heatFlux"])
+def test_energy_and_vapour_budget(tmp_path, env, release):
+    """Budgets (b) of the module docstring, for both vapourRelease modes
+    (where the vapour leaves the surface must not change any budget)."""
     case = str(tmp_path / "budget")
     dt, n_steps = 0.01, 20
     droplet_case(case, env, 8, end_time=dt * n_steps, dt=dt, blowing=True, rho_l=1000.0,
-                 outlet=True)
+                 outlet=True, extra=f"vapourRelease {release};\n")
     log = run("vansFoam", case, env).stdout
     d = read_droplet(case)
     bud, E, cont = budget_lines(log)
@@ -278,9 +281,77 @@ def test_bounded_vapour_fraction_with_blowing_droplet(tmp_path, env):
     assert rng[:, 1].max() > 0.5
 
 
-def test_restart_continues_exactly(tmp_path, env):
+def sector_shares(values, xy, centre, edges):
+    """Shares of sum(values) in the angular sectors [edges[k], edges[k+1])
+    [rad] of the directions xy - centre (values >= 0 per cell, already x V)."""
+    ang = np.arctan2(xy[:, 1] - centre[1], xy[:, 0] - centre[0])
+    ang = np.where(ang < edges[0], ang + 2 * np.pi, ang)
+    k = np.digitize(ang, edges) - 1
+    tot = values.sum()
+    return np.array([values[k == i].sum() / tot for i in range(len(edges) - 1)])
+
+
+@pytest.mark.parametrize("release", ["uniform", "heatFlux"])
+def test_vapour_released_where_heat_enters(tmp_path, env, release):
+    """vapourRelease heatFlux (vapourDroplet.H, "Blowing"): the vapour of
+    each angular sector of the surface is the heat the droplet took there
+    over L rho_v (local mass balance of the phase change, eq. 4.16 per
+    surface element), to the width of the projection cone.  Held droplet,
+    blowing, 16 cells per D, its centre 0.7 D above the bottom wall
+    (walls at T_w, open top): the hot wall below makes the heat enter
+    mostly through the lower half.  Asserted at the last step (fields
+    dropletVolumeSource q [1/s] and dropletHeatSink [W/m^3] written every
+    step; q of step n is released from the sink of step n-1):
+    - sum q V = Vdot of droplet.dat (vapour volume, 1e-9 relative);
+    - heatFlux: the vapour share of each of 4 quadrants (lower, right,
+      upper, left) equals the heat share of step n-1 within 0.03 (the cone
+      of half-angle 2 h/R = 14 deg smears across the quadrant borders);
+    - uniform (the thesis' blowing): the lower-quadrant vapour share is
+      the ring's, 0.25 within 0.02, while the heat share is > 0.4: the
+      configuration discriminates the two modes."""
+    n_per_d, dt, n_steps = 16, 0.005, 12
+    case = str(tmp_path / release)
+    w = 4 * D
+    centre = (w / 2, 0.7 * D)
+    droplet_case(case, env, n_per_d, end_time=dt * n_steps, dt=dt, blowing=True,
+                 rho_l=1e6, outlet=True, centre=centre, write_interval=dt,
+                 extra=f"vapourRelease {release};\n")
+    cd = os.path.join(case, "system", "controlDict")
+    txt = open(cd).read().replace("adjustTimeStep yes;", "adjustTimeStep no;")
+    open(cd, "w").write(txt)
+    run("vansFoam", case, env)
+    d = read_droplet(case)
+    assert len(d) == n_steps
+    times = [name for t, name in nscdpost.numeric_dirs(case) if t > 0]
+    last, prev = times[-1], times[-2]
+    n = 4 * n_per_d
+    h = w / n
+    xs = (np.arange(n) + 0.5) * h
+    xy = np.stack([np.tile(xs, n), np.repeat(xs, n)], axis=1)     # blockMesh order
+    vol = h * h * DEPTH
+    q = nscdpost.read_internal_field(os.path.join(case, last, "dropletVolumeSource"))
+    sink = nscdpost.read_internal_field(os.path.join(case, prev, "dropletHeatSink"))
+    assert q.shape == (n * n,) and sink.shape == (n * n,)
+    Vdot = d[-1, 11]
+    assert Vdot > 0
+    assert abs(q.sum() * vol - Vdot) < 1e-9 * Vdot
+    assert q.min() >= 0
+    edges = np.array([-0.75, -0.25, 0.25, 0.75, 1.25]) * np.pi     # lower, right, upper, left
+    s_vap = sector_shares(q * vol, xy, centre, edges)
+    s_heat = sector_shares(np.maximum(sink, 0) * vol, xy, centre, edges)
+    print(f"{release}: vapour shares {np.round(s_vap, 4)}, heat shares {np.round(s_heat, 4)}")
+    assert s_heat[0] > 0.4
+    if release == "heatFlux":
+        assert np.all(np.abs(s_vap - s_heat) < 0.03)
+    else:
+        assert abs(s_vap[0] - 0.25) < 0.02
+
+
+@pytest.mark.parametrize("release", ["uniform", "heatFlux"])
+def test_restart_continues_exactly(tmp_path, env, release):
     """A run stopped at a write time and restarted (state from
-    <time>/uniform/droplet: centre, velocity, mass, pending vapour) ends as the
+    <time>/uniform/droplet: centre, velocity, mass, pending vapour; with
+    vapourRelease heatFlux also the last heat sink) ends as the
     uninterrupted run, to 1e-9 relative on every droplet.dat column
     (reference: the uninterrupted run; fields are written with 17 digits).
     The droplet moves (moving yes, initial velocity) and blows, so the
@@ -289,7 +360,8 @@ def test_restart_continues_exactly(tmp_path, env):
     dt = 0.01
     case = str(tmp_path / "full")
     droplet_case(case, env, 6, end_time=10 * dt, dt=dt, blowing=True, rho_l=1000.0,
-                 outlet=True, extra="velocity (0.004 -0.01 0);\n", moving=True)
+                 outlet=True, extra=f"velocity (0.004 -0.01 0);\nvapourRelease {release};\n",
+                 moving=True)
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read().replace(f"writeInterval {10 * dt};", f"writeInterval {5 * dt};")
     txt = txt.replace("adjustTimeStep yes;", "adjustTimeStep no;")   # same dt after restart
@@ -403,6 +475,7 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     (lambda s: s.replace("diameter", "radius 1e-3;\ndiameter"), ["radius", "diameter"]),
     (lambda s: s.replace("liquidDensity 1000.0", "liquidDensity -1"), ["liquidDensity", "positive"]),
     (lambda s: s + "liquidViscosity -2e-4;\n", ["liquidViscosity", "positive"]),
+    (lambda s: s + "vapourRelease bottom;\n", ["vapourRelease", "heatFlux"]),
 ])
 def test_keyword_errors(tmp_path, env, edit, words):
     """constant/dropletProperties is keyword-checked: unknown, missing,

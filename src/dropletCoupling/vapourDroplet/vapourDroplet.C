@@ -77,7 +77,7 @@ void Foam::vapourDroplet::readDict()
         "centre", "radius", "diameter", "velocity", "liquidDensity",
         "latentHeat", "vapourisationTemperature", "vapourDensity", "moving",
         "blowing", "penalisationFactor", "grainDrag", "liquidViscosity",
-        "surfaceTension"
+        "surfaceTension", "vapourRelease"
     };
     grainTools::checkKeywords(dict_, allowed);
 
@@ -132,6 +132,22 @@ void Foam::vapourDroplet::readDict()
             << " must be >= 0 [N/m]." << nl
             << "    Fix: e.g. 'surfaceTension 0.0589;' (water at 100 C) or"
             << " 0 (no capillary barrier)." << exit(FatalIOError);
+    }
+
+    // where the vapour leaves the surface (vapourDroplet.H, "Blowing")
+    {
+        const word release = dict_.getOrDefault<word>("vapourRelease", "uniform");
+        if (release != "uniform" && release != "heatFlux")
+        {
+            FatalIOErrorInFunction(dict_)
+                << "vapourRelease " << release << " in " << dict_.name()
+                << " is not a release mode." << nl
+                << "    Fix: 'vapourRelease uniform;' (uniform blowing over"
+                << " the surface, thesis 4.3.2, the default) or"
+                << " 'vapourRelease heatFlux;' (vapour leaves where the heat"
+                << " entered)." << exit(FatalIOError);
+        }
+        localRelease_ = (release == "heatFlux");
     }
 
     // drag law and grain porosity of couplingProperties (grains present)
@@ -237,6 +253,21 @@ void Foam::vapourDroplet::readRestart()
     {
         restartHistory_ = d.subDict("grainHistory");
     }
+    if (localRelease_ && d.found("sinkHeat"))
+    {
+        sinkDirection_ = d.get<List<vector>>("sinkDirection");
+        sinkHeat_ = d.get<List<scalar>>("sinkHeat");
+        if (sinkDirection_.size() != sinkHeat_.size())
+        {
+            FatalIOErrorInFunction(d)
+                << "sinkDirection (" << sinkDirection_.size() << ") and"
+                << " sinkHeat (" << sinkHeat_.size() << ") differ in size in "
+                << d.objectPath() << nl
+                << "    Fix: restart from an unedited write time, or delete"
+                << " both entries (the first step then releases uniformly)."
+                << exit(FatalIOError);
+        }
+    }
     Info<< "vapourDroplet: restart from " << d.objectPath() << endl;
 }
 
@@ -315,6 +346,11 @@ void Foam::vapourDroplet::writeRestart() const
     d.add("mdot", mdot_);
     d.add("pendingVapour", pendingVapour_);
     d.add("grainVolume", Vp_);
+    if (localRelease_)
+    {
+        d.add("sinkDirection", sinkDirection_);
+        d.add("sinkHeat", sinkHeat_);
+    }
     // predictor history of the grains near the droplet (vapourDroplet.H,
     // "Gas drag of the grains inside", Restart)
     const label n = prevVelocity_.size();
@@ -386,7 +422,7 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     ),
     rhoL_(0), L_(0), Td_(0), rhoV_(0), moving_(false), blowing_(true),
     penalisationFactor_(100),
-    grainDrag_(true), muL_(2.82e-4), sigma_(0), porosity_(0), drag_(nullptr),
+    grainDrag_(true), muL_(2.82e-4), sigma_(0), localRelease_(false), porosity_(0), drag_(nullptr),
     rhoF_(0), CpF_(0), diffusivity_(0),
     x_(Zero), u_(Zero), m_(0), y0_(0), mdot_(0), Qf_(0), Qp_(0), Ff_(Zero),
     Vdot_(0), pendingVapour_(0), Vp_(0), Fp_(Zero), Fw_(Zero),
@@ -410,6 +446,9 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     adapter_(mesh),
     chi_(mesh.nCells(), Zero),
     ring_(mesh.nCells(), Zero),
+    sinkDirection_(),
+    sinkHeat_(),
+    releaseWeight_(mesh.nCells(), Zero),
     K_(0),
     timeIndex_(-1)
 {
@@ -531,6 +570,124 @@ void Foam::vapourDroplet::update()
     // whatever the change of time step)
     Vdot_ = blowing_ ? pendingVapour_/(rhoV_*dt) : 0;
     pendingVapour_ = 0;
+    releaseWeights(h);
+}
+
+
+Foam::vector Foam::vapourDroplet::cellDirection(const label celli) const
+{
+    vector r = mesh_.C()[celli] - x_;
+    if (adapter_.twoD())
+    {
+        r.z() = 0;
+    }
+    const scalar mr = mag(r);
+    return mr > 1e-9*max(radius(), VSMALL) ? r/mr : vector(Zero);
+}
+
+
+void Foam::vapourDroplet::releaseWeights(const scalar h)
+{
+    releaseWeight_ = 0;
+    if (!localRelease_ || !blowing_ || sinkHeat_.empty())
+    {
+        return;
+    }
+    const scalarField& V = mesh_.V();
+    const scalar R = radius();
+    const scalar alpha = min(0.5*pi, max(pi/16, 2*h/max(R, VSMALL)));
+    const scalar cosAlpha = std::cos(alpha);
+
+    // local ring cells and their directions from the centre
+    DynamicList<label> cells;
+    DynamicList<vector> dirs;
+    forAll(ring_, ci)
+    {
+        if (ring_[ci] > 0)
+        {
+            cells.append(ci);
+            dirs.append(cellDirection(ci));
+        }
+    }
+    const label ns = sinkHeat_.size();
+    auto inCone = [&](const label s, const label j)
+    {
+        const vector& n = sinkDirection_[s];
+        return magSqr(n) == 0 || (n & dirs[j]) >= cosAlpha;
+    };
+
+    // A_c: ring volume in each sink cell's cone, over all ranks
+    scalarList A(ns, Zero);
+    for (label s = 0; s < ns; ++s)
+    {
+        forAll(cells, j)
+        {
+            if (inCone(s, j))
+            {
+                A[s] += ring_[cells[j]]*V[cells[j]];
+            }
+        }
+    }
+    Pstream::listCombineGather(A, plusEqOp<scalar>());
+    Pstream::listCombineScatter(A);
+    const scalar Wring = gSum(ring_*V);
+    if (!(Wring > 0))
+    {
+        return;
+    }
+
+    for (label s = 0; s < ns; ++s)
+    {
+        const scalar heat = sinkHeat_[s];
+        forAll(cells, j)
+        {
+            const label ci = cells[j];
+            if (A[s] > 0)
+            {
+                if (inCone(s, j))
+                {
+                    releaseWeight_[ci] += heat*ring_[ci]*V[ci]/A[s];
+                }
+            }
+            else
+            {
+                releaseWeight_[ci] += heat*ring_[ci]*V[ci]/Wring;
+            }
+        }
+    }
+}
+
+
+void Foam::vapourDroplet::setHeatSink(const scalarField& sink)
+{
+    if (!localRelease_)
+    {
+        return;
+    }
+    DynamicList<vector> dirs;
+    DynamicList<scalar> heat;
+    forAll(sink, ci)
+    {
+        // cells that gave heat to the droplet (a cell slightly below T_d,
+        // s_c < 0, releases nothing: the release weights stay >= 0)
+        if (sink[ci] > 0)
+        {
+            dirs.append(cellDirection(ci));
+            heat.append(sink[ci]);
+        }
+    }
+    List<List<vector>> allDirs(Pstream::nProcs());
+    List<List<scalar>> allHeat(Pstream::nProcs());
+    allDirs[Pstream::myProcNo()] = dirs;
+    allHeat[Pstream::myProcNo()] = heat;
+    Pstream::gatherList(allDirs);
+    Pstream::scatterList(allDirs);
+    Pstream::gatherList(allHeat);
+    Pstream::scatterList(allHeat);
+    sinkDirection_ =
+        ListListOps::combine<List<vector>>(allDirs, accessOp<List<vector>>());
+    sinkHeat_ =
+        ListListOps::combine<List<scalar>>(allHeat, accessOp<List<scalar>>());
 }
 
 
@@ -538,6 +695,15 @@ Foam::tmp<Foam::scalarField>
 Foam::vapourDroplet::volumeSource(const scalar Vdot) const
 {
     auto tq = tmp<scalarField>::New(ring_.size(), Zero);
+    if (localRelease_)
+    {
+        const scalar S = gSum(releaseWeight_);
+        if (S > 0)
+        {
+            tq.ref() = Vdot*releaseWeight_/(S*mesh_.V());
+            return tq;
+        }
+    }
     const scalar W = gSum(ring_*mesh_.V());
     if (W > 0)
     {

@@ -133,22 +133,26 @@ Foam::fv::vapourDropletSource::vapourDropletSource
 {
     read(dict);
 
+    // registered (vansFoam's pEqn.H looks dropletVolumeSource up) and
+    // written at the write times
+    auto field = [&mesh](const word& name, const dimensionSet& dims)
+    {
+        return new volScalarField::Internal
+        (
+            IOobject
+            (
+                name, mesh.time().timeName(), mesh,
+                IOobject::NO_READ, IOobject::AUTO_WRITE, true
+            ),
+            mesh,
+            dimensionedScalar(dims, Zero)
+        );
+    };
     if (droplet_.blowing())
     {
-        volumeSourcePtr_.reset
-        (
-            new volScalarField::Internal
-            (
-                IOobject
-                (
-                    "dropletVolumeSource", mesh.time().timeName(), mesh,
-                    IOobject::NO_READ, IOobject::NO_WRITE, true
-                ),
-                mesh,
-                dimensionedScalar(inv(dimTime), Zero)
-            )
-        );
+        volumeSourcePtr_.reset(field("dropletVolumeSource", inv(dimTime)));
     }
+    heatSinkPtr_.reset(field("dropletHeatSink", dimPower/dimVolume));
 }
 
 
@@ -205,10 +209,15 @@ void Foam::fv::vapourDropletSource::correct(volScalarField& field)
     update();
     // heat taken from the fluid by the implicit sink, end-of-step T [W]
     const scalar rhoCp = droplet_.rhoFluid()*droplet_.CpFluid();
+    // local heat sink [W/m^3], written as dropletHeatSink
+    heatSinkPtr_->field() =
+        rhoCp*droplet_.K()*droplet_.chi()
+       *(field.primitiveField() - droplet_.Td());
     const scalar Qf = rhoCp*droplet_.K()*gSum
     (
         droplet_.chi()*(field.primitiveField() - droplet_.Td())*mesh_.V()
     );
+    droplet_.setHeatSink(heatSinkPtr_->field()*mesh_.V());
     // the part the grains gave to the penalised fluid (vansCloud's KT, KTTp:
     // grain-to-fluid heat / (rho Cp) = KTTp - KT T, TEqn.H)
     scalar Qp = 0;

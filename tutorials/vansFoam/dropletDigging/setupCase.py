@@ -254,8 +254,21 @@ def surface_tension(value=None):
     return value
 
 
+def vapour_release(value=None):
+    """Where the droplet's vapour leaves its surface (dropletProperties
+    vapourRelease, src/dropletCoupling/vapourDroplet/vapourDroplet.H):
+    value if given, else env VAPOUR_RELEASE, else "uniform" (the thesis'
+    uniform blowing); "heatFlux": where the heat entered.  Raises ValueError
+    for anything else."""
+    value = value or os.environ.get("VAPOUR_RELEASE") or "uniform"
+    if value not in ("uniform", "heatFlux"):
+        raise ValueError(f"VAPOUR_RELEASE={value}: give 'uniform' (thesis, default) "
+                         "or 'heatFlux'")
+    return value
+
+
 def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=None,
-          similarity=None, deposit_root=None, sigma=None):
+          similarity=None, deposit_root=None, sigma=None, release=None):
     """Case CASE at bed temperature t_bed_c [C] with the bed of root/deposit.
     porosity: None (solid discs; the gas sees the discs of radius 0.88 r,
     section 3.2.3) or the grain porosity n of the porous-grain correction
@@ -267,7 +280,8 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
     `similarity_factors(d, d_ref)`, d = the bed's MEAN grain diameter (0.186 mm
     for the 0.2 mm bed).  deposit_root: directory holding deposit/ (default
     root), so that a scaled bed reuses the unscaled bed's deposit.  sigma:
-    surface tension of the capillary barrier (`surface_tension(sigma)`)."""
+    surface tension of the capillary barrier (`surface_tension(sigma)`).
+    release: where the vapour leaves the droplet (`vapour_release(release)`)."""
     dep = os.path.join(deposit_root or root, "deposit")
     g = nscdpost.read_grains(dep, "0")
     d_grain = float(np.mean(g["d"]))
@@ -308,6 +322,7 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
           "heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n"
           f"cohesion {{ force {f_c0 / DEPTH:.9g}; vapourThreshold {PSI0}; }}\n")
     sig = surface_tension(sigma)
+    release = vapour_release(release)
     # with the barrier the droplet starts resting on the bed (no grain inside
     # its surface); without it at the bed top (98th percentile, as measured
     # in README.md)
@@ -316,7 +331,7 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
           f"centre ({W / 2:.9g} {y_drop:.9g} {DEPTH / 2:.9g});\ndiameter {D_DROP};\n"
           f"velocity (0 0 0);\nliquidDensity {RHO_L};\nlatentHeat {LATENT};\n"
           f"vapourisationTemperature {T_D};\nvapourDensity {RHO_V};\nmoving yes;\nblowing yes;\n"
-          f"liquidViscosity {mu_l:.9g};\nsurfaceTension {sig:.9g};\n")
+          f"liquidViscosity {mu_l:.9g};\nsurfaceTension {sig:.9g};\nvapourRelease {release};\n")
     write(case, "system/fvOptions", "dictionary",
           "droplet { type vapourDropletSource; }\n"
           f"heleShaw {{ type heleShawFriction; selectionMode all; gap {GAP}; fields (U); }}\n")
@@ -346,6 +361,7 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
         "depth_l": DEPTH, "cells": [int(round(W / CELL)), int(round(H / CELL))],
         "rho": RHO, "Cp": CP, "mu": nu * RHO, "liquid_viscosity": mu_l,
         "cohesion_force": f_c0, "similarity_reference_diameter": similarity,
+        "surface_tension": sig, "vapour_release": release,
         "similarity_s": sim["s"], "T_d": T_D, "latent_heat": LATENT,
         "grain_density": RHO_P, "packing_2d": phi2d, "grain_porosity": porosity,
         "bed_weight_fraction": phi2d * (1 - (porosity or 0.0))})
