@@ -621,6 +621,123 @@ def test_grain_heat_to_droplet(tmp_path, env):
     assert abs(LATENT * (m0 - d[-1, 5]) - np.sum((Qf + Qp) * dt)) < 1e-10 * heat_p
 
 
+def film_reference(r, F, dT, mu_v=1.227e-5, k=KAPPA, rho_v=RHO_V, L=LATENT):
+    """Leidenfrost film under a 2D grain of radius r [m] pressed on the
+    droplet by F [N/m] at superheat dT [K]: lubrication of the vapour
+    squeezed out of the gap e(x) = delta + x^2/(2 r) (Poiseuille, mass
+    flux k dT/(L e) per unit area; vapourDroplet.H), evaluated here
+    independently: I by quadrature, delta = [24 I mu_v k dT (2r)^1.5 /
+    (rho_v L F)]^0.4, heat per unit depth pi k dT sqrt(2 r/delta).
+    Returns (delta [m], G = heat/dT [W/(m K)])."""
+    s = np.linspace(0.0, 400.0, 800001)
+    f = s * np.arctan(s) / (1 + s * s) ** 3
+    I = float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(s)))
+    assert abs(I - 0.147262) < 1e-5            # the constant of vapourDroplet.C
+    delta = (24 * I * mu_v * k * dT * (2 * r) ** 1.5 / (rho_v * L * F)) ** 0.4
+    return delta, math.pi * k * math.sqrt(2 * r / delta)
+
+
+def test_leidenfrost_film_heat(tmp_path, env):
+    """filmConduction yes (vapourDroplet.H, "Leidenfrost film conduction"):
+    a hot grain (r = 0.1 mm, T_d + 300 K, glass 2500 kg/m^3, c = 800
+    J/(kg K)) resting by its weight on top of a held droplet (capillary
+    barrier 0.05891 N/m), gas and walls at T_d, blowing off, 20 steps of
+    1 ms.  Asserted:
+    - the film heat of each step (droplet.dat Q_film, applied with the
+      grain temperature and contact force of the step before) equals the
+      lubrication film's G* dT l, G* = G C/(C + dt G), G from
+      `film_reference` with F = the grain's apparent weight m g (1 -
+      rho_f/rho_s) and dT from the logged grain temperature, within 1e-3
+      (the gas drag on the resting grain is not in F; Q ~ F^0.2);
+    - conservation: the grains + gas energy E of the log changes by the
+      logged budget minus the film heat, (E_N - E_1) - sum_{2..N}(budget
+      - Q_film dt) = 0 to 1e-8 of the film heat, and L x (mass lost) =
+      sum (Q_f + Q_p + Q_film) dt (eq. 4.16) to 1e-10;
+    - the first step has no film heat (nothing was pressed yet), and the
+      grain cools;
+    - restart from the write time 10 ms (the pending film heat is in
+      <time>/uniform/droplet) reproduces the uninterrupted droplet.dat to
+      1e-9 relative."""
+    import shutil
+    R0 = D / 2
+    c = 2 * D
+    r = 1e-4
+    rho_s, cp_s = 2500.0, 800.0
+    case = str(tmp_path / "film")
+    T0 = T_D + 300
+    dt, n_steps = 1e-3, 20
+    droplet_case(case, env, 8, end_time=dt * n_steps, dt=dt, blowing=False, rho_l=1000.0,
+                 T_w=T_D, grains=[(c, c + R0 + r, DEPTH / 2, 2 * r)], T_grains=T0,
+                 fixed_grains=False, gravity=9.81, write_interval=10 * dt,
+                 extra="surfaceTension 0.05891;\nfilmConduction yes;\n")
+    cd = os.path.join(case, "system", "controlDict")
+    txt = open(cd).read().replace("adjustTimeStep yes;", "adjustTimeStep no;")
+    open(cd, "w").write(txt)
+    log = run("vansFoam", case, env).stdout
+    d = read_droplet(case)
+    h = nscdpost.heat_log(log)
+    Tg = np.array([float(v) for v in re.findall(r"^heat: grain mean T = (\S+),", log, re.M)])
+    assert len(d) == n_steps and len(Tg) == n_steps and d.shape[1] == 25
+    Qfilm = d[:, 24]
+    assert Qfilm[0] == 0
+    assert np.all(Qfilm[1:] > 0)
+    m_g = rho_s * math.pi * r * r                     # kg/m (2D)
+    F = m_g * 9.81 * (1 - RHO / rho_s)
+    C = m_g * cp_s
+    ratios = []
+    for k in range(2, n_steps):
+        dT = Tg[k - 1] - T_D
+        delta, G = film_reference(r, F, dT)
+        Gs = G * C / (C + dt * G)
+        ratios.append(Qfilm[k] / (Gs * dT * DEPTH))
+    ratios = np.array(ratios)
+    delta0, G0 = film_reference(r, F, T0 - T_D)
+    print(f"film: delta {delta0 * 1e6:.3f} um, Q_film {Qfilm[2]:.4e} W, ratio to the "
+          f"lubrication film {ratios.min():.6f}..{ratios.max():.6f}, grain T {Tg[-1]:.2f} K")
+    assert np.all(np.abs(ratios - 1) < 1e-3)
+    assert Tg[-1] < T0 - 1
+
+    # conservation: the film heat leaves the grain once and enters the droplet once
+    E, bud = h["E"], h["budget"]
+    film_heat = np.sum(Qfilm[1:] * dt)
+    defect = (E[-1] - E[0]) - np.sum(bud[1:, :5].sum(axis=1) - Qfilm[1:] * dt)
+    print(f"film heat {film_heat:.6e} J, energy defect {defect:.3e} J")
+    assert abs(defect) < 1e-8 * film_heat
+    m0 = 1000.0 * math.pi * R0 ** 2 * DEPTH
+    heat = np.sum((d[:, 7] + d[:, 8] + Qfilm) * dt)
+    assert abs(LATENT * (m0 - d[-1, 5]) - heat) < 1e-10 * heat
+
+    half = str(tmp_path / "half")
+    shutil.copytree(case, half)
+    shutil.rmtree(os.path.join(half, f"{n_steps * dt:g}"))
+    shutil.rmtree(os.path.join(half, "postProcessing"))
+    assert "filmHeat" in open(os.path.join(half, f"{10 * dt:g}", "uniform", "droplet")).read()
+    run("vansFoam", half, env)
+    rest = np.loadtxt(os.path.join(half, "postProcessing", "droplet", f"{10 * dt:g}",
+                                   "droplet.dat"), ndmin=2)
+    assert len(rest) == n_steps - 10
+    assert np.allclose(rest, d[10:], rtol=1e-9, atol=1e-15)
+
+
+@pytest.mark.parametrize("extra, words", [
+    ("filmConduction yes;\n", ["filmConduction", "surfaceTension"]),
+    ("surfaceTension 0.05891;\nfilmConduction yes;\nvapourViscosity -1;\n",
+     ["vapourViscosity", "positive"]),
+])
+def test_film_keyword_errors(tmp_path, env, extra, words):
+    """filmConduction without the capillary barrier (no load for the film)
+    and a non-positive vapourViscosity are FatalIOErrors naming the file,
+    the keyword and the fix."""
+    case = str(tmp_path / "err")
+    droplet_case(case, env, 2, end_time=0.01, dt=0.01, blowing=False, rho_l=1000.0, extra=extra)
+    p = run("vansFoam", case, env, check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0
+    assert "FOAM FATAL IO ERROR" in out and "dropletProperties" in out
+    for w in words:
+        assert w in out, out[-1500:]
+
+
 def test_tutorial_skeleton_runs(tmp_path, env):
     """tutorials/vansFoam/dropletDigging (skeleton, Table 4.2) with its own
     setupCase.py on its reduced bed (1 mm grains, 10 steps): the droplet

@@ -65,6 +65,30 @@ double lensOverlap(double R, double r, double d, bool twoD)
     return pi*h*h*(d*d + 2*d*r - 3*r*r + 2*d*R + 6*r*R - 3*R*R)/(12*d);
 }
 
+//- Two lists of the restart dictionary d that go together (one entry per
+//  grain or cell): FatalIOError naming both if their sizes differ
+template<class TypeA, class TypeB>
+void readListPair
+(
+    const Foam::dictionary& d,
+    const Foam::word& nameA,
+    const Foam::word& nameB,
+    Foam::List<TypeA>& a,
+    Foam::List<TypeB>& b
+)
+{
+    a = d.get<Foam::List<TypeA>>(nameA);
+    b = d.get<Foam::List<TypeB>>(nameB);
+    if (a.size() != b.size())
+    {
+        FatalIOErrorInFunction(d)
+            << nameA << " (" << a.size() << ") and " << nameB << " ("
+            << b.size() << ") differ in size in " << d.name() << Foam::nl
+            << "    Fix: restart from an unedited write time, or delete both"
+            << " entries." << Foam::exit(Foam::FatalIOError);
+    }
+}
+
 } // End anonymous namespace
 
 
@@ -77,7 +101,7 @@ void Foam::vapourDroplet::readDict()
         "centre", "radius", "diameter", "velocity", "liquidDensity",
         "latentHeat", "vapourisationTemperature", "vapourDensity", "moving",
         "blowing", "penalisationFactor", "grainDrag", "liquidViscosity",
-        "surfaceTension", "vapourRelease"
+        "surfaceTension", "vapourRelease", "filmConduction", "vapourViscosity"
     };
     grainTools::checkKeywords(dict_, allowed);
 
@@ -150,6 +174,28 @@ void Foam::vapourDroplet::readDict()
         localRelease_ = (release == "heatFlux");
     }
 
+    // Leidenfrost film conduction (vapourDroplet.H)
+    film_ = dict_.getOrDefault<Switch>("filmConduction", false);
+    // water vapour at 100 C, 0.1 MPa: 12.27e-6 Pa s (IAPWS 2008 viscosity
+    // formulation, Huber et al., J. Phys. Chem. Ref. Data 38 (2009) 101)
+    muV_ = grainTools::getPositiveOrDefault(dict_, "vapourViscosity", 1.227e-5);
+    if (film_ && !(sigma_ > 0))
+    {
+        FatalIOErrorInFunction(dict_)
+            << "filmConduction yes in " << dict_.name() << " needs the"
+            << " capillary entry barrier: the film's load is the grain's"
+            << " contact force on the droplet surface." << nl
+            << "    Fix: set surfaceTension (e.g. 0.05891, water at 100 C) or"
+            << " filmConduction no." << exit(FatalIOError);
+    }
+    if (film_ && !adapter_.twoD())
+    {
+        FatalIOErrorInFunction(dict_)
+            << "filmConduction yes in " << dict_.name() << ": the film model"
+            << " is derived for discs (2D, one-cell-thick mesh) only." << nl
+            << "    Fix: filmConduction no for a 3D mesh." << exit(FatalIOError);
+    }
+
     // drag law and grain porosity of couplingProperties (grains present)
     {
         IOobject io
@@ -193,6 +239,7 @@ void Foam::vapourDroplet::readDict()
     }
     rhoF_ = transport.get<scalar>("rho");
     CpF_ = transport.get<scalar>("Cp");
+    kappaF_ = transport.get<scalar>("kappa");
     const scalar alpha = transport.get<scalar>("kappa")/(rhoF_*CpF_);
     diffusivity_ = max(alpha, transport.get<scalar>("nu"));
     scalar rhoVtransport = -1;
@@ -253,20 +300,13 @@ void Foam::vapourDroplet::readRestart()
     {
         restartHistory_ = d.subDict("grainHistory");
     }
+    if (film_ && d.found("filmHeat"))
+    {
+        readListPair(d, "filmGrain", "filmHeat", filmGrain_, filmHeat_);
+    }
     if (localRelease_ && d.found("sinkHeat"))
     {
-        sinkDirection_ = d.get<List<vector>>("sinkDirection");
-        sinkHeat_ = d.get<List<scalar>>("sinkHeat");
-        if (sinkDirection_.size() != sinkHeat_.size())
-        {
-            FatalIOErrorInFunction(d)
-                << "sinkDirection (" << sinkDirection_.size() << ") and"
-                << " sinkHeat (" << sinkHeat_.size() << ") differ in size in "
-                << d.objectPath() << nl
-                << "    Fix: restart from an unedited write time, or delete"
-                << " both entries (the first step then releases uniformly)."
-                << exit(FatalIOError);
-        }
+        readListPair(d, "sinkDirection", "sinkHeat", sinkDirection_, sinkHeat_);
     }
     Info<< "vapourDroplet: restart from " << d.objectPath() << endl;
 }
@@ -346,6 +386,11 @@ void Foam::vapourDroplet::writeRestart() const
     d.add("mdot", mdot_);
     d.add("pendingVapour", pendingVapour_);
     d.add("grainVolume", Vp_);
+    if (film_)
+    {
+        d.add("filmGrain", filmGrain_);
+        d.add("filmHeat", filmHeat_);
+    }
     if (localRelease_)
     {
         d.add("sinkDirection", sinkDirection_);
@@ -422,7 +467,7 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     ),
     rhoL_(0), L_(0), Td_(0), rhoV_(0), moving_(false), blowing_(true),
     penalisationFactor_(100),
-    grainDrag_(true), muL_(2.82e-4), sigma_(0), localRelease_(false), porosity_(0), drag_(nullptr),
+    grainDrag_(true), muL_(2.82e-4), sigma_(0), localRelease_(false), film_(false), muV_(0), kappaF_(0), porosity_(0), drag_(nullptr),
     rhoF_(0), CpF_(0), diffusivity_(0),
     x_(Zero), u_(Zero), m_(0), y0_(0), mdot_(0), Qf_(0), Qp_(0), Ff_(Zero),
     Vdot_(0), pendingVapour_(0), Vp_(0), Fp_(Zero), Fw_(Zero),
@@ -448,6 +493,18 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     ring_(mesh.nCells(), Zero),
     sinkDirection_(),
     sinkHeat_(),
+    filmGrain_(),
+    filmHeat_(),
+    Qfilm_(0),
+    grainHeat_
+    (
+        IOobject
+        (
+            "dropletGrainHeat", mesh.time().timeName(), mesh,
+            IOobject::NO_READ, IOobject::NO_WRITE, true
+        ),
+        label(0)
+    ),
     releaseWeight_(mesh.nCells(), Zero),
     K_(0),
     timeIndex_(-1)
@@ -688,6 +745,91 @@ void Foam::vapourDroplet::setHeatSink(const scalarField& sink)
         ListListOps::combine<List<vector>>(allDirs, accessOp<List<vector>>());
     sinkHeat_ =
         ListListOps::combine<List<scalar>>(allHeat, accessOp<List<scalar>>());
+
+    // the film heat enters at the grains (the same on every rank: the
+    // grain system is replicated)
+    if (film_ && filmGrain_.size())
+    {
+        const nscd::System& sys =
+            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+           .cloud().system();
+        forAll(filmGrain_, k)
+        {
+            if (filmGrain_[k] >= label(sys.size()) || !(filmHeat_[k] > 0))
+            {
+                continue;
+            }
+            const auto& xg = sys.positions()[filmGrain_[k]];
+            vector r(xg[0] - x_.x(), xg[1] - x_.y(), 0);
+            sinkDirection_.append(r/max(mag(r), VSMALL));
+            sinkHeat_.append(filmHeat_[k]);
+        }
+    }
+}
+
+
+Foam::scalar Foam::vapourDroplet::filmThickness
+(
+    const scalar r,
+    const scalar F,
+    const scalar dT,
+    const scalar muV,
+    const scalar k,
+    const scalar rhoV,
+    const scalar L
+)
+{
+    // I = int_0^inf s atan(s)/(1 + s^2)^3 ds (vapourDroplet.H)
+    constexpr scalar I = 0.147262;
+    return std::pow
+    (
+        24*I*muV*k*dT*std::pow(2*r, 1.5)/(rhoV*L*F),
+        0.4
+    );
+}
+
+
+void Foam::vapourDroplet::computeFilmHeat
+(
+    const nscd::System& sys,
+    const scalar dt
+)
+{
+    filmGrain_.clear();
+    filmHeat_.clear();
+    if (!film_ || barrierId_ < 0 || !(m_ > 0))
+    {
+        return;
+    }
+    const scalar depth = adapter_.depth();
+    const std::vector<double>& rn = sys.droplet(barrierId_).grainImpulse;
+    const std::vector<double>& T = sys.temperatures();
+    DynamicList<label> grains;
+    DynamicList<scalar> heat;
+    for (std::size_t i = 0; i < rn.size(); ++i)
+    {
+        const scalar F = rn[i]/dt;      // N/m (2D, nscd units)
+        const scalar dT = T[i] - Td_;
+        if (!(F > 0) || !(dT > 0))
+        {
+            continue;
+        }
+        const scalar c = sys.material(sys.materials()[i]).heatCapacity;
+        const bool bath = sys.fixedTemperature(i);
+        if (!(c > 0) && !bath)
+        {
+            continue;   // temperature not integrated: no heat to give
+        }
+        const scalar r = sys.radii()[i];
+        const scalar delta = filmThickness(r, F, dT, muV_, kappaF_, rhoV_, L_);
+        const scalar G = pi*kappaF_*std::sqrt(2*r/delta);     // W/(m K)
+        const scalar C = sys.mass(i)*c;                        // J/(m K)
+        const scalar Gstar = bath ? G : G*C/(C + dt*G);
+        grains.append(label(i));
+        heat.append(Gstar*dT*depth);                           // W
+    }
+    filmGrain_.transfer(grains);
+    filmHeat_.transfer(heat);
 }
 
 
@@ -718,7 +860,27 @@ void Foam::vapourDroplet::setHeat(const scalar Qf, const scalar Qp)
     const scalar dt = mesh_.time().deltaTValue();
     Qf_ = Qf;
     Qp_ = Qp;
-    mdot_ = (Qf_ + Qp_)/L_;     // eq. 4.16
+    // Leidenfrost film heat of the grains pressed on the surface (last NSCD
+    // step), taken from them over this step by vansCloud's heat sources
+    Qfilm_ = 0;
+    if (film_ && mesh_.foundObject<grainCloudReference>(grainCloud::registryName))
+    {
+        const label n =
+            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+           .cloud().system().size();
+        const scalar depth = adapter_.depth();
+        grainHeat_.setSize(n);
+        grainHeat_ = Zero;
+        forAll(filmGrain_, k)
+        {
+            if (filmGrain_[k] < n)
+            {
+                grainHeat_[filmGrain_[k]] -= filmHeat_[k]/depth;
+                Qfilm_ += filmHeat_[k];
+            }
+        }
+    }
+    mdot_ = (Qf_ + Qp_ + Qfilm_)/L_;     // eq. 4.16
     scalar loss = mdot_*dt;
     if (loss > m_)
     {
@@ -1177,6 +1339,7 @@ void Foam::vapourDroplet::endStep()
         d.centre = nscd::Vec3(x_.x(), x_.y(), twoD ? 0.0 : x_.z());
         d.radius = radius() > 0 ? radius() : 1;
         d.impulse.setZero();
+        std::fill(d.grainImpulse.begin(), d.grainImpulse.end(), 0.0);
         d.surfaceTension = m_ > 0 ? sigma_ : 0;
         if (move)
         {
@@ -1221,6 +1384,7 @@ void Foam::vapourDroplet::afterGrainStep()
         mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
        .cloud().system();
     const nscd::System::Droplet& d = sys.droplet(barrierId_);
+    computeFilmHeat(sys, dt);
 
     // capillary force on the droplet over the step [N] (2D: over the depth)
     Fc_ = vector(d.impulse.x(), d.impulse.y(), twoD ? 0.0 : d.impulse.z())*depth/dt;
@@ -1284,7 +1448,7 @@ void Foam::vapourDroplet::finishStep()
             datPtr_() << nl
                 << "# time x y u v m mdot Q_f Q_p R depth Vdot V_p"
                    " Fp_x Fp_y Fpen_x Fpen_y nGrainsIn Fw_x Fw_y S_x S_y"
-                   " Fc_x Fc_y"
+                   " Fc_x Fc_y Q_film"
                 << nl;
         }
         std::ostringstream os;
@@ -1295,7 +1459,8 @@ void Foam::vapourDroplet::finishStep()
             << ' ' << Vdot_ << ' ' << Vp_ << ' ' << Fp_.x() << ' '
             << Fp_.y() << ' ' << Ff_.x() << ' ' << Ff_.y() << ' '
             << nGrainsIn_ << ' ' << Fw_.x() << ' ' << Fw_.y() << ' '
-            << S_.x() << ' ' << S_.y() << ' ' << Fc_.x() << ' ' << Fc_.y();
+            << S_.x() << ' ' << S_.y() << ' ' << Fc_.x() << ' ' << Fc_.y()
+            << ' ' << Qfilm_;
         datPtr_() << os.str().c_str() << nl;
         datPtr_().flush();
     }

@@ -640,6 +640,8 @@ StepReport System::step(double dt)
                              + std::to_string(S.cohesionMinAge) + ")");
     }
     for (const Droplet& d : I.droplets) checkDroplet(d, "nscd::System::step");
+    for (Droplet& d : I.droplets)
+        if (d.grainImpulse.size() != I.x.size()) d.grainImpulse.assign(I.x.size(), 0.0);
     const bool heat = I.heatCheck();  // throws before anything is changed
     const int N = int(I.x.size());
     const int NW = int(I.walls.size());
@@ -1031,7 +1033,11 @@ StepReport System::step(double dt)
         D.centre += dt*D.velocity;
     }
     for (int k = NC0; k < NC; ++k)  // impulse -r on the droplet (body B)
-        I.droplets[C[k].j - N - NW].impulse -= C[k].rn*C[k].n;
+    {
+        Droplet& D = I.droplets[C[k].j - N - NW];
+        D.impulse -= C[k].rn*C[k].n;
+        D.grainImpulse[C[k].i] += C[k].rn;
+    }
     I.time += dt;
 
     // ---- final overlap, contact age (closed: loaded or touching) ----

@@ -83,6 +83,10 @@ TEST(Droplet, LightDropletRestsOnAGrain)
         // the grain gives the droplet exactly its weight: statics
         EXPECT_NEAR(s.droplet(id).impulse.y(), M*g*dt, 1e-12*M*g*dt);
         EXPECT_NEAR(s.droplet(id).velocity.norm(), 0.0, 1e-14);
+        // ... through its own normal impulse (grainImpulse, resized by the
+        // step to the grain count, accumulated since the last reset)
+        ASSERT_EQ(s.droplet(id).grainImpulse.size(), 1u);
+        EXPECT_NEAR(s.droplet(id).grainImpulse[0], (k + 1)*M*g*dt, 1e-12*(k + 1)*M*g*dt);
     }
     EXPECT_NEAR((s.droplet(id).centre - x0).norm(), 0.0, 1e-15);
     // droplet contacts are not grain contacts (views, heat, warm start)
@@ -166,6 +170,9 @@ TEST(Droplet, FloorCarriesGrainAndDroplet)
         const auto c = s.contacts()[0];
         EXPECT_NEAR(c.impulse.y(), (mg + M)*g*dt, 1e-9*(mg + M)*g*dt);
         EXPECT_NEAR(s.droplet(id).impulse.y(), M*g*dt, 1e-9*M*g*dt);
+        // per grain: the one grain carries the droplet (reset by hand)
+        EXPECT_NEAR(s.droplet(id).grainImpulse[0], M*g*dt, 1e-9*M*g*dt);
+        s.droplet(id).grainImpulse.assign(1, 0.0);
         // at rest to the solver tolerance xi/dt = 1e-12 d_min/dt = 2e-12 m/s
         EXPECT_NEAR(s.droplet(id).velocity.norm(), 0.0, 1e-11);
         EXPECT_NEAR(s.velocities()[0].norm(), 0.0, 1e-11);

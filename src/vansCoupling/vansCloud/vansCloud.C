@@ -1345,6 +1345,17 @@ void Foam::vansCloud::setHeatSources(const volScalarField& T, const scalar dt)
     adapter_.gather(T, Tfluid_);
     Qgrain_.setSize(n);
     Qstep_ = 0;
+    // heat into the grains from an immersed droplet's Leidenfrost film
+    // (dropletCoupling, IOField dropletGrainHeat, nscd units: W/m in 2D;
+    // absent or empty: none); not part of the fluid-grain exchange
+    const IOField<scalar>* filmHeat =
+        mesh_.foundObject<IOField<scalar>>("dropletGrainHeat")
+      ? &mesh_.lookupObject<IOField<scalar>>("dropletGrainHeat")
+      : nullptr;
+    if (filmHeat && filmHeat->size() != n)
+    {
+        filmHeat = nullptr;
+    }
     try
     {
         for (label i = 0; i < n; ++i)
@@ -1358,7 +1369,10 @@ void Foam::vansCloud::setHeatSources(const volScalarField& T, const scalar dt)
             // spread KT, KTTp and gather T)
             Qgrain_[i] = Hstar_[i]*(Tfluid_[i] - Tgrain0_[i]);
             Qstep_ += dt*Qgrain_[i];
-            s.setHeatSource(i, Qgrain_[i]/depth);
+            s.setHeatSource
+            (
+                i, Qgrain_[i]/depth + (filmHeat ? (*filmHeat)[i] : scalar(0))
+            );
         }
     }
     catch (const nscd::InputError& err)

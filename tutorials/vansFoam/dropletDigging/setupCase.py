@@ -267,8 +267,21 @@ def vapour_release(value=None):
     return value
 
 
+def film_conduction(value=None):
+    """Leidenfrost film conduction from the grains pressed on the droplet
+    (dropletProperties filmConduction, vapourDroplet.H; needs the capillary
+    barrier): value if given, else env FILM_CONDUCTION ("yes"/"no"), else
+    False.  Raises ValueError for another word."""
+    if value is None:
+        env = os.environ.get("FILM_CONDUCTION", "no")
+        if env not in ("yes", "no"):
+            raise ValueError(f"FILM_CONDUCTION={env}: give 'yes' or 'no'")
+        value = env == "yes"
+    return bool(value)
+
+
 def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=None,
-          similarity=None, deposit_root=None, sigma=None, release=None):
+          similarity=None, deposit_root=None, sigma=None, release=None, film=None):
     """Case CASE at bed temperature t_bed_c [C] with the bed of root/deposit.
     porosity: None (solid discs; the gas sees the discs of radius 0.88 r,
     section 3.2.3) or the grain porosity n of the porous-grain correction
@@ -281,7 +294,8 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
     for the 0.2 mm bed).  deposit_root: directory holding deposit/ (default
     root), so that a scaled bed reuses the unscaled bed's deposit.  sigma:
     surface tension of the capillary barrier (`surface_tension(sigma)`).
-    release: where the vapour leaves the droplet (`vapour_release(release)`)."""
+    release: where the vapour leaves the droplet (`vapour_release(release)`).
+    film: Leidenfrost film conduction (`film_conduction(film)`; needs sigma > 0)."""
     dep = os.path.join(deposit_root or root, "deposit")
     g = nscdpost.read_grains(dep, "0")
     d_grain = float(np.mean(g["d"]))
@@ -323,6 +337,10 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
           f"cohesion {{ force {f_c0 / DEPTH:.9g}; vapourThreshold {PSI0}; }}\n")
     sig = surface_tension(sigma)
     release = vapour_release(release)
+    film = film_conduction(film)
+    if film and not sig > 0:
+        raise ValueError("FILM_CONDUCTION=yes needs the capillary barrier: set "
+                         "SURFACE_TENSION=water (or a value > 0)")
     # with the barrier the droplet starts resting on the bed (no grain inside
     # its surface); without it at the bed top (98th percentile, as measured
     # in README.md)
@@ -331,7 +349,8 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
           f"centre ({W / 2:.9g} {y_drop:.9g} {DEPTH / 2:.9g});\ndiameter {D_DROP};\n"
           f"velocity (0 0 0);\nliquidDensity {RHO_L};\nlatentHeat {LATENT};\n"
           f"vapourisationTemperature {T_D};\nvapourDensity {RHO_V};\nmoving yes;\nblowing yes;\n"
-          f"liquidViscosity {mu_l:.9g};\nsurfaceTension {sig:.9g};\nvapourRelease {release};\n")
+          f"liquidViscosity {mu_l:.9g};\nsurfaceTension {sig:.9g};\nvapourRelease {release};\n"
+          f"filmConduction {'yes' if film else 'no'};\n")
     write(case, "system/fvOptions", "dictionary",
           "droplet { type vapourDropletSource; }\n"
           f"heleShaw {{ type heleShawFriction; selectionMode all; gap {GAP}; fields (U); }}\n")
@@ -361,7 +380,7 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
         "depth_l": DEPTH, "cells": [int(round(W / CELL)), int(round(H / CELL))],
         "rho": RHO, "Cp": CP, "mu": nu * RHO, "liquid_viscosity": mu_l,
         "cohesion_force": f_c0, "similarity_reference_diameter": similarity,
-        "surface_tension": sig, "vapour_release": release,
+        "surface_tension": sig, "vapour_release": release, "film_conduction": film,
         "similarity_s": sim["s"], "T_d": T_D, "latent_heat": LATENT,
         "grain_density": RHO_P, "packing_2d": phi2d, "grain_porosity": porosity,
         "bed_weight_fraction": phi2d * (1 - (porosity or 0.0))})
