@@ -631,9 +631,9 @@ void Foam::vapourDroplet::update()
 }
 
 
-Foam::vector Foam::vapourDroplet::cellDirection(const label celli) const
+Foam::vector Foam::vapourDroplet::directionTo(const vector& p) const
 {
-    vector r = mesh_.C()[celli] - x_;
+    vector r = p - x_;
     if (adapter_.twoD())
     {
         r.z() = 0;
@@ -663,7 +663,7 @@ void Foam::vapourDroplet::releaseWeights(const scalar h)
         if (ring_[ci] > 0)
         {
             cells.append(ci);
-            dirs.append(cellDirection(ci));
+            dirs.append(directionTo(mesh_.C()[ci]));
         }
     }
     const label ns = sinkHeat_.size();
@@ -729,7 +729,7 @@ void Foam::vapourDroplet::setHeatSink(const scalarField& sink)
         // s_c < 0, releases nothing: the release weights stay >= 0)
         if (sink[ci] > 0)
         {
-            dirs.append(cellDirection(ci));
+            dirs.append(directionTo(mesh_.C()[ci]));
             heat.append(sink[ci]);
         }
     }
@@ -760,8 +760,7 @@ void Foam::vapourDroplet::setHeatSink(const scalarField& sink)
                 continue;
             }
             const auto& xg = sys.positions()[filmGrain_[k]];
-            vector r(xg[0] - x_.x(), xg[1] - x_.y(), 0);
-            sinkDirection_.append(r/max(mag(r), VSMALL));
+            sinkDirection_.append(directionTo(vector(xg[0], xg[1], xg[2])));
             sinkHeat_.append(filmHeat_[k]);
         }
     }
