@@ -730,7 +730,7 @@ void Foam::vapourDroplet::setHeatSink(const scalarField& sink)
         if (sink[ci] > 0)
         {
             dirs.append(directionTo(mesh_.C()[ci]));
-            heat.append(sink[ci]);
+            heat.append(sink[ci]*mesh_.V()[ci]);
         }
     }
     List<List<vector>> allDirs(Pstream::nProcs());

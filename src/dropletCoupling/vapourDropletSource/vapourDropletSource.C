@@ -217,7 +217,7 @@ void Foam::fv::vapourDropletSource::correct(volScalarField& field)
     (
         droplet_.chi()*(field.primitiveField() - droplet_.Td())*mesh_.V()
     );
-    droplet_.setHeatSink(heatSinkPtr_->field()*mesh_.V());
+    droplet_.setHeatSink(heatSinkPtr_->field());
     // the part the grains gave to the penalised fluid (vansCloud's KT, KTTp:
     // grain-to-fluid heat / (rho Cp) = KTTp - KT T, TEqn.H)
     scalar Qp = 0;
