@@ -5,6 +5,7 @@
 #include "passiveParticleCloud.H"
 #include "IOField.H"
 #include "OSspecific.H"
+#include "OStringStream.H"
 
 #include <cmath>
 #include <algorithm>
@@ -595,6 +596,87 @@ void Foam::grainCloud::readWallTemperatures()
 
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
+std::vector<nscd::Material> Foam::grainCloud::dictionaryMaterials() const
+{
+    std::vector<nscd::Material> list;
+    for (const entry& e : dict_.subDict("materials"))
+    {
+        const dictionary& d = e.dict();
+        nscd::Material m;
+        m.density = d.get<scalar>("density");
+        m.friction = d.get<scalar>("friction");
+        m.youngModulus = d.getOrDefault<scalar>("youngModulus", 0);
+        m.poissonRatio = d.getOrDefault<scalar>("poissonRatio", 0);
+        m.conductivity = d.getOrDefault<scalar>("conductivity", 0);
+        m.heatCapacity = d.getOrDefault<scalar>("heatCapacity", 0);
+        if (m.conductivity > 0 && !(m.youngModulus > 0))
+        {
+            WarningInFunction
+                << "Material " << e.keyword() << " in " << dict_.name()
+                << " has conductivity " << m.conductivity << " but no"
+                << " youngModulus: contact conduction (thesis eq. 4.2) is"
+                << " off for it, the grains exchange heat with the fluid"
+                << " only. Give youngModulus (and poissonRatio) to switch"
+                << " it on." << endl;
+        }
+        list.push_back(m);
+    }
+    return list;
+}
+
+
+void Foam::grainCloud::applyDictionaryMaterials(const fileName& statePath)
+{
+    // constant/grainProperties is authoritative, as any constant/ property
+    // of an OpenFOAM case: a state written by another case (e.g. a deposit
+    // copied into each case that starts from it) keeps its grains but takes
+    // this case's materials.  Unchanged materials leave a restart exact.
+    const std::vector<nscd::Material> list = dictionaryMaterials();
+    const dictionary& mats = dict_.subDict("materials");
+    if (label(list.size()) != system_->nMaterials())
+    {
+        FatalIOErrorInFunction(mats)
+            << statePath << " holds " << system_->nMaterials()
+            << " materials but " << mats.name() << " lists " << list.size()
+            << "." << nl << "    Materials are matched by their order"
+            << " (id 0, 1, ...): list as many as the state was written with,"
+            << " in the same order, or re-run grainDeposit."
+            << exit(FatalIOError);
+    }
+    wordList names(mats.toc());
+    for (label id = 0; id < label(list.size()); ++id)
+    {
+        const nscd::Material& old = system_->material(id);
+        const nscd::Material& m = list[id];
+        OStringStream changes;
+        auto note = [&changes](const char* what, scalar was, scalar now)
+        {
+            if (was != now)
+            {
+                changes << ", " << what << " " << was << " -> " << now;
+            }
+        };
+        note("density", old.density, m.density);
+        note("friction", old.friction, m.friction);
+        note("youngModulus", old.youngModulus, m.youngModulus);
+        note("poissonRatio", old.poissonRatio, m.poissonRatio);
+        note("conductivity", old.conductivity, m.conductivity);
+        note("heatCapacity", old.heatCapacity, m.heatCapacity);
+        if (changes.str().empty())
+        {
+            continue;
+        }
+        Info<< "grainCloud: material " << names[id] << " (id " << id
+            << ") of constant/grainProperties replaces the one in "
+            << (statePath.path().name()/statePath.name()).c_str() << ": "
+            << changes.str().substr(2).c_str()
+            << " (grain masses recomputed)"
+            << endl;
+        system_->setMaterial(id, m);
+    }
+}
+
+
 Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
 :
     mesh_(mesh),
@@ -666,21 +748,13 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
                     << "D grain system but the mesh is " << dimension_ << "D"
                     << exit(FatalError);
             }
+            applyDictionaryMaterials(statePath);
         }
         else
         {
             system_.reset(new nscd::System(dimension_));
-            const dictionary& mats = dict_.subDict("materials");
-            for (const entry& e : mats)
+            for (const nscd::Material& m : dictionaryMaterials())
             {
-                const dictionary& d = e.dict();
-                nscd::Material m;
-                m.density = d.get<scalar>("density");
-                m.friction = d.get<scalar>("friction");
-                m.youngModulus = d.getOrDefault<scalar>("youngModulus", 0);
-                m.poissonRatio = d.getOrDefault<scalar>("poissonRatio", 0);
-                m.conductivity = d.getOrDefault<scalar>("conductivity", 0);
-                m.heatCapacity = d.getOrDefault<scalar>("heatCapacity", 0);
                 system_->addMaterial(m);
             }
             // temperature of the grains added (e.g. by grainDeposit), used

@@ -67,10 +67,13 @@ def steady_profile():
     return T, Hf * (T_HOT - T[0]), Hw * (T_COLD - T).sum()
 
 
-def test_column_steady_conduction(tmp_path, env):
+def column_case(tmp_path, env, name, deposit_material=None):
+    """The column case, deposited; deposit_material: the grainProperties
+    material line grainDeposit sees (default: the test's own), replaced by
+    the test's own afterwards (a state reused with edited properties)."""
     W, Hbox = 4 * D, (N + 2) * D
     r = D / 2
-    case = str(tmp_path / "column")
+    case = str(tmp_path / name)
     grains = [(W - r, r + k * D, 0.0, D) for k in range(N)]
     make_box_case(case, (0, 0, 0), (W, Hbox, D), (4, N + 2, 1), (GX, -GY, 0),
                   {"glass": {"density": RHO, "friction": 0.0}}, grains=grains,
@@ -84,16 +87,22 @@ def test_column_steady_conduction(tmp_path, env):
         "walls { type wall; faces ((0 4 7 3) (3 7 6 2)); }")
     open(bm, "w").write(txt)
     gp = os.path.join(case, "constant", "grainProperties")
-    txt = open(gp).read().replace(
-        "friction 0.0; }",
-        f"friction 0.0; youngModulus {E}; poissonRatio {NU}; conductivity {K};"
-        f" heatCapacity {C}; }}")
+    base = open(gp).read()
+    own = (f"density {RHO}; friction 0.0; youngModulus {E}; poissonRatio {NU};"
+           f" conductivity {K}; heatCapacity {C}; }}")
     # a regex entry for the floor, a plain name for the right wall
-    open(gp, "w").write(txt + f"initialTemperature {T0};\n"
-                        f"wallTemperatures {{ \"bot.*\" {T_HOT}; right {T_COLD}; }}\n")
+    extra = (f"initialTemperature {T0};\n"
+             f"wallTemperatures {{ \"bot.*\" {T_HOT}; right {T_COLD}; }}\n")
+    mat = f"density {RHO}; friction 0.0; }}"
+    assert mat in base
+    open(gp, "w").write(base.replace(mat, deposit_material or own) + extra)
     run("blockMesh", case, env)
-    run("grainDeposit", case, env)
-    log = run("grainFoam", case, env).stdout
+    dep = run("grainDeposit", case, env).stdout
+    open(gp, "w").write(base.replace(mat, own) + extra)
+    return case, dep
+
+
+def check_column(case, log):
     assert "wall patch bottom at 400 K (1 walls)" in log
     assert "wall patch right at 300 K (1 walls)" in log
     heat = re.findall(r"^heat: grain mean T = (\S+) K, wall heat = (\S+) J, "
@@ -113,5 +122,48 @@ def test_column_steady_conduction(tmp_path, env):
     assert abs(Qstep) < 1e-3 * q_hot * DT
     assert abs(Tm - T_exp.mean()) < 1e-3 * (T_HOT - T_COLD)
     # static: the grains did not move
+    r = D / 2
     y = np.sort([x[1] for x in g["x"]])
     assert np.allclose(y, [r + k * D for k in range(N)], atol=1e-3 * r)
+
+
+def test_column_steady_conduction(tmp_path, env):
+    case, _ = column_case(tmp_path, env, "column")
+    check_column(case, run("grainFoam", case, env).stdout)
+
+
+def test_state_takes_edited_materials(tmp_path, env):
+    """A state written with other materials (here grainDeposit with density
+    1000 and no youngModulus: contact conduction off, which grainCloud warns
+    about) takes constant/grainProperties' materials when a run starts from
+    it (as tutorials/vansFoam/dropletDigging reuses one deposit with another
+    grain density): grain masses recomputed, so the impulses, the eq. 4.2
+    conductances and the steady heat rate are those of density 2500 (the
+    rate scales as rho^(1/4): density 1000 would be 20 % low, the state's
+    materials unchanged would give no conduction at all)."""
+    case, dep = column_case(tmp_path, env, "edited",
+                            deposit_material="density 1000; friction 0.0; conductivity 1.4; }")
+    assert "no youngModulus: contact conduction" in dep
+    log = run("grainFoam", case, env).stdout
+    assert ("grainCloud: material glass (id 0) of constant/grainProperties replaces the one"
+            " in 0/grainState.h5: density 1000 -> 2500, youngModulus 0 -> 60000000000, poissonRatio"
+            " 0 -> 0.22, heatCapacity 0 -> 0.01 (grain masses recomputed)") in log, log[-3000:]
+    check_column(case, log)
+    # the state written by the run holds the new materials: a restart is exact
+    assert "replaces" not in run("grainFoam", case, env).stdout
+
+
+def test_state_material_count_mismatch(tmp_path, env):
+    """Materials are matched by order: a grainProperties listing another number
+    of materials than the state is refused with the file and the fix."""
+    case, _ = column_case(tmp_path, env, "count")
+    gp = os.path.join(case, "constant", "grainProperties")
+    txt = open(gp).read()
+    i = txt.index("materials")
+    j = txt.index("{", i) + 1
+    open(gp, "w").write(txt[:j] + " sand { density 2600; friction 0.5; } " + txt[j:])
+    p = run("grainFoam", case, env, check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0 and "FOAM FATAL" in out
+    for w in ("holds 1 materials", "lists 2", "grainProperties", "re-run grainDeposit"):
+        assert w in out, out[-2000:]

@@ -44,33 +44,48 @@ System& System::operator=(System&&) noexcept = default;
 
 int System::dimension() const { return impl_->dim; }
 
-int System::addMaterial(const Material& m)
+namespace
 {
-    if (!(m.density > 0) || !std::isfinite(m.density))
-        throw InputError("nscd::System::addMaterial: density must be > 0, got " + std::to_string(m.density));
-    if (!(m.friction >= 0) || !std::isfinite(m.friction))
-        throw InputError("nscd::System::addMaterial: friction must be >= 0, got " + std::to_string(m.friction));
-    auto nonNegative = [](const char* what, double a)
-    {
-        if (!(a >= 0) || !std::isfinite(a))
-        {
-            std::ostringstream os;
-            os << "nscd::System::addMaterial: " << what << " must be >= 0 and finite, got " << a;
-            throw InputError(os.str());
-        }
-    };
-    nonNegative("youngModulus", m.youngModulus);
-    nonNegative("conductivity", m.conductivity);
-    nonNegative("heatCapacity", m.heatCapacity);
-    if (!(m.poissonRatio > -1 && m.poissonRatio <= 0.5))
+/// Throws InputError naming caller and field if m is not a valid material.
+void checkMaterial(const char* caller, const Material& m)
+{
+    auto fail = [caller](const char* what, const char* must, double a)
     {
         std::ostringstream os;
-        os << "nscd::System::addMaterial: poissonRatio must be in (-1, 0.5], got " << m.poissonRatio;
+        os << "nscd::System::" << caller << ": " << what << " must be " << must << ", got " << a;
         throw InputError(os.str());
-    }
+    };
+    if (!(m.density > 0) || !std::isfinite(m.density)) fail("density", "> 0", m.density);
+    if (!(m.friction >= 0) || !std::isfinite(m.friction)) fail("friction", ">= 0", m.friction);
+    if (!(m.youngModulus >= 0) || !std::isfinite(m.youngModulus))
+        fail("youngModulus", ">= 0 and finite", m.youngModulus);
+    if (!(m.conductivity >= 0) || !std::isfinite(m.conductivity))
+        fail("conductivity", ">= 0 and finite", m.conductivity);
+    if (!(m.heatCapacity >= 0) || !std::isfinite(m.heatCapacity))
+        fail("heatCapacity", ">= 0 and finite", m.heatCapacity);
+    if (!(m.poissonRatio > -1 && m.poissonRatio <= 0.5)) fail("poissonRatio", "in (-1, 0.5]", m.poissonRatio);
+}
+}
+
+int System::addMaterial(const Material& m)
+{
+    checkMaterial("addMaterial", m);
     impl_->materials.push_back(m);
     return int(impl_->materials.size()) - 1;
 }
+
+void System::setMaterial(int id, const Material& m)
+{
+    if (id < 0 || id >= int(impl_->materials.size()))
+        throw InputError("nscd::System::setMaterial: unknown material id " + std::to_string(id));
+    checkMaterial("setMaterial", m);
+    Impl& I = *impl_;
+    I.materials[id] = m;
+    for (std::size_t i = 0; i < I.x.size(); ++i)
+        if (I.mat[i] == id) I.setMassInertia(i);
+}
+
+int System::nMaterials() const { return int(impl_->materials.size()); }
 
 const Material& System::material(int id) const
 {
@@ -98,19 +113,18 @@ void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
     heatH.push_back(0);
     heatTf.push_back(0);
     fixT.push_back(0);
-    const double rho = materials[m].density;
-    if (dim == 2)
-    {
-        const double ms = rho*pi*r*r;
-        mass.push_back(ms);
-        inertia.push_back(0.5*ms*r*r);
-    }
-    else
-    {
-        const double ms = rho*4.0/3.0*pi*r*r*r;
-        mass.push_back(ms);
-        inertia.push_back(0.4*ms*r*r);
-    }
+    mass.push_back(0);
+    inertia.push_back(0);
+    setMassInertia(x.size() - 1);
+}
+
+void System::Impl::setMassInertia(std::size_t i)
+{
+    // 2D: disc per unit depth, 3D: sphere
+    const double rho = materials[mat[i]].density, r = rad[i];
+    const double ms = dim == 2 ? rho*pi*r*r : rho*4.0/3.0*pi*r*r*r;
+    mass[i] = ms;
+    inertia[i] = (dim == 2 ? 0.5 : 0.4)*ms*r*r;
 }
 
 int System::addGrain(const Vec3& centre, double radius, int material, bool fixed)

@@ -155,3 +155,54 @@ TEST(Contacts, ViewAndCohesion)
     for (int k = 0; k < 100; ++k) h.step(dt);
     EXPECT_LT(h.positions()[0].y(), -0.11);
 }
+
+// setMaterial (used by grainCloud when constant/grainProperties differs from a
+// saved state): the grains of that material get the new mass and moment of
+// inertia, and the wall carries the new weight.  Reference: statics, the
+// normal impulse of a disc resting on a plane is m g dt with m = rho pi r^2
+// per unit depth (2D) or rho 4/3 pi r^3 (3D); I = m r^2/2 (disc), 2 m r^2/5
+// (sphere).
+TEST(Materials, SetMaterialRecomputesMassAndWeight)
+{
+    const double pi = 3.14159265358979323846, r = 0.1, g = 9.81, dt = 1e-3;
+    for (const int dim : {2, 3})
+    {
+        System s(dim);
+        const int m0 = s.addMaterial({3200, 0.3});
+        const int m1 = s.addMaterial({1000, 0.3});
+        s.addGrain(Vec3(0, r, 0), r, m0);
+        s.addGrain(Vec3(3*r, r, 0), r, m1);
+        s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
+        s.setGravity(Vec3(0, -g, 0));
+        const double shape = dim == 2 ? pi*r*r : 4.0/3.0*pi*r*r*r;
+        const double iFactor = dim == 2 ? 0.5 : 0.4;
+        EXPECT_NEAR(s.mass(0), 3200*shape, 1e-12*3200*shape);
+        Material changed{1600, 0.3, 1e11, 0.35, 234, 290};
+        s.setMaterial(m0, changed);
+        EXPECT_EQ(s.material(m0).youngModulus, 1e11);
+        EXPECT_EQ(s.material(m0).heatCapacity, 290);
+        EXPECT_NEAR(s.mass(0), 1600*shape, 1e-12*1600*shape);
+        EXPECT_NEAR(s.inertia(0), iFactor*1600*shape*r*r, 1e-12*1600*shape*r*r);
+        EXPECT_NEAR(s.mass(1), 1000*shape, 1e-12*1000*shape);   // other material untouched
+        for (int k = 0; k < 5; ++k) s.step(dt);
+        int seen = 0;
+        for (const auto& c : s.contacts())
+        {
+            if (c.j != -1) continue;
+            ++seen;
+            const double rho = c.i == 0 ? 1600 : 1000;
+            EXPECT_NEAR(c.impulse.y(), rho*shape*g*dt, 1e-9*rho*shape*g*dt) << "dim " << dim;
+        }
+        EXPECT_EQ(seen, 2);
+        // errors: unknown id, invalid material (the old one stays)
+        EXPECT_THROW(s.setMaterial(2, changed), InputError);
+        EXPECT_THROW(s.setMaterial(-1, changed), InputError);
+        try { s.setMaterial(m0, {0.0, 0.3}); FAIL(); }
+        catch (const InputError& e)
+        {
+            EXPECT_NE(std::string(e.what()).find("setMaterial: density"), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(s.material(m0).density, 1600);
+        EXPECT_NEAR(s.mass(0), 1600*shape, 1e-12*1600*shape);
+    }
+}

@@ -41,6 +41,7 @@ RHO, MU, CP, KAPPA, BETA = 1.204, 2e-5, 1040.0, 0.026, 3e-3
 NU = MU / RHO
 D_V, RHO_V = 2e-5, 1.204
 RHO_P, C_P, K_P, FRICTION = 3200.0, 290.0, 234.0, 0.3
+E_P, NU_P = 1e11, 0.35           # contact conduction, eq. 4.2-4.3
 W, H, H_P, GAP, D_DROP = 10e-3, 30e-3, 22.5e-3, 1.5e-3, 2.5e-3
 D_GRAIN_TABLE = 55e-6
 DT = 5e-4
@@ -127,7 +128,8 @@ def mesh_and_grains(case, d_grain, rho_grain=RHO_P):
           " frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n")
     write(case, "constant/grainProperties", "dictionary",
           f"materials {{ grains {{ density {rho_grain:.9g}; friction {FRICTION}; conductivity {K_P};"
-          f" heatCapacity {C_P}; }} }}\nwallPatches (walls);\n"
+          f" youngModulus {E_P:g}; poissonRatio {NU_P}; heatCapacity {C_P}; }} }}\n"
+          "wallPatches (walls);\n"
           f"contactSolver {{ tolerance {contact_tolerance(d_grain):g};"
           f" maxIterations {contact_max_iterations()};"
           " overlapTolerance 1e-2; }\n"
