@@ -9,6 +9,8 @@ Only the standard library and numpy are needed.  Functions:
   write_json(path, obj)        -> results.json writer (sorted keys, floats as-is)
   instantiate_case(base, case, subs) -> copy a template case, replacing @KEYS@
   copy_grain_state(src, dst)   -> copy 0/grainState.h5 and 0/lagrangian of a settled case
+  read_droplet_history(case), heat_log_history(case) -> droplet.dat / vansFoam heat
+                                lines of a run continued from its writes, joined
 """
 import importlib.util
 import json
@@ -184,6 +186,52 @@ def heat_log(log):
     h = np.array(heat, dtype=float).reshape(-1, 5)
     return {"time": h[:, 0], "grain_T": h[:, 1], "fluid_T": h[:, 2], "Q": h[:, 3], "E": h[:, 4],
             "budget": np.array(bud, dtype=float).reshape(-1, 5), "patches": patches}
+
+
+def heat_log_history(case, app="vansFoam"):
+    """heat_log of a run continued from its writes, the parts joined: the
+    logs `log.<app>` and `log.<app>.<anything>` (e.g. log.vansFoam.ext of a
+    restart with a later endTime) of `case`, ordered by their start time
+    (first "Time =" minus the "deltaT =" before it), each cut to the steps
+    up to the next part's start time, to within half of that part's first
+    step (the "Time =" lines have timePrecision digits; the later part repeats the steps
+    after its restart write).  Same arrays as heat_log (`patches` joined
+    too), cut to the steps that have both a "heat:" and a "heat budget:"
+    line.  Raises FileNotFoundError if
+    there is no log with a "heat:" line."""
+    parts = []
+    for name in sorted(os.listdir(case)):
+        if name != f"log.{app}" and not name.startswith(f"log.{app}."):
+            continue
+        with open(os.path.join(case, name)) as f:
+            text = f.read()
+        h = heat_log(text)
+        if not len(h["time"]):
+            continue
+        # the "Time =" line has timePrecision digits only: the start is
+        # known to within a fraction of the first step, which is all the
+        # cut below needs
+        m = re.search(r"^deltaT = (\S+)\s*\nTime = (\S+)", text, re.M)
+        dt = float(m.group(1)) if m else 0.0
+        start = float(m.group(2)) - dt if m else h["time"][0]
+        parts.append((start, dt, h))
+    if not parts:
+        raise FileNotFoundError(f"{case}: no log.{app}* with heat lines")
+    parts.sort(key=lambda p: p[0])
+    keys = ("time", "grain_T", "fluid_T", "Q", "E")
+    out = {k: [] for k in keys + ("budget",)}
+    patches = []
+    for k, (start, dt, h) in enumerate(parts):
+        n = min(len(h["time"]), len(h["budget"]))       # steps with both lines
+        keep = np.arange(n)
+        if k + 1 < len(parts):
+            keep = keep[h["time"][:n] < parts[k + 1][0] + 0.5 * parts[k + 1][1]]
+        for key in keys + ("budget",):
+            out[key].append(h[key][keep])
+        patches += [h["patches"][i] for i in keep]
+    res = {key: np.concatenate(out[key]) for key in keys + ("budget",)}
+    res["patches"] = patches
+    return res
 
 
 def trapezoid(y, x):

@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
 """Post-process the dropletDigging cases (issue 8; thesis section 4.3.3,
-Figures 4.13-4.17).
+Figures 4.13-4.19).
 
 usage: postProcess.py [-o OUTDIR] [--snap] CASE1 [CASE2 ...]   (cases made by setupCase.py)
 
 Reads per case `case.json` (setupCase.py), the droplet history
-`postProcessing/droplet/0/droplet.dat` (src/dropletCoupling: time x y u v m
-mdot Q_f Q_p R depth Vdot V_p; 2D: m, mdot, Q, Vdot over the mesh depth l) and
-the vansFoam log (`log.vansFoam`: per step the "heat:" line with the mean
+`postProcessing/droplet/<start>/droplet.dat` (src/dropletCoupling: time x y u v m
+mdot Q_f Q_p R depth Vdot V_p ...; 2D: m, mdot, Q, Vdot over the mesh depth l)
+and the vansFoam log (`log.vansFoam`, and `log.vansFoam.*` of a run continued
+from its writes, e.g. with a later endTime: the parts are joined, droplet.dat
+by nscdpost.read_droplet_history, the logs by nscdpost.heat_log_history;
+per step the "heat:" line with the mean
 grain temperature and the energy E = rho Cp sum(eps T V) + sum(m c T), the
 "heat budget:" line).  Writes OUTDIR/results.json (default: this directory):
 
@@ -17,7 +20,8 @@ grain temperature and the energy E = rho Cp sum(eps T V) + sum(m c T), the
   `final_time` [s], `mean_velocity` [m/s] (final_depth/final_time),
   `stopped` (per case None or why it stopped early);
 - `cases[<T>]`: `time` [s], `depth` [m], `velocity` [m/s] (downwards
-  positive), `mass` [kg], `mdot` [kg/s], `Q_f`, `Q_p` [W],
+  positive), `mass` [kg], `mdot` [kg/s], `Q_f`, `Q_p`, `Q_film` [W] (L mdot =
+  Q_f + Q_p + Q_film),
   `mean_grain_temperature` [K] (time series on `time`), `lifetime` [s]
   (instant lifetime m/mdot, Figure 4.17), `vapour_velocity` [m/s] (U_v =
   Vdot/(2 pi R l), the mean radial vapour velocity at the droplet surface),
@@ -32,14 +36,19 @@ grain temperature and the energy E = rho Cp sum(eps T V) + sum(m c T), the
   at 0.1/0.3/0.6/1.0/1.5 s, end sinking speed, U_v/U_mf over 0.1-0.3 s, R,
   grains inside, m/mdot at 0.01 s and at the end) and `bed` (per written time,
   `bed_diagnostics`: superficial gas speed in the bed next to the droplet
-  over U_mf, ejected grains, cohesive grains next to the droplet);
+  over U_mf, ejected grains, cohesive grains next to the droplet) and
+  `forces` (`force_balance`: vertical forces over m_0 g, Figure 4.18, the
+  eq. 4.17 residual and the shares of the weight carried by gas and grains
+  over the last 0.2 s);
 - with `--snap`: per case `snap_T<T>_<time>s.png` at the written times
   nearest 0.3 s, half the run and the end (`snapshot`);
 - the plots `dropletDigging_finalDepth.png` (Figure 4.13),
   `dropletDigging_depth.png` (4.14, h/D against t/t_ff),
   `dropletDigging_velocity.png` (4.15, u t_ff/R against t/t_ff),
-  `dropletDigging_grainTemperature.png` (4.16) and
-  `dropletDigging_lifetime.png` (4.17).
+  `dropletDigging_grainTemperature.png` (4.16),
+  `dropletDigging_lifetime.png` (4.17), `dropletDigging_forces.png` (4.18:
+  gas and grain forces over m_0 g, upward) and `dropletDigging_heat.png`
+  (4.19: Q_f and Q_p + Q_film over the first step's L mdot).
 
 The thesis curves are not digitised (the thesis text gives no table): the
 final-depth plot marks what section 4.3.3 states in words, the regime
@@ -65,7 +74,7 @@ G = 9.81
 # droplet.dat columns (src/dropletCoupling/README.md)
 COL = dict(t=0, x=1, y=2, u=3, v=4, m=5, mdot=6, Qf=7, Qp=8, R=9, depth=10, Vdot=11,
            Vp=12, Fp_x=13, Fp_y=14, Fpen_x=15, Fpen_y=16, nGrainsIn=17, Fw_x=18, Fw_y=19,
-           S_x=20, S_y=21, Fc_x=22, Fc_y=23)
+           S_x=20, S_y=21, Fc_x=22, Fc_y=23, Q_film=24)
 
 
 def read_droplet(case):
@@ -75,17 +84,26 @@ def read_droplet(case):
     return nscdpost.read_droplet_history(case)
 
 
-def read_log(case, log="log.vansFoam"):
+def read_log(case):
     """Per time step of the vansFoam log: dict of arrays `time` [s],
     `grain_T` [K] (mean grain temperature), `E` [J] (fluid + grain energy of
     the "heat:" line), `budget` (n, 5) [J] (fluid boundary, advected,
     sources, grain walls, fixed grains of the "heat budget:" line)
-    (nscdpost.heat_log, cut to the steps that have both lines)."""
-    with open(os.path.join(case, log)) as f:
-        h = nscdpost.heat_log(f.read())
-    n = min(len(h["time"]), len(h["budget"]))
-    return {"time": h["time"][:n], "grain_T": h["grain_T"][:n], "E": h["E"][:n],
-            "budget": h["budget"][:n]}
+    (nscdpost.heat_log_history: log.vansFoam and the logs log.vansFoam.* of
+    its continuations joined, cut to the steps that have both lines)."""
+    h = nscdpost.heat_log_history(case)
+    return {"time": h["time"], "grain_T": h["grain_T"], "E": h["E"], "budget": h["budget"]}
+
+
+def log_texts(case):
+    """Texts of log.vansFoam and its continuations log.vansFoam.* (name order)."""
+    names = sorted(n for n in os.listdir(case)
+                   if n == "log.vansFoam" or n.startswith("log.vansFoam."))
+    out = []
+    for n in names:
+        with open(os.path.join(case, n)) as f:
+            out.append(f.read())
+    return out
 
 
 def energy_budget(case, info=None):
@@ -177,22 +195,23 @@ def bed_void_fraction(case, info):
     return None
 
 
-def stop_reason(case, log="log.vansFoam"):
-    """None if the run ended normally, else the first line of its FOAM
-    FATAL ERROR message (e.g. the droplet centre left the mesh)."""
-    txt = open(os.path.join(case, log)).read()
-    i = txt.find("FOAM FATAL")
-    if i < 0:
-        return None
-    lines = [ln.strip() for ln in txt[i:].splitlines()[1:] if ln.strip()]
-    return lines[0] if lines else "FOAM FATAL ERROR"
+def stop_reason(case):
+    """None if the run (log.vansFoam and its continuations) ended normally,
+    else the first line of a FOAM FATAL ERROR message (e.g. the droplet
+    centre left the mesh)."""
+    for txt in log_texts(case):
+        i = txt.find("FOAM FATAL")
+        if i >= 0:
+            lines = [ln.strip() for ln in txt[i:].splitlines()[1:] if ln.strip()]
+            return lines[0] if lines else "FOAM FATAL ERROR"
+    return None
 
 
-def psi_max(case, log="log.vansFoam"):
-    """Largest vapour fraction psi over the run, from the log's
-    "psi min/max = a b" lines (vansFoam psiEqn.H); None if there are none."""
-    txt = open(os.path.join(case, log)).read()
-    v = [float(b) for b in re.findall(r"psi min/max = \S+ (\S+)", txt)]
+def psi_max(case):
+    """Largest vapour fraction psi over the run (log.vansFoam and its
+    continuations), from the "psi min/max = a b" lines (vansFoam psiEqn.H);
+    None if there are none."""
+    v = [float(b) for txt in log_texts(case) for b in re.findall(r"psi min/max = \S+ (\S+)", txt)]
     return max(v) if v else None
 
 
@@ -296,6 +315,35 @@ def summary(d, uv, umf, times=(0.1, 0.3, 0.6, 1.0, 1.5)):
     return out
 
 
+def force_balance(d, window=(0.2, None)):
+    """Vertical forces on the droplet (thesis Figure 4.18), upward positive,
+    over the initial weight m_0 g, per droplet.dat line: `weight` (-m g),
+    `fluid` (S_y: the gas on the droplet's surface, pressure and
+    penalisation, with the wall reaction while the droplet rests on a wall;
+    src/dropletCoupling/README.md), `grains` (F_p + F_c: the grains inside
+    the droplet and, with the capillary barrier, those pressed on its
+    surface), `net` (their sum).  Eq. 4.17 holds on these written forces:
+    `momentum_residual` = rms(m du_y/dt - net)/(m_0 g) over the steps.
+    `support`: the shares of the weight carried by the gas and by the grains,
+    mean(S_y)/mean(m g) and mean(F_p + F_c)/mean(m g) over the last
+    window[0] s (all of a shorter run).  d: droplet.dat array (25 columns;
+    older files without F_c: 0)."""
+    t, m, v = d[:, 0], d[:, COL["m"]], d[:, COL["v"]]
+    w0 = m[0] * G
+    grains = d[:, COL["Fp_y"]] + (d[:, COL["Fc_y"]] if d.shape[1] > COL["Fc_y"] else 0)
+    fluid = d[:, COL["S_y"]]
+    net = -m * G + fluid + grains
+    acc = np.diff(v) / np.diff(t)
+    resid = float(np.sqrt(np.mean((m[1:] * acc - net[1:]) ** 2)) / w0) if len(t) > 1 else None
+    late = t >= t[-1] - window[0]
+    mg = np.mean(m[late] * G)
+    return {"weight": (-m * G / w0).tolist(), "fluid": (fluid / w0).tolist(),
+            "grains": (grains / w0).tolist(), "net": (net / w0).tolist(),
+            "momentum_residual": resid,
+            "support": {"fluid": float(np.mean(fluid[late]) / mg),
+                        "grains": float(np.mean(grains[late]) / mg)}}
+
+
 def snapshot(case, time_name, out):
     """PNG of the grains at one written time, coloured by speed [mm/s], with
     the droplet circle (droplet.dat at the nearest step) and the initial bed
@@ -350,6 +398,8 @@ def case_results(case):
     res = {"time": d[:, 0].tolist(), "depth": depth.tolist(),
            "velocity": (-d[:, COL["v"]]).tolist(), "mass": m.tolist(), "mdot": mdot.tolist(),
            "Q_f": d[:, COL["Qf"]].tolist(), "Q_p": d[:, COL["Qp"]].tolist(),
+           "Q_film": (d[:, COL["Q_film"]] if d.shape[1] > COL["Q_film"]
+                      else np.zeros(len(d))).tolist(),
            "lifetime": life.tolist(), "vapour_velocity": uv.tolist()}
     gT = np.interp(d[:, 0], lg["time"], lg["grain_T"]) if len(lg["time"]) else np.full(len(d), np.nan)
     res["mean_grain_temperature"] = gT.tolist()
@@ -367,6 +417,7 @@ def case_results(case):
         res["bed"] = bed_diagnostics(case, info, d, umf)
     res["psi_max"] = psi_max(case)
     res["summary"] = summary(d, uv, res.get("U_mf"))
+    res["forces"] = force_balance(d)
     res["stopped"] = stop_reason(case)
     # droplet on the bottom wall (wall contact, droplet.dat Fw_y > 0, third
     # increment of src/dropletCoupling): first time, None if never
@@ -475,6 +526,42 @@ def main(cases, outdir=here, snap=False):
         ax.set_title(title)
         ax.legend(fontsize=8)
         save(fig, name)
+    # Figures 4.18 and 4.19: forces over m_0 g (upward) and heat rates over
+    # the first step's L mdot, running means over 0.02 s (the grain forces
+    # of the NSCD steps are impulsive)
+    def smooth(t, y, width=0.02):
+        y = np.asarray(y, dtype=float)
+        n = max(1, int(round(width / max(np.median(np.diff(t)), 1e-12)))) if len(t) > 1 else 1
+        if n <= 1 or len(y) <= n:
+            return y
+        k = np.ones(n)
+        return np.convolve(y, k, mode="same") / np.convolve(np.ones(len(y)), k, mode="same")
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for k, (T, info, r) in enumerate(data):
+        tff = math.sqrt(info["droplet_diameter"] / G)
+        t, f, col = np.array(r["time"]), r["forces"], f"C{k}"
+        ax.plot(t / tff, smooth(t, f["fluid"]), "-", color=col, label=f"{T:g} C: fluid F_f")
+        ax.plot(t / tff, smooth(t, f["grains"]), "--", color=col, label=f"{T:g} C: grains F_p (+F_c)")
+        ax.plot(t / tff, f["weight"], ":", color=col, lw=0.8)
+    ax.set_xlabel("t / t_ff")
+    ax.set_ylabel("vertical force / m_0 g (dotted: weight)")
+    ax.set_title("forces on the droplet (thesis Fig. 4.18)")
+    ax.legend(fontsize=6)
+    save(fig, "dropletDigging_forces.png")
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for k, (T, info, r) in enumerate(data):
+        tff = math.sqrt(info["droplet_diameter"] / G)
+        t, col = np.array(r["time"]), f"C{k}"
+        qf, qp, qfilm = (np.array(r[x]) for x in ("Q_f", "Q_p", "Q_film"))
+        q0 = qf[0] + qp[0] + qfilm[0]
+        ax.plot(t / tff, smooth(t, qf / q0), "-", color=col, label=f"{T:g} C: Q_f")
+        ax.plot(t / tff, smooth(t, (qp + qfilm) / q0), "--", color=col, label=f"{T:g} C: Q_p (+Q_film)")
+    ax.set_xlabel("t / t_ff")
+    ax.set_ylabel("heat rate / first-step L mdot")
+    ax.set_yscale("log")
+    ax.set_title("heat into the droplet (thesis Fig. 4.19)")
+    ax.legend(fontsize=6)
+    save(fig, "dropletDigging_heat.png")
     with open(os.path.join(outdir, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
     print("bed temperature [C], final depth [m]:", list(zip(res["bed_temperature"], res["final_depth"])))
