@@ -46,7 +46,7 @@ void Foam::grainCloud::readSettings()
         {
             "materials", "wallPatches", "maxDisplacementFraction",
             "contactSolver", "movingWalls", "initialTemperature",
-            "wallTemperatures", "gates"
+            "wallTemperatures", "gates", "frontRearWalls"
         }
     );
 
@@ -594,6 +594,113 @@ void Foam::grainCloud::readWallTemperatures()
 }
 
 
+void Foam::grainCloud::readFrontRearWalls()
+{
+    frontRearWalls_ = dict_.found("frontRearWalls");
+    if (!frontRearWalls_)
+    {
+        // a state written by a run with frontRearWalls keeps the grains'
+        // bath exchange (nscd state): switch it off, the dictionary rules
+        label n = 0;
+        for (std::size_t i = 0; i < system_->size(); ++i)
+        {
+            if (system_->heatExchange(i).first > 0)
+            {
+                system_->setHeatExchange(i, 0, 0);
+                ++n;
+            }
+        }
+        if (n)
+        {
+            Info<< "grainCloud: no frontRearWalls in " << dict_.name()
+                << ": the bath exchange of " << n << " grains of the state"
+                << " is switched off" << nl;
+        }
+        return;
+    }
+    const dictionary& fr = dict_.subDict("frontRearWalls");
+    grainTools::checkKeywords(fr, {"temperature", "relaxationTime"});
+    if (mesh_.nSolutionD() != 2)
+    {
+        FatalIOErrorInFunction(fr)
+            << "frontRearWalls in " << fr.name() << " models the front and"
+            << " rear walls of a Hele-Shaw cell in a 2D run, but the mesh"
+            << " solves " << mesh_.nSolutionD() << " directions." << nl
+            << "    Fix: remove frontRearWalls (a 3D mesh has its walls as"
+            << " patches: wallTemperatures)." << exit(FatalIOError);
+    }
+    frontRearTemperature_ = fr.get<scalar>("temperature");
+    frontRearRelaxationTime_ = fr.get<scalar>("relaxationTime");
+    if (!(frontRearTemperature_ > 0) || !std::isfinite(frontRearTemperature_))
+    {
+        FatalIOErrorInFunction(fr)
+            << "frontRearWalls temperature " << frontRearTemperature_
+            << " in " << fr.name() << ": give the walls' temperature T_w"
+            << " [K] > 0." << exit(FatalIOError);
+    }
+    if
+    (
+        !(frontRearRelaxationTime_ > 0)
+     || !std::isfinite(frontRearRelaxationTime_)
+    )
+    {
+        FatalIOErrorInFunction(fr)
+            << "frontRearWalls relaxationTime " << frontRearRelaxationTime_
+            << " in " << fr.name() << ": give tau [s] > 0, e.g. (rho c)_bed"
+            << " l^2/(12 k_eff) for a gap l (grainCloud.H)."
+            << exit(FatalIOError);
+    }
+    bool heat = false;
+    for (int m = 0; m < system_->nMaterials(); ++m)
+    {
+        heat = heat || system_->material(m).heatCapacity > 0;
+    }
+    if (!heat)
+    {
+        FatalIOErrorInFunction(fr)
+            << "frontRearWalls in " << fr.name() << " but no material has a"
+            << " heatCapacity: no grain temperature is integrated." << nl
+            << "    Fix: give the materials heatCapacity (and conductivity),"
+            << " or remove frontRearWalls." << exit(FatalIOError);
+    }
+    Info<< "grainCloud: front and rear walls (Hele-Shaw cell) at "
+        << frontRearTemperature_ << " K, grain relaxation time "
+        << frontRearRelaxationTime_ << " s" << nl;
+}
+
+
+void Foam::grainCloud::applyFrontRearWalls()
+{
+    if (!frontRearWalls_)
+    {
+        return;
+    }
+    try
+    {
+        for (std::size_t i = 0; i < system_->size(); ++i)
+        {
+            const scalar c =
+                system_->material(system_->materials()[i]).heatCapacity;
+            if (c > 0 && !system_->fixedTemperature(i))
+            {
+                system_->setHeatExchange
+                (
+                    i,
+                    system_->mass(i)*c/frontRearRelaxationTime_,
+                    frontRearTemperature_
+                );
+            }
+        }
+    }
+    catch (const nscd::InputError& err)
+    {
+        FatalErrorInFunction
+            << "Grain system (frontRearWalls): " << err.what()
+            << exit(FatalError);
+    }
+}
+
+
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
 std::vector<nscd::Material> Foam::grainCloud::dictionaryMaterials() const
@@ -792,6 +899,7 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
     }
     readMovingWalls();
     readWallTemperatures();
+    readFrontRearWalls();
     applySolverSettings();
 
     // Gravity: the standard constant/g
@@ -926,6 +1034,7 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
         system_->setWallVelocity(g.wallId, toVec3(f*g.velocity));
     }
 
+    applyFrontRearWalls();
     report_ = system_->advance(dt, maxDisplacementFraction_);
 
     for (const nscd::Vec3& x : system_->positions())

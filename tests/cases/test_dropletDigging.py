@@ -154,6 +154,39 @@ def test_forces_obey_eq_4_17(sweep):
         assert abs(f["support"]["fluid"] + f["support"]["grains"] - 1) < 0.2
 
 
+def test_front_rear_walls_heat_the_bed(sweep, env):
+    """(a'') The Hele-Shaw cell's front and rear walls at T_bed as a heat
+    bath of the grains (setupCase.front_rear_walls: tau = (rho c)_bed
+    l^2/(12 k_eff) = 0.30 s, Zehner-Schluender k_eff = 0.23 W/(m K) for
+    Table 4.2; grainProperties frontRearWalls, src/grainCloud), the 400 C
+    reduced case: the energy budget of (a) still closes within 1e-4 (the
+    walls' heat enters through the log's "grain walls" term, nscd
+    StepReport::exchangeHeat), the walls put heat in (sum > 0: the droplet
+    cools the grains below T_bed) and the grains end warmer than without
+    the walls (their heat makes up part of what the droplet takes)."""
+    setup, post, cases, root = sweep
+    tau = setup.front_rear_walls(True)
+    k = setup.zehner_schlunder(setup.K_P, setup.KAPPA, 1 - setup.PHI_BED)
+    # closed form of the tau above (Table 4.2 numbers): 0.2312 W/(m K), 0.3010 s
+    assert abs(k - 0.2312) < 1e-3 and abs(tau - 0.3010) < 1e-3
+    assert setup.front_rear_walls(False) is None
+    case = os.path.join(root, "T400_walls")
+    setup.setup(case, 400.0, END, root=root, porosity="auto", write_interval=END / 2, walls=True)
+    run("blockMesh", case, env)
+    log = run("vansFoam", case, env).stdout
+    assert "front and rear walls (Hele-Shaw cell) at 673.15 K" in log
+    b = post.energy_budget(case)
+    walls = post.read_log(case)["budget"][:, 3].sum()
+    ref = post.read_log(cases[400.0])
+    T_end, T_ref = post.read_log(case)["grain_T"][-1], ref["grain_T"][-1]
+    print(f"front/rear walls: energy defect {b['relative']:.2e}, wall heat {walls:.3e} J "
+          f"(without: {ref['budget'][:, 3].sum():.3e} J), mean grain T {T_end:.3f} K "
+          f"(without: {T_ref:.3f} K)")
+    assert b["relative"] < 1e-4 and b["source_mismatch"] < 1e-6
+    assert walls > ref["budget"][:, 3].sum()
+    assert T_end > T_ref
+
+
 def test_mass_loss_grows_with_bed_temperature(sweep):
     setup, post, cases, root = sweep
     first, early = [], []

@@ -46,7 +46,11 @@ def conductance(rn, dt, wall):
     return 4 * K * (rn * dstar / (2 * math.pi * estar * dt)) ** 0.25
 
 
-def steady_profile():
+def steady_profile(bath=None):
+    """Steady grain temperatures of the ladder network and the heat rates
+    through the floor and the right wall [W/m]; bath = (G, T_w): every grain
+    also exchanges G (T_w - T_k) with the front and rear walls
+    (grainProperties frontRearWalls, G = m c/tau)."""
     m = RHO * math.pi * D ** 2 / 4
     Hf = conductance(N * m * GY * DT, DT, True)
     Hw = conductance(m * GX * DT, DT, True)
@@ -63,14 +67,18 @@ def steady_profile():
         A[k + 1, k + 1] += H
         A[k, k + 1] -= H
         A[k + 1, k] -= H
+    if bath:
+        A += bath[0] * np.eye(N)
+        b += bath[0] * bath[1]
     T = np.linalg.solve(A, b)
     return T, Hf * (T_HOT - T[0]), Hw * (T_COLD - T).sum()
 
 
-def column_case(tmp_path, env, name, deposit_material=None):
+def column_case(tmp_path, env, name, deposit_material=None, extra_props=""):
     """The column case, deposited; deposit_material: the grainProperties
     material line grainDeposit sees (default: the test's own), replaced by
-    the test's own afterwards (a state reused with edited properties)."""
+    the test's own afterwards (a state reused with edited properties);
+    extra_props: more grainProperties entries for the run."""
     W, Hbox = 4 * D, (N + 2) * D
     r = D / 2
     case = str(tmp_path / name)
@@ -98,7 +106,7 @@ def column_case(tmp_path, env, name, deposit_material=None):
     open(gp, "w").write(base.replace(mat, deposit_material or own) + extra)
     run("blockMesh", case, env)
     dep = run("grainDeposit", case, env).stdout
-    open(gp, "w").write(base.replace(mat, own) + extra)
+    open(gp, "w").write(base.replace(mat, own) + extra + extra_props)
     return case, dep
 
 
@@ -167,3 +175,49 @@ def test_state_material_count_mismatch(tmp_path, env):
     assert p.returncode != 0 and "FOAM FATAL" in out
     for w in ("holds 1 materials", "lists 2", "grainProperties", "re-run grainDeposit"):
         assert w in out, out[-2000:]
+
+
+def test_column_front_rear_walls(tmp_path, env):
+    """grainProperties frontRearWalls (src/grainCloud: the front and rear
+    walls of a 2D Hele-Shaw cell as a heat bath, Q_i = (m_i c_i/tau)(T_w -
+    T_i), implicit): the column of test_column_steady_conduction with
+    T_w = 350 K and tau chosen so that G = m c/tau equals the floor's
+    contact conductance.  Reference: the ladder network with G (T_w - T_k)
+    on every node (steady_profile(bath)), solved with numpy:
+    - grain temperatures within 1e-3 (T_hot - T_cold),
+    - the log's "front/rear walls = Q J" of the last step (nscd
+      StepReport::exchangeHeat) equals dt sum G (T_w - T_k) within 1 % of
+      the floor's rate, and floor + right wall + bath ~ 0 (steady);
+    - a relaxationTime <= 0 is a FatalIOError naming the keyword."""
+    m = RHO * math.pi * D ** 2 / 4
+    G = conductance(N * m * GY * DT, DT, True)
+    tau, Tw = m * C / G, 350.0
+    props = f"frontRearWalls {{ temperature {Tw}; relaxationTime {tau:.17g}; }}\n"
+    case, _ = column_case(tmp_path, env, "bath", extra_props=props)
+    log = run("grainFoam", case, env).stdout
+    assert f"front and rear walls (Hele-Shaw cell) at {Tw:g} K" in log
+    heat = re.findall(r"^heat: grain mean T = \S+ K, wall heat = (\S+) J, front/rear walls = "
+                      r"(\S+) J, bottom (\S+) W, right (\S+) W", log, flags=re.M)
+    assert len(heat) == 600
+    Qwall, Qbath, qb, qr = (float(v) for v in heat[-1])
+    T_exp, q_hot, q_cold = steady_profile((G, Tw))
+    q_bath = G * (Tw - T_exp).sum()
+    g = nscdpost.read_grains(case, "0.6")
+    order = np.argsort([x[1] for x in g["x"]])
+    T_sim = nscdpost.read_scalar_field(
+        os.path.join(case, "0.6", "lagrangian", "grains", "T"))[order]
+    print(f"tau {tau:.3e} s; T sim {T_sim}, network {T_exp}; bath {Qbath / DT:.4e} W/m "
+          f"(network {q_bath:.4e}), floor {qb:.4e}, right {qr:.4e}")
+    assert np.abs(T_sim - T_exp).max() < 1e-3 * (T_HOT - T_COLD)
+    assert abs(Qbath / DT - q_bath) < 0.01 * q_hot
+    assert abs(q_hot + q_cold + q_bath) < 1e-9 * q_hot      # the network itself
+    assert abs(qb + qr + Qbath / DT) < 0.01 * q_hot          # the run: steady
+    # bad input
+    gp = os.path.join(case, "constant", "grainProperties")
+    txt = open(gp).read()
+    assert f"relaxationTime {tau:.17g}" in txt
+    open(gp, "w").write(txt.replace(f"relaxationTime {tau:.17g}", "relaxationTime -1"))
+    p = run("grainFoam", case, env, check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0 and "FOAM FATAL IO ERROR" in out
+    assert "relaxationTime" in out and "frontRearWalls" in out, out[-2000:]

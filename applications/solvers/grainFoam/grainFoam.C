@@ -66,6 +66,11 @@ int main(int argc, char *argv[])
         {
             Info<< "heat: grain mean T = " << grains.meanTemperature()
                 << " K, wall heat = " << rep.wallHeat << " J";
+            if (rep.exchangeHeat != 0)
+            {
+                // grainProperties frontRearWalls (2D Hele-Shaw cell)
+                Info<< ", front/rear walls = " << rep.exchangeHeat << " J";
+            }
             for (const auto& r : grains.wallHeatRates(runTime.deltaTValue()))
             {
                 Info<< ", " << r.first << " " << r.second << " W";

@@ -298,8 +298,10 @@ void System::Impl::heatStep(double dt, StepReport& rep)
     {
         const int i = heatGrain[a];
         hX[a] += T[i];
-        hR[a] = heatQ[i] + heatH[i]*(heatTf[i] - hX[a]);
+        const double exchange = heatH[i]*(heatTf[i] - hX[a]);
+        hR[a] = heatQ[i] + exchange;
         rep.sourceHeat += dt*hR[a];
+        rep.exchangeHeat += dt*exchange;
     }
     for (const HeatEdge& e : heatEdges)
     {

@@ -63,6 +63,7 @@ StepReport System::advance(double dt, double fraction)
         total.wallHeat += r.wallHeat;
         total.fixedGrainHeat += r.fixedGrainHeat;
         total.sourceHeat += r.sourceHeat;
+        total.exchangeHeat += r.exchangeHeat;
         total.heatIterations += r.heatIterations;
         total.heatResidual = std::max(total.heatResidual, r.heatResidual);
         total.heatSeconds += r.heatSeconds;

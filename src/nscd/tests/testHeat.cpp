@@ -373,6 +373,7 @@ TEST(Heat, AdiabaticBoxConservesHeat)
 // backward Euler gives exactly T_{n+1} = (C/dt T_n + h Tf)/(C/dt + h)
 // (1e-12 relative) and, for h dt/C = 1e6, T reaches Tf in one step without
 // overshoot; plus a constant source Q: T_n = T_0 + n dt Q/C (1e-12).
+// StepReport::exchangeHeat is the bath's part of sourceHeat, dt h (Tf - T_{n+1}).
 TEST(Heat, ExchangeIsImplicitAndSourceIsExact)
 {
     for (int dim : {2, 3})
@@ -395,6 +396,8 @@ TEST(Heat, ExchangeIsImplicitAndSourceIsExact)
             const StepReport r = s.step(dt);
             const double T1 = (C/dt*T + h*Tf)/(C/dt + h);
             EXPECT_NEAR(r.sourceHeat, dt*(h*(Tf - T1) + Q), 1e-12*C*T1);
+            // the bath's part alone (StepReport::exchangeHeat)
+            EXPECT_NEAR(r.exchangeHeat, dt*h*(Tf - T1), 1e-12*C*T1);
             T = T1;
             err = std::max(err, relErr(s.temperatures()[0], T));
             EXPECT_NEAR(s.temperatures()[1], 300 + (k + 1)*dt*Q/C, 1e-12*300);

@@ -26,6 +26,7 @@ similarity=d_ref)): gas and liquid viscosity x (d/d_ref)^2, cohesion x d/d_ref,
 d the bed's mean grain diameter (`similarity_factors`, README.md "Measured,
 similarity-scaled 0.2 mm bed").
 """
+import math
 import os
 import sys
 
@@ -282,8 +283,53 @@ def film_conduction(value=None):
     return bool(value)
 
 
+def zehner_schlunder(k_s, k_f, eps):
+    """Effective conductivity [W/(m K)] of a packed bed of spheres in a
+    stagnant gas, Zehner and Schluender (Chem. Ing. Tech. 42 (1970) 933;
+    VDI Heat Atlas D6.3, without radiation, flattening or Knudsen terms):
+        k/k_f = 1 - sqrt(1 - eps) + 2 sqrt(1 - eps)/(1 - kap B)
+                * [(1 - kap) B/(1 - kap B)^2 ln(1/(kap B))
+                   - (B + 1)/2 - (B - 1)/(1 - kap B)],
+        kap = k_f/k_s, B = 1.25 ((1 - eps)/eps)^(10/9).
+    k_s, k_f [W/(m K)] > 0, eps the void fraction in (0, 1).  Raises
+    ValueError otherwise."""
+    if not (k_s > 0 and k_f > 0 and 0 < eps < 1):
+        raise ValueError(f"zehner_schlunder: need k_s, k_f > 0 and 0 < eps < 1, got "
+                         f"{k_s}, {k_f}, {eps}")
+    kap, B = k_f / k_s, 1.25 * ((1 - eps) / eps) ** (10 / 9)
+    a = 1 - kap * B
+    r = math.sqrt(1 - eps)
+    return k_f * (1 - r + 2 * r / a * ((1 - kap) * B / a ** 2 * math.log(1 / (kap * B))
+                                       - (B + 1) / 2 - (B - 1) / a))
+
+
+def front_rear_walls(value=None):
+    """Relaxation time tau [s] of the grains to the front and rear walls of
+    the Hele-Shaw cell (grainProperties frontRearWalls, src/grainCloud), or
+    None (off, the default).  value: True/False if given, else env
+    FRONT_REAR_WALLS ("yes"/"no").  The walls (sapphire and aluminium, at
+    T_bed, "thermal reservoirs", thesis section 4.3.2) are within l/2 = 0.75
+    mm of every grain; a bed slab between them with a uniform sink relaxes
+    as (12 k_eff/l^2)(T_w - T) per unit volume (mean deficit q l^2/(12 k)),
+        tau = (rho c)_bed l^2/(12 k_eff),
+    (rho c)_bed = 0.4 rho_s c_s (Table 4.2 bed, solid fraction 0.4),
+    k_eff = zehner_schlunder(k_s, k_f, 0.6) (Table 4.2: 234 and 0.026
+    W/(m K)): 0.23 W/(m K), tau = 0.30 s.  Only the grains: the gas holds
+    0.3 % of the bed's heat capacity.  Raises ValueError for another word."""
+    if value is None:
+        env = os.environ.get("FRONT_REAR_WALLS", "no")
+        if env not in ("yes", "no"):
+            raise ValueError(f"FRONT_REAR_WALLS={env}: give 'yes' or 'no'")
+        value = env == "yes"
+    if not value:
+        return None
+    k_eff = zehner_schlunder(K_P, KAPPA, 1 - PHI_BED)
+    return PHI_BED * RHO_P * C_P * GAP ** 2 / (12 * k_eff)
+
+
 def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=None,
-          similarity=None, deposit_root=None, sigma=None, release=None, film=None):
+          similarity=None, deposit_root=None, sigma=None, release=None, film=None,
+          walls=None):
     """Case CASE at bed temperature t_bed_c [C] with the bed of root/deposit.
     porosity: None (solid discs; the gas sees the discs of radius 0.88 r,
     section 3.2.3) or the grain porosity n of the porous-grain correction
@@ -297,7 +343,9 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
     root), so that a scaled bed reuses the unscaled bed's deposit.  sigma:
     surface tension of the capillary barrier (`surface_tension(sigma)`).
     release: where the vapour leaves the droplet (`vapour_release(release)`).
-    film: Leidenfrost film conduction (`film_conduction(film)`; needs sigma > 0)."""
+    film: Leidenfrost film conduction (`film_conduction(film)`; needs sigma > 0).
+    walls: the front and rear walls at T_bed as a heat bath of the grains
+    (`front_rear_walls(walls)`)."""
     dep = os.path.join(deposit_root or root, "deposit")
     g = nscdpost.read_grains(dep, "0")
     d_grain = float(np.mean(g["d"]))
@@ -314,6 +362,9 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
     top = bed_top(dep)
     with open(os.path.join(case, "constant", "grainProperties"), "a") as f:
         f.write(f"initialTemperature {t_bed};\nwallTemperatures {{ walls {t_bed}; }}\n")
+        tau = front_rear_walls(walls)
+        if tau:
+            f.write(f"frontRearWalls {{ temperature {t_bed}; relaxationTime {tau:.6g}; }}\n")
     emp = "frontAndBack { type empty; }"
     write(case, "0/U", "volVectorField", "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
           "boundaryField { walls { type noSlip; } outlet { type pressureInletOutletVelocity;"
@@ -383,6 +434,7 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
         "rho": RHO, "Cp": CP, "mu": nu * RHO, "liquid_viscosity": mu_l,
         "cohesion_force": f_c0, "similarity_reference_diameter": similarity,
         "surface_tension": sig, "vapour_release": release, "film_conduction": film,
+        "front_rear_walls_tau": tau,
         "similarity_s": sim["s"], "T_d": T_D, "latent_heat": LATENT,
         "grain_density": RHO_P, "packing_2d": phi2d, "grain_porosity": porosity,
         "bed_weight_fraction": phi2d * (1 - (porosity or 0.0))})
