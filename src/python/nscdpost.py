@@ -188,6 +188,13 @@ def heat_log(log):
             "budget": np.array(bud, dtype=float).reshape(-1, 5), "patches": patches}
 
 
+def log_paths(case, app="vansFoam"):
+    """Paths of `log.<app>` and of the logs `log.<app>.<anything>` of its
+    continuations (e.g. log.vansFoam.ext) in `case`, in name order."""
+    return [os.path.join(case, n) for n in sorted(os.listdir(case))
+            if n == f"log.{app}" or n.startswith(f"log.{app}.")]
+
+
 def heat_log_history(case, app="vansFoam"):
     """heat_log of a run continued from its writes, the parts joined: the
     logs `log.<app>` and `log.<app>.<anything>` (e.g. log.vansFoam.ext of a
@@ -200,10 +207,8 @@ def heat_log_history(case, app="vansFoam"):
     line.  Raises FileNotFoundError if
     there is no log with a "heat:" line."""
     parts = []
-    for name in sorted(os.listdir(case)):
-        if name != f"log.{app}" and not name.startswith(f"log.{app}."):
-            continue
-        with open(os.path.join(case, name)) as f:
+    for path in log_paths(case, app):
+        with open(path) as f:
             text = f.read()
         h = heat_log(text)
         if not len(h["time"]):

@@ -96,12 +96,11 @@ def read_log(case):
 
 
 def log_texts(case):
-    """Texts of log.vansFoam and its continuations log.vansFoam.* (name order)."""
-    names = sorted(n for n in os.listdir(case)
-                   if n == "log.vansFoam" or n.startswith("log.vansFoam."))
+    """Texts of log.vansFoam and its continuations log.vansFoam.*
+    (nscdpost.log_paths, name order)."""
     out = []
-    for n in names:
-        with open(os.path.join(case, n)) as f:
+    for path in nscdpost.log_paths(case):
+        with open(path) as f:
             out.append(f.read())
     return out
 
