@@ -314,7 +314,7 @@ def summary(d, uv, umf, times=(0.1, 0.3, 0.6, 1.0, 1.5)):
     return out
 
 
-def force_balance(d, window=(0.2, None)):
+def force_balance(d, window=0.2):
     """Vertical forces on the droplet (thesis Figure 4.18), upward positive,
     over the initial weight m_0 g, per droplet.dat line: `weight` (-m g),
     `fluid` (S_y: the gas on the droplet's surface, pressure and
@@ -325,7 +325,7 @@ def force_balance(d, window=(0.2, None)):
     `momentum_residual` = rms(m du_y/dt - net)/(m_0 g) over the steps.
     `support`: the shares of the weight carried by the gas and by the grains,
     mean(S_y)/mean(m g) and mean(F_p + F_c)/mean(m g) over the last
-    window[0] s (all of a shorter run).  d: droplet.dat array (25 columns;
+    `window` s (all of a shorter run).  d: droplet.dat array (25 columns;
     older files without F_c: 0)."""
     t, m, v = d[:, 0], d[:, COL["m"]], d[:, COL["v"]]
     w0 = m[0] * G
@@ -334,7 +334,7 @@ def force_balance(d, window=(0.2, None)):
     net = -m * G + fluid + grains
     acc = np.diff(v) / np.diff(t)
     resid = float(np.sqrt(np.mean((m[1:] * acc - net[1:]) ** 2)) / w0) if len(t) > 1 else None
-    late = t >= t[-1] - window[0]
+    late = t >= t[-1] - window
     mg = np.mean(m[late] * G)
     return {"weight": (-m * G / w0).tolist(), "fluid": (fluid / w0).tolist(),
             "grains": (grains / w0).tolist(), "net": (net / w0).tolist(),
