@@ -176,9 +176,9 @@ def test_front_rear_walls_heat_the_bed(sweep, env):
     log = run("vansFoam", case, env).stdout
     assert "front and rear walls (Hele-Shaw cell) at 673.15 K" in log
     b = post.energy_budget(case)
-    walls = post.read_log(case)["budget"][:, 3].sum()
-    ref = post.read_log(cases[400.0])
-    T_end, T_ref = post.read_log(case)["grain_T"][-1], ref["grain_T"][-1]
+    lg, ref = post.read_log(case), post.read_log(cases[400.0])
+    walls = lg["budget"][:, 3].sum()
+    T_end, T_ref = lg["grain_T"][-1], ref["grain_T"][-1]
     print(f"front/rear walls: energy defect {b['relative']:.2e}, wall heat {walls:.3e} J "
           f"(without: {ref['budget'][:, 3].sum():.3e} J), mean grain T {T_end:.3f} K "
           f"(without: {T_ref:.3f} K)")

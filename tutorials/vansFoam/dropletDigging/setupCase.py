@@ -270,17 +270,24 @@ def vapour_release(value=None):
     return value
 
 
+def yes_no(value, env_name):
+    """bool(value) if value is not None, else the environment variable
+    env_name, "yes" or "no" (default "no").  Raises ValueError for another
+    word."""
+    if value is not None:
+        return bool(value)
+    env = os.environ.get(env_name, "no")
+    if env not in ("yes", "no"):
+        raise ValueError(f"{env_name}={env}: give 'yes' or 'no'")
+    return env == "yes"
+
+
 def film_conduction(value=None):
     """Leidenfrost film conduction from the grains pressed on the droplet
     (dropletProperties filmConduction, vapourDroplet.H; needs the capillary
     barrier): value if given, else env FILM_CONDUCTION ("yes"/"no"), else
     False.  Raises ValueError for another word."""
-    if value is None:
-        env = os.environ.get("FILM_CONDUCTION", "no")
-        if env not in ("yes", "no"):
-            raise ValueError(f"FILM_CONDUCTION={env}: give 'yes' or 'no'")
-        value = env == "yes"
-    return bool(value)
+    return yes_no(value, "FILM_CONDUCTION")
 
 
 def zehner_schlunder(k_s, k_f, eps):
@@ -316,12 +323,7 @@ def front_rear_walls(value=None):
     k_eff = zehner_schlunder(k_s, k_f, 0.6) (Table 4.2: 234 and 0.026
     W/(m K)): 0.23 W/(m K), tau = 0.30 s.  Only the grains: the gas holds
     0.3 % of the bed's heat capacity.  Raises ValueError for another word."""
-    if value is None:
-        env = os.environ.get("FRONT_REAR_WALLS", "no")
-        if env not in ("yes", "no"):
-            raise ValueError(f"FRONT_REAR_WALLS={env}: give 'yes' or 'no'")
-        value = env == "yes"
-    if not value:
+    if not yes_no(value, "FRONT_REAR_WALLS"):
         return None
     k_eff = zehner_schlunder(K_P, KAPPA, 1 - PHI_BED)
     return PHI_BED * RHO_P * C_P * GAP ** 2 / (12 * k_eff)
