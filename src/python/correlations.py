@@ -1,6 +1,12 @@
-"""Reference closed forms of the grain/fluid Nusselt correlations, written
-independently of the C++ models (src/vansCoupling/heatTransferModels), for
-the case tests and the tutorials' post-processing.
+"""Reference closed forms of the grain/fluid closures, written independently
+of the C++ models (src/vansCoupling/heatTransferModels, dragModels), for the
+case tests and the tutorials' post-processing.
+
+Drag: the coded laws (gamma_*, per unit grain volume, interstitial Re; used
+by consistency checks and post-processing only) and independent references
+(the standard drag curve, Ergun, Richardson-Zaki exponents).
+
+Nusselt numbers:
 
 All take the superficial Reynolds number Res = eps |u - v| d / nu
 (= eps Re, Re the interstitial one), the void fraction eps and the Prandtl
@@ -33,3 +39,82 @@ def nusselt_ranz_marshall(eps, Res, Pr):
 def nusselt_wakao_kaguei(Res, Pr):
     """Wakao & Kaguei (1982), packed beds, dispersion-corrected data."""
     return 2 + 1.1 * Res ** 0.6 * Pr ** (1.0 / 3.0)
+
+
+# -- drag ---------------------------------------------------------------------
+G = 9.81
+DISC_PER_UNIT_DEPTH = 8.0 / (3.0 * math.pi)   # gamma_disc / gamma_sphere
+
+
+def cd_dallavalle(Re):
+    """Dallavalle (1948) single-sphere drag coefficient."""
+    return (0.63 + 4.8 / math.sqrt(Re)) ** 2
+
+
+def cd_brown_lawler(Re):
+    """Standard drag curve of a sphere, Brown & Lawler (2003, J. Environ. Eng.
+    129, 222-231, eq. 19; a fit of 480 measurements, Re < 2e5)."""
+    return 24.0 / Re * (1 + 0.150 * Re ** 0.681) + 0.407 / (1 + 8710.0 / Re)
+
+
+def gamma_dallavalle_difelice(eps, Re, d, mu):
+    """Di Felice (1994) published form with Dallavalle's C_d0, per unit
+    sphere volume: 0.75 (0.63 sqrt(Res) + 4.8)^2 eps^(1 - chi) mu/d^2,
+    chi = 3.7 - 0.65 exp(-(1.5 - log10 Res)^2/2), Res = eps Re."""
+    Res = max(eps * Re, 1e-12)
+    chi = 3.7 - 0.65 * math.exp(-0.5 * (1.5 - math.log10(Res)) ** 2)
+    return 0.75 * (0.63 * math.sqrt(Res) + 4.8) ** 2 * eps ** (1 - chi) * mu / d ** 2
+
+
+def gamma_thesis_eq332(eps, Re, d, mu):
+    """Thesis eq. 3.32 as printed, exponent of eq. 4.10 plus 1 (the
+    twoDimensionalDrag thesisEq3.32 convention)."""
+    er = max(eps * Re, 1e-12)
+    x = 2.8 - math.exp(-0.5 * (1.5 - math.log10(er)) ** 2)
+    return eps ** -x * (0.77 * math.sqrt(er) + 5.88) ** 2 * mu / d ** 2
+
+
+def gamma_gidaspow(eps, Re, d, mu, rho):
+    """Gidaspow (1994): Ergun below eps 0.8, Wen & Yu above."""
+    slip = Re * mu / (rho * d)
+    if eps < 0.8:
+        return 150 * (1 - eps) * mu / (eps * d * d) + 1.75 * rho * slip / d
+    er = eps * Re
+    if er < 1000:
+        return 18 * mu / d ** 2 * (1 + 0.15 * er ** 0.687) * eps ** -2.65
+    return 0.75 * 0.44 * eps * rho * slip * eps ** -2.65 / d
+
+
+def terminal_velocity(cd, d, nu, rho, rhop, g=G):
+    """Terminal slip w of a lone sphere: (rho_p - rho) g pi d^3/6 =
+    1/2 rho C_d(w d/nu) pi d^2/4 w^2, by bisection on log w."""
+    lo, hi = 1e-9, 10.0
+    for _ in range(200):
+        w = math.sqrt(lo * hi)
+        f = (rhop - rho) * g * d / (0.75 * rho * cd(w * d / nu)) - w * w
+        lo, hi = (w, hi) if f > 0 else (lo, w)
+    return w
+
+
+def ergun_gradient(eps, Us, d, mu, rho):
+    """Ergun (1952) pressure gradient [Pa/m] at superficial velocity Us."""
+    return (150 * mu * (1 - eps) ** 2 * Us / (eps ** 3 * d ** 2)
+            + 1.75 * rho * (1 - eps) * Us ** 2 / (eps ** 3 * d))
+
+
+def n_richardson_zaki(Ret):
+    """Richardson & Zaki (1954, Chem. Eng. Sci. 3, 65-73) exponent of
+    U/v_t = eps^n, unbounded suspension (d/D -> 0)."""
+    if Ret < 0.2:
+        return 4.65
+    if Ret < 1:
+        return 4.4 * Ret ** -0.03
+    if Ret < 500:
+        return 4.4 * Ret ** -0.1
+    return 2.39
+
+
+def n_garside_al_dibouni(Ret):
+    """Garside & Al-Dibouni (1977, Ind. Eng. Chem. Process Des. Dev. 16,
+    206-214) exponent of U/v_t = eps^n."""
+    return (5.1 + 0.27 * Ret ** 0.9) / (1 + 0.1 * Ret ** 0.9)

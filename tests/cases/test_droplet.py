@@ -37,6 +37,7 @@ import re
 import numpy as np
 import pytest
 
+import correlations
 import nscdpost
 
 from foamcase import add_fluid, make_box_case, run, write, add_scalar_transport
@@ -773,13 +774,13 @@ RHO_W, MU_W = 958.0, 2.82e-4   # water at 100 C: Incropera & DeWitt Table A.6
                                # (1/v_f = 958 kg/m^3), IAPWS 2008 (281.8e-6 Pa s)
 
 
-def difelice_gamma(eps, Re, d, mu):
-    """DallavalleDiFelice drag per unit grain volume [kg/(m^3 s)], the law of
-    src/vansCoupling/dragModels/DallavalleDiFelice (thesis eq. 3.32, Di Felice
-    1994 exponent with beta0 = 2.8), written out independently."""
-    er = max(eps * Re, 1e-12)
-    x = 2.8 - math.exp(-0.5 * (1.5 - math.log10(er)) ** 2)
-    return eps ** -x * (0.77 * math.sqrt(er) + 5.88) ** 2 * mu / d**2
+def difelice_gamma(eps, Re, d, mu, two_d=True):
+    """DallavalleDiFelice drag [kg/(m^3 s)] of src/vansCoupling/dragModels
+    (Di Felice 1994, correlations.gamma_dallavalle_difelice), per unit disc
+    area with the default 2D convention perUnitDepth (8/(3 pi) x the sphere's
+    per unit volume) when two_d, per unit sphere volume otherwise."""
+    g = correlations.gamma_dallavalle_difelice(eps, Re, d, mu)
+    return g * correlations.DISC_PER_UNIT_DEPTH if two_d else g
 
 
 def rk4(rate, y, t_end, n):
@@ -835,7 +836,7 @@ def porous_bed_pressure_gradient(tmp_path, env, n, ny=12, nx=3):
     grad = rho * (p[:, j1, :].mean() - p[:, j2, :].mean()) / ((j2 - j1) * h)
     eps = 1 - (1 - n) * math.pi / 6 * d**3 / h**3
     u = Us / eps
-    law = (1 - eps) * difelice_gamma(eps, rho * u * d / mu, d, mu) * u / eps
+    law = (1 - eps) * difelice_gamma(eps, rho * u * d / mu, d, mu, two_d=False) * u / eps
     return grad, eps_field, eps, law, p
 
 

@@ -35,6 +35,7 @@ import sys
 import numpy as np
 import pytest
 
+import correlations
 import nscdpost
 from foamcase import add_fluid, make_box_case, run, tutorial_modules, write
 
@@ -294,13 +295,10 @@ def test_unknown_transport_keyword(tmp_path, env):
 
 
 def closed_form_slip(drho, mu, rho, d):
-    """Slip velocity w of a single sphere, drho g = gamma(eps = 1, Re(w)) w
-    with the Dallavalle drag of thesis eq. 3.32 (as test_vansFoam.py)."""
-    w = 1e-3
-    for _ in range(200):
-        Re = rho * w * d / mu
-        w = drho * G / ((0.77 * math.sqrt(Re) + 5.88) ** 2 * mu / d**2)
-    return w
+    """Slip velocity w of a single sphere, drho g = gamma(eps = 1, Re(w)) w,
+    with the coded DallavalleDiFelice law (consistency check: test_drag.py
+    compares the law with the standard drag curve)."""
+    return correlations.terminal_velocity(correlations.cd_dallavalle, d, mu / rho, rho, rho + drho)
 
 
 def test_terminal_slip_velocity_in_water(tmp_path, env):
@@ -323,11 +321,9 @@ def test_terminal_slip_velocity_in_water(tmp_path, env):
 
 
 def dallavalle_gamma(eps, Re, d, mu):
-    """gamma [kg/(m^3 s)] of the Dallavalle drag with the Di Felice voidage
-    exponent, thesis eq. 3.32 and 4.10 (DallavalleDiFelice.C)."""
-    epsRe = max(eps * Re, 1e-300)
-    chi = 2.8 - math.exp(-0.5 * (1.5 - math.log10(epsRe)) ** 2)
-    return eps ** (-chi) * (0.77 * math.sqrt(epsRe) + 5.88) ** 2 * mu / d**2
+    """gamma [kg/(m^3 s)] of a disc, DallavalleDiFelice with the default 2D
+    convention perUnitDepth (dragModel.H, correlations.py)."""
+    return correlations.DISC_PER_UNIT_DEPTH * correlations.gamma_dallavalle_difelice(eps, Re, d, mu)
 
 
 def ode_fall(t_end, rhop, d, rho, mu, eps, n=4000):

@@ -1031,7 +1031,7 @@ void Foam::vapourDroplet::exchangeGrainMomentum
             const vector v(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
             const scalar d = 2*r;
             const scalar Re = rhoL_*mag(un - v)*d/muL_;
-            const scalar gam = drag_->gamma(epsL, Re, d, muL_, rhoL_);
+            const scalar gam = drag_->gamma(epsL, Re, d, muL_, rhoL_, twoD);
             // liquid-displacing volume a_i = f_i (1 - n) V_i (2D: per depth)
             const scalar a = f*(1 - porosity_)*Vg;
             const scalar ci = a*gam;

@@ -172,6 +172,7 @@ Foam::vansCloud::vansCloud
         dict_,
         {
             "dragModel", "DallavalleDiFeliceCoeffs", "GidaspowCoeffs",
+            "twoDimensionalDrag",
             "voidFraction", "forceModel",
             "heatTransferModel", "DiFeliceColburnCoeffs", "GunnCoeffs",
             "RanzMarshallCoeffs", "cohesion", "rotationCoupling",
@@ -327,6 +328,10 @@ Foam::vansCloud::vansCloud
     }
 
     Info<< "vansCloud: force model " << forceModel_;
+    if (adapter_.twoD())
+    {
+        Info<< ", 2D drag convention " << drag_->discConventionName();
+    }
     if (constantProperties_)
     {
         Info<< ", fluid rho " << rho_ << " nu " << nu_;
@@ -891,7 +896,10 @@ void Foam::vansCloud::predictDragCore
         const scalar eps = max(epsg_[i], adapter_.epsMin());
         gamma_[i] =
             W[i] > 0
-          ? drag_->gamma(eps, ReP_[i], d, rhog_[i]*nug_[i], rhog_[i])
+          ? drag_->gamma
+            (
+                eps, ReP_[i], d, rhog_[i]*nug_[i], rhog_[i], adapter_.twoD()
+            )
           : 0;
 
         if (s.fixed(i))

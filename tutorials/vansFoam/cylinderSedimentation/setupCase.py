@@ -140,7 +140,7 @@ def write_case(case, lo, hi, cells, grains, rho_s, rho_f, nu, gravity=(0, -9.81,
            "couplingProperties",
            "// resolved regime: eps -> epsMin inside the grains, the semi-implicit\n"
            "// drag (eq. 3.46-3.50) acts as a volume penalisation (thesis 3.3.3)\n"
-           "dragModel DallavalleDiFelice;\nforceModel A;\n"
+           "dragModel DallavalleDiFelice;\ntwoDimensionalDrag perUnitDepth;\nforceModel A;\n"
            "voidFraction { method overlap; epsMin 1e-8; }\n"
            + ("rotationCoupling yes;\n" if rotation else ""))
     _write(os.path.join(case, "constant", "grainProperties"), "dictionary", "grainProperties",

@@ -384,7 +384,7 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
           f"rho {RHO};\nnu {nu:.10g};\nCp {CP};\nkappa {KAPPA};\nbeta {BETA};\nTRef {t_bed};\n"
           f"vapour {{ D {D_V}; rho {RHO_V}; bounded yes; }}\n")
     write(case, "constant/couplingProperties", "dictionary",
-          "dragModel DallavalleDiFelice;\nforceModel A;\n"
+          "dragModel DallavalleDiFelice;\ntwoDimensionalDrag perUnitDepth;\nforceModel A;\n"
           "voidFraction { method overlap; epsMin 1e-8; effectiveDiameterFactor "
           + ("0.88; }\n" if porosity is None else f"1; }}\ngrainPorosity {porosity:.6g};\n")
           +

@@ -2,26 +2,24 @@
 """settling3D post-processing: results.json (time, mean_grain_velocity) and
 settling.png.  mean_grain_velocity: mean vertical grain velocity [m/s].  The
 reference curve is the terminal velocity of one grain of the mean diameter
-(Dallavalle + Di Felice drag at eps = 1, force balance solved in closed form):
+(Dallavalle's C_d, the eps = 1 limit of the DallavalleDiFelice drag):
 a dense cloud (solid fraction ~0.3-0.5) falls slower than a lone grain
 (hindered settling: return flow of the displaced water, Richardson & Zaki
 1954) and stops on the floor."""
-import math
 import os
 import sys
 
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(os.path.dirname(__file__), "../../..")), "src", "python"))
+import correlations  # noqa: E402
 import nscdpost  # noqa: E402
 
 
-def terminal(d, rhop=2500.0, rho=1000.0, nu=1e-6, g=9.81):
-    w = 1e-2
-    for _ in range(200):
-        Re = w * d / nu
-        w = (rhop - rho) * g / ((0.77 * math.sqrt(Re) + 5.88) ** 2 * rho * nu / d**2)
-    return w
+def terminal(d, rhop=2500.0, rho=1000.0, nu=1e-6):
+    """Lone-sphere terminal velocity with Dallavalle's C_d (the eps -> 1 limit
+    of DallavalleDiFelice)."""
+    return correlations.terminal_velocity(correlations.cd_dallavalle, d, nu, rho, rhop)
 
 
 def main():

@@ -15,33 +15,24 @@ namespace dragModels
 
 Foam::dragModels::DallavalleDiFelice::DallavalleDiFelice(const dictionary& dict)
 :
-    dragModel(dict),
-    constantExponent_(coeffs_.getOrDefault<bool>("constantExponent", false))
+    dragModel(dict)
 {
-    grainTools::checkKeywords(coeffs_, {"constantExponent"});
+    grainTools::checkKeywords(coeffs_, {});
 }
 
 
-Foam::scalar Foam::dragModels::DallavalleDiFelice::exponent
-(
-    const scalar epsRe
-) const
+Foam::scalar Foam::dragModels::DallavalleDiFelice::chi(const scalar Res)
 {
-    if (constantExponent_)
-    {
-        return 2.8;
-    }
-    // Thesis eq. 4.10 exponent plus 1 (shared with the Nusselt model)
-    return diFelice::voidageExponent(epsRe, 2.8);
+    return 3.7 - 0.65*diFelice::bump(Res);
 }
 
 
 Foam::scalar Foam::dragModels::DallavalleDiFelice::gamma
 (
     const scalar eps, const scalar Re, const scalar d,
-    const scalar mu, const scalar rho
+    const scalar mu, const scalar /*rho*/
 ) const
 {
-    const scalar epsRe = eps*Re;
-    return pow(eps, -exponent(epsRe))*sqr(0.77*sqrt(epsRe) + 5.88)*mu/sqr(d);
+    const scalar Res = eps*Re;
+    return 0.75*sqr(0.63*sqrt(Res) + 4.8)*pow(eps, 1 - chi(Res))*mu/sqr(d);
 }
