@@ -193,7 +193,8 @@ void OverlapMapper::mapExact(label g, const Vec3& c, double r, label cell)
                 centroid[1] += m.moment[1] / m.area;
             }
         } else {
-            const SphereOverlap3D o = sphereCellOverlap(mesh_, k, c, r, withCentroid);
+            const SphereOverlap3D o = sphereCellOverlap(mesh_, k, c, r, withCentroid,
+                                                        settings_.closedFormBoxes);
             vol = o.volume;
             centroid = o.centroid;
         }

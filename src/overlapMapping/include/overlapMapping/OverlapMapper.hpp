@@ -60,6 +60,10 @@ struct MappingSettings {
     bool computeCentroids = true;
     /// Grains whose centre is outside the mesh.
     OutsideGrainPolicy outside = OutsideGrainPolicy::Throw;
+    /// 3D: closed-form sphere/box overlaps for hexes with axis-aligned faces
+    /// (CellMesh::isBox, SphereBox.hpp). false uses the general `overlap`
+    /// library path for every cell (same volumes to round-off; for checks).
+    bool closedFormBoxes = true;
 
     /**
      * @brief Diameter factor k making a packing of fraction @p phiModel look
