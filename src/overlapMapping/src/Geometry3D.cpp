@@ -68,7 +68,7 @@ inline void addFaceMoment(Vec3& M, const Vec3& c, double r2, const Vec3& N,
 
 /// sphereCellOverlap() for a box cell [lo, hi].
 SphereOverlap3D sphereBoxCell(const Vec3& lo, const Vec3& hi, const Vec3& c,
-                              double r, bool withCentroid)
+                              double r, bool withCentroid, SphereCornerCache* cache)
 {
     SphereOverlap3D out;
     out.centroid = c;
@@ -99,7 +99,7 @@ SphereOverlap3D sphereBoxCell(const Vec3& lo, const Vec3& hi, const Vec3& c,
         out.centroid = 0.5 * (lo + hi);
         return out;
     }
-    const SphereBoxOverlap o = sphereBoxOverlap(c, r, lo, hi, withCentroid);
+    const SphereBoxOverlap o = sphereBoxOverlap(c, r, lo, hi, withCentroid, cache);
     out.volume = o.volume;
     if (withCentroid && o.volume > 0.0) {
         // the moment is exact to ~1e-15 r^4: for a sliver much thinner than r
@@ -252,10 +252,11 @@ Vec3 sphereCellFirstMoment(const CellMesh& mesh, label cell, const Vec3& c,
 
 SphereOverlap3D sphereCellOverlap(const CellMesh& mesh, label cell,
                                   const Vec3& c, double r, bool withCentroid,
-                                  bool closedFormBoxes)
+                                  bool closedFormBoxes, SphereCornerCache* cache)
 {
     if (closedFormBoxes && mesh.isBox(cell)) {
-        return sphereBoxCell(mesh.boxMin(cell), mesh.boxMax(cell), c, r, withCentroid);
+        return sphereBoxCell(mesh.boxMin(cell), mesh.boxMax(cell), c, r, withCentroid,
+                             cache);
     }
     SphereOverlap3D out;
     out.centroid = c;

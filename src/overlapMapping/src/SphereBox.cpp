@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 namespace overlapMapping {
@@ -116,6 +117,51 @@ inline AxisTerms axisTerms(double x0, double x1)
 
 }  // namespace
 
+SphereCornerCache::SphereCornerCache()
+{
+    std::fill(std::begin(filled_), std::end(filled_), 0u);
+}
+
+void SphereCornerCache::bind(const Vec3& centre, double r, bool withMoment)
+{
+    if (centre == centre_ && r == r_ && withMoment == withMoment_) {
+        return;
+    }
+    centre_ = centre;
+    r_ = r;
+    withMoment_ = withMoment;
+    nPlanes_[0] = nPlanes_[1] = nPlanes_[2] = 0;
+    if (++stamp_ == 0) {
+        std::fill(std::begin(filled_), std::end(filled_), 0u);
+        stamp_ = 1;
+    }
+}
+
+int SphereCornerCache::planeIndex(int axis, double t)
+{
+    const int n = nPlanes_[axis];
+    for (int i = 0; i < n; ++i) {
+        if (planes_[axis][i] == t) {
+            return i;
+        }
+    }
+    if (n == maxPlanes) {
+        return -1;
+    }
+    planes_[axis][n] = t;
+    nPlanes_[axis] = n + 1;
+    return n;
+}
+
+int SphereCornerCache::slot(double a, double b, double c)
+{
+    const int i = planeIndex(0, a), j = planeIndex(1, b), k = planeIndex(2, c);
+    if (i < 0 || j < 0 || k < 0) {
+        return -1;
+    }
+    return i + maxPlanes * (j + maxPlanes * k);
+}
+
 double sphereCornerVolume(double a, double b, double c, double r)
 {
     const double ia = a / r, ib = b / r, ic = c / r;
@@ -126,11 +172,15 @@ double sphereCornerVolume(double a, double b, double c, double r)
 }
 
 SphereBoxOverlap sphereBoxOverlap(const Vec3& c, double r, const Vec3& lo,
-                                  const Vec3& hi, bool withMoment)
+                                  const Vec3& hi, bool withMoment,
+                                  SphereCornerCache* cache)
 {
     SphereBoxOverlap out;
     if (!(r > 0.0)) {
         return out;
+    }
+    if (cache) {
+        cache->bind(c, r, withMoment);
     }
     const double inv = 1.0 / r;
     AxisTerms ax[3];
@@ -159,7 +209,22 @@ SphereBoxOverlap sphereBoxOverlap(const Vec3& c, double r, const Vec3& lo,
                 if (ab2 + cc * cc >= 1.0) {
                     continue;
                 }
-                const Corner w = unitCorner(a, b, cc, withMoment);
+                Corner w;
+                const int sl = cache ? cache->slot(a, b, cc) : -1;
+                if (sl >= 0 && cache->filled_[sl] == cache->stamp_) {
+                    const double* val = cache->values_[sl];
+                    w = {val[0], val[1], val[2], val[3]};
+                } else {
+                    w = unitCorner(a, b, cc, withMoment);
+                    if (sl >= 0) {
+                        double* val = cache->values_[sl];
+                        val[0] = w.v;
+                        val[1] = w.mx;
+                        val[2] = w.my;
+                        val[3] = w.mz;
+                        cache->filled_[sl] = cache->stamp_;
+                    }
+                }
                 const double cyz = Y.cv[j] * Z.cv[k];
                 v += X.cv[i] * cyz * w.v;
                 if (withMoment) {

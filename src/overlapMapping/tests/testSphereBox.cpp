@@ -194,7 +194,8 @@ TEST(SphereBox, HalfQuarterEighthBallAtCentre)
 // Partition of the ball over a graded hex mesh that contains it: the overlaps
 // sum to 4/3 pi r^3 and the first moments to zero (centroid at the centre),
 // to 1e-12, for spheres covering from a few cells to the whole mesh. Every
-// cell is detected as a box, so this runs the closed form only.
+// cell is detected as a box, so this runs the closed form only; with a
+// SphereCornerCache the results are bitwise the same.
 TEST(SphereBox, BallPartitionOverMesh)
 {
     CellMesh m(hexGridMesh(gradedSpacing(0, 1, 7, 3.0), gradedSpacing(0, 1, 5, 0.4),
@@ -211,10 +212,15 @@ TEST(SphereBox, BallPartitionOverMesh)
         const Vec3 c(r + (1 - 2 * r) * U(rng), r + (1 - 2 * r) * U(rng), r + (1 - 2 * r) * U(rng));
         double v = 0;
         Vec3 M = Vec3::Zero();
+        SphereCornerCache cache;
         for (label cell = 0; cell < m.nCells(); ++cell) {
             const SphereOverlap3D o = sphereCellOverlap(m, cell, c, r, true);
             v += o.volume;
             M += o.volume * (o.centroid - c);
+            // the corner memo changes nothing, to the last bit
+            const SphereOverlap3D oc = sphereCellOverlap(m, cell, c, r, true, true, &cache);
+            ASSERT_EQ(oc.volume, o.volume);
+            ASSERT_EQ(oc.centroid, o.centroid);
         }
         const double V = sphereVolume(r);
         EXPECT_NEAR(v, V, 1e-12 * V) << "r " << r;

@@ -27,6 +27,7 @@
 #define OVERLAPMAPPING_GEOMETRY3D_HPP
 
 #include "overlapMapping/CellMesh.hpp"
+#include "overlapMapping/SphereBox.hpp"
 
 namespace overlapMapping {
 
@@ -83,10 +84,13 @@ Vec3 sphereCellFirstMoment(const CellMesh& mesh, label cell, const Vec3& c,
  *        returned centroid is c.
  * @param closedFormBoxes false sends box cells through the general path too
  *        (the `overlap` library hexahedron), for checks.
+ * @param cache optional corner memo for the box cells of one sphere (see
+ *        SphereCornerCache).
  */
 SphereOverlap3D sphereCellOverlap(const CellMesh& mesh, label cell,
                                   const Vec3& c, double r, bool withCentroid,
-                                  bool closedFormBoxes = true);
+                                  bool closedFormBoxes = true,
+                                  SphereCornerCache* cache = nullptr);
 
 /**
  * @brief Volume of sphere (c, r) ∩ cell by the tetrahedral decomposition

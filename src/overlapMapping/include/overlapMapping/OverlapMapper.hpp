@@ -22,6 +22,7 @@
 #define OVERLAPMAPPING_OVERLAPMAPPER_HPP
 
 #include "overlapMapping/CellMesh.hpp"
+#include "overlapMapping/SphereBox.hpp"
 
 #include <Eigen/Core>
 
@@ -235,6 +236,7 @@ private:
     std::vector<std::uint32_t> visited_;
     std::uint32_t stamp_ = 0;
     std::vector<label> queue_;
+    SphereCornerCache corners_;  // 3D box cells: corner terms of one grain
     std::size_t cellsEvaluated_ = 0;
 };
 

@@ -75,6 +75,9 @@
 
 #include "overlapMapping/Types.hpp"
 
+#include <cstdint>
+#include <limits>
+
 namespace overlapMapping {
 struct MeshView;
 }
@@ -85,6 +88,40 @@ namespace overlapMapping {
 struct SphereBoxOverlap {
     double volume = 0.0;         ///< overlap volume [m^3], >= 0
     Vec3 moment = Vec3::Zero();  ///< ∫ (x - c) dV over the overlap [m^4]
+};
+
+/**
+ * @brief Memo of the corner terms of step 1 for one sphere.
+ *
+ * Neighbouring boxes share planes, so the boxes overlapping one sphere share
+ * most corner terms (on a grid with h ~ d, 27 corner terms over the ~8 cells
+ * a sphere touches, 8 of them distinct). Pass the same cache to
+ * sphereBoxOverlap() for the boxes of one sphere: it keys the terms by their
+ * exact plane offsets and resets itself when the sphere (or withMoment)
+ * changes. Not thread-safe; about 20 kB.
+ */
+class SphereCornerCache {
+public:
+    SphereCornerCache();
+
+private:
+    friend SphereBoxOverlap sphereBoxOverlap(const Vec3&, double, const Vec3&,
+                                             const Vec3&, bool, SphereCornerCache*);
+    static constexpr int maxPlanes = 8;  ///< distinct offsets per axis
+    /// Slot of corner (a, b, c) in values_ (-1 if an axis is full); resets the
+    /// cache if (centre, r, withMoment) changed.
+    int slot(double a, double b, double c);
+    void bind(const Vec3& centre, double r, bool withMoment);
+    int planeIndex(int axis, double t);
+
+    Vec3 centre_ = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+    double r_ = 0.0;
+    bool withMoment_ = false;
+    std::uint32_t stamp_ = 1;
+    double planes_[3][maxPlanes];
+    int nPlanes_[3] = {0, 0, 0};
+    std::uint32_t filled_[maxPlanes * maxPlanes * maxPlanes];
+    double values_[maxPlanes * maxPlanes * maxPlanes][4];  // v, mx, my, mz
 };
 
 /**
@@ -101,11 +138,14 @@ double sphereCornerVolume(double a, double b, double c, double r);
  *        [@p lo, @p hi] (closed form, see the file comment).
  * @param lo,hi box corners [m], lo <= hi componentwise (an empty box gives 0)
  * @param withMoment also compute the first moment about @p c (else zero)
+ * @param cache optional memo shared by the boxes of one sphere (same results
+ *        to the last bit, fewer evaluations)
  * @return volume [m^3] and first moment ∫ (x - c) dV [m^4]; the overlap
  *         centroid is c + moment / volume.
  */
 SphereBoxOverlap sphereBoxOverlap(const Vec3& c, double r, const Vec3& lo,
-                                  const Vec3& hi, bool withMoment);
+                                  const Vec3& hi, bool withMoment,
+                                  SphereCornerCache* cache = nullptr);
 
 /// Volume only of sphereBoxOverlap() [m^3].
 inline double sphereBoxVolume(const Vec3& c, double r, const Vec3& lo, const Vec3& hi)
