@@ -27,6 +27,9 @@ struct Corner {
 /// from (u, q) to (p, w) (step 3 of SphereBox.hpp).
 inline double arcAngle(double p, double q, double u, double w)
 {
+    if (p == 0.0 && q == 0.0) {
+        return 0.5 * pi;  // quarter disc
+    }
     return std::atan2(u * w - p * q, u * p + q * w);
 }
 
@@ -63,7 +66,9 @@ inline Corner unitCorner(double a, double b, double c, bool withMoment)
     const double re2 = sac, im2 = a * c;
     const double re3 = sbc, im3 = b * c;
     const double re12 = re1 * re2 - im1 * im2, im12 = re1 * im2 + im1 * re2;
-    const double theta = std::atan2(re12 * im3 + im12 * re3, re12 * re3 - im12 * im3);
+    const double theta = (im1 == 0.0 && im2 == 0.0 && im3 == 0.0)
+                             ? 0.0  // at most one plane off the centre
+                             : std::atan2(re12 * im3 + im12 * re3, re12 * re3 - im12 * im3);
     // 3 W = Ω - a A_a - b A_b - c A_c (unit radius)
     const double ra2 = 1.0 - a2, rb2 = 1.0 - b2, rc2 = 1.0 - c2;
     const double Aa = 0.5 * ra2 * phiA + areaLines(b, c, sac, sab);

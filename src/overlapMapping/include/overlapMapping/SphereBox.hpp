@@ -8,7 +8,11 @@
  * hexahedron routine of the `overlap` library (Strobl et al. 2016), which
  * clips the sphere against arbitrary planar faces, at a fraction of its cost.
  *
- * Derivation (done for this library; the ingredients are textbook results).
+ * Derivation (done for this library from textbook results: inclusion-
+ * exclusion; the divergence theorem; the Gauss-Bonnet theorem for a region of
+ * the unit sphere bounded by small-circle arcs, M. P. do Carmo, Differential
+ * Geometry of Curves and Surfaces, 1976, section 4-5, with the geodesic
+ * curvature cot(theta) of a circle of angular radius theta).
  * Put the sphere centre at the origin, radius r.
  *
  * 1. Reduction to corner regions. For a box [x0,x1] x [y0,y1] x [z0,z1]
@@ -51,7 +55,9 @@
  *    π/2 + theta_ab with theta_ab = atan2(a b, r s_ab). Hence
  *      Ω = π/2 - theta_ab - theta_ac - theta_bc - (a phi_a + b phi_b + c phi_c)/r.
  *    Checks: a = b = c = 0 gives Ω = π/2 (an octant); b = c = 0 gives a
- *    quarter of the cap volume π (r - a)^2 (2r + a) / 3.
+ *    quarter of the cap volume π (r - a)^2 (2r + a) / 3. As Ω >= 0, the sum
+ *    of the three theta is in [0, π/2]: one atan2 of the product of the
+ *    complex numbers r s_ab + i a b, ... gives it.
  *
  * 5. First moment of the corner: ∫_K p dV = ∮ (|p|^2/2) n dA = Σ_faces N_f
  *    ∫ (|p|^2 - r^2)/2 dA (∮ n dA = 0 and |p| = r on the sphere); only the
@@ -140,6 +146,7 @@ double sphereCornerVolume(double a, double b, double c, double r);
  * @param withMoment also compute the first moment about @p c (else zero)
  * @param cache optional memo shared by the boxes of one sphere (same results
  *        to the last bit, fewer evaluations)
+ * Raises nothing: r <= 0, an empty box or a non-finite input give 0.
  * @return volume [m^3] and first moment ∫ (x - c) dV [m^4]; the overlap
  *         centroid is c + moment / volume.
  */
