@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <limits>
 
 namespace overlapMapping {
@@ -123,8 +122,9 @@ inline AxisTerms axisTerms(double x0, double x1)
 }  // namespace
 
 SphereCornerCache::SphereCornerCache()
+    : filled_(maxPlanes * maxPlanes * maxPlanes, 0u),
+      values_(4 * filled_.size(), 0.0)
 {
-    std::fill(std::begin(filled_), std::end(filled_), 0u);
 }
 
 void SphereCornerCache::bind(const Vec3& centre, double r, bool withMoment)
@@ -137,7 +137,7 @@ void SphereCornerCache::bind(const Vec3& centre, double r, bool withMoment)
     withMoment_ = withMoment;
     nPlanes_[0] = nPlanes_[1] = nPlanes_[2] = 0;
     if (++stamp_ == 0) {
-        std::fill(std::begin(filled_), std::end(filled_), 0u);
+        std::fill(filled_.begin(), filled_.end(), 0u);
         stamp_ = 1;
     }
 }
@@ -217,12 +217,12 @@ SphereBoxOverlap sphereBoxOverlap(const Vec3& c, double r, const Vec3& lo,
                 Corner w;
                 const int sl = cache ? cache->slot(a, b, cc) : -1;
                 if (sl >= 0 && cache->filled_[sl] == cache->stamp_) {
-                    const double* val = cache->values_[sl];
+                    const double* val = &cache->values_[4 * std::size_t(sl)];
                     w = {val[0], val[1], val[2], val[3]};
                 } else {
                     w = unitCorner(a, b, cc, withMoment);
                     if (sl >= 0) {
-                        double* val = cache->values_[sl];
+                        double* val = &cache->values_[4 * std::size_t(sl)];
                         val[0] = w.v;
                         val[1] = w.mx;
                         val[2] = w.my;

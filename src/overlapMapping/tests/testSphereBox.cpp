@@ -231,6 +231,27 @@ TEST(SphereBox, BallPartitionOverMesh)
                 worst);
 }
 
+// A sphere over more planes than the corner memo holds (16 per axis): the
+// memo is bypassed for the extra planes, the results stay bitwise the same
+// and the ball is still partitioned to 1e-12.
+TEST(SphereBox, CornerCacheOverflow)
+{
+    CellMesh m(hexGridMesh(gradedSpacing(0, 1, 30), gradedSpacing(0, 1, 30),
+                           gradedSpacing(0, 1, 30)));
+    const Vec3 c(0.51, 0.49, 0.503);
+    const double r = 0.45;  // ~27 planes per axis within r
+    SphereCornerCache cache;
+    double v = 0;
+    for (label cell = 0; cell < m.nCells(); ++cell) {
+        const SphereOverlap3D o = sphereCellOverlap(m, cell, c, r, true);
+        const SphereOverlap3D oc = sphereCellOverlap(m, cell, c, r, true, true, &cache);
+        ASSERT_EQ(oc.volume, o.volume) << "cell " << cell;
+        ASSERT_EQ(oc.centroid, o.centroid) << "cell " << cell;
+        v += o.volume;
+    }
+    EXPECT_NEAR(v, sphereVolume(r), 1e-12 * sphereVolume(r));
+}
+
 // Detection: graded grids are boxes whatever the vertex order of the hex
 // (a box with faces split by hanging vertices: Mapper.PartitionOfUnity3D);
 // sheared hexes, twisted orders and vertices off by more than the tolerance

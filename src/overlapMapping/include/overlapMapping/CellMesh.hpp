@@ -120,9 +120,10 @@ public:
     /// the decomposition tets otherwise).
     double shapeVolume(label c) const { return shapeVolume_[c]; }
     /**
-     * @brief True if 3D cell @p c is a hex whose faces are axis-aligned (a box,
-     *        detected by axisAlignedHexBox() in SphereBox.hpp with a tolerance
-     *        of 1e-12 x the cell size); its overlaps then use the closed form
+     * @brief True if 3D cell @p c is an axis-aligned box (a hex with
+     *        axis-aligned faces, possibly split by hanging vertices; detected
+     *        by axisAlignedBoxCell() in SphereBox.hpp with a tolerance of
+     *        1e-12 x the cell size); its overlaps then use the closed form
      *        sphereBoxOverlap(). False in 2D.
      */
     bool isBox(label c) const { return !boxIndex_.empty() && boxIndex_[c] >= 0; }

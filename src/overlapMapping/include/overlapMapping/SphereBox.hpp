@@ -83,6 +83,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 namespace overlapMapping {
 struct MeshView;
@@ -104,7 +105,7 @@ struct SphereBoxOverlap {
  * a sphere touches, 8 of them distinct). Pass the same cache to
  * sphereBoxOverlap() for the boxes of one sphere: it keys the terms by their
  * exact plane offsets and resets itself when the sphere (or withMoment)
- * changes. Not thread-safe; about 20 kB.
+ * changes. Not thread-safe; 150 kB on the heap, allocated once.
  */
 class SphereCornerCache {
 public:
@@ -113,7 +114,7 @@ public:
 private:
     friend SphereBoxOverlap sphereBoxOverlap(const Vec3&, double, const Vec3&,
                                              const Vec3&, bool, SphereCornerCache*);
-    static constexpr int maxPlanes = 8;  ///< distinct offsets per axis
+    static constexpr int maxPlanes = 16;  ///< distinct offsets per axis
     /// Slot of corner (a, b, c) in values_ (-1 if an axis is full); resets the
     /// cache if (centre, r, withMoment) changed.
     int slot(double a, double b, double c);
@@ -126,8 +127,8 @@ private:
     std::uint32_t stamp_ = 1;
     double planes_[3][maxPlanes];
     int nPlanes_[3] = {0, 0, 0};
-    std::uint32_t filled_[maxPlanes * maxPlanes * maxPlanes];
-    double values_[maxPlanes * maxPlanes * maxPlanes][4];  // v, mx, my, mz
+    std::vector<std::uint32_t> filled_;  // maxPlanes^3 stamps
+    std::vector<double> values_;         // maxPlanes^3 x (v, mx, my, mz)
 };
 
 /**
