@@ -4,6 +4,7 @@
 #include "overlapMapping/CellMesh.hpp"
 
 #include "overlapMapping/Geometry2D.hpp"
+#include "overlapMapping/SphereBox.hpp"
 
 #include <overlap.hpp>
 
@@ -455,6 +456,7 @@ void CellMesh::prepare3D()
     shapeVerts_.assign(8 * size_t(nCells_), -1);
     shapeVolume_.assign(nCells_, 0.0);
     convex_.assign(nCells_, 1);
+    boxIndex_.assign(nCells_, -1);
     for (label c = 0; c < nCells_; ++c) {
         if (!classify3D(c)) {
             shape_[c] = CellShape::Polyhedron;
@@ -473,6 +475,13 @@ void CellMesh::prepare3D()
                 }
             }
             shapeVolume_[c] = vol;
+        }
+        Vec3 lo, hi;
+        if (axisAlignedBoxCell(mesh_, c, lo, hi)) {
+            boxIndex_[c] = label(boxLo_.size());
+            boxLo_.push_back(lo);
+            boxHi_.push_back(hi);
+            shapeVolume_[c] = (hi - lo).prod();
         }
         // convexity: all cell vertices behind all (planar) face planes
         const double tolC = 1e-10 * boundRadius_[c];

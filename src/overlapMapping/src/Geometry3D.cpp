@@ -5,6 +5,7 @@
 #include "overlapMapping/Geometry3D.hpp"
 
 #include "overlapMapping/Geometry2D.hpp"
+#include "overlapMapping/SphereBox.hpp"
 
 #include <overlap.hpp>
 
@@ -63,6 +64,53 @@ inline void addFaceMoment(Vec3& M, const Vec3& c, double r2, const Vec3& N,
     const DiscPolygonMoments m =
         discPolygonMoments(Vec2::Zero(), std::sqrt(rho2), poly, np, true);
     M += N * (0.5 * (m.polar - rho2 * m.area));
+}
+
+/// sphereCellOverlap() for a box cell [lo, hi].
+SphereOverlap3D sphereBoxCell(const Vec3& lo, const Vec3& hi, const Vec3& c,
+                              double r, bool withCentroid, SphereCornerCache* cache)
+{
+    SphereOverlap3D out;
+    out.centroid = c;
+    double out2 = 0.0;   // squared distance from c to the box
+    double inside = r;   // smallest distance from c to a face (c inside)
+    double far2 = 0.0;   // squared distance from c to the farthest corner
+    for (int d = 0; d < 3; ++d) {
+        const double l = c[d] - lo[d], h = hi[d] - c[d];
+        if (l < 0.0) {
+            out2 += l * l;
+        } else if (h < 0.0) {
+            out2 += h * h;
+        }
+        inside = std::min(inside, std::min(l, h));
+        const double f = std::max(std::abs(l), std::abs(h));
+        far2 += f * f;
+    }
+    const double r2 = r * r;
+    if (out2 >= r2) {
+        return out;  // no overlap
+    }
+    if (inside >= r) {
+        out.volume = sphereVolume(r);  // sphere inside the box
+        return out;
+    }
+    if (far2 <= r2) {
+        out.volume = (hi - lo).prod();  // box inside the sphere
+        out.centroid = 0.5 * (lo + hi);
+        return out;
+    }
+    const SphereBoxOverlap o = sphereBoxOverlap(c, r, lo, hi, withCentroid, cache);
+    out.volume = o.volume;
+    if (withCentroid && o.volume > 0.0) {
+        // the moment is exact to ~1e-15 r^4: for a sliver much thinner than r
+        // the quotient may leave the sliver; keep it in box ∩ sphere's box
+        out.centroid = c + o.moment / o.volume;
+        for (int d = 0; d < 3; ++d) {
+            out.centroid[d] = std::min(std::max(out.centroid[d], std::max(lo[d], c[d] - r)),
+                                       std::min(hi[d], c[d] + r));
+        }
+    }
+    return out;
 }
 
 }  // namespace
@@ -203,8 +251,13 @@ Vec3 sphereCellFirstMoment(const CellMesh& mesh, label cell, const Vec3& c,
 }
 
 SphereOverlap3D sphereCellOverlap(const CellMesh& mesh, label cell,
-                                  const Vec3& c, double r, bool withCentroid)
+                                  const Vec3& c, double r, bool withCentroid,
+                                  bool closedFormBoxes, SphereCornerCache* cache)
 {
+    if (closedFormBoxes && mesh.isBox(cell)) {
+        return sphereBoxCell(mesh.boxMin(cell), mesh.boxMax(cell), c, r, withCentroid,
+                             cache);
+    }
     SphereOverlap3D out;
     out.centroid = c;
     const double R = mesh.boundRadius(cell);

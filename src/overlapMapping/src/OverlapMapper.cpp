@@ -162,9 +162,16 @@ void OverlapMapper::mapExact(label g, const Vec3& c, double r, label cell)
         stamp_ = 1;
     }
     // fast path: grain entirely inside its (convex) cell
-    if (mesh_.convex(cell)
-        && -(twoD ? mesh_.outsideDistance2D(cell, c[0], c[1])
-                  : mesh_.outsideDistance(cell, c)) >= r) {
+    bool inside;
+    if (!twoD && settings_.closedFormBoxes && mesh_.isBox(cell)) {
+        const Vec3 lo = c - mesh_.boxMin(cell), hi = mesh_.boxMax(cell) - c;
+        inside = std::min(lo.minCoeff(), hi.minCoeff()) >= r;
+    } else {
+        inside = mesh_.convex(cell)
+                 && -(twoD ? mesh_.outsideDistance2D(cell, c[0], c[1])
+                           : mesh_.outsideDistance(cell, c)) >= r;
+    }
+    if (inside) {
         ++cellsEvaluated_;
         addEntry(g, cell, grainVolume_[g], c);
         return;
@@ -193,7 +200,8 @@ void OverlapMapper::mapExact(label g, const Vec3& c, double r, label cell)
                 centroid[1] += m.moment[1] / m.area;
             }
         } else {
-            const SphereOverlap3D o = sphereCellOverlap(mesh_, k, c, r, withCentroid);
+            const SphereOverlap3D o = sphereCellOverlap(
+                mesh_, k, c, r, withCentroid, settings_.closedFormBoxes, &corners_);
             vol = o.volume;
             centroid = o.centroid;
         }

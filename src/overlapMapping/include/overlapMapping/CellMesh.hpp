@@ -115,9 +115,22 @@ public:
     CellShape shape(label c) const { return shape_[c]; }
     /// 8 vertex indices (unused slots -1) in the order of CellShape.
     const label* shapeVertices(label c) const { return shapeVerts_.data() + 8 * c; }
-    /// Volume consistent with the overlap computation (overlap library element
-    /// volume for tet/prism/hex, sum of the decomposition tets otherwise).
+    /// Volume consistent with the overlap computation (box volume for box
+    /// cells, overlap library element volume for other tet/prism/hex, sum of
+    /// the decomposition tets otherwise).
     double shapeVolume(label c) const { return shapeVolume_[c]; }
+    /**
+     * @brief True if 3D cell @p c is an axis-aligned box (a hex with
+     *        axis-aligned faces, possibly split by hanging vertices; detected
+     *        by axisAlignedBoxCell() in SphereBox.hpp with a tolerance of
+     *        1e-12 x the cell size); its overlaps then use the closed form
+     *        sphereBoxOverlap(). False in 2D.
+     */
+    bool isBox(label c) const { return !boxIndex_.empty() && boxIndex_[c] >= 0; }
+    /// Lower corner of box cell @p c [m] (only if isBox(c)).
+    const Vec3& boxMin(label c) const { return boxLo_[boxIndex_[c]]; }
+    /// Upper corner of box cell @p c [m] (only if isBox(c)).
+    const Vec3& boxMax(label c) const { return boxHi_[boxIndex_[c]]; }
     /// True if every vertex lies on the inner side of every face plane
     /// (within round-off): a sphere then lies inside the cell iff its centre is
     /// at least r from every face plane.
@@ -219,6 +232,8 @@ private:
     std::vector<label> shapeVerts_;
     std::vector<double> shapeVolume_;
     std::vector<std::uint8_t> convex_;
+    std::vector<label> boxIndex_;  // per cell: index into boxLo_/boxHi_, or -1
+    std::vector<Vec3> boxLo_, boxHi_;
 
     // bins
     Vec3 bbMin_ = Vec3::Zero(), bbMax_ = Vec3::Zero();

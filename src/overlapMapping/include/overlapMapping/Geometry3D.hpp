@@ -4,7 +4,9 @@
  *
  * Volumes come from the `overlap` library (Strobl, Formella, Poeschel 2016,
  * J. Comput. Phys. 311:158-172, MIT licence; ThirdParty/overlap/overlap.hpp),
- * exact for tetrahedra, wedges (prisms) and hexahedra with planar faces.
+ * exact for tetrahedra, wedges (prisms) and hexahedra with planar faces,
+ * except for hexahedra with axis-aligned faces (boxes), which use the cheaper
+ * closed form of SphereBox.hpp (volume and centroid).
  * General polyhedra (and tet/prism/hex cells with warped faces) are split into
  * tetrahedra (cell centre, face centre, edge) whose signed overlaps are summed.
  *
@@ -25,6 +27,7 @@
 #define OVERLAPMAPPING_GEOMETRY3D_HPP
 
 #include "overlapMapping/CellMesh.hpp"
+#include "overlapMapping/SphereBox.hpp"
 
 namespace overlapMapping {
 
@@ -69,15 +72,25 @@ Vec3 sphereCellFirstMoment(const CellMesh& mesh, label cell, const Vec3& c,
  * @brief Overlap volume (and optionally centroid) of sphere (c, r) with 3D
  *        cell @p cell of @p mesh.
  *
- * Fast paths: bounding-sphere reject; sphere inside a convex cell (volume
+ * Box cells (CellMesh::isBox: hexes with axis-aligned faces), unless
+ * @p closedFormBoxes is false: exact sphere-box distance reject; sphere inside
+ * the box (4/3 pi r^3, centroid c); box inside the sphere (box volume, box
+ * centre); otherwise the closed form sphereBoxOverlap() (SphereBox.hpp).
+ * Other cells: bounding-sphere reject; sphere inside a convex cell (volume
  * 4/3 pi r^3, centroid c); cell inside the sphere (shapeVolume, cell centre).
  * Otherwise the overlap library (tet/prism/hex) or the tetrahedral
  * decomposition (polyhedra, warped faces).
  * @param withCentroid compute the centroid (see file comment), else the
  *        returned centroid is c.
+ * @param closedFormBoxes false sends box cells through the general path too
+ *        (the `overlap` library hexahedron), for checks.
+ * @param cache optional corner memo for the box cells of one sphere (see
+ *        SphereCornerCache).
  */
 SphereOverlap3D sphereCellOverlap(const CellMesh& mesh, label cell,
-                                  const Vec3& c, double r, bool withCentroid);
+                                  const Vec3& c, double r, bool withCentroid,
+                                  bool closedFormBoxes = true,
+                                  SphereCornerCache* cache = nullptr);
 
 /**
  * @brief Volume of sphere (c, r) ∩ cell by the tetrahedral decomposition

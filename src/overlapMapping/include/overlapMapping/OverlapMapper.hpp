@@ -22,6 +22,7 @@
 #define OVERLAPMAPPING_OVERLAPMAPPER_HPP
 
 #include "overlapMapping/CellMesh.hpp"
+#include "overlapMapping/SphereBox.hpp"
 
 #include <Eigen/Core>
 
@@ -60,6 +61,10 @@ struct MappingSettings {
     bool computeCentroids = true;
     /// Grains whose centre is outside the mesh.
     OutsideGrainPolicy outside = OutsideGrainPolicy::Throw;
+    /// 3D: closed-form sphere/box overlaps for hexes with axis-aligned faces
+    /// (CellMesh::isBox, SphereBox.hpp). false uses the general `overlap`
+    /// library path for every cell (same volumes to round-off; for checks).
+    bool closedFormBoxes = true;
 
     /**
      * @brief Diameter factor k making a packing of fraction @p phiModel look
@@ -231,6 +236,7 @@ private:
     std::vector<std::uint32_t> visited_;
     std::uint32_t stamp_ = 0;
     std::vector<label> queue_;
+    SphereCornerCache corners_;  // 3D box cells: corner terms of one grain
     std::size_t cellsEvaluated_ = 0;
 };
 

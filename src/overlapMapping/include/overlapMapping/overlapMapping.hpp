@@ -11,6 +11,7 @@
 #include "overlapMapping/CellMesh.hpp"
 #include "overlapMapping/Geometry2D.hpp"
 #include "overlapMapping/Geometry3D.hpp"
+#include "overlapMapping/SphereBox.hpp"
 #include "overlapMapping/MeshBuilders.hpp"
 #include "overlapMapping/OverlapMapper.hpp"
 
