@@ -1314,17 +1314,21 @@ def test_dense_suspension_settles_steadily(tmp_path, env, nu_gas):
     at steady state, so every grain fully inside has c_i v_i = (m_i - rho_mix
     V_i) g):
       v = (rho_s - rho_mix) g / gamma(eps_l, Re),  rho_mix = (m_d + M)/V,
-    gamma the DallavalleDiFelice law (thesis eq. 3.32, difelice_gamma) at the
-    droplet's own eps_l = 1 - V_p/V (droplet.dat).  200 steps of dt = 5e-4 s,
-    checked at 4 write times.
+    gamma the DallavalleDiFelice law (Di Felice 1994, 2D perUnitDepth,
+    difelice_gamma) at the droplet's own eps_l = 1 - V_p/V (droplet.dat).
+    200 steps of dt = 5e-4 s, checked at 4 write times.  Consistency check
+    of the droplet's grain coupling (the reference is the model's own law).
+    Bounds: the measured values plus noise; they were 2.36 x tighter before
+    the drag law was corrected (issue 25): the grains now settle 2.36 x
+    faster and the lag of the coupling grows with the speed.
     - nu_gas = 1e-9 (gas resistance negligible): the reference itself, mean
-      v_y within 2 % of -v, every grain within 5 %, |v_x| < 0.05 v
-      (measured mean -1.0 %, -3.2..+1.4 %, |v_x| < 0.016 v).
+      v_y within -3 %..0 of -v, every grain within -8 %..+5 %, |v_x| < 0.05 v
+      (measured mean -2.3..-2.0 %, -6.9..+3.3 %, |v_x| < 0.037 v).
     - nu_gas = 2e-5 (the other cases' gas): the gas inside the penalised
-      droplet drags the dense lattice (eps_g = 0.245: vansCloud's implicit
-      factor b_i = W dt gamma*/m ~ 0.8) and can only slow it: every grain
-      -15 %..+2 %, mean -10 %..0 (measured mean -5.7 %, -10.2..-0.2 %),
-      |v_x| < 0.1 v (0.04), no time-step collapse (200 steps).  This is the
+      droplet drags the dense lattice (vansCloud's implicit factor
+      b_i = W dt gamma*/m) and can only slow it: every grain -18 %..+3 %,
+      mean -12 %..0 (measured mean -10.7..-10.4 %, -15.6..+2.3 %),
+      |v_x| < 0.1 v (0.076), no time-step collapse (200 steps).  This is the
       case of the issue: without the gas-drag part of the predictor
       (vapourDroplet.H, "Gas drag of the grains inside") the droplet's and
       vansCloud's predictors over-correct each other (linear growth factor
@@ -1343,8 +1347,9 @@ def test_dense_suspension_settles_steadily(tmp_path, env, nu_gas):
     v = 1e-3
     for _ in range(50):
         v = (2500 - rho_mix) * G / difelice_gamma(eps, RHO_W * v * dg / MU_W, dg, MU_W)
-    lo, hi, mlo, mhi, xmax = ((-0.15, 0.02, -0.10, 0.0, 0.1) if nu_gas > 1e-6
-                              else (-0.05, 0.05, -0.02, 0.02, 0.05))
+    lo, hi, mlo, mhi, xmax = ((-0.18, 0.03, -0.12, 0.0, 0.1) if nu_gas > 1e-6
+                              else (-0.08, 0.05, -0.03, 0.0, 0.05))
+    rows = []
     for tw, name in nscdpost.time_dirs(case)[1:]:
         gr = nscdpost.read_grains(case, name)
         rel = -gr["U"][:, 1] / v - 1
@@ -1352,6 +1357,8 @@ def test_dense_suspension_settles_steadily(tmp_path, env, nu_gas):
         print(f"nu_gas {nu_gas:g}, t = {tw:g} s: {len(grains)} grains, v_ref = {v:.4e} m/s "
               f"(eps_l {eps:.4f}, rho_mix {rho_mix:.1f}), v_y/v_ref - 1 mean {rel.mean():+.4f} "
               f"in [{rel.min():+.4f}, {rel.max():+.4f}], max |v_x|/v_ref {vx:.3f}")
+        rows.append((rel, vx))
+    for rel, vx in rows:
         assert np.all((rel > lo) & (rel < hi))
         assert mlo < rel.mean() < mhi
         assert vx < xmax
