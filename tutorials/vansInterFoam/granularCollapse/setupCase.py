@@ -29,7 +29,7 @@ import nscdpost  # noqa: E402
 
 # h0: water depth, H0: column height, L0: column width [m]
 CONFIGS = {
-    "nonlinearTransition": {"h0": 0.30, "H0": 0.08, "L0": 0.04},
+    "nonlinearTransition": {"h0": 0.44, "H0": 0.08, "L0": 0.04},
     "solitary": {"h0": 0.08, "H0": 0.16, "L0": 0.06},
     "bore": {"h0": 0.04, "H0": 0.30, "L0": 0.06},
 }
