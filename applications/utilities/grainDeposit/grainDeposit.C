@@ -41,6 +41,7 @@ Description
 
 #include "grainCloud.H"
 #include "grainDictionaryTools.H"
+#include "grainRunControl.H"
 #include "fvCFD.H"
 
 #include <random>
@@ -107,6 +108,7 @@ int main(int argc, char *argv[])
     argList::noParallel();
 
     #include "setRootCase.H"
+    grainRunControl::checkControlDict(args);   // writeInterval 0: SIGFPE in Time
     #include "createTime.H"
     #include "createMesh.H"
 
