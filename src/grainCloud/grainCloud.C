@@ -1251,14 +1251,15 @@ void Foam::grainCloud::write
     const Time& runTime = mesh_.time();
     mkDir(runTime.timePath());
 
-    // HDF5 state (grains are held whole on every rank: each writes its copy)
-    try
+    // HDF5 state (grains are held whole on every rank: each writes its
+    // copy; in parallel the master also writes the undecomposed case's, so
+    // that reconstructPar gives time directories a serial run continues from)
+    writeStateFile(runTime.timePath()/stateFileName);
+    if (Pstream::parRun() && Pstream::master())
     {
-        system_->writeHDF5(runTime.timePath()/stateFileName);
-    }
-    catch (const nscd::InputError& err)
-    {
-        FatalErrorInFunction << err.what() << exit(FatalError);
+        const fileName global(runTime.globalPath()/runTime.timeName());
+        mkDir(global);
+        writeStateFile(global/stateFileName);
     }
     writeCloud(extra, extraScalars);
 }

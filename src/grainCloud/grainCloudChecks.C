@@ -22,7 +22,10 @@ Description
 #include "OSspecific.H"
 #include "processorPolyPatch.H"
 
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <limits>
 #include <sstream>
 
@@ -91,6 +94,57 @@ nscd::System Foam::grainCloud::readStateFile(const fileName& statePath) const
             << "    Fix: " << fix.str().c_str() << exit(FatalError);
     }
     return nscd::System(dimension_);  // not reached
+}
+
+
+void Foam::grainCloud::writeStateFile(const fileName& path) const
+{
+    const std::string tmp(path + ".tmp");
+    std::string what;
+    errno = 0;
+    try
+    {
+        system_->writeHDF5(tmp);
+        if (std::rename(tmp.c_str(), path.c_str()) != 0)
+        {
+            what = std::string("cannot rename ") + tmp + ": " + std::strerror(errno);
+        }
+    }
+    catch (const nscd::InputError& err)
+    {
+        what = err.what();
+        if (errno != 0)
+        {
+            what += std::string(" (") + std::strerror(errno) + ")";
+        }
+    }
+    if (what.empty())
+    {
+        return;
+    }
+    const int code = errno;
+    std::remove(tmp.c_str());
+    // a time directory this write created and left empty would be taken by
+    // startFrom latestTime: remove it
+    const fileName dir(path.path());
+    bool removed = false;
+    if
+    (
+        readDir(dir, fileName::FILE).empty()
+     && readDir(dir, fileName::DIRECTORY).empty()
+    )
+    {
+        removed = rmDir(dir);
+    }
+    FatalErrorInFunction
+        << "Writing the grain state " << path << " failed: " << what.c_str()
+        << nl << "    " << path << " was not changed; the previous write"
+        << " holds the last complete state." << nl << "    Fix: "
+        << (code == ENOSPC ? "free disk space (no space left on device)"
+            : "check the disk (space, quota, permissions)")
+        << (removed ? " (the empty time directory was removed)" : "")
+        << ", then restart from the last complete time directory."
+        << exit(FatalError);
 }
 
 

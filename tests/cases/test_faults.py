@@ -354,3 +354,74 @@ def test_sigterm_writes_and_stops(tmp_path, env):
     set_control(case, endTime=float(last) + 0.002)
     out = run("grainFoam", case, env).stdout
     assert f"Create time" in out and "End" in out
+
+
+# ---- row 5: restart from a write that is not the first ----------------------
+
+def test_vansFoam_restart_from_second_write(tmp_path, env):
+    """Writes at 0.03, 0.06, 0.09 s (adjustable time step, maxCo): a restart
+    from 0.06 (not the first write) reaches 0.09 with the grains and the
+    fluid of the uninterrupted run, to the 17 digits written."""
+    from test_vansFoam import small_sedimentation
+    case = str(tmp_path / "full")
+    small_sedimentation(case, env, end=0.105, write=0.035)
+    run("vansFoam", case, env)
+    assert times(case) == ["0", "0.035", "0.07", "0.105"]
+    restart = str(tmp_path / "restart")
+    shutil.copytree(case, restart)
+    shutil.rmtree(os.path.join(restart, "0.105"))
+    run("vansFoam", restart, env)
+    for f in ("U", "p", os.path.join("lagrangian", "grains", "positions"),
+              os.path.join("lagrangian", "grains", "U"), "uniform/time"):
+        a = open(os.path.join(case, "0.105", f)).read()
+        b = open(os.path.join(restart, "0.105", f)).read()
+        assert a == b, f
+
+
+# ---- row 7: writes that cannot half-fail -------------------------------------
+
+def test_disk_full_during_write(tmp_path, env):
+    """The grain state is written to grainState.h5.tmp and renamed when
+    complete; a full disk (the temporary file is a link to /dev/full) gives
+    'no space left on device', no partial state and no empty time directory
+    that startFrom latestTime would take."""
+    case = box(tmp_path, "full", [(0.05, 0.05, 0, 0.01)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    set_control(case, startFrom="startTime")
+    os.makedirs(os.path.join(case, "0.01"))
+    os.symlink("/dev/full", os.path.join(case, "0.01", "grainState.h5.tmp"))
+    p = run("grainFoam", case, env, check=False)
+    fails_with(p, "Writing the grain state", "no space left on device",
+               "the empty time directory was removed")
+    assert times(case) == ["0"]
+    # and the run restarts as if nothing happened
+    set_control(case, startFrom="latestTime")
+    run("grainFoam", case, env)
+    assert times(case) == ["0", "0.01", "0.02"]
+    assert not any(f.endswith(".tmp") for f in os.listdir(os.path.join(case, "0.02")))
+
+
+# ---- row 6: parallel state ---------------------------------------------------
+
+def test_reconstructPar_carries_grain_state(tmp_path, env):
+    """decomposePar, a parallel run, reconstructPar: the reconstructed time
+    directories hold grainState.h5 (written by the master into the
+    undecomposed case), and a serial run continues from the last one."""
+    from foamcase import run_parallel
+    case = stack(tmp_path, "par")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    run_parallel("grainFoam", case, env, n=2)
+    run("reconstructPar", case, env)
+    for t in ("0.01", "0.02"):
+        assert os.path.isfile(os.path.join(case, t, "grainState.h5"))
+        assert os.path.isfile(os.path.join(case, t, "lagrangian", "grains", "positions"))
+    a = open(os.path.join(case, "0.02", "grainState.h5"), "rb").read()
+    b = open(os.path.join(case, "processor0", "0.02", "grainState.h5"), "rb").read()
+    assert a == b
+    shutil.rmtree(os.path.join(case, "processor0"))
+    shutil.rmtree(os.path.join(case, "processor1"))
+    set_control(case, endTime=0.03)
+    out = run("grainFoam", case, env).stdout
+    assert "Create time" in out and times(case)[-1] == "0.03"
