@@ -922,6 +922,7 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
     readWallTemperatures();
     readFrontRearWalls();
     applySolverSettings();
+    setHeartbeat();
 
     // Gravity: the standard constant/g
     uniformDimensionedVectorField g

@@ -148,6 +148,22 @@ void Foam::grainCloud::writeStateFile(const fileName& path) const
 }
 
 
+void Foam::grainCloud::setHeartbeat()
+{
+    system_->settings().heartbeat = [this](long done, double all)
+    {
+        char line[160];
+        std::snprintf
+        (
+            line, sizeof(line), "sub-step %ld of about %.0f (%.1f %%)",
+            done, all, 100*done/all
+        );
+        Info<< "    grain step to time " << mesh_.time().timeName() << ": "
+            << line << endl;
+    };
+}
+
+
 void Foam::grainCloud::recordStepHealth()
 {
     const scalar t = mesh_.time().value();
@@ -169,7 +185,7 @@ void Foam::grainCloud::recordStepHealth()
                 << mesh_.time().timeName() << " (residual "
                 << report_.residual << " > tolerance " << s.tolerance
                 << " after maxIterations " << s.maxIterations
-                << " sweeps; max overlap/d_min " << ov << ")." << nl
+                << " sweeps; overlap " << ov << " d_min)." << nl
                 << "    Grains may overlap; the end of the run counts these"
                 << " steps and gives the worst overlap." << nl
                 << "    Fix: raise maxIterations (or tolerance) in the"

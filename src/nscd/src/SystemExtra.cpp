@@ -2,6 +2,7 @@
 #include "SystemImpl.H"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -73,6 +74,9 @@ StepReport System::advance(double dt, double fraction)
     if (maxSub < 1) throw InputError("nscd::System::advance: maxSubSteps must be >= 1");
     StepReport total;
     double remaining = dt;
+    using clock = std::chrono::steady_clock;
+    clock::time_point lastBeat = clock::now();
+    const auto beatEvery = std::chrono::duration<double>(I.settings.heartbeatSeconds);
     while (remaining > 0)
     {
         const Fastest f = fastest(I, remaining);
@@ -86,7 +90,7 @@ StepReport System::advance(double dt, double fraction)
         }
         double h = subStepOf(I, remaining, fraction, f.v);
         if (h >= remaining*(1 - 1e-12)) h = remaining;
-        const double needed = total.substeps + remaining/h;
+        const double needed = total.substeps + std::ceil(remaining/h*(1 - 1e-12));
         if (needed > double(maxSub))
         {
             std::ostringstream os;
@@ -94,9 +98,9 @@ StepReport System::advance(double dt, double fraction)
                << " sub-steps, more than maxSubSteps = " << maxSub << " (";
             if (f.who >= 0)
             {
-                os << "grain " << f.who << " moves at " << f.v << " m/s with the step's forces, force "
+                os << "grain " << f.who << " moves at " << f.v << " m/s with the step's forces, external force "
                    << I.force[f.who].norm() << " N";
-                if (I.g.norm() > 0) os << " = " << I.force[f.who].norm()/(I.mass[f.who]*I.g.norm()) << " x its weight";
+                if (I.g.norm() > 0) os << " (" << I.force[f.who].norm()/(I.mass[f.who]*I.g.norm()) << " x its weight)";
             }
             else
                 os << (f.who == -1 ? "a wall" : "a droplet") << " moves at " << f.v << " m/s";
@@ -105,6 +109,11 @@ StepReport System::advance(double dt, double fraction)
         }
         const StepReport r = step(h);
         remaining = (h == remaining) ? 0.0 : remaining - h;
+        if (I.settings.heartbeat && remaining > 0 && clock::now() - lastBeat >= beatEvery)
+        {
+            I.settings.heartbeat(total.substeps + 1, total.substeps + 1 + remaining/h);
+            lastBeat = clock::now();
+        }
         total.contacts = std::max(total.contacts, r.contacts);
         total.sweeps += r.sweeps;
         total.localSolves += r.localSolves;
