@@ -23,6 +23,7 @@ Description
 #include "processorPolyPatch.H"
 
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -33,6 +34,10 @@ Description
 
 namespace
 {
+    //- Clock time spent in grainCloud::checkInsideMesh over the run [s]
+    //  (reported in the end-of-run summary; tests/bench/faultChecks)
+    double insideMeshSeconds = 0;
+
     //- Name of the latest time directory of casePath before time t that
     //  holds a grain state (empty if none)
     Foam::word previousStateTime
@@ -217,13 +222,27 @@ Foam::grainCloud::~grainCloud()
         Info<< "grainCloud summary: " << health_.steps << " grain steps,"
             << " contact solver converged in all; worst overlap/d_min "
             << health_.worstOverlap << " at time "
-            << health_.worstOverlapTime << nl << endl;
+            << health_.worstOverlapTime << nl;
     }
+    Info<< "grainCloud: inside-mesh checks " << insideMeshSeconds
+        << " s of clock time" << nl << endl;
 }
 
 
 void Foam::grainCloud::checkInsideMesh()
 {
+    const auto start = std::chrono::steady_clock::now();
+    struct addTime
+    {
+        std::chrono::steady_clock::time_point t0;
+        ~addTime()
+        {
+            insideMeshSeconds += std::chrono::duration<double>
+            (
+                std::chrono::steady_clock::now() - t0
+            ).count();
+        }
+    } timer{start};
     const label n = system_->size();
     if (cellHint_.size() != n)
     {
