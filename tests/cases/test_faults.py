@@ -450,3 +450,35 @@ def test_deposit_box_in_mm_on_mesh_in_m(tmp_path, env):
     run("blockMesh", case, env)
     fails_with(run("grainDeposit", case, env, check=False), "does not intersect the mesh bounds",
                "grainDepositDict", "in mm on a mesh in m")
+
+
+def test_sigusr1_to_mpirun_writes_and_stops(tmp_path, env):
+    """In parallel, SIGUSR1 sent to mpirun (Open MPI forwards it to every
+    rank) writes the current step on every rank and in the undecomposed case
+    and stops with exit 0 (SIGTERM to mpirun kills the ranks: README)."""
+    import pytest
+    case = stack(tmp_path, "sigpar", end=100, write_interval=50)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
+          "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (2 1 1); delta 0.001; }\n")
+    run("decomposePar", case, env)
+    logp = os.path.join(case, "log.grainFoam")
+    with open(logp, "w") as log:
+        proc = subprocess.Popen(["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+                                env=env, stdout=log, stderr=subprocess.STDOUT, text=True)
+        deadline = time.time() + 60
+        while time.time() < deadline and "Time = 0.05" not in open(logp).read():
+            time.sleep(0.5)
+            if proc.poll() is not None:
+                break
+        if proc.poll() is not None:
+            pytest.skip("mpirun cannot start here: " + open(logp).read()[-300:])
+        proc.send_signal(signal.SIGUSR1)
+        assert proc.wait(timeout=60) == 0
+    out = open(logp).read()
+    m = re.search(r"Stop signal 10 \(SIGUSR1\) received: wrote time (\S+) ", out)
+    assert m, out[-2000:]
+    t = m.group(1)
+    for d in ("processor0", "processor1", "."):
+        assert os.path.isfile(os.path.join(case, d, t, "grainState.h5")), d
