@@ -482,3 +482,20 @@ def test_sigusr1_to_mpirun_writes_and_stops(tmp_path, env):
     t = m.group(1)
     for d in ("processor0", "processor1", "."):
         assert os.path.isfile(os.path.join(case, d, t, "grainState.h5")), d
+
+
+def test_vansFoam_grain_through_open_patch(tmp_path, env):
+    """vansFoam (3D): a grain sinking through the open bottom patch `inlet`
+    is reported as such (it was 'move the grain inside the domain')."""
+    from foamcase import uniform_inflow
+    case = str(tmp_path / "vopen")
+    make_box_case(case, (0, 0, 0), (0.04, 0.04, 0.04), (4, 4, 4), (0, -G, 0), MAT,
+                  grains=[(0.02, 0.012, 0.02, 0.01)], end_time=0.5, dt=1e-3,
+                  write_interval=0.05, two_d=False)
+    add_fluid(case, 1000, 1e-6, max_dt=1e-3)
+    uniform_inflow(case, 0.0)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    p = run("vansFoam", case, env, check=False)
+    fails_with(p, "Grain 0 left the mesh", "open patch inlet", "type patch")
+    assert "0.05" in times(case)
