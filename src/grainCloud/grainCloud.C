@@ -860,14 +860,8 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
     {
         if (readState)
         {
-            if (!isFile(statePath))
-            {
-                FatalErrorInFunction
-                    << "Cannot find the grain state " << statePath << nl
-                    << "    Fix: create the initial grains with grainDeposit,"
-                    << " or start from a time directory that holds "
-                    << stateFileName << exit(FatalError);
-            }
+            // a missing, damaged or bad file: FatalError naming the
+            // previous write that holds a state (grainCloudChecks.C)
             system_.reset(new nscd::System(readStateFile(statePath)));
             if (system_->dimension() != dimension_)
             {

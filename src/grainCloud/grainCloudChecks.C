@@ -73,6 +73,15 @@ nscd::System Foam::grainCloud::readStateFile(const fileName& statePath) const
 {
     try
     {
+        if (!isFile(statePath))
+        {
+            throw nscd::InputError
+            (
+                "Cannot find the grain state " + statePath
+              + " (a run that never wrote grains here, or a write that was"
+                " interrupted)"
+            );
+        }
         return nscd::System::readHDF5(statePath);
     }
     catch (const nscd::InputError& err)
@@ -90,8 +99,8 @@ nscd::System Foam::grainCloud::readStateFile(const fileName& statePath) const
         }
         else
         {
-            fix << "no earlier time holds a grain state: re-create the"
-                << " grains with grainDeposit";
+            fix << "no earlier time holds a grain state: create the"
+                << " initial grains with grainDeposit";
         }
         FatalErrorInFunction
             << "Cannot use the grain state " << statePath << nl

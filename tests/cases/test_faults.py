@@ -499,3 +499,13 @@ def test_vansFoam_grain_through_open_patch(tmp_path, env):
     p = run("vansFoam", case, env, check=False)
     fails_with(p, "Grain 0 left the mesh", "open patch inlet", "type patch")
     assert "0.05" in times(case)
+
+
+def test_missing_state_names_previous_write(tmp_path, env):
+    """startFrom latestTime on a time directory without grainState.h5 (an
+    interrupted write): the message names the previous write holding one."""
+    case = deposited(tmp_path, "missing", env)
+    run("grainFoam", case, env)
+    os.remove(os.path.join(case, "0.02", "grainState.h5"))
+    fails_with(run("grainFoam", case, env, check=False), "Cannot find the grain state",
+               "interrupted", "previous write 0.01", "startTime 0.01")
