@@ -509,3 +509,16 @@ def test_missing_state_names_previous_write(tmp_path, env):
     os.remove(os.path.join(case, "0.02", "grainState.h5"))
     fails_with(run("grainFoam", case, env, check=False), "Cannot find the grain state",
                "interrupted", "previous write 0.01", "startTime 0.01")
+
+
+def test_wall_patch_retyped_after_deposit(tmp_path, env):
+    """Row 3, second case: the floor retyped to an open patch after
+    grainDeposit: the state's walls no longer match the mesh's, an error at
+    start (not grains falling through)."""
+    case = box(tmp_path, "retyped", [(0.05, 0.03, 0, 0.01)], end=0.5, write_interval=0.05)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    open_bottom(case)
+    run("blockMesh", case, env)
+    fails_with(run("grainFoam", case, env, check=False), "walls but the wall patches",
+               "re-run grainDeposit")
