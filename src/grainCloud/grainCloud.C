@@ -106,7 +106,7 @@ void Foam::grainCloud::applySolverSettings()
         const dictionary& cs = dict_.subDict("contactSolver");
         grainTools::checkKeywords
         (
-            cs, {"tolerance", "maxIterations", "overlapTolerance"}
+            cs, {"tolerance", "maxIterations", "overlapTolerance", "maxSubSteps"}
         );
         s.tolerance =
             grainTools::getPositiveOrDefault(cs, "tolerance", s.tolerance);
@@ -120,6 +120,12 @@ void Foam::grainCloud::applySolverSettings()
         {
             FatalIOErrorInFunction(cs)
                 << "maxIterations must be >= 1" << exit(FatalIOError);
+        }
+        s.maxSubSteps = cs.getOrDefault<label>("maxSubSteps", s.maxSubSteps);
+        if (s.maxSubSteps < 1)
+        {
+            FatalIOErrorInFunction(cs)
+                << "maxSubSteps must be >= 1" << exit(FatalIOError);
         }
     }
 }
@@ -155,6 +161,24 @@ namespace
         if (dict.found("wallPatches"))
         {
             const wordRes names(dict.get<wordRes>("wallPatches"));
+            for (const wordRe& name : names)
+            {
+                bool matched = false;
+                for (const word& pn : pbm.names())
+                {
+                    matched = matched || name.match(pn);
+                }
+                if (!matched)
+                {
+                    FatalIOErrorInFunction(dict)
+                        << "wallPatches entry '" << name << "' in "
+                        << dict.name() << " matches no patch of the mesh"
+                        << " (the grains would fall through it)." << nl
+                        << "    Patches: " << flatOutput(pbm.names()) << nl
+                        << "    Fix: correct the name in wallPatches."
+                        << exit(FatalIOError);
+                }
+            }
             ids = pbm.patchSet(names).sortedToc();
             if (ids.empty())
             {
@@ -836,18 +860,9 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
     {
         if (readState)
         {
-            if (!isFile(statePath))
-            {
-                FatalErrorInFunction
-                    << "Cannot find the grain state " << statePath << nl
-                    << "    Fix: create the initial grains with grainDeposit,"
-                    << " or start from a time directory that holds "
-                    << stateFileName << exit(FatalError);
-            }
-            system_.reset
-            (
-                new nscd::System(nscd::System::readHDF5(statePath))
-            );
+            // a missing, damaged or bad file: FatalError naming the
+            // previous write that holds a state (grainCloudChecks.C)
+            system_.reset(new nscd::System(readStateFile(statePath)));
             if (system_->dimension() != dimension_)
             {
                 FatalErrorInFunction
@@ -901,6 +916,7 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
     readWallTemperatures();
     readFrontRearWalls();
     applySolverSettings();
+    setHeartbeat();
 
     // Gravity: the standard constant/g
     uniformDimensionedVectorField g
@@ -1035,11 +1051,28 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
     }
 
     applyFrontRearWalls();
-    report_ = system_->advance(dt, maxDisplacementFraction_);
+    oldPositions_ = system_->positions();
+    try
+    {
+        report_ = system_->advance(dt, maxDisplacementFraction_);
+    }
+    catch (const std::exception& err)
+    {
+        FatalErrorInFunction
+            << "Grain step at time " << mesh_.time().timeName() << ": "
+            << err.what() << nl
+            << "    The last written time holds the last good state." << nl
+            << "    Fix: if the fluid diverged or deltaT is far too large,"
+            << " reduce deltaT or use adjustTimeStep yes with maxCo in"
+            << " system/controlDict; if the grains really move this fast,"
+            << " raise maxSubSteps in the contactSolver dictionary of "
+            << dict_.name() << exit(FatalError);
+    }
 
     for (const nscd::Vec3& x : system_->positions())
     {
-        if (!x.allFinite())
+        // not Eigen's allFinite: inf - inf raises FE_INVALID (SIGFPE)
+        if (!std::isfinite(x.x()) || !std::isfinite(x.y()) || !std::isfinite(x.z()))
         {
             FatalErrorInFunction
                 << "Non-finite grain position at time " << mesh_.time().timeName()
@@ -1048,6 +1081,9 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
                 << exit(FatalError);
         }
     }
+
+    recordStepHealth();
+    checkInsideMesh();
 
     if (gates_.size())
     {
@@ -1210,21 +1246,37 @@ void Foam::grainCloud::write
     const Time& runTime = mesh_.time();
     mkDir(runTime.timePath());
 
-    // HDF5 state (grains are held whole on every rank: each writes its copy)
-    try
+    // HDF5 state (grains are held whole on every rank: each writes its
+    // copy; in parallel the master also writes the undecomposed case's, so
+    // that reconstructPar gives time directories a serial run continues from)
+    writeStateFile(runTime.timePath()/stateFileName);
+    if (Pstream::parRun() && Pstream::master())
     {
-        system_->writeHDF5(runTime.timePath()/stateFileName);
+        const fileName global(runTime.globalPath()/runTime.timeName());
+        mkDir(global);
+        writeStateFile(global/stateFileName);
     }
-    catch (const nscd::InputError& err)
-    {
-        FatalErrorInFunction << err.what() << exit(FatalError);
-    }
+    writeCloud(extra, extraScalars);
+}
+
+
+void Foam::grainCloud::writeCloud
+(
+    const std::vector<std::pair<word, const List<vector>*>>& extra,
+    const std::vector<std::pair<word, const List<scalar>*>>& extraScalars
+) const
+{
+    const Time& runTime = mesh_.time();
+    mkDir(runTime.timePath());
 
     // Lagrangian cloud for foamToVTK / ParaView: the grains whose centre
     // lies in this rank's part of the mesh; a centre on a processor
     // boundary is found by both sides: the lowest rank writes it, so that
     // reconstructPar gives every grain once
     passiveParticleCloud cloud(mesh_, cloudName, IDLList<passiveParticle>());
+    // origId 0, 1, ... at every write (not a count over the run): the same
+    // grains give the same files (the start time is rewritten at start)
+    particle::particleCount_ = 0;
     const label n = system_->size();
     labelList cells(n, -1);
     labelList owner(n, labelMax);

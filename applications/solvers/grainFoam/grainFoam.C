@@ -30,6 +30,7 @@ Usage
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
+#include "grainRunControl.H"
 #include "fvCFD.H"
 
 int main(int argc, char *argv[])
@@ -41,11 +42,16 @@ int main(int argc, char *argv[])
     );
 
     #include "setRootCase.H"
+    grainRunControl::checkControlDict(args);
     #include "createTime.H"
     #include "createMesh.H"
+    grainRunControl runControl(runTime);
 
     grainCloud grains(mesh);
     grains.checkState();
+    // the start time's lagrangian output located on this mesh (the state
+    // may have been written on another mesh)
+    grains.writeCloud();
     const bool heat = grains.heatOn();
     if (heat)
     {
@@ -78,20 +84,26 @@ int main(int argc, char *argv[])
             Info<< ", CG iterations " << rep.heatIterations << endl;
         }
 
-        if (runTime.writeTime())
+        const bool go = runControl.writeStep
+        (
+            [&]()
+            {
+                if (heat)
+                {
+                    const List<scalar> T(grains.temperatures());
+                    grains.write({}, {{"T", &T}});
+                }
+                else
+                {
+                    grains.write();
+                }
+                Info<< "Kinetic energy = " << grains.kineticEnergy() << nl;
+            }
+        );
+        if (!go)
         {
-            if (heat)
-            {
-                const List<scalar> T(grains.temperatures());
-                grains.write({}, {{"T", &T}});
-            }
-            else
-            {
-                grains.write();
-            }
-            Info<< "Kinetic energy = " << grains.kineticEnergy() << nl;
+            break;
         }
-        runTime.write();
 
         runTime.printExecutionTime(Info);
     }

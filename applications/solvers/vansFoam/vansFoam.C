@@ -32,6 +32,7 @@ Usage
 
 #include "vansCloud.H"
 #include "couplingStepTools.H"
+#include "grainRunControl.H"
 #include "fvCFD.H"
 #include "pimpleControl.H"
 #include "fixedFluxPressureFvPatchScalarField.H"
@@ -51,6 +52,7 @@ int main(int argc, char *argv[])
     #include "postProcess.H"
     #include "addCheckCaseOptions.H"
     #include "setRootCaseLists.H"
+    grainRunControl::checkControlDict(args);
     #include "createTime.H"
     #include "createMesh.H"
     #include "createControl.H"
@@ -59,6 +61,10 @@ int main(int argc, char *argv[])
     #include "createFvOptions.H"
     #include "createHeatBudget.H"
     #include "initContinuityErrs.H"
+    grainRunControl runControl(runTime);
+    // the start time's lagrangian output located on this mesh (the state
+    // may have been written on another mesh, e.g. a deposit copied in)
+    cloud.grains().writeCloud();
 
     // wall-clock split of the step (reported at the end)
     couplingStepTimer timer;
@@ -82,6 +88,10 @@ int main(int argc, char *argv[])
             " void fraction (the particle-centroid method is unstable for"
             " dense packings, thesis 3.2.2)."
         );
+
+        // an absurd velocity (a diverged previous step, a bad initial
+        // field) stops here with the cause, not in the linear solver
+        grainCloud::checkFluidBlowUp(U, runTime.deltaTValue(), "fluid solve");
 
         ++runTime;
         Info<< "Time = " << runTime.timeName() << nl << endl;
@@ -124,7 +134,9 @@ int main(int argc, char *argv[])
 
         const clock::time_point t2 = clock::now();
 
-        // 4. fluid forces on the grains, 5. NSCD
+        // 4. fluid forces on the grains, 5. NSCD (a blown-up fluid stops
+        //    here, before a grain step of ~forever)
+        grainCloud::checkFluidBlowUp(U, runTime.deltaTValue(), "grain step");
         cloud.setFluidForces(U, p);
         // 4b. droplet-grain force (dropletCoupling, thesis eq. 4.17): the
         //     droplet registers the force on each grain (IOField, nscd
@@ -198,11 +210,10 @@ int main(int argc, char *argv[])
                 << exit(FatalError);
         }
 
-        if (runTime.writeTime())
+        if (!runControl.writeStep([&]() { cloud.write(); }))
         {
-            cloud.write();
+            break;
         }
-        runTime.write();
 
         runTime.printExecutionTime(Info);
     }

@@ -63,6 +63,7 @@ Usage
 #include "immiscibleIncompressibleTwoPhaseMixture.H"
 #include "pimpleControl.H"
 #include "fvOptions.H"
+#include "grainRunControl.H"
 
 #include <sstream>
 
@@ -77,6 +78,7 @@ int main(int argc, char *argv[])
     #include "postProcess.H"
     #include "addCheckCaseOptions.H"
     #include "setRootCaseLists.H"
+    grainRunControl::checkControlDict(args);
     #include "createTime.H"
     #include "createMesh.H"
     #include "createControl.H"
@@ -86,6 +88,13 @@ int main(int argc, char *argv[])
 
     #include "interstitialCourantNo.H"
     #include "setInitialDeltaT.H"
+    grainRunControl runControl(runTime);
+    // the start time's lagrangian output located on this mesh (the state
+    // may have been written on another mesh, e.g. a deposit copied in)
+    if (cloudPtr.valid())
+    {
+        cloudPtr->grains().writeCloud();
+    }
 
     // wall-clock split of the step (reported at the end)
     couplingStepTimer timer;
@@ -107,6 +116,10 @@ int main(int argc, char *argv[])
             runTime, adjustTimeStep, maxDeltaT,
             "reduce maxDeltaT/maxCo/maxAlphaCo in system/controlDict."
         );
+
+        // an absurd velocity (a diverged previous step, a bad initial
+        // field) stops here with the cause, not in the linear solver
+        grainCloud::checkFluidBlowUp(U, runTime.deltaTValue(), "fluid solve");
 
         ++runTime;
         Info<< "Time = " << runTime.timeName() << nl << endl;
@@ -152,6 +165,8 @@ int main(int argc, char *argv[])
         if (cloudPtr.valid())
         {
             vansCloud& cloud = cloudPtr();
+            // a blown-up fluid stops here, before a grain step of ~forever
+            grainCloud::checkFluidBlowUp(U, runTime.deltaTValue(), "grain step");
             cloud.setFluidForces(U, p);
             const clock::time_point t3 = clock::now();
             cloud.evolve(runTime.deltaTValue());
@@ -199,11 +214,20 @@ int main(int argc, char *argv[])
                 << " system/controlDict." << exit(FatalError);
         }
 
-        if (cloudPtr.valid() && runTime.writeTime())
+        const bool go = runControl.writeStep
+        (
+            [&]()
+            {
+                if (cloudPtr.valid())
+                {
+                    cloudPtr->write();
+                }
+            }
+        );
+        if (!go)
         {
-            cloudPtr->write();
+            break;
         }
-        runTime.write();
 
         runTime.printExecutionTime(Info);
     }

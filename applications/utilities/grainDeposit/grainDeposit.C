@@ -41,7 +41,11 @@ Description
 
 #include "grainCloud.H"
 #include "grainDictionaryTools.H"
+#include "grainRunControl.H"
 #include "fvCFD.H"
+
+#include <cmath>
+#include <utility>
 
 #include <random>
 #include <algorithm>
@@ -53,22 +57,42 @@ namespace
 
 struct grainSpec { nscd::Vec3 x; double d; };
 
+//- Index range [first, last) of the lattice nodes lo + (i + 1/2) spacing,
+//  i < n, that lie within [bMin, bMax] (the mesh bounds): the nodes outside
+//  cannot be in the mesh, so they are not tried (a box given in mm on a mesh
+//  in m would otherwise try ~1e8 nodes)
+std::pair<long, long> nodeRange
+(
+    double lo, double n, double spacing, double bMin, double bMax
+)
+{
+    const double a = std::floor((bMin - lo)/spacing - 0.5);
+    const double b = std::ceil((bMax - lo)/spacing - 0.5) + 1;
+    return {long(std::max(0.0, a)), long(std::max(0.0, std::min(n, b)))};
+}
+
 // Loose jittered lattice over [lo, hi], nodes in fill order (bottom first
-// along -gravity), filtered by accept(point)
+// along -gravity), filtered by accept(point); only the nodes within the
+// mesh bounds are tried (the others are not in the mesh)
 template<class Accept>
 std::vector<nscd::Vec3> latticeNodes
 (
     const vector& lo, const vector& hi, double spacing, int dim,
-    const vector& up, Accept accept
+    const vector& up, const boundBox& meshBounds, Accept accept
 )
 {
     std::vector<nscd::Vec3> nodes;
-    const label nx = label((hi.x() - lo.x())/spacing);
-    const label ny = label((hi.y() - lo.y())/spacing);
-    const label nz = dim == 3 ? label((hi.z() - lo.z())/spacing) : 1;
-    for (label k = 0; k < nz; ++k)
-    for (label j = 0; j < ny; ++j)
-    for (label i = 0; i < nx; ++i)
+    const double nx = std::floor((hi.x() - lo.x())/spacing);
+    const double ny = std::floor((hi.y() - lo.y())/spacing);
+    const double nz = dim == 3 ? std::floor((hi.z() - lo.z())/spacing) : 1;
+    const auto ri = nodeRange(lo.x(), nx, spacing, meshBounds.min().x(), meshBounds.max().x());
+    const auto rj = nodeRange(lo.y(), ny, spacing, meshBounds.min().y(), meshBounds.max().y());
+    const auto rk = dim == 3
+      ? nodeRange(lo.z(), nz, spacing, meshBounds.min().z(), meshBounds.max().z())
+      : std::pair<long, long>(0, 1);
+    for (long k = rk.first; k < rk.second; ++k)
+    for (long j = rj.first; j < rj.second; ++j)
+    for (long i = ri.first; i < ri.second; ++i)
     {
         const vector p
         (
@@ -107,6 +131,7 @@ int main(int argc, char *argv[])
     argList::noParallel();
 
     #include "setRootCase.H"
+    grainRunControl::checkControlDict(args);   // writeInterval 0: SIGFPE in Time
     #include "createTime.H"
     #include "createMesh.H"
 
@@ -229,8 +254,33 @@ int main(int argc, char *argv[])
             if (method == "cellZone" && !zoneCells.found(celli)) return false;
             return true;
         };
+        // the region against the mesh bounds first (a box in mm on a mesh
+        // in m: say so at once instead of searching ~1e8 nodes)
+        const boundBox& mb = mesh.bounds();
+        bool disjoint = false, clipped = false;
+        for (direction c = 0; c < (dim == 3 ? 3 : 2); ++c)
+        {
+            disjoint = disjoint || hi[c] < mb.min()[c] || lo[c] > mb.max()[c];
+            clipped = clipped || lo[c] < mb.min()[c] || hi[c] > mb.max()[c];
+        }
+        if (disjoint)
+        {
+            FatalIOErrorInFunction(depositDict)
+                << "The region " << lo << " - " << hi << " of "
+                << depositDict.name() << " does not intersect the mesh"
+                << " bounds " << mb << "." << nl
+                << "    Fix: give the region in the mesh's units and"
+                << " coordinates (a box in mm on a mesh in m?)."
+                << exit(FatalIOError);
+        }
+        if (clipped)
+        {
+            Info<< "grainDeposit: the region " << lo << " - " << hi
+                << " extends beyond the mesh bounds " << mb
+                << "; grains are placed in their intersection" << nl;
+        }
         const std::vector<nscd::Vec3> nodes =
-            latticeNodes(lo, hi, spacing, dim, gdir, accept);
+            latticeNodes(lo, hi, spacing, dim, gdir, mb, accept);
 
         const scalar meanVolume = dim == 2
           ? constant::mathematical::pi/4*sqr(dMin)*(1 + lambda + sqr(lambda))/3

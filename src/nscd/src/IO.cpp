@@ -4,6 +4,7 @@
 #include <hdf5.h>
 
 #include <cmath>
+#include <utility>
 #include <string>
 
 namespace nscd
@@ -71,7 +72,7 @@ struct Reader
         if (!out.empty()) st = H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
         H5Sclose(space);
         H5Dclose(ds);
-        if (st < 0) fail("cannot read dataset '" + name + "' (corrupt file?)");
+        if (st < 0) fail("cannot read dataset '" + name + "': the file is damaged or truncated");
         return out;
     }
     std::vector<double> d(const std::string& n, hsize_t cols, long rows = -1) { return read<double>(n, H5T_NATIVE_DOUBLE, cols, rows); }
@@ -188,9 +189,12 @@ System System::readHDF5(const std::string& file)
 {
     H5File h;
     if (H5Fis_hdf5(file.c_str()) <= 0)
-        throw InputError("nscd::System::readHDF5: " + file + " is missing or not an HDF5 file");
+        throw InputError("nscd::System::readHDF5: " + file + " is missing or not an HDF5 file"
+                         " (damaged or truncated?)");
     h.id = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (h.id < 0) throw InputError("nscd::System::readHDF5: cannot open " + file);
+    if (h.id < 0)
+        throw InputError("nscd::System::readHDF5: cannot open " + file + ": the file is damaged or truncated"
+                         " (e.g. a write cut by a full disk or a kill)");
     Reader r{h.id, file};
     if (r.i("format", 0, 1)[0] != formatVersion) r.fail("unsupported format version");
     const int dim = r.i("dimension", 0, 1)[0];
@@ -227,7 +231,23 @@ System System::readHDF5(const std::string& file)
     const auto mid = r.i("materialIds", 0, N), fx = r.i("fixed", 0, N);
     for (long k = 0; k < N; ++k)
     {
-        if (!(rad[k] > 0) || mid[k] < 0 || mid[k] >= int(I.materials.size())) r.fail("bad grain " + std::to_string(k));
+        const std::string g = "grain " + std::to_string(k) + ": ";
+        // std::isfinite first: an ordered comparison with a NaN raises
+        // FE_INVALID (SIGFPE under OpenFOAM's FPE trapping)
+        if (!std::isfinite(rad[k]) || !(rad[k] > 0))
+            r.fail(g + "radius " + std::to_string(rad[k]) + " (radii must be finite and > 0)");
+        if (mid[k] < 0 || mid[k] >= int(I.materials.size()))
+            r.fail(g + "material id " + std::to_string(mid[k]) + " (the file has "
+                   + std::to_string(I.materials.size()) + " materials)");
+        const std::pair<const char*, const std::vector<double>*> vec3[] =
+            {{"position", &x}, {"velocity", &v}, {"angular velocity", &om}, {"force", &f}, {"torque", &t}};
+        for (const auto& e : vec3)
+            if (!std::isfinite((*e.second)[3*k]) || !std::isfinite((*e.second)[3*k + 1])
+                || !std::isfinite((*e.second)[3*k + 2]))
+                r.fail(g + "non-finite " + e.first + " (" + std::to_string((*e.second)[3*k]) + ", "
+                       + std::to_string((*e.second)[3*k + 1]) + ", " + std::to_string((*e.second)[3*k + 2]) + ")");
+        for (int c = 0; c < 4; ++c)
+            if (!std::isfinite(q[4*k + c])) r.fail(g + "non-finite orientation");
         I.addGrainRaw(get3(x, 3*k), rad[k], mid[k], (fx[k] & 1) != 0);
         I.rotLock[k] = (fx[k] & 2) ? 1 : 0;
         I.x[k] = get3(x, 3*k);
@@ -309,7 +329,14 @@ System System::readHDF5(const std::string& file)
         I.settings.heatTolerance = hs[1];
         I.settings.heatMaxIterations = int(hs[2]);
     }
-    if (has("temperatures")) I.T = r.d("temperatures", 0, N);
+    if (has("temperatures"))
+    {
+        I.T = r.d("temperatures", 0, N);
+        for (long k = 0; k < N; ++k)
+            if (!std::isfinite(I.T[k]) || I.T[k] < 0)
+                r.fail("grain " + std::to_string(k) + ": temperature " + std::to_string(I.T[k])
+                       + " K (must be finite and >= 0)");
+    }
     if (has("heatSources")) I.heatQ = r.d("heatSources", 0, N);
     if (has("heatExchange"))
     {

@@ -2,6 +2,7 @@
 #include "SystemImpl.H"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -9,48 +10,110 @@
 namespace nscd
 {
 
+namespace
+{
+    /// Fastest body of a step dt: max over grains of |v + a dt| + r |w + alpha dt|
+    /// (free velocity), walls and droplets; who: grain id >= 0, -1 wall, -2 droplet.
+    struct Fastest { double v = 0; int who = -1; };
+
+    template <class ImplT>
+    Fastest fastest(const ImplT& I, double dt)
+    {
+        Fastest f;
+        f.who = -3;  // nothing moves
+        const int N = int(I.x.size());
+        for (int i = 0; i < N; ++i)
+        {
+            Vec3 v = I.v[i], w = I.w[i];
+            if (!I.fix[i])
+            {
+                v += dt*(I.g + I.force[i]/I.mass[i]);
+                if (!I.rotLock[i]) w += dt*I.torque[i]/I.inertia[i];
+            }
+            if (I.dim == 2) { v.z() = 0; w.x() = w.y() = 0; }
+            const double s = v.norm() + I.rad[i]*w.norm();
+            // std::isfinite first: comparing a NaN raises FE_INVALID (SIGFPE when trapped)
+            if (!std::isfinite(s)) { f.v = s; f.who = i; return f; }
+            if (s > f.v) { f.v = s; f.who = i; }
+        }
+        for (const auto& W : I.walls)
+            if (W.velocity.norm() > f.v) { f.v = W.velocity.norm(); f.who = -1; }
+        for (const auto& D : I.droplets)
+        {
+            Vec3 v = D.velocity;
+            if (D.mass > 0) v += dt*D.force/D.mass;
+            if (v.norm() > f.v) { f.v = v.norm(); f.who = -2; }
+        }
+        return f;
+    }
+
+    template <class ImplT>
+    double subStepOf(const ImplT& I, double dt, double fraction, double vmax)
+    {
+        const double dmin = 2*I.rMin();
+        if (vmax*dt <= fraction*dmin || dmin == 0) return dt;
+        const double n = std::ceil(vmax*dt/(fraction*dmin)*(1 - 1e-12));  // guard round-off
+        return dt/n;
+    }
+}
+
 double System::subStep(double dt, double fraction) const
 {
     const Impl& I = *impl_;
     if (!(dt > 0)) throw InputError("nscd::System::subStep: dt must be > 0");
     if (!(fraction > 0)) throw InputError("nscd::System::subStep: fraction must be > 0");
-    const int N = int(I.x.size());
-    double vmax = 0;
-    for (int i = 0; i < N; ++i)
-    {
-        Vec3 v = I.v[i], w = I.w[i];
-        if (!I.fix[i])
-        {
-            v += dt*(I.g + I.force[i]/I.mass[i]);
-            if (!I.rotLock[i]) w += dt*I.torque[i]/I.inertia[i];
-        }
-        if (I.dim == 2) { v.z() = 0; w.x() = w.y() = 0; }
-        vmax = std::max(vmax, v.norm() + I.rad[i]*w.norm());
-    }
-    for (const Wall& W : I.walls) vmax = std::max(vmax, W.velocity.norm());
-    for (const Droplet& D : I.droplets)
-    {
-        Vec3 v = D.velocity;
-        if (D.mass > 0) v += dt*D.force/D.mass;
-        vmax = std::max(vmax, v.norm());
-    }
-    const double dmin = 2*I.rMin();
-    if (vmax*dt <= fraction*dmin || dmin == 0) return dt;
-    const double n = std::ceil(vmax*dt/(fraction*dmin)*(1 - 1e-12));  // guard round-off
-    return dt/n;
+    return subStepOf(I, dt, fraction, fastest(I, dt).v);
 }
 
 StepReport System::advance(double dt, double fraction)
 {
     if (!(dt > 0)) throw InputError("nscd::System::advance: dt must be > 0");
+    if (!(fraction > 0)) throw InputError("nscd::System::advance: fraction must be > 0");
+    const Impl& I = *impl_;
+    const long maxSub = I.settings.maxSubSteps;
+    if (maxSub < 1) throw InputError("nscd::System::advance: maxSubSteps must be >= 1");
     StepReport total;
     double remaining = dt;
+    using clock = std::chrono::steady_clock;
+    clock::time_point lastBeat = clock::now();
+    const auto beatEvery = std::chrono::duration<double>(I.settings.heartbeatSeconds);
     while (remaining > 0)
     {
-        double h = subStep(remaining, fraction);
+        const Fastest f = fastest(I, remaining);
+        if (!std::isfinite(f.v))
+        {
+            std::ostringstream os;
+            os << "nscd::System::advance: grain " << f.who << " has a non-finite velocity, force or"
+               << " torque at the start of a sub-step (force " << I.force[f.who].transpose()
+               << " N, velocity " << I.v[f.who].transpose() << " m/s)";
+            throw StepError(os.str());
+        }
+        double h = subStepOf(I, remaining, fraction, f.v);
         if (h >= remaining*(1 - 1e-12)) h = remaining;
+        const double needed = total.substeps + std::ceil(remaining/h*(1 - 1e-12));
+        if (needed > double(maxSub))
+        {
+            std::ostringstream os;
+            os << "nscd::System::advance: the step of " << dt << " s needs about " << needed
+               << " sub-steps, more than maxSubSteps = " << maxSub << " (";
+            if (f.who >= 0)
+            {
+                os << "grain " << f.who << " moves at " << f.v << " m/s with the step's forces, external force "
+                   << I.force[f.who].norm() << " N";
+                if (I.g.norm() > 0) os << " (" << I.force[f.who].norm()/(I.mass[f.who]*I.g.norm()) << " x its weight)";
+            }
+            else
+                os << (f.who == -1 ? "a wall" : "a droplet") << " moves at " << f.v << " m/s";
+            os << "; a sub-step may move a grain by " << fraction << " d_min = " << fraction*2*I.rMin() << " m)";
+            throw StepError(os.str());
+        }
         const StepReport r = step(h);
         remaining = (h == remaining) ? 0.0 : remaining - h;
+        if (I.settings.heartbeat && remaining > 0 && clock::now() - lastBeat >= beatEvery)
+        {
+            I.settings.heartbeat(total.substeps + 1, total.substeps + 1 + remaining/h);
+            lastBeat = clock::now();
+        }
         total.contacts = std::max(total.contacts, r.contacts);
         total.sweeps += r.sweeps;
         total.localSolves += r.localSolves;

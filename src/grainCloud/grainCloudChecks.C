@@ -1,0 +1,447 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam: grainCloud run-health checks (issue 27)
+
+Description
+    The checks that make a run fail loudly instead of hanging, crashing on
+    a signal or losing grains silently:
+      - a grain state file that cannot be used (damaged, truncated, NaN/Inf
+        or negative values): FatalError naming the grain, the field and the
+        previous write as the way out;
+      - contact steps that did not converge: counted, warned at the first
+        one, summarised with the worst overlap at the end of the run;
+      - grain centres that left the mesh during a step: FatalError saying
+        whether the grain crossed a grain wall patch, an open patch or a
+        gap between wall patches;
+      - a fluid velocity that blew up (non-finite, or a cell Courant number
+        above 1e4) before the grain step.
+\*---------------------------------------------------------------------------*/
+
+#include "grainCloud.H"
+#include "volFields.H"
+#include "Time.H"
+#include "OSspecific.H"
+#include "processorPolyPatch.H"
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <sstream>
+
+// * * * * * * * * * * * * * * * Local Functions * * * * * * * * * * * * * * //
+
+namespace
+{
+    //- Clock time spent in grainCloud::checkInsideMesh over the run [s]
+    //  (reported in the end-of-run summary; tests/bench/faultChecks)
+    double insideMeshSeconds = 0;
+
+    //- Name of the latest time directory of casePath before time t that
+    //  holds a grain state (empty if none)
+    Foam::word previousStateTime
+    (
+        const Foam::fileName& casePath,
+        const Foam::scalar t
+    )
+    {
+        using namespace Foam;
+        word best;
+        scalar bestValue = -GREAT;
+        for (const instant& i : TimePaths::findTimes(casePath))
+        {
+            if
+            (
+                i.value() < t - SMALL*max(mag(t), scalar(1))
+             && i.value() > bestValue
+             && isFile(casePath/i.name()/grainCloud::stateFileName)
+            )
+            {
+                best = i.name();
+                bestValue = i.value();
+            }
+        }
+        return best;
+    }
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+nscd::System Foam::grainCloud::readStateFile(const fileName& statePath) const
+{
+    try
+    {
+        if (!isFile(statePath))
+        {
+            throw nscd::InputError
+            (
+                "Cannot find the grain state " + statePath
+              + " (a run that never wrote grains here, or a write that was"
+                " interrupted)"
+            );
+        }
+        return nscd::System::readHDF5(statePath);
+    }
+    catch (const nscd::InputError& err)
+    {
+        const fileName timeDir(statePath.path());
+        const word prev =
+            previousStateTime(timeDir.path(), mesh_.time().value());
+        OStringStream fix;
+        if (prev.size())
+        {
+            fix << "restart from the previous write " << prev
+                << " (startFrom startTime; startTime " << prev
+                << "; in system/controlDict, or delete " << timeDir
+                << " and use startFrom latestTime)";
+        }
+        else
+        {
+            fix << "no earlier time holds a grain state: create the"
+                << " initial grains with grainDeposit";
+        }
+        FatalErrorInFunction
+            << "Cannot use the grain state " << statePath << nl
+            << "    " << err.what() << nl
+            << "    Fix: " << fix.str().c_str() << exit(FatalError);
+    }
+    return nscd::System(dimension_);  // not reached
+}
+
+
+void Foam::grainCloud::writeStateFile(const fileName& path) const
+{
+    const std::string tmp(path + ".tmp");
+    std::string what;
+    errno = 0;
+    try
+    {
+        system_->writeHDF5(tmp);
+        if (std::rename(tmp.c_str(), path.c_str()) != 0)
+        {
+            what = std::string("cannot rename ") + tmp + ": " + std::strerror(errno);
+        }
+    }
+    catch (const nscd::InputError& err)
+    {
+        what = err.what();
+        if (errno != 0)
+        {
+            what += std::string(" (") + std::strerror(errno) + ")";
+        }
+    }
+    if (what.empty())
+    {
+        return;
+    }
+    const int code = errno;
+    std::remove(tmp.c_str());
+    // a time directory this write created and left empty would be taken by
+    // startFrom latestTime: remove it
+    const fileName dir(path.path());
+    bool removed = false;
+    if
+    (
+        readDir(dir, fileName::FILE).empty()
+     && readDir(dir, fileName::DIRECTORY).empty()
+    )
+    {
+        removed = rmDir(dir);
+    }
+    FatalErrorInFunction
+        << "Writing the grain state " << path << " failed: " << what.c_str()
+        << nl << "    " << path << " was not changed; the previous write"
+        << " holds the last complete state." << nl << "    Fix: "
+        << (code == ENOSPC ? "free disk space (no space left on device)"
+            : "check the disk (space, quota, permissions)")
+        << (removed ? " (the empty time directory was removed)" : "")
+        << ", then restart from the last complete time directory."
+        << exit(FatalError);
+}
+
+
+void Foam::grainCloud::setHeartbeat()
+{
+    system_->settings().heartbeat = [this](long done, double all)
+    {
+        char line[160];
+        std::snprintf
+        (
+            line, sizeof(line), "sub-step %ld of about %.0f (%.1f %%)",
+            done, all, 100*done/all
+        );
+        Info<< "    grain step to time " << mesh_.time().timeName() << ": "
+            << line << endl;
+    };
+}
+
+
+void Foam::grainCloud::recordStepHealth()
+{
+    const scalar t = mesh_.time().value();
+    ++health_.steps;
+    const scalar ov = report_.maxOverlap/max(system_->minDiameter(), VSMALL);
+    if (ov > health_.worstOverlap)
+    {
+        health_.worstOverlap = ov;
+        health_.worstOverlapTime = t;
+    }
+    if (!report_.converged)
+    {
+        if (health_.notConverged++ == 0)
+        {
+            health_.firstNotConverged = t;
+            const nscd::System::Settings& s = system_->settings();
+            WarningInFunction
+                << "The contact solver did NOT converge at time "
+                << mesh_.time().timeName() << " (residual "
+                << report_.residual << " > tolerance " << s.tolerance
+                << " after maxIterations " << s.maxIterations
+                << " sweeps; overlap " << ov << " d_min)." << nl
+                << "    Grains may overlap; the end of the run counts these"
+                << " steps and gives the worst overlap." << nl
+                << "    Fix: raise maxIterations (or tolerance) in the"
+                << " contactSolver dictionary of " << dict_.name() << endl;
+        }
+    }
+}
+
+
+Foam::grainCloud::~grainCloud()
+{
+    if (health_.steps == 0)
+    {
+        return;
+    }
+    if (health_.notConverged)
+    {
+        WarningInFunction
+            << "contact solver NOT converged in " << health_.notConverged
+            << " of " << health_.steps << " grain steps (first at time "
+            << health_.firstNotConverged << "); worst overlap/d_min "
+            << health_.worstOverlap << " at time "
+            << health_.worstOverlapTime << nl
+            << "    Fix: raise maxIterations in the contactSolver dictionary"
+            << " of " << dict_.name() << endl;
+    }
+    else
+    {
+        Info<< "grainCloud summary: " << health_.steps << " grain steps,"
+            << " contact solver converged in all; worst overlap/d_min "
+            << health_.worstOverlap << " at time "
+            << health_.worstOverlapTime << nl;
+    }
+    Info<< "grainCloud: inside-mesh checks " << insideMeshSeconds
+        << " s of clock time" << nl << endl;
+}
+
+
+void Foam::grainCloud::checkInsideMesh()
+{
+    const auto start = std::chrono::steady_clock::now();
+    struct addTime
+    {
+        std::chrono::steady_clock::time_point t0;
+        ~addTime()
+        {
+            insideMeshSeconds += std::chrono::duration<double>
+            (
+                std::chrono::steady_clock::now() - t0
+            ).count();
+        }
+    } timer{start};
+    const label n = system_->size();
+    if (cellHint_.size() != n)
+    {
+        cellHint_.setSize(n, -1);
+    }
+    // this rank's own bounds (polyMesh::bounds() is global in parallel)
+    const boundBox local(mesh_.points(), false);
+    labelList found(n, 0);
+    bool allLocal = true;
+    for (label i = 0; i < n; ++i)
+    {
+        const point p(meshPosition(i));
+        label& c = cellHint_[i];
+        if (c >= 0 && mesh_.pointInCell(p, c))
+        {
+            found[i] = 1;
+            continue;
+        }
+        c = local.contains(p) ? mesh_.findCell(p) : -1;
+        found[i] = c >= 0 ? 1 : 0;
+        allLocal = allLocal && found[i];
+    }
+    if (Pstream::parRun())
+    {
+        Pstream::listCombineGather(found, maxEqOp<label>());
+        Pstream::listCombineScatter(found);
+    }
+    else if (allLocal)
+    {
+        return;
+    }
+    for (label i = 0; i < n; ++i)
+    {
+        if (!found[i])
+        {
+            const string how(describeExit(i));
+            FatalErrorInFunction
+                << "Grain " << i << " left the mesh at time "
+                << mesh_.time().timeName() << ": from "
+                << vector(oldPositions_[i].x(), oldPositions_[i].y(), meshPosition(i).z())
+                << " to " << meshPosition(i) << " (radius "
+                << system_->radii()[i] << "), " << how.c_str() << nl
+                << "    The last written time holds the last good state."
+                << exit(FatalError);
+        }
+    }
+}
+
+
+Foam::string Foam::grainCloud::describeExit(label i) const
+{
+    const nscd::Vec3& o = oldPositions_[i];
+    const vector x1(meshPosition(i));
+    const vector x0(o.x(), o.y(), x1.z());
+    const vector dx(x1 - x0);
+
+    // first boundary face crossed by the path x0 -> x1 on this rank
+    scalar tBest = GREAT;
+    label patchBest = -1;
+    const polyBoundaryMesh& pbm = mesh_.boundaryMesh();
+    for (const polyPatch& pp : pbm)
+    {
+        if (pp.coupled())
+        {
+            continue;
+        }
+        const vectorField::subField Cf(pp.faceCentres());
+        const vectorField::subField Sf(pp.faceAreas());
+        forAll(pp, facei)
+        {
+            const scalar magS = mag(Sf[facei]);
+            if (magS < VSMALL) continue;
+            const vector nf(Sf[facei]/magS);
+            const scalar d0 = (x0 - Cf[facei]) & nf;
+            const scalar d1 = (x1 - Cf[facei]) & nf;
+            if (!(d0 <= 0 && d1 > 0)) continue;
+            const scalar t = d0/(d0 - d1);
+            const point c(x0 + t*dx);
+            scalar rFace = 0;
+            for (const label pi : pp[facei])
+            {
+                rFace = max(rFace, mag(mesh_.points()[pi] - Cf[facei]));
+            }
+            if (mag(c - Cf[facei]) <= 1.001*rFace && t < tBest)
+            {
+                tBest = t;
+                patchBest = pp.index();
+            }
+        }
+    }
+    const scalar tGlobal = returnReduce(tBest, minOp<scalar>());
+    if (tGlobal < GREAT && tBest == tGlobal && patchBest >= 0)
+    {
+        const polyPatch& pp = pbm[patchBest];
+        OStringStream os;
+        if (patchWalls_.found(pp.name()))
+        {
+            os  << "through the wall patch " << pp.name() << ": the contact"
+                << " with the wall did not hold it (the grain moved "
+                << mag(dx) << " m in the step)." << nl
+                << "    Fix: reduce deltaT or maxDisplacementFraction; check"
+                << " that the wall's velocity (movingWalls) is not faster"
+                << " than the grains can follow.";
+        }
+        else
+        {
+            os  << "through the open patch " << pp.name() << " (type "
+                << pp.type() << "), which is not a wall for the grains"
+                << " (not of type wall, or not in wallPatches of "
+                << dict_.name() << ")." << nl
+                << "    Fix: if " << pp.name() << " is a wall, make it of"
+                << " type wall in constant/polyMesh/boundary or list it in"
+                << " wallPatches; grains cannot leave through open patches.";
+        }
+        return os.str();
+    }
+    if (tGlobal < GREAT)
+    {
+        return "through a boundary patch of another processor";
+    }
+    OStringStream os;
+    os  << "through a gap between wall patches (its path crosses no"
+        << " boundary face: e.g. a corner where the wall faces do not meet)."
+        << nl << "    Fix: check that the wall patches close the domain"
+        << " (checkMesh) and reduce deltaT or maxDisplacementFraction.";
+    return os.str();
+}
+
+
+void Foam::grainCloud::checkFluidBlowUp
+(
+    const volVectorField& U,
+    scalar dt,
+    const char* where
+)
+{
+    const fvMesh& mesh = U.mesh();
+    const scalarField& V = mesh.V();
+    const bool twoD = mesh.nSolutionD() == 2;
+    const scalar depth = twoD ? mesh.bounds().span().z() : 1;
+    scalar coMax = 0, uMax = 0;
+    label cellMax = -1;
+    bool finite = true;
+    forAll(U, c)
+    {
+        const scalar u = mag(U[c]);
+        if (!std::isfinite(u))
+        {
+            finite = false;
+            cellMax = c;
+            break;
+        }
+        const scalar h = twoD ? std::sqrt(V[c]/depth) : std::cbrt(V[c]);
+        const scalar co = u*dt/h;
+        if (co > coMax)
+        {
+            coMax = co;
+            uMax = u;
+            cellMax = c;
+        }
+    }
+    const scalar coLimit = 1e4;
+    const bool bad = !finite || coMax > coLimit;
+    if (!returnReduce(bad, orOp<bool>()))
+    {
+        return;
+    }
+    // the failing ranks report (the others wait for the abort)
+    if (bad)
+    {
+        OStringStream what;
+        if (!finite)
+        {
+            what << "non-finite fluid velocity " << U[cellMax];
+        }
+        else
+        {
+            what << "fluid velocity " << uMax << " m/s, cell Courant number"
+                 << " |U| dt/h = " << coMax << " > " << coLimit;
+        }
+        FatalErrorInFunction
+            << "The fluid solution blew up at time "
+            << mesh.time().timeName() << " (before the " << where << "): "
+            << what.str().c_str() << " in cell " << cellMax << " at "
+            << mesh.C()[cellMax] << nl
+            << "    The last written time holds the last good state." << nl
+            << "    Fix: reduce deltaT, or use adjustTimeStep yes with"
+            << " maxCo 0.5 in system/controlDict." << exit(FatalError);
+    }
+}
+
+
+// ************************************************************************* //

@@ -1,0 +1,149 @@
+#include "grainRunControl.H"
+#include "IFstream.H"
+#include "dictionary.H"
+
+#include <csignal>
+#include <cmath>
+#include <cstdio>
+
+// * * * * * * * * * * * * * * * Local Functions * * * * * * * * * * * * * * //
+
+namespace
+{
+    volatile std::sig_atomic_t stopSignal = 0;
+
+    extern "C" void onStopSignal(int sig)
+    {
+        if (stopSignal && sig == SIGTERM)
+        {
+            // second SIGTERM in the same step: default action (terminate)
+            std::signal(SIGTERM, SIG_DFL);
+            std::raise(SIGTERM);
+            return;
+        }
+        stopSignal = sig;
+    }
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::grainRunControl::checkControlDict(const argList& args)
+{
+    const fileName path
+    (
+        args.rootPath()/args.globalCaseName()/"system"/"controlDict"
+    );
+    IFstream is(path);
+    if (!is.good())
+    {
+        return;  // Time reports the missing file
+    }
+    const dictionary dict(is);
+    scalar writeInterval = 1;
+    if (dict.readIfPresent("writeInterval", writeInterval) && !(writeInterval > 0))
+    {
+        FatalIOErrorInFunction(dict)
+            << "writeInterval " << writeInterval << " in " << path
+            << " must be > 0 (OpenFOAM divides by it)." << nl
+            << "    Fix: set writeInterval to the time between writes"
+            << " (writeControl runTime/adjustableRunTime) or to the number of"
+            << " steps between writes (writeControl timeStep)."
+            << exit(FatalIOError);
+    }
+}
+
+
+Foam::grainRunControl::grainRunControl(Time& runTime)
+:
+    runTime_(runTime),
+    startTime_(runTime.value()),
+    startClock_(runTime.elapsedClockTime())
+{
+    const scalar endTime = runTime.endTime().value();
+    if (endTime <= startTime_ + 0.5*runTime.deltaTValue())
+    {
+        WarningInFunction
+            << "endTime " << endTime << " is not after the start time "
+            << startTime_ << ": no time step will run." << nl
+            << "    Fix: raise endTime in system/controlDict, or check"
+            << " startFrom/startTime (latestTime starts from the last time"
+            << " directory)." << endl;
+    }
+    stopSignal = 0;
+    std::signal(SIGTERM, onStopSignal);
+    std::signal(SIGUSR1, onStopSignal);
+}
+
+
+bool Foam::grainRunControl::stopRequested() const
+{
+    return signalReceived() != 0;
+}
+
+
+Foam::label Foam::grainRunControl::signalReceived()
+{
+    return returnReduce(label(stopSignal), maxOp<label>());
+}
+
+
+bool Foam::grainRunControl::writeStep(const std::function<void()>& writeGrains)
+{
+    const label sig = signalReceived();
+    const bool stop = sig != 0;
+    const bool last =
+        !(runTime_.value() < runTime_.endTime().value() - 0.5*runTime_.deltaTValue());
+    const bool scheduled = runTime_.writeTime();
+    const bool written = scheduled || last || stop;
+    if (written)
+    {
+        writeGrains();
+    }
+    if (written && !scheduled)
+    {
+        runTime_.writeNow();
+    }
+    else
+    {
+        runTime_.write();
+    }
+    if (written)
+    {
+        const scalar span = runTime_.endTime().value() - startTime_;
+        scalar f =
+            span > 0 ? min(max((runTime_.value() - startTime_)/span, scalar(0)), scalar(1)) : 1;
+        if (last)
+        {
+            f = 1;
+        }
+        const scalar clock = runTime_.elapsedClockTime() - startClock_;
+        char line[128];
+        if (f > 0 && f < 1)
+        {
+            std::snprintf
+            (
+                line, sizeof(line),
+                "Progress: %.1f %% of the run, about %.0f s of clock time left",
+                100*f, clock*(1 - f)/f
+            );
+        }
+        else
+        {
+            std::snprintf(line, sizeof(line), "Progress: %.1f %% of the run", 100*f);
+        }
+        Info<< line;
+        Info<< nl;
+    }
+    if (stop)
+    {
+        Info<< nl << "Stop signal " << sig << (sig == SIGTERM ? " (SIGTERM)" : sig == SIGUSR1 ? " (SIGUSR1)" : "") << " received: wrote"
+            << " time " << runTime_.timeName() << " (continue with startFrom"
+            << " latestTime) and stopped." << nl << endl;
+        return false;
+    }
+    return true;
+}
+
+
+// ************************************************************************* //
