@@ -1,4 +1,6 @@
-// The contact solve of System::step on the rows prepared by prepareContacts.
+// The contact solve of System::step on the rows prepared by prepareContacts:
+// nonlinear Gauss-Seidel with contact queue (NLGS, optionally over-relaxed)
+// and the residual shared by every method (APGD: ContactSolverAPGD.cpp).
 #include "SystemImpl.H"
 
 #include <algorithm>
@@ -7,12 +9,58 @@
 namespace nscd
 {
 
+double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, const Body& B, double dt)
+{
+    const Vec3& n = c.n;
+    const Vec3 du = A.v - B.v - (A.r*A.w + B.r*B.w).cross(n);
+    const double un = du.dot(n);
+    const double unFree = un - c.wnn*c.rn + c.bias;
+    const Vec3 utFree = (du - un*n) - c.wtt*rt;
+    double rn = -unFree*c.iwnn;
+    if (rn < -c.coh) rn = -c.coh;
+    if (rn > c.cap) rn = c.cap;
+    const double rnt = rn + c.coh;
+    Vec3 rtNew = Vec3::Zero();
+    if (rnt > 0.0)
+    {
+        rtNew = utFree*(-c.iwtt);
+        const double lim = c.mu*rnt;
+        const double n2 = rtNew.squaredNorm();
+        if (n2 > lim*lim) rtNew *= lim/std::sqrt(n2);
+    }
+    const double dn = rn - c.rn;
+    return (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*(rtNew - rt).squaredNorm())*dt*dt;
+}
+
+double System::Impl::residualPass(double dt, bool scalarTangent) const
+{
+    double res = 0;
+    for (const SolverContact& c : rows)
+    {
+        const Vec3 rt = scalarTangent ? Vec3(c.rts*Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
+        res = std::max(res, localResidual2(c, rt, body[c.i], body[c.j], dt));
+    }
+    return res;
+}
+
 void System::Impl::solveContacts(double dt, StepReport& rep)
+{
+    const Settings::Method m = settings.method;
+    rep.method = int(m);
+    if (m == Settings::Method::APGD) { solveAPGD(dt, rep); return; }
+    double omega = settings.relaxation;
+    if (m == Settings::Method::OverRelaxedNLGS && omega == 1.0) omega = Settings::defaultOverRelaxation;
+    solveNLGS(dt, omega, rep);
+}
+
+void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
 {
     const bool twoD = dim == 2;
     const double dmin = 2*rMin();
     const int NC = int(rows.size());
     std::vector<SolverContact>& C = rows;
+    const bool hist = settings.residualHistory;
+    if (hist) rep.residualHistory.push_back(dmin > 0 ? std::sqrt(residualPass(dt, false))/dmin : 0.0);
     // ---- nonlinear Gauss-Seidel with contact queue (Algorithm 2, section 2.3) ----
     const double xi = settings.tolerance*dmin;
     const long maxSolves = long(settings.maxIterations)*long(std::max(NC, 1));
@@ -25,7 +73,6 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
     // converged (its impulse was changed), false if |W dr| dt < xi (the
     // previous impulse is kept, as in Algorithm 2).
     const double xi2 = xi*xi, dt2 = dt*dt;
-    const double omega = settings.relaxation;
     // 2D: scalar tangential impulse along t = z x n (same law, fewer flops)
     if (twoD)
         for (int k = 0; k < NC; ++k)
@@ -51,6 +98,13 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
         double rt = -utFree*c.iwtt;
         if (rt > lim) rt = lim;
         else if (rt < -lim) rt = -lim;
+        double dn = rn - c.rn;
+        double dtt = rt - c.rts;
+        // the stopping test is on the plain (unrelaxed) local update: the
+        // residual of every method (localResidual2)
+        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtt*dtt)*dt2;
+        c.change = ch;
+        if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
         if (omega != 1.0)
         {
             rn = c.rn + omega*(rn - c.rn);
@@ -60,12 +114,9 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
             rt = c.rts + omega*(rt - c.rts);
             if (rt > lim) rt = lim;
             else if (rt < -lim) rt = -lim;
+            dn = rn - c.rn;
+            dtt = rt - c.rts;
         }
-        const double dn = rn - c.rn;
-        const double dtt = rt - c.rts;
-        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtt*dtt)*dt2;
-        c.change = ch;
-        if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
         c.rn = rn;
         c.rts = rt;
         const double px = dn*nx - dtt*ny, py = dn*ny + dtt*nx;
@@ -105,6 +156,13 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
             const double n2 = rt.squaredNorm();
             if (n2 > lim*lim) rt *= lim/std::sqrt(n2);
         }
+        Vec3 dtv = rt - c.rt;
+        double dn = rn - c.rn;
+        // squared change of the contact-point displacement |W dr|^2 dt^2 of
+        // the plain (unrelaxed) update: the residual of every method
+        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtv.squaredNorm())*dt2;
+        c.change = ch;
+        if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
         if (omega != 1.0)
         {
             // projected over-relaxation: r <- Proj_K(r_old + omega (r_solved - r_old))
@@ -115,13 +173,9 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
             const double lim = c.mu*(rn + c.coh);
             const double n2 = rt.squaredNorm();
             if (n2 > lim*lim) rt *= (n2 > 0 ? lim/std::sqrt(n2) : 0.0);
+            dn = rn - c.rn;
+            dtv = rt - c.rt;
         }
-        const double dn = rn - c.rn;
-        const Vec3 dtv = rt - c.rt;
-        // squared change of the contact-point displacement |W dr|^2 dt^2
-        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtv.squaredNorm())*dt2;
-        c.change = ch;
-        if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
         c.rn = rn;
         c.rt = rt;
         const Vec3 Pm = dn*n + dtv;
@@ -133,6 +187,8 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
         return true;
     };
     auto solveOne = [&](int k) -> bool { return twoD ? solveOne2D(k) : solveOne3D(k); };
+    auto recordHistory = [&]
+    { rep.residualHistory.push_back(dmin > 0 ? std::sqrt(residualPass(dt, twoD))/dmin : 0.0); };
     inQueue.assign(NC, 1);
     char* inQ = inQueue.data();
     int count = NC;
@@ -159,7 +215,9 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
             head = (head + 1 == NC) ? 0 : head + 1;
             --count;
             inQ[k] = 0;
-            if (!solveOne(k)) continue;
+            const bool changed = solveOne(k);
+            if (hist && solves % NC == 0) recordHistory();
+            if (!changed) continue;
             push(k);
             const SolverContact& c = cs[k];
             for (int p = adjS[c.i]; p < adjS[c.i + 1]; ++p) push(adjI[p]);
@@ -184,7 +242,9 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
                 if (!inQ[k]) return;
                 inQ[k] = 0;
                 --count;
-                if (!solveOne(k)) return;
+                const bool changed = solveOne(k);
+                if (hist && solves % NC == 0) recordHistory();
+                if (!changed) return;
                 mark(k);
                 nlo = std::min(nlo, k); nhi = std::max(nhi, k);
                 const SolverContact& c = cs[k];
@@ -202,9 +262,17 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
     if (twoD)
         for (int k = 0; k < NC; ++k)
             cs[k].rt = cs[k].rts*Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0);
+    // The residual (the same for every method): max over contacts of the
+    // plain local update |W dr| dt at the final velocities. When the queue is
+    // empty, every contact was last solved after the last change of its
+    // bodies' velocities and not changed then: its last change is this
+    // residual. Otherwise (maxIterations hit) it is evaluated.
     double res = 0;
-    for (int k = 0; k < NC; ++k) res = std::max(res, C[k].change);
+    if (count == 0) for (int k = 0; k < NC; ++k) res = std::max(res, C[k].change);
+    else res = residualPass(dt, false);
     res = std::sqrt(res);
+    if (hist && (rep.residualHistory.empty() || solves % std::max(NC, 1) != 0))
+        rep.residualHistory.push_back(dmin > 0 ? res/dmin : 0.0);
     for (int k = 0; k < NC; ++k) C[k].change = std::sqrt(C[k].change);
     rep.contacts = NC;
     rep.localSolves = solves;

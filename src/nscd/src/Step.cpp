@@ -37,6 +37,10 @@ void checkSettings(const System::Settings& S)
         || !(S.overlapSlop >= 0) || !(S.alertDistanceFactor >= 0) || !(S.alertMargin >= 0))
         throw InputError("nscd::System::step: invalid settings (need tolerance > 0, maxIterations >= 1, "
                          "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0)");
+    const int m = int(S.method);
+    if (m < 0 || m > int(System::Settings::Method::APGD))
+        throw InputError("nscd::System::step: invalid settings (unknown contact solver method "
+                         + std::to_string(m) + "; methods: NLGS, OverRelaxedNLGS, APGD)");
     if (!(S.heatTolerance > 0) || S.heatMaxIterations < 1)
         throw InputError("nscd::System::step: invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
     if (S.cohesionMinAge < 0)
