@@ -104,7 +104,7 @@ namespace
 nscd::System::Settings::Method contactSolverMethod(const Foam::dictionary& cs)
 {
     using Method = nscd::System::Settings::Method;
-    const Foam::word m(cs.getOrDefault<Foam::word>("method", "NLGS"));
+    const Foam::word m(cs.get<Foam::word>("method"));
     if (m == "NLGS") return Method::NLGS;
     if (m == "overRelaxedNLGS") return Method::OverRelaxedNLGS;
     if (m != "APGD")
@@ -132,7 +132,10 @@ void Foam::grainCloud::applySolverSettings()
                 "relaxation"
             }
         );
-        s.method = contactSolverMethod(cs);
+        if (cs.found("method"))
+        {
+            s.method = contactSolverMethod(cs);
+        }
         s.relaxation = cs.getOrDefault<scalar>("relaxation", s.relaxation);
         if (!(s.relaxation > 0 && s.relaxation < 2))
         {

@@ -14,7 +14,7 @@
 // tiled bed is in equilibrium; it is relaxed a few hundred steps anyway (it
 // starts without contact impulses). Timing is then over the last
 // steps of a bed at rest (median wall seconds per step).
-#include "nscd/System.H"
+#include "benchBeds.H"
 
 #include <sys/resource.h>
 
@@ -31,12 +31,8 @@
 
 using namespace nscd;
 
-namespace
+namespace nscdBench
 {
-const double dMean = 230e-6, lambda = 1.2;
-const double dMin = 2*dMean/(1 + lambda), dMax = lambda*dMin;
-const double rho = 2500, dt = 1e-4, g = 9.81;
-
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 double median(std::vector<double> v)
@@ -49,13 +45,6 @@ double median(std::vector<double> v)
 
 double peakRssMb() { rusage ru{}; getrusage(RUSAGE_SELF, &ru); return ru.ru_maxrss/1024.0; }
 
-struct Bed
-{
-    int dim = 2;
-    std::vector<Vec3> x;
-    std::vector<double> r;
-    double W = 0, D = 0;  // box width (x), depth (z, 3D)
-};
 
 System makeSystem(const Bed& b, double mu)
 {
@@ -343,6 +332,21 @@ std::string machineNote()
 }
 }
 
+using namespace nscdBench;
+
+namespace
+{
+/// contactSolver method keyword of the settings (grainCloud spelling)
+std::string methodName(const System::Settings& S)
+{
+    using M = System::Settings::Method;
+    if (S.method == M::APGD) return "APGD";
+    if (S.method == M::NLGS && S.relaxation == 1.0) return "NLGS";
+    const double w = S.relaxation == 1.0 ? System::Settings::defaultOverRelaxation : S.relaxation;
+    return "overRelaxedNLGS (relaxation " + std::to_string(w).substr(0, 4) + ")";
+}
+}
+
 int runSuite(int argc, char** argv)
 {
     const std::string out = argc > 2 ? argv[2] : "nscdDeposit.json";
@@ -423,7 +427,7 @@ int runSuite(int argc, char** argv)
       << "  \"machine\": \"" << machineNote() << "\",\n"
       << "  \"parameters\": {\"d_mean_m\": " << dMean << ", \"d_min_m\": " << dMin << ", \"d_max_m\": " << dMax
       << ", \"lambda\": " << lambda << ", \"diameter_distribution\": \"uniform in [d_min, d_max]\", \"density\": " << rho
-      << ", \"dt\": " << dt << ", \"gravity\": " << g << ", \"friction\": 0.4, \"tolerance_over_dmin\": 1e-6, \"max_iterations_sweeps\": 1000, \"overlap_slop_over_rmin\": 1e-4, \"ordering\": \"Fifo\"},\n"
+      << ", \"dt\": " << dt << ", \"gravity\": " << g << ", \"friction\": 0.4, \"tolerance_over_dmin\": 1e-6, \"max_iterations_sweeps\": 1000, \"overlap_slop_over_rmin\": 1e-4, \"ordering\": \"Fifo\", \"method\": \"" << methodName(System::Settings{}) << "\"},\n"
       << "  \"setup\": \"Mirror tiling of a settled block. A block of " << blockN << " discs (" << ncol
       << " columns of a hexagonal lattice of spacing d_max, ~" << blockN/ncol << " rows, each disc lowered onto the discs below it: a dense layered construction; between two side walls and a floor) is settled to rest "
       << "(see settling); " << nBig << " copies of the settled block are laid side by side, every other one mirrored about the former side wall, so that grains that touched "
