@@ -98,6 +98,26 @@ void Foam::grainCloud::readSettings()
 }
 
 
+namespace
+{
+// contactSolver.method: the nscd::System::Settings::Method of the name
+nscd::System::Settings::Method contactSolverMethod(const Foam::dictionary& cs)
+{
+    using Method = nscd::System::Settings::Method;
+    const Foam::word m(cs.get<Foam::word>("method"));
+    if (m == "NLGS") return Method::NLGS;
+    if (m == "overRelaxedNLGS") return Method::OverRelaxedNLGS;
+    if (m != "APGD")
+    {
+        FatalIOErrorInFunction(cs)
+            << "unknown contactSolver method " << m
+            << "; methods: NLGS, overRelaxedNLGS, APGD" << Foam::exit(Foam::FatalIOError);
+    }
+    return Method::APGD;
+}
+}
+
+
 void Foam::grainCloud::applySolverSettings()
 {
     nscd::System::Settings& s = system_->settings();
@@ -106,8 +126,23 @@ void Foam::grainCloud::applySolverSettings()
         const dictionary& cs = dict_.subDict("contactSolver");
         grainTools::checkKeywords
         (
-            cs, {"tolerance", "maxIterations", "overlapTolerance", "maxSubSteps"}
+            cs,
+            {
+                "tolerance", "maxIterations", "overlapTolerance", "method",
+                "relaxation", "maxSubSteps"
+            }
         );
+        if (cs.found("method"))
+        {
+            s.method = contactSolverMethod(cs);
+        }
+        s.relaxation = cs.getOrDefault<scalar>("relaxation", s.relaxation);
+        if (!(s.relaxation > 0 && s.relaxation < 2))
+        {
+            FatalIOErrorInFunction(cs)
+                << "relaxation must be in (0, 2), got " << s.relaxation
+                << exit(FatalIOError);
+        }
         s.tolerance =
             grainTools::getPositiveOrDefault(cs, "tolerance", s.tolerance);
         s.maxIterations = cs.getOrDefault<label>("maxIterations", s.maxIterations);

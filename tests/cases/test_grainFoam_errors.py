@@ -16,6 +16,14 @@ def base(tmp_path, name, grains, **kw):
     return case
 
 
+def replace_in(case, rel, old, new):
+    """Edit a case file: replace old by new in case/rel."""
+    p = os.path.join(case, rel)
+    txt = open(p).read()
+    assert old in txt, f"'{old}' not in {p}"
+    open(p, "w").write(txt.replace(old, new))
+
+
 def fails_with(p, *words):
     out = p.stdout + p.stderr
     assert p.returncode != 0, "expected a failure"
@@ -52,9 +60,7 @@ def test_unknown_keyword(tmp_path, env):
 
 def test_unknown_material_keyword(tmp_path, env):
     case = base(tmp_path, "matkey", [(0.05, 0.01, 0, 0.01)])
-    p = os.path.join(case, "constant", "grainProperties")
-    txt = open(p).read().replace("friction 0.4;", "friction 0.4; densty 3;")
-    open(p, "w").write(txt)
+    replace_in(case, "constant/grainProperties", "friction 0.4;", "friction 0.4; densty 3;")
     run("blockMesh", case, env)
     fails_with(run("grainDeposit", case, env, check=False), "Unknown keyword", "densty")
 
@@ -79,3 +85,11 @@ def test_unknown_material_name(tmp_path, env):
     open(p, "w").write(txt)
     run("blockMesh", case, env)
     fails_with(run("grainDeposit", case, env, check=False), "Unknown material", "sand")
+
+
+def test_unknown_contact_solver_method(tmp_path, env):
+    case = base(tmp_path, "method", [(0.05, 0.01, 0, 0.01)])
+    replace_in(case, "constant/grainProperties", "maxIterations", "method Jacobi; maxIterations")
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "unknown contactSolver method", "Jacobi",
+               "NLGS, overRelaxedNLGS, APGD")

@@ -26,11 +26,13 @@
 using namespace nscd;
 
 int runSuite(int argc, char** argv);
+int runMethods(int argc, char** argv);
 int legacyMain(int argc, char** argv);
 
 int main(int argc, char** argv)
 {
     if (argc > 1 && std::string(argv[1]) == "suite") return runSuite(argc, argv);
+    if (argc > 1 && std::string(argv[1]) == "methods") return runMethods(argc, argv);
     return legacyMain(argc, argv);
 }
 

@@ -1,0 +1,284 @@
+// The contact solve of System::step on the rows prepared by prepareContacts:
+// nonlinear Gauss-Seidel with contact queue (NLGS, optionally over-relaxed)
+// and the residual shared by every method (APGD: ContactSolverAPGD.cpp).
+#include "SystemImpl.H"
+
+#include <algorithm>
+#include <cmath>
+
+namespace nscd
+{
+
+double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, const Body& B, double dt)
+{
+    const Vec3& n = c.n;
+    const Vec3 du = A.v - B.v - (A.r*A.w + B.r*B.w).cross(n);
+    const double un = du.dot(n);
+    const double unFree = un - c.wnn*c.rn + c.bias;
+    const Vec3 utFree = (du - un*n) - c.wtt*rt;
+    double rn = -unFree*c.iwnn;
+    if (rn < -c.coh) rn = -c.coh;
+    if (rn > c.cap) rn = c.cap;
+    const double rnt = rn + c.coh;
+    Vec3 rtNew = Vec3::Zero();
+    if (rnt > 0.0)
+    {
+        rtNew = utFree*(-c.iwtt);
+        const double lim = c.mu*rnt;
+        const double n2 = rtNew.squaredNorm();
+        if (n2 > lim*lim) rtNew *= lim/std::sqrt(n2);
+    }
+    const double dn = rn - c.rn;
+    return (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*(rtNew - rt).squaredNorm())*dt*dt;
+}
+
+double System::Impl::residualPass(double dt, bool scalarTangent) const
+{
+    double res = 0;
+    for (const SolverContact& c : rows)
+    {
+        const Vec3 rt = scalarTangent ? Vec3(c.rts*Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
+        res = std::max(res, localResidual2(c, rt, body[c.i], body[c.j], dt));
+    }
+    return res;
+}
+
+void System::Impl::solveContacts(double dt, StepReport& rep)
+{
+    const Settings::Method m = settings.method;
+    rep.method = int(m);
+    if (m == Settings::Method::APGD) { solveAPGD(dt, rep); return; }
+    double omega = settings.relaxation;
+    if (m == Settings::Method::OverRelaxedNLGS && omega == 1.0) omega = Settings::defaultOverRelaxation;
+    solveNLGS(dt, omega, rep);
+}
+
+void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
+{
+    const bool twoD = dim == 2;
+    const double dmin = 2*rMin();
+    const int NC = int(rows.size());
+    std::vector<SolverContact>& C = rows;
+    const bool hist = settings.residualHistory;
+    if (hist) rep.residualHistory.push_back(dmin > 0 ? std::sqrt(residualPass(dt, false))/dmin : 0.0);
+    // ---- nonlinear Gauss-Seidel with contact queue (Algorithm 2, section 2.3) ----
+    const double xi = settings.tolerance*dmin;
+    const long maxSolves = long(settings.maxIterations)*long(std::max(NC, 1));
+    long solves = 0;
+    Body* const bodies = body.data();
+    SolverContact* cs = C.data();
+    const int* adjS = adjStart.data();
+    const int* adjI = adjItems.data();
+    // One local update (Algorithm 2 body); returns true if the contact had not
+    // converged (its impulse was changed), false if |W dr| dt < xi (the
+    // previous impulse is kept, as in Algorithm 2).
+    const double xi2 = xi*xi, dt2 = dt*dt;
+    // 2D: scalar tangential impulse along t = z x n (same law, fewer flops)
+    if (twoD)
+        for (int k = 0; k < NC; ++k)
+            cs[k].rts = cs[k].rt.dot(Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0));
+    auto solveOne2D = [&](int k) -> bool
+    {
+        ++solves;
+        SolverContact& c = cs[k];
+        Body& A = bodies[c.i];
+        Body& B = bodies[c.j];
+        const double nx = c.n.x(), ny = c.n.y();
+        const double dvx = A.v.x() - B.v.x(), dvy = A.v.y() - B.v.y();
+        // du.n and du.t with t = (-n_y, n_x): eq. 2.14-2.18 with w = w_z e_z
+        const double un = dvx*nx + dvy*ny;
+        const double ut = dvy*nx - dvx*ny - A.r*A.w.z() - B.r*B.w.z();
+        const double unFree = un - c.wnn*c.rn + c.bias;
+        const double utFree = ut - c.wtt*c.rts;
+        // eq. 2.38 (stick), 2.39-2.40 (slip forward/backward), 2.41 (W_nt = 0)
+        double rn = -unFree*c.iwnn;
+        if (rn < -c.coh) rn = -c.coh;
+        if (rn > c.cap) rn = c.cap;  // droplet contacts: capillary entry impulse
+        double lim = c.mu*(rn + c.coh);
+        double rt = -utFree*c.iwtt;
+        if (rt > lim) rt = lim;
+        else if (rt < -lim) rt = -lim;
+        double dn = rn - c.rn;
+        double dtt = rt - c.rts;
+        // the stopping test is on the plain (unrelaxed) local update: the
+        // residual of every method (localResidual2)
+        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtt*dtt)*dt2;
+        c.change = ch;
+        if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
+        if (omega != 1.0)
+        {
+            rn = c.rn + omega*(rn - c.rn);
+            if (rn < -c.coh) rn = -c.coh;
+            if (rn > c.cap) rn = c.cap;
+            lim = c.mu*(rn + c.coh);
+            rt = c.rts + omega*(rt - c.rts);
+            if (rt > lim) rt = lim;
+            else if (rt < -lim) rt = -lim;
+            dn = rn - c.rn;
+            dtt = rt - c.rts;
+        }
+        c.rn = rn;
+        c.rts = rt;
+        const double px = dn*nx - dtt*ny, py = dn*ny + dtt*nx;
+        A.v.x() += A.im*px;
+        A.v.y() += A.im*py;
+        A.w.z() -= A.ii*A.r*dtt;
+        B.v.x() -= B.im*px;
+        B.v.y() -= B.im*py;
+        B.w.z() -= B.ii*B.r*dtt;
+        return true;
+    };
+    auto solveOne3D = [&](int k) -> bool
+    {
+        ++solves;
+        SolverContact& c = cs[k];
+        Body& A = bodies[c.i];
+        Body& B = bodies[c.j];
+        const Vec3& n = c.n;
+        // relative velocity at the contact point (eq. 2.14-2.18, 2.28)
+        const Vec3 du = A.v - B.v - (A.r*A.w + B.r*B.w).cross(n);
+        const double un = du.dot(n);
+        // free local velocity: remove this contact's own impulse (Algorithm 2)
+        const double unFree = un - c.wnn*c.rn + c.bias;
+        const Vec3 utFree = (du - un*n) - c.wtt*c.rt;
+        // local law, closed form for diagonal W (same as solveLocalDiagonal,
+        // with precomputed inverses): eq. 2.38-2.41
+        double rn = -unFree*c.iwnn;
+        if (rn < -c.coh) rn = -c.coh;
+        if (rn > c.cap) rn = c.cap;  // droplet contacts: capillary entry impulse
+        const double rnt = rn + c.coh;
+        Vec3 rt;
+        if (rnt <= 0.0) rt.setZero();
+        else
+        {
+            rt = utFree*(-c.iwtt);
+            const double lim = c.mu*rnt;
+            const double n2 = rt.squaredNorm();
+            if (n2 > lim*lim) rt *= lim/std::sqrt(n2);
+        }
+        Vec3 dtv = rt - c.rt;
+        double dn = rn - c.rn;
+        // squared change of the contact-point displacement |W dr|^2 dt^2 of
+        // the plain (unrelaxed) update: the residual of every method
+        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtv.squaredNorm())*dt2;
+        c.change = ch;
+        if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
+        if (omega != 1.0)
+        {
+            // projected over-relaxation: r <- Proj_K(r_old + omega (r_solved - r_old))
+            rn = c.rn + omega*(rn - c.rn);
+            if (rn < -c.coh) rn = -c.coh;
+            if (rn > c.cap) rn = c.cap;
+            rt = c.rt + omega*(rt - c.rt);
+            const double lim = c.mu*(rn + c.coh);
+            const double n2 = rt.squaredNorm();
+            if (n2 > lim*lim) rt *= (n2 > 0 ? lim/std::sqrt(n2) : 0.0);
+            dn = rn - c.rn;
+            dtv = rt - c.rt;
+        }
+        c.rn = rn;
+        c.rt = rt;
+        const Vec3 Pm = dn*n + dtv;
+        const Vec3 nxt = n.cross(dtv);
+        A.v += A.im*Pm;
+        A.w -= A.ii*A.r*nxt;
+        B.v -= B.im*Pm;
+        B.w -= B.ii*B.r*nxt;
+        return true;
+    };
+    auto solveOne = [&](int k) -> bool { return twoD ? solveOne2D(k) : solveOne3D(k); };
+    auto recordHistory = [&]
+    { rep.residualHistory.push_back(dmin > 0 ? std::sqrt(residualPass(dt, twoD))/dmin : 0.0); };
+    inQueue.assign(NC, 1);
+    char* inQ = inQueue.data();
+    int count = NC;
+    if (settings.ordering == Settings::Ordering::Fifo)
+    {
+        // FIFO contact queue (section 2.3): a non-converged contact and the
+        // contacts sharing its bodies are (re-)appended to the queue.
+        this->queue.resize(NC);
+        for (int k = 0; k < NC; ++k) this->queue[k] = k;
+        int head = 0;
+        int* queue = this->queue.data();
+        auto push = [&](int kk)
+        {
+            if (inQ[kk]) return;
+            inQ[kk] = 1;
+            int tail = head + count;
+            if (tail >= NC) tail -= NC;
+            queue[tail] = kk;
+            ++count;
+        };
+        while (count > 0 && solves < maxSolves)
+        {
+            const int k = queue[head];
+            head = (head + 1 == NC) ? 0 : head + 1;
+            --count;
+            inQ[k] = 0;
+            const bool changed = solveOne(k);
+            if (hist && solves % NC == 0) recordHistory();
+            if (!changed) continue;
+            push(k);
+            const SolverContact& c = cs[k];
+            for (int p = adjS[c.i]; p < adjS[c.i + 1]; ++p) push(adjI[p]);
+            for (int p = adjS[c.j]; p < adjS[c.j + 1]; ++p) push(adjI[p]);
+        }
+    }
+    else
+    {
+        // Same queue as a flag set, traversed in alternating (symmetric)
+        // sweeps: forward then backward over the contact list (sorted by grain).
+        // Only flagged contacts are solved; a non-converged contact flags
+        // itself and the contacts sharing its bodies. Alternating directions
+        // propagate forces through deep piles in both directions.
+        auto mark = [&](int kk) { if (!inQ[kk]) { inQ[kk] = 1; ++count; } };
+        int lo = 0, hi = NC - 1;  // range that may contain flagged contacts
+        bool forward = true;
+        while (count > 0 && solves < maxSolves)
+        {
+            int nlo = NC, nhi = -1;
+            auto visit = [&](int k)
+            {
+                if (!inQ[k]) return;
+                inQ[k] = 0;
+                --count;
+                const bool changed = solveOne(k);
+                if (hist && solves % NC == 0) recordHistory();
+                if (!changed) return;
+                mark(k);
+                nlo = std::min(nlo, k); nhi = std::max(nhi, k);
+                const SolverContact& c = cs[k];
+                for (int p = adjS[c.i]; p < adjS[c.i + 1]; ++p)
+                { const int kk = adjI[p]; mark(kk); nlo = std::min(nlo, kk); nhi = std::max(nhi, kk); }
+                for (int p = adjS[c.j]; p < adjS[c.j + 1]; ++p)
+                { const int kk = adjI[p]; mark(kk); nlo = std::min(nlo, kk); nhi = std::max(nhi, kk); }
+            };
+            if (forward) for (int k = lo; k <= hi && solves < maxSolves; ++k) visit(k);
+            else for (int k = hi; k >= lo && solves < maxSolves; --k) visit(k);
+            lo = nlo; hi = nhi;
+            forward = !forward;
+        }
+    }
+    if (twoD)
+        for (int k = 0; k < NC; ++k)
+            cs[k].rt = cs[k].rts*Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0);
+    // The residual (the same for every method): max over contacts of the
+    // plain local update |W dr| dt at the final velocities. When the queue is
+    // empty, every contact was last solved after the last change of its
+    // bodies' velocities and not changed then: its last change is this
+    // residual. Otherwise (maxIterations hit) it is evaluated.
+    double res = 0;
+    if (count == 0) for (int k = 0; k < NC; ++k) res = std::max(res, C[k].change);
+    else res = residualPass(dt, false);
+    res = std::sqrt(res);
+    if (hist && (rep.residualHistory.empty() || solves % std::max(NC, 1) != 0))
+        rep.residualHistory.push_back(dmin > 0 ? res/dmin : 0.0);
+    for (int k = 0; k < NC; ++k) C[k].change = std::sqrt(C[k].change);
+    rep.contacts = NC;
+    rep.localSolves = solves;
+    rep.sweeps = NC > 0 ? int((solves + NC - 1)/NC) : 0;
+    rep.residual = dmin > 0 ? res/dmin : 0;
+    rep.converged = count == 0;
+}
+
+} // namespace nscd
