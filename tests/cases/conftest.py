@@ -33,3 +33,54 @@ def env():
     if _ENV is None:
         _ENV = foam_env()
     return _ENV
+
+
+# -- test tiers -----------------------------------------------------------------
+# `./Alltest fast` runs `-m fast`: every test not listed below (each < 30 s on
+# one core here).  `slow`: measured > 20 s with the 2 vCPUs shared (pytest
+# --durations, 2026-11-23); whole modules where a module fixture runs the
+# tutorial once for several tests.  `mpi`: the test runs mpirun (also fast
+# or slow by its own duration).  Update the lists when a test's cost moves.
+SLOW_MODULES = {"test_lituyaBay.py", "test_dropletDigging.py", "test_granularCollapse.py"}
+SLOW_TESTS = {
+    "test_resolvedRegime.py::test_falling_cylinder_terminal_velocity",
+    "test_resolvedRegime.py::test_free_fixed_disc_galilean_consistency",
+    "test_resolvedRegime.py::test_dkt_kissing",
+    "test_resolvedRegime.py::test_fixed_disc_between_walls_faxen",
+    "test_resolvedRegime.py::test_released_disc_added_mass",
+    "test_resolvedRegime.py::test_free_disc_settling_faxen",
+    "test_grainFoam_physics.py::test_dense_pile_stays_at_rest",
+    "test_grainFoam_physics.py::test_restart_is_bit_identical",
+    "test_fluidisation.py::test_heave_under_rising_pressure",
+    "test_packedBedHeat.py::test_poured_bed_nusselt",
+    "test_drag.py::test_lone_sphere_lab_frame_velocity",
+    "test_columnCollapse.py::test_column_collapse_runout",
+    "test_meshIndependence.py::test_sedimentation_front_mesh_independent",
+    "test_droplet.py::test_dense_suspension_settles_steadily",
+}
+MPI_TESTS = {
+    "test_cohesion.py::test_parallel_same_decision",
+    "test_droplet.py::test_parallel_matches_serial",
+    "test_faults.py::test_reconstructPar_carries_grain_state",
+    "test_faults.py::test_sigusr1_to_mpirun_writes_and_stops",
+    "test_freeSurfaceFunctionObjects.py::test_wave_gauges_parallel_equals_serial",
+    "test_overlapAdapter.py::test_parallel_matches_serial",
+    "test_vansFoam.py::test_parallel_matches_serial",
+    "test_vansFoam_sources.py::test_parallel_heat_matches_serial",
+}
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "fast: quick tier, each test < 30 s (./Alltest fast)")
+    config.addinivalue_line("markers", "slow: > 20 s on this machine")
+    config.addinivalue_line("markers", "mpi: runs mpirun")
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        module = os.path.basename(str(item.fspath))
+        name = f"{module}::{item.originalname}"
+        slow = module in SLOW_MODULES or name in SLOW_TESTS
+        item.add_marker(pytest.mark.slow if slow else pytest.mark.fast)
+        if name in MPI_TESTS:
+            item.add_marker(pytest.mark.mpi)

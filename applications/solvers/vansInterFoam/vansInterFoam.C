@@ -12,7 +12,7 @@ Description
     space of Non-Smooth Contact Dynamics grains: interFoam's VOF method
     (MULES, CSF surface tension, p_rgh) on the Volume-Averaged
     Navier-Stokes equations of vansFoam (thesis chapter 3; the free-surface
-    cases of chapter 5 use PFEM there, VOF here, DESIGN.md item 4).
+    cases of chapter 5 use PFEM there, VOF here).
 
     Unknowns: U the interstitial velocity, p_rgh = p - rho g.(x - hRef),
     alpha the water volume fraction of the fluid (not of the mixture), and
