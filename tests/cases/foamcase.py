@@ -178,6 +178,28 @@ def uniform_inflow(case, Us):
     inlet_outlet_box(case)
 
 
+def fixed_lattice_bed(case, env, spacing, d, nx, ny, rows, Us, rho, nu,
+                      drag="DallavalleDiFelice", extra_coupling=""):
+    """A fixed simple cubic lattice of glass spheres (diameter d, one per
+    cubic cell of size `spacing`) in the cell rows `rows` (y indices) of an
+    nx x ny x nx box, water flowing up at the superficial velocity Us
+    (uniform_inflow); runs blockMesh, grainDeposit and vansFoam.  Returns
+    the pressure of the last write as an (nx, ny, nx) array [kinematic]."""
+    grains = [((i + 0.5) * spacing, (j + 0.5) * spacing, (k + 0.5) * spacing, d)
+              for j in rows for i in range(nx) for k in range(nx)]
+    make_box_case(case, (0, 0, 0), (nx * spacing, ny * spacing, nx * spacing), (nx, ny, nx),
+                  (0, 0, 0), {"glass": {"density": 2500, "friction": 0.4}}, grains=grains,
+                  end_time=0.2, dt=1e-3, write_interval=0.2, two_d=False)
+    open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
+    add_fluid(case, rho, nu, drag=drag, extra_coupling=extra_coupling)
+    uniform_inflow(case, Us)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    run("vansFoam", case, env)
+    t, name = nscdpost.time_dirs(case)[-1]
+    return read_internal(os.path.join(case, name, "p")).reshape(nx, ny, nx, order="F")
+
+
 def add_scalar_transport(case, field, div_scheme, solver="solver PBiCGStab; preconditioner DILU; "
                          "tolerance 1e-14; relTol 0;"):
     """Add the fvSolution solver and the fvSchemes div(phi,<field>) entry of

@@ -47,7 +47,7 @@ import correlations
 import nscdpost
 from correlations import (cd_brown_lawler, cd_dallavalle, ergun_gradient,
                           n_garside_al_dibouni, n_richardson_zaki)
-from foamcase import add_fluid, make_box_case, read_internal, run, uniform_inflow
+from foamcase import add_fluid, fixed_lattice_bed, make_box_case, run
 
 G = 9.81
 RHO, RHOP, D = 1000.0, 2500.0, 1e-3
@@ -131,19 +131,8 @@ def lattice_drag(case, env, model, Us, s, nu, layers=8):
     away from the void-fraction jumps at the bed's faces (an homogeneous
     bed, as Ergun's and Richardson-Zaki's)."""
     nx, ny = 3, 3 * layers
-    grains = [((i + 0.5) * s, (layers + j + 0.5) * s, (k + 0.5) * s, D)
-              for j in range(layers) for i in range(nx) for k in range(nx)]
-    make_box_case(case, (0, 0, 0), (nx * s, ny * s, nx * s), (nx, ny, nx), (0, 0, 0),
-                  {"glass": {"density": RHOP, "friction": 0.4}}, grains=grains,
-                  end_time=0.2, dt=1e-3, write_interval=0.2, two_d=False)
-    open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
-    add_fluid(case, RHO, nu, drag=model)
-    uniform_inflow(case, Us)
-    run("blockMesh", case, env)
-    run("grainDeposit", case, env)
-    run("vansFoam", case, env)
-    t, name = nscdpost.time_dirs(case)[-1]
-    p = read_internal(os.path.join(case, name, "p")).reshape(nx, ny, nx, order="F")
+    p = fixed_lattice_bed(case, env, s, D, nx, ny, range(layers, 2 * layers), Us, RHO, nu,
+                          drag=model)
     j0, j1 = layers + 1, 2 * layers - 2
     grad = RHO * (p[:, j0, :].mean() - p[:, j1, :].mean()) / ((j1 - j0) * s)  # kinematic p
     eps = 1 - math.pi * D**3 / (6 * s**3)
