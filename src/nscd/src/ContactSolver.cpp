@@ -9,6 +9,33 @@
 namespace nscd
 {
 
+namespace
+{
+/// Normal impulse projected on [-c.coh, c.cap] (eq. 2.38 with cohesion; the
+/// cap is the capillary entry impulse of droplet contacts, +inf otherwise).
+inline double projectNormal(double rn, const SolverContact& c)
+{
+    if (rn < -c.coh) rn = -c.coh;
+    if (rn > c.cap) rn = c.cap;
+    return rn;
+}
+
+/// Tangential impulse projected on the Coulomb disc |r_t| <= lim (3D).
+inline void projectTangent(Vec3& rt, double lim)
+{
+    const double n2 = rt.squaredNorm();
+    if (n2 > lim*lim) rt *= lim/std::sqrt(n2);
+}
+
+/// Tangential impulse projected on [-lim, lim] (2D, scalar along t = z x n).
+inline double projectTangent(double rt, double lim)
+{
+    if (rt > lim) return lim;
+    if (rt < -lim) return -lim;
+    return rt;
+}
+}
+
 double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, const Body& B, double dt)
 {
     const Vec3& n = c.n;
@@ -16,17 +43,13 @@ double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, con
     const double un = du.dot(n);
     const double unFree = un - c.wnn*c.rn + c.bias;
     const Vec3 utFree = (du - un*n) - c.wtt*rt;
-    double rn = -unFree*c.iwnn;
-    if (rn < -c.coh) rn = -c.coh;
-    if (rn > c.cap) rn = c.cap;
+    const double rn = projectNormal(-unFree*c.iwnn, c);
     const double rnt = rn + c.coh;
     Vec3 rtNew = Vec3::Zero();
     if (rnt > 0.0)
     {
         rtNew = utFree*(-c.iwtt);
-        const double lim = c.mu*rnt;
-        const double n2 = rtNew.squaredNorm();
-        if (n2 > lim*lim) rtNew *= lim/std::sqrt(n2);
+        projectTangent(rtNew, c.mu*rnt);
     }
     const double dn = rn - c.rn;
     return (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*(rtNew - rt).squaredNorm())*dt*dt;
@@ -91,13 +114,8 @@ void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
         const double unFree = un - c.wnn*c.rn + c.bias;
         const double utFree = ut - c.wtt*c.rts;
         // eq. 2.38 (stick), 2.39-2.40 (slip forward/backward), 2.41 (W_nt = 0)
-        double rn = -unFree*c.iwnn;
-        if (rn < -c.coh) rn = -c.coh;
-        if (rn > c.cap) rn = c.cap;  // droplet contacts: capillary entry impulse
-        double lim = c.mu*(rn + c.coh);
-        double rt = -utFree*c.iwtt;
-        if (rt > lim) rt = lim;
-        else if (rt < -lim) rt = -lim;
+        double rn = projectNormal(-unFree*c.iwnn, c);
+        double rt = projectTangent(-utFree*c.iwtt, c.mu*(rn + c.coh));
         double dn = rn - c.rn;
         double dtt = rt - c.rts;
         // the stopping test is on the plain (unrelaxed) local update: the
@@ -107,13 +125,8 @@ void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
         if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
         if (omega != 1.0)
         {
-            rn = c.rn + omega*(rn - c.rn);
-            if (rn < -c.coh) rn = -c.coh;
-            if (rn > c.cap) rn = c.cap;
-            lim = c.mu*(rn + c.coh);
-            rt = c.rts + omega*(rt - c.rts);
-            if (rt > lim) rt = lim;
-            else if (rt < -lim) rt = -lim;
+            rn = projectNormal(c.rn + omega*(rn - c.rn), c);
+            rt = projectTangent(c.rts + omega*(rt - c.rts), c.mu*(rn + c.coh));
             dn = rn - c.rn;
             dtt = rt - c.rts;
         }
@@ -143,18 +156,14 @@ void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
         const Vec3 utFree = (du - un*n) - c.wtt*c.rt;
         // local law, closed form for diagonal W (same as solveLocalDiagonal,
         // with precomputed inverses): eq. 2.38-2.41
-        double rn = -unFree*c.iwnn;
-        if (rn < -c.coh) rn = -c.coh;
-        if (rn > c.cap) rn = c.cap;  // droplet contacts: capillary entry impulse
+        double rn = projectNormal(-unFree*c.iwnn, c);
         const double rnt = rn + c.coh;
         Vec3 rt;
         if (rnt <= 0.0) rt.setZero();
         else
         {
             rt = utFree*(-c.iwtt);
-            const double lim = c.mu*rnt;
-            const double n2 = rt.squaredNorm();
-            if (n2 > lim*lim) rt *= lim/std::sqrt(n2);
+            projectTangent(rt, c.mu*rnt);
         }
         Vec3 dtv = rt - c.rt;
         double dn = rn - c.rn;
@@ -166,13 +175,9 @@ void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
         if (omega != 1.0)
         {
             // projected over-relaxation: r <- Proj_K(r_old + omega (r_solved - r_old))
-            rn = c.rn + omega*(rn - c.rn);
-            if (rn < -c.coh) rn = -c.coh;
-            if (rn > c.cap) rn = c.cap;
+            rn = projectNormal(c.rn + omega*(rn - c.rn), c);
             rt = c.rt + omega*(rt - c.rt);
-            const double lim = c.mu*(rn + c.coh);
-            const double n2 = rt.squaredNorm();
-            if (n2 > lim*lim) rt *= (n2 > 0 ? lim/std::sqrt(n2) : 0.0);
+            projectTangent(rt, c.mu*(rn + c.coh));
             dn = rn - c.rn;
             dtv = rt - c.rt;
         }
