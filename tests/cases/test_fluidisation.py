@@ -126,28 +126,38 @@ def test_minimum_fluidisation(tmp_path, env):
 # heave head 7.09 / 7.36 mm = 1.26 / 1.31 dh_w for h/d = 1 / 4.
 # ---------------------------------------------------------------------------
 def test_heave_under_rising_pressure(tmp_path, env):
+    """The reduced tutorial at its own maxDeltaT (1e-3 s) on h/d = 1 and 4,
+    and on h/d = 1 at 1e-4 s. References: the force balance (the bed cannot
+    lift before the head carries its buoyant weight dh_w), mesh independence
+    (thesis section 3.3.2), and time-step convergence: issue 26 asks for a
+    heave head at 1e-3 s within 5 % of the 1e-4 s run (the drag implicit in
+    the contact solve; with the drag from last step's contact impulse 1e-3 s
+    lifted the bed at a quarter of dh_w)."""
     setup, post = tutorial_modules("vansFoam", "fluidisation")
     setup.WIDTH, setup.HEIGHT = 20 * setup.D_MEAN, 40 * setup.D_MEAN
     setup.N_GRAINS, setup.RAMP_TIME = 400, 0.25
+    assert setup.MAX_DELTA_T == 1e-3
     root = str(tmp_path)
     setup.deposit(root)
     dep = os.path.join(root, "deposit")
     run("blockMesh", dep, env)
     run("grainDeposit", dep, env)
     res = {}
-    for hd in (1, 4):
-        case = os.path.join(root, f"hd{hd}")
-        setup.setup(case, hd, "0.32", root)
+    for hd, dt in ((1, 1e-3), (4, 1e-3), (1, 1e-4)):
+        case = os.path.join(root, f"hd{hd}_dt{dt:g}")
+        setup.setup(case, hd, "0.32", root, max_delta_t=dt)
         run("blockMesh", case, env)
         run("vansFoam", case, env)
-        res[hd] = post.measure(case)
-    msg = "; ".join(f"h/d {hd}: first movement {r['first_movement_time']} s, heave {r['heave_time']} s, "
+        res[hd, dt] = post.measure(case)
+    msg = "; ".join(f"h/d {hd}, dt {dt:g}: first movement {r['first_movement_time']} s, heave {r['heave_time']} s, "
                     f"heave head {r['heave_head']} m, buoyant weight head {r['buoyant_weight_head']:.5g} m"
-                    for hd, r in res.items())
+                    for (hd, dt), r in res.items())
     print(msg)
     for r in res.values():
         assert r["heave_time"] is not None, msg
         assert 0.95 * r["buoyant_weight_head"] <= r["heave_head"] <= 1.5 * r["buoyant_weight_head"], msg
         assert r["first_movement_time"] <= r["heave_time"], msg
-    assert res[1]["heave_head"] == pytest.approx(res[4]["heave_head"], rel=0.10), msg
-    assert res[1]["heave_time"] == pytest.approx(res[4]["heave_time"], rel=0.05), msg
+    assert res[1, 1e-3]["heave_head"] == pytest.approx(res[4, 1e-3]["heave_head"], rel=0.10), msg
+    assert res[1, 1e-3]["heave_time"] == pytest.approx(res[4, 1e-3]["heave_time"], rel=0.05), msg
+    assert res[1, 1e-3]["heave_head"] == pytest.approx(res[1, 1e-4]["heave_head"], rel=0.05), msg
+    assert res[1, 1e-3]["heave_time"] == pytest.approx(res[1, 1e-4]["heave_time"], rel=0.05), msg

@@ -52,7 +52,7 @@ double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, con
         projectTangent(rtNew, c.mu*rnt);
     }
     const double dn = rn - c.rn;
-    return (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*(rtNew - rt).squaredNorm())*dt*dt;
+    return (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*(rtNew - rt).squaredNorm())*dt*dt*c.residualWeight2;
 }
 
 double System::Impl::residualPass(double dt, bool scalarTangent) const
@@ -120,7 +120,7 @@ void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
         double dtt = rt - c.rts;
         // the stopping test is on the plain (unrelaxed) local update: the
         // residual of every method (localResidual2)
-        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtt*dtt)*dt2;
+        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtt*dtt)*dt2*c.residualWeight2;
         c.change = ch;
         if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
         if (omega != 1.0)
@@ -169,7 +169,7 @@ void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
         double dn = rn - c.rn;
         // squared change of the contact-point displacement |W dr|^2 dt^2 of
         // the plain (unrelaxed) update: the residual of every method
-        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtv.squaredNorm())*dt2;
+        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtv.squaredNorm())*dt2*c.residualWeight2;
         c.change = ch;
         if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
         if (omega != 1.0)

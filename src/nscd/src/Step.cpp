@@ -93,7 +93,7 @@ StepReport System::step(double dt)
     return rep;
 }
 
-// ---- free velocity (eq. 2.11) ----
+// ---- free velocity (eq. 2.11, with the implicit drag of setFluidDrag) ----
 void System::Impl::freeVelocities(double dt)
 {
     const int N = int(x.size());
@@ -108,14 +108,15 @@ void System::Impl::freeVelocities(double dt)
         Vec3 vi = v[i], wi = w[i];
         if (fix[i])
         {
-            B.im = 0;
+            B.im = B.im0 = 0;
             B.ii = 0;
         }
         else
         {
-            B.im = 1.0/mass[i];
+            B.im = 1.0/effectiveMass(i, dt);
+            B.im0 = 1.0/mass[i];
             B.ii = rotLock[i] ? 0.0 : 1.0/inertia[i];
-            vi += dt*(g + B.im*force[i]);
+            vi = freeVelocity(i, dt);
             wi += dt*B.ii*torque[i];
         }
         if (twoD) { vi.z() = 0; wi.x() = 0; wi.y() = 0; }
@@ -129,19 +130,27 @@ void System::Impl::freeVelocities(double dt)
         Body& B = body[N + k];
         B.v = walls[k].velocity;
         B.w.setZero();
-        B.im = B.ii = B.r = 0;
+        B.im = B.ii = B.r = B.im0 = 0;
     }
     for (int k = 0; k < ND; ++k)
     {
         // droplet: translation only, its own forces (no System gravity)
         const Droplet& D = droplets[k];
         Body& B = body[N + NW + k];
-        B.im = D.mass > 0 ? 1.0/D.mass : 0.0;
+        B.im = B.im0 = D.mass > 0 ? 1.0/D.mass : 0.0;
         B.v = D.velocity + dt*B.im*D.force;
         if (twoD) B.v.z() = 0;
         B.w.setZero();
         B.ii = B.r = 0;
     }
+}
+
+Vec3 System::Impl::freeVelocity(int i, double dt) const
+{
+    const Vec3 vf = v[i] + dt*(g + force[i]/mass[i]);
+    const double c = dragCoefficient[i];
+    if (c == 0) return vf;
+    return (mass[i]*vf + dt*c*dragVelocity[i])/effectiveMass(i, dt);
 }
 
 // ---- contact constants, age, cohesion, warm-start impulses ----
@@ -186,6 +195,10 @@ bool System::Impl::prepareContacts(double dt, int NC0)
         s.wtt = A.im + B.im + A.r*A.r*A.ii + B.r*B.r*B.ii;
         s.iwnn = s.wnn > 0 ? 1.0/s.wnn : 0.0;
         s.iwtt = s.wtt > 0 ? 1.0/s.wtt : 0.0;
+        {
+            const double k = s.wnn > 0 ? (A.im0 + B.im0)/s.wnn : 1.0;
+            s.residualWeight2 = k*k;
+        }
         // gap-based Signorini (eq. 2.37 with the gap): u_n^+ >= -g/dt; overlaps
         // within the slop band are only held (u_n^+ >= 0), larger ones are
         // pushed back to the band edge in one step.
@@ -273,6 +286,12 @@ void System::Impl::integrate(double dt, int NC0)
     for (int i = 0; i < N; ++i)
     {
         const Body& B = body[i];
+        if (dragCoefficient[i] > 0 && !fix[i])
+        {
+            Vec3 dv = dragVelocity[i] - B.v;
+            if (dim == 2) dv.z() = 0;
+            dragImpulse[i] += dt*dragCoefficient[i]*dv;
+        }
         v[i] = B.v;
         w[i] = B.w;
         x[i] += dt*B.v;

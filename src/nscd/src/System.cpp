@@ -101,6 +101,9 @@ void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
     rotLock.push_back(0);
     force.push_back(Vec3::Zero());
     torque.push_back(Vec3::Zero());
+    dragCoefficient.push_back(0);
+    dragVelocity.push_back(Vec3::Zero());
+    dragImpulse.push_back(Vec3::Zero());
     T.push_back(defaultT);
     heatQ.push_back(0);
     heatH.push_back(0);
@@ -181,6 +184,32 @@ void System::setExternalForce(std::size_t i, const Vec3& f, const Vec3& t)
     impl_->force[i] = f;
     impl_->torque[i] = t;
 }
+
+void System::setFluidDrag(std::size_t i, double coefficient, const Vec3& fluidVelocity)
+{
+    if (i >= impl_->x.size())
+        throw InputError("nscd::System::setFluidDrag: unknown grain " + std::to_string(i));
+    if (!(coefficient >= 0) || !std::isfinite(coefficient) || !fluidVelocity.allFinite())
+    {
+        std::ostringstream os;
+        os << "nscd::System::setFluidDrag: grain " << i << ": the drag coefficient must be >= 0 and"
+           << " finite and the fluid velocity finite, got " << coefficient << " kg/s and ("
+           << fluidVelocity.transpose() << ") m/s";
+        throw InputError(os.str());
+    }
+    impl_->dragCoefficient[i] = coefficient;
+    impl_->dragVelocity[i] = fluidVelocity;
+    impl_->dragImpulse[i].setZero();
+}
+
+double System::fluidDragCoefficient(std::size_t i) const
+{
+    if (i >= impl_->x.size())
+        throw InputError("nscd::System::fluidDragCoefficient: unknown grain " + std::to_string(i));
+    return impl_->dragCoefficient[i];
+}
+
+const std::vector<Vec3>& System::fluidDragImpulses() const { return impl_->dragImpulse; }
 
 // ============================================================================
 // walls

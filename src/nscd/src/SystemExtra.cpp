@@ -12,7 +12,7 @@ namespace nscd
 
 namespace
 {
-    /// Fastest body of a step dt: max over grains of |v + a dt| + r |w + alpha dt|
+    /// Fastest body of a step dt: max over grains of |v_free| + r |w + alpha dt|
     /// (free velocity), walls and droplets; who: grain id >= 0, -1 wall, -2 droplet.
     struct Fastest { double v = 0; int who = -1; };
 
@@ -27,7 +27,7 @@ namespace
             Vec3 v = I.v[i], w = I.w[i];
             if (!I.fix[i])
             {
-                v += dt*(I.g + I.force[i]/I.mass[i]);
+                v = I.freeVelocity(i, dt);
                 if (!I.rotLock[i]) w += dt*I.torque[i]/I.inertia[i];
             }
             if (I.dim == 2) { v.z() = 0; w.x() = w.y() = 0; }

@@ -256,6 +256,7 @@ Foam::vansCloud::vansCloud
     readVapour(td);
     readCohesion();
     contactImpulse_.setSize(grains_.system().size(), Zero);
+    dragImpulseDefect_.setSize(grains_.system().size(), Zero);
 
     // Restart: the void fraction and the grains' last contact impulses of
     // the start time make the next step identical to an uninterrupted run
@@ -267,6 +268,11 @@ Foam::vansCloud::vansCloud
     IOobject impulseIO
     (
         "grainContactImpulse", mesh.time().timeName(), "uniform", mesh,
+        IOobject::MUST_READ, IOobject::NO_WRITE, false
+    );
+    IOobject defectIO
+    (
+        "grainDragImpulseDefect", mesh.time().timeName(), "uniform", mesh,
         IOobject::MUST_READ, IOobject::NO_WRITE, false
     );
     mapGrains();
@@ -283,6 +289,14 @@ Foam::vansCloud::vansCloud
         if (imp.size() == contactImpulse_.size())
         {
             contactImpulse_ = imp;
+        }
+    }
+    if (defectIO.typeHeaderOk<IOList<vector>>(true))
+    {
+        const IOList<vector> def(defectIO);
+        if (def.size() == dragImpulseDefect_.size())
+        {
+            dragImpulseDefect_ = def;
         }
     }
 
@@ -811,6 +825,36 @@ void Foam::vansCloud::markResolved()
 }
 
 
+void Foam::vansCloud::markHeld()
+{
+    const nscd::System& s = grains_.system();
+    const label n = s.size();
+    held_.setSize(n);
+    held_ = false;
+    for (const nscd::System::ContactView& c : s.contacts())
+    {
+        if (c.impulse.squaredNorm() > 0)
+        {
+            held_[c.i] = true;
+            if (c.j >= 0)
+            {
+                held_[c.j] = true;
+            }
+        }
+    }
+    for (label i = 0; i < n; ++i)
+    {
+        held_[i] = held_[i] && !s.fixed(i) && !resolved_[i];
+    }
+}
+
+
+Foam::scalar Foam::vansCloud::fluidInverseMass(const label i) const
+{
+    return held_[i] ? 0 : 1/grains_.system().mass(i);
+}
+
+
 bool Foam::vansCloud::fixedResolved() const
 {
     const nscd::System& s = grains_.system();
@@ -885,6 +929,8 @@ void Foam::vansCloud::predictDragCore
     const nscd::Vec3& g3 = s.gravity();
     const vector g(g3.x(), g3.y(), g3.z());
     const std::vector<double>& W = adapter_.grainMappedVolume();
+    markResolved();
+    markHeld();
 
     for (label i = 0; i < n; ++i)
     {
@@ -910,13 +956,13 @@ void Foam::vansCloud::predictDragCore
             continue;
         }
         const scalar m = s.mass(i);
-        const scalar Wi = W[i]/depth;
+        const scalar im = fluidInverseMass(i);
+        const scalar Wdg = W[i]/depth*dt*gamma_[i];
         // v**_0: v** without its (implicit) pressure-gradient part
-        vss_[i] = v + dt*g + contactImpulse_[i]/m;
-        gammaStar_[i] = gamma_[i]*m/(m + Wi*dt*gamma_[i]);
-        vStar_[i] = (m*vss_[i] + Wi*dt*gamma_[i]*Ug_[i])/(m + Wi*dt*gamma_[i]);
+        vss_[i] = v + im*(m*dt*g + contactImpulse_[i]);
+        gammaStar_[i] = gamma_[i]/(1 + Wdg*im);
+        vStar_[i] = (vss_[i] + Wdg*im*Ug_[i])/(1 + Wdg*im);
     }
-    markResolved();
 
     // Drag fields: K = sum (V_pc/V_c) gamma*/rho, K v**, and for model B
     // the solid part of the pressure force phi grad(p)
@@ -968,13 +1014,20 @@ void Foam::vansCloud::predictDragCore
         sp[c] += ev[e]*gradpg_[gi];
         if (!s.fixed(gi))
         {
-            const scalar m = s.mass(gi);
+            const scalar im = fluidInverseMass(gi);
             const scalar Wi = W[gi]/depth;
-            D[c] += ev[e]*Wi*dt*rhoK_/(m + Wi*dt*gamma_[gi]);
-            Kp[c] += ev[e]*gammaStar_[gi]*Wi*dt/m;
+            // the drag impulse the grain received beyond what the fluid gave
+            // last step, taken from the fluid now (its share V_pc/W_p)
+            if (dragImpulseDefect_.size() == n)
+            {
+                KU[c] -= ev[e]*dragImpulseDefect_[gi]/(Wi*dt*rhoK_);
+            }
+            D[c] += ev[e]*Wi*dt*rhoK_*im/(1 + Wi*dt*gamma_[gi]*im);
+            Kp[c] += ev[e]*gammaStar_[gi]*Wi*dt*im;
             if (resolved_[gi])
             {
-                B[c] += ev[e]*Wi*dt*gamma_[gi]/(m + Wi*dt*gamma_[gi]);
+                // (never held: im = 1/m)
+                B[c] += ev[e]*Wi*dt*gamma_[gi]*im/(1 + Wi*dt*gamma_[gi]*im);
                 Kg[c] += ev[e]*gammaStar_[gi]*dt/rhoK_;
                 Br[c] += ev[e];
             }
@@ -1012,15 +1065,15 @@ Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::solidFlux
     for (label i = 0; i < label(s.size()); ++i)
     {
         if (s.fixed(i)) continue;
-        const scalar m = s.mass(i);
-        const scalar Wi = W[i]/depth;
+        const scalar im = fluidInverseMass(i);
+        const scalar Wdg = W[i]/depth*dt*gamma_[i];
         // resolved grain: only the v** part, a_p v**_0; its fluid part
         // b_p U is added per cell with the cell's own, pressure-dependent
         // velocity by the solver (B_f, pEqn.H)
         const scalar b =
             resolved_.size() == label(s.size()) && resolved_[i]
-          ? 0 : Wi*dt*gamma_[i];
-        vStar_[i] = (m*vss_[i] + b*Ug_[i])/(m + Wi*dt*gamma_[i]);
+          ? 0 : Wdg*im;
+        vStar_[i] = (vss_[i] + b*Ug_[i])/(1 + Wdg*im);
     }
     if (!rotation_)
     {
@@ -1046,9 +1099,8 @@ Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::solidFlux
             scalar a = 1;
             if (!s.fixed(gi) && resolved_.size() == label(s.size()) && resolved_[gi])
             {
-                const scalar m = s.mass(gi);
                 const scalar Wdg = W[gi]/depth*dt*gamma_[gi];
-                a = m/(m + Wdg);
+                a = 1/(1 + Wdg*fluidInverseMass(gi));
             }
             f[ec[e]] +=
                 ev[e]*(vStar_[gi] + a*(omega_[gi] ^ leverArm(e)));
@@ -1072,26 +1124,30 @@ void Foam::vansCloud::setFluidForces
     adapter_.gather(U, Ug_);
     const volVectorField gradp(fvc::grad(p));
     adapter_.gather(gradp, gradpg_);
-    fluidForce_.setSize(s.size());
+    const label nGrains = s.size();
+    fluidForce_.setSize(nGrains);
+    explicitFluidForce_.setSize(nGrains);
+    fluidDragGiven_.setSize(nGrains);
     fluidVelocity_ = Ug_;
-    for (label i = 0; i < label(s.size()); ++i)
+    for (label i = 0; i < nGrains; ++i)
     {
         const scalar Wi = W[i]/depth;
         // v** with the final pressure gradient (eq. 3.47)
         const vector vss =
             s.fixed(i)
           ? vss_[i]
-          : vss_[i] - (dt_*Wi/s.mass(i)*rhoK_)*gradpg_[i];
-        const vector F =
-            Wi*(-rhoK_*gradpg_[i] + gammaStar_[i]*(Ug_[i] - vss));
-        fluidForce_[i] = F;
-        if (!rotation_)
-        {
-            s.setExternalForce(i, nscd::Vec3(F.x(), F.y(), F.z()));
-        }
+          : vss_[i] - (dt_*Wi*fluidInverseMass(i)*rhoK_)*gradpg_[i];
+        // the drag the fluid took from its own equation, W gamma (U - v*)
+        // with the predicted v* (eq. 3.48); the grains get W gamma (U - v)
+        // with their velocity after the contact solve (evolve)
+        const vector drag = Wi*gammaStar_[i]*(Ug_[i] - vss);
+        explicitFluidForce_[i] = -Wi*rhoK_*gradpg_[i];
+        fluidForce_[i] = explicitFluidForce_[i] + drag;
+        fluidDragGiven_[i] = dt_*drag;
     }
     if (!rotation_)
     {
+        applyGrainForces(UList<vector>());
         return;
     }
 
@@ -1117,7 +1173,7 @@ void Foam::vansCloud::setFluidForces
         const label gi = eg[e];
         const label c = ec[e];
         const vector r = leverArm(e);
-        const scalar cp = s.fixed(gi) ? 0 : dt_*W[gi]/depth/s.mass(gi)*rhoK_;
+        const scalar cp = s.fixed(gi) ? 0 : dt_*W[gi]/depth*fluidInverseMass(gi)*rhoK_;
         const vector vs = vss_[gi] - cp*gI[c] + (omega_[gi] ^ r);
         const vector f =
             ev[e]/depth*(-rhoK_*gI[c] + gammaStar_[gi]*(UI[c] - vs));
@@ -1138,21 +1194,16 @@ void Foam::vansCloud::setFluidForces
     dragTorqueGrains_ = Zero;
     for (label i = 0; i < n; ++i)
     {
+        // the rotational drag -gamma* omega x sum V_pc r_pc: explicit
         fluidForce_[i] += Frot[i];
-        const vector& F = fluidForce_[i];
-        const vector& T = fluidTorque_[i];
+        explicitFluidForce_[i] += Frot[i];
         if (adapter_.twoD())
         {
             fluidTorque_[i].x() = 0;
             fluidTorque_[i].y() = 0;
         }
-        s.setExternalForce
-        (
-            i,
-            nscd::Vec3(F.x(), F.y(), F.z()),
-            nscd::Vec3(T.x(), T.y(), T.z())
-        );
     }
+    applyGrainForces(UList<vector>());
     // the drag part only (pressure excluded), from the per-entry forces
     for (std::size_t e = 0; e < ec.size(); ++e)
     {
@@ -1164,7 +1215,7 @@ void Foam::vansCloud::setFluidForces
         {
             xc.z() = x3.z();
         }
-        const scalar cp = s.fixed(gi) ? 0 : dt_*W[gi]/depth/s.mass(gi)*rhoK_;
+        const scalar cp = s.fixed(gi) ? 0 : dt_*W[gi]/depth*fluidInverseMass(gi)*rhoK_;
         const vector vs = vss_[gi] - cp*gI[c] + (omega_[gi] ^ leverArm(e));
         dragTorqueGrains_ += xc ^ (ev[e]*gammaStar_[gi]*(UI[c] - vs));
     }
@@ -1201,30 +1252,51 @@ void Foam::vansCloud::setFluidForces
 
 void Foam::vansCloud::addExternalForces(const UList<vector>& F)
 {
-    nscd::System& s = grains_.system();
-    const label n = s.size();
+    const label n = grains_.system().size();
     if (F.empty())
     {
         return;
     }
-    if (F.size() != n || fluidForce_.size() != n)
+    if (F.size() != n || explicitFluidForce_.size() != n)
     {
         FatalErrorInFunction
             << "addExternalForces: " << F.size() << " forces for " << n
-            << " grains (" << fluidForce_.size() << " fluid forces): call it"
-            << " after setFluidForces with one force per grain."
+            << " grains (" << explicitFluidForce_.size() << " fluid forces):"
+            << " call it after setFluidForces with one force per grain."
             << exit(FatalError);
     }
+    applyGrainForces(F);
+}
+
+
+void Foam::vansCloud::applyGrainForces(const UList<vector>& extra)
+{
+    nscd::System& s = grains_.system();
+    const label n = s.size();
+    const scalar depth = adapter_.depth();
+    const std::vector<double>& W = adapter_.grainMappedVolume();
+    const bool torque = rotation_ && fluidTorque_.size() == n;
     for (label i = 0; i < n; ++i)
     {
-        const vector Ft = fluidForce_[i] + F[i];
-        const vector T =
-            fluidTorque_.size() == n ? fluidTorque_[i] : vector(Zero);
+        vector F = explicitFluidForce_[i];
+        if (extra.size() == n)
+        {
+            F += extra[i];
+        }
+        const vector T = torque ? fluidTorque_[i] : vector(Zero);
+        const vector& u = fluidVelocity_[i];
         s.setExternalForce
         (
             i,
-            nscd::Vec3(Ft.x(), Ft.y(), Ft.z()),
+            nscd::Vec3(F.x(), F.y(), F.z()),
             nscd::Vec3(T.x(), T.y(), T.z())
+        );
+        // drag coefficient W gamma [kg/s] (2D: per unit depth)
+        s.setFluidDrag
+        (
+            i,
+            s.fixed(i) ? 0.0 : W[i]/depth*gamma_[i],
+            nscd::Vec3(u.x(), u.y(), u.z())
         );
     }
 }
@@ -1261,11 +1333,19 @@ void Foam::vansCloud::evolve(const scalar dt)
     }
 
     // Contact impulse of the whole step (all sub-steps), p^n of eq. 3.46:
-    // what changed the momentum besides gravity and the fluid force
+    // what changed the momentum besides gravity and the fluid force; the
+    // fluid force actually received (explicit part + the drag impulse of
+    // the contact solve) and the drag impulse the fluid still owes
     const nscd::Vec3& g3 = s.gravity();
     const vector g(g3.x(), g3.y(), g3.z());
+    const std::vector<nscd::Vec3>& J = s.fluidDragImpulses();
+    const bool coupled =
+        explicitFluidForce_.size() == n && fluidDragGiven_.size() == n
+     && fluidForce_.size() == n;
+    dragImpulseDefect_.setSize(n);
     for (label i = 0; i < n; ++i)
     {
+        dragImpulseDefect_[i] = Zero;
         if (s.fixed(i))
         {
             contactImpulse_[i] = Zero;
@@ -1273,10 +1353,16 @@ void Foam::vansCloud::evolve(const scalar dt)
         }
         const nscd::Vec3& v = s.velocities()[i];
         const scalar m = s.mass(i);
-        // rotation on: F includes the rotational drag part
-        const vector F = fluidForce_.size() == n ? fluidForce_[i] : vector::zero;
+        const vector Jd(J[i].x(), J[i].y(), J[i].z());
+        // rotation on: F0 includes the rotational drag part
+        const vector F0 = coupled ? explicitFluidForce_[i] : vector::zero;
         contactImpulse_[i] =
-            m*(vector(v.x(), v.y(), v.z()) - v0[i]) - dt*(m*g + F);
+            m*(vector(v.x(), v.y(), v.z()) - v0[i]) - dt*(m*g + F0) - Jd;
+        if (coupled)
+        {
+            fluidForce_[i] = F0 + Jd/dt;
+            dragImpulseDefect_[i] = Jd - fluidDragGiven_[i];
+        }
     }
 }
 
@@ -1419,18 +1505,21 @@ Foam::scalar Foam::vansCloud::meanGrainReynolds() const
 
 void Foam::vansCloud::write() const
 {
-    // the previous step's contact impulses (exact restart), binary
+    // the previous step's contact impulses and the drag impulse the fluid
+    // still owes (exact restart), binary
+    for (const auto& item : {std::make_pair("grainContactImpulse", &contactImpulse_),
+                             std::make_pair("grainDragImpulseDefect", &dragImpulseDefect_)})
     {
-        IOList<vector> imp
+        IOList<vector> list
         (
             IOobject
             (
-                "grainContactImpulse", mesh_.time().timeName(), "uniform",
+                item.first, mesh_.time().timeName(), "uniform",
                 mesh_, IOobject::NO_READ, IOobject::NO_WRITE, false
             ),
-            contactImpulse_
+            *item.second
         );
-        imp.writeObject
+        list.writeObject
         (
             IOstream::BINARY, IOstream::currentVersion,
             IOstream::UNCOMPRESSED, true

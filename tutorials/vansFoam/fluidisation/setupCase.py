@@ -2,8 +2,10 @@
 """Set up the fluidisation cases (thesis section 3.3.2, after Peng et al.).
 
 usage: setupCase.py deposit            the settled bed, once (mesh h/d = 1)
-       setupCase.py CASEDIR HD [END]   a case at mesh h/d = HD with the bed of
-                                       deposit/ (the same grains for every mesh)
+       setupCase.py CASEDIR HD [END [MAXDT]]
+                                       a case at mesh h/d = HD with the bed of
+                                       deposit/ (the same grains for every mesh),
+                                       time step at most MAXDT (default 1e-3 s)
 
 The bed: ~1,600 slightly polydisperse discs (d_min = 0.2 mm, lambda = 1.2,
 rho_p = 2630, mu = 0.4) settled under gravity in a W = 8.8 mm wide box
@@ -27,15 +29,16 @@ P_TOP = 103e3 / 1000.0                  # back pressure 103 kPa, kinematic [m^2/
 G = 9.81
 N_PROBES = 9
 RAMP_TIME = 1.0                         # Delta t of eq. 3.53 [s]
+MAX_DELTA_T = 1e-3                      # maxDeltaT [s] (the drag is implicit in the contact solve)
 
 
-def mesh_subs(hd, end, probes=""):
+def mesh_subs(hd, end, probes="", max_delta_t=MAX_DELTA_T):
     h = hd * D_MEAN
     nx = max(1, round(WIDTH / h))
     # kinematic: p_0 = p_t + g H, p_b(t) = p_0 + g H t / (1 s)   (eq. 3.53-3.54)
     p0 = P_TOP + G * HEIGHT
     return {"@WIDTH@": f"{WIDTH:.9g}", "@HEIGHT@": f"{HEIGHT:.9g}", "@H@": f"{WIDTH / nx:.9g}",
-            "@HD@": f"{hd:g}", "@NX@": str(nx), "@NY@": str(2 * nx), "@ENDTIME@": str(end),
+            "@HD@": f"{hd:g}", "@MAXDT@": f"{max_delta_t:g}", "@NX@": str(nx), "@NY@": str(2 * nx), "@ENDTIME@": str(end),
             "@PTOP@": f"{P_TOP:.12g}", "@P0@": f"{p0:.12g}",
             "@P100@": f"{p0 + G * HEIGHT * 100 / RAMP_TIME:.12g}", "@PROBES@": probes}
 
@@ -63,22 +66,23 @@ def bed_top(case):
     return float(np.mean(tops))
 
 
-def setup(case, hd, end, root=here):
+def setup(case, hd, end, root=here, max_delta_t=MAX_DELTA_T):
     dep = os.path.join(root, "deposit")
     top = bed_top(dep)
     xs = [(i + 0.5) * WIDTH / N_PROBES for i in range(N_PROBES)]
     probes = "\n".join(f"            ({x:.9g} {top:.9g} 0)" for x in xs)
-    nscdpost.instantiate_case(os.path.join(here, "base"), case, mesh_subs(hd, end, probes))
+    nscdpost.instantiate_case(os.path.join(here, "base"), case, mesh_subs(hd, end, probes, max_delta_t))
     nscdpost.copy_grain_state(dep, case)
     nscdpost.write_json(os.path.join(case, "bed.json"),
                         {"bed_top": top, "width": WIDTH, "height": HEIGHT, "h_over_d": hd,
                          "d_mean": D_MEAN, "p_top": P_TOP, "p0": P_TOP + G * HEIGHT,
                          "head_rate": HEIGHT / RAMP_TIME})
-    print(f"{case}: h/d = {hd}, bed top {top * 1e3:.3f} mm, endTime {end} s")
+    print(f"{case}: h/d = {hd}, bed top {top * 1e3:.3f} mm, endTime {end} s, maxDeltaT {max_delta_t:g} s")
 
 
 if __name__ == "__main__":
     if sys.argv[1] == "deposit":
         deposit()
     else:
-        setup(sys.argv[1], float(sys.argv[2]), sys.argv[3] if len(sys.argv) > 3 else "0.9")
+        setup(sys.argv[1], float(sys.argv[2]), sys.argv[3] if len(sys.argv) > 3 else "0.9",
+              max_delta_t=float(sys.argv[4]) if len(sys.argv) > 4 else MAX_DELTA_T)
