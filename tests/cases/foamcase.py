@@ -3,7 +3,7 @@ import os
 import re
 import subprocess
 
-import nscdpost  # src/python (on sys.path through conftest.py)
+import nscdpost
 
 HEADER = "FoamFile { version 2.0; format ascii; class %s; object %s; }\n"
 
