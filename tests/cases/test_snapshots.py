@@ -8,6 +8,7 @@ spread well above zero, the grains' colour bar drawn)."""
 import os
 import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -48,3 +49,11 @@ def test_sedimentation_allrun_renders_snapshots(tmp_path, env):
     # from grey (|r - b| large) exist in the domain
     px = _pixels(os.path.join(work, "overlap", "overlap_voidFraction_t0.1.png")).astype(int)
     assert (np.abs(px[..., 0] - px[..., 2]) > 80).sum() > 500
+
+
+def test_render_without_vtk_output_says_what_to_run(tmp_path):
+    """Bad input: a case without VTK/ gives exit code 1 and names foamToVTK."""
+    p = subprocess.run([sys.executable, "-m", "nscdrender", str(tmp_path)],
+                       capture_output=True, text=True)
+    assert p.returncode == 1
+    assert "foamToVTK" in p.stderr and str(tmp_path) in p.stderr, p.stderr
