@@ -1,6 +1,8 @@
 """nscdpost: read nscdFoam case output from Python (tutorial post-processing, tests).
 
-Only the standard library and numpy are needed.  Functions:
+Needs numpy and foamlib (PyPI; OpenFOAM files, ascii or binary).  Installed
+with the other tools of src/python by `pip install -e src/python`
+(etc/installDependencies).  Functions:
   time_dirs(case)              -> sorted list of (float time, str name) with grains
   read_internal_field(path)    -> internal field of an ascii vol field (numpy; scalar
                                 or N x 3), uniform fields as 0-d/3-vectors
@@ -19,24 +21,32 @@ import re
 import shutil
 
 import numpy as np
+from foamlib import FoamFieldFile, FoamFile
 
 _FLOAT = r"[-+0-9.eE]+"
 
 
-def _foam_list_body(text):
-    """Return the text between the outermost '(' ... ')' of an OpenFOAM list file."""
-    # strip the FoamFile header
+def _read_positions(path):
+    """Grain centres (n, 3) [m] of a lagrangian `positions` file in the
+    legacy format OpenFOAM v1912 writes next to `coordinates`: a list of
+    `(x y z) celli` entries.  Read here, not with foamlib: foamlib 1.7.10
+    parses this mixed list in a time quadratic in its length (2.2 s for 40
+    grains) and rejects it from ~80 grains on (measured 2026-11-23)."""
+    text = _read_file(path)
     i = text.find("FoamFile")
-    if i >= 0:
-        j = text.find("}", i)
-        text = text[j + 1:]
-    start = text.find("(")
-    end = text.rfind(")")
+    if i >= 0:                      # skip the header's braces
+        text = text[text.find("}", i) + 1:]
+    start, end = text.find("("), text.rfind(")")
     if start < 0 or end < 0:
-        return "", 0
+        raise ValueError(f"{path}: no list found")
     head = text[:start].strip().split()
     n = int(head[-1]) if head and head[-1].isdigit() else None
-    return text[start + 1:end], n
+    vals = re.findall(r"\(\s*(%s)\s+(%s)\s+(%s)\s*\)" % (_FLOAT, _FLOAT, _FLOAT),
+                      text[start + 1:end])
+    arr = np.array(vals, dtype=float).reshape(-1, 3)
+    if n is not None and len(arr) != n:
+        raise ValueError(f"{path}: expected {n} positions, read {len(arr)}")
+    return arr
 
 
 def _read_file(path):
@@ -44,31 +54,44 @@ def _read_file(path):
         return f.read()
 
 
+def _foam_class(path):
+    """`class` of the FoamFile header of path ("" if none), from the file's
+    first 2000 characters (foamlib would parse the whole file)."""
+    with open(path, errors="replace") as f:
+        m = re.search(r"\bclass\s+([^;\s]+)\s*;", f.read(2000))
+    return m.group(1) if m else ""
+
+
+def _foam_file(path):
+    """foamlib.FoamFile of path; FileNotFoundError if it does not exist
+    (foamlib would create it on write access)."""
+    if not os.path.isfile(path):
+        raise FileNotFoundError(path)
+    return FoamFile(path)
+
+
 def read_vector_field(path):
-    text = _read_file(path)
-    m = re.search(r"(\d+)\s*\{\s*\(\s*(%s)\s+(%s)\s+(%s)\s*\)\s*\}" % (_FLOAT, _FLOAT, _FLOAT), text)
-    if m:  # uniform list form  N{(x y z)}
-        return np.tile(np.array([float(m.group(k)) for k in (2, 3, 4)]), (int(m.group(1)), 1))
-    body, n = _foam_list_body(text)
-    vals = re.findall(r"\(\s*(%s)\s+(%s)\s+(%s)\s*\)" % (_FLOAT, _FLOAT, _FLOAT), body)
-    arr = np.array(vals, dtype=float).reshape(-1, 3)
-    if n is not None and len(arr) != n:
-        raise ValueError(f"{path}: expected {n} vectors, read {len(arr)}")
+    """Values of a lagrangian vectorField file (ascii or binary, `N(...)`
+    or uniform `N{(x y z)}` list) as an (n, 3) float array; the legacy
+    `positions` file of a cloud as its (n, 3) centres [m].  Raises
+    FileNotFoundError, ValueError if the list is not of 3-vectors."""
+    if "Cloud<" in _foam_class(path):
+        return _read_positions(path)
+    arr = np.asarray(_foam_file(path)[None], dtype=float)
+    if arr.size == 0:
+        return arr.reshape(0, 3)
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise ValueError(f"{path}: not a list of 3-vectors (shape {arr.shape})")
     return arr
 
 
 def read_scalar_field(path):
-    text = _read_file(path)
-    # uniform list form  N{value}
-    m = re.search(r"^\s*(\d+)\s*\{\s*(%s)\s*\}" % _FLOAT, text, re.M)
-    if m:
-        return np.full(int(m.group(1)), float(m.group(2)))
-    body, n = _foam_list_body(text)
-    if body.strip() == "":
-        return np.zeros(n or 0)
-    arr = np.array(body.split(), dtype=float)
-    if n is not None and len(arr) != n:
-        raise ValueError(f"{path}: expected {n} scalars, read {len(arr)}")
+    """Values of a lagrangian scalarField / labelField file (ascii or binary,
+    `N(...)` or uniform `N{v}` list) as an (n,) float array.  Raises
+    FileNotFoundError, ValueError if the list is not of scalars."""
+    arr = np.asarray(_foam_file(path)[None], dtype=float)
+    if arr.ndim != 1:
+        raise ValueError(f"{path}: not a list of scalars (shape {arr.shape})")
     return arr
 
 
@@ -120,8 +143,7 @@ def read_grains(case, time_name):
         path = os.path.join(cdir, name)
         if not os.path.isfile(path):
             continue
-        head = _read_file(path)[:2000]   # the FoamFile header
-        vector = re.search(r"class\s+vectorField", head) is not None
+        vector = _foam_class(path).startswith("vector")
         arr = (read_vector_field if vector else read_scalar_field)(path)
         if len(arr) != len(d):
             raise ValueError(f"{path}: {len(arr)} values for {len(d)} grains")
@@ -280,30 +302,20 @@ def instantiate_case(base, case, subs):
 
 
 def read_internal_field(path):
-    """Internal field of an ascii volScalarField/volVectorField file, or the
-    values of a volScalarField::Internal (DimensionedField, keyword `value`),
-    as a numpy array (uniform fields need n: returned as a 0-d array,
-    broadcastable)."""
-    with open(path) as f:
-        text = f.read()
+    """Internal field of a volScalarField/volVectorField file (ascii or
+    binary), or the values of a volScalarField::Internal (DimensionedField,
+    keyword `value`), as a float numpy array: (n,) or (n, 3); a uniform field
+    as a 0-d array or a 3-vector (broadcastable).  Raises FileNotFoundError,
+    ValueError if the file has neither internalField nor value."""
+    f = FoamFieldFile(path) if os.path.isfile(path) else None
+    if f is None:
+        raise FileNotFoundError(path)
     # a vol field's boundary patches have `value` entries too: internalField
     # is looked for first, `value` only in a file without it
-    key = "internalField" if re.search(r"^internalField\s", text, re.M) else "value"
-    m = re.search(key + r"\s+nonuniform\s+List<(scalar|vector)>\s*(\d+)\s*\(", text)
-    if m is None:
-        u = re.search(key + r"\s+uniform\s+([^;]+);", text)
-        if u is None:
-            raise ValueError(f"no internalField in {path}")
-        vals = u.group(1).strip("() ").split()
-        return np.array([float(v) for v in vals]).squeeze()
-    n = int(m.group(2))
-    body = text[m.end():]
-    if m.group(1) == "scalar":
-        vals = np.array(body.split(")", 1)[0].split(), dtype=float)
-        assert vals.size == n, (path, vals.size, n)
-        return vals
-    vecs = re.findall(r"\(([^()]+)\)", body)[:n]
-    return np.array([[float(x) for x in v.split()] for v in vecs])
+    for key in ("internalField", "value"):
+        if key in f:
+            return np.asarray(f[key], dtype=float)
+    raise ValueError(f"no internalField in {path}")
 
 
 def copy_grain_state(src, dst, time_name="0"):

@@ -2,13 +2,26 @@
 and run the project's applications on them (environment from etc/bashrc)."""
 import os
 import subprocess
-import sys
 
 import pytest
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "src", "python"))
-sys.path.insert(0, os.path.dirname(__file__))
+
+# src/python is an installed package (`pip install -e src/python`, done by
+# etc/installDependencies); this directory's modules (foamcase) are importable
+# because pytest puts the test directory on sys.path.  Fail clearly when the
+# installed copy is missing or is another checkout's.
+try:
+    import nscdpost as _nscdpost
+except ImportError as e:
+    raise pytest.UsageError(
+        f"nscdpost is not installed ({e}): run `python3 -m pip install -e {ROOT}/src/python` "
+        "(or etc/installDependencies)")
+if os.path.dirname(os.path.realpath(_nscdpost.__file__)) != os.path.realpath(
+        os.path.join(ROOT, "src", "python")):
+    raise pytest.UsageError(
+        f"nscdpost is imported from {_nscdpost.__file__}, not from this checkout: run "
+        f"`python3 -m pip install -e {ROOT}/src/python` (or etc/installDependencies)")
 
 
 def foam_env():

@@ -1,9 +1,11 @@
-"""Write small grainFoam cases from Python (test helper)."""
+"""Write small grainFoam cases from Python (test helper); dictionaries are
+edited in place with foamlib."""
 import os
-import re
 import subprocess
 
-import nscdpost  # src/python (on sys.path through conftest.py)
+from foamlib import FoamFile
+
+import nscdpost
 
 HEADER = "FoamFile { version 2.0; format ascii; class %s; object %s; }\n"
 
@@ -135,32 +137,29 @@ def add_fluid(case, rho, nu, drag="DallavalleDiFelice", force_model="A",
           "}\n"
           f"PIMPLE {{ momentumPredictor yes; nOuterCorrectors {n_outer}; nCorrectors {n_correctors};\n"
           "  nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n")
-    cd = os.path.join(case, "system", "controlDict")
-    txt = open(cd).read().replace("application grainFoam;", "application vansFoam;")
-    txt += f"adjustTimeStep yes; maxCo {max_co}; maxDeltaT {max_dt};\n"
-    open(cd, "w").write(txt)
+    with FoamFile(os.path.join(case, "system", "controlDict")) as f:
+        f["application"] = "vansFoam"
+        f["adjustTimeStep"] = True
+        f["maxCo"] = max_co
+        f["maxDeltaT"] = max_dt
 
 
 def inlet_outlet_box(case):
     """Make the bottom (y = min) of a 3D make_box_case box the patch `inlet`,
     the top the patch `outlet` and the four sides `walls`; remove the pressure
     reference (the outlet fixes p).  Call after add_fluid."""
-    bm = os.path.join(case, "system", "blockMeshDict")
-    with open(bm) as f:
-        txt = f.read()
-    txt = re.sub(r"boundary \(.*\);", "boundary (\n"
-                 "inlet { type patch; faces ((1 5 4 0)); }\n"
-                 "outlet { type patch; faces ((3 7 6 2)); }\n"
-                 "walls { type wall; faces ((0 4 7 3) (2 6 5 1) (0 3 2 1) (4 5 6 7)); }\n);",
-                 txt, flags=re.S)
-    with open(bm, "w") as f:
-        f.write(txt)
+    with FoamFile(os.path.join(case, "system", "blockMeshDict")) as f:
+        f["boundary"] = [
+            ("inlet", {"type": "patch", "faces": [[1, 5, 4, 0]]}),
+            ("outlet", {"type": "patch", "faces": [[3, 7, 6, 2]]}),
+            ("walls", {"type": "wall",
+                       "faces": [[0, 4, 7, 3], [2, 6, 5, 1], [0, 3, 2, 1], [4, 5, 6, 7]]})]
     fs = os.path.join(case, "system", "fvSolution")
     if os.path.exists(fs):
-        with open(fs) as f:
-            txt = f.read().replace("pRefCell 0; pRefValue 0;", "")
-        with open(fs, "w") as f:
-            f.write(txt)
+        with FoamFile(fs) as f:
+            for key in ("pRefCell", "pRefValue"):
+                if key in f["PIMPLE"]:
+                    del f["PIMPLE", key]
 
 
 def uniform_inflow(case, Us):
@@ -190,7 +189,8 @@ def fixed_lattice_bed(case, env, spacing, d, nx, ny, rows, Us, rho, nu,
     make_box_case(case, (0, 0, 0), (nx * spacing, ny * spacing, nx * spacing), (nx, ny, nx),
                   (0, 0, 0), {"glass": {"density": 2500, "friction": 0.4}}, grains=grains,
                   end_time=0.2, dt=1e-3, write_interval=0.2, two_d=False)
-    open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
+    with FoamFile(os.path.join(case, "system", "grainDepositDict")) as f:
+        f["fixed"] = True
     add_fluid(case, rho, nu, drag=drag, extra_coupling=extra_coupling)
     uniform_inflow(case, Us)
     run("blockMesh", case, env)
@@ -203,13 +203,12 @@ def fixed_lattice_bed(case, env, spacing, d, nx, ny, rows, Us, rho, nu,
 def add_scalar_transport(case, field, div_scheme, solver="solver PBiCGStab; preconditioner DILU; "
                          "tolerance 1e-14; relTol 0;"):
     """Add the fvSolution solver and the fvSchemes div(phi,<field>) entry of
-    a transported scalar (T, psi) to a case made by add_fluid."""
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = open(fs).read().replace("solvers {\n", f"solvers {{\n  {field} {{ {solver} }}\n")
-    open(fs, "w").write(txt)
-    sc = os.path.join(case, "system", "fvSchemes")
-    txt = open(sc).read().replace("div(phi,U)", f"div(phi,{field}) {div_scheme}; div(phi,U)")
-    open(sc, "w").write(txt)
+    a transported scalar (T, psi) to a case made by add_fluid; `solver` and
+    `div_scheme` in OpenFOAM syntax (dictionary body, scheme words)."""
+    with FoamFile(os.path.join(case, "system", "fvSolution")) as f:
+        f["solvers", field] = dict(FoamFile.loads(solver))
+    with FoamFile(os.path.join(case, "system", "fvSchemes")) as f:
+        f["divSchemes", f"div(phi,{field})"] = FoamFile.loads(f"s {div_scheme};")["s"]
 
 
 read_internal = nscdpost.read_internal_field

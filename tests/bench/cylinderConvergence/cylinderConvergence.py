@@ -77,8 +77,7 @@ ROOT = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
 TUT = os.path.join(ROOT, "tutorials", "vansFoam", "cylinderSedimentation")
 OUT = os.path.join(ROOT, "tests", "bench", "results", "cylinderConvergence.json")
 PNG = os.path.join(HERE, "cylinderConvergence.png")
-sys.path.insert(0, os.path.join(ROOT, "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 setupCase = nscdpost.load_module("cylinderSedimentation_setupCase", os.path.join(TUT, "setupCase.py"))
 postProcess = nscdpost.load_module("cylinderSedimentation_postProcess", os.path.join(TUT, "postProcess.py"))

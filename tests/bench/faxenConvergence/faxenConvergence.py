@@ -49,7 +49,6 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tests", "cases"))
-sys.path.insert(0, os.path.join(ROOT, "src", "python"))
 
 import conftest  # noqa: E402  (paths + foam_env)
 import nscdpost  # noqa: E402

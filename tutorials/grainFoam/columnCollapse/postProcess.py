@@ -22,8 +22,7 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(os.path.dirname(__file__), "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 REFERENCE = {
     "source": "Lube, Huppert, Sparks & Freundt (2005) Phys. Rev. E 72, 041301, 2D columns: "

@@ -39,8 +39,7 @@ import sys
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 RHO_A, CP_A, C_P = 1.204, 1010.0, 840.0
 SAMPLE = 0.05     # simulated seconds between stored samples

@@ -26,8 +26,7 @@ import os
 import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 WIDTH, HEIGHT, GAP, NOZZLE = 0.08, 0.25, 0.015, 0.012
 CELL = 4e-3                                               # cell size ~4 mm (h/d ~ 4.4)

@@ -31,9 +31,7 @@ import sys
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, here)
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 setupCase = nscdpost.load_module("cylinderSedimentation_setupCase", os.path.join(here, "setupCase.py"))
 post = nscdpost.load_module("cylinderSedimentation_postProcess", os.path.join(here, "postProcess.py"))

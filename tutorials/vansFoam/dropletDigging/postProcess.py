@@ -66,9 +66,7 @@ import sys
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")),
-                                "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 G = 9.81
 
 # droplet.dat columns (src/dropletCoupling/README.md)
@@ -174,8 +172,6 @@ def bed_void_fraction(case, info):
     """Mean gas fraction eps of the bed at the start (the cells fully below
     the bed top minus one grain diameter, away from the walls by one
     grain), from <first write time>/voidFraction; None if not written."""
-    sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")),
-                                    "src", "python"))
     times = [name for t, name in nscdpost.time_dirs(case) if t > 0]
     for t in times:
         p = os.path.join(case, t, "voidFraction")

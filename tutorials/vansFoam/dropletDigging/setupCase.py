@@ -33,9 +33,7 @@ import sys
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")),
-                                "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 # Table 4.2
 RHO, MU, CP, KAPPA, BETA = 1.204, 2e-5, 1040.0, 0.026, 3e-3

@@ -18,8 +18,7 @@ import sys
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 D_MIN, LAMBDA = 0.2e-3, 1.2
 D_MEAN = 0.5 * (1 + LAMBDA) * D_MIN      # 0.22 mm

@@ -43,9 +43,8 @@ import sys
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
-from correlations import (nusselt_difelice_colburn as nu_difelice_colburn,  # noqa: E402
+import nscdpost
+from correlations import (nusselt_difelice_colburn as nu_difelice_colburn,
                           nusselt_gunn as nu_gunn, nusselt_ranz_marshall as nu_ranz_marshall,
                           nusselt_wakao_kaguei as nu_wakao)
 

@@ -24,8 +24,7 @@ import sys
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 D = 2e-3                        # grain diameter [m]
 W = 8 * D                       # column width (square) [m]

@@ -18,8 +18,7 @@ import random
 import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 D_MAX, LAMBDA = 230e-6, 1.2
 W_FULL, H_FULL, N_FULL = 0.056, 0.068, 70000

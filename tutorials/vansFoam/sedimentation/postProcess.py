@@ -16,8 +16,7 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(os.path.dirname(__file__), "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 
 def measure(case):

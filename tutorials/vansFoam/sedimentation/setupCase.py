@@ -9,8 +9,7 @@ import os
 import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 
 def main():

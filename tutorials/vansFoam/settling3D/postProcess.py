@@ -7,13 +7,11 @@ a dense cloud (solid fraction ~0.3-0.5) falls slower than a lone grain
 (hindered settling: return flow of the displaced water, Richardson & Zaki
 1954) and stops on the floor."""
 import os
-import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.environ.get("NSCD_PROJECT_DIR", os.path.join(os.path.dirname(__file__), "../../..")), "src", "python"))
-import correlations  # noqa: E402
-import nscdpost  # noqa: E402
+import correlations
+import nscdpost
 
 
 def terminal(d, rhop=2500.0, rho=1000.0, nu=1e-6):

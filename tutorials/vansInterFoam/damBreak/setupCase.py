@@ -9,9 +9,10 @@ of the `floor` function object in system/controlDict (the centres of the
 bottom row of cells).
 """
 import os
-import re
 import shutil
 import sys
+
+from foamlib import FoamFile
 
 A = 0.05715          # column width a = 2.25 in [m]
 LX, LY, LZ = 5.0, 2.5, 0.1   # tank length, height, depth in units of a
@@ -30,17 +31,18 @@ def main():
     shutil.copytree(base, case)
     nx, ny = int(LX * n), int(LY * n)
     dx = A / n
-    bm = os.path.join(case, "system", "blockMeshDict")
-    txt = open(bm).read()
-    txt = re.sub(r"\(\d+ \d+ 1\) simpleGrading", f"({nx} {ny} 1) simpleGrading", txt)
-    open(bm, "w").write(txt)
-    cd = os.path.join(case, "system", "controlDict")
-    txt = open(cd).read()
+    with FoamFile(os.path.join(case, "system", "blockMeshDict")) as f:
+        blocks = f["blocks"]            # hex (vertices) (nx ny nz) simpleGrading (...)
+        blocks[2] = [nx, ny, 1]
+        f["blocks"] = blocks
+    # the floor line: the centres of the bottom row of cells (12 digits, as written before)
     y, z = 0.5 * dx, 0.5 * LZ * A
-    txt = re.sub(r"start\s+\([^)]*\);", f"start   ({0.5 * dx:.12g} {y:.12g} {z:.12g});", txt)
-    txt = re.sub(r"end\s+\([^)]*\);", f"end     ({LX * A - 0.5 * dx:.12g} {y:.12g} {z:.12g});", txt)
-    txt = re.sub(r"nPoints\s+\d+;", f"nPoints {nx};", txt)
-    open(cd, "w").write(txt)
+    with FoamFile(os.path.join(case, "system", "controlDict")) as f:
+        name, row = f["functions", "floor", "sets"][0]
+        row = dict(row, nPoints=nx,
+                   start=[float(f"{v:.12g}") for v in (0.5 * dx, y, z)],
+                   end=[float(f"{v:.12g}") for v in (LX * A - 0.5 * dx, y, z)])
+        f["functions", "floor", "sets"] = [(name, row)]
     print(f"{case}: {nx} x {ny} cells (a/{n} = {dx * 1e3:.3f} mm)")
 
 

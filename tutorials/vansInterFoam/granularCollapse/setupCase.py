@@ -23,9 +23,7 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get(
-    "NSCD_PROJECT_DIR", os.path.join(HERE, "..", "..", "..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 # h0: water depth, H0: column height, L0: column width [m]
 CONFIGS = {

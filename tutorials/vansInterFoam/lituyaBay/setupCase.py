@@ -34,9 +34,7 @@ import sys
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.environ.get(
-    "NSCD_PROJECT_DIR", os.path.join(here, "../../..")), "src", "python"))
-import nscdpost  # noqa: E402
+import nscdpost
 
 H, L = 122.0, 1342.0           # water depth, shore-to-shore length [m]
 SLIDE_LENGTH, SLIDE_THICKNESS, SLIDE_HEIGHT = 970.0, 92.0, 230.0  # [m]
