@@ -118,7 +118,17 @@ void Foam::grainCloud::writeStateFile(const fileName& path) const
     errno = 0;
     try
     {
-        system_->writeHDF5(tmp);
+        // a FoamFile header in the HDF5 user block: decomposePar and
+        // reconstructPar read the header of every file of a time directory
+        // and warn about a file without one
+        std::ostringstream header;
+        header
+            << "FoamFile\n{\n    version     2.0;\n    format      binary;\n"
+            << "    class       nscdGrainState;\n    location    \""
+            << path.path().name() << "\";\n    object      " << path.name()
+            << ";\n}\n// nscd grain state: an HDF5 file after this header (HDF5"
+            << " user block), read it with h5dump or h5py\n";
+        system_->writeHDF5(tmp, header.str());
         if (std::rename(tmp.c_str(), path.c_str()) != 0)
         {
             what = std::string("cannot rename ") + tmp + ": " + std::strerror(errno);
@@ -211,6 +221,7 @@ void Foam::grainCloud::recordStepHealth()
 
 Foam::grainCloud::~grainCloud()
 {
+    logOutletSummary();
     if (health_.steps == 0)
     {
         return;
@@ -283,11 +294,21 @@ void Foam::grainCloud::checkInsideMesh()
     {
         return;
     }
+    // grains through an outlet patch are removed (the same on every rank:
+    // found and exitPatch are reduced); any other exit stops the run
+    DynamicList<label> outGrains, outPatches;
     for (label i = 0; i < n; ++i)
     {
         if (!found[i])
         {
-            const string how(describeExit(i));
+            const label patch = exitPatch(i);
+            if (patch >= 0 && outletPatches_.found(patch))
+            {
+                outGrains.append(i);
+                outPatches.append(patch);
+                continue;
+            }
+            const string how(describeExit(i, patch));
             FatalErrorInFunction
                 << "Grain " << i << " left the mesh at time "
                 << mesh_.time().timeName() << ": from "
@@ -298,10 +319,14 @@ void Foam::grainCloud::checkInsideMesh()
                 << exit(FatalError);
         }
     }
+    if (outGrains.size())
+    {
+        removeOutletGrains(outGrains, outPatches);
+    }
 }
 
 
-Foam::string Foam::grainCloud::describeExit(label i) const
+Foam::label Foam::grainCloud::exitPatch(label i) const
 {
     const nscd::Vec3& o = oldPositions_[i];
     const vector x1(meshPosition(i));
@@ -342,10 +367,25 @@ Foam::string Foam::grainCloud::describeExit(label i) const
             }
         }
     }
+    // the rank whose face is crossed first names the patch (the indices of
+    // the non-processor patches are the same on every rank)
     const scalar tGlobal = returnReduce(tBest, minOp<scalar>());
-    if (tGlobal < GREAT && tBest == tGlobal && patchBest >= 0)
+    label patch = (tGlobal < GREAT && tBest == tGlobal) ? patchBest : -1;
+    reduce(patch, maxOp<label>());
+    return patch;
+}
+
+
+Foam::string Foam::grainCloud::describeExit(label i, label patch) const
+{
+    const nscd::Vec3& o = oldPositions_[i];
+    const vector x1(meshPosition(i));
+    const vector x0(o.x(), o.y(), x1.z());
+    const vector dx(x1 - x0);
+    const polyBoundaryMesh& pbm = mesh_.boundaryMesh();
+    if (patch >= 0)
     {
-        const polyPatch& pp = pbm[patchBest];
+        const polyPatch& pp = pbm[patch];
         OStringStream os;
         if (patchWalls_.found(pp.name()))
         {
@@ -364,13 +404,10 @@ Foam::string Foam::grainCloud::describeExit(label i) const
                 << dict_.name() << ")." << nl
                 << "    Fix: if " << pp.name() << " is a wall, make it of"
                 << " type wall in constant/polyMesh/boundary or list it in"
-                << " wallPatches; grains cannot leave through open patches.";
+                << " wallPatches; to let grains leave through it, list it"
+                << " in outletPatches.";
         }
         return os.str();
-    }
-    if (tGlobal < GREAT)
-    {
-        return "through a boundary patch of another processor";
     }
     OStringStream os;
     os  << "through a gap between wall patches (its path crosses no"
