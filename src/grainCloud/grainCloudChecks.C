@@ -221,11 +221,11 @@ void Foam::grainCloud::recordStepHealth()
 
 Foam::grainCloud::~grainCloud()
 {
-    logOutletSummary();
     if (health_.steps == 0)
     {
         return;
     }
+    logOutletSummary();
     if (health_.notConverged)
     {
         WarningInFunction
@@ -295,29 +295,36 @@ void Foam::grainCloud::checkInsideMesh()
         return;
     }
     // grains through an outlet patch are removed (the same on every rank:
-    // found and exitPatch are reduced); any other exit stops the run
-    DynamicList<label> outGrains, outPatches;
+    // found and exitPatches are reduced); any other exit stops the run
+    DynamicList<label> lost;
     for (label i = 0; i < n; ++i)
     {
         if (!found[i])
         {
-            const label patch = exitPatch(i);
-            if (patch >= 0 && outletPatches_.found(patch))
-            {
-                outGrains.append(i);
-                outPatches.append(patch);
-                continue;
-            }
-            const string how(describeExit(i, patch));
-            FatalErrorInFunction
-                << "Grain " << i << " left the mesh at time "
-                << mesh_.time().timeName() << ": from "
-                << vector(oldPositions_[i].x(), oldPositions_[i].y(), meshPosition(i).z())
-                << " to " << meshPosition(i) << " (radius "
-                << system_->radii()[i] << "), " << how.c_str() << nl
-                << "    The last written time holds the last good state."
-                << exit(FatalError);
+            lost.append(i);
         }
+    }
+    const labelList exits(exitPatches(lost));
+    DynamicList<label> outGrains, outPatches;
+    forAll(lost, k)
+    {
+        const label i = lost[k];
+        const label patch = exits[k];
+        if (patch >= 0 && outletPatches_.found(patch))
+        {
+            outGrains.append(i);
+            outPatches.append(patch);
+            continue;
+        }
+        const string how(describeExit(i, patch));
+        FatalErrorInFunction
+            << "Grain " << i << " left the mesh at time "
+            << mesh_.time().timeName() << ": from "
+            << vector(oldPositions_[i].x(), oldPositions_[i].y(), meshPosition(i).z())
+            << " to " << meshPosition(i) << " (radius "
+            << system_->radii()[i] << "), " << how.c_str() << nl
+            << "    The last written time holds the last good state."
+            << exit(FatalError);
     }
     if (outGrains.size())
     {
@@ -326,7 +333,40 @@ void Foam::grainCloud::checkInsideMesh()
 }
 
 
-Foam::label Foam::grainCloud::exitPatch(label i) const
+Foam::labelList Foam::grainCloud::exitPatches(const labelList& grains) const
+{
+    // first boundary face crossed by each grain's path on this rank
+    scalarList tFirst(grains.size(), GREAT);
+    labelList patch(grains.size(), -1);
+    forAll(grains, k)
+    {
+        firstCrossing(grains[k], tFirst[k], patch[k]);
+    }
+    // the rank whose face is crossed first names the patch (the indices of
+    // the non-processor patches are the same on every rank); two list
+    // reductions for all the grains
+    scalarList tGlobal(tFirst);
+    Pstream::listCombineGather(tGlobal, minEqOp<scalar>());
+    Pstream::listCombineScatter(tGlobal);
+    forAll(grains, k)
+    {
+        if (!(tGlobal[k] < GREAT && tFirst[k] == tGlobal[k]))
+        {
+            patch[k] = -1;
+        }
+    }
+    Pstream::listCombineGather(patch, maxEqOp<label>());
+    Pstream::listCombineScatter(patch);
+    return patch;
+}
+
+
+void Foam::grainCloud::firstCrossing
+(
+    const label i,
+    scalar& tBest,
+    label& patchBest
+) const
 {
     const nscd::Vec3& o = oldPositions_[i];
     const vector x1(meshPosition(i));
@@ -334,8 +374,8 @@ Foam::label Foam::grainCloud::exitPatch(label i) const
     const vector dx(x1 - x0);
 
     // first boundary face crossed by the path x0 -> x1 on this rank
-    scalar tBest = GREAT;
-    label patchBest = -1;
+    tBest = GREAT;
+    patchBest = -1;
     const polyBoundaryMesh& pbm = mesh_.boundaryMesh();
     for (const polyPatch& pp : pbm)
     {
@@ -367,12 +407,6 @@ Foam::label Foam::grainCloud::exitPatch(label i) const
             }
         }
     }
-    // the rank whose face is crossed first names the patch (the indices of
-    // the non-processor patches are the same on every rank)
-    const scalar tGlobal = returnReduce(tBest, minOp<scalar>());
-    label patch = (tGlobal < GREAT && tBest == tGlobal) ? patchBest : -1;
-    reduce(patch, maxOp<label>());
-    return patch;
 }
 
 
