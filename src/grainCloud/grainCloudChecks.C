@@ -318,7 +318,8 @@ void Foam::grainCloud::checkInsideMesh()
         }
         const string how(describeExit(i, patch));
         FatalErrorInFunction
-            << "Grain " << i << " left the mesh at time "
+            << "Grain " << i << " (grainId " << label(system_->grainIds()[i])
+            << ") left the mesh at time "
             << mesh_.time().timeName() << ": from "
             << vector(oldPositions_[i].x(), oldPositions_[i].y(), meshPosition(i).z())
             << " to " << meshPosition(i) << " (radius "

@@ -160,7 +160,7 @@ def test_grainFoam_grain_through_open_patch(tmp_path, env):
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     p = run("grainFoam", case, env, check=False)
-    fails_with(p, "Grain 0 left the mesh", "open patch bottom", "type patch", "wallPatches")
+    fails_with(p, "Grain 0 (grainId 0) left the mesh", "open patch bottom", "type patch", "wallPatches")
     # it fell 0.025 m in ~0.07 s: the run stopped right after, the 0.05 write is intact
     assert "0.05" in times(case)
     assert os.path.isfile(os.path.join(case, "0.05", "grainState.h5"))
@@ -503,7 +503,7 @@ def test_vansFoam_grain_through_open_patch(tmp_path, env):
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     p = run("vansFoam", case, env, check=False)
-    fails_with(p, "Grain 0 left the mesh", "open patch inlet", "type patch")
+    fails_with(p, "Grain 0 (grainId 0) left the mesh", "open patch inlet", "type patch")
     assert "0.05" in times(case)
 
 
