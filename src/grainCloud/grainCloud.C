@@ -46,7 +46,7 @@ void Foam::grainCloud::readSettings()
         {
             "materials", "wallPatches", "maxDisplacementFraction",
             "contactSolver", "movingWalls", "initialTemperature",
-            "wallTemperatures", "gates", "frontRearWalls"
+            "wallTemperatures", "gates", "frontRearWalls", "outletPatches"
         }
     );
 
@@ -195,30 +195,15 @@ namespace
         labelList ids;
         if (dict.found("wallPatches"))
         {
-            const wordRes names(dict.get<wordRes>("wallPatches"));
-            for (const wordRe& name : names)
-            {
-                bool matched = false;
-                for (const word& pn : pbm.names())
-                {
-                    matched = matched || name.match(pn);
-                }
-                if (!matched)
-                {
-                    FatalIOErrorInFunction(dict)
-                        << "wallPatches entry '" << name << "' in "
-                        << dict.name() << " matches no patch of the mesh"
-                        << " (the grains would fall through it)." << nl
-                        << "    Patches: " << flatOutput(pbm.names()) << nl
-                        << "    Fix: correct the name in wallPatches."
-                        << exit(FatalIOError);
-                }
-            }
-            ids = pbm.patchSet(names).sortedToc();
+            ids = grainTools::patchIds
+            (
+                pbm, dict, "wallPatches", "the grains would fall through it"
+            );
             if (ids.empty())
             {
                 FatalIOErrorInFunction(dict)
-                    << "wallPatches " << flatOutput(names) << " in "
+                    << "wallPatches " << flatOutput(dict.get<wordRes>("wallPatches"))
+                    << " in "
                     << dict.name() << " matches no patch of the mesh. Patches: "
                     << flatOutput(pbm.names()) << exit(FatalIOError);
             }
@@ -933,6 +918,7 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
     }
 
     computePatchWallIds();
+    readOutletPatches();
     label nMeshWalls = 0;
     forAllConstIters(patchWalls_, iter)
     {
@@ -1087,6 +1073,7 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
 
     applyFrontRearWalls();
     oldPositions_ = system_->positions();
+    lastRemoved_.clear();
     try
     {
         report_ = system_->advance(dt, maxDisplacementFraction_);
@@ -1291,6 +1278,7 @@ void Foam::grainCloud::write
         mkDir(global);
         writeStateFile(global/stateFileName);
     }
+    writeOutletCounts();
     writeCloud(extra, extraScalars);
 }
 
@@ -1349,7 +1337,7 @@ void Foam::grainCloud::writeCloud
         d[k] = 2*system_->radii()[i];
         U[k] = toVector(system_->velocities()[i]);
         omega[k] = toVector(system_->angularVelocities()[i]);
-        grainId[k] = i;
+        grainId[k] = label(system_->grainIds()[i]);
         fixed[k] = system_->fixed(i) ? 1 : 0;
     }
     cloud.write();

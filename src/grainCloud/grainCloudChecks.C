@@ -118,7 +118,17 @@ void Foam::grainCloud::writeStateFile(const fileName& path) const
     errno = 0;
     try
     {
-        system_->writeHDF5(tmp);
+        // a FoamFile header in the HDF5 user block: decomposePar and
+        // reconstructPar read the header of every file of a time directory
+        // and warn about a file without one
+        std::ostringstream header;
+        header
+            << "FoamFile\n{\n    version     2.0;\n    format      binary;\n"
+            << "    class       nscdGrainState;\n    location    \""
+            << path.path().name() << "\";\n    object      " << path.name()
+            << ";\n}\n// nscd grain state: an HDF5 file after this header (HDF5"
+            << " user block), read it with h5dump or h5py\n";
+        system_->writeHDF5(tmp, header.str());
         if (std::rename(tmp.c_str(), path.c_str()) != 0)
         {
             what = std::string("cannot rename ") + tmp + ": " + std::strerror(errno);
@@ -215,6 +225,7 @@ Foam::grainCloud::~grainCloud()
     {
         return;
     }
+    logOutletSummary();
     if (health_.notConverged)
     {
         WarningInFunction
@@ -283,25 +294,80 @@ void Foam::grainCloud::checkInsideMesh()
     {
         return;
     }
+    // grains through an outlet patch are removed (the same on every rank:
+    // found and exitPatches are reduced); any other exit stops the run
+    DynamicList<label> lost;
     for (label i = 0; i < n; ++i)
     {
         if (!found[i])
         {
-            const string how(describeExit(i));
-            FatalErrorInFunction
-                << "Grain " << i << " left the mesh at time "
-                << mesh_.time().timeName() << ": from "
-                << vector(oldPositions_[i].x(), oldPositions_[i].y(), meshPosition(i).z())
-                << " to " << meshPosition(i) << " (radius "
-                << system_->radii()[i] << "), " << how.c_str() << nl
-                << "    The last written time holds the last good state."
-                << exit(FatalError);
+            lost.append(i);
         }
+    }
+    const labelList exits(exitPatches(lost));
+    DynamicList<label> outGrains, outPatches;
+    forAll(lost, k)
+    {
+        const label i = lost[k];
+        const label patch = exits[k];
+        if (patch >= 0 && outletPatches_.found(patch))
+        {
+            outGrains.append(i);
+            outPatches.append(patch);
+            continue;
+        }
+        const string how(describeExit(i, patch));
+        FatalErrorInFunction
+            << "Grain " << i << " (grainId " << label(system_->grainIds()[i])
+            << ") left the mesh at time "
+            << mesh_.time().timeName() << ": from "
+            << vector(oldPositions_[i].x(), oldPositions_[i].y(), meshPosition(i).z())
+            << " to " << meshPosition(i) << " (radius "
+            << system_->radii()[i] << "), " << how.c_str() << nl
+            << "    The last written time holds the last good state."
+            << exit(FatalError);
+    }
+    if (outGrains.size())
+    {
+        removeOutletGrains(outGrains, outPatches);
     }
 }
 
 
-Foam::string Foam::grainCloud::describeExit(label i) const
+Foam::labelList Foam::grainCloud::exitPatches(const labelList& grains) const
+{
+    // first boundary face crossed by each grain's path on this rank
+    scalarList tFirst(grains.size(), GREAT);
+    labelList patch(grains.size(), -1);
+    forAll(grains, k)
+    {
+        firstCrossing(grains[k], tFirst[k], patch[k]);
+    }
+    // the rank whose face is crossed first names the patch (the indices of
+    // the non-processor patches are the same on every rank); two list
+    // reductions for all the grains
+    scalarList tGlobal(tFirst);
+    Pstream::listCombineGather(tGlobal, minEqOp<scalar>());
+    Pstream::listCombineScatter(tGlobal);
+    forAll(grains, k)
+    {
+        if (!(tGlobal[k] < GREAT && tFirst[k] == tGlobal[k]))
+        {
+            patch[k] = -1;
+        }
+    }
+    Pstream::listCombineGather(patch, maxEqOp<label>());
+    Pstream::listCombineScatter(patch);
+    return patch;
+}
+
+
+void Foam::grainCloud::firstCrossing
+(
+    const label i,
+    scalar& tBest,
+    label& patchBest
+) const
 {
     const nscd::Vec3& o = oldPositions_[i];
     const vector x1(meshPosition(i));
@@ -309,8 +375,8 @@ Foam::string Foam::grainCloud::describeExit(label i) const
     const vector dx(x1 - x0);
 
     // first boundary face crossed by the path x0 -> x1 on this rank
-    scalar tBest = GREAT;
-    label patchBest = -1;
+    tBest = GREAT;
+    patchBest = -1;
     const polyBoundaryMesh& pbm = mesh_.boundaryMesh();
     for (const polyPatch& pp : pbm)
     {
@@ -342,10 +408,19 @@ Foam::string Foam::grainCloud::describeExit(label i) const
             }
         }
     }
-    const scalar tGlobal = returnReduce(tBest, minOp<scalar>());
-    if (tGlobal < GREAT && tBest == tGlobal && patchBest >= 0)
+}
+
+
+Foam::string Foam::grainCloud::describeExit(label i, label patch) const
+{
+    const nscd::Vec3& o = oldPositions_[i];
+    const vector x1(meshPosition(i));
+    const vector x0(o.x(), o.y(), x1.z());
+    const vector dx(x1 - x0);
+    const polyBoundaryMesh& pbm = mesh_.boundaryMesh();
+    if (patch >= 0)
     {
-        const polyPatch& pp = pbm[patchBest];
+        const polyPatch& pp = pbm[patch];
         OStringStream os;
         if (patchWalls_.found(pp.name()))
         {
@@ -364,13 +439,10 @@ Foam::string Foam::grainCloud::describeExit(label i) const
                 << dict_.name() << ")." << nl
                 << "    Fix: if " << pp.name() << " is a wall, make it of"
                 << " type wall in constant/polyMesh/boundary or list it in"
-                << " wallPatches; grains cannot leave through open patches.";
+                << " wallPatches; to let grains leave through it, list it"
+                << " in outletPatches.";
         }
         return os.str();
-    }
-    if (tGlobal < GREAT)
-    {
-        return "through a boundary patch of another processor";
     }
     OStringStream os;
     os  << "through a gap between wall patches (its path crosses no"

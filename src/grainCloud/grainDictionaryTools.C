@@ -1,6 +1,7 @@
 #include "grainDictionaryTools.H"
 #include "IOstreams.H"
 #include "FlatOutput.H"
+#include "wordRes.H"
 
 void Foam::grainTools::checkKeywords
 (
@@ -53,4 +54,35 @@ Foam::scalar Foam::grainTools::getPositiveOrDefault
         return deflt;
     }
     return getPositive(dict, key);
+}
+
+
+Foam::labelList Foam::grainTools::patchIds
+(
+    const polyBoundaryMesh& pbm,
+    const dictionary& dict,
+    const word& key,
+    const string& consequence
+)
+{
+    const wordRes names(dict.get<wordRes>(key));
+    for (const wordRe& name : names)
+    {
+        bool matched = false;
+        for (const word& pn : pbm.names())
+        {
+            matched = matched || name.match(pn);
+        }
+        if (!matched)
+        {
+            FatalIOErrorInFunction(dict)
+                << key << " entry '" << name << "' in " << dict.name()
+                << " matches no patch of the mesh"
+                << (consequence.size() ? " (" + consequence + ")" : string())
+                << "." << nl << "    Patches: " << flatOutput(pbm.names())
+                << nl << "    Fix: correct the name in " << key << "."
+                << exit(FatalIOError);
+        }
+    }
+    return pbm.patchSet(names).sortedToc();
 }

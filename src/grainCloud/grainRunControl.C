@@ -1,6 +1,9 @@
 #include "grainRunControl.H"
 #include "IFstream.H"
 #include "dictionary.H"
+#include "OSspecific.H"
+#include "TimePaths.H"
+#include "PstreamReduceOps.H"
 
 #include <csignal>
 #include <cmath>
@@ -28,7 +31,11 @@ namespace
 
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
 
-void Foam::grainRunControl::checkControlDict(const argList& args)
+void Foam::grainRunControl::checkControlDict
+(
+    const argList& args,
+    const wordList& required
+)
 {
     const fileName path
     (
@@ -50,6 +57,75 @@ void Foam::grainRunControl::checkControlDict(const argList& args)
             << " (writeControl runTime/adjustableRunTime) or to the number of"
             << " steps between writes (writeControl timeStep)."
             << exit(FatalIOError);
+    }
+    if (dict.getOrDefault<word>("startFrom", "latestTime") == "latestTime")
+    {
+        skipIncompleteTimes(args, required);
+    }
+}
+
+
+void Foam::grainRunControl::skipIncompleteTimes
+(
+    const argList& args,
+    const wordList& required
+)
+{
+    const fileName casePath(args.path());
+    instantList times(TimePaths::findTimes(casePath, "constant"));
+    label nTimes = 0;
+    for (const instant& t : times)
+    {
+        if (t.name() != "constant")
+        {
+            times[nTimes++] = t;
+        }
+    }
+    times.setSize(nTimes);
+    // from the latest down; the earliest is never moved
+    for (label k = nTimes - 1; k > 0; --k)
+    {
+        const fileName dir(casePath/times[k].name());
+        DynamicList<word> missing;
+        for (const word& f : required)
+        {
+            if (!isFile(dir/f))
+            {
+                missing.append(f);
+            }
+        }
+        for (const fileName& f : readDir(dir, fileName::FILE, false))
+        {
+            if (f.hasExt("tmp"))
+            {
+                missing.append(word(f + " (an interrupted write)"));
+            }
+        }
+        const bool incomplete = returnReduce(missing.size() > 0, orOp<bool>());
+        if (!incomplete)
+        {
+            return;
+        }
+        const fileName aside(dir + ".incomplete");
+        if (isDir(aside))
+        {
+            rmDir(aside);
+        }
+        if (!mv(dir, aside))
+        {
+            FatalErrorInFunction
+                << "The latest time directory " << dir << " is incomplete"
+                << " but cannot be moved aside to " << aside << nl
+                << "    Fix: delete " << dir << " and restart."
+                << exit(FatalError);
+        }
+        WarningInFunction
+            << "The latest time directory " << times[k].name() << " is"
+            << " incomplete (missing: " << flatOutput(missing)
+            << (missing.empty() ? " here, incomplete on another rank" : "")
+            << "): moved to " << aside.name() << " in " << casePath << "."
+            << nl << "    startFrom latestTime starts from "
+            << times[k - 1].name() << " instead." << endl;
     }
 }
 

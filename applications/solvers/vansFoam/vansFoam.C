@@ -52,7 +52,7 @@ int main(int argc, char *argv[])
     #include "postProcess.H"
     #include "addCheckCaseOptions.H"
     #include "setRootCaseLists.H"
-    grainRunControl::checkControlDict(args);
+    grainRunControl::checkControlDict(args, {"grainState.h5", "U", "p"});
     #include "createTime.H"
     #include "createMesh.H"
     #include "createControl.H"

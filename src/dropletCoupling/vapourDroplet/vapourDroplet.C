@@ -941,11 +941,18 @@ void Foam::vapourDroplet::exchangeGrainMomentum
     }
     else
     {
-        sysPtr =
-            &mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
-            .cloud().system();
+        const grainCloud& cloud =
+            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+            .cloud();
+        sysPtr = &cloud.system();
         n = sysPtr->size();
         const nscd::System& sys = *sysPtr;
+        // grains that left through outlet patches in the last grain step
+        // (grainCloud outletPatches): the predictor history follows them
+        cloud.compactRemoved(prevVelocity_);
+        cloud.compactRemoved(prevForce_);
+        cloud.compactRemoved(prevVelocity2_);
+        cloud.compactRemoved(gasForceChange_);
         if (!restartHistory_.empty())
         {
             restoreGrainHistory(sys);

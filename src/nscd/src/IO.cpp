@@ -3,7 +3,9 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <utility>
 #include <string>
 
@@ -83,11 +85,20 @@ void put3(std::vector<double>& a, const Vec3& v) { a.push_back(v.x()); a.push_ba
 Vec3 get3(const std::vector<double>& a, std::size_t k) { return Vec3(a[k], a[k + 1], a[k + 2]); }
 }
 
-void System::writeHDF5(const std::string& file) const
+void System::writeHDF5(const std::string& file, const std::string& preamble) const
 {
     const Impl& I = *impl_;
     H5File h;
-    h.id = H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t fcpl = H5P_DEFAULT;
+    if (!preamble.empty())
+    {
+        hsize_t block = 512;   // HDF5 user blocks: 0 or a power of 2 >= 512
+        while (block < preamble.size()) block *= 2;
+        fcpl = H5Pcreate(H5P_FILE_CREATE);
+        H5Pset_userblock(fcpl, block);
+    }
+    h.id = H5Fcreate(file.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    if (fcpl != H5P_DEFAULT) H5Pclose(fcpl);
     if (h.id < 0) throw InputError("nscd::System::writeHDF5: cannot create " + file);
     Writer w{h.id, file};
     const std::size_t N = I.x.size();
@@ -127,6 +138,10 @@ void System::writeHDF5(const std::string& file) const
     std::vector<int> fx(N);
     for (std::size_t k = 0; k < N; ++k) fx[k] = (I.fix[k] ? 1 : 0) | (I.rotLock[k] ? 2 : 0);
     w.i("fixed", fx, 0);
+    // persistent grain ids and the next one (optional datasets: files
+    // without them read with ids 0 ... N-1)
+    w.write("grainIds", I.ids.data(), N, 0, H5T_NATIVE_LONG);
+    w.write("nextGrainId", &I.nextId, 1, 0, H5T_NATIVE_LONG);
 
     std::vector<int> wt;
     std::vector<double> wd;
@@ -183,6 +198,14 @@ void System::writeHDF5(const std::string& file) const
     w.d("wallTemperature", wT, 0);
     w.d("heatSettings", {I.defaultT, S.heatTolerance, double(S.heatMaxIterations)}, 0);
     if (H5Fflush(h.id, H5F_SCOPE_LOCAL) < 0) throw InputError("nscd::System::writeHDF5: cannot flush " + file);
+    if (preamble.empty()) return;
+    // the user block, after HDF5 has closed the file
+    const herr_t closed = H5Fclose(h.id);
+    h.id = -1;
+    std::FILE* fp = closed < 0 ? nullptr : std::fopen(file.c_str(), "r+b");
+    const bool ok = fp && std::fwrite(preamble.data(), 1, preamble.size(), fp) == preamble.size();
+    if (!(fp && std::fclose(fp) == 0 && ok))
+        throw InputError("nscd::System::writeHDF5: cannot write the preamble of " + file);
 }
 
 System System::readHDF5(const std::string& file)
@@ -256,6 +279,16 @@ System System::readHDF5(const std::string& file)
         I.force[k] = get3(f, 3*k);
         I.torque[k] = get3(t, 3*k);
         I.q[k].coeffs() << q[4*k], q[4*k + 1], q[4*k + 2], q[4*k + 3];
+    }
+    if (H5Lexists(r.f, "grainIds", H5P_DEFAULT) > 0)
+    {
+        I.ids = r.read<long>("grainIds", H5T_NATIVE_LONG, 0, N);
+        I.nextId = r.read<long>("nextGrainId", H5T_NATIVE_LONG, 0, 1)[0];
+        std::vector<long> sortedIds(I.ids);
+        std::sort(sortedIds.begin(), sortedIds.end());
+        for (long k = 0; k < N; ++k)
+            if (sortedIds[k] < 0 || sortedIds[k] >= I.nextId || (k > 0 && sortedIds[k] == sortedIds[k - 1]))
+                r.fail("grain ids are not unique values in [0, nextGrainId)");
     }
     const auto wt = r.i("wallTypes", 0);
     const auto wd = r.d("walls", 15, long(wt.size()));

@@ -111,6 +111,7 @@ void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
     fixT.push_back(0);
     mass.push_back(0);
     inertia.push_back(0);
+    ids.push_back(nextId++);
     setMassInertia(x.size() - 1);
 }
 
@@ -145,6 +146,7 @@ int System::addGrain(const Vec3& centre, double radius, int material, bool fixed
 }
 
 std::size_t System::size() const { return impl_->x.size(); }
+const std::vector<long>& System::grainIds() const { return impl_->ids; }
 const std::vector<Vec3>& System::positions() const { return impl_->x; }
 std::vector<Vec3>& System::positions() { return impl_->x; }
 const std::vector<Vec3>& System::velocities() const { return impl_->v; }

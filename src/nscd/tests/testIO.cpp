@@ -142,3 +142,28 @@ TEST(HDF5, EmptySystemRoundTrip)
     EXPECT_EQ(r.dimension(), 3);
     std::remove("nscd_empty.h5");
 }
+
+// A preamble (e.g. an OpenFOAM FoamFile header) in the HDF5 user block: the
+// file starts with it, HDF5 skips it and the restart stays bit-identical.
+TEST(HDF5, PreambleInUserBlock)
+{
+    System a = makeBox(2, 4);
+    for (int k = 0; k < 20; ++k) a.step(1e-3);
+    const std::string header = "FoamFile\n{\n    class nscdGrainState;\n}\n";
+    a.writeHDF5("nscd_preamble.h5", header);
+    {
+        std::ifstream in("nscd_preamble.h5", std::ios::binary);
+        std::string start(header.size(), '\0');
+        in.read(&start[0], std::streamsize(start.size()));
+        EXPECT_EQ(start, header);
+    }
+    System b = System::readHDF5("nscd_preamble.h5");
+    std::remove("nscd_preamble.h5");
+    for (int k = 0; k < 20; ++k) { a.step(1e-3); b.step(1e-3); }
+    EXPECT_EQ(a.positions(), b.positions());
+    EXPECT_EQ(a.velocities(), b.velocities());
+    // a preamble longer than 512 bytes: the next power of two
+    a.writeHDF5("nscd_preamble.h5", std::string(700, '#'));
+    EXPECT_EQ(System::readHDF5("nscd_preamble.h5").size(), a.size());
+    std::remove("nscd_preamble.h5");
+}

@@ -1305,7 +1305,7 @@ void Foam::vansCloud::applyGrainForces(const UList<vector>& extra)
 void Foam::vansCloud::evolve(const scalar dt)
 {
     nscd::System& s = grains_.system();
-    const label n = s.size();
+    label n = s.size();
     List<vector> v0(n);
     for (label i = 0; i < n; ++i)
     {
@@ -1319,6 +1319,12 @@ void Foam::vansCloud::evolve(const scalar dt)
     }
 
     grains_.evolve(dt);
+    if (grains_.removedGrains().size())   // grains left through outlets
+    {
+        grains_.compactRemoved(v0);
+        compactRemovedGrains();
+        n = s.size();
+    }
 
     if (cohesionOn())
     {

@@ -1,0 +1,251 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam: grainCloud outlet patches (issue 27, item 4)
+
+Description
+    outletPatches: open patches through which grains leave the domain.  A
+    grain whose centre crossed one during a step (grainCloud::
+    checkInsideMesh) is removed from the nscd system (nscd::System::
+    removeGrains: per-grain state compacted, its contacts dropped, ids not
+    reused) and counted per patch: number and mass [kg] (2D: over the mesh
+    depth), in the log, in postProcessing/grainOutlets/<startTime>/
+    grainOutlets.dat (master) and, at every write, in <time>/uniform/
+    grainOutlets, from which a restart continues the counts.
+\*---------------------------------------------------------------------------*/
+
+#include "grainCloud.H"
+#include "grainDictionaryTools.H"
+#include "Time.H"
+#include "OSspecific.H"
+#include "IFstream.H"
+#include "OFstream.H"
+#include "emptyPolyPatch.H"
+
+#include <sstream>
+
+// * * * * * * * * * * * * * * * Local Functions * * * * * * * * * * * * * * //
+
+namespace
+{
+    const Foam::word outletCountsName("grainOutlets");
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::grainCloud::readOutletPatches()
+{
+    outletPatches_.clear();
+    if (!dict_.found("outletPatches"))
+    {
+        return;
+    }
+    const polyBoundaryMesh& pbm = mesh_.boundaryMesh();
+    outletPatches_ = grainTools::patchIds(pbm, dict_, "outletPatches", "");
+    for (const label patchi : outletPatches_)
+    {
+        const polyPatch& pp = pbm[patchi];
+        if (patchWalls_.found(pp.name()))
+        {
+            FatalIOErrorInFunction(dict_)
+                << "Patch " << pp.name() << " is in outletPatches of "
+                << dict_.name() << " but it is a wall for the grains (type"
+                << " wall or listed in wallPatches): grains cannot leave"
+                << " through it." << nl
+                << "    Fix: remove it from outletPatches, or give"
+                << " wallPatches without it." << exit(FatalIOError);
+        }
+        if (pp.coupled() || isA<emptyPolyPatch>(pp))
+        {
+            FatalIOErrorInFunction(dict_)
+                << "Patch " << pp.name() << " (type " << pp.type() << ") in"
+                << " outletPatches of " << dict_.name() << " is not a"
+                << " boundary grains can cross." << nl
+                << "    Fix: list only open patches (e.g. an outlet of type"
+                << " patch)." << exit(FatalIOError);
+        }
+    }
+    outletCount_.setSize(outletPatches_.size(), 0);
+    outletMass_.setSize(outletPatches_.size(), 0);
+
+    // counts of the start time (a restart continues them); in parallel the
+    // undecomposed case's copy if the processor directory has none
+    const Time& runTime = mesh_.time();
+    fileName path(runTime.timePath()/"uniform"/outletCountsName);
+    if (Pstream::parRun() && !isFile(path))
+    {
+        path = runTime.globalPath()/runTime.timeName()/"uniform"/outletCountsName;
+    }
+    if (isFile(path))
+    {
+        IFstream is(path);
+        const dictionary counts(is);
+        forAll(outletPatches_, k)
+        {
+            const word& name = pbm[outletPatches_[k]].name();
+            if (counts.found(name))
+            {
+                const dictionary& d = counts.subDict(name);
+                outletCount_[k] = d.get<label>("grains");
+                outletMass_[k] = d.get<scalar>("mass");
+            }
+        }
+        if (sum(outletCount_) > 0)
+        {
+            Info<< "grainCloud: outlet counts continued from " << path << nl;
+        }
+    }
+
+    if (Pstream::master())
+    {
+        const fileName dir
+        (
+            runTime.globalPath()/"postProcessing"/outletCountsName
+           /runTime.timeName()
+        );
+        mkDir(dir);
+        outletFile_.reset(new std::ofstream(dir/"grainOutlets.dat"));
+        *outletFile_
+            << "# grains removed through the outlet patches (grainCloud"
+            << " outletPatches); mass [kg] (2D: over the mesh depth)\n"
+            << "# time patch grains mass totalGrains totalMass\n";
+        outletFile_->precision(12);
+    }
+}
+
+
+void Foam::grainCloud::removeOutletGrains
+(
+    const labelList& grains,
+    const labelList& patches
+)
+{
+    const scalar depth = dimension_ == 2 ? depth_ : 1;
+    labelList count(outletPatches_.size(), Zero);
+    scalarList mass(outletPatches_.size(), Zero);
+    List<DynamicList<label>> ids(outletPatches_.size());
+    std::vector<std::size_t> indices;
+    forAll(grains, k)
+    {
+        const label slot = outletPatches_.find(patches[k]);
+        ++count[slot];
+        mass[slot] += system_->mass(grains[k])*depth;
+        ids[slot].append(label(system_->grainIds()[grains[k]]));
+        indices.push_back(std::size_t(grains[k]));
+    }
+
+    const std::vector<std::size_t> removed = system_->removeGrains(indices);
+    lastRemoved_.setSize(label(removed.size()));
+    forAll(lastRemoved_, k)
+    {
+        lastRemoved_[k] = label(removed[k]);
+    }
+    compactRemoved(cellHint_);
+    {
+        // positions before the step, for the checks of the other grains
+        std::size_t k = 0, r = 0;
+        for (std::size_t i = 0; i < oldPositions_.size(); ++i)
+        {
+            if (r < removed.size() && removed[r] == i)
+            {
+                ++r;
+                continue;
+            }
+            oldPositions_[k++] = oldPositions_[i];
+        }
+        oldPositions_.resize(k);
+    }
+
+    const word t(mesh_.time().timeName());
+    forAll(outletPatches_, slot)
+    {
+        if (count[slot] == 0)
+        {
+            continue;
+        }
+        outletCount_[slot] += count[slot];
+        outletMass_[slot] += mass[slot];
+        const word& name = mesh_.boundaryMesh()[outletPatches_[slot]].name();
+        Info<< "grainOutlets: " << count[slot] << " grains (mass "
+            << mass[slot] << " kg) left through " << name << " at time " << t
+            << ", ids";
+        forAll(ids[slot], k)
+        {
+            if (k == 10)
+            {
+                Info<< " ...";
+                break;
+            }
+            Info<< ' ' << ids[slot][k];
+        }
+        Info<< "; total through " << name << ": " << outletCount_[slot]
+            << " grains, " << outletMass_[slot] << " kg" << endl;
+        if (outletFile_)
+        {
+            *outletFile_
+                << t << ' ' << name << ' ' << count[slot] << ' ' << mass[slot]
+                << ' ' << outletCount_[slot] << ' ' << outletMass_[slot]
+                << '\n';
+            outletFile_->flush();
+        }
+    }
+}
+
+
+void Foam::grainCloud::writeOutletCounts() const
+{
+    if (outletPatches_.empty())
+    {
+        return;
+    }
+    const Time& runTime = mesh_.time();
+    std::ostringstream os;
+    os.precision(17);
+    os  << "FoamFile\n{\n    version     2.0;\n    format      ascii;\n"
+        << "    class       dictionary;\n    location    \"" << runTime.timeName()
+        << "/uniform\";\n    object      " << outletCountsName << ";\n}\n\n";
+    os  << "// grains removed through the outlet patches since the case"
+        << " started (grainCloud\n// outletPatches); mass [kg] (2D: over"
+        << " the mesh depth).  A restart continues them.\n\n";
+    forAll(outletPatches_, k)
+    {
+        os  << mesh_.boundaryMesh()[outletPatches_[k]].name() << nl
+            << "{\n    grains " << outletCount_[k] << ";\n    mass "
+            << outletMass_[k] << ";\n}\n\n";
+    }
+    auto put = [&os](const fileName& dir)
+    {
+        mkDir(dir);
+        std::ofstream f(dir/outletCountsName);
+        f << os.str();
+        if (!f.good())
+        {
+            FatalErrorInFunction
+                << "Cannot write " << dir/outletCountsName
+                << " (no space left on device?)" << exit(FatalError);
+        }
+    };
+    put(runTime.timePath()/"uniform");
+    if (Pstream::parRun() && Pstream::master())
+    {
+        put(runTime.globalPath()/runTime.timeName()/"uniform");
+    }
+}
+
+
+void Foam::grainCloud::logOutletSummary() const
+{
+    if (outletPatches_.empty())
+    {
+        return;
+    }
+    Info<< "grainOutlets summary (since the case started):";
+    forAll(outletPatches_, k)
+    {
+        Info<< ' ' << mesh_.boundaryMesh()[outletPatches_[k]].name() << ' '
+            << outletCount_[k] << " grains " << outletMass_[k] << " kg;";
+    }
+    Info<< " grains left " << label(system_->size()) << nl;
+}
+
+
+// ************************************************************************* //

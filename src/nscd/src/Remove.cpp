@@ -1,0 +1,79 @@
+// nscd::System::removeGrains: grains leaving the system (e.g. through an
+// outlet of the fluid domain), with their per-grain state and contacts.
+#include "SystemImpl.H"
+
+#include <algorithm>
+#include <sstream>
+
+namespace nscd
+{
+
+namespace
+{
+/// Keep a[k] for the k with keep[k] != 0, in order.
+template<class T, class A>
+void compact(std::vector<T, A>& a, const std::vector<char>& keep)
+{
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < a.size(); ++k)
+        if (keep[k]) a[n++] = a[k];
+    a.resize(n);
+}
+}
+
+std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& indices)
+{
+    Impl& I = *impl_;
+    const std::size_t N = I.x.size();
+    std::vector<std::size_t> sorted(indices);
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 0; k < sorted.size(); ++k)
+    {
+        if (sorted[k] >= N)
+        {
+            std::ostringstream os;
+            os << "nscd::System::removeGrains: grain " << sorted[k] << " does not exist (" << N << " grains)";
+            throw InputError(os.str());
+        }
+        if (k > 0 && sorted[k] == sorted[k - 1])
+            throw InputError("nscd::System::removeGrains: grain " + std::to_string(sorted[k]) + " given twice");
+    }
+    if (sorted.empty()) return sorted;
+
+    // old grain index -> new one (-1: removed); the map is increasing, so the
+    // contact records (sorted by i, then j) stay sorted
+    std::vector<char> keep(N, 1);
+    for (std::size_t i : sorted) keep[i] = 0;
+    std::vector<int> newIndex(N, -1);
+    int n = 0;
+    for (std::size_t i = 0; i < N; ++i)
+        if (keep[i]) newIndex[i] = n++;
+    const int removed = int(N) - n;
+
+    compact(I.x, keep); compact(I.v, keep); compact(I.w, keep); compact(I.q, keep);
+    compact(I.rad, keep); compact(I.mat, keep); compact(I.fix, keep); compact(I.rotLock, keep);
+    compact(I.force, keep); compact(I.torque, keep); compact(I.mass, keep); compact(I.inertia, keep);
+    compact(I.ids, keep);
+    compact(I.dragCoefficient, keep); compact(I.dragVelocity, keep); compact(I.dragImpulse, keep);
+    compact(I.T, keep); compact(I.heatQ, keep); compact(I.heatH, keep); compact(I.heatTf, keep);
+    compact(I.fixT, keep);
+    for (Droplet& d : I.droplets)   // per-grain output of the last step
+        if (d.grainImpulse.size() == N) compact(d.grainImpulse, keep);
+
+    // contacts: body j is grain j (j < N) or wall j - N; droplet contacts
+    // are not kept between steps (storeImpulses)
+    std::size_t m = 0;
+    for (const Contact& c : I.contacts)
+    {
+        if (c.i < 0 || std::size_t(c.i) >= N || !keep[c.i]) continue;
+        if (c.j < int(N) && !keep[c.j]) continue;
+        Contact d = c;
+        d.i = newIndex[c.i];
+        d.j = c.j < int(N) ? newIndex[c.j] : c.j - removed;
+        I.contacts[m++] = d;
+    }
+    I.contacts.resize(m);
+    return sorted;
+}
+
+} // namespace nscd
