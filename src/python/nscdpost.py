@@ -73,10 +73,14 @@ def _foam_file(path):
 def read_vector_field(path):
     """Values of a lagrangian vectorField file (ascii or binary, `N(...)`
     or uniform `N{(x y z)}` list) as an (n, 3) float array; the legacy
-    `positions` file of a cloud as its (n, 3) centres [m].  Raises
+    `positions` file of a cloud as its (n, 3) centres [m]; the internal
+    field of a volVectorField (a uniform one as one row).  Raises
     FileNotFoundError, ValueError if the list is not of 3-vectors."""
-    if "Cloud<" in _foam_class(path):
+    cls = _foam_class(path)
+    if "Cloud<" in cls:
         return _read_positions(path)
+    if cls.startswith("vol"):   # a volVectorField: its internal field
+        return np.asarray(read_internal_field(path), dtype=float).reshape(-1, 3)
     arr = np.asarray(_foam_file(path)[None], dtype=float)
     if arr.size == 0:
         return arr.reshape(0, 3)
@@ -89,6 +93,8 @@ def read_scalar_field(path):
     """Values of a lagrangian scalarField / labelField file (ascii or binary,
     `N(...)` or uniform `N{v}` list) as an (n,) float array.  Raises
     FileNotFoundError, ValueError if the list is not of scalars."""
+    if _foam_class(path).startswith("vol"):   # a volScalarField: its internal field
+        return np.asarray(read_internal_field(path), dtype=float).reshape(-1)
     arr = np.asarray(_foam_file(path)[None], dtype=float)
     if arr.ndim != 1:
         raise ValueError(f"{path}: not a list of scalars (shape {arr.shape})")

@@ -299,6 +299,19 @@ Foam::vansCloud::vansCloud
             dragImpulseDefect_ = def;
         }
     }
+    IOobject heldIO
+    (
+        "grainHeldFraction", mesh.time().timeName(), "uniform", mesh,
+        IOobject::MUST_READ, IOobject::NO_WRITE, false
+    );
+    if (heldIO.typeHeaderOk<IOList<scalar>>(true))
+    {
+        const IOList<scalar> held(heldIO);
+        if (held.size() == label(grains_.system().size()))
+        {
+            heldFraction_ = held;
+        }
+    }
 
     // 2D disc packings have closed pores (solid fraction ~0.82): without the
     // fluid-side effective diameter of thesis section 3.2.3 a settled bed of
@@ -825,33 +838,37 @@ void Foam::vansCloud::markResolved()
 }
 
 
-void Foam::vansCloud::markHeld()
+void Foam::vansCloud::initHeldFraction()
 {
     const nscd::System& s = grains_.system();
     const label n = s.size();
-    held_.setSize(n);
-    held_ = false;
+    if (heldFraction_.size() == n)
+    {
+        return;
+    }
+    heldFraction_.setSize(n);
+    heldFraction_ = 0;
     for (const nscd::System::ContactView& c : s.contacts())
     {
         if (c.impulse.squaredNorm() > 0)
         {
-            held_[c.i] = true;
+            heldFraction_[c.i] = 1;
             if (c.j >= 0)
             {
-                held_[c.j] = true;
+                heldFraction_[c.j] = 1;
             }
         }
-    }
-    for (label i = 0; i < n; ++i)
-    {
-        held_[i] = held_[i] && !s.fixed(i) && !resolved_[i];
     }
 }
 
 
 Foam::scalar Foam::vansCloud::fluidInverseMass(const label i) const
 {
-    return held_[i] ? 0 : 1/grains_.system().mass(i);
+    // a held grain is seen 1e4 times heavier, not infinitely: where eps is
+    // clipped at epsMin the drag coefficient is astronomical and gamma*
+    // must stay bounded (<= 1e4 m/(W dt)) for a well-posed pressure equation
+    const scalar theta = resolved_[i] ? 0 : heldFraction_[i];
+    return (1 - theta*(1 - 1e-4))/grains_.system().mass(i);
 }
 
 
@@ -930,7 +947,7 @@ void Foam::vansCloud::predictDragCore
     const vector g(g3.x(), g3.y(), g3.z());
     const std::vector<double>& W = adapter_.grainMappedVolume();
     markResolved();
-    markHeld();
+    initHeldFraction();
 
     for (label i = 0; i < n; ++i)
     {
@@ -1349,11 +1366,13 @@ void Foam::vansCloud::evolve(const scalar dt)
         explicitFluidForce_.size() == n && fluidDragGiven_.size() == n
      && fluidForce_.size() == n;
     dragImpulseDefect_.setSize(n);
+    heldFraction_.setSize(n);
     for (label i = 0; i < n; ++i)
     {
         dragImpulseDefect_[i] = Zero;
         if (s.fixed(i))
         {
+            heldFraction_[i] = 0;
             contactImpulse_[i] = Zero;
             continue;
         }
@@ -1369,6 +1388,13 @@ void Foam::vansCloud::evolve(const scalar dt)
             fluidForce_[i] = F0 + Jd/dt;
             dragImpulseDefect_[i] = Jd - fluidDragGiven_[i];
         }
+        // held fraction: how much of the free drift P the contacts cancelled
+        const vector u = fluidVelocity_.size() == n ? fluidVelocity_[i] : v0[i];
+        const vector P =
+            dt*(m*g + F0 + s.fluidDragCoefficient(i)*(u - v0[i]));
+        const scalar P2 = magSqr(P);
+        heldFraction_[i] =
+            P2 > 0 ? min(max(-(contactImpulse_[i] & P)/P2, scalar(0)), scalar(1)) : 0;
     }
 }
 
@@ -1526,6 +1552,23 @@ void Foam::vansCloud::write() const
             *item.second
         );
         list.writeObject
+        (
+            IOstream::BINARY, IOstream::currentVersion,
+            IOstream::UNCOMPRESSED, true
+        );
+    }
+    if (heldFraction_.size())
+    {
+        IOList<scalar> held
+        (
+            IOobject
+            (
+                "grainHeldFraction", mesh_.time().timeName(), "uniform",
+                mesh_, IOobject::NO_READ, IOobject::NO_WRITE, false
+            ),
+            heldFraction_
+        );
+        held.writeObject
         (
             IOstream::BINARY, IOstream::currentVersion,
             IOstream::UNCOMPRESSED, true

@@ -29,7 +29,7 @@ void Foam::vansCloud::compactRemovedGrains()
     g.compactRemoved(contactImpulse_);
     g.compactRemoved(fluidDragGiven_);
     g.compactRemoved(dragImpulseDefect_);
-    g.compactRemoved(held_);
+    g.compactRemoved(heldFraction_);
     g.compactRemoved(explicitFluidForce_);
     g.compactRemoved(ReP_);
     g.compactRemoved(rhog_);
