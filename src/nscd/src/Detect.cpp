@@ -298,6 +298,8 @@ void System::Impl::detect(double dt)
         for (std::size_t a = 0; a < fastGrains.size(); ++a)
         {
             const int f = fastGrains[a];
+            for (std::size_t b = a + 1; b < fastGrains.size(); ++b)
+                tryPair(f, fastGrains[b], fastContacts);  // fastGrains is sorted: f < fastGrains[b]
             // every slow j with a gap below af dt (s_f + s_j) + margin lies within R of x_f
             const double R = rad[f] + rmax + af*dt*(speed[f] + sSlow) + margin;
             long c0[3] = {0, 0, 0}, c1[3] = {0, 0, 0};
@@ -321,8 +323,6 @@ void System::Impl::detect(double dt)
                     else tryPair(f, j, fastContacts);
                 }
             }
-            for (std::size_t b = a + 1; b < fastGrains.size(); ++b)
-                tryPair(f, fastGrains[b], fastContacts);  // fastGrains is sorted: f < fastGrains[b]
         }
         std::sort(fastContacts.begin(), fastContacts.end(),
                   [](const Contact& p, const Contact& q) { return p.i < q.i || (p.i == q.i && p.j < q.j); });

@@ -22,10 +22,13 @@ namespace
     /// The bodies that set the sub-step of advance() over dt: the largest
     /// change of a body's velocity over dt from the forces of the step,
     /// |v_free - v| + r |w_free - w| (free velocities of freeVelocities: gravity,
-    /// external force and torque, droplet forces), and the largest free
-    /// speed |v_free| + r |w_free| (walls: their velocity); who: grain id
-    /// >= 0, -1 wall, -2 droplet, -3 nothing moves. Fills Impl::body.
-    struct Fastest { double dv = 0, v = 0; int whoDv = -3, whoV = -3; };
+    /// external force and torque, droplet forces); the largest tangential
+    /// relative free velocity |(1 - n n)(v_free,i - v_free,j)| of two
+    /// touching grains (gap <= alertMargin r_min, contacts of the last
+    /// step); and the largest free speed |v_free| + r |w_free| (walls: their
+    /// velocity); who: grain id >= 0, -1 wall, -2 droplet, -3 nothing
+    /// moves. Fills Impl::body.
+    struct Fastest { double dv = 0, vt = 0, v = 0; int whoDv = -3, whoVt = -3, whoV = -3; };
 
     template <class ImplT>
     Fastest fastest(ImplT& I, double dt)
@@ -45,6 +48,18 @@ namespace
             if (s > f.v) { f.v = s; f.whoV = i; }
             if (dv > f.dv) { f.dv = dv; f.whoDv = i; }
         }
+        const double touch = I.settings.alertMargin*I.rMin();
+        for (const Contact& c : I.contacts)
+        {
+            if (c.j >= N) continue;  // walls: plane faces keep their normal
+            const Vec3 d = I.x[c.i] - I.x[c.j];
+            const double dn = d.norm();
+            if (!(dn - I.rad[c.i] - I.rad[c.j] <= touch) || !(dn > 0)) continue;
+            const Vec3 n = d/dn;
+            const Vec3 u = I.body[c.i].v - I.body[c.j].v;
+            const double vt = (u - u.dot(n)*n).norm();
+            if (vt > f.vt) { f.vt = vt; f.whoVt = c.i; }
+        }
         for (const auto& W : I.walls)
             if (W.velocity.norm() > f.v) { f.v = W.velocity.norm(); f.whoV = -1; }
         for (int k = 0; k < int(I.droplets.size()); ++k)
@@ -57,16 +72,20 @@ namespace
         return f;
     }
 
-    /// Sub-step count over dt (see System::advance): the velocity change of
-    /// the step moves a body at most fraction d_min per sub-step, and its
-    /// free velocity at most maxTravelDiameters d_min.
+    /// Sub-step count over dt (see System::advance) and its cause (0: the
+    /// velocity change, 1: the tangential motion of touching grains, 2: the
+    /// travel): the velocity change of the step and the tangential relative
+    /// velocity of touching grains move a body at most fraction d_min per
+    /// sub-step, the free velocity at most maxTravelDiameters d_min.
     template <class ImplT>
-    double subStepsOf(const ImplT& I, double dt, double fraction, const Fastest& f)
+    double subStepsOf(const ImplT& I, double dt, double fraction, const Fastest& f, int* cause = nullptr)
     {
         const double dmin = 2*I.rMin();
         if (dmin == 0) return 1;
-        const double n = std::max(f.dv*dt/(fraction*dmin), f.v*dt/(maxTravelDiameters*dmin));
-        return std::max(1.0, std::ceil(n*(1 - 1e-12)));  // guard round-off
+        const double a[3] = {f.dv*dt/(fraction*dmin), f.vt*dt/(fraction*dmin), f.v*dt/(maxTravelDiameters*dmin)};
+        const int k = int(std::max_element(a, a + 3) - a);
+        if (cause) *cause = k;
+        return std::max(1.0, std::ceil(a[k]*(1 - 1e-12)));  // guard round-off
     }
 }
 
@@ -90,18 +109,12 @@ StepReport System::advance(double dt, double fraction)
     using clock = std::chrono::steady_clock;
     clock::time_point lastBeat = clock::now();
     const auto beatEvery = std::chrono::duration<double>(I.settings.heartbeatSeconds);
-    struct Slack  // step()'s travel slack for this call only
-    {
-        double& s; double keep;
-        ~Slack() { s = keep; }
-    } slack{I.travelSlack, I.travelSlack};
-    I.travelSlack = 0.5*fraction*2*I.rMin();
     while (remaining > 0)
     {
         // velocity change over the whole dt of the call (not the remaining
         // time): constant forces give equal sub-steps
         const Fastest f = fastest(I, dt);
-        if (!std::isfinite(f.v) || !std::isfinite(f.dv))
+        if (!std::isfinite(f.v) || !std::isfinite(f.dv))  // (f.vt is then finite or NaN-free: same velocities)
         {
             std::ostringstream os;
             os << "nscd::System::advance: grain " << f.whoV << " has a non-finite velocity, force or"
@@ -109,36 +122,38 @@ StepReport System::advance(double dt, double fraction)
                << " N, velocity " << I.v[f.whoV].transpose() << " m/s)";
             throw StepError(os.str());
         }
-        double h = std::min(remaining, dt/subStepsOf(I, dt, fraction, f));
+        int cause = 0;
+        double h = std::min(remaining, dt/subStepsOf(I, dt, fraction, f, &cause));
         if (h >= remaining*(1 - 1e-12)) h = remaining;
         const double needed = total.substeps + std::ceil(remaining/h*(1 - 1e-12));
         if (needed > double(maxSub))
         {
             const double dmin = 2*I.rMin();
-            const bool byForce = f.dv*dt/(fraction*dmin) >= f.v*dt/(maxTravelDiameters*dmin);
-            const int who = byForce ? f.whoDv : f.whoV;
+            const int who = cause == 0 ? f.whoDv : (cause == 1 ? f.whoVt : f.whoV);
+            const double val = cause == 0 ? f.dv : (cause == 1 ? f.vt : f.v);
             std::ostringstream os;
             os << "nscd::System::advance: the step of " << dt << " s needs about " << needed
                << " sub-steps, more than maxSubSteps = " << maxSub << " (";
             if (who >= 0)
             {
-                if (byForce)
-                    os << "the forces of the step change the velocity of grain " << who << " by " << f.dv
+                if (cause == 0)
+                    os << "the forces of the step change the velocity of grain " << who << " by " << val
                        << " m/s, external force " << I.force[who].norm() << " N";
+                else if (cause == 1)
+                    os << "grain " << who << " slides or rolls past a touching grain at " << val << " m/s";
                 else
-                    os << "grain " << who << " moves at " << f.v << " m/s";
-                if (I.g.norm() > 0)
+                    os << "grain " << who << " moves at " << val << " m/s";
+                if (cause != 1 && I.g.norm() > 0)
                     os << " (" << I.force[who].norm()/(I.mass[who]*I.g.norm()) << " x its weight)";
             }
             else
-                os << (who == -1 ? "a wall" : "a droplet") << (byForce ? " changes its velocity by " : " moves at ")
-                   << (byForce ? f.dv : f.v) << " m/s";
-            if (byForce)
-                os << "; this velocity change may move a grain by " << fraction << " d_min = "
-                   << fraction*dmin << " m per sub-step)";
-            else
+                os << (who == -1 ? "a wall" : "a droplet") << (cause == 0 ? " changes its velocity by " : " moves at ")
+                   << val << " m/s";
+            if (cause == 2)
                 os << "; a grain may move by " << maxTravelDiameters << " d_min = " << maxTravelDiameters*dmin
                    << " m per sub-step)";
+            else
+                os << "; this may move a grain by " << fraction << " d_min = " << fraction*dmin << " m per sub-step)";
             throw StepError(os.str());
         }
         const StepReport r = step(h);
@@ -211,8 +226,7 @@ bool System::Impl::raiseReaches(double dt)
     const int N = int(x.size());
     if (N == 0) return false;
     const double af = settings.alertDistanceFactor;
-    const double dmin = 2*rMin();
-    const double free = 0.5*settings.alertMargin*rMin() + (travelSlack >= 0 ? travelSlack : 0.05*dmin);
+    const double free = 0.5*settings.alertMargin*rMin();
     bool any = false;
     for (int i = 0; i < N; ++i)
     {

@@ -62,7 +62,8 @@ TEST(BroadPhase, GridFindsEveryBruteForcePair)
 // af dt (s_i + s_j) + alertMargin r_min, s = |v| + r|w| (no force: the free
 // velocity is the velocity), on a bed at rest with fast grains (paired in
 // the separate pass of the broad phase): 5 fast grains, then 200 (more than
-// the pass takes: the slowest of them go back to the grid). Every
+// the pass takes: the slowest of them go back to the grid), and two fast
+// grains outside the box of the others (a fast-fast pair). Every
 // brute-force pair must be found; pairs beyond it only if the step was
 // re-detected with larger reaches (a fast grain hit something).
 TEST(BroadPhase, FastGrainsFindEveryBruteForcePair)
@@ -85,6 +86,12 @@ TEST(BroadPhase, FastGrainsFindEveryBruteForcePair)
                 v *= (0.035 + 0.3*(k % 10)/9.0)/(dt*v.norm());
                 s.velocities()[i] = v;
             }
+            // two fast grains side by side outside the bed's box (fast-fast pair
+            // of grains outside the grid)
+            const double L = dim == 2 ? 1.0 : 0.4;
+            s.velocities()[s.addGrain(Vec3(-0.2*L, 0.5*L, 0), 0.01, 0)] = Vec3(0, 0.07/dt, 0);
+            s.velocities()[s.addGrain(Vec3(-0.2*L + 0.05, 0.5*L, 0), 0.01, 0)] = Vec3(0, -0.07/dt, 0);
+            const int n2 = int(s.size());
             const auto x = s.positions();
             const auto v = s.velocities();
             const auto& r = s.radii();
@@ -92,8 +99,8 @@ TEST(BroadPhase, FastGrainsFindEveryBruteForcePair)
             for (double a : r) rmin = std::min(rmin, a);
             const double af = s.settings().alertDistanceFactor, margin = s.settings().alertMargin*rmin;
             std::set<std::pair<int, int>> brute;
-            for (int i = 0; i < n; ++i)
-                for (int j = i + 1; j < n; ++j)
+            for (int i = 0; i < n2; ++i)
+                for (int j = i + 1; j < n2; ++j)
                     if ((x[i] - x[j]).norm() - r[i] - r[j] < af*dt*(v[i].norm() + v[j].norm()) + margin)
                         brute.insert({i, j});
             const StepReport rep = s.step(dt);
