@@ -20,7 +20,8 @@ Description
           exchanged heat handed to the grains as heat sources]
          [3c. vapour on: passive scalar psi, psiEqn.H (eq. 4.19)]
       4. fluid forces onto the grains (drag + pressure gradient, model A/B)
-      5. NSCD step of the grains (sub-stepped on d_min/|v_max|)
+      5. NSCD step of the grains (nscd::System::advance: per-pair contact
+         detection, sub-stepped only on large force-driven velocity changes)
 
     2D: one-cell-thick mesh with empty front/back (discs); 3D: spheres.
     Settings: constant/couplingProperties, constant/grainProperties,

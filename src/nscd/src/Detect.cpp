@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 
 namespace nscd
 {
@@ -17,6 +19,39 @@ inline Vec3 closestSegment(const Vec3& p, const Vec3& a, const Vec3& b)
     double t = (p - a).dot(ab)/ab.squaredNorm();
     t = std::min(1.0, std::max(0.0, t));
     return a + t*ab;
+}
+
+/**
+ * Normal of a grain pair that moves far in a step. The centre separation
+ * d (from B to A, |d| > R = r_A + r_B) moves along p(t) = d + t del, t in
+ * [0, 1], del = dt (v_A - v_B) at the free velocities. The gap-based
+ * Signorini law of the step, n.(d + dt u) >= R, forbids the half-space on
+ * the ball's side of the plane n.p = R: whatever unit n, the end position
+ * cannot overlap (|p| >= n.p >= R), and if the start is outside (n.d >= R)
+ * the straight path cannot cross the ball (both ends in the half-space).
+ * With the start normal d/|d| a pair whose free path passes beside the ball
+ * may still end in the forbidden half-space: a spurious impact of a grain
+ * skimming past another, several diameters ahead of it. Here n is instead
+ *  - the normal at the first touch, p(t_c)/R, if the free path hits the
+ *    ball (continuous collision detection: the impact normal);
+ *  - otherwise the direction of the path's closest point to the ball,
+ *    for which n.p(t) >= |p(t*)| > R all along the free path: the contact
+ *    stays inactive unless the solve deflects the pair towards each other.
+ * In both cases n.d >= R, and gap = n.d - R >= 0 is the gap along n.
+ */
+inline void sweptNormal(const Vec3& d, const Vec3& del, double R, Vec3& n, double& gap)
+{
+    const double a = del.squaredNorm(), b = d.dot(del);
+    Vec3 p;
+    const double disc = b*b - a*(d.squaredNorm() - R*R);
+    double tc = 2;
+    if (b < 0 && disc >= 0) tc = (-b - std::sqrt(disc))/a;
+    if (tc <= 1) p = d + tc*del;
+    else p = d + std::min(1.0, std::max(0.0, -b/a))*del;
+    const double pn = p.norm();
+    if (!(pn > 0)) return;  // keep the start normal
+    n = p/pn;
+    gap = std::max(0.0, n.dot(d) - R);
 }
 }
 
@@ -144,20 +179,56 @@ void System::Impl::detectWalls(int i, double dt, double margin, double alertFact
 
 void System::Impl::detect(double dt)
 {
+    // Per-pair alert distances (the reach of each body from its own free
+    // velocity, as LMGC90's alert distance): grains i, j are a candidate
+    // contact when their gap is below af dt (s_i + s_j) + margin, s_i =
+    // speed[i]. A uniform grid sized for the largest reach would make one
+    // fast grain enlarge every cell (O(N^2) pair tests for a bed at rest).
+    // Instead the grid is sized for the slow grains (s_i <= sCut) only, and
+    // the few fast ones (at most maxFast) are paired in a separate pass: each
+    // scans the cells its alert sphere covers, and fast-fast pairs are tested
+    // directly. Cost O(N + sum over fast grains of their covered cells +
+    // F^2), O(N) for a bed with a few fast grains (see sCut below).
     const int N = int(x.size());
     newContacts.clear();
     if (N == 0) return;
     const Settings& S = settings;
     const double rmin = rMin(), rmax = rMax();
     const double margin = S.alertMargin*rmin;
-    double smax = 0;
-    for (int i = 0; i < N; ++i) smax = std::max(smax, speed[i]);
-    const double alertMax = S.alertDistanceFactor*dt*2*smax + margin;
-    double h = 2*rmax + alertMax;
+    const double af = S.alertDistanceFactor;
 
-    // bounding box
-    Vec3 lo = x[0], hi = x[0];
-    for (int i = 1; i < N; ++i) { lo = lo.cwiseMin(x[i]); hi = hi.cwiseMax(x[i]); }
+    // fast grains: reach af dt s above rmax/4 (a cell grows by at most half
+    // a radius for the slow ones), and at most maxFast of them (the fastest)
+    const int maxFast = std::max(32, int(std::sqrt(double(N))));
+    double sCut = af*dt > 0 ? 0.25*rmax/(af*dt) : std::numeric_limits<double>::infinity();
+    int nFast = 0;
+    for (int i = 0; i < N; ++i) nFast += speed[i] > sCut;
+    if (nFast > maxFast)
+    {
+        fastScratch.assign(speed.begin(), speed.end());
+        std::nth_element(fastScratch.begin(), fastScratch.begin() + maxFast, fastScratch.end(), std::greater<double>());
+        sCut = fastScratch[maxFast];  // the (maxFast+1)-th largest: at most maxFast are above
+    }
+    fastGrains.clear();
+    double sSlow = 0;  // largest speed of a slow grain
+    for (int i = 0; i < N; ++i)
+    {
+        if (speed[i] > sCut) fastGrains.push_back(i);
+        else sSlow = std::max(sSlow, speed[i]);
+    }
+    if (int(fastGrains.size()) == N)
+    {
+        // every grain fast (a few grains in flight): one grid for all, as if slow
+        fastGrains.clear();
+        sCut = std::numeric_limits<double>::infinity();
+        for (int i = 0; i < N; ++i) sSlow = std::max(sSlow, speed[i]);
+    }
+    double h = 2*rmax + af*dt*2*sSlow + margin;
+
+    // bounding box of the slow grains
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
+    for (int i = 0; i < N; ++i)
+        if (speed[i] <= sCut) { lo = lo.cwiseMin(x[i]); hi = hi.cwiseMax(x[i]); }
     const int D = dim;
     auto ncells = [&](double hh, long dims[3])
     {
@@ -175,11 +246,12 @@ void System::Impl::detect(double dt)
     while (tot > cap) { h *= 1.5; tot = ncells(h, dims); }
     const double ih = 1.0/h;
 
-    // counting sort of grains into cells
+    // counting sort of the slow grains into cells (fast ones: cellOf = -1)
     cellOf.resize(N);
     cellStart.assign(tot + 1, 0);
     for (int i = 0; i < N; ++i)
     {
+        if (speed[i] > sCut) { cellOf[i] = -1; continue; }
         long c[3] = {0, 0, 0};
         for (int d = 0; d < D; ++d) c[d] = std::min(dims[d] - 1, long((x[i][d] - lo[d])*ih));
         const int cell = int(c[0] + dims[0]*(c[1] + dims[1]*c[2]));
@@ -187,57 +259,104 @@ void System::Impl::detect(double dt)
         ++cellStart[cell + 1];
     }
     for (long c = 0; c < tot; ++c) cellStart[c + 1] += cellStart[c];
-    cellItems.resize(N);
+    cellItems.resize(cellStart[tot]);
     {
         // use adjStart as a temporary cursor array
         adjStart.assign(cellStart.begin(), cellStart.end() - 1);
-        for (int i = 0; i < N; ++i) cellItems[adjStart[cellOf[i]]++] = i;
+        for (int i = 0; i < N; ++i) if (cellOf[i] >= 0) cellItems[adjStart[cellOf[i]]++] = i;
     }
 
-    const double af = S.alertDistanceFactor;
+    // the pair test (i < j): appends to out
+    auto tryPair = [&](int i, int j, std::vector<Contact>& out)
+    {
+        if (fix[i] && fix[j]) return;
+        const Vec3 d = x[i] - x[j];
+        const double sum = rad[i] + rad[j];
+        const double lim = sum + af*dt*(speed[i] + speed[j]) + margin;
+        const double d2 = d.squaredNorm();
+        if (d2 >= lim*lim) return;
+        const double dn = std::sqrt(d2);
+        if (!(dn > 0)) return;
+        Contact c;
+        c.i = i;
+        c.j = j;
+        c.n = d/dn;
+        c.gap = dn - sum;
+        if (c.gap > 0)
+        {
+            const Vec3 del = dt*(body[i].v - body[j].v);  // free relative displacement
+            if (del.squaredNorm() > margin*margin) sweptNormal(d, del, sum, c.n, c.gap);
+        }
+        c.mu = 0.5*(materials[mat[i]].friction + materials[mat[j]].friction);
+        out.push_back(c);
+    };
+
+    // pairs with a fast grain, sorted by (i, j), merged below into the grain loop
+    fastContacts.clear();
+    if (!fastGrains.empty())
+    {
+        for (std::size_t a = 0; a < fastGrains.size(); ++a)
+        {
+            const int f = fastGrains[a];
+            for (std::size_t b = a + 1; b < fastGrains.size(); ++b)
+                tryPair(f, fastGrains[b], fastContacts);  // fastGrains is sorted: f < fastGrains[b]
+            // every slow j with a gap below af dt (s_f + s_j) + margin lies within R of x_f
+            const double R = rad[f] + rmax + af*dt*(speed[f] + sSlow) + margin;
+            long c0[3] = {0, 0, 0}, c1[3] = {0, 0, 0};
+            bool outside = false;
+            for (int d = 0; d < D; ++d)
+            {
+                const double a0 = std::floor((x[f][d] - R - lo[d])*ih), a1 = std::floor((x[f][d] + R - lo[d])*ih);
+                if (a1 < 0 || a0 > double(dims[d] - 1)) { outside = true; break; }
+                c0[d] = long(std::max(0.0, a0));
+                c1[d] = long(std::min(double(dims[d] - 1), a1));
+            }
+            if (outside) continue;
+            for (long zz = c0[2]; zz <= c1[2]; ++zz)
+            for (long yy = c0[1]; yy <= c1[1]; ++yy)
+            {
+                const long row = dims[0]*(yy + dims[1]*zz);
+                for (int k = cellStart[row + c0[0]], e = cellStart[row + c1[0] + 1]; k < e; ++k)
+                {
+                    const int j = cellItems[k];
+                    if (j < f) tryPair(j, f, fastContacts);
+                    else tryPair(f, j, fastContacts);
+                }
+            }
+        }
+        std::sort(fastContacts.begin(), fastContacts.end(),
+                  [](const Contact& p, const Contact& q) { return p.i < q.i || (p.i == q.i && p.j < q.j); });
+    }
+
     const bool hasWalls = !walls.empty();
+    std::size_t nextFast = 0;
     for (int i = 0; i < N; ++i)
     {
         const int cell = cellOf[i];
-        const long cx = cell % dims[0];
-        const long cy = (cell/dims[0]) % dims[1];
-        const long cz = cell/(dims[0]*dims[1]);
-        const Vec3 xi = x[i];
-        const double ri = rad[i];
-        const double si = speed[i];
-        const bool fi = fix[i];
-        const double mui = materials[mat[i]].friction;
-        const long z0 = std::max(0L, cz - 1), z1 = std::min(dims[2] - 1, cz + 1);
-        const long y0 = std::max(0L, cy - 1), y1 = std::min(dims[1] - 1, cy + 1);
-        const long x0 = std::max(0L, cx - 1), x1 = std::min(dims[0] - 1, cx + 1);
-        for (long zz = z0; zz <= z1; ++zz)
-        for (long yy = y0; yy <= y1; ++yy)
+        if (cell >= 0)
         {
-            const long row = dims[0]*(yy + dims[1]*zz);
-            const int b = cellStart[row + x0], e = cellStart[row + x1 + 1];
-            for (int k = b; k < e; ++k)
+            const long cx = cell % dims[0];
+            const long cy = (cell/dims[0]) % dims[1];
+            const long cz = cell/(dims[0]*dims[1]);
+            const long z0 = std::max(0L, cz - 1), z1 = std::min(dims[2] - 1, cz + 1);
+            const long y0 = std::max(0L, cy - 1), y1 = std::min(dims[1] - 1, cy + 1);
+            const long x0 = std::max(0L, cx - 1), x1 = std::min(dims[0] - 1, cx + 1);
+            for (long zz = z0; zz <= z1; ++zz)
+            for (long yy = y0; yy <= y1; ++yy)
             {
-                const int j = cellItems[k];
-                if (j <= i) continue;
-                if (fi && fix[j]) continue;
-                const Vec3 d = xi - x[j];
-                const double sum = ri + rad[j];
-                const double alert = af*dt*(si + speed[j]) + margin;
-                const double lim = sum + alert;
-                const double d2 = d.squaredNorm();
-                if (d2 >= lim*lim) continue;
-                const double dn = std::sqrt(d2);
-                if (!(dn > 0)) continue;
-                Contact c;
-                c.i = i;
-                c.j = j;
-                c.n = d/dn;
-                c.gap = dn - sum;
-                c.mu = 0.5*(mui + materials[mat[j]].friction);
-                newContacts.push_back(c);
+                const long row = dims[0]*(yy + dims[1]*zz);
+                const int b = cellStart[row + x0], e = cellStart[row + x1 + 1];
+                for (int k = b; k < e; ++k)
+                {
+                    const int j = cellItems[k];
+                    if (j > i) tryPair(i, j, newContacts);
+                }
             }
         }
-        if (hasWalls && !fi) detectWalls(i, dt, margin, af);
+        // pairs of i with fast grains (or of fast grain i), already sorted
+        while (nextFast < fastContacts.size() && fastContacts[nextFast].i == i)
+            newContacts.push_back(fastContacts[nextFast++]);
+        if (hasWalls && !fix[i]) detectWalls(i, dt, margin, af);
     }
 }
 

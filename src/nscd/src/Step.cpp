@@ -6,9 +6,10 @@
 // (Impl::rows, struct SolverContact) built from the detected contacts by
 // prepareContacts and written back by storeImpulses.
 //
-//   validate -> freeVelocities -> detect -> prepareContacts (+ warmStart of
-//   each row) -> buildAdjacency -> solveContacts -> integrate -> storeImpulses
-//   -> heat
+//   validate -> freeVelocities -> [detect -> prepareContacts (+ warmStart of
+//   each row) -> buildAdjacency -> solveContacts] (detectAndSolve: repeated
+//   with larger reaches if a grain leaves its reach) -> integrate ->
+//   storeImpulses -> heat
 // The warm start and the adjacency counts are applied row by row inside
 // prepareContacts (one pass over the rows instead of three: at 70,000 discs
 // at rest the passes over the contact arrays are memory-bound).
@@ -70,25 +71,16 @@ StepReport System::step(double dt)
     rep.substeps = 1;
 
     I.freeVelocities(dt);
-
-    using clock = std::chrono::steady_clock;
-    const auto t0 = clock::now();
-    I.detect(dt);
-    const int NC0 = int(I.newContacts.size());  // grain-grain and grain-wall contacts
-    I.detectDroplets(dt);                        // then grain-droplet ones
-    const auto t1 = clock::now();
-    rep.detectSeconds = std::chrono::duration<double>(t1 - t0).count();
-
-    I.prepareContacts(dt, NC0);  // warm start and adjacency counts included
-    I.buildAdjacency();
-    I.solveContacts(dt, rep);
-    rep.solveSeconds = std::chrono::duration<double>(clock::now() - t1).count();
+    // detect, prepareContacts (+ warm start), buildAdjacency, solveContacts;
+    // again with larger reaches if a grain leaves its reach (SystemExtra.cpp)
+    const int NC0 = I.detectAndSolve(dt, rep);
 
     I.integrate(dt, NC0);
     I.storeImpulses(dt, NC0, rep);
 
     if (heat)
     {
+        using clock = std::chrono::steady_clock;
         const auto t2 = clock::now();
         I.heatStep(dt, rep);
         rep.heatSeconds = std::chrono::duration<double>(clock::now() - t2).count();

@@ -1,4 +1,5 @@
-// Sub-stepping, checks, contact views, conductance.
+// Sub-stepping (advance), detection with re-detection of grains that leave
+// their reach (detectAndSolve), checks, contact views, conductance.
 #include "SystemImpl.H"
 
 #include <algorithm>
@@ -12,64 +13,95 @@ namespace nscd
 
 namespace
 {
-    /// Fastest body of a step dt: max over grains of |v_free| + r |w + alpha dt|
-    /// (free velocity), walls and droplets; who: grain id >= 0, -1 wall, -2 droplet.
-    struct Fastest { double v = 0; int who = -1; };
+    /// Displacement bound per (sub-)step, in d_min, of a body at its free
+    /// velocity (advance(): only for absurd velocities, see System.H).
+    constexpr double maxTravelDiameters = 100;
+    /// Re-detections of one step (System::Impl::detectAndSolve).
+    constexpr int maxRedetections = 4;
+
+    /// The bodies that set the sub-step of advance() over dt: the largest
+    /// change of a body's velocity over dt from the forces of the step,
+    /// |v_free - v| + r |w_free - w| (free velocities of freeVelocities: gravity,
+    /// external force and torque, droplet forces); the largest tangential
+    /// relative free velocity |(1 - n n)(v_free,i - v_free,j)| of two
+    /// touching grains (gap <= alertMargin r_min, contacts of the last
+    /// step); and the largest free speed |v_free| + r |w_free| (walls: their
+    /// velocity); who: grain id >= 0, -1 wall, -2 droplet, -3 nothing
+    /// moves. Fills Impl::body.
+    struct Fastest { double dv = 0, vt = 0, v = 0; int whoDv = -3, whoVt = -3, whoV = -3; };
 
     template <class ImplT>
-    Fastest fastest(const ImplT& I, double dt)
+    Fastest fastest(ImplT& I, double dt)
     {
         Fastest f;
-        f.who = -3;  // nothing moves
-        const int N = int(I.x.size());
+        I.freeVelocities(dt);
+        const int N = int(I.x.size()), NW = int(I.walls.size());
         for (int i = 0; i < N; ++i)
         {
-            Vec3 v = I.v[i], w = I.w[i];
-            if (!I.fix[i])
-            {
-                v = I.freeVelocity(i, dt);
-                if (!I.rotLock[i]) w += dt*I.torque[i]/I.inertia[i];
-            }
-            if (I.dim == 2) { v.z() = 0; w.x() = w.y() = 0; }
-            const double s = v.norm() + I.rad[i]*w.norm();
+            const Body& B = I.body[i];
+            const double s = B.v.norm() + B.r*B.w.norm();
+            Vec3 v0 = I.v[i], w0 = I.w[i];
+            if (I.dim == 2) { v0.z() = 0; w0.x() = w0.y() = 0; }
+            const double dv = (B.v - v0).norm() + B.r*(B.w - w0).norm();
             // std::isfinite first: comparing a NaN raises FE_INVALID (SIGFPE when trapped)
-            if (!std::isfinite(s)) { f.v = s; f.who = i; return f; }
-            if (s > f.v) { f.v = s; f.who = i; }
+            if (!std::isfinite(s) || !std::isfinite(dv)) { f.v = f.dv = s + dv; f.whoV = f.whoDv = i; return f; }
+            if (s > f.v) { f.v = s; f.whoV = i; }
+            if (dv > f.dv) { f.dv = dv; f.whoDv = i; }
+        }
+        const double touch = I.settings.alertMargin*I.rMin();
+        for (const Contact& c : I.contacts)
+        {
+            if (c.j >= N) continue;  // walls: plane faces keep their normal
+            const Vec3 d = I.x[c.i] - I.x[c.j];
+            const double dn = d.norm();
+            if (!(dn - I.rad[c.i] - I.rad[c.j] <= touch) || !(dn > 0)) continue;
+            const Vec3 n = d/dn;
+            const Vec3 u = I.body[c.i].v - I.body[c.j].v;
+            const double vt = (u - u.dot(n)*n).norm();
+            if (vt > f.vt) { f.vt = vt; f.whoVt = c.i; }
         }
         for (const auto& W : I.walls)
-            if (W.velocity.norm() > f.v) { f.v = W.velocity.norm(); f.who = -1; }
-        for (const auto& D : I.droplets)
+            if (W.velocity.norm() > f.v) { f.v = W.velocity.norm(); f.whoV = -1; }
+        for (int k = 0; k < int(I.droplets.size()); ++k)
         {
-            Vec3 v = D.velocity;
-            if (D.mass > 0) v += dt*D.force/D.mass;
-            if (v.norm() > f.v) { f.v = v.norm(); f.who = -2; }
+            const Vec3& v = I.body[N + NW + k].v;
+            const double dv = (v - I.droplets[k].velocity).norm();
+            if (v.norm() > f.v) { f.v = v.norm(); f.whoV = -2; }
+            if (dv > f.dv) { f.dv = dv; f.whoDv = -2; }
         }
         return f;
     }
 
+    /// Sub-step count over dt (see System::advance) and its cause (0: the
+    /// velocity change, 1: the tangential motion of touching grains, 2: the
+    /// travel): the velocity change of the step and the tangential relative
+    /// velocity of touching grains move a body at most fraction d_min per
+    /// sub-step, the free velocity at most maxTravelDiameters d_min.
     template <class ImplT>
-    double subStepOf(const ImplT& I, double dt, double fraction, double vmax)
+    double subStepsOf(const ImplT& I, double dt, double fraction, const Fastest& f, int* cause = nullptr)
     {
         const double dmin = 2*I.rMin();
-        if (vmax*dt <= fraction*dmin || dmin == 0) return dt;
-        const double n = std::ceil(vmax*dt/(fraction*dmin)*(1 - 1e-12));  // guard round-off
-        return dt/n;
+        if (dmin == 0) return 1;
+        const double a[3] = {f.dv*dt/(fraction*dmin), f.vt*dt/(fraction*dmin), f.v*dt/(maxTravelDiameters*dmin)};
+        const int k = int(std::max_element(a, a + 3) - a);
+        if (cause) *cause = k;
+        return std::max(1.0, std::ceil(a[k]*(1 - 1e-12)));  // guard round-off
     }
 }
 
 double System::subStep(double dt, double fraction) const
 {
-    const Impl& I = *impl_;
     if (!(dt > 0)) throw InputError("nscd::System::subStep: dt must be > 0");
     if (!(fraction > 0)) throw InputError("nscd::System::subStep: fraction must be > 0");
-    return subStepOf(I, dt, fraction, fastest(I, dt).v);
+    Impl& I = *impl_;  // fastest() fills the work array body only
+    return dt/subStepsOf(I, dt, fraction, fastest(I, dt));
 }
 
 StepReport System::advance(double dt, double fraction)
 {
     if (!(dt > 0)) throw InputError("nscd::System::advance: dt must be > 0");
     if (!(fraction > 0)) throw InputError("nscd::System::advance: fraction must be > 0");
-    const Impl& I = *impl_;
+    Impl& I = *impl_;
     const long maxSub = I.settings.maxSubSteps;
     if (maxSub < 1) throw InputError("nscd::System::advance: maxSubSteps must be >= 1");
     StepReport total;
@@ -79,32 +111,49 @@ StepReport System::advance(double dt, double fraction)
     const auto beatEvery = std::chrono::duration<double>(I.settings.heartbeatSeconds);
     while (remaining > 0)
     {
-        const Fastest f = fastest(I, remaining);
-        if (!std::isfinite(f.v))
+        // velocity change over the whole dt of the call (not the remaining
+        // time): constant forces give equal sub-steps
+        const Fastest f = fastest(I, dt);
+        if (!std::isfinite(f.v) || !std::isfinite(f.dv))  // (f.vt is then finite or NaN-free: same velocities)
         {
             std::ostringstream os;
-            os << "nscd::System::advance: grain " << f.who << " has a non-finite velocity, force or"
-               << " torque at the start of a sub-step (force " << I.force[f.who].transpose()
-               << " N, velocity " << I.v[f.who].transpose() << " m/s)";
+            os << "nscd::System::advance: grain " << f.whoV << " has a non-finite velocity, force or"
+               << " torque at the start of a sub-step (force " << I.force[f.whoV].transpose()
+               << " N, velocity " << I.v[f.whoV].transpose() << " m/s)";
             throw StepError(os.str());
         }
-        double h = subStepOf(I, remaining, fraction, f.v);
+        int cause = 0;
+        double h = std::min(remaining, dt/subStepsOf(I, dt, fraction, f, &cause));
         if (h >= remaining*(1 - 1e-12)) h = remaining;
         const double needed = total.substeps + std::ceil(remaining/h*(1 - 1e-12));
         if (needed > double(maxSub))
         {
+            const double dmin = 2*I.rMin();
+            const int who = cause == 0 ? f.whoDv : (cause == 1 ? f.whoVt : f.whoV);
+            const double val = cause == 0 ? f.dv : (cause == 1 ? f.vt : f.v);
             std::ostringstream os;
             os << "nscd::System::advance: the step of " << dt << " s needs about " << needed
                << " sub-steps, more than maxSubSteps = " << maxSub << " (";
-            if (f.who >= 0)
+            if (who >= 0)
             {
-                os << "grain " << f.who << " moves at " << f.v << " m/s with the step's forces, external force "
-                   << I.force[f.who].norm() << " N";
-                if (I.g.norm() > 0) os << " (" << I.force[f.who].norm()/(I.mass[f.who]*I.g.norm()) << " x its weight)";
+                if (cause == 0)
+                    os << "the forces of the step change the velocity of grain " << who << " by " << val
+                       << " m/s, external force " << I.force[who].norm() << " N";
+                else if (cause == 1)
+                    os << "grain " << who << " slides or rolls past a touching grain at " << val << " m/s";
+                else
+                    os << "grain " << who << " moves at " << val << " m/s";
+                if (cause != 1 && I.g.norm() > 0)
+                    os << " (" << I.force[who].norm()/(I.mass[who]*I.g.norm()) << " x its weight)";
             }
             else
-                os << (f.who == -1 ? "a wall" : "a droplet") << " moves at " << f.v << " m/s";
-            os << "; a sub-step may move a grain by " << fraction << " d_min = " << fraction*2*I.rMin() << " m)";
+                os << (who == -1 ? "a wall" : "a droplet") << (cause == 0 ? " changes its velocity by " : " moves at ")
+                   << val << " m/s";
+            if (cause == 2)
+                os << "; a grain may move by " << maxTravelDiameters << " d_min = " << maxTravelDiameters*dmin
+                   << " m per sub-step)";
+            else
+                os << "; this may move a grain by " << fraction << " d_min = " << fraction*dmin << " m per sub-step)";
             throw StepError(os.str());
         }
         const StepReport r = step(h);
@@ -120,6 +169,7 @@ StepReport System::advance(double dt, double fraction)
         total.residual = std::max(total.residual, r.residual);
         total.converged = total.converged && r.converged;
         total.substeps += 1;
+        total.redetections += r.redetections;
         total.maxOverlap = std::max(total.maxOverlap, r.maxOverlap);
         total.detectSeconds += r.detectSeconds;
         total.solveSeconds += r.solveSeconds;
@@ -133,6 +183,62 @@ StepReport System::advance(double dt, double fraction)
         total.cohesiveContacts = r.cohesiveContacts;  // the last sub-step's
     }
     return total;
+}
+
+int System::Impl::detectAndSolve(double dt, StepReport& rep)
+{
+    using clock = std::chrono::steady_clock;
+    const int N = int(x.size());
+    reachFloor.clear();
+    int sweeps = 0;
+    long solves = 0;
+    for (int redo = 0;; ++redo)
+    {
+        const auto t0 = clock::now();
+        detect(dt);
+        const int NC0 = int(newContacts.size());  // grain-grain and grain-wall contacts
+        detectDroplets(dt);                        // then grain-droplet ones
+        const auto t1 = clock::now();
+        rep.detectSeconds += std::chrono::duration<double>(t1 - t0).count();
+
+        prepareContacts(dt, NC0);  // warm start and adjacency counts included
+        buildAdjacency();
+        if (redo > 0) rep.residualHistory.clear();
+        solveContacts(dt, rep);
+        rep.solveSeconds += std::chrono::duration<double>(clock::now() - t1).count();
+        sweeps += rep.sweeps;
+        solves += rep.localSolves;
+        if (redo == maxRedetections || !raiseReaches(dt))
+        {
+            rep.sweeps = sweeps;
+            rep.localSolves = solves;
+            return NC0;
+        }
+        ++rep.redetections;
+        // the bodies as before the solve, with the raised reaches
+        freeVelocities(dt);
+        for (int i = 0; i < N; ++i) speed[i] = std::max(speed[i], reachFloor[i]);
+    }
+}
+
+bool System::Impl::raiseReaches(double dt)
+{
+    const int N = int(x.size());
+    if (N == 0) return false;
+    const double af = settings.alertDistanceFactor;
+    const double free = 0.5*settings.alertMargin*rMin();
+    bool any = false;
+    for (int i = 0; i < N; ++i)
+    {
+        if (fix[i]) continue;
+        const Body& B = body[i];
+        const double vn = B.v.norm();
+        if (!(vn*dt > af*dt*speed[i] + free)) continue;
+        if (reachFloor.empty()) reachFloor.assign(N, 0.0);
+        reachFloor[i] = std::max(reachFloor[i], vn + B.r*B.w.norm());
+        any = true;
+    }
+    return any;
 }
 
 void System::checkInitialOverlaps() const

@@ -1,4 +1,5 @@
 // Dense deposit benchmark (not a test).
+//   nscdBench substeps <out.json> [quick]   sub-steps of advance() (benchSubsteps.cpp)
 //   nscdBench suite <out.json> [quick]   the tests/bench/nscdDeposit suite (see
 //       runSuite below): settled polydisperse beds (d = 230 um, lambda = 1.2,
 //       rho = 2500, dt = 1e-4 s, box), 70,000 discs at rest with mu = 0.4 and 0,
@@ -27,12 +28,14 @@ using namespace nscd;
 
 int runSuite(int argc, char** argv);
 int runMethods(int argc, char** argv);
+int runSubsteps(int argc, char** argv);
 int legacyMain(int argc, char** argv);
 
 int main(int argc, char** argv)
 {
     if (argc > 1 && std::string(argv[1]) == "suite") return runSuite(argc, argv);
     if (argc > 1 && std::string(argv[1]) == "methods") return runMethods(argc, argv);
+    if (argc > 1 && std::string(argv[1]) == "substeps") return runSubsteps(argc, argv);
     return legacyMain(argc, argv);
 }
 

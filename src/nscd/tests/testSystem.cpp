@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 using namespace nscd;
@@ -57,26 +58,38 @@ TEST(Errors, InitialOverlapNamesThePair)
     catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("grain 0 and wall 0"), std::string::npos); }
 }
 
-// Reference: thesis section 5.1.3, dt_sub = O(d_min/|v_max|): the chosen
-// dt_sub satisfies |v_max| dt_sub <= fraction d_min (exact inequality).
-TEST(SubStepping, PicksDtFromDminAndVmax)
+// Consistency check of the documented rule of advance() (System.H): a
+// velocity alone no longer sub-steps (the gap law keeps a grain from
+// tunnelling whatever its displacement, see ContactsOfFastGrains); the
+// velocity change of the step's forces does, |dv| dt_sub <= fraction d_min
+// (the displacement rule of thesis section 5.1.3 applied to the part of
+// the motion the first-order step integrates approximately), and an absurd
+// speed does, |v| dt_sub <= 100 d_min.
+TEST(SubStepping, PicksDtFromDminAndVelocityChange)
 {
     System s(2);
     const int m = s.addMaterial({1000, 0.3});
     s.addGrain(Vec3(0, 0, 0), 0.01, m);
-    s.addGrain(Vec3(1, 0, 0), 0.05, m);
-    s.velocities()[1] = Vec3(3.0, 4.0, 0);  // |v| = 5
+    const int b = s.addGrain(Vec3(1, 0, 0), 0.05, m);
+    s.velocities()[b] = Vec3(3.0, 4.0, 0);  // |v| = 5: 2.5 d_min per step
     const double frac = 0.1, dmin = 0.02;
     const double dt = 1e-2;
+    EXPECT_EQ(s.subStep(dt, frac), dt);
+    EXPECT_EQ(s.advance(dt, frac).substeps, 1);
+    // a force changing its velocity by 5 m/s over dt: 25 sub-steps
+    const double mass = s.mass(b);
+    s.setExternalForce(b, Vec3(0, 500*mass, 0), Vec3::Zero());
     const double h = s.subStep(dt, frac);
     EXPECT_LE(5.0*h, frac*dmin*(1 + 1e-12));
     EXPECT_GT(5.0*h*2, frac*dmin);  // not needlessly small
+    const double t0 = s.time();
     const StepReport r = s.advance(dt, frac);
     EXPECT_EQ(r.substeps, int(std::ceil(5.0*dt/(frac*dmin))));
-    EXPECT_NEAR(s.time(), dt, 1e-15);
-    // slow grains: a single step
-    s.velocities()[1] = Vec3(1e-3, 0, 0);
-    EXPECT_EQ(s.advance(dt, frac).substeps, 1);
+    EXPECT_NEAR(s.time() - t0, dt, 1e-15);
+    // no force, an absurd speed of 1e4 m/s: 1e4 dt / (100 d_min) = 50 sub-steps
+    s.setExternalForce(b, Vec3::Zero(), Vec3::Zero());
+    s.velocities()[b] = Vec3(1e4, 0, 0);
+    EXPECT_EQ(s.advance(dt, frac).substeps, 50);
 }
 
 // Reference: Newton's third law in every local update (eq. 2.26-2.27):
