@@ -867,7 +867,7 @@ Foam::scalar Foam::vansCloud::fluidInverseMass(const label i) const
     // a held grain is seen 1e4 times heavier, not infinitely: where eps is
     // clipped at epsMin the drag coefficient is astronomical and gamma*
     // must stay bounded (<= 1e4 m/(W dt)) for a well-posed pressure equation
-    const scalar theta = resolved_[i] || std::getenv("NSCD_NO_HELD") ? 0 : heldFraction_[i];
+    const scalar theta = resolved_[i] ? 0 : heldFraction_[i];
     return (1 - theta*(1 - 1e-4))/grains_.system().mass(i);
 }
 
@@ -1035,7 +1035,7 @@ void Foam::vansCloud::predictDragCore
             const scalar Wi = W[gi]/depth;
             // the drag impulse the grain received beyond what the fluid gave
             // last step, taken from the fluid now (its share V_pc/W_p)
-            if (dragImpulseDefect_.size() == n && !std::getenv("NSCD_NO_DEFECT"))
+            if (dragImpulseDefect_.size() == n)
             {
                 KU[c] -= ev[e]*dragImpulseDefect_[gi]/(Wi*dt*rhoK_);
             }
