@@ -75,7 +75,9 @@ def test_water_volume(reduced):
     assert abs(vols[0] - v_exact) < 1e-9 * v_exact, (vols[0], v_exact)
     assert len(vols) == len(out) > 300
     assert np.max(np.abs(vols + out - vols[0])) < 1e-6 * vols[0]
-    assert 0 <= out[-1] < 1e-5 * vols[0], out[-1]
+    # net water out through the atmosphere: none or a little spray, never an
+    # inflow beyond round-off (measured -9.2e-16 m^3 when nothing leaves)
+    assert -1e-12 * vols[0] <= out[-1] < 1e-5 * vols[0], out[-1]
     assert res["water_balance_relative_error"] < 1e-6
 
 

@@ -258,23 +258,33 @@ Foam::vansCloud::vansCloud
     contactImpulse_.setSize(grains_.system().size(), Zero);
     dragImpulseDefect_.setSize(grains_.system().size(), Zero);
 
-    // Restart: the void fraction and the grains' last contact impulses of
-    // the start time make the next step identical to an uninterrupted run
-    // (the void fraction written at a time is the "old" one of the next step)
+    // Restart: the void fraction and the grains' coupling state of the start
+    // time (last contact impulses, the drag impulse the fluid still owes,
+    // held fractions) make the next step identical to an uninterrupted run
+    // (the void fraction written at a time is the "old" one of the next
+    // step); a per-grain list is used only with one entry per grain
     IOobject epsIO
     (
         "voidFraction", mesh.time().timeName(), mesh, IOobject::MUST_READ
     );
-    IOobject impulseIO
-    (
-        "grainContactImpulse", mesh.time().timeName(), "uniform", mesh,
-        IOobject::MUST_READ, IOobject::NO_WRITE, false
-    );
-    IOobject defectIO
-    (
-        "grainDragImpulseDefect", mesh.time().timeName(), "uniform", mesh,
-        IOobject::MUST_READ, IOobject::NO_WRITE, false
-    );
+    const label nGrains = grains_.system().size();
+    auto readGrainList = [&](const word& name, auto& list)
+    {
+        using Type = typename std::decay_t<decltype(list)>::value_type;
+        IOobject io
+        (
+            name, mesh.time().timeName(), "uniform", mesh,
+            IOobject::MUST_READ, IOobject::NO_WRITE, false
+        );
+        if (io.typeHeaderOk<IOList<Type>>(true))
+        {
+            const IOList<Type> read(io);
+            if (read.size() == nGrains)
+            {
+                list = read;
+            }
+        }
+    };
     mapGrains();
     if (epsIO.typeHeaderOk<volScalarField>(true))
     {
@@ -283,35 +293,9 @@ Foam::vansCloud::vansCloud
         voidFraction_.correctBoundaryConditions();
     }
     voidFraction_.oldTime();
-    if (impulseIO.typeHeaderOk<IOList<vector>>(true))
-    {
-        const IOList<vector> imp(impulseIO);
-        if (imp.size() == contactImpulse_.size())
-        {
-            contactImpulse_ = imp;
-        }
-    }
-    if (defectIO.typeHeaderOk<IOList<vector>>(true))
-    {
-        const IOList<vector> def(defectIO);
-        if (def.size() == dragImpulseDefect_.size())
-        {
-            dragImpulseDefect_ = def;
-        }
-    }
-    IOobject heldIO
-    (
-        "grainHeldFraction", mesh.time().timeName(), "uniform", mesh,
-        IOobject::MUST_READ, IOobject::NO_WRITE, false
-    );
-    if (heldIO.typeHeaderOk<IOList<scalar>>(true))
-    {
-        const IOList<scalar> held(heldIO);
-        if (held.size() == label(grains_.system().size()))
-        {
-            heldFraction_ = held;
-        }
-    }
+    readGrainList("grainContactImpulse", contactImpulse_);
+    readGrainList("grainDragImpulseDefect", dragImpulseDefect_);
+    readGrainList("grainHeldFraction", heldFraction_);
 
     // 2D disc packings have closed pores (solid fraction ~0.82): without the
     // fluid-side effective diameter of thesis section 3.2.3 a settled bed of
@@ -1537,42 +1521,31 @@ Foam::scalar Foam::vansCloud::meanGrainReynolds() const
 
 void Foam::vansCloud::write() const
 {
-    // the previous step's contact impulses and the drag impulse the fluid
-    // still owes (exact restart), binary
-    for (const auto& item : {std::make_pair("grainContactImpulse", &contactImpulse_),
-                             std::make_pair("grainDragImpulseDefect", &dragImpulseDefect_)})
+    // the grains' coupling state for the exact restart (read back by the
+    // constructor), binary
+    auto writeGrainList = [this](const word& name, const auto& list)
     {
-        IOList<vector> list
+        using Type = typename std::decay_t<decltype(list)>::value_type;
+        IOList<Type> io
         (
             IOobject
             (
-                item.first, mesh_.time().timeName(), "uniform",
+                name, mesh_.time().timeName(), "uniform",
                 mesh_, IOobject::NO_READ, IOobject::NO_WRITE, false
             ),
-            *item.second
+            list
         );
-        list.writeObject
+        io.writeObject
         (
             IOstream::BINARY, IOstream::currentVersion,
             IOstream::UNCOMPRESSED, true
         );
-    }
+    };
+    writeGrainList("grainContactImpulse", contactImpulse_);
+    writeGrainList("grainDragImpulseDefect", dragImpulseDefect_);
     if (heldFraction_.size())
     {
-        IOList<scalar> held
-        (
-            IOobject
-            (
-                "grainHeldFraction", mesh_.time().timeName(), "uniform",
-                mesh_, IOobject::NO_READ, IOobject::NO_WRITE, false
-            ),
-            heldFraction_
-        );
-        held.writeObject
-        (
-            IOstream::BINARY, IOstream::currentVersion,
-            IOstream::UNCOMPRESSED, true
-        );
+        writeGrainList("grainHeldFraction", heldFraction_);
     }
     const label n = grains_.system().size();
     if (fluidForce_.size() != n || fluidVelocity_.size() != n)
