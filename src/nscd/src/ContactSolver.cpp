@@ -1,7 +1,7 @@
 // The contact solve of System::step on the rows prepared by prepareContacts:
 // nonlinear Gauss-Seidel with contact queue (NLGS, optionally over-relaxed)
 // and the residual shared by every method (APGD: ContactSolverAPGD.cpp).
-#include "SystemImpl.H"
+#include "LocalSolve.H"
 
 #include <algorithm>
 #include <cmath>
@@ -9,32 +9,8 @@
 namespace nscd
 {
 
-namespace
-{
-/// Normal impulse projected on [-c.coh, c.cap] (eq. 2.38 with cohesion; the
-/// cap is the capillary entry impulse of droplet contacts, +inf otherwise).
-inline double projectNormal(double rn, const SolverContact& c)
-{
-    if (rn < -c.coh) rn = -c.coh;
-    if (rn > c.cap) rn = c.cap;
-    return rn;
-}
-
-/// Tangential impulse projected on the Coulomb disc |r_t| <= lim (3D).
-inline void projectTangent(Vec3& rt, double lim)
-{
-    const double n2 = rt.squaredNorm();
-    if (n2 > lim*lim) rt *= lim/std::sqrt(n2);
-}
-
-/// Tangential impulse projected on [-lim, lim] (2D, scalar along t = z x n).
-inline double projectTangent(double rt, double lim)
-{
-    if (rt > lim) return lim;
-    if (rt < -lim) return -lim;
-    return rt;
-}
-}
+using local::projectNormal;
+using local::projectTangent;
 
 double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, const Body& B, double dt)
 {
@@ -71,6 +47,7 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
     const Settings::Method m = settings.method;
     rep.method = int(m);
     if (m == Settings::Method::APGD) { solveAPGD(dt, rep); return; }
+    if (m == Settings::Method::NNCG) { solveNNCG(dt, rep); return; }
     double omega = settings.relaxation;
     if (m == Settings::Method::OverRelaxedNLGS && omega == 1.0) omega = Settings::defaultOverRelaxation;
     solveNLGS(dt, omega, rep);
@@ -104,92 +81,13 @@ void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
     {
         ++solves;
         SolverContact& c = cs[k];
-        Body& A = bodies[c.i];
-        Body& B = bodies[c.j];
-        const double nx = c.n.x(), ny = c.n.y();
-        const double dvx = A.v.x() - B.v.x(), dvy = A.v.y() - B.v.y();
-        // du.n and du.t with t = (-n_y, n_x): eq. 2.14-2.18 with w = w_z e_z
-        const double un = dvx*nx + dvy*ny;
-        const double ut = dvy*nx - dvx*ny - A.r*A.w.z() - B.r*B.w.z();
-        const double unFree = un - c.wnn*c.rn + c.bias;
-        const double utFree = ut - c.wtt*c.rts;
-        // eq. 2.38 (stick), 2.39-2.40 (slip forward/backward), 2.41 (W_nt = 0)
-        double rn = projectNormal(-unFree*c.iwnn, c);
-        double rt = projectTangent(-utFree*c.iwtt, c.mu*(rn + c.coh));
-        double dn = rn - c.rn;
-        double dtt = rt - c.rts;
-        // the stopping test is on the plain (unrelaxed) local update: the
-        // residual of every method (localResidual2)
-        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtt*dtt)*dt2*c.residualWeight2;
-        c.change = ch;
-        if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
-        if (omega != 1.0)
-        {
-            rn = projectNormal(c.rn + omega*(rn - c.rn), c);
-            rt = projectTangent(c.rts + omega*(rt - c.rts), c.mu*(rn + c.coh));
-            dn = rn - c.rn;
-            dtt = rt - c.rts;
-        }
-        c.rn = rn;
-        c.rts = rt;
-        const double px = dn*nx - dtt*ny, py = dn*ny + dtt*nx;
-        A.v.x() += A.im*px;
-        A.v.y() += A.im*py;
-        A.w.z() -= A.ii*A.r*dtt;
-        B.v.x() -= B.im*px;
-        B.v.y() -= B.im*py;
-        B.w.z() -= B.ii*B.r*dtt;
-        return true;
+        return local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega);
     };
     auto solveOne3D = [&](int k) -> bool
     {
         ++solves;
         SolverContact& c = cs[k];
-        Body& A = bodies[c.i];
-        Body& B = bodies[c.j];
-        const Vec3& n = c.n;
-        // relative velocity at the contact point (eq. 2.14-2.18, 2.28)
-        const Vec3 du = A.v - B.v - (A.r*A.w + B.r*B.w).cross(n);
-        const double un = du.dot(n);
-        // free local velocity: remove this contact's own impulse (Algorithm 2)
-        const double unFree = un - c.wnn*c.rn + c.bias;
-        const Vec3 utFree = (du - un*n) - c.wtt*c.rt;
-        // local law, closed form for diagonal W (same as solveLocalDiagonal,
-        // with precomputed inverses): eq. 2.38-2.41
-        double rn = projectNormal(-unFree*c.iwnn, c);
-        const double rnt = rn + c.coh;
-        Vec3 rt;
-        if (rnt <= 0.0) rt.setZero();
-        else
-        {
-            rt = utFree*(-c.iwtt);
-            projectTangent(rt, c.mu*rnt);
-        }
-        Vec3 dtv = rt - c.rt;
-        double dn = rn - c.rn;
-        // squared change of the contact-point displacement |W dr|^2 dt^2 of
-        // the plain (unrelaxed) update: the residual of every method
-        const double ch = (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtv.squaredNorm())*dt2*c.residualWeight2;
-        c.change = ch;
-        if (ch < xi2) return false;  // converged: keep the previous impulse (Algorithm 2)
-        if (omega != 1.0)
-        {
-            // projected over-relaxation: r <- Proj_K(r_old + omega (r_solved - r_old))
-            rn = projectNormal(c.rn + omega*(rn - c.rn), c);
-            rt = c.rt + omega*(rt - c.rt);
-            projectTangent(rt, c.mu*(rn + c.coh));
-            dn = rn - c.rn;
-            dtv = rt - c.rt;
-        }
-        c.rn = rn;
-        c.rt = rt;
-        const Vec3 Pm = dn*n + dtv;
-        const Vec3 nxt = n.cross(dtv);
-        A.v += A.im*Pm;
-        A.w -= A.ii*A.r*nxt;
-        B.v -= B.im*Pm;
-        B.w -= B.ii*B.r*nxt;
-        return true;
+        return local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega);
     };
     auto solveOne = [&](int k) -> bool { return twoD ? solveOne2D(k) : solveOne3D(k); };
     auto recordHistory = [&]

@@ -46,9 +46,9 @@ void checkSettings(const System::Settings& S)
         throw InputError("nscd::System::step: invalid settings (need tolerance > 0, maxIterations >= 1, "
                          "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0)");
     const int m = int(S.method);
-    if (m < 0 || m > int(System::Settings::Method::APGD))
+    if (m < 0 || m > int(System::Settings::Method::NNCG))
         throw InputError("nscd::System::step: invalid settings (unknown contact solver method "
-                         + std::to_string(m) + "; methods: NLGS, OverRelaxedNLGS, APGD)");
+                         + std::to_string(m) + "; methods: NLGS, OverRelaxedNLGS, APGD, NNCG)");
     if (!(S.heatTolerance > 0) || S.heatMaxIterations < 1)
         throw InputError("nscd::System::step: invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
     if (S.cohesionMinAge < 0)

@@ -1,5 +1,7 @@
 // Dense deposit benchmark (not a test).
 //   nscdBench substeps <out.json> [quick]   sub-steps of advance() (benchSubsteps.cpp)
+//   nscdBench state <grainState.h5> <dt> <steps> <out.json> [tol [maxIt]]   the contact
+//       solver methods on a state saved by a run (benchState.cpp)
 //   nscdBench suite <out.json> [quick]   the tests/bench/nscdDeposit suite (see
 //       runSuite below): settled polydisperse beds (d = 230 um, lambda = 1.2,
 //       rho = 2500, dt = 1e-4 s, box), 70,000 discs at rest with mu = 0.4 and 0,
@@ -29,6 +31,7 @@ using namespace nscd;
 int runSuite(int argc, char** argv);
 int runMethods(int argc, char** argv);
 int runSubsteps(int argc, char** argv);
+int runState(int argc, char** argv);
 int legacyMain(int argc, char** argv);
 
 int main(int argc, char** argv)
@@ -36,6 +39,7 @@ int main(int argc, char** argv)
     if (argc > 1 && std::string(argv[1]) == "suite") return runSuite(argc, argv);
     if (argc > 1 && std::string(argv[1]) == "methods") return runMethods(argc, argv);
     if (argc > 1 && std::string(argv[1]) == "substeps") return runSubsteps(argc, argv);
+    if (argc > 1 && std::string(argv[1]) == "state") return runState(argc, argv);
     return legacyMain(argc, argv);
 }
 

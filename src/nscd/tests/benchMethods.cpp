@@ -22,14 +22,6 @@ namespace
 
 struct Config { const char* name; System::Settings::Method method; double relaxation; };
 
-std::string list(const std::vector<double>& v)
-{
-    std::ostringstream o;
-    o << "[";
-    for (std::size_t k = 0; k < v.size(); ++k) o << (k ? ", " : "") << v[k];
-    o << "]";
-    return o.str();
-}
 
 void use(System& s, const Config& c)
 {
@@ -79,7 +71,7 @@ std::string settleJson(const Config& c, const Bed& b0, int maxSteps)
       << ", \"cpu_seconds\": " << sec << ", \"cpu_seconds_per_step\": " << sec/std::max(1, steps)
       << ", \"reached_rest\": " << (rest ? "true" : "false") << ", \"converged_every_step\": " << (conv ? "true" : "false")
       << ", \"max_overlap_over_rmin\": " << maxOv/(0.5*dMin)
-      << ", \"residual_history_step_100\": " << list(hist) << "}";
+      << ", \"residual_history_step_100\": " << jsonList(hist) << "}";
     return o.str();
 }
 
@@ -114,7 +106,7 @@ std::string restJson(const Config& c, const std::string& state, int timed, doubl
       << ", \"cpu_seconds_per_step_max\": " << *std::max_element(t.begin(), t.end())
       << ", \"sweeps_per_step_median\": " << median(sw) << ", \"max_residual\": " << res
       << ", \"converged_every_step\": " << (conv ? "true" : "false") << ", \"max_overlap_over_rmin\": " << maxOv/(0.5*dMin)
-      << ", \"vmax_end_m_per_s\": " << vmax(s) << ", \"residual_history\": " << list(hist) << "}";
+      << ", \"vmax_end_m_per_s\": " << vmax(s) << ", \"residual_history\": " << jsonList(hist) << "}";
     return o.str();
 }
 }
@@ -127,7 +119,8 @@ int runMethods(int argc, char** argv)
     using M = System::Settings::Method;
     const std::vector<Config> configs = {{"NLGS", M::NLGS, 1.0}, {"overRelaxedNLGS", M::OverRelaxedNLGS, 1.2},
                                          {"overRelaxedNLGS", M::OverRelaxedNLGS, 1.3}, {"overRelaxedNLGS", M::OverRelaxedNLGS, 1.4},
-                                         {"overRelaxedNLGS", M::OverRelaxedNLGS, 1.6}, {"APGD", M::APGD, 1.0}};
+                                         {"overRelaxedNLGS", M::OverRelaxedNLGS, 1.6}, {"APGD", M::APGD, 1.0},
+                                         {"NNCG", M::NNCG, 1.0}};
     const int blockN = 500, ncol = 8, nBig = quick ? 4 : 140, maxSettle = 3000;
     const Bed b0 = lattice(2, blockN, ncol, 1);
     std::vector<std::string> settleRows;

@@ -51,6 +51,15 @@ double median(std::vector<double> v)
     return n % 2 ? v[n/2] : 0.5*(v[n/2 - 1] + v[n/2]);
 }
 
+std::string jsonList(const std::vector<double>& v)
+{
+    std::ostringstream o;
+    o << "[";
+    for (std::size_t k = 0; k < v.size(); ++k) o << (k ? ", " : "") << v[k];
+    o << "]";
+    return o.str();
+}
+
 double peakRssMb() { rusage ru{}; getrusage(RUSAGE_SELF, &ru); return ru.ru_maxrss/1024.0; }
 
 
@@ -364,6 +373,7 @@ std::string methodName(const System::Settings& S)
 {
     using M = System::Settings::Method;
     if (S.method == M::APGD) return "APGD";
+    if (S.method == M::NNCG) return "NNCG";
     if (S.method == M::NLGS && S.relaxation == 1.0) return "NLGS";
     const double w = S.relaxation == 1.0 ? System::Settings::defaultOverRelaxation : S.relaxation;
     return "overRelaxedNLGS (relaxation " + std::to_string(w).substr(0, 4) + ")";

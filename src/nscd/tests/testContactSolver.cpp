@@ -16,8 +16,11 @@ namespace
 constexpr double pi = 3.14159265358979323846;
 constexpr double g0 = 9.81;
 using Method = System::Settings::Method;
-const Method methods[] = {Method::NLGS, Method::OverRelaxedNLGS, Method::APGD};
-std::string name(Method m) { return m == Method::NLGS ? "NLGS" : m == Method::APGD ? "APGD" : "OverRelaxedNLGS"; }
+const Method methods[] = {Method::NLGS, Method::OverRelaxedNLGS, Method::APGD, Method::NNCG};
+std::string name(Method m)
+{
+    return m == Method::NLGS ? "NLGS" : m == Method::APGD ? "APGD" : m == Method::NNCG ? "NNCG" : "OverRelaxedNLGS";
+}
 }
 
 // Reference: statics (Newton's third law over a step). A grain resting on a
