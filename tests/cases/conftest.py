@@ -2,15 +2,19 @@
 and run the project's applications on them (environment from etc/bashrc)."""
 import os
 import subprocess
+import sys
 
 import pytest
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 
-# src/python is an installed package (`pip install -e src/python`, done by
-# etc/installDependencies); this directory's modules (foamcase) are importable
-# because pytest puts the test directory on sys.path.  Fail clearly when the
-# installed copy is missing or is another checkout's.
+# src/python is an installable package (`pip install -e src/python[render]`,
+# done by etc/installDependencies, brings foamlib and PyVista); its modules
+# are taken from this checkout (here for the tests, PYTHONPATH of etc/bashrc
+# for the applications and scripts they run), so that two checkouts on one
+# machine each test their own.  This directory's modules (foamcase) are
+# importable because pytest puts the test directory on sys.path.
+sys.path.insert(0, os.path.join(ROOT, "src", "python"))
 try:
     import nscdpost as _nscdpost
 except ImportError as e:
@@ -54,7 +58,8 @@ def env():
 # --durations, 2026-11-23); whole modules where a module fixture runs the
 # tutorial once for several tests.  `mpi`: the test runs mpirun (also fast
 # or slow by its own duration).  Update the lists when a test's cost moves.
-SLOW_MODULES = {"test_lituyaBay.py", "test_dropletDigging.py", "test_granularCollapse.py"}
+SLOW_MODULES = {"test_lituyaBay.py", "test_dropletDigging.py", "test_granularCollapse.py",
+                "test_tutorialAllruns.py"}
 SLOW_TESTS = {
     "test_resolvedRegime.py::test_falling_cylinder_terminal_velocity",
     "test_resolvedRegime.py::test_free_fixed_disc_galilean_consistency",
