@@ -83,6 +83,7 @@ MPI_TESTS = {
     "test_faults.py::test_sigusr1_to_mpirun_writes_and_stops",
     "test_freeSurfaceFunctionObjects.py::test_wave_gauges_parallel_equals_serial",
     "test_overlapAdapter.py::test_parallel_matches_serial",
+    "test_scotchDecomp.py::test_scotch_parallel_run_keeps_every_grain",
     "test_vansFoam.py::test_parallel_matches_serial",
     "test_vansFoam_sources.py::test_parallel_heat_matches_serial",
 }

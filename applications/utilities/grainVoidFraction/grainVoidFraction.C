@@ -20,6 +20,15 @@ Description
     effectiveDiameterFactor 1;
     \endverbatim
 
+    With -cellWeight it writes instead (and only) the decomposition weight
+      - cellWeight  w_c = 1 + grainCost sum_g V_gc / W_g       [-]
+    W_g is the grain's mapped volume, so each grain adds exactly grainCost
+    over the cells it overlaps, whatever its size; grainCost (default 1000)
+    is the weight of one grain in units of one fluid cell.  decomposePar
+    reads it through `weightField cellWeight;` in system/decomposeParDict
+    (methods scotch, ptscotch): the ranks then get equal grain counts, not
+    equal cell counts (src/decompose/README.md).
+
     Parallel (-parallel): the grains are read whole from the undecomposed
     <case>/<time>/grainState.h5 on every rank; each rank writes the fields
     of its sub-mesh (reconstructPar to collect them).  Grains straddling a
@@ -27,6 +36,7 @@ Description
 
 Usage
     grainVoidFraction [-time ranges | -latestTime | -noZero ...] [-parallel]
+        [-checkCoupling] [-cellWeight [-grainCost c]]
 \*---------------------------------------------------------------------------*/
 
 #include "overlapMeshAdapter.H"
@@ -34,6 +44,8 @@ Usage
 #include "fvCFD.H"
 #include "timeSelector.H"
 #include "zeroGradientFvPatchFields.H"
+
+#include <cmath>
 
 using namespace Foam;
 
@@ -101,6 +113,44 @@ static void checkCoupling(const overlapMeshAdapter& adapter)
     }
 }
 
+// Decomposition weight of each local cell (see the header):
+// w_c = 1 + grainCost sum_g V_gc/W_g, dimensionless, zeroGradient; w_c >= 1
+// as scotchDecomp requires positive weights.  Sum over all cells of
+// (w_c - 1) = grainCost x number of grains mapped.
+static tmp<volScalarField> cellWeight
+(
+    const overlapMeshAdapter& adapter,
+    const scalar grainCost
+)
+{
+    const fvMesh& mesh = adapter.mesh();
+    tmp<volScalarField> tw
+    (
+        new volScalarField
+        (
+            IOobject("cellWeight", mesh.time().timeName(), mesh),
+            mesh,
+            dimensionedScalar("one", dimless, 1.0),
+            zeroGradientFvPatchScalarField::typeName
+        )
+    );
+    scalarField& w = tw.ref().primitiveFieldRef();
+    const std::vector<double>& Wg = adapter.grainMappedVolume();
+    const auto& grain = adapter.entryGrain();
+    const auto& cell = adapter.entryCell();
+    const auto& Vgc = adapter.entryVolume();
+    for (std::size_t e = 0; e < Vgc.size(); ++e)
+    {
+        if (Wg[grain[e]] > 0)
+        {
+            w[cell[e]] += grainCost*Vgc[e]/Wg[grain[e]];
+        }
+    }
+    tw.ref().correctBoundaryConditions();
+    return tw;
+}
+
+
 int main(int argc, char *argv[])
 {
     argList::addNote
@@ -115,12 +165,44 @@ int main(int argc, char *argv[])
         " conservation, partition of unity and adjointness (relative errors"
         " logged; FatalError above 1e-10)"
     );
+    argList::addBoolOption
+    (
+        "cellWeight",
+        "Write only cellWeight = 1 + grainCost x (grains in the cell, split"
+        " by overlap volume), the cell weights of decomposePar's"
+        " `weightField cellWeight;` (scotch), instead of the fractions"
+    );
+    argList::addOption
+    (
+        "grainCost",
+        "scalar",
+        "With -cellWeight: weight of one grain in units of one fluid cell"
+        " (default 1000: the grain counts decide the balance; the measured"
+        " work ratio, ~2 for a resting bed, balances fluid + grain work)"
+    );
     timeSelector::addOptions();   // 0/ included (grainDeposit writes it)
 
     #include "setRootCase.H"
     #include "createTime.H"
 
     instantList timeDirs = timeSelector::select0(runTime, args);
+
+    const bool writeWeight = args.found("cellWeight");
+    const scalar grainCost = args.lookupOrDefault<scalar>("grainCost", 1000);
+    if (args.found("grainCost") && !writeWeight)
+    {
+        FatalErrorInFunction
+            << "Option -grainCost is used only with -cellWeight: add"
+            << " -cellWeight (or drop -grainCost)" << exit(FatalError);
+    }
+    if (!(grainCost >= 0) || !std::isfinite(grainCost))
+    {
+        FatalErrorInFunction
+            << "Option -grainCost " << grainCost << ": the weight of one"
+            << " grain in units of one fluid cell must be a finite number"
+            << " >= 0"
+            << exit(FatalError);
+    }
 
     #include "createMesh.H"
 
@@ -201,6 +283,19 @@ int main(int argc, char *argv[])
         {
             const grainCloud cloud(mesh);
             adapter.map(cloud.system());
+        }
+
+        if (writeWeight)
+        {
+            tmp<volScalarField> w(cellWeight(adapter, grainCost));
+            Info<< "    grains " << adapter.nGrains() << ", grainCost "
+                << grainCost << ": cellWeight sum "
+                << gSum(w().primitiveField()) << " over "
+                << returnReduce(mesh.nCells(), sumOp<label>())
+                << " cells, max " << gMax(w().primitiveField()) << endl;
+            w().write();
+            ++nWritten;
+            continue;
         }
 
         tmp<volScalarField> phi(adapter.solidFraction("solidFraction"));
