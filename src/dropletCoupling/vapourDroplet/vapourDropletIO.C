@@ -18,6 +18,8 @@ Description
 namespace
 {
 
+//- Two lists of the restart dictionary d that go together (one entry per
+//  grain or cell): FatalIOError naming both if their sizes differ
 template<class TypeA, class TypeB>
 void readListPair
 (
