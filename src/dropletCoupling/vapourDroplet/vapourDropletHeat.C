@@ -1,0 +1,270 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam: vapourDroplet heat and vapour (see vapourDroplet.H)
+
+Description
+    Heat and mass (eq. 4.16: L mdot = Q_f + Q_p + Q_film), the vapour volume
+    source q_c [1/s] of the ring of cells outside the droplet (uniform or
+    heatFlux release), the heat sink directions of vapourRelease heatFlux,
+    and the Leidenfrost film conduction of the grains pressed on the
+    surface.
+\*---------------------------------------------------------------------------*/
+
+#include "vapourDroplet.H"
+#include "grainCloud.H"
+#include "mathematicalConstants.H"
+
+#include <cmath>
+
+using Foam::constant::mathematical::pi;
+
+// * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+void Foam::vapourDroplet::releaseWeights(const scalar h)
+{
+    releaseWeight_ = 0;
+    if (!localRelease_ || !blowing_ || sinkHeat_.empty())
+    {
+        return;
+    }
+    const scalarField& V = mesh_.V();
+    const scalar R = radius();
+    const scalar alpha = min(0.5*pi, max(pi/16, 2*h/max(R, VSMALL)));
+    const scalar cosAlpha = std::cos(alpha);
+
+    // local ring cells and their directions from the centre
+    DynamicList<label> cells;
+    DynamicList<vector> dirs;
+    forAll(ring_, ci)
+    {
+        if (ring_[ci] > 0)
+        {
+            cells.append(ci);
+            dirs.append(directionTo(mesh_.C()[ci]));
+        }
+    }
+    const label ns = sinkHeat_.size();
+    auto inCone = [&](const label s, const label j)
+    {
+        const vector& n = sinkDirection_[s];
+        return magSqr(n) == 0 || (n & dirs[j]) >= cosAlpha;
+    };
+
+    // A_c: ring volume in each sink cell's cone, over all ranks
+    scalarList A(ns, Zero);
+    for (label s = 0; s < ns; ++s)
+    {
+        forAll(cells, j)
+        {
+            if (inCone(s, j))
+            {
+                A[s] += ring_[cells[j]]*V[cells[j]];
+            }
+        }
+    }
+    Pstream::listCombineGather(A, plusEqOp<scalar>());
+    Pstream::listCombineScatter(A);
+    const scalar Wring = gSum(ring_*V);
+    if (!(Wring > 0))
+    {
+        return;
+    }
+
+    for (label s = 0; s < ns; ++s)
+    {
+        const scalar heat = sinkHeat_[s];
+        forAll(cells, j)
+        {
+            const label ci = cells[j];
+            if (A[s] > 0)
+            {
+                if (inCone(s, j))
+                {
+                    releaseWeight_[ci] += heat*ring_[ci]*V[ci]/A[s];
+                }
+            }
+            else
+            {
+                releaseWeight_[ci] += heat*ring_[ci]*V[ci]/Wring;
+            }
+        }
+    }
+}
+
+
+void Foam::vapourDroplet::computeFilmHeat
+(
+    const nscd::System& sys,
+    const scalar dt
+)
+{
+    filmGrain_.clear();
+    filmHeat_.clear();
+    if (!film_ || barrierId_ < 0 || !(m_ > 0))
+    {
+        return;
+    }
+    const scalar depth = adapter_.depth();
+    const std::vector<double>& rn = sys.droplet(barrierId_).grainImpulse;
+    const std::vector<double>& T = sys.temperatures();
+    DynamicList<label> grains;
+    DynamicList<scalar> heat;
+    for (std::size_t i = 0; i < rn.size(); ++i)
+    {
+        const scalar F = rn[i]/dt;      // N/m (2D, nscd units)
+        const scalar dT = T[i] - Td_;
+        if (!(F > 0) || !(dT > 0))
+        {
+            continue;
+        }
+        const scalar c = sys.material(sys.materials()[i]).heatCapacity;
+        const bool bath = sys.fixedTemperature(i);
+        if (!(c > 0) && !bath)
+        {
+            continue;   // temperature not integrated: no heat to give
+        }
+        const scalar r = sys.radii()[i];
+        const scalar delta = filmThickness(r, F, dT, muV_, kappaF_, rhoV_, L_);
+        const scalar G = pi*kappaF_*std::sqrt(2*r/delta);     // W/(m K)
+        const scalar C = sys.mass(i)*c;                        // J/(m K)
+        const scalar Gstar = bath ? G : G*C/(C + dt*G);
+        grains.append(label(i));
+        heat.append(Gstar*dT*depth);                           // W
+    }
+    filmGrain_.transfer(grains);
+    filmHeat_.transfer(heat);
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::vapourDroplet::setHeatSink(const scalarField& sink)
+{
+    if (!localRelease_)
+    {
+        return;
+    }
+    DynamicList<vector> dirs;
+    DynamicList<scalar> heat;
+    forAll(sink, ci)
+    {
+        // cells that gave heat to the droplet (a cell slightly below T_d,
+        // s_c < 0, releases nothing: the release weights stay >= 0)
+        if (sink[ci] > 0)
+        {
+            dirs.append(directionTo(mesh_.C()[ci]));
+            heat.append(sink[ci]*mesh_.V()[ci]);
+        }
+    }
+    List<List<vector>> allDirs(Pstream::nProcs());
+    List<List<scalar>> allHeat(Pstream::nProcs());
+    allDirs[Pstream::myProcNo()] = dirs;
+    allHeat[Pstream::myProcNo()] = heat;
+    Pstream::gatherList(allDirs);
+    Pstream::scatterList(allDirs);
+    Pstream::gatherList(allHeat);
+    Pstream::scatterList(allHeat);
+    sinkDirection_ =
+        ListListOps::combine<List<vector>>(allDirs, accessOp<List<vector>>());
+    sinkHeat_ =
+        ListListOps::combine<List<scalar>>(allHeat, accessOp<List<scalar>>());
+
+    // the film heat enters at the grains (the same on every rank: the
+    // grain system is replicated)
+    if (film_ && filmGrain_.size())
+    {
+        const nscd::System& sys =
+            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+           .cloud().system();
+        forAll(filmGrain_, k)
+        {
+            if (filmGrain_[k] >= label(sys.size()) || !(filmHeat_[k] > 0))
+            {
+                continue;
+            }
+            const auto& xg = sys.positions()[filmGrain_[k]];
+            sinkDirection_.append(directionTo(vector(xg[0], xg[1], xg[2])));
+            sinkHeat_.append(filmHeat_[k]);
+        }
+    }
+}
+
+
+Foam::scalar Foam::vapourDroplet::filmThickness
+(
+    const scalar r,
+    const scalar F,
+    const scalar dT,
+    const scalar muV,
+    const scalar k,
+    const scalar rhoV,
+    const scalar L
+)
+{
+    // I = int_0^inf s atan(s)/(1 + s^2)^3 ds (vapourDroplet.H)
+    constexpr scalar I = 0.147262;
+    return std::pow
+    (
+        24*I*muV*k*dT*std::pow(2*r, 1.5)/(rhoV*L*F),
+        0.4
+    );
+}
+
+
+Foam::tmp<Foam::scalarField>
+Foam::vapourDroplet::volumeSource(const scalar Vdot) const
+{
+    auto tq = tmp<scalarField>::New(ring_.size(), Zero);
+    if (localRelease_)
+    {
+        const scalar S = gSum(releaseWeight_);
+        if (S > 0)
+        {
+            tq.ref() = Vdot*releaseWeight_/(S*mesh_.V());
+            return tq;
+        }
+    }
+    const scalar W = gSum(ring_*mesh_.V());
+    if (W > 0)
+    {
+        tq.ref() = Vdot*ring_/W;
+    }
+    return tq;
+}
+
+
+void Foam::vapourDroplet::setHeat(const scalar Qf, const scalar Qp)
+{
+    const scalar dt = mesh_.time().deltaTValue();
+    Qf_ = Qf;
+    Qp_ = Qp;
+    // Leidenfrost film heat of the grains pressed on the surface (last NSCD
+    // step), taken from them over this step by vansCloud's heat sources
+    Qfilm_ = 0;
+    if (film_ && mesh_.foundObject<grainCloudReference>(grainCloud::registryName))
+    {
+        const label n =
+            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+           .cloud().system().size();
+        const scalar depth = adapter_.depth();
+        grainHeat_.setSize(n);
+        grainHeat_ = Zero;
+        forAll(filmGrain_, k)
+        {
+            if (filmGrain_[k] < n)
+            {
+                grainHeat_[filmGrain_[k]] -= filmHeat_[k]/depth;
+                Qfilm_ += filmHeat_[k];
+            }
+        }
+    }
+    mdot_ = (Qf_ + Qp_ + Qfilm_)/L_;     // eq. 4.16
+    scalar loss = mdot_*dt;
+    if (loss > m_)
+    {
+        loss = m_;
+    }
+    m_ -= loss;
+    pendingVapour_ += loss;
+}
+
+// ************************************************************************* //

@@ -1,0 +1,271 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam: vapourDroplet restart and output (see vapourDroplet.H)
+
+Description
+    The restart file <time>/uniform/droplet (droplet state, the grain
+    predictor's history near the droplet, film heat and heat-sink
+    directions), read at the start and written at the write times, and the
+    per-step line of postProcessing/droplet/<startTime>/droplet.dat.
+\*---------------------------------------------------------------------------*/
+
+#include "vapourDroplet.H"
+#include "grainCloud.H"
+
+#include <sstream>
+
+// * * * * * * * * * * * * * * * * Local helpers * * * * * * * * * * * * * * //
+
+namespace
+{
+
+//- Two lists of the restart dictionary d that go together (one entry per
+//  grain or cell): FatalIOError naming both if their sizes differ
+template<class TypeA, class TypeB>
+void readListPair
+(
+    const Foam::dictionary& d,
+    const Foam::word& nameA,
+    const Foam::word& nameB,
+    Foam::List<TypeA>& a,
+    Foam::List<TypeB>& b
+)
+{
+    a = d.get<Foam::List<TypeA>>(nameA);
+    b = d.get<Foam::List<TypeB>>(nameB);
+    if (a.size() != b.size())
+    {
+        FatalIOErrorInFunction(d)
+            << nameA << " (" << a.size() << ") and " << nameB << " ("
+            << b.size() << ") differ in size in " << d.name() << Foam::nl
+            << "    Fix: restart from an unedited write time, or delete both"
+            << " entries." << Foam::exit(Foam::FatalIOError);
+    }
+}
+
+} // End anonymous namespace
+
+
+// * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+void Foam::vapourDroplet::readRestart()
+{
+    IOobject io
+    (
+        "droplet", mesh_.time().timeName(), "uniform", mesh_,
+        IOobject::MUST_READ, IOobject::NO_WRITE, false
+    );
+    if (!io.typeHeaderOk<IOdictionary>(true))
+    {
+        return;
+    }
+    const IOdictionary d(io);
+    x_ = d.get<vector>("centre");
+    u_ = d.get<vector>("velocity");
+    m_ = d.get<scalar>("mass");
+    y0_ = d.get<scalar>("y0");
+    mdot_ = d.get<scalar>("mdot");
+    pendingVapour_ = d.get<scalar>("pendingVapour");
+    Vp_ = d.get<scalar>("grainVolume");
+    if (d.found("grainHistory"))
+    {
+        restartHistory_ = d.subDict("grainHistory");
+    }
+    if (film_ && d.found("filmHeat"))
+    {
+        readListPair(d, "filmGrain", "filmHeat", filmGrain_, filmHeat_);
+    }
+    if (localRelease_ && d.found("sinkHeat"))
+    {
+        readListPair(d, "sinkDirection", "sinkHeat", sinkDirection_, sinkHeat_);
+    }
+    Info<< "vapourDroplet: restart from " << d.objectPath() << endl;
+}
+
+
+void Foam::vapourDroplet::restoreGrainHistory(const nscd::System& sys)
+{
+    const dictionary h(restartHistory_);
+    restartHistory_.clear();
+    const label n = sys.size();
+    const labelList grains(h.get<labelList>("grains"));
+    const List<vector> v1(h.get<List<vector>>("velocity"));
+    const List<vector> F1(h.get<List<vector>>("force"));
+    const bool second = h.found("velocity2");
+    const List<vector> v2(second ? h.get<List<vector>>("velocity2") : v1);
+    const List<vector> dG
+    (
+        second ? h.get<List<vector>>("gasForceChange") : List<vector>(v1.size(), Zero)
+    );
+    if
+    (
+        v1.size() != grains.size() || F1.size() != grains.size()
+     || v2.size() != grains.size() || dG.size() != grains.size()
+     || (grains.size() && (min(grains) < 0 || max(grains) >= n))
+    )
+    {
+        FatalIOErrorInFunction(h)
+            << "grainHistory of the droplet restart file does not match the "
+            << n << " grains of the restarted case (list sizes or grain"
+            << " labels)." << nl
+            << "    Fix: restart from a time written by the same case, or"
+            << " delete grainHistory from <time>/uniform/droplet (the first"
+            << " step then runs without the contact predictor)."
+            << exit(FatalIOError);
+    }
+    const auto& vel = sys.velocities();
+    const bool twoD = adapter_.twoD();
+    prevVelocity_.setSize(n);
+    forAll(prevVelocity_, g)
+    {
+        prevVelocity_[g] =
+            vector(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
+    }
+    prevVelocity2_ = prevVelocity_;
+    prevForce_ = List<vector>(n, Zero);
+    gasForceChange_ = List<vector>(n, Zero);
+    forAll(grains, j)
+    {
+        prevVelocity_[grains[j]] = v1[j];
+        prevVelocity2_[grains[j]] = v2[j];
+        prevForce_[grains[j]] = F1[j];
+        gasForceChange_[grains[j]] = dG[j];
+    }
+    if (!second)
+    {
+        prevVelocity2_.clear();
+        gasForceChange_.clear();
+    }
+    prevDt_ = h.get<scalar>("dt");
+}
+
+
+void Foam::vapourDroplet::writeRestart() const
+{
+    IOdictionary d
+    (
+        IOobject
+        (
+            "droplet", mesh_.time().timeName(), "uniform", mesh_,
+            IOobject::NO_READ, IOobject::NO_WRITE, false
+        )
+    );
+    d.add("centre", x_);
+    d.add("velocity", u_);
+    d.add("mass", m_);
+    d.add("y0", y0_);
+    d.add("mdot", mdot_);
+    d.add("pendingVapour", pendingVapour_);
+    d.add("grainVolume", Vp_);
+    if (film_)
+    {
+        d.add("filmGrain", filmGrain_);
+        d.add("filmHeat", filmHeat_);
+    }
+    if (localRelease_)
+    {
+        d.add("sinkDirection", sinkDirection_);
+        d.add("sinkHeat", sinkHeat_);
+    }
+    // predictor history of the grains near the droplet (vapourDroplet.H,
+    // "Gas drag of the grains inside", Restart)
+    const label n = prevVelocity_.size();
+    if
+    (
+        n > 0 && prevForce_.size() == n && prevDt_ > 0
+     && mesh_.foundObject<grainCloudReference>(grainCloud::registryName)
+    )
+    {
+        const nscd::System& sys =
+            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
+            .cloud().system();
+        const bool second =
+            prevVelocity2_.size() == n && gasForceChange_.size() == n;
+        const bool twoD = adapter_.twoD();
+        const scalar R = radius();
+        DynamicList<label> grains;
+        if (label(sys.size()) == n)
+        {
+            const auto& pos = sys.positions();
+            const auto& rad = sys.radii();
+            for (label g = 0; g < n; ++g)
+            {
+                const scalar dx = pos[g][0] - x_.x();
+                const scalar dy = pos[g][1] - x_.y();
+                const scalar dz = twoD ? 0.0 : pos[g][2] - x_.z();
+                if (sqrt(dx*dx + dy*dy + dz*dz) < 2*R + rad[g])
+                {
+                    grains.append(g);
+                }
+            }
+        }
+        dictionary h;
+        h.add("dt", prevDt_);
+        h.add("grains", labelList(grains));
+        h.add("velocity", List<vector>(UIndirectList<vector>(prevVelocity_, grains)));
+        h.add("force", List<vector>(UIndirectList<vector>(prevForce_, grains)));
+        if (second)
+        {
+            h.add
+            (
+                "velocity2",
+                List<vector>(UIndirectList<vector>(prevVelocity2_, grains))
+            );
+            h.add
+            (
+                "gasForceChange",
+                List<vector>(UIndirectList<vector>(gasForceChange_, grains))
+            );
+        }
+        d.add("grainHistory", h);
+    }
+    d.regIOobject::write();
+}
+
+
+void Foam::vapourDroplet::finishStep()
+{
+    const Time& runTime = mesh_.time();
+    if (Pstream::master())
+    {
+        if (!datPtr_.valid())
+        {
+            const fileName dir
+            (
+                runTime.globalPath()/"postProcessing"/"droplet"
+               /runTime.timeName(runTime.startTime().value())
+            );
+            mkDir(dir);
+            datPtr_.reset(new OFstream(dir/"droplet.dat"));
+            datPtr_() << "# vapourDroplet (thesis eq. 4.15-4.17), SI units";
+            if (adapter_.twoD())
+            {
+                datPtr_() << ", m/mdot/Q/Vdot over the mesh depth "
+                    << adapter_.depth() << " m";
+            }
+            datPtr_() << nl
+                << "# time x y u v m mdot Q_f Q_p R depth Vdot V_p"
+                   " Fp_x Fp_y Fpen_x Fpen_y nGrainsIn Fw_x Fw_y S_x S_y"
+                   " Fc_x Fc_y Q_film"
+                << nl;
+        }
+        std::ostringstream os;
+        os.precision(16);
+        os  << runTime.value() << ' ' << x_.x() << ' ' << x_.y() << ' '
+            << u_.x() << ' ' << u_.y() << ' ' << m_ << ' ' << mdot_ << ' '
+            << Qf_ << ' ' << Qp_ << ' ' << radius() << ' ' << y0_ - x_.y()
+            << ' ' << Vdot_ << ' ' << Vp_ << ' ' << Fp_.x() << ' '
+            << Fp_.y() << ' ' << Ff_.x() << ' ' << Ff_.y() << ' '
+            << nGrainsIn_ << ' ' << Fw_.x() << ' ' << Fw_.y() << ' '
+            << S_.x() << ' ' << S_.y() << ' ' << Fc_.x() << ' ' << Fc_.y()
+            << ' ' << Qfilm_;
+        datPtr_() << os.str().c_str() << nl;
+        datPtr_().flush();
+    }
+
+    if (runTime.writeTime())
+    {
+        writeRestart();
+    }
+}
+
+// ************************************************************************* //

@@ -1,0 +1,139 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam: grainCloud output (see grainCloud.H)
+
+Description
+    Writes of a time directory: the HDF5 state <time>/grainState.h5 (bit-exact
+    restart; written atomically by writeStateFile, grainCloudChecks.C), the
+    outlet counts and the lagrangian cloud <time>/lagrangian/grains/
+    {positions, d [m], U [m/s], omega [1/s], grainId, fixed, extra fields}
+    for foamToVTK and ParaView.
+\*---------------------------------------------------------------------------*/
+
+#include "grainCloud.H"
+#include "grainVectorTools.H"
+#include "passiveParticleCloud.H"
+#include "IOField.H"
+#include "OSspecific.H"
+
+using Foam::grainTools::toVector;
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::grainCloud::write
+(
+    const std::vector<std::pair<word, const List<vector>*>>& extra
+) const
+{
+    write(extra, {});
+}
+
+
+void Foam::grainCloud::write
+(
+    const std::vector<std::pair<word, const List<vector>*>>& extra,
+    const std::vector<std::pair<word, const List<scalar>*>>& extraScalars
+) const
+{
+    const Time& runTime = mesh_.time();
+    mkDir(runTime.timePath());
+
+    // HDF5 state (grains are held whole on every rank: each writes its
+    // copy; in parallel the master also writes the undecomposed case's, so
+    // that reconstructPar gives time directories a serial run continues from)
+    writeStateFile(runTime.timePath()/stateFileName);
+    if (Pstream::parRun() && Pstream::master())
+    {
+        const fileName global(runTime.globalPath()/runTime.timeName());
+        mkDir(global);
+        writeStateFile(global/stateFileName);
+    }
+    writeOutletCounts();
+    writeCloud(extra, extraScalars);
+}
+
+
+void Foam::grainCloud::writeCloud
+(
+    const std::vector<std::pair<word, const List<vector>*>>& extra,
+    const std::vector<std::pair<word, const List<scalar>*>>& extraScalars
+) const
+{
+    const Time& runTime = mesh_.time();
+    mkDir(runTime.timePath());
+
+    // Lagrangian cloud for foamToVTK / ParaView: the grains whose centre
+    // lies in this rank's part of the mesh; a centre on a processor
+    // boundary is found by both sides: the lowest rank writes it, so that
+    // reconstructPar gives every grain once
+    passiveParticleCloud cloud(mesh_, cloudName, IDLList<passiveParticle>());
+    // origId 0, 1, ... at every write (not a count over the run): the same
+    // grains give the same files (the start time is rewritten at start)
+    particle::particleCount_ = 0;
+    const label n = system_->size();
+    labelList cells(n, -1);
+    labelList owner(n, labelMax);
+    for (label i = 0; i < n; ++i)
+    {
+        cells[i] = mesh_.findCell(meshPosition(i));
+        if (cells[i] >= 0)
+        {
+            owner[i] = Pstream::myProcNo();
+        }
+    }
+    if (Pstream::parRun())
+    {
+        Pstream::listCombineGather(owner, minEqOp<label>());
+        Pstream::listCombineScatter(owner);
+    }
+    DynamicList<label> ids(n);
+    for (label i = 0; i < n; ++i)
+    {
+        if (cells[i] >= 0 && owner[i] == Pstream::myProcNo())
+        {
+            cloud.addParticle(new passiveParticle(mesh_, meshPosition(i), cells[i]));
+            ids.append(i);
+        }
+    }
+
+    IOField<scalar> d(cloud.fieldIOobject("d", IOobject::NO_READ), ids.size());
+    IOField<vector> U(cloud.fieldIOobject("U", IOobject::NO_READ), ids.size());
+    IOField<vector> omega(cloud.fieldIOobject("omega", IOobject::NO_READ), ids.size());
+    IOField<label> grainId(cloud.fieldIOobject("grainId", IOobject::NO_READ), ids.size());
+    IOField<label> fixed(cloud.fieldIOobject("fixed", IOobject::NO_READ), ids.size());
+    forAll(ids, k)
+    {
+        const label i = ids[k];
+        d[k] = 2*system_->radii()[i];
+        U[k] = toVector(system_->velocities()[i]);
+        omega[k] = toVector(system_->angularVelocities()[i]);
+        grainId[k] = label(system_->grainIds()[i]);
+        fixed[k] = system_->fixed(i) ? 1 : 0;
+    }
+    cloud.write();
+    const bool valid = ids.size() > 0;
+    d.write(valid);
+    U.write(valid);
+    omega.write(valid);
+    grainId.write(valid);
+    fixed.write(valid);
+    for (const auto& ex : extra)
+    {
+        IOField<vector> f(cloud.fieldIOobject(ex.first, IOobject::NO_READ), ids.size());
+        forAll(ids, k)
+        {
+            f[k] = (*ex.second)[ids[k]];
+        }
+        f.write(valid);
+    }
+    for (const auto& ex : extraScalars)
+    {
+        IOField<scalar> f(cloud.fieldIOobject(ex.first, IOobject::NO_READ), ids.size());
+        forAll(ids, k)
+        {
+            f[k] = (*ex.second)[ids[k]];
+        }
+        f.write(valid);
+    }
+}
+
+// ************************************************************************* //

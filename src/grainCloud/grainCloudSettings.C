@@ -1,0 +1,250 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam: grainCloud settings (see grainCloud.H)
+
+Description
+    constant/grainProperties read and checked (FatalIOError naming the file,
+    the keyword and the fix): the top-level keywords, the materials (density
+    [kg/m^3], friction [-], youngModulus [Pa], poissonRatio [-], conductivity
+    [W/(m K)], heatCapacity [J/(kg K)]), the contactSolver settings, and the
+    replacement of a saved state's materials by those of the dictionary.
+\*---------------------------------------------------------------------------*/
+
+#include "grainCloud.H"
+#include "grainDictionaryTools.H"
+#include "OStringStream.H"
+
+// * * * * * * * * * * * * * * * Local Functions * * * * * * * * * * * * * * //
+
+namespace
+{
+// contactSolver.method: the nscd::System::Settings::Method of the name
+nscd::System::Settings::Method contactSolverMethod(const Foam::dictionary& cs)
+{
+    using Method = nscd::System::Settings::Method;
+    const Foam::word m(cs.get<Foam::word>("method"));
+    if (m == "NLGS") return Method::NLGS;
+    if (m == "overRelaxedNLGS") return Method::OverRelaxedNLGS;
+    if (m != "APGD")
+    {
+        FatalIOErrorInFunction(cs)
+            << "unknown contactSolver method " << m
+            << "; methods: NLGS, overRelaxedNLGS, APGD" << Foam::exit(Foam::FatalIOError);
+    }
+    return Method::APGD;
+}
+}
+
+
+// * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+void Foam::grainCloud::readSettings()
+{
+    grainTools::checkKeywords
+    (
+        dict_,
+        {
+            "materials", "wallPatches", "maxDisplacementFraction",
+            "contactSolver", "movingWalls", "initialTemperature",
+            "wallTemperatures", "gates", "frontRearWalls", "outletPatches"
+        }
+    );
+
+    maxDisplacementFraction_ =
+        grainTools::getPositiveOrDefault(dict_, "maxDisplacementFraction", 0.1);
+    if (maxDisplacementFraction_ > 0.5)
+    {
+        FatalIOErrorInFunction(dict_)
+            << "maxDisplacementFraction " << maxDisplacementFraction_
+            << " in " << dict_.name() << " is too large: grains could cross"
+            << " each other within a sub-step. Use a value <= 0.5 (0.1 is"
+            << " the default)." << exit(FatalIOError);
+    }
+
+    const dictionary& mats = dict_.subDict("materials");
+    if (mats.empty())
+    {
+        FatalIOErrorInFunction(mats)
+            << "No material in " << mats.name()
+            << ". Add e.g. glass { density 2500; friction 0.4; }"
+            << exit(FatalIOError);
+    }
+    for (const entry& e : mats)
+    {
+        if (!e.isDict())
+        {
+            FatalIOErrorInFunction(mats)
+                << "Entry '" << e.keyword() << "' of " << mats.name()
+                << " must be a dictionary { density ...; friction ...; }"
+                << exit(FatalIOError);
+        }
+        grainTools::checkKeywords
+        (
+            e.dict(),
+            {
+                "density", "friction", "youngModulus", "poissonRatio",
+                "conductivity", "heatCapacity"
+            }
+        );
+        const scalar mu = e.dict().get<scalar>("friction");
+        if (mu < 0)
+        {
+            FatalIOErrorInFunction(e.dict())
+                << "friction of material " << e.keyword() << " must be >= 0"
+                << exit(FatalIOError);
+        }
+        grainTools::getPositive(e.dict(), "density");
+    }
+}
+
+
+void Foam::grainCloud::applySolverSettings()
+{
+    nscd::System::Settings& s = system_->settings();
+    if (dict_.found("contactSolver"))
+    {
+        const dictionary& cs = dict_.subDict("contactSolver");
+        grainTools::checkKeywords
+        (
+            cs,
+            {
+                "tolerance", "maxIterations", "overlapTolerance", "method",
+                "relaxation", "maxSubSteps"
+            }
+        );
+        if (cs.found("method"))
+        {
+            s.method = contactSolverMethod(cs);
+        }
+        s.relaxation = cs.getOrDefault<scalar>("relaxation", s.relaxation);
+        if (!(s.relaxation > 0 && s.relaxation < 2))
+        {
+            FatalIOErrorInFunction(cs)
+                << "relaxation must be in (0, 2), got " << s.relaxation
+                << exit(FatalIOError);
+        }
+        s.tolerance =
+            grainTools::getPositiveOrDefault(cs, "tolerance", s.tolerance);
+        s.maxIterations = cs.getOrDefault<label>("maxIterations", s.maxIterations);
+        s.overlapTolerance =
+            grainTools::getPositiveOrDefault
+            (
+                cs, "overlapTolerance", s.overlapTolerance
+            );
+        if (s.maxIterations < 1)
+        {
+            FatalIOErrorInFunction(cs)
+                << "maxIterations must be >= 1" << exit(FatalIOError);
+        }
+        s.maxSubSteps = cs.getOrDefault<label>("maxSubSteps", s.maxSubSteps);
+        if (s.maxSubSteps < 1)
+        {
+            FatalIOErrorInFunction(cs)
+                << "maxSubSteps must be >= 1" << exit(FatalIOError);
+        }
+    }
+}
+
+
+std::vector<nscd::Material> Foam::grainCloud::dictionaryMaterials() const
+{
+    std::vector<nscd::Material> list;
+    for (const entry& e : dict_.subDict("materials"))
+    {
+        const dictionary& d = e.dict();
+        nscd::Material m;
+        m.density = d.get<scalar>("density");
+        m.friction = d.get<scalar>("friction");
+        m.youngModulus = d.getOrDefault<scalar>("youngModulus", 0);
+        m.poissonRatio = d.getOrDefault<scalar>("poissonRatio", 0);
+        m.conductivity = d.getOrDefault<scalar>("conductivity", 0);
+        m.heatCapacity = d.getOrDefault<scalar>("heatCapacity", 0);
+        if (m.conductivity > 0 && !(m.youngModulus > 0))
+        {
+            WarningInFunction
+                << "Material " << e.keyword() << " in " << dict_.name()
+                << " has conductivity " << m.conductivity << " but no"
+                << " youngModulus: contact conduction (thesis eq. 4.2) is"
+                << " off for it, the grains exchange heat with the fluid"
+                << " only. Give youngModulus (and poissonRatio) to switch"
+                << " it on." << endl;
+        }
+        list.push_back(m);
+    }
+    return list;
+}
+
+
+void Foam::grainCloud::applyDictionaryMaterials(const fileName& statePath)
+{
+    // constant/grainProperties is authoritative, as any constant/ property
+    // of an OpenFOAM case: a state written by another case (e.g. a deposit
+    // copied into each case that starts from it) keeps its grains but takes
+    // this case's materials.  Unchanged materials leave a restart exact.
+    const std::vector<nscd::Material> list = dictionaryMaterials();
+    const dictionary& mats = dict_.subDict("materials");
+    if (label(list.size()) != system_->nMaterials())
+    {
+        FatalIOErrorInFunction(mats)
+            << statePath << " holds " << system_->nMaterials()
+            << " materials but " << mats.name() << " lists " << list.size()
+            << "." << nl << "    Materials are matched by their order"
+            << " (id 0, 1, ...): list as many as the state was written with,"
+            << " in the same order, or re-run grainDeposit."
+            << exit(FatalIOError);
+    }
+    wordList names(mats.toc());
+    for (label id = 0; id < label(list.size()); ++id)
+    {
+        const nscd::Material& old = system_->material(id);
+        const nscd::Material& m = list[id];
+        OStringStream changes;
+        auto note = [&changes](const char* what, scalar was, scalar now)
+        {
+            if (was != now)
+            {
+                changes << ", " << what << " " << was << " -> " << now;
+            }
+        };
+        note("density", old.density, m.density);
+        note("friction", old.friction, m.friction);
+        note("youngModulus", old.youngModulus, m.youngModulus);
+        note("poissonRatio", old.poissonRatio, m.poissonRatio);
+        note("conductivity", old.conductivity, m.conductivity);
+        note("heatCapacity", old.heatCapacity, m.heatCapacity);
+        if (changes.str().empty())
+        {
+            continue;
+        }
+        Info<< "grainCloud: material " << names[id] << " (id " << id
+            << ") of constant/grainProperties replaces the one in "
+            << (statePath.path().name()/statePath.name()).c_str() << ": "
+            << changes.str().substr(2).c_str()
+            << " (grain masses recomputed)"
+            << endl;
+        system_->setMaterial(id, m);
+    }
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+Foam::label Foam::grainCloud::materialId(const word& name) const
+{
+    const dictionary& mats = dict_.subDict("materials");
+    const wordList names(mats.toc());
+    label id = 0;
+    for (const entry& e : mats)
+    {
+        if (e.keyword() == name)
+        {
+            return id;
+        }
+        ++id;
+    }
+    FatalIOErrorInFunction(mats)
+        << "Unknown material '" << name << "'. Materials defined in "
+        << mats.name() << ": " << flatOutput(names) << exit(FatalIOError);
+    return -1;
+}
+
+// ************************************************************************* //
