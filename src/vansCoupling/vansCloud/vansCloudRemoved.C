@@ -38,11 +38,8 @@ void Foam::vansCloud::compactRemovedGrains()
     g.compactRemoved(fluidTorque_);
     g.compactRemoved(fluidForce_);
     g.compactRemoved(fluidVelocity_);
-    g.compactRemoved(Hstar_);
-    g.compactRemoved(Tgrain0_);
-    g.compactRemoved(Tfluid_);
-    g.compactRemoved(Qgrain_);
-    g.compactRemoved(cellHint_);
+    heat_.compactRemoved();
+    cohesion_.compactRemoved();
 }
 
 
