@@ -121,21 +121,7 @@ Foam::vansCloud::vansCloud
         dimensionedVector(dimAcceleration, Zero),
         zeroGradientFvPatchVectorField::typeName
     ),
-    Bs_
-    (
-        fieldIO(mesh, "Bs"), mesh, dimensionedScalar(dimless, Zero),
-        solidFluxPatchTypes(mesh)
-    ),
-    Kg_
-    (
-        fieldIO(mesh, "Kg"), mesh, dimensionedScalar(dimless, Zero),
-        solidFluxPatchTypes(mesh)
-    ),
-    Br_
-    (
-        fieldIO(mesh, "Br"), mesh, dimensionedScalar(dimless, Zero),
-        zeroGradientFvPatchScalarField::typeName
-    ),
+    resolved_(mesh, grains_, adapter_, settings_, solidFluxPatchTypes(mesh)),
     heat_(mesh, grains_, adapter_),
     cohesion_(mesh, grains_, adapter_)
 {
@@ -204,7 +190,7 @@ void Foam::vansCloud::predictGrains
 
     const vector g(foamTools::toVector(s.gravity()));
     const std::vector<double>& W = adapter_.grainMappedVolume();
-    markResolved();
+    resolved_.mark();
     initHeldFraction();
 
     for (label i = 0; i < n; ++i)
@@ -255,9 +241,9 @@ void Foam::vansCloud::spreadDragFields(const scalar dt)
     vectorField& sp = solidPressureForce_.primitiveFieldRef();
     scalarField& D = Ds_.primitiveFieldRef();
     scalarField& Kp = Kp_.primitiveFieldRef();
-    scalarField& B = Bs_.primitiveFieldRef();
-    scalarField& Kg = Kg_.primitiveFieldRef();
-    scalarField& Br = Br_.primitiveFieldRef();
+    scalarField& B = resolved_.Bs().primitiveFieldRef();
+    scalarField& Kg = resolved_.Kg().primitiveFieldRef();
+    scalarField& Br = resolved_.Br().primitiveFieldRef();
     Br = 0;
     Kg = 0;
     K = 0;
@@ -316,9 +302,9 @@ void Foam::vansCloud::spreadDragFields(const scalar dt)
     B /= mesh_.V();
     Kg /= mesh_.V();
     Br /= mesh_.V();
-    Br_.correctBoundaryConditions();
-    Bs_.correctBoundaryConditions();
-    Kg_.correctBoundaryConditions();
+    resolved_.Br().correctBoundaryConditions();
+    resolved_.Bs().correctBoundaryConditions();
+    resolved_.Kg().correctBoundaryConditions();
     Ds_.correctBoundaryConditions();
     Kp_.correctBoundaryConditions();
     Kdrag_.correctBoundaryConditions();

@@ -6,7 +6,8 @@ Description
     explicit, drag implicit in the contact solve), extra forces, the NSCD
     step and the per-grain impulses it leaves for the next fluid prediction
     (contact impulse p^n of eq. 3.46, the drag impulse the fluid owes, the
-    held fraction).  See vansCloud.H.
+    held fraction and the inverse mass the fluid's prediction gives a held
+    grain).  See vansCloud.H.
 \*---------------------------------------------------------------------------*/
 
 #include "vansCloud.H"
@@ -14,6 +15,40 @@ Description
 #include "fvc.H"
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+void Foam::vansCloud::initHeldFraction()
+{
+    const nscd::System& s = grains_.system();
+    const label n = s.size();
+    if (heldFraction_.size() == n)
+    {
+        return;
+    }
+    heldFraction_.setSize(n);
+    heldFraction_ = 0;
+    for (const nscd::System::ContactView& c : s.contacts())
+    {
+        if (c.impulse.squaredNorm() > 0)
+        {
+            heldFraction_[c.i] = 1;
+            if (c.j >= 0)
+            {
+                heldFraction_[c.j] = 1;
+            }
+        }
+    }
+}
+
+
+Foam::scalar Foam::vansCloud::fluidInverseMass(const label i) const
+{
+    // a held grain is seen 1e4 times heavier, not infinitely: where eps is
+    // clipped at epsMin the drag coefficient is astronomical and gamma*
+    // must stay bounded (<= 1e4 m/(W dt)) for a well-posed pressure equation
+    const scalar theta = resolved_[i] ? 0 : heldFraction_[i];
+    return (1 - theta*(1 - 1e-4))/grains_.system().mass(i);
+}
+
 
 void Foam::vansCloud::applyGrainForces(const UList<vector>& extra)
 {

@@ -18,7 +18,7 @@ Description
 void Foam::vansCloud::compactRemovedGrains()
 {
     const grainCloud& g = grains_;
-    g.compactRemoved(resolved_);
+    resolved_.compactRemoved();
     g.compactRemoved(Ug_);
     g.compactRemoved(epsg_);
     g.compactRemoved(gradpg_);

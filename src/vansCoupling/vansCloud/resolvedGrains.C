@@ -1,20 +1,45 @@
-/*---------------------------------------------------------------------------*\
-  nscdFoam: vansCloud, resolved grains and the fluid's view of a grain's mass
-
-Description
-    Which grains get the resolved scheme (markResolved, fixedResolved), the
-    viscosity penalty of their rigid interior (rigidViscosityf), and the
-    inverse mass the fluid's prediction uses (held fraction, eq. 3.46-3.50).
-    See vansCloud.H, "Resolved grains", and docs/validation/resolvedGrains.md.
-\*---------------------------------------------------------------------------*/
-
-#include "vansCloud.H"
+#include "resolvedGrains.H"
 #include "fvc.H"
+#include "zeroGradientFvPatchFields.H"
 #include "PstreamCombineReduceOps.H"
 
-// * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+// * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
-void Foam::vansCloud::markResolved()
+Foam::resolvedGrains::resolvedGrains
+(
+    const fvMesh& mesh,
+    const grainCloud& grains,
+    const overlapMeshAdapter& adapter,
+    const vansCloudSettings& settings,
+    const wordList& patchTypes
+)
+:
+    mesh_(mesh),
+    grains_(grains),
+    adapter_(adapter),
+    settings_(settings),
+    Bs_
+    (
+        IOobject("Bs", mesh.time().timeName(), mesh),
+        mesh, dimensionedScalar(dimless, Zero), patchTypes
+    ),
+    Kg_
+    (
+        IOobject("Kg", mesh.time().timeName(), mesh),
+        mesh, dimensionedScalar(dimless, Zero), patchTypes
+    ),
+    Br_
+    (
+        IOobject("Br", mesh.time().timeName(), mesh),
+        mesh, dimensionedScalar(dimless, Zero),
+        zeroGradientFvPatchScalarField::typeName
+    )
+{}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::resolvedGrains::mark()
 {
     const nscd::System& s = grains_.system();
     const label n = s.size();
@@ -56,43 +81,7 @@ void Foam::vansCloud::markResolved()
 }
 
 
-void Foam::vansCloud::initHeldFraction()
-{
-    const nscd::System& s = grains_.system();
-    const label n = s.size();
-    if (heldFraction_.size() == n)
-    {
-        return;
-    }
-    heldFraction_.setSize(n);
-    heldFraction_ = 0;
-    for (const nscd::System::ContactView& c : s.contacts())
-    {
-        if (c.impulse.squaredNorm() > 0)
-        {
-            heldFraction_[c.i] = 1;
-            if (c.j >= 0)
-            {
-                heldFraction_[c.j] = 1;
-            }
-        }
-    }
-}
-
-
-Foam::scalar Foam::vansCloud::fluidInverseMass(const label i) const
-{
-    // a held grain is seen 1e4 times heavier, not infinitely: where eps is
-    // clipped at epsMin the drag coefficient is astronomical and gamma*
-    // must stay bounded (<= 1e4 m/(W dt)) for a well-posed pressure equation
-    const scalar theta = resolved_[i] ? 0 : heldFraction_[i];
-    return (1 - theta*(1 - 1e-4))/grains_.system().mass(i);
-}
-
-
-// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
-
-bool Foam::vansCloud::fixedResolved() const
+bool Foam::resolvedGrains::fixedResolved() const
 {
     const nscd::System& s = grains_.system();
     if (resolved_.size() != label(s.size()))
@@ -110,7 +99,8 @@ bool Foam::vansCloud::fixedResolved() const
 }
 
 
-Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::rigidViscosityf() const
+Foam::tmp<Foam::surfaceScalarField>
+Foam::resolvedGrains::rigidViscosityf() const
 {
     const dimensionedScalar nu("nu", dimViscosity, settings_.nu);
     // chi = max(0, 2 Br - 1): 0 in cells at most half covered, 1 in fully
@@ -124,6 +114,12 @@ Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::rigidViscosityf() const
         1/fvc::interpolate(1/nuPen) - nu,
         dimensionedScalar(dimViscosity, Zero)
     );
+}
+
+
+void Foam::resolvedGrains::compactRemoved()
+{
+    grains_.compactRemoved(resolved_);
 }
 
 
