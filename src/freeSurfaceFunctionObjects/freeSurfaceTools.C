@@ -1,5 +1,5 @@
 #include "freeSurfaceTools.H"
-#include "FlatOutput.H"
+#include "grainDictionaryTools.H"
 
 void Foam::freeSurfaceTools::checkKeywords
 (
@@ -14,19 +14,7 @@ void Foam::freeSurfaceTools::checkKeywords
         "region", "writePrecision", "writeToFile", "useUserTime",
         "updateHeader"
     };
-    for (const entry& e : dict)
-    {
-        if (!generic.found(e.keyword()) && !own.found(e.keyword()))
-        {
-            FatalIOErrorInFunction(dict)
-                << "Unknown keyword '" << e.keyword() << "' in function object"
-                << " dictionary " << dict.name() << nl
-                << "    Allowed keywords: " << flatOutput(own)
-                << " and the generic " << flatOutput(generic) << nl
-                << "    Fix: correct the spelling or remove the entry."
-                << exit(FatalIOError);
-        }
-    }
+    grainTools::checkKeywords(dict, own, generic);
 }
 
 

@@ -9,15 +9,30 @@ void Foam::grainTools::checkKeywords
     const wordList& allowed
 )
 {
+    checkKeywords(dict, allowed, wordList());
+}
+
+
+void Foam::grainTools::checkKeywords
+(
+    const dictionary& dict,
+    const wordList& allowed,
+    const wordList& generic
+)
+{
     for (const entry& e : dict)
     {
-        if (!allowed.found(e.keyword()))
+        if (!allowed.found(e.keyword()) && !generic.found(e.keyword()))
         {
-            FatalIOErrorInFunction(dict)
+            Ostream& os = FatalIOErrorInFunction(dict)
                 << "Unknown keyword '" << e.keyword() << "' in dictionary "
                 << dict.name() << nl
-                << "    Allowed keywords: " << flatOutput(allowed) << nl
-                << "    Fix: correct the spelling or remove the entry."
+                << "    Allowed keywords: " << flatOutput(allowed);
+            if (generic.size())
+            {
+                os  << " and the generic " << flatOutput(generic);
+            }
+            os  << nl << "    Fix: correct the spelling or remove the entry."
                 << exit(FatalIOError);
         }
     }

@@ -22,7 +22,7 @@ grains spanning many cells, eps -> epsMin inside them, the semi-implicit drag
   section 6.4; the walls W = 8 D away raise it by < 5 %), within 10 %, at
   rho_p/rho_f = 1.01 and 2, independent of dt within 10 % (5x range),
   with the opt-in resolved solid flux and balanced grain weight of
-  vansCloud (couplingProperties resolvedCellsPerDiameter 4; vansCloud.H,
+  vansCloud (couplingProperties resolvedCellsPerDiameter 4; docs/validation/resolvedGrains.md,
   "Resolved grains"); with the default scheme (strict xfail) a0 is 4.85 x
   the reference at dt 1e-3 s by the fit (0.237 m/s^2; 3.4 x from a
   hydrostatic start), 1.79 x at 2e-4; mean acceleration over 0.02 s
@@ -34,19 +34,19 @@ grains spanning many cells, eps -> epsMin inside them, the semi-implicit drag
   box's walls (4 D) slow it by 6.5 % (tests/bench/cylinderConfinement).
   In the box the resolved scheme was a strict xfail at 2.005 cm/s (D/h 8,
   -20 %: the walls, the D/h 8 resolution and the wake symmetry breaking
-  in the window; vansCloud.H "Known limits"); the default scheme passed
+  in the window; docs/validation/resolvedGrains.md "Known limits"); the default scheme passed
   there at 2.595 cm/s, fortuitously (+18 % released on the axis, wrong
   added mass above): no longer tested.
 - A rigid solid flux (Sharma & Patankar 2005 defect correction inside the
   pressure iteration) was tried: it converged and kept the added mass, but
   did not change the steady drag (falling cylinder 2.015 cm/s, low-Re
-  settling 1.2 x Faxen), so it was not kept (vansCloud.H, Known limits).
+  settling 1.2 x Faxen), so it was not kept (docs/validation/resolvedGrains.md, Known limits).
 - Free disc settling midway between walls at Re 0.05: Galilean consistency
   with the fixed disc above, within 10 % of Faxen's settling velocity
   (1.012 at D/h = 10, nu dt/h^2 = 5, dt independent) thanks to the rigid
   interior of resolved free grains (viscosity penalty, couplingProperties
   rigidViscosityRatio, default 1000 with resolvedCellsPerDiameter;
-  vansCloud.H "Resolved grains"); without it 1.23 x (asserted > 1.10).
+  docs/validation/resolvedGrains.md "Resolved grains"); without it 1.23 x (asserted > 1.10).
   The resolved scheme needs a Krylov U solver (setupCase.write_case writes
   PBiCGStab).
 - Galilean consistency at Re ~ 140 (falling cylinder released on the
@@ -156,7 +156,7 @@ def test_released_disc_added_mass(tmp_path, env):
     accelerations u(0.02)/0.02; this test's fit gives 4.85, 1.79, 1.50 on
     the same runs): spurious
     rim currents of ~0.23 g dt per step from the face/cell mismatch of the
-    pressure force and the grain's weight (vansCloud.H, Resolved grains).
+    pressure force and the grain's weight (docs/validation/resolvedGrains.md, Resolved grains).
     With the rigid interior (rigidViscosityRatio 1000 by default, 03:37 UTC
     2026-11-22): 0.964 (dt 1e-3), 0.918 (2e-4), 0.958 at rho_p/rho_f = 2."""
     g = 9.81
@@ -202,7 +202,7 @@ def test_free_disc_settling_faxen(tmp_path, env):
     1946; Ben Richou et al. 2004 eq. 1) balances its net weight, within
     10 % (the tolerance of the fixed disc test above, which passes within
     2 %).  Measured (03:30 UTC 2026-11-22, rigid interior of vansCloud,
-    rigidViscosityRatio 1000 by default, vansCloud.H "Resolved grains"):
+    rigidViscosityRatio 1000 by default, docs/validation/resolvedGrains.md "Resolved grains"):
     1.012; nu dt/h^2 = 1, 0.2: 1.006, 1.000 (dt independent); D/h 14:
     1.011; lambda 100, 10^4: 1.020, 1.011.  Without the penalty
     (rigidViscosityRatio 0, also run here: it must stay > 1.10, so that
@@ -248,7 +248,7 @@ def test_released_disc_added_mass_default_scheme(tmp_path, env):
     with the default coupling (grains' weight in the cells, pressure force
     on the faces, explicit solid flux): its initial acceleration should be
     the added-mass value within 10 % too (Batchelor 1967, 6.4); it is not
-    (spurious rim force, vansCloud.H "Resolved grains"), hence the opt-in
+    (spurious rim force, docs/validation/resolvedGrains.md "Resolved grains"), hence the opt-in
     scheme and this strict xfail that will flag a fix of the default.
     Measured 2026-11-22 (trajectory identical to 3e-12 m/s on the d3f1c03,
     0145616 and current builds): fit 4.852 / 1.785 / 1.503 at maxDeltaT
@@ -311,7 +311,7 @@ def test_falling_cylinder_terminal_velocity(tmp_path, env):
     ~6.5 min on one core (14 min with three other jobs on the 2 vCPUs).
     In the thesis box (walls at 4 D, tests/bench/cylinderConvergence) the
     plateau is 2.075-2.323 cm/s at D/h 8-20 (-17 ... -7.1 %): that deficit
-    is the walls' ~6.5 % plus the resolution error (vansCloud.H Known
+    is the walls' ~6.5 % plus the resolution error (docs/validation/resolvedGrains.md Known
     limits).  The default scheme (no resolvedCellsPerDiameter) is not
     tested here: its earlier pass in the box (2.595 cm/s at D/h 8) was
     fortuitous (+18 % released on the axis, and its added mass is wrong,
@@ -446,7 +446,7 @@ def test_free_fixed_disc_galilean_consistency(tmp_path, env):
     1. free disc: fall speed U(t) at the write times (every 0.05 s); mean
        2.248 cm/s over 2.0-2.5 s, within 0.75 % of the 2-3 s mean of the
        same disc (0.12 m box) run to 3 s (2.265 cm/s; u(3 s) = 2.29,
-       vansCloud.H "Known limits"), Re 140.
+       docs/validation/resolvedGrains.md "Known limits"), Re 140.
     2. the disc fixed in a channel of the same width and mesh, 6 D of inlet,
        10 D of outlet length, inflow and walls at U(t) (the free history as
        a table, fixedFluxPressure inlet), no gravity.  Transforming the
@@ -464,7 +464,7 @@ def test_free_fixed_disc_galilean_consistency(tmp_path, env):
        gives both wakes the same age (a fixed disc at constant U has an
        older wake and less drag: 0.93 W at 2.29 cm/s over 2-2.5 s, scaled
        to 2.248 with D ~ U^1.9 0.90 W, 0.92 W after removing the free
-       disc's residual acceleration from W; O's runs, vansCloud.H).
+       disc's residual acceleration from W; O's runs, docs/validation/resolvedGrains.md).
     Asserted: the window mean (2.0-2.5 s, trapezoidal) of F_fixed (the
     grain's `Ffluid`) over (rho_p - rho_f) V (g - mean a) within 10 % of 1.
     Measured (02:00 UTC 2026-11-22, D/h 8, before the rigid interior of
@@ -475,7 +475,7 @@ def test_free_fixed_disc_galilean_consistency(tmp_path, env):
     viscosity, ~2 nu on the faces between penalised and free cells, adds
     skin friction in the thin boundary layer at Re 140 (with the smaller
     of the two cells' viscosities on a face instead: 2.236, 2.277 cm/s, but
-    1.094 x Faxen at Re 0.05; vansCloud.H).  Before: inlet/outlet 8 D/16 D (O's co-moving frame): 0.951, so
+    1.094 x Faxen at Re 0.05; docs/validation/resolvedGrains.md).  Before: inlet/outlet 8 D/16 D (O's co-moving frame): 0.951, so
     6 D/10 D changes it by 0.5 %; 4 D/8 D: 0.982 (too short).  Runs in
     ~60 s (free 2.5 s of 64 x 160 cells, fixed 64 x 128).  The free disc's acceleration oscillates (0.2 s period, a
     between -0.5 and 4.5 mm/s^2) and the fixed disc's force follows it via
@@ -484,7 +484,7 @@ def test_free_fixed_disc_galilean_consistency(tmp_path, env):
     cancels only in part; the remaining 4 % deficit of the fixed disc is of
     the order of the D/h = 8 resolution error of the free disc (its speed
     is 2.29, 2.33, 2.35 cm/s at D/h 8, 12, 16 at 3 s, ~6 % in drag with
-    D ~ U^1.9, measured by O, vansCloud.H "Known limits"); 10 % still
+    D ~ U^1.9, measured by O, docs/validation/resolvedGrains.md "Known limits"); 10 % still
     catches the 27-33 % free/fixed excess that the offset release gave."""
     end, t1, t2 = 2.5, 2.0, 2.5
     t, u, ulat = free_disc_on_centreline(str(tmp_path / "free"), env, end)

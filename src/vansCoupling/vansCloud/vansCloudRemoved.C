@@ -18,7 +18,7 @@ Description
 void Foam::vansCloud::compactRemovedGrains()
 {
     const grainCloud& g = grains_;
-    g.compactRemoved(resolved_);
+    resolved_.compactRemoved();
     g.compactRemoved(Ug_);
     g.compactRemoved(epsg_);
     g.compactRemoved(gradpg_);
@@ -38,11 +38,8 @@ void Foam::vansCloud::compactRemovedGrains()
     g.compactRemoved(fluidTorque_);
     g.compactRemoved(fluidForce_);
     g.compactRemoved(fluidVelocity_);
-    g.compactRemoved(Hstar_);
-    g.compactRemoved(Tgrain0_);
-    g.compactRemoved(Tfluid_);
-    g.compactRemoved(Qgrain_);
-    g.compactRemoved(cellHint_);
+    heat_.compactRemoved();
+    cohesion_.compactRemoved();
 }
 
 

@@ -1,0 +1,221 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam: vansCloud, fluid forces on the grains and the grain step
+
+Description
+    The fluid force on each grain from the final U and p (pressure force
+    explicit, drag implicit in the contact solve), extra forces, the NSCD
+    step and the per-grain impulses it leaves for the next fluid prediction
+    (contact impulse p^n of eq. 3.46, the drag impulse the fluid owes, the
+    held fraction and the inverse mass the fluid's prediction gives a held
+    grain).  See vansCloud.H.
+\*---------------------------------------------------------------------------*/
+
+#include "vansCloud.H"
+#include "foamTools.H"
+#include "fvc.H"
+
+// * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+void Foam::vansCloud::initHeldFraction()
+{
+    const nscd::System& s = grains_.system();
+    const label n = s.size();
+    if (heldFraction_.size() == n)
+    {
+        return;
+    }
+    heldFraction_.setSize(n);
+    heldFraction_ = 0;
+    for (const nscd::System::ContactView& c : s.contacts())
+    {
+        if (c.impulse.squaredNorm() > 0)
+        {
+            heldFraction_[c.i] = 1;
+            if (c.j >= 0)
+            {
+                heldFraction_[c.j] = 1;
+            }
+        }
+    }
+}
+
+
+Foam::scalar Foam::vansCloud::fluidInverseMass(const label i) const
+{
+    // a held grain is seen 1e4 times heavier, not infinitely: where eps is
+    // clipped at epsMin the drag coefficient is astronomical and gamma*
+    // must stay bounded (<= 1e4 m/(W dt)) for a well-posed pressure equation
+    const scalar theta = resolved_[i] ? 0 : heldFraction_[i];
+    return (1 - theta*(1 - 1e-4))/grains_.system().mass(i);
+}
+
+
+void Foam::vansCloud::applyGrainForces(const UList<vector>& extra)
+{
+    nscd::System& s = grains_.system();
+    const label n = s.size();
+    const scalar depth = adapter_.depth();
+    const std::vector<double>& W = adapter_.grainMappedVolume();
+    const bool torque = settings_.rotation && fluidTorque_.size() == n;
+    for (label i = 0; i < n; ++i)
+    {
+        vector F = explicitFluidForce_[i];
+        if (extra.size() == n)
+        {
+            F += extra[i];
+        }
+        const vector T = torque ? fluidTorque_[i] : vector(Zero);
+        s.setExternalForce(i, foamTools::toVec3(F), foamTools::toVec3(T));
+        // drag coefficient W gamma [kg/s] (2D: per unit depth)
+        s.setFluidDrag
+        (
+            i,
+            s.fixed(i) ? 0.0 : W[i]/depth*gamma_[i],
+            foamTools::toVec3(fluidVelocity_[i])
+        );
+    }
+}
+
+
+void Foam::vansCloud::updateGrainImpulses
+(
+    const UList<vector>& v0,
+    const scalar dt
+)
+{
+    // Contact impulse of the whole step (all sub-steps), p^n of eq. 3.46:
+    // what changed the momentum besides gravity and the fluid force; the
+    // fluid force actually received (explicit part + the drag impulse of
+    // the contact solve) and the drag impulse the fluid still owes
+    const nscd::System& s = grains_.system();
+    const label n = s.size();
+    const vector g(foamTools::toVector(s.gravity()));
+    const std::vector<nscd::Vec3>& J = s.fluidDragImpulses();
+    const bool coupled =
+        explicitFluidForce_.size() == n && fluidDragGiven_.size() == n
+     && fluidForce_.size() == n;
+    dragImpulseDefect_.setSize(n);
+    heldFraction_.setSize(n);
+    for (label i = 0; i < n; ++i)
+    {
+        dragImpulseDefect_[i] = Zero;
+        if (s.fixed(i))
+        {
+            heldFraction_[i] = 0;
+            contactImpulse_[i] = Zero;
+            continue;
+        }
+        const scalar m = s.mass(i);
+        const vector Jd(foamTools::toVector(J[i]));
+        // rotation on: F0 includes the rotational drag part
+        const vector F0 = coupled ? explicitFluidForce_[i] : vector::zero;
+        contactImpulse_[i] =
+            m*(foamTools::toVector(s.velocities()[i]) - v0[i])
+          - dt*(m*g + F0) - Jd;
+        if (coupled)
+        {
+            fluidForce_[i] = F0 + Jd/dt;
+            dragImpulseDefect_[i] = Jd - fluidDragGiven_[i];
+        }
+        // held fraction: how much of the free drift P the contacts cancelled
+        const vector u = fluidVelocity_.size() == n ? fluidVelocity_[i] : v0[i];
+        const vector P =
+            dt*(m*g + F0 + s.fluidDragCoefficient(i)*(u - v0[i]));
+        const scalar P2 = magSqr(P);
+        heldFraction_[i] =
+            P2 > 0 ? min(max(-(contactImpulse_[i] & P)/P2, scalar(0)), scalar(1)) : 0;
+    }
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::vansCloud::setFluidForces
+(
+    const volVectorField& U,
+    const volScalarField& p
+)
+{
+    nscd::System& s = grains_.system();
+    const scalar depth = adapter_.depth();
+    const std::vector<double>& W = adapter_.grainMappedVolume();
+    const scalar rhoK = settings_.rhoK;
+    adapter_.gather(U, Ug_);
+    const volVectorField gradp(fvc::grad(p));
+    adapter_.gather(gradp, gradpg_);
+    const label nGrains = s.size();
+    fluidForce_.setSize(nGrains);
+    explicitFluidForce_.setSize(nGrains);
+    fluidDragGiven_.setSize(nGrains);
+    fluidVelocity_ = Ug_;
+    for (label i = 0; i < nGrains; ++i)
+    {
+        const scalar Wi = W[i]/depth;
+        // v** with the final pressure gradient (eq. 3.47)
+        const vector vss =
+            s.fixed(i)
+          ? vss_[i]
+          : vss_[i] - (dt_*Wi*fluidInverseMass(i)*rhoK)*gradpg_[i];
+        // the drag the fluid took from its own equation, W gamma (U - v*)
+        // with the predicted v* (eq. 3.48); the grains get W gamma (U - v)
+        // with their velocity after the contact solve (evolve)
+        const vector drag = Wi*gammaStar_[i]*(Ug_[i] - vss);
+        explicitFluidForce_[i] = -Wi*rhoK*gradpg_[i];
+        fluidForce_[i] = explicitFluidForce_[i] + drag;
+        fluidDragGiven_[i] = dt_*drag;
+    }
+    if (!settings_.rotation)
+    {
+        applyGrainForces(UList<vector>());
+        return;
+    }
+    addRotationalForces(U, gradp);
+    applyGrainForces(UList<vector>());
+    logDragAngularMomentum(U, gradp);
+}
+
+
+void Foam::vansCloud::addExternalForces(const UList<vector>& F)
+{
+    const label n = grains_.system().size();
+    if (F.empty())
+    {
+        return;
+    }
+    if (F.size() != n || explicitFluidForce_.size() != n)
+    {
+        FatalErrorInFunction
+            << "addExternalForces: " << F.size() << " forces for " << n
+            << " grains (" << explicitFluidForce_.size() << " fluid forces):"
+            << " call it after setFluidForces with one force per grain."
+            << exit(FatalError);
+    }
+    applyGrainForces(F);
+}
+
+
+void Foam::vansCloud::evolve(const scalar dt)
+{
+    nscd::System& s = grains_.system();
+    const label n = s.size();
+    List<vector> v0(n);
+    for (label i = 0; i < n; ++i)
+    {
+        v0[i] = foamTools::toVector(s.velocities()[i]);
+    }
+
+    cohesion_.beforeGrainStep();
+
+    grains_.evolve(dt);
+    if (grains_.removedGrains().size())   // grains left through outlets
+    {
+        grains_.compactRemoved(v0);
+        compactRemovedGrains();
+    }
+
+    cohesion_.report();
+    updateGrainImpulses(v0, dt);
+}
+
+
+// ************************************************************************* //

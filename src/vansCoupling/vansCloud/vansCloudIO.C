@@ -1,0 +1,214 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam: vansCloud, restart state, output and start-up checks
+
+Description
+    The per-grain coupling state that makes a restarted run identical to an
+    uninterrupted one (uniform/grainContactImpulse, grainDragImpulseDefect,
+    grainHeldFraction, binary IOLists, one entry per grain; a list of
+    another size is ignored), the grain output with the coupling fields, and
+    the start-up warning about closed pores in 2D packings.
+\*---------------------------------------------------------------------------*/
+
+#include "vansCloud.H"
+#include "IOList.H"
+
+// * * * * * * * * * * * * * * * Local Functions  * * * * * * * * * * * * * //
+
+namespace
+{
+    //- Read <time>/uniform/<name> into list if it exists with nGrains
+    //  entries (else list is left as it is)
+    template<class Type>
+    void readGrainList
+    (
+        const Foam::fvMesh& mesh,
+        const Foam::word& name,
+        const Foam::label nGrains,
+        Foam::List<Type>& list
+    )
+    {
+        using namespace Foam;
+        IOobject io
+        (
+            name, mesh.time().timeName(), "uniform", mesh,
+            IOobject::MUST_READ, IOobject::NO_WRITE, false
+        );
+        if (io.typeHeaderOk<IOList<Type>>(true))
+        {
+            const IOList<Type> read(io);
+            if (read.size() == nGrains)
+            {
+                list = read;
+            }
+        }
+    }
+
+    //- Write list to <time>/uniform/<name>, binary
+    template<class Type>
+    void writeGrainList
+    (
+        const Foam::fvMesh& mesh,
+        const Foam::word& name,
+        const Foam::List<Type>& list
+    )
+    {
+        using namespace Foam;
+        IOList<Type> io
+        (
+            IOobject
+            (
+                name, mesh.time().timeName(), "uniform",
+                mesh, IOobject::NO_READ, IOobject::NO_WRITE, false
+            ),
+            list
+        );
+        io.writeObject
+        (
+            IOstream::BINARY, IOstream::currentVersion,
+            IOstream::UNCOMPRESSED, true
+        );
+    }
+}
+
+
+// * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+void Foam::vansCloud::readRestart()
+{
+    // the void fraction written at a time is the "old" one of the next step
+    IOobject epsIO
+    (
+        "voidFraction", mesh_.time().timeName(), mesh_, IOobject::MUST_READ
+    );
+    if (epsIO.typeHeaderOk<volScalarField>(true))
+    {
+        const volScalarField epsRead(epsIO, mesh_);
+        voidFraction_.primitiveFieldRef() = epsRead.primitiveField();
+        voidFraction_.correctBoundaryConditions();
+    }
+    voidFraction_.oldTime();
+    const label nGrains = grains_.system().size();
+    readGrainList(mesh_, "grainContactImpulse", nGrains, contactImpulse_);
+    readGrainList(mesh_, "grainDragImpulseDefect", nGrains, dragImpulseDefect_);
+    readGrainList(mesh_, "grainHeldFraction", nGrains, heldFraction_);
+}
+
+
+void Foam::vansCloud::warnClosedPores() const
+{
+    // 2D disc packings have closed pores (solid fraction ~0.82): without the
+    // fluid-side effective diameter of thesis section 3.2.3 a settled bed of
+    // fine grains gives cell void fractions < 0.1 and a stiff, unstable
+    // coupling (applications/solvers/vansFoam/README.md, "Time step and
+    // stability").  Cells more than half covered by ONE grain (a grain
+    // larger than the cell: resolved or semi-resolved, eps -> epsMin there
+    // by design) do not count: the warning is about packings of grains
+    // smaller than the cells
+    scalarField oneGrainShare(mesh_.nCells(), Zero);
+    {
+        const auto& ec = adapter_.entryCell();
+        const auto& ev = adapter_.entryVolume();
+        for (std::size_t e = 0; e < ec.size(); ++e)
+        {
+            const label c = ec[e];
+            oneGrainShare[c] = max(oneGrainShare[c], ev[e]/mesh_.V()[c]);
+        }
+    }
+    scalar epsLow = GREAT;
+    forAll(oneGrainShare, c)
+    {
+        if (oneGrainShare[c] < 0.5)
+        {
+            epsLow = min(epsLow, voidFraction_[c]);
+        }
+    }
+    reduce(epsLow, minOp<scalar>());
+    const scalar kEff = adapter_.settings().effectiveDiameterFactor;
+    if (adapter_.twoD() && kEff == 1 && epsLow < 0.1 && grains_.system().size())
+    {
+        WarningInFunction
+            << "2D case with a void fraction down to " << epsLow
+            << " at the start and voidFraction.effectiveDiameterFactor 1 in "
+            << dict_.name() << ": discs pack to a solid fraction ~0.82 with"
+            << " closed pores." << nl
+            << "    Consider effectiveDiameterFactor ~0.88 (the solid fraction"
+            << " of random sphere packings, thesis section 3.2.3); dense beds"
+            << " of fine grains are otherwise unstable." << endl;
+    }
+}
+
+
+void Foam::vansCloud::logSettings() const
+{
+    Info<< "vansCloud: force model " << settings_.forceModel;
+    if (adapter_.twoD())
+    {
+        Info<< ", 2D drag convention " << drag_->discConventionName();
+    }
+    if (settings_.constantProperties)
+    {
+        Info<< ", fluid rho " << settings_.rho << " nu " << settings_.nu;
+    }
+    else
+    {
+        Info<< ", local fluid rho and mu (mixture fields)";
+    }
+    if (rigidViscosity())
+    {
+        Info<< ", rigid viscosity ratio " << settings_.rigidViscosityRatio
+            << " in resolved free grains";
+    }
+    Info<< ", rotation coupling " << (settings_.rotation ? "on" : "off")
+        << ", void fraction min "
+        << gMin(voidFraction_.primitiveField()) << nl << endl;
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::vansCloud::write() const
+{
+    // the grains' coupling state for the exact restart (read back by the
+    // constructor), binary
+    writeGrainList(mesh_, "grainContactImpulse", contactImpulse_);
+    writeGrainList(mesh_, "grainDragImpulseDefect", dragImpulseDefect_);
+    if (heldFraction_.size())
+    {
+        writeGrainList(mesh_, "grainHeldFraction", heldFraction_);
+    }
+    const label n = grains_.system().size();
+    if (fluidForce_.size() != n || fluidVelocity_.size() != n)
+    {
+        grains_.write();
+        return;
+    }
+    // per-grain coupling output: fluid force and velocity; with rotation
+    // the fluid torque `torqueFluid`; with heat the grain temperature `T`
+    // and the gathered fluid temperature `Tfluid`
+    std::vector<std::pair<word, const List<vector>*>> vectors
+    {
+        {"Ffluid", &fluidForce_}, {"Ufluid", &fluidVelocity_}
+    };
+    if (settings_.rotation && fluidTorque_.size() == n)
+    {
+        vectors.emplace_back("torqueFluid", &fluidTorque_);
+    }
+    if (heatOn())
+    {
+        List<scalar> Tg(n);
+        for (label i = 0; i < n; ++i)
+        {
+            Tg[i] = grains_.system().temperatures()[i];
+        }
+        List<scalar> Tf(heat_.Tfluid());
+        Tf.setSize(n, Zero);
+        grains_.write(vectors, {{"T", &Tg}, {"Tfluid", &Tf}});
+    }
+    else
+    {
+        grains_.write(vectors);
+    }
+}
+
+
+// ************************************************************************* //

@@ -1,0 +1,242 @@
+#include "vapourCohesion.H"
+#include "grainDictionaryTools.H"
+#include "volFields.H"
+#include "PstreamCombineReduceOps.H"
+
+#include <cmath>
+
+// * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
+
+Foam::vapourCohesion::vapourCohesion
+(
+    const fvMesh& mesh,
+    grainCloud& grains,
+    const overlapMeshAdapter& adapter
+)
+:
+    mesh_(mesh),
+    grains_(grains),
+    adapter_(adapter)
+{}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::vapourCohesion::read(const IOdictionary& dict, const bool vapourOn)
+{
+    dictName_ = dict.name();
+    nscd::System& s = grains_.system();
+    if (!dict.found("cohesion"))
+    {
+        // a state written by a run with cohesion keeps its force: off here
+        s.setCohesion(nullptr, 0);
+        s.settings().cohesionMinAge = 0;
+        return;
+    }
+    if (!dict.isDict("cohesion"))
+    {
+        FatalIOErrorInFunction(dict)
+            << "cohesion in " << dict.name() << " must be a sub-dictionary"
+            << " { force <F_c0>; vapourThreshold <psi0>; minAge <steps>; }"
+            << " (thesis eq. 4.18)" << exit(FatalIOError);
+    }
+    const dictionary& cd = dict.subDict("cohesion");
+    grainTools::checkKeywords(cd, {"force", "vapourThreshold", "minAge"});
+    if (!cd.found("force"))
+    {
+        FatalIOErrorInFunction(cd)
+            << "Missing keyword force in " << cd.name() << nl
+            << "    Fix: give the cohesion force F_c0 of thesis eq. 4.18, in N"
+            << " (3D) or N/m per unit depth (2D), e.g. force 0.2;"
+            << exit(FatalIOError);
+    }
+    force_ = grainTools::getPositive(cd, "force");
+    minAge_ = cd.getOrDefault<label>("minAge", 0);
+    if (minAge_ < 0)
+    {
+        FatalIOErrorInFunction(cd)
+            << "minAge " << minAge_ << " in " << cd.name()
+            << ": the minimum contact age (NSCD steps) must be >= 0." << nl
+            << "    Fix: minAge 0; (cohesive from the first step of contact)"
+            << " or a number of steps the contact must persist"
+            << exit(FatalIOError);
+    }
+    byVapour_ = cd.found("vapourThreshold");
+    if (byVapour_)
+    {
+        vapourThreshold_ = cd.get<scalar>("vapourThreshold");
+        if (!std::isfinite(vapourThreshold_))
+        {
+            FatalIOErrorInFunction(cd)
+                << "vapourThreshold in " << cd.name() << " must be finite"
+                << exit(FatalIOError);
+        }
+        if (!vapourOn)
+        {
+            FatalIOErrorInFunction(cd)
+                << "vapourThreshold in " << cd.name() << " switches cohesion"
+                << " by the vapour field psi (thesis eq. 4.18), but vapour"
+                << " transport is off." << nl
+                << "    Fix: add vapour { D <m^2/s>; rho <kg/m^3>; } to"
+                << " constant/transportProperties and the field 0/psi, or"
+                << " remove vapourThreshold for cohesion everywhere (dry)."
+                << exit(FatalIOError);
+        }
+    }
+
+    s.settings().cohesionMinAge = minAge_;
+    cellHint_.setSize(s.size(), -1);
+    try
+    {
+        if (byVapour_)
+        {
+            s.setCohesion
+            (
+                [this](int i, int j)
+                {
+                    const auto it = dryPairs_.find(pairKey(i, j));
+                    return it != dryPairs_.end() && it->second;
+                },
+                force_
+            );
+        }
+        else
+        {
+            s.setCohesion([](int, int) { return true; }, force_);
+        }
+    }
+    catch (const nscd::InputError& err)
+    {
+        FatalErrorInFunction << err.what() << exit(FatalError);
+    }
+    Info<< "vansCloud: cohesion F_c0 " << force_
+        << (s.dimension() == 2 ? " N/m" : " N") << ", minAge "
+        << minAge_ << " steps, ";
+    if (byVapour_)
+    {
+        Info<< "where psi < " << vapourThreshold_;
+    }
+    else
+    {
+        Info<< "everywhere (dry)";
+    }
+    Info<< endl;
+}
+
+
+void Foam::vapourCohesion::beforeGrainStep()
+{
+    if (byVapour_)
+    {
+        lookupVapour();
+    }
+}
+
+
+void Foam::vapourCohesion::lookupVapour()
+{
+    const word psiName("psi");
+    if (!mesh_.foundObject<volScalarField>(psiName))
+    {
+        FatalErrorInFunction
+            << "cohesion.vapourThreshold in " << dictName_ << " needs the"
+            << " vapour field " << psiName << ", which the solver has not"
+            << " created." << nl << "    Fix: solve the vapour field (vansFoam"
+            << " with transportProperties vapour {} and 0/psi)."
+            << exit(FatalError);
+    }
+    const volScalarField& psi = mesh_.lookupObject<volScalarField>(psiName);
+    const scalarField& psiI = psi.primitiveField();
+    const nscd::System& s = grains_.system();
+    const std::vector<nscd::System::ContactView> cs = s.contacts();
+    const label nc = cs.size();
+    const bool twoD = s.dimension() == 2;
+    const overlapMapping::CellMesh& cm = adapter_.cellMesh();
+    cellHint_.setSize(s.size(), -1);
+
+    // 1 dry, 0 wet, -1 contact point not in a local cell
+    labelList state(nc, -1);
+    for (label k = 0; k < nc; ++k)
+    {
+        const nscd::System::ContactView& c = cs[k];
+        const nscd::Vec3& xi = s.positions()[c.i];
+        const scalar ri = s.radii()[c.i];
+        nscd::Vec3 n = c.normal;
+        scalar gap = c.gap;
+        if (c.j >= 0)
+        {
+            // grain pair: line of centres at the current positions
+            const nscd::Vec3 d = xi - s.positions()[c.j];
+            const scalar dn = d.norm();
+            if (dn > 0)
+            {
+                n = d/dn;
+                gap = dn - ri - s.radii()[c.j];
+            }
+        }
+        nscd::Vec3 p = xi - (ri + 0.5*gap)*n;
+        if (twoD)
+        {
+            p.z() = grains_.meshPosition(c.i).z();
+        }
+        const label cell =
+            cm.findCell(overlapMapping::Vec3(p.x(), p.y(), p.z()), cellHint_[c.i]);
+        if (cell >= 0)
+        {
+            cellHint_[c.i] = cell;
+            state[k] = psiI[cell] < vapourThreshold_ ? 1 : 0;
+        }
+    }
+    if (Pstream::parRun())
+    {
+        // the same decision on every rank (the grains are advanced
+        // identically everywhere): dry if dry where the point was found
+        Pstream::listCombineGather(state, maxEqOp<label>());
+        Pstream::listCombineScatter(state);
+    }
+
+    dryPairs_.clear();
+    dryPairs_.reserve(2*nc);
+    for (label k = 0; k < nc; ++k)
+    {
+        const bool dry = state[k] == 1;
+        // several contacts of a grain with one wall (a crease): dry if all are
+        const auto ins = dryPairs_.emplace(pairKey(cs[k].i, cs[k].j), dry);
+        if (!ins.second)
+        {
+            ins.first->second = ins.first->second && dry;
+        }
+    }
+    nDryPairs_ = 0;
+    nWetPairs_ = 0;
+    for (const auto& kv : dryPairs_)
+    {
+        ++(kv.second ? nDryPairs_ : nWetPairs_);
+    }
+}
+
+
+void Foam::vapourCohesion::report() const
+{
+    if (!on())
+    {
+        return;
+    }
+    Info<< "cohesion: cohesive contacts " << grains_.report().cohesiveContacts
+        << " of " << grains_.system().nContacts();
+    if (byVapour_)
+    {
+        Info<< ", pairs looked up dry " << nDryPairs_ << " wet "
+            << nWetPairs_;
+    }
+    Info<< endl;
+}
+
+
+void Foam::vapourCohesion::compactRemoved()
+{
+    grains_.compactRemoved(cellHint_);
+}
+
+
+// ************************************************************************* //
