@@ -24,11 +24,12 @@ nscd::System::Settings::Method contactSolverMethod(const Foam::dictionary& cs)
     const Foam::word m(cs.get<Foam::word>("method"));
     if (m == "NLGS") return Method::NLGS;
     if (m == "overRelaxedNLGS") return Method::OverRelaxedNLGS;
+    if (m == "NNCG") return Method::NNCG;
     if (m != "APGD")
     {
         FatalIOErrorInFunction(cs)
             << "unknown contactSolver method " << m
-            << "; methods: NLGS, overRelaxedNLGS, APGD" << Foam::exit(Foam::FatalIOError);
+            << "; methods: NLGS, overRelaxedNLGS, APGD, NNCG" << Foam::exit(Foam::FatalIOError);
     }
     return Method::APGD;
 }

@@ -92,4 +92,4 @@ def test_unknown_contact_solver_method(tmp_path, env):
     replace_in(case, "constant/grainProperties", "maxIterations", "method Jacobi; maxIterations")
     run("blockMesh", case, env)
     fails_with(run("grainDeposit", case, env, check=False), "unknown contactSolver method", "Jacobi",
-               "NLGS, overRelaxedNLGS, APGD")
+               "NLGS, overRelaxedNLGS, APGD, NNCG")
