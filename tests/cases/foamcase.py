@@ -222,3 +222,19 @@ def tutorial_modules(solver, case, names=("setupCase", "postProcess")):
     tut = os.path.join(root, "tutorials", solver, case)
     return tuple(nscdpost.load_module(f"{case}_{name}", os.path.join(tut, name + ".py"))
                  for name in names)
+
+
+def copy_tutorial(solver, case, dst):
+    """Copy tutorials/<solver>/<case> to dst, only the files under version
+    control (no output of an earlier run is reused); returns dst."""
+    import shutil
+    root = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+    src = os.path.join(root, "tutorials", solver, case)
+    files = subprocess.run(["git", "ls-files", "."], cwd=src, check=True,
+                           capture_output=True, text=True).stdout.split()
+    if not files:
+        raise RuntimeError(f"{src}: no files under version control")
+    for f in files:
+        os.makedirs(os.path.join(dst, os.path.dirname(f)), exist_ok=True)
+        shutil.copy2(os.path.join(src, f), os.path.join(dst, f))
+    return dst

@@ -1,7 +1,8 @@
 """lituyaBay (tutorials/vansInterFoam/lituyaBay, thesis section 5.3): the
 reduced copy (150 grains of 8.8-26 m, same geometry and slide mass 98.5e3 t/m,
-25 m cells, 55 s simulated; ~20 s here) through the tutorial's own scripts
-(setupCase.py, lituyaBay.geo + gmsh + gmshToFoam, postProcess.py).
+25 m cells, 55 s simulated; ~20 s here) run by the tutorial's own
+`./Allrun reduced` (issue 27: every tutorial's Allrun runs to its end in a
+test).
 
 Checks (each against a conservation law or a stated reference):
 - Initial water volume = the trapezoidal bay cross-section
@@ -26,18 +27,16 @@ Checks (each against a conservation law or a stated reference):
   (the slide's whole potential-energy drop to the bay bottom per unit weight
   of water: 484 m here; measured 255 m).
 """
+import json
 import math
 import os
 import subprocess
-import sys
 
 import numpy as np
 import pytest
 
-from foamcase import run, tutorial_modules
+from foamcase import copy_tutorial, tutorial_modules
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-TUT = os.path.join(ROOT, "tutorials", "vansInterFoam", "lituyaBay")
 (lituya,) = tutorial_modules("vansInterFoam", "lituyaBay", names=("postProcess",))
 
 G = 9.81
@@ -45,24 +44,15 @@ G = 9.81
 
 @pytest.fixture(scope="module")
 def reduced(tmp_path_factory, env):
-    """Build and run the reduced case; returns (case, results dict)."""
-    case = str(tmp_path_factory.mktemp("lituya") / "reduced")
-    subprocess.run([sys.executable, os.path.join(TUT, "setupCase.py"), case, "reduced"],
-                   check=True, env=env, capture_output=True)
-    args = open(os.path.join(case, "gmshArgs")).read().split()
-    p = subprocess.run(["gmsh", "-3", os.path.join(TUT, "lituyaBay.geo"), *args,
-                        "-format", "msh2", "-o", os.path.join(case, "lituyaBay.msh")],
-                       env=env, capture_output=True, text=True)
-    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
-    run("gmshToFoam", case, env, [os.path.join(case, "lituyaBay.msh")])
-    run("changeDictionary", case, env)
-    run("setAlphaField", case, env)
-    run("postProcess", case, env, ["-funcs", "(writeCellCentres writeCellVolumes)", "-time", "0"])
-    run("grainDeposit", case, env)
-    run("vansInterFoam", case, env)
-    subprocess.run([sys.executable, os.path.join(TUT, "postProcess.py"), case],
-                   check=True, env=env, capture_output=True, cwd=os.path.dirname(case))
-    import json
+    """The tutorial's own `./Allrun reduced` (setupCase.py, gmsh, gmshToFoam,
+    changeDictionary, checkMesh, setAlphaField, grainDeposit, vansInterFoam,
+    foamToVTK, postProcess.py, snapshot PNGs) on a copy; returns (case,
+    results dict)."""
+    work = copy_tutorial("vansInterFoam", "lituyaBay", str(tmp_path_factory.mktemp("lituya") / "lituyaBay"))
+    p = subprocess.run(["./Allrun", "reduced"], cwd=work, env=env, capture_output=True, text=True)
+    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
+    case = os.path.join(work, "reduced")
+    assert [f for f in os.listdir(case) if f.endswith(".png") and "_alpha.water_t" in f]
     return case, json.load(open(os.path.join(case, "results.json")))
 
 

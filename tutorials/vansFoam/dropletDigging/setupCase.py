@@ -23,7 +23,7 @@ density (1 - n) rho_s.  Mesh: uniform, D/8 = 0.3125 mm cells (README.md).
 case.json keeps what postProcess.py needs (properties, bed, mesh).
 Similarity scaling (off by default; Allrun env SIMILARITY=<d_ref>, setup(...,
 similarity=d_ref)): gas and liquid viscosity x (d/d_ref)^2, cohesion x d/d_ref,
-d the bed's mean grain diameter (`similarity_factors`, README.md "Measured,
+d the bed's mean grain diameter (`similarity_factors`, docs/validation/dropletDigging.md "Measured,
 similarity-scaled 0.2 mm bed").
 """
 import math
@@ -94,7 +94,7 @@ def contact_tolerance(d_grain):
     with 1e-4 (0.5 s/step, NSCD 87 % of the time, perf) and needs 60-400
     sweeps with 1e-3 (max overlap 1.05e-3 d_min; velocity error ~1e-3
     d/dt ~ 0.7 mm/s, well below the droplet's seepage speed ~2 cm/s).
-    Env CONTACT_TOL=<tol> overrides it (README.md "Measured, contact-tolerance
+    Env CONTACT_TOL=<tol> overrides it (docs/validation/dropletDigging.md "Measured, contact-tolerance
     study"); raises ValueError if it is not a number in (0, 0.1]."""
     env = os.environ.get("CONTACT_TOL")
     if env:
