@@ -9,7 +9,7 @@ post-processing and snapshot pictures, in the order a user runs them.
 A smoke test of the whole chain, not of physics (the physics of each
 tutorial is checked by its own test module): the Allrun exits 0, every log it
 wrote ends without a FOAM FATAL message, and the results it promises
-(results.json with its keys, the PNGs) are written.  The sedimentation
+(a non-empty results.json, the PNGs) are written.  The sedimentation
 tutorial's Allrun runs in test_snapshots.py, lituyaBay's (`./Allrun
 reduced`) in test_lituyaBay.py, whose tests check its results.
 tests/bench/tutorialAllruns runs this module and records each Allrun's time
