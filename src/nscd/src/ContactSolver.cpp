@@ -1,6 +1,7 @@
 // The contact solve of System::step on the rows prepared by prepareContacts:
 // nonlinear Gauss-Seidel with contact queue (NLGS, optionally over-relaxed)
-// and the residual shared by every method (APGD: ContactSolverAPGD.cpp).
+// and the residual shared by every method (APGD: ContactSolverAPGD.cpp, NNCG:
+// ContactSolverNNCG.cpp; the local solve: LocalSolve.H).
 #include "LocalSolve.H"
 
 #include <algorithm>
