@@ -3,9 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <random>
+#include <string>
+#include <thread>
 
 using namespace nscd;
 
@@ -104,6 +108,29 @@ TEST(HDF5, RestartIsBitIdentical)
         EXPECT_EQ(a.time(), c.time());
         std::remove("nscd_restart.h5");
     }
+}
+
+// The same state written twice, more than a second apart (HDF5 object
+// modification times have a resolution of one second), gives the same bytes:
+// a rerun or a restart can be compared with cmp (consistency check of the
+// writer, no physics).
+TEST(HDF5, SameStateSameBytes)
+{
+    System s = makeBox(2, 6);
+    for (int k = 0; k < 20; ++k) s.step(1e-3);
+    s.writeHDF5("nscd_bytes_a.h5");
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+    s.writeHDF5("nscd_bytes_b.h5");
+    auto bytes = [](const char* f)
+    {
+        std::ifstream in(f, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    };
+    const std::string a = bytes("nscd_bytes_a.h5"), b = bytes("nscd_bytes_b.h5");
+    EXPECT_FALSE(a.empty());
+    EXPECT_TRUE(a == b) << "the two writes of one state differ";
+    std::remove("nscd_bytes_a.h5");
+    std::remove("nscd_bytes_b.h5");
 }
 
 TEST(HDF5, MissingAndCorruptFiles)
