@@ -1,6 +1,7 @@
 """Write small grainFoam cases from Python (test helper); dictionaries are
 edited in place with foamlib."""
 import os
+import shutil
 import subprocess
 
 from foamlib import FoamFile
@@ -227,7 +228,6 @@ def tutorial_modules(solver, case, names=("setupCase", "postProcess")):
 def copy_tutorial(solver, case, dst):
     """Copy tutorials/<solver>/<case> to dst, only the files under version
     control (no output of an earlier run is reused); returns dst."""
-    import shutil
     root = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
     src = os.path.join(root, "tutorials", solver, case)
     files = subprocess.run(["git", "ls-files", "."], cwd=src, check=True,
