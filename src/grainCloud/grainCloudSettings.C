@@ -109,7 +109,7 @@ void Foam::grainCloud::applySolverSettings()
             cs,
             {
                 "tolerance", "maxIterations", "overlapTolerance", "method",
-                "relaxation", "maxSubSteps"
+                "relaxation", "maxSubSteps", "reorderInterval"
             }
         );
         if (cs.found("method"))
@@ -142,6 +142,16 @@ void Foam::grainCloud::applySolverSettings()
             FatalIOErrorInFunction(cs)
                 << "maxSubSteps must be >= 1" << exit(FatalIOError);
         }
+        const label reorder =
+            cs.getOrDefault<label>("reorderInterval", s.reorderInterval);
+        if (reorder < 0)
+        {
+            FatalIOErrorInFunction(cs)
+                << "reorderInterval must be >= 0 (steps between two internal"
+                << " re-sorts of the grains along the Morton curve; 0: never),"
+                << " got " << reorder << exit(FatalIOError);
+        }
+        s.reorderInterval = int(reorder);
     }
 }
 

@@ -93,3 +93,10 @@ def test_unknown_contact_solver_method(tmp_path, env):
     run("blockMesh", case, env)
     fails_with(run("grainDeposit", case, env, check=False), "unknown contactSolver method", "Jacobi",
                "NLGS, overRelaxedNLGS, APGD, NNCG")
+
+
+def test_negative_reorder_interval(tmp_path, env):
+    case = base(tmp_path, "reorder", [(0.05, 0.01, 0, 0.01)])
+    replace_in(case, "constant/grainProperties", "maxIterations", "reorderInterval -1; maxIterations")
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "reorderInterval must be >= 0", "got -1")

@@ -58,9 +58,9 @@ inline void sweptNormal(const Vec3& d, const Vec3& del, double R, Vec3& n, doubl
 void System::Impl::detectWalls(int i, double dt, double margin, double alertFactor)
 {
     const int N = int(x.size());
-    const Vec3& xi = x[i];
-    const double ri = rad[i];
-    const double mu = materials[mat[i]].friction;
+    const Vec3& xi = packed[i].x;
+    const double ri = packed[i].r;
+    const double mu = packed[i].mu;
     const std::size_t first = newContacts.size();  // wall contacts of grain i start here
     triPoints.clear();
     for (int wi = 0; wi < int(walls.size()); ++wi)
@@ -192,6 +192,7 @@ void System::Impl::detect(double dt)
     const int N = int(x.size());
     newContacts.clear();
     if (N == 0) return;
+    const GrainSlot* const P = packed.data();  // grains by slot (freeVelocities)
     const Settings& S = settings;
     const double rmin = rMin(), rmax = rMax();
     const double margin = S.alertMargin*rmin;
@@ -228,7 +229,7 @@ void System::Impl::detect(double dt)
     // bounding box of the slow grains
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
     for (int i = 0; i < N; ++i)
-        if (speed[i] <= sCut) { lo = lo.cwiseMin(x[i]); hi = hi.cwiseMax(x[i]); }
+        if (speed[i] <= sCut) { lo = lo.cwiseMin(P[i].x); hi = hi.cwiseMax(P[i].x); }
     const int D = dim;
     auto ncells = [&](double hh, long dims[3])
     {
@@ -253,7 +254,7 @@ void System::Impl::detect(double dt)
     {
         if (speed[i] > sCut) { cellOf[i] = -1; continue; }
         long c[3] = {0, 0, 0};
-        for (int d = 0; d < D; ++d) c[d] = std::min(dims[d] - 1, long((x[i][d] - lo[d])*ih));
+        for (int d = 0; d < D; ++d) c[d] = std::min(dims[d] - 1, long((P[i].x[d] - lo[d])*ih));
         const int cell = int(c[0] + dims[0]*(c[1] + dims[1]*c[2]));
         cellOf[i] = cell;
         ++cellStart[cell + 1];
@@ -269,9 +270,11 @@ void System::Impl::detect(double dt)
     // the pair test (i < j): appends to out
     auto tryPair = [&](int i, int j, std::vector<Contact>& out)
     {
-        if (fix[i] && fix[j]) return;
-        const Vec3 d = x[i] - x[j];
-        const double sum = rad[i] + rad[j];
+        const GrainSlot& A = P[i];
+        const GrainSlot& B = P[j];
+        if (A.fix && B.fix) return;
+        const Vec3 d = A.x - B.x;
+        const double sum = A.r + B.r;
         const double lim = sum + af*dt*(speed[i] + speed[j]) + margin;
         const double d2 = d.squaredNorm();
         if (d2 >= lim*lim) return;
@@ -287,7 +290,7 @@ void System::Impl::detect(double dt)
             const Vec3 del = dt*(body[i].v - body[j].v);  // free relative displacement
             if (del.squaredNorm() > margin*margin) sweptNormal(d, del, sum, c.n, c.gap);
         }
-        c.mu = 0.5*(materials[mat[i]].friction + materials[mat[j]].friction);
+        c.mu = 0.5*(A.mu + B.mu);
         out.push_back(c);
     };
 
@@ -301,12 +304,12 @@ void System::Impl::detect(double dt)
             for (std::size_t b = a + 1; b < fastGrains.size(); ++b)
                 tryPair(f, fastGrains[b], fastContacts);  // fastGrains is sorted: f < fastGrains[b]
             // every slow j with a gap below af dt (s_f + s_j) + margin lies within R of x_f
-            const double R = rad[f] + rmax + af*dt*(speed[f] + sSlow) + margin;
+            const double R = P[f].r + rmax + af*dt*(speed[f] + sSlow) + margin;
             long c0[3] = {0, 0, 0}, c1[3] = {0, 0, 0};
             bool outside = false;
             for (int d = 0; d < D; ++d)
             {
-                const double a0 = std::floor((x[f][d] - R - lo[d])*ih), a1 = std::floor((x[f][d] + R - lo[d])*ih);
+                const double a0 = std::floor((P[f].x[d] - R - lo[d])*ih), a1 = std::floor((P[f].x[d] + R - lo[d])*ih);
                 if (a1 < 0 || a0 > double(dims[d] - 1)) { outside = true; break; }
                 c0[d] = long(std::max(0.0, a0));
                 c1[d] = long(std::min(double(dims[d] - 1), a1));
@@ -356,7 +359,7 @@ void System::Impl::detect(double dt)
         // pairs of i with fast grains (or of fast grain i), already sorted
         while (nextFast < fastContacts.size() && fastContacts[nextFast].i == i)
             newContacts.push_back(fastContacts[nextFast++]);
-        if (hasWalls && !fix[i]) detectWalls(i, dt, margin, af);
+        if (hasWalls && !P[i].fix) detectWalls(i, dt, margin, af);
     }
 }
 
@@ -374,13 +377,13 @@ void System::Impl::detectDroplets(double dt)
         const double sd = B.v.norm();
         for (int i = 0; i < N; ++i)
         {
-            const Vec3 d = x[i] - D.centre;
+            const Vec3 d = packed[i].x - D.centre;
             const double dn = d.norm();
-            const double ri = rad[i];
+            const double ri = packed[i].r;
             const double gap = dn - D.radius - ri;
             const double alert = S.alertDistanceFactor*dt*(speed[i] + sd) + margin;
             if (!(gap > -2*ri) || gap >= alert || !(dn > 0)) continue;
-            if (fix[i] && B.im == 0) continue;   // neither body can move
+            if (packed[i].fix && B.im == 0) continue;   // neither body can move
             Contact c;
             c.i = i;
             c.j = N + NW + k;
@@ -395,14 +398,22 @@ void System::Impl::detectDroplets(double dt)
 
 double System::Impl::contactGapNow(const Contact& c) const
 {
+    // (c in slots: grain pairs from the packed records, which integrate()
+    // keeps at the end-of-step centres; walls from the per-grain arrays)
     const int N = int(x.size());
-    if (c.j < N) return (x[c.i] - x[c.j]).norm() - rad[c.i] - rad[c.j];
+    if (c.j < N)
+    {
+        const GrainSlot& A = packed[c.i];
+        const GrainSlot& B = packed[c.j];
+        return (A.x - B.x).norm() - A.r - B.r;
+    }
+    const int i = order[c.i];
     const Wall& W = walls[c.j - N];
-    if (W.type == PlaneWall) return (x[c.i] - (W.p + W.displacement)).dot(W.n) - rad[c.i];
+    if (W.type == PlaneWall) return (x[i] - (W.p + W.displacement)).dot(W.n) - rad[i];
     if (W.type == SegmentWall)
-        return (x[c.i] - closestSegment(x[c.i], W.p + W.displacement, W.b + W.displacement)).norm() - rad[c.i];
+        return (x[i] - closestSegment(x[i], W.p + W.displacement, W.b + W.displacement)).norm() - rad[i];
     // triangles: linearised with the contact normal
-    const Vec3 du = v[c.i] - W.velocity - rad[c.i]*w[c.i].cross(c.n);
+    const Vec3 du = v[i] - W.velocity - rad[i]*w[i].cross(c.n);
     return c.gap + du.dot(c.n)*lastDt;
 }
 

@@ -212,30 +212,31 @@ void System::Impl::heatStep(double dt, StepReport& rep)
     {
         if (!(c.rn > 0)) continue;
         const bool wall = c.j >= N;
-        const int a = heatNode[c.i];
-        const int b = wall ? -1 : heatNode[c.j];
+        const int ci = order[c.i], cj = wall ? c.j : order[c.j];  // contacts by slot, heat by grain
+        const int a = heatNode[ci];
+        const int b = wall ? -1 : heatNode[cj];
         if (a < 0 && b < 0) continue;  // nothing integrated
         // the other side: an unknown, a bath (fixed-temperature grain or wall), or inert
         double Tb = 0;
         if (a >= 0 && b < 0)
         {
             if (wall) { Tb = walls[c.j - N].temperature; if (std::isnan(Tb)) continue; }
-            else if (fixT[c.j]) Tb = T[c.j];
+            else if (fixT[cj]) Tb = T[cj];
             else continue;
         }
         else if (a < 0)
         {
-            if (!fixT[c.i]) continue;
-            Tb = T[c.i];
+            if (!fixT[ci]) continue;
+            Tb = T[ci];
         }
-        const double H = conductance(c.i, wall ? -(c.j - N + 1) : c.j, c.rn, dt);
+        const double H = conductance(ci, wall ? -(c.j - N + 1) : cj, c.rn, dt);
         if (!(H > 0)) continue;
         if (a >= 0 && b >= 0)
         {
             heatEdges.push_back({a, b, H});
             hDiag[a] += H;
             hDiag[b] += H;
-            const double F = H*(T[c.j] - T[c.i]);
+            const double F = H*(T[cj] - T[ci]);
             hR[a] += F;
             hR[b] -= F;
         }

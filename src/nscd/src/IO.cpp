@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <utility>
 #include <string>
 
@@ -173,13 +174,18 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
 
     std::vector<int> ij;
     std::vector<double> cd;
-    for (const Contact& c : I.contacts)
+    for (const Contact& c : I.contacts)  // slots to grains (external order)
     {
-        ij.push_back(c.i); ij.push_back(c.j);
+        ij.push_back(I.grainOf(c.i)); ij.push_back(I.grainOf(c.j));
         put3(cd, c.n); put3(cd, c.rt);
         for (double a : {c.rn, c.wnn, c.wtt, c.bias, c.mu, c.coh, c.gap, c.change}) cd.push_back(a);
     }
     w.i("contactBodies", ij, 2);
+    // internal order (Settings::reorderInterval; optional datasets: files
+    // without them read with the order of the grains, never reordered):
+    // slot -> grain, and {reorderInterval, steps since the last reorder}
+    w.i("grainOrder", I.order, 0);
+    w.write("reorder", std::vector<long>{S.reorderInterval, I.stepsSinceReorder}.data(), 2, 0, H5T_NATIVE_LONG);
     w.d("contactData", cd, 14);
     // contact ages and the cohesion age threshold (optional datasets: files
     // without them read with age 0 and cohesionMinAge 0)
@@ -338,6 +344,7 @@ System System::readHDF5(const std::string& file)
         Contact& c = I.contacts[k];
         c.i = ij[2*k]; c.j = ij[2*k + 1];
         if (c.i < 0 || c.i >= N || c.j < 0 || c.j >= NB) r.fail("bad contact " + std::to_string(k));
+        if (c.i == c.j) r.fail("bad contact " + std::to_string(k) + " (a grain with itself)");
         c.n = get3(cd, 14*k); c.rt = get3(cd, 14*k + 3);
         const double* p = &cd[14*k + 6];
         c.rn = p[0]; c.wnn = p[1]; c.wtt = p[2]; c.bias = p[3]; c.mu = p[4]; c.coh = p[5]; c.gap = p[6]; c.change = p[7];
@@ -352,6 +359,33 @@ System System::readHDF5(const std::string& file)
             I.contacts[k].age = age[k];
         }
     }
+    // internal order: the grains of the contact records to slots
+    if (H5Lexists(r.f, "grainOrder", H5P_DEFAULT) > 0)
+    {
+        const auto ord = r.i("grainOrder", 0, N);
+        std::vector<char> seen(N, 0);
+        for (long k = 0; k < N; ++k)
+        {
+            if (ord[k] < 0 || ord[k] >= N || seen[ord[k]])
+                r.fail("grainOrder is not a permutation of the grains (entry " + std::to_string(k) + ")");
+            seen[ord[k]] = 1;
+        }
+        I.order = ord;
+        I.rebuildSlotOf();
+        const auto ro = r.read<long>("reorder", H5T_NATIVE_LONG, 0, 2);
+        if (ro[0] < 0 || ro[0] > std::numeric_limits<int>::max() || ro[1] < -1)
+            r.fail("bad reorder dataset (interval " + std::to_string(ro[0]) + ", steps " + std::to_string(ro[1]) + ")");
+        I.settings.reorderInterval = int(ro[0]);
+        I.stepsSinceReorder = ro[1];
+    }
+    for (Contact& c : I.contacts)
+    {
+        c.i = I.slotOf[c.i];
+        if (c.j >= N) continue;
+        c.j = I.slotOf[c.j];
+        if (c.j < c.i) { std::swap(c.i, c.j); c.n = -c.n; c.rt = -c.rt; }
+    }
+    std::stable_sort(I.contacts.begin(), I.contacts.end(), [](const Contact& a, const Contact& b) { return a.i < b.i; });
     if (H5Lexists(r.f, "cohesionMinAge", H5P_DEFAULT) > 0)
     {
         I.settings.cohesionMinAge = r.i("cohesionMinAge", 0, 1)[0];

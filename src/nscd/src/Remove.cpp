@@ -60,16 +60,33 @@ std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& in
     for (Droplet& d : I.droplets)   // per-grain output of the last step
         if (d.grainImpulse.size() == N) compact(d.grainImpulse, keep);
 
-    // contacts: body j is grain j (j < N) or wall j - N; droplet contacts
-    // are not kept between steps (storeImpulses)
+    // internal order (slot -> grain): the slots of the remaining grains
+    // keep their order; old slot -> new slot (-1: removed), increasing
+    std::vector<int> newSlot(N, -1);
+    {
+        int ns = 0;
+        for (std::size_t s = 0; s < N; ++s)
+        {
+            const int g = I.order[s];
+            if (!keep[g]) continue;
+            newSlot[s] = ns;
+            I.order[ns++] = newIndex[g];
+        }
+        I.order.resize(ns);
+        I.rebuildSlotOf();
+    }
+
+    // contacts (by slot): body j is grain slot j (j < N) or wall j - N;
+    // droplet contacts are not kept between steps (storeImpulses); the
+    // slot map is increasing, so the records (sorted by i) stay sorted
     std::size_t m = 0;
     for (const Contact& c : I.contacts)
     {
-        if (c.i < 0 || std::size_t(c.i) >= N || !keep[c.i]) continue;
-        if (c.j < int(N) && !keep[c.j]) continue;
+        if (c.i < 0 || std::size_t(c.i) >= N || newSlot[c.i] < 0) continue;
+        if (c.j < int(N) && newSlot[c.j] < 0) continue;
         Contact d = c;
-        d.i = newIndex[c.i];
-        d.j = c.j < int(N) ? newIndex[c.j] : c.j - removed;
+        d.i = newSlot[c.i];
+        d.j = c.j < int(N) ? newSlot[c.j] : c.j - removed;
         I.contacts[m++] = d;
     }
     I.contacts.resize(m);

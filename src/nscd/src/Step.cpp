@@ -51,6 +51,9 @@ void checkSettings(const System::Settings& S)
                          + std::to_string(m) + "; methods: NLGS, OverRelaxedNLGS, APGD, NNCG)");
     if (!(S.heatTolerance > 0) || S.heatMaxIterations < 1)
         throw InputError("nscd::System::step: invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
+    if (S.reorderInterval < 0)
+        throw InputError("nscd::System::step: invalid settings (need reorderInterval >= 0, got "
+                         + std::to_string(S.reorderInterval) + "; 0 switches the reordering off)");
     if (S.cohesionMinAge < 0)
         throw InputError("nscd::System::step: invalid settings (need cohesionMinAge >= 0, got "
                          + std::to_string(S.cohesionMinAge) + ")");
@@ -70,6 +73,7 @@ StepReport System::step(double dt)
     StepReport rep;
     rep.substeps = 1;
 
+    I.maybeReorder();  // internal slot order along the Morton curve (Reorder.cpp)
     I.freeVelocities(dt);
     // detect, prepareContacts (+ warm start), buildAdjacency, solveContacts;
     // again with larger reaches if a grain leaves its reach (SystemExtra.cpp)
@@ -89,6 +93,9 @@ StepReport System::step(double dt)
 }
 
 // ---- free velocity (eq. 2.11, with the implicit drag of setFluidDrag) ----
+// (bodies, speeds and detection records in slot order, slot s = slotOf[i]
+// of grain i. The loop runs over the grains: the per-grain arrays are read
+// in their order and only the three slot arrays are written out of order.)
 void System::Impl::freeVelocities(double dt)
 {
     const int N = int(x.size());
@@ -97,9 +104,16 @@ void System::Impl::freeVelocities(double dt)
     const bool twoD = dim == 2;
     body.resize(N + NW + ND);
     speed.resize(N);
+    packed.resize(N);
     for (int i = 0; i < N; ++i)
     {
-        Body& B = body[i];
+        const int s = slotOf[i];
+        Body& B = body[s];
+        GrainSlot& P = packed[s];
+        P.x = x[i];
+        P.r = rad[i];
+        P.mu = materials[mat[i]].friction;
+        P.fix = fix[i];
         Vec3 vi = v[i], wi = w[i];
         if (fix[i])
         {
@@ -118,7 +132,7 @@ void System::Impl::freeVelocities(double dt)
         B.v = vi;
         B.w = wi;
         B.r = rad[i];
-        speed[i] = vi.norm() + B.r*wi.norm();
+        speed[s] = vi.norm() + B.r*wi.norm();
     }
     for (int k = 0; k < NW; ++k)
     {
@@ -222,8 +236,11 @@ bool System::Impl::prepareContacts(double dt, int NC0)
         // cohesion (eq. 4.18): close, persistent, and the user's condition
         if (cohesion && k < NC0 && c.gap <= cohDist && c.age >= minAge)
         {
-            const int jj = c.j < N ? c.j : -(c.j - N + 1);
-            if (cohesionPredicate(c.i, jj)) s.coh = cohesionForce*dt;
+            // grains, a grain pair with i < j (as contacts())
+            const int gi = order[c.i], gj = c.j < N ? order[c.j] : -(c.j - N + 1);
+            const bool pair = gj >= 0;
+            if (cohesionPredicate(pair ? std::min(gi, gj) : gi, pair ? std::max(gi, gj) : gj))
+                s.coh = cohesionForce*dt;
         }
         if (warm && best >= 0)
         {
@@ -236,7 +253,7 @@ bool System::Impl::prepareContacts(double dt, int NC0)
             warmStart(s);
         }
         // adjacency counts (buildAdjacency): rows of each movable body
-        const bool mi = !fix[c.i], mj = c.j < N ? !fix[c.j] : body[c.j].im > 0;
+        const bool mi = !packed[c.i].fix, mj = c.j < N ? !packed[c.j].fix : body[c.j].im > 0;
         if (mi) ++adjStart[c.i + 1];
         if (mj) ++adjStart[c.j + 1];
         pairs[k] = {mi ? c.i : -1, mj ? c.j : -1};
@@ -282,12 +299,14 @@ void System::Impl::integrate(double dt, int NC0)
     const int NW = int(walls.size());
     const int ND = int(droplets.size());
     accumulateDragImpulses(dt);
-    for (int i = 0; i < N; ++i)
+    for (int i = 0; i < N; ++i)  // by grain (see freeVelocities)
     {
-        const Body& B = body[i];
+        const int s = slotOf[i];
+        const Body& B = body[s];
         v[i] = B.v;
         w[i] = B.w;
         x[i] += dt*B.v;
+        packed[s].x = x[i];  // end-of-step centres by slot (storeImpulses' gaps)
         q[i] = rotate(q[i], B.w, dt);
     }
     for (int k = 0; k < NW; ++k) walls[k].displacement += dt*walls[k].velocity;
@@ -302,7 +321,7 @@ void System::Impl::integrate(double dt, int NC0)
         const SolverContact& c = rows[k];
         Droplet& D = droplets[c.j - N - NW];
         D.impulse -= c.rn*c.n;
-        D.grainImpulse[c.i] += c.rn;
+        D.grainImpulse[order[c.i]] += c.rn;
     }
     time += dt;
 }
@@ -325,12 +344,13 @@ void System::Impl::accumulateDragImpulses(double dt)
         if (c.i < N) contactSum[c.i] += P;
         if (c.j < N) contactSum[c.j] -= P;
     }
-    for (int i = 0; i < N; ++i)
+    for (int s = 0; s < N; ++s)  // contactSum by slot
     {
+        const int i = order[s];
         const double c = dragCoefficient[i];
         if (!(c > 0) || fix[i]) continue;
         const Vec3 v0 = v[i] + dt*(g + force[i]/mass[i]);
-        Vec3 J = dt*c*(mass[i]*(dragVelocity[i] - v0) - contactSum[i])/effectiveMass(i, dt);
+        Vec3 J = dt*c*(mass[i]*(dragVelocity[i] - v0) - contactSum[s])/effectiveMass(i, dt);
         if (dim == 2) J.z() = 0;
         dragImpulse[i] += J;
     }

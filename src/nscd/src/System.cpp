@@ -73,6 +73,21 @@ void System::setMaterial(int id, const Material& m)
         throw InputError("nscd::System::setMaterial: unknown material id " + std::to_string(id));
     checkMaterial("setMaterial", m);
     Impl& I = *impl_;
+    const double ratio = m.density/I.materials[id].density;
+    if (ratio != 1.0)
+    {
+        // warm start of a packing under gravity: impulses scale with the masses
+        // (contact records index grains by slot: I.order maps them to grains)
+        const int N = int(I.x.size());
+        auto grain = [&](int b) { return b < N ? I.order[b] : -1; };
+        auto other = [&](int g) { return g < 0 || I.fix[g] || I.mat[g] == id; };
+        auto mine = [&](int g) { return g >= 0 && !I.fix[g] && I.mat[g] == id; };
+        for (Contact& c : I.contacts)
+        {
+            const int a = grain(c.i), b = grain(c.j);
+            if ((mine(a) || mine(b)) && other(a) && other(b)) { c.rn *= ratio; c.rt *= ratio; }
+        }
+    }
     I.materials[id] = m;
     for (std::size_t i = 0; i < I.x.size(); ++i)
         if (I.mat[i] == id) I.setMassInertia(i);
@@ -112,6 +127,8 @@ void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
     mass.push_back(0);
     inertia.push_back(0);
     ids.push_back(nextId++);
+    order.push_back(int(x.size()) - 1);  // a new grain takes the last slot
+    slotOf.push_back(int(x.size()) - 1);
     setMassInertia(x.size() - 1);
 }
 

@@ -36,9 +36,9 @@ namespace
         Fastest f;
         I.freeVelocities(dt);
         const int N = int(I.x.size()), NW = int(I.walls.size());
-        for (int i = 0; i < N; ++i)
+        for (int i = 0; i < N; ++i)  // by grain (bodies by slot)
         {
-            const Body& B = I.body[i];
+            const Body& B = I.body[I.slotOf[i]];
             const double s = B.v.norm() + B.r*B.w.norm();
             Vec3 v0 = I.v[i], w0 = I.w[i];
             if (I.dim == 2) { v0.z() = 0; w0.x() = w0.y() = 0; }
@@ -52,13 +52,17 @@ namespace
         for (const Contact& c : I.contacts)
         {
             if (c.j >= N) continue;  // walls: plane faces keep their normal
-            const Vec3 d = I.x[c.i] - I.x[c.j];
+            // contacts by slot: centres and radii of the packed records
+            // (filled by freeVelocities above)
+            const GrainSlot& A = I.packed[c.i];
+            const GrainSlot& B = I.packed[c.j];
+            const Vec3 d = A.x - B.x;
             const double dn = d.norm();
-            if (!(dn - I.rad[c.i] - I.rad[c.j] <= touch) || !(dn > 0)) continue;
+            if (!(dn - A.r - B.r <= touch) || !(dn > 0)) continue;
             const Vec3 n = d/dn;
             const Vec3 u = I.body[c.i].v - I.body[c.j].v;
             const double vt = (u - u.dot(n)*n).norm();
-            if (vt > f.vt) { f.vt = vt; f.whoVt = c.i; }
+            if (vt > f.vt) { f.vt = vt; f.whoVt = I.order[c.i]; }
         }
         for (const auto& W : I.walls)
             if (W.velocity.norm() > f.v) { f.v = W.velocity.norm(); f.whoV = -1; }
@@ -228,9 +232,9 @@ bool System::Impl::raiseReaches(double dt)
     const double af = settings.alertDistanceFactor;
     const double free = 0.5*settings.alertMargin*rMin();
     bool any = false;
-    for (int i = 0; i < N; ++i)
+    for (int i = 0; i < N; ++i)  // slots
     {
-        if (fix[i]) continue;
+        if (packed[i].fix) continue;
         const Body& B = body[i];
         const double vn = B.v.norm();
         if (!(vn*dt > af*dt*speed[i] + free)) continue;
@@ -344,6 +348,8 @@ void System::checkInitialOverlaps() const
 
 std::size_t System::nContacts() const { return impl_->contacts.size(); }
 
+double System::lastStepDt() const { return impl_->lastDt; }
+
 void System::setContactImpulses(const std::vector<ContactView>& views, double dt)
 {
     Impl& I = *impl_;
@@ -360,6 +366,9 @@ void System::setContactImpulses(const std::vector<ContactView>& views, double dt
         const bool bad = i < 0 || i >= N || j >= N || (j < 0 && -j - 1 >= NW) || i == j || !(n.norm() > 0)
                          || v.age < 0;
         if (bad) throw InputError("nscd::System::setContactImpulses: bad contact " + std::to_string(k));
+        // grains to slots (the records index grains by slot), pairs with i < j
+        i = I.slotOf[i];
+        if (j >= 0) j = I.slotOf[j];
         if (j >= 0 && j < i) { std::swap(i, j); n = -n; P = -P; }
         n.normalize();
         if (I.dim == 2) { n.z() = 0; P.z() = 0; n.normalize(); }
@@ -386,13 +395,19 @@ std::vector<System::ContactView> System::contacts() const
     for (const Contact& c : I.contacts)
     {
         ContactView v;
-        v.i = c.i;
-        v.j = c.j < N ? c.j : -(c.j - N + 1);
+        v.i = I.order[c.i];  // slots to grains
+        v.j = c.j < N ? I.order[c.j] : -(c.j - N + 1);
         v.normal = c.n;
-        // contact point on A's surface (current position, normal of the last step)
-        v.point = I.x[c.i] - I.rad[c.i]*c.n;
-        v.gap = c.gap;
         v.impulse = c.rn*c.n + c.rt;
+        if (v.j >= 0 && v.j < v.i)  // grain pairs with i < j, whatever the internal order
+        {
+            std::swap(v.i, v.j);
+            v.normal = -v.normal;
+            v.impulse = -v.impulse;
+        }
+        // contact point on A's surface (current position, normal of the last step)
+        v.point = I.x[v.i] - I.rad[v.i]*v.normal;
+        v.gap = c.gap;
         v.age = c.age;
         v.cohesive = c.coh > 0;
         out.push_back(v);

@@ -32,6 +32,8 @@ int runSuite(int argc, char** argv);
 int runMethods(int argc, char** argv);
 int runSubsteps(int argc, char** argv);
 int runState(int argc, char** argv);
+int runReorder(int argc, char** argv);
+int runReorderCase(int argc, char** argv);
 int legacyMain(int argc, char** argv);
 
 int main(int argc, char** argv)
@@ -40,6 +42,8 @@ int main(int argc, char** argv)
     if (argc > 1 && std::string(argv[1]) == "methods") return runMethods(argc, argv);
     if (argc > 1 && std::string(argv[1]) == "substeps") return runSubsteps(argc, argv);
     if (argc > 1 && std::string(argv[1]) == "state") return runState(argc, argv);
+    if (argc > 1 && std::string(argv[1]) == "reorder") return runReorder(argc, argv);
+    if (argc > 1 && std::string(argv[1]) == "reorder-case") return runReorderCase(argc, argv);
     return legacyMain(argc, argv);
 }
 

@@ -213,13 +213,6 @@ double vmax(const System& s)
     return v;
 }
 
-struct SettleResult
-{
-    int steps = 0, coarseSteps = 0;
-    double seconds = 0, cpuSeconds = 0, sweeps = 0, vmaxEnd = 0;
-    bool rest = false;
-};
-
 /// Settle with the measured settings (tolerance 1e-6 d_min) and at most 1000
 /// sweeps/step (the README's production cap), until max |v| < g dt for 20
 /// consecutive steps, then until max |v| < g dt/10 for 50 more. maxSteps in total.

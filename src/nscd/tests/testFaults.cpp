@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -78,4 +79,44 @@ TEST(AdvanceFaults, HeartbeatReportsProgress)
     EXPECT_EQ(beats.back().first, 99);
     for (const auto& b : beats) EXPECT_GE(b.second, double(b.first));
     EXPECT_NEAR(beats.front().second, 100, 1);
+}
+
+// Known fault, not fixed (docs/validation/dropletDigging.md, "Measured,
+// building the Table 4.2 bed"): 4,314 discs of 55 um poured from a loose
+// lattice into a column ten grains wide whose side walls are frictionless.
+// Around step 212 (t = 0.042 s) the solve hits the sweep cap over several
+// sub-steps and the next step has a grain at 7.8 m/s that leaves through a
+// side wall; with the grains' friction on the walls the column comes to
+// rest. An unconverged solve must not inject energy. Disabled (2 min of
+// CPU): run with --gtest_also_run_disabled_tests while fixing it.
+TEST(AdvanceFaults, DISABLED_FrictionlessSideWallsKeepAPouredColumnInside)
+{
+    const double d = 55e-6, w = 10e-3/18, H = 0.0364, dt = 2e-4;
+    System s(2);
+    const int m = s.addMaterial({3200, 0.3});
+    s.settings().tolerance = 1e-3;
+    s.settings().maxIterations = 1000;
+    std::mt19937_64 rng(8);
+    std::uniform_real_distribution<double> u(0, 1);
+    const double sp = 1.1*d;
+    int n = 0;
+    for (int j = 0; n < 4314; ++j)
+        for (int i = 0; i < int(w/sp) && n < 4314; ++i, ++n)
+        {
+            const double dd = 0.9*d + 0.1*d*u(rng);
+            s.addGrain(Vec3((i + 0.5)*sp + 0.04*d*(2*u(rng) - 1), (j + 0.5)*sp + 0.04*d*(2*u(rng) - 1), 0), dd/2, m);
+        }
+    s.addSegment(Vec3(0, 0, 0), Vec3(w, 0, 0));
+    s.setWallFriction(s.addSegment(Vec3(0, 0, 0), Vec3(0, H, 0)), 0.0);
+    s.setWallFriction(s.addSegment(Vec3(w, 0, 0), Vec3(w, H, 0)), 0.0);
+    s.setGravity(Vec3(0, -9.81, 0));
+    for (int k = 0; k < 400; ++k)
+    {
+        s.advance(dt, 0.1);
+        double vmax = 0;
+        for (const Vec3& v : s.velocities()) vmax = std::max(vmax, v.norm());
+        // free fall from the top of the lattice: sqrt(2 g H) = 0.85 m/s
+        ASSERT_LT(vmax, 1.0) << "step " << k + 1;
+    }
+    for (const Vec3& x : s.positions()) EXPECT_TRUE(x.x() > 0 && x.x() < w);
 }
