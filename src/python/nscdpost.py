@@ -11,6 +11,7 @@ with the other tools of src/python by `pip install -e src/python`
   write_json(path, obj)        -> results.json writer (sorted keys, floats as-is)
   instantiate_case(base, case, subs) -> copy a template case, replacing @KEYS@
   copy_grain_state(src, dst)   -> copy 0/grainState.h5 and 0/lagrangian of a settled case
+  read_contacts(case, time_name) -> the saved contact list and impulses (h5dump)
   read_droplet_history(case), heat_log_history(case) -> droplet.dat / vansFoam heat
                                 lines of a run continued from its writes, joined
 """
@@ -332,6 +333,37 @@ def copy_grain_state(src, dst, time_name="0"):
         a = os.path.join(src, time_name, item)
         b = os.path.join(dst, time_name, item)
         (shutil.copytree if os.path.isdir(a) else shutil.copy)(a, b)
+
+
+def _h5dump_array(path, dataset, cols):
+    """Dataset of the nscd HDF5 state path as an (n, cols) array, through
+    the HDF5 command-line tool h5dump (libhdf5's own reader)."""
+    import subprocess
+    out = subprocess.run(["h5dump", "-y", "-w", "0", "-d", dataset, path],
+                         capture_output=True, text=True, check=True).stdout
+    body = out[out.index("DATA {") + 6:]
+    body = body[:body.index("}")]
+    vals = np.array([float(v) for v in re.findall(_FLOAT, body)])
+    return vals.reshape(-1, cols)
+
+
+def read_contacts(case, time_name):
+    """Contact list of the grain state case/time_name/grainState.h5 (the
+    contacts of the last step and their impulses, the warm start of the
+    next): 'i' (n, grain A), 'wall' (n, wall id or -1), 'j' (n, grain B or
+    -1), 'normal' (n x 3, from B to A), 'rn' (n, normal impulse [N s],
+    2D: per unit depth), 'rt' (n x 3, tangential impulse on A [N s]) and
+    'dt' (the time step [s] of those impulses: the last sub-step's).
+    Raises subprocess.CalledProcessError if h5dump cannot read the file."""
+    path = os.path.join(case, time_name, "grainState.h5")
+    n_grains = len(_h5dump_array(path, "/radii", 1))
+    ij = _h5dump_array(path, "/contactBodies", 2).astype(int)
+    cd = _h5dump_array(path, "/contactData", 14)
+    j = ij[:, 1]
+    wall = np.where(j >= n_grains, j - n_grains, -1)
+    return {"i": ij[:, 0], "j": np.where(j < n_grains, j, -1), "wall": wall,
+            "normal": cd[:, 0:3], "rt": cd[:, 3:6], "rn": cd[:, 6],
+            "dt": float(_h5dump_array(path, "/time", 1)[1, 0])}
 
 
 def power_law_fit(h, f, p_grid):

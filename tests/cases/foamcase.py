@@ -22,6 +22,16 @@ def vec(v):
     return "(" + " ".join(f"{x:.17g}" for x in v) + ")"
 
 
+def write_grain_numerics(case):
+    """fvSchemes and fvSolution of a case without fluid (grainFoam,
+    grainDeposit)."""
+    write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
+          "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
+          "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
+          "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n")
+    write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution", "solvers {}\n")
+
+
 def make_box_case(case, lo, hi, cells, gravity, materials, grains=None,
                   end_time=0.3, dt=1e-3, write_interval=0.1, two_d=True,
                   extra_props="", deposit=None, wall_patches="walls",
@@ -51,11 +61,7 @@ def make_box_case(case, lo, hi, cells, gravity, materials, grains=None,
           f"endTime {end_time}; deltaT {dt}; writeControl adjustableRunTime;\n"
           f"writeInterval {write_interval}; writeFormat ascii; writePrecision 17;\n"
           f"timeFormat general; timePrecision 8; runTimeModifiable false;\n")
-    write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
-          "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
-          "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
-          "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n")
-    write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution", "solvers {}\n")
+    write_grain_numerics(case)
     write(os.path.join(case, "constant", "g"), "uniformDimensionedVectorField", "g",
           f"dimensions [0 1 -2 0 0 0 0];\nvalue {vec(gravity)};\n")
     mats = "\n".join(

@@ -18,17 +18,27 @@ Description
     system/grainDepositDict
     \verbatim
     material    glass;              // a material of constant/grainProperties
-    method      box;                // box | cellZone | list
+    method      box;                // box | cellZone | list | replicate
     box         { min (0 0 0); max (0.1 0.2 0); }   // method box
     cellZone    column;             // method cellZone
     grains      ((x y z d) ...);    // method list
     fixed       no;                 // method list: yes = all listed grains fixed
+    replicate                       // method replicate: a settled column
+    {                               // copied across the mesh (x), every
+        source  "../column/0/grainState.h5";  // other copy mirrored, with
+        copies  18;                 // its contact impulses (replicateColumn.H;
+                                    // the source written with
+                                    // writeContactImpulses yes)
+    }
     number      2000;               // box/cellZone: number of grains ...
     // solidFraction 0.3;           // ... or fraction of the region's volume
     dMin        2e-3;               // [m]
     sizeRatio   1.2;                // lambda = d_max/d_min (>= 1)
     seed        1;
     fixedRow    { from (0 0.001 0); to (0.5 0.001 0); diameter 2e-3; } // optional rough floor
+    writeContactImpulses no;        // yes: the settled contact impulses are
+                                    // written with the grains (warm start of
+                                    // the run; needed by a replicate source)
     settle                          // optional: no settling without it
     {
         maxTime     5;              // [s] simulated
@@ -40,6 +50,7 @@ Description
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
+#include "replicateColumn.H"
 #include "grainDictionaryTools.H"
 #include "grainRunControl.H"
 #include "fvCFD.H"
@@ -54,8 +65,6 @@ using namespace Foam;
 
 namespace
 {
-
-struct grainSpec { nscd::Vec3 x; double d; };
 
 //- Index range [first, last) of the lattice nodes lo + (i + 1/2) spacing,
 //  i < n, that lie within [bMin, bMax] (the mesh bounds): the nodes outside
@@ -152,7 +161,7 @@ int main(int argc, char *argv[])
         {
             "material", "method", "box", "cellZone", "grains", "number",
             "solidFraction", "dMin", "sizeRatio", "seed", "settle",
-            "fixedRow", "fixed"
+            "fixedRow", "fixed", "replicate", "writeContactImpulses"
         }
     );
 
@@ -162,8 +171,24 @@ int main(int argc, char *argv[])
     const word method = depositDict.get<word>("method");
 
     std::vector<grainSpec> specs;
+    // contact impulses the settling starts from (method replicate)
+    std::vector<nscd::System::ContactView> seedContacts;
+    double seedDt = 0;
 
-    if (method == "list")
+    if (method == "replicate")
+    {
+        replicatedColumn rc =
+            replicateColumn(depositDict, runTime.path(), mesh.bounds(), dim);
+        specs = std::move(rc.grains);
+        seedContacts = std::move(rc.contacts);
+        seedDt = rc.dt;
+        Info<< "Replicated the column: " << specs.size() << " grains, "
+            << seedContacts.size() << " contact impulses ("
+            << rc.sideContacts << " on its side walls, whose friction, "
+            << rc.sideFriction << " of their normal impulse, is not copied)"
+            << endl;
+    }
+    else if (method == "list")
     {
         const List<FixedList<scalar, 4>> list
         (
@@ -324,7 +349,7 @@ int main(int argc, char *argv[])
     {
         FatalIOErrorInFunction(depositDict)
             << "Unknown method " << method << " in " << depositDict.name()
-            << ". Use box, cellZone or list." << exit(FatalIOError);
+            << ". Use box, cellZone, list or replicate." << exit(FatalIOError);
     }
 
     // method list: `fixed yes;` makes every listed grain fixed (a packed bed)
@@ -393,6 +418,14 @@ int main(int argc, char *argv[])
     // cut by a temporary wall is left out altogether (it would overlap the
     // wall during settling and the settled grains after it).
     std::vector<grainSpec> fixedLater;
+    // index in the written system of each settling grain: the movable
+    // grains keep theirs, the fixed ones follow in fixedLater order
+    const std::size_t nMovable = settling.system().size();
+    std::vector<int> writtenIndex(nMovable);
+    for (std::size_t i = 0; i < writtenIndex.size(); ++i)
+    {
+        writtenIndex[i] = int(i);
+    }
     for (const grainSpec& f : fixedSpecs)
     {
         scalar dist = GREAT;
@@ -403,6 +436,7 @@ int main(int argc, char *argv[])
         if (dist >= 0.5*f.d)
         {
             settling.system().addGrain(f.x, 0.5*f.d, matId, true);
+            writtenIndex.push_back(int(nMovable + fixedLater.size()));
             fixedLater.push_back(f);
         }
         else if (dist <= -0.5*f.d)
@@ -417,6 +451,21 @@ int main(int argc, char *argv[])
 
     settling.checkState();
     Info<< "Placed " << specs.size() << " grains" << endl;
+    if (!seedContacts.empty())
+    {
+        // the column's wall ids are the mesh walls' when both meshes have
+        // the same wall patches; a seed that matches no detected contact
+        // is simply not used by the warm start
+        std::vector<nscd::System::ContactView> seed;
+        for (const auto& c : seedContacts)
+        {
+            if (c.j >= 0 || -c.j - 1 < settling.system().nWalls())
+            {
+                seed.push_back(c);
+            }
+        }
+        settling.system().setContactImpulses(seed, seedDt);
+    }
 
     // Settle under gravity
     if (depositDict.found("settle"))
@@ -442,7 +491,7 @@ int main(int argc, char *argv[])
             {
                 vmax = max(vmax, v.norm());
             }
-            if (step % 100 == 0)
+            if (step <= 3 || step % 100 == 0)
             {
                 Info<< "settling: t = " << t << " s, max speed " << vmax
                     << " m/s, contacts " << r.contacts << ", sweeps "
@@ -480,6 +529,30 @@ int main(int argc, char *argv[])
     for (const grainSpec& f : fixedLater)
     {
         initial.system().addGrain(f.x, 0.5*f.d, matId, true);
+    }
+    // writeContactImpulses yes: the settled contact impulses go with the
+    // grains (the warm start of the run, and the seed of a later `method
+    // replicate`); contacts with temporary walls are dropped.  Off by
+    // default: the impulses of a dry settle are not those of the run (a
+    // submerged bed weighs less, a lifted gate no longer holds it), and an
+    // iteration-capped solve started from them ends elsewhere than one
+    // started cold (the granularCollapse regimes, tests/cases/
+    // test_granularCollapse.py, moved from nonlinear transition to bore)
+    if (depositDict.getOrDefault<bool>("writeContactImpulses", false))
+    {
+        const int nMeshWalls = initial.system().nWalls();
+        std::vector<nscd::System::ContactView> kept;
+        for (nscd::System::ContactView c : s.contacts())
+        {
+            if (c.j < 0 && -c.j - 1 >= nMeshWalls) continue;
+            c.i = writtenIndex[c.i];
+            if (c.j >= 0) c.j = writtenIndex[c.j];
+            kept.push_back(c);
+        }
+        if (s.lastStepDt() > 0)
+        {
+            initial.system().setContactImpulses(kept, s.lastStepDt());
+        }
     }
     initial.checkState();
     initial.write();
