@@ -325,32 +325,7 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
         << report_.maxOverlap/max(system_->minDiameter(), VSMALL)
         << endl;
 
-    for (const auto& f : postEvolve_)
-    {
-        if (f.second)
-        {
-            f.second();
-        }
-    }
     return report_;
-}
-
-
-void Foam::grainCloud::setPostEvolve
-(
-    const word& name,
-    std::function<void()> f
-)
-{
-    for (auto& e : postEvolve_)
-    {
-        if (e.first == name)
-        {
-            e.second = std::move(f);
-            return;
-        }
-    }
-    postEvolve_.emplace_back(name, std::move(f));
 }
 
 

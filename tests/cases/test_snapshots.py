@@ -51,9 +51,9 @@ def test_sedimentation_allrun_renders_snapshots(tmp_path, env):
     assert (np.abs(px[..., 0] - px[..., 2]) > 80).sum() > 500
 
 
-def test_render_without_vtk_output_says_what_to_run(tmp_path):
+def test_render_without_vtk_output_says_what_to_run(tmp_path, env):
     """Bad input: a case without VTK/ gives exit code 1 and names foamToVTK."""
     p = subprocess.run([sys.executable, "-m", "nscdrender", str(tmp_path)],
-                       capture_output=True, text=True)
+                       capture_output=True, text=True, env=env)
     assert p.returncode == 1
     assert "foamToVTK" in p.stderr and str(tmp_path) in p.stderr, p.stderr

@@ -20,6 +20,8 @@ Description
           exchanged heat handed to the grains as heat sources]
          [3c. vapour on: passive scalar psi, psiEqn.H (eq. 4.19)]
       4. fluid forces onto the grains (drag + pressure gradient, model A/B)
+         [4b. coupling sources (grainCouplingSource, e.g. the droplet of
+          src/dropletCoupling): advanced, their grain forces added]
       5. NSCD step of the grains (nscd::System::advance: per-pair contact
          detection, sub-stepped only on large force-driven velocity changes)
 
@@ -38,7 +40,6 @@ Usage
 #include "pimpleControl.H"
 #include "fixedFluxPressureFvPatchScalarField.H"
 #include "fvOptions.H"
-#include "IOField.H"
 
 #include <sstream>
 
@@ -60,6 +61,9 @@ int main(int argc, char *argv[])
     #include "createTimeControls.H"
     #include "createFields.H"
     #include "createFvOptions.H"
+    // fvOptions that exchange with the grains (grainCouplingSource, e.g.
+    // vapourDropletSource) are coupled to the cloud through typed hooks
+    cloud.addCouplingSources(fvOptions);
     #include "createHeatBudget.H"
     #include "initContinuityErrs.H"
     grainRunControl runControl(runTime);
@@ -139,24 +143,10 @@ int main(int argc, char *argv[])
         //    here, before a grain step of ~forever)
         grainCloud::checkFluidBlowUp(U, runTime.deltaTValue(), "grain step");
         cloud.setFluidForces(U, p);
-        // 4b. droplet-grain force (dropletCoupling, thesis eq. 4.17): the
-        //     droplet registers the force on each grain (IOField, nscd
-        //     units) in its fvOption correct(T); same NSCD step
-        if (mesh.foundObject<IOField<vector>>("dropletGrainForce"))
-        {
-            const IOField<vector>& Fd =
-                mesh.lookupObject<IOField<vector>>("dropletGrainForce");
-            cloud.addExternalForces(Fd);
-            if (Fd.size())
-            {
-                std::ostringstream os;
-                os.precision(16);
-                const vector sumF = sum(Fd)*cloud.adapter().depth();
-                os  << "droplet-grain force: sum over grains = (" << sumF.x()
-                    << ' ' << sumF.y() << ' ' << sumF.z() << ") N";
-                Info<< os.str().c_str() << endl;
-            }
-        }
+        // 4b. coupling sources (e.g. the droplet, thesis eq. 4.17): their
+        //     step over this time step and their forces on the grains for
+        //     the same NSCD step; afterGrainStep is called by evolve
+        cloud.advanceCouplingSources(runTime.deltaTValue());
         const clock::time_point t3 = clock::now();
         cloud.evolve(runTime.deltaTValue());
         const clock::time_point t4 = clock::now();

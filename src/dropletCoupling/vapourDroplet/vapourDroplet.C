@@ -15,7 +15,8 @@ Description
 #include "uniformDimensionedFields.H"
 #include "Switch.H"
 #include "meshTools.H"
-#include "grainCloud.H"
+#include "vansCloud.H"
+#include "foamTools.H"
 #include "mathematicalConstants.H"
 
 #include <algorithm>
@@ -75,15 +76,7 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     walls_(mesh.bounds()), wallActive_(false),
     wallClamped_(false), S_(Zero), nGrainsIn_(0), Mp_(0), Fc_(Zero),
     barrierId_(-1), barrierActive_(false),
-    grainForce_
-    (
-        IOobject
-        (
-            "dropletGrainForce", mesh.time().timeName(), mesh,
-            IOobject::NO_READ, IOobject::NO_WRITE, true
-        ),
-        label(0)
-    ),
+    grainForce_(),
     prevVelocity_(),
     prevForce_(),
     prevDt_(0),
@@ -97,18 +90,10 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     filmGrain_(),
     filmHeat_(),
     Qfilm_(0),
-    grainHeat_
-    (
-        IOobject
-        (
-            "dropletGrainHeat", mesh.time().timeName(), mesh,
-            IOobject::NO_READ, IOobject::NO_WRITE, true
-        ),
-        label(0)
-    ),
     releaseWeight_(mesh.nCells(), Zero),
     K_(0),
-    timeIndex_(-1)
+    timeIndex_(-1),
+    cloud_(nullptr)
 {
     readDict();
     readRestart();
@@ -173,11 +158,9 @@ void Foam::vapourDroplet::update()
 
     // absorbed grains (eq. 4.15): V_p = sum of the grain/droplet overlaps
     // at the radius of the previous step (one fixed-point pass per step)
-    if (m_ > 0 && mesh_.foundObject<grainCloudReference>(grainCloud::registryName))
+    if (m_ > 0 && cloud_)
     {
-        const nscd::System& sys =
-            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
-           .cloud().system();
+        const nscd::System& sys = cloud_->grains().system();
         const scalar Rprev = radius();
         const bool twoD = adapter_.twoD();
         const auto& pos = sys.positions();
@@ -249,11 +232,11 @@ void Foam::vapourDroplet::endStep()
     const Time& runTime = mesh_.time();
     const scalar dt = runTime.deltaTValue();
 
-    // constant/g (vansFoam registers it on the Time registry)
+    // gravity of the coupled grains (constant/g, read by grainCloud)
     vector g(Zero);
-    if (runTime.foundObject<uniformDimensionedVectorField>("g"))
+    if (cloud_)
     {
-        g = runTime.lookupObject<uniformDimensionedVectorField>("g").value();
+        g = foamTools::toVector(cloud_->grains().system().gravity());
     }
 
     const bool move = moving_ && m_ > 0;
@@ -271,7 +254,8 @@ void Foam::vapourDroplet::endStep()
 
     // capillary entry barrier: the droplet moves inside the NSCD step of
     // the grains (vapourDroplet.H); the step is finished by
-    // afterGrainStep(), which grainCloud::evolve calls
+    // afterGrainStep(), which vansCloud::evolve calls through
+    // fv::vapourDropletSource (grainCouplingSource)
     nscd::System* sysPtr = barrierSystem();
     if (sysPtr)
     {
@@ -296,14 +280,6 @@ void Foam::vapourDroplet::moveWithGrains
     vector& u
 )
 {
-    if (!mesh_.time().foundObject<uniformDimensionedVectorField>("g"))
-    {
-        FatalErrorInFunction
-            << "No gravity field g registered: the droplet motion (eq."
-            << " 4.17) needs constant/g." << nl
-            << "    Fix: add constant/g or set moving no."
-            << exit(FatalError);
-    }
     // eq. 4.17 with F_f the surface force of the fluid.  The
     // penalised fluid inside the droplet moves with it, so (Uhlmann
     // 2005, J. Comput. Phys. 209, eq. 13-14) the surface force is the

@@ -9,7 +9,7 @@ Description
 \*---------------------------------------------------------------------------*/
 
 #include "vapourDroplet.H"
-#include "grainCloud.H"
+#include "vansCloud.H"
 #include "meshTools.H"
 
 #include <algorithm>
@@ -20,18 +20,14 @@ Description
 nscd::System* Foam::vapourDroplet::barrierSystem()
 {
     nscd::System* sysPtr = nullptr;
-    if (sigma_ > 0 && mesh_.foundObject<grainCloudReference>(grainCloud::registryName))
+    if (sigma_ > 0 && cloud_)
     {
-        grainCloud& cloud =
-            mesh_.lookupObjectRef<grainCloudReference>(grainCloud::registryName)
-           .cloud();
-        sysPtr = &cloud.system();
+        sysPtr = &cloud_->grains().system();
         if (barrierId_ < 0)
         {
             nscd::System::Droplet d;
             d.radius = radius() > 0 ? radius() : 1;
             barrierId_ = sysPtr->addDroplet(d);
-            cloud.setPostEvolve("vapourDroplet", [this]() { afterGrainStep(); });
             // grains inside the surface at the start are pushed out with up
             // to F_max each and kick the droplet: say so
             const bool twoD = adapter_.twoD();
@@ -115,9 +111,7 @@ void Foam::vapourDroplet::afterGrainStep()
     const scalar dt = mesh_.time().deltaTValue();
     const bool twoD = adapter_.twoD();
     const scalar depth = twoD ? adapter_.depth() : 1;
-    const nscd::System& sys =
-        mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
-       .cloud().system();
+    const nscd::System& sys = cloud_->grains().system();
     const nscd::System::Droplet& d = sys.droplet(barrierId_);
     computeFilmHeat(sys, dt);
 

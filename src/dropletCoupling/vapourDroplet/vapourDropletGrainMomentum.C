@@ -17,7 +17,7 @@ Description
 \*---------------------------------------------------------------------------*/
 
 #include "vapourDropletGrainMomentum.H"
-#include "grainCloud.H"
+#include "vansCloud.H"
 #include "meshTools.H"
 #include "mathematicalConstants.H"
 
@@ -45,9 +45,9 @@ Foam::List<Foam::scalar> Foam::vapourDroplet::gasRelaxationFactors
     const auto& pos = sys.positions();
     const auto& rad = sys.radii();
     List<scalar> bGas(n, Zero);
-    const volScalarField* KpPtr = mesh_.findObject<volScalarField>("Kp");
-    const volScalarField* epsPtr =
-        mesh_.findObject<volScalarField>("voidFraction");
+    const vansCloud* cloud = cloud_;
+    const volScalarField* KpPtr = cloud ? &cloud->Kp() : nullptr;
+    const volScalarField* epsPtr = cloud ? &cloud->voidFraction() : nullptr;
     if (history && KpPtr && epsPtr)
     {
         const scalar zc = mesh_.bounds().centre().z();
@@ -376,15 +376,10 @@ void Foam::vapourDroplet::exchangeGrainMomentum
 
     const bool grains =
         grainDrag_ && drag_.valid() && m_ > 0
-     && mesh_.foundObject<grainCloudReference>(grainCloud::registryName);
+     && cloud_;
     if (grains)
     {
-        grainForceCoefficients
-        (
-            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
-           .cloud(),
-            lf
-        );
+        grainForceCoefficients(cloud_->grains(), lf);
     }
     else
     {

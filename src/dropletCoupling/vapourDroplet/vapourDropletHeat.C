@@ -10,7 +10,7 @@ Description
 \*---------------------------------------------------------------------------*/
 
 #include "vapourDroplet.H"
-#include "grainCloud.H"
+#include "vansCloud.H"
 #include "mathematicalConstants.H"
 
 #include <cmath>
@@ -170,11 +170,9 @@ void Foam::vapourDroplet::setHeatSink(const scalarField& sink)
 
     // the film heat enters at the grains (the same on every rank: the
     // grain system is replicated)
-    if (film_ && filmGrain_.size())
+    if (film_ && filmGrain_.size() && cloud_)
     {
-        const nscd::System& sys =
-            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
-           .cloud().system();
+        const nscd::System& sys = cloud_->grains().system();
         forAll(filmGrain_, k)
         {
             if (filmGrain_[k] >= label(sys.size()) || !(filmHeat_[k] > 0))
@@ -232,6 +230,28 @@ Foam::vapourDroplet::volumeSource(const scalar Vdot) const
 }
 
 
+Foam::List<Foam::scalar> Foam::vapourDroplet::heatIntoGrains() const
+{
+    // the film heat of the grains pressed on the surface in the last NSCD
+    // step leaves them over this step (the same grains as Q_film of setHeat)
+    List<scalar> Q;
+    if (film_ && cloud_)
+    {
+        const label n = cloud_->grains().system().size();
+        const scalar depth = adapter_.depth();
+        Q.setSize(n, Zero);
+        forAll(filmGrain_, k)
+        {
+            if (filmGrain_[k] < n)
+            {
+                Q[filmGrain_[k]] -= filmHeat_[k]/depth;
+            }
+        }
+    }
+    return Q;
+}
+
+
 void Foam::vapourDroplet::setHeat(const scalar Qf, const scalar Qp)
 {
     const scalar dt = mesh_.time().deltaTValue();
@@ -240,19 +260,13 @@ void Foam::vapourDroplet::setHeat(const scalar Qf, const scalar Qp)
     // Leidenfrost film heat of the grains pressed on the surface (last NSCD
     // step), taken from them over this step by vansCloud's heat sources
     Qfilm_ = 0;
-    if (film_ && mesh_.foundObject<grainCloudReference>(grainCloud::registryName))
+    if (film_ && cloud_)
     {
-        const label n =
-            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
-           .cloud().system().size();
-        const scalar depth = adapter_.depth();
-        grainHeat_.setSize(n);
-        grainHeat_ = Zero;
+        const label n = cloud_->grains().system().size();
         forAll(filmGrain_, k)
         {
             if (filmGrain_[k] < n)
             {
-                grainHeat_[filmGrain_[k]] -= filmHeat_[k]/depth;
                 Qfilm_ += filmHeat_[k];
             }
         }

@@ -9,7 +9,7 @@ Description
 \*---------------------------------------------------------------------------*/
 
 #include "vapourDroplet.H"
-#include "grainCloud.H"
+#include "vansCloud.H"
 
 #include <sstream>
 
@@ -172,12 +172,10 @@ void Foam::vapourDroplet::writeRestart() const
     if
     (
         n > 0 && prevForce_.size() == n && prevDt_ > 0
-     && mesh_.foundObject<grainCloudReference>(grainCloud::registryName)
+     && cloud_
     )
     {
-        const nscd::System& sys =
-            mesh_.lookupObject<grainCloudReference>(grainCloud::registryName)
-            .cloud().system();
+        const nscd::System& sys = cloud_->grains().system();
         const bool second =
             prevVelocity2_.size() == n && gasForceChange_.size() == n;
         const bool twoD = adapter_.twoD();

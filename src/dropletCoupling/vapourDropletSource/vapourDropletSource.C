@@ -7,6 +7,7 @@
 #include "fvmSup.H"
 #include "addToRunTimeSelectionTable.H"
 #include "grainDictionaryTools.H"
+#include "vansCloud.H"
 
 #include <sstream>
 
@@ -21,6 +22,35 @@ namespace fv
 
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+template<class Type>
+void Foam::fv::vapourDropletSource::addPerGrain
+(
+    const List<Type>& mine,
+    List<Type>& to
+) const
+{
+    if (mine.empty())
+    {
+        return;
+    }
+    if (to.empty())
+    {
+        to = mine;
+        return;
+    }
+    if (to.size() != mine.size())
+    {
+        FatalErrorInFunction
+            << name_ << ": " << mine.size() << " per-grain values for a list"
+            << " of " << to.size() << " grains" << exit(FatalError);
+    }
+    forAll(to, i)
+    {
+        to[i] += mine[i];
+    }
+}
+
 
 void Foam::fv::vapourDropletSource::update()
 {
@@ -129,12 +159,15 @@ Foam::fv::vapourDropletSource::vapourDropletSource
 :
     option(name, modelType, dict, mesh),
     droplet_(mesh),
-    timeIndex_(-1)
+    timeIndex_(-1),
+    cloud_(nullptr),
+    heatIndex_(-1),
+    Qf_(0),
+    Qp_(0)
 {
     read(dict);
 
-    // registered (vansFoam's pEqn.H looks dropletVolumeSource up) and
-    // written at the write times
+    // registered for the output at the write times
     auto field = [&mesh](const word& name, const dimensionSet& dims)
     {
         return new volScalarField::Internal
@@ -206,7 +239,16 @@ void Foam::fv::vapourDropletSource::correct(volScalarField& field)
     {
         return;
     }
+    if (!cloud_)
+    {
+        FatalErrorInFunction
+            << "fvOption " << name_ << " (" << typeName << ") is not coupled"
+            << " to grains: the droplet's step runs in the coupling step of"
+            << " a solver that gives its grainCouplingSources to a vansCloud."
+            << nl << "    Fix: run vansFoam." << exit(FatalError);
+    }
     update();
+    heatIndex_ = mesh_.time().timeIndex();
     // heat taken from the fluid by the implicit sink, end-of-step T [W]
     const scalar rhoCp = droplet_.rhoFluid()*droplet_.CpFluid();
     // local heat sink [W/m^3], written as dropletHeatSink
@@ -220,34 +262,18 @@ void Foam::fv::vapourDropletSource::correct(volScalarField& field)
     droplet_.setHeatSink(heatSinkPtr_->field());
     // the part the grains gave to the penalised fluid (vansCloud's KT, KTTp:
     // grain-to-fluid heat / (rho Cp) = KTTp - KT T, TEqn.H)
-    scalar Qp = 0;
-    if
+    const scalar Qp = rhoCp*gSum
     (
-        mesh_.foundObject<volScalarField>("KT")
-     && mesh_.foundObject<volScalarField>("KTTp")
-    )
-    {
-        const volScalarField& KT = mesh_.lookupObject<volScalarField>("KT");
-        const volScalarField& KTTp = mesh_.lookupObject<volScalarField>("KTTp");
-        Qp = rhoCp*gSum
-        (
-            droplet_.chi()
-           *(
-                KTTp.primitiveField()
-              - KT.primitiveField()*field.primitiveField()
-            )
-           *mesh_.V()
-        );
-    }
-    droplet_.setHeat(Qf - Qp, Qp);
-    droplet_.endStep();
-
-    std::ostringstream os;
-    os.precision(10);
-    os  << "droplet: Q_f = " << Qf - Qp << " W, Q_p = " << Qp << " W, mdot = " << droplet_.mdot()
-        << " kg/s, m = " << droplet_.mass() << " kg, R = "
-        << droplet_.radius() << " m, Vdot = " << droplet_.Vdot() << " m^3/s";
-    Info<< os.str().c_str() << endl;
+        droplet_.chi()
+       *(
+            cloud_->KTTp().primitiveField()
+          - cloud_->KT().primitiveField()*field.primitiveField()
+        )
+       *mesh_.V()
+    );
+    // given to the droplet in its step (beforeGrainStep)
+    Qf_ = Qf - Qp;
+    Qp_ = Qp;
 }
 
 
@@ -284,9 +310,17 @@ bool Foam::fv::vapourDropletSource::read(const dictionary& dict)
         grainTools::checkKeywords(dict.subDict(typeName + "Coeffs"), wordList{});
     }
 
-    if (!mesh_.foundObject<volScalarField>("T"))
+    return true;
+}
+
+
+// * * * * * * * * * * * * * * * Coupling hooks  * * * * * * * * * * * * * //
+
+void Foam::fv::vapourDropletSource::attach(vansCloud& cloud)
+{
+    if (!cloud.heatOn())
     {
-        FatalIOErrorInFunction(dict)
+        FatalIOErrorInFunction(dict_)
             << "fvOption " << name_ << " (" << typeName << ") needs the fluid"
             << " temperature T: the droplet vaporises by the heat it takes"
             << " from the fluid (thesis eq. 4.16)." << nl
@@ -294,20 +328,79 @@ bool Foam::fv::vapourDropletSource::read(const dictionary& dict)
             << " heatTransferModel, transportProperties Cp and kappa, 0/T)."
             << exit(FatalIOError);
     }
-    DynamicList<word> fields;
-    fields.append("T");
-    if (mesh_.foundObject<volVectorField>("U"))
+    // the fields the coupled solver solves: T (heat on), U, psi (vapour on)
+    fieldNames_.setSize(cloud.vapourOn() ? 3 : 2);
+    fieldNames_[0] = "T";
+    fieldNames_[1] = "U";
+    if (cloud.vapourOn())
     {
-        fields.append("U");
+        fieldNames_[2] = "psi";
     }
-    if (mesh_.foundObject<volScalarField>("psi"))
-    {
-        fields.append("psi");
-    }
-    fieldNames_.transfer(fields);
     applied_.setSize(fieldNames_.size(), false);
-    return true;
+    cloud_ = &cloud;
+    droplet_.attach(cloud);
 }
 
+
+Foam::word Foam::fv::vapourDropletSource::couplingName() const
+{
+    return word(typeName + " " + name_);
+}
+
+
+void Foam::fv::vapourDropletSource::addGrainHeat(List<scalar>& Q) const
+{
+    addPerGrain(droplet_.heatIntoGrains(), Q);
+}
+
+
+void Foam::fv::vapourDropletSource::beforeGrainStep(const scalar)
+{
+    // the droplet step follows the heat of this step (correct(T))
+    if (heatIndex_ != mesh_.time().timeIndex())
+    {
+        return;
+    }
+    // mass balance (eq. 4.16), then momentum exchange and motion
+    droplet_.setHeat(Qf_, Qp_);
+    {
+        std::ostringstream os;
+        os.precision(10);
+        os  << "droplet: Q_f = " << Qf_ << " W, Q_p = " << Qp_
+            << " W, mdot = " << droplet_.mdot() << " kg/s, m = "
+            << droplet_.mass() << " kg, R = " << droplet_.radius()
+            << " m, Vdot = " << droplet_.Vdot() << " m^3/s";
+        Info<< os.str().c_str() << endl;
+    }
+    droplet_.endStep();
+
+    const List<vector>& F = droplet_.forceOnGrains();
+    if (F.size())
+    {
+        std::ostringstream os;
+        os.precision(16);
+        vector sumF(Zero);
+        forAll(F, i)
+        {
+            sumF += F[i];
+        }
+        sumF *= cloud_->adapter().depth();
+        os  << "droplet-grain force: sum over grains = (" << sumF.x()
+            << ' ' << sumF.y() << ' ' << sumF.z() << ") N";
+        Info<< os.str().c_str() << endl;
+    }
+}
+
+
+void Foam::fv::vapourDropletSource::addGrainForces(List<vector>& F) const
+{
+    addPerGrain(droplet_.forceOnGrains(), F);
+}
+
+
+void Foam::fv::vapourDropletSource::afterGrainStep()
+{
+    droplet_.afterGrainStep();
+}
 
 // ************************************************************************* //

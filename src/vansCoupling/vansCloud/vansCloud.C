@@ -3,7 +3,6 @@
 #include "fvc.H"
 #include "fixedValueFvPatchFields.H"
 #include "zeroGradientFvPatchFields.H"
-#include "IOField.H"
 
 // * * * * * * * * * * * * * * * Local Functions  * * * * * * * * * * * * * //
 
@@ -459,20 +458,15 @@ void Foam::vansCloud::predictHeat(const scalar dt)
 
 void Foam::vansCloud::setHeatSources(const volScalarField& T, const scalar dt)
 {
-    // heat into the grains from an immersed droplet's Leidenfrost film
-    // (dropletCoupling, IOField dropletGrainHeat, nscd units: W/m in 2D;
-    // absent or not one per grain: none); not part of the fluid-grain
-    // exchange
-    const IOField<scalar>* filmHeat =
-        mesh_.findObject<IOField<scalar>>("dropletGrainHeat");
-    if (filmHeat)
+    // heat into the grains from the coupling sources (e.g. an immersed
+    // droplet's Leidenfrost film, nscd units: W/m in 2D; empty: none); not
+    // part of the fluid-grain exchange
+    List<scalar> sourceHeat;
+    for (const grainCouplingSource* s : couplingSources_)
     {
-        heat_.setSources(T, dt, *filmHeat);
+        s->addGrainHeat(sourceHeat);
     }
-    else
-    {
-        heat_.setSources(T, dt, UList<scalar>());
-    }
+    heat_.setSources(T, dt, sourceHeat);
 }
 
 

@@ -207,6 +207,11 @@ void Foam::vansCloud::evolve(const scalar dt)
     cohesion_.beforeGrainStep();
 
     grains_.evolve(dt);
+    // bodies that moved inside the NSCD step read their state back
+    for (grainCouplingSource* src : couplingSources_)
+    {
+        src->afterGrainStep();
+    }
     if (grains_.removedGrains().size())   // grains left through outlets
     {
         grains_.compactRemoved(v0);

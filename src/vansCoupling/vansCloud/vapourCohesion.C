@@ -135,17 +135,16 @@ void Foam::vapourCohesion::beforeGrainStep()
 
 void Foam::vapourCohesion::lookupVapour()
 {
-    const word psiName("psi");
-    if (!mesh_.foundObject<volScalarField>(psiName))
+    if (!psi_)
     {
         FatalErrorInFunction
             << "cohesion.vapourThreshold in " << dictName_ << " needs the"
-            << " vapour field " << psiName << ", which the solver has not"
-            << " created." << nl << "    Fix: solve the vapour field (vansFoam"
-            << " with transportProperties vapour {} and 0/psi)."
-            << exit(FatalError);
+            << " vapour fraction psi, which the solver has not given"
+            << " (vansCloud::setVapourFraction)." << nl << "    Fix: solve"
+            << " the vapour field (vansFoam with transportProperties vapour"
+            << " {} and 0/psi)." << exit(FatalError);
     }
-    const volScalarField& psi = mesh_.lookupObject<volScalarField>(psiName);
+    const volScalarField& psi = *psi_;
     const scalarField& psiI = psi.primitiveField();
     const nscd::System& s = grains_.system();
     const std::vector<nscd::System::ContactView> cs = s.contacts();
