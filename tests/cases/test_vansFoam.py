@@ -102,3 +102,53 @@ def test_parallel_matches_serial(tmp_path, env):
     # measured: 2.9e-9 m (1e-6 d) with p solved to 1e-9
     assert np.max(np.abs(xs - xp)) < 1e-5 * 3e-3
     assert np.max(np.abs(gs["U"][:, 1])) > 1e-4, "grains should be moving"
+
+
+def _with_pressure_diffusion(case, value):
+    path = os.path.join(case, "constant", "couplingProperties")
+    text = open(path).read()
+    open(path, "w").write(text.replace("forceModel", f"pressureDiffusion {value};\nforceModel", 1))
+
+
+def test_pressure_diffusion_moves_volume_but_creates_none(tmp_path, env):
+    """couplingProperties pressureDiffusion C (artificial pressure diffusion
+    div(C dt grad p) of the mixture continuity, the stabilisation of the
+    thesis' particle-centroid runs, section 3.2.2) on the centroid-method
+    sedimentation: conservation law, not a re-derivation.  The diffusion
+    moves volume between cells (its local sum is not zero) but creates
+    none: it carries no flux through the boundary, so its global sum over
+    the mesh is zero to round-off in every corrector; the solver's own
+    continuity error, that term removed, stays at solver tolerance; the
+    fluid volume sum(eps V) is still the box minus the (clipped) grains."""
+    case = str(tmp_path / "pd")
+    small_sedimentation(case, env, method="centroid", end=0.2, write=0.1)
+    _with_pressure_diffusion(case, 1)
+    p = run("vansFoam", case, env)
+    pd = re.findall(r"pressure diffusion: volume source sum local = (\S+), global = (\S+)", p.stdout)
+    assert len(pd) > 100, p.stdout[-2000:]
+    local = [float(a) for a, _ in pd]
+    glob = [float(b) for _, b in pd]
+    assert max(local) > 1e-9                      # the term acts
+    assert max(abs(g) for g in glob) < 1e-14      # and creates no volume
+    errs = [float(m) for m in re.findall(r"continuity errors : sum local = (\S+),", p.stdout)]
+    assert errs and max(errs[1::2]) < 1e-7
+    g = nscdpost.read_grains(case, "0.2")
+    V = 0.04 * 0.06 * 0.003 / (9 * 13)
+    n = np.zeros((13, 9))
+    np.add.at(n, (np.floor(g["x"][:, 1] / (0.06 / 13)).astype(int),
+                  np.floor(g["x"][:, 0] / (0.04 / 9)).astype(int)), 1)
+    expected = V * np.sum(np.maximum(1 - n * math.pi * 1.5e-3**2 * 0.003 / V, 1e-8))
+    eps = read_internal(os.path.join(case, "0.2", "voidFraction"))
+    assert np.sum(eps) * V == pytest.approx(expected, rel=1e-9)
+
+
+def test_pressure_diffusion_must_not_be_negative(tmp_path, env):
+    """Bad input: pressureDiffusion < 0 is a FatalIOError naming the
+    keyword, the file and the fix."""
+    case = str(tmp_path / "neg")
+    small_sedimentation(case, env, method="centroid", end=0.01, write=0.01)
+    _with_pressure_diffusion(case, -1)
+    p = run("vansFoam", case, env, check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0
+    assert "pressureDiffusion -1" in out and "couplingProperties" in out and "Fix" in out, out[-2000:]

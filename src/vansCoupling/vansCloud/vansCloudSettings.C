@@ -14,7 +14,8 @@ const Foam::wordList Foam::vansCloudSettings::couplingKeywords
     "voidFraction", "forceModel",
     "heatTransferModel", "DiFeliceColburnCoeffs", "GunnCoeffs",
     "RanzMarshallCoeffs", "cohesion", "rotationCoupling",
-    "resolvedCellsPerDiameter", "grainPorosity", "rigidViscosityRatio"
+    "resolvedCellsPerDiameter", "grainPorosity", "rigidViscosityRatio",
+    "pressureDiffusion"
 };
 
 
@@ -61,6 +62,18 @@ Foam::vansCloudSettings::vansCloudSettings
             << "    Fix: resolvedCellsPerDiameter 4; (grains spanning 4 or"
             << " more cells per diameter get the resolved solid flux, 0: all"
             << " grains; remove the keyword to switch it off)"
+            << exit(FatalIOError);
+    }
+    pressureDiffusion = dict.getOrDefault<scalar>("pressureDiffusion", 0);
+    if (!(pressureDiffusion >= 0))
+    {
+        FatalIOErrorInFunction(dict)
+            << "pressureDiffusion " << pressureDiffusion << " in "
+            << dict.name() << " must be >= 0 (artificial pressure diffusion"
+            << " C dt of the mixture continuity, relative to the time step;"
+            << " 0: off)." << nl
+            << "    Fix: pressureDiffusion 1; with voidFraction { method"
+            << " centroid; } (remove the keyword to switch it off)"
             << exit(FatalIOError);
     }
     if (!(rigidViscosityRatio >= 0))
