@@ -78,6 +78,7 @@ StepReport System::step(double dt)
     // detect, prepareContacts (+ warm start), buildAdjacency, solveContacts;
     // again with larger reaches if a grain leaves its reach (SystemExtra.cpp)
     const int NC0 = I.detectAndSolve(dt, rep);
+    I.relaxPushOut(dt, NC0, rep);  // overlap correction without velocity
 
     I.integrate(dt, NC0);
     I.storeImpulses(dt, NC0, rep);
@@ -305,7 +306,7 @@ void System::Impl::integrate(double dt, int NC0)
         const Body& B = body[s];
         v[i] = B.v;
         w[i] = B.w;
-        x[i] += dt*B.v;
+        x[i] += dt*(relaxPositionVelocity.empty() ? B.v : relaxPositionVelocity[s]);
         packed[s].x = x[i];  // end-of-step centres by slot (storeImpulses' gaps)
         q[i] = rotate(q[i], B.w, dt);
     }
@@ -324,6 +325,27 @@ void System::Impl::integrate(double dt, int NC0)
         D.grainImpulse[order[c.i]] += c.rn;
     }
     time += dt;
+}
+
+// ---- relax stage: the overlap correction moves grains, gives no velocity ----
+void System::Impl::relaxPushOut(double dt, int NC0, StepReport& rep)
+{
+    relaxPositionVelocity.clear();
+    bool pushOut = false;
+    for (int k = 0; k < NC0 && !pushOut; ++k) pushOut = rows[k].bias < 0;
+    if (!pushOut) return;
+    const int N = int(x.size());
+    relaxPositionVelocity.resize(N);
+    for (int s = 0; s < N; ++s) relaxPositionVelocity[s] = body[s].v;
+    for (int k = 0; k < NC0; ++k) rows[k].bias = std::max(rows[k].bias, 0.0);
+    // the solve continues from the rows' impulses and the bodies' velocities
+    StepReport relax;
+    solveContacts(dt, relax);
+    rep.sweeps += relax.sweeps;
+    rep.localSolves += relax.localSolves;
+    rep.residual = std::max(rep.residual, relax.residual);
+    rep.converged = rep.converged && relax.converged;
+    for (double r : relax.residualHistory) rep.residualHistory.push_back(r);
 }
 
 // Drag impulse dt c (u - v^+) of the step. v^+ = v_free + R/(m + dt c), R
