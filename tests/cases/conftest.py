@@ -74,13 +74,13 @@ SLOW_TESTS = {
     "test_drag.py::test_lone_sphere_lab_frame_velocity",
     "test_columnCollapse.py::test_column_collapse_runout",
     "test_meshIndependence.py::test_sedimentation_front_mesh_independent",
-    "test_droplet.py::test_dense_suspension_settles_steadily",
+    "test_droplet_grains.py::test_dense_suspension_settles_steadily",
 }
 MPI_TESTS = {
     "test_cohesion.py::test_parallel_same_decision",
-    "test_droplet.py::test_parallel_matches_serial",
-    "test_faults.py::test_reconstructPar_carries_grain_state",
-    "test_faults.py::test_sigusr1_to_mpirun_writes_and_stops",
+    "test_droplet_restart.py::test_parallel_matches_serial",
+    "test_faults_state.py::test_reconstructPar_carries_grain_state",
+    "test_faults_state.py::test_sigusr1_to_mpirun_writes_and_stops",
     "test_freeSurfaceFunctionObjects.py::test_wave_gauges_parallel_equals_serial",
     "test_overlapAdapter.py::test_parallel_matches_serial",
     "test_scotchDecomp.py::test_scotch_parallel_run_keeps_every_grain",

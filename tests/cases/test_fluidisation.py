@@ -134,18 +134,17 @@ def test_heave_under_rising_pressure(tmp_path, env):
     the contact solve; with the drag from last step's contact impulse 1e-3 s
     lifted the bed at a quarter of dh_w)."""
     setup, post = tutorial_modules("vansFoam", "fluidisation")
-    setup.WIDTH, setup.HEIGHT = 20 * setup.D_MEAN, 40 * setup.D_MEAN
-    setup.N_GRAINS, setup.RAMP_TIME = 400, 0.25
+    box = {"width": 20 * setup.D_MEAN, "height": 40 * setup.D_MEAN}
     assert setup.MAX_DELTA_T == 1e-3
     root = str(tmp_path)
-    setup.deposit(root)
+    setup.deposit(root, n_grains=400, **box)
     dep = os.path.join(root, "deposit")
     run("blockMesh", dep, env)
     run("grainDeposit", dep, env)
     res = {}
     for hd, dt in ((1, 1e-3), (4, 1e-3), (1, 1e-4)):
         case = os.path.join(root, f"hd{hd}_dt{dt:g}")
-        setup.setup(case, hd, "0.32", root, max_delta_t=dt)
+        setup.setup(case, hd, "0.32", root, max_delta_t=dt, ramp_time=0.25, **box)
         run("blockMesh", case, env)
         run("vansFoam", case, env)
         res[hd, dt] = post.measure(case)

@@ -136,8 +136,7 @@ def test_three_regimes(tmp_path, env):
         for app in ("blockMesh", "setFields", "grainDeposit", "vansInterFoam"):
             run(app, case, env)
         cases.append(case)
-    post.main.__globals__["sys"].argv = ["postProcess.py", str(tmp_path)] + cases
-    post.main()
+    post.main([str(tmp_path)] + cases)
     res = json.load(open(tmp_path / "results.json"))
     for config, expected in post.EXPECTED_REGIME.items():
         r = res[config]

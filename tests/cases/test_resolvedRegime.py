@@ -122,13 +122,9 @@ def released_disc_a0(tmp_path, env, rho_ratio, max_dt, cells_per_d=10, end=0.02,
     -11 % after 0.01 s at rho_p/rho_f = 1.01, sqrt(nu t)/R = 0.11).
     Returns (a0, mean acceleration over the window)."""
     case = str(tmp_path / f"released_{rho_ratio:g}_{max_dt:g}_{cells_per_d:g}_{resolved}")
-    rho_s = setupCase.RHO_S
-    try:
-        setupCase.RHO_S = rho_ratio * setupCase.RHO_F
-        setupCase.cylinder_case(case, end_time=end, cells_per_d=cells_per_d, height=0.08,
-                                write_interval=max(max_dt, 1e-3), max_dt=max_dt, y0=0.0)
-    finally:
-        setupCase.RHO_S = rho_s
+    setupCase.cylinder_case(case, end_time=end, cells_per_d=cells_per_d, height=0.08,
+                            write_interval=max(max_dt, 1e-3), max_dt=max_dt, y0=0.0,
+                            rho_s=rho_ratio * setupCase.RHO_F)
     if resolved:
         opt_in_resolved(case)
     for app in ("blockMesh", "grainDeposit", "vansFoam"):

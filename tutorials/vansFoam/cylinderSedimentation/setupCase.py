@@ -249,7 +249,7 @@ def mesh_layout(case):
 
 def cylinder_case(case, end_time=4.0, cells_per_d=15, height=HEIGHT, write_interval=0.02,
                   max_co=0.5, max_dt=5e-3, y0=None, x0=None, rotation=False,
-                  wall_distance=None):
+                  wall_distance=None, rho_s=None):
     """The falling cylinder of thesis 3.3.3 (Namkoong et al. 2008), box
     [-0.02, 0.02] x [-height/2, height/2]; released from rest at
     (x0, y0) (default: x0 = D/100, an offset that seeds the symmetry
@@ -257,6 +257,7 @@ def cylinder_case(case, end_time=4.0, cells_per_d=15, height=HEIGHT, write_inter
     wall_distance: None (the thesis box, walls at x = +-4 D) or the walls'
     distance from the axis [m] > WIDTH/2: the uniform box keeps its cells
     and graded side blocks (side_blocks, growth 1.1 per cell) fill the rest.
+    rho_s: the cylinder's density [kg/m^3] (default RHO_S).
     Returns the number of cells."""
     h = D / cells_per_d
     nx, ny = round(WIDTH / h), round(height / h)
@@ -268,7 +269,7 @@ def cylinder_case(case, end_time=4.0, cells_per_d=15, height=HEIGHT, write_inter
     elif wall_distance is not None and wall_distance < WIDTH / 2 * (1 - 1e-9):
         raise ValueError(f"wall_distance {wall_distance} m: at least WIDTH/2 = {WIDTH / 2} m")
     write_case(case, (-WIDTH / 2, -height / 2), (WIDTH / 2, height / 2), (nx, ny),
-               [(x0, y0, D)], RHO_S, RHO_F, NU, end_time=end_time,
+               [(x0, y0, D)], RHO_S if rho_s is None else rho_s, RHO_F, NU, end_time=end_time,
                write_interval=write_interval, max_co=max_co, max_dt=max_dt,
                rotation=rotation, side=side)
     return nx * ny + (0 if side is None else 2 * side[1] * ny)

@@ -31,27 +31,31 @@ RAMP_TIME = 1.0                         # Delta t of eq. 3.53 [s]
 MAX_DELTA_T = 1e-3                      # maxDeltaT [s] (the drag is implicit in the contact solve)
 
 
-def mesh_subs(hd, end, probes="", max_delta_t=MAX_DELTA_T):
+def mesh_subs(hd, end, probes="", max_delta_t=MAX_DELTA_T, width=WIDTH, height=HEIGHT,
+              ramp_time=RAMP_TIME):
     h = hd * D_MEAN
-    nx = max(1, round(WIDTH / h))
+    nx = max(1, round(width / h))
     # kinematic: p_0 = p_t + g H, p_b(t) = p_0 + g H t / (1 s)   (eq. 3.53-3.54)
-    p0 = P_TOP + G * HEIGHT
-    return {"@WIDTH@": f"{WIDTH:.9g}", "@HEIGHT@": f"{HEIGHT:.9g}", "@H@": f"{WIDTH / nx:.9g}",
+    p0 = P_TOP + G * height
+    return {"@WIDTH@": f"{width:.9g}", "@HEIGHT@": f"{height:.9g}", "@H@": f"{width / nx:.9g}",
             "@HD@": f"{hd:g}", "@MAXDT@": f"{max_delta_t:g}", "@NX@": str(nx), "@NY@": str(2 * nx), "@ENDTIME@": str(end),
             "@PTOP@": f"{P_TOP:.12g}", "@P0@": f"{p0:.12g}",
-            "@P100@": f"{p0 + G * HEIGHT * 100 / RAMP_TIME:.12g}", "@PROBES@": probes}
+            "@P100@": f"{p0 + G * height * 100 / ramp_time:.12g}", "@PROBES@": probes}
 
 
-def deposit(root=here):
+def deposit(root=here, width=WIDTH, height=HEIGHT, n_grains=N_GRAINS):
+    """The settled bed in root/deposit; width, height [m] of the box, n_grains
+    (a reduced bed for the tests; the tutorial's: the defaults)."""
     case = os.path.join(root, "deposit")
-    nscdpost.instantiate_case(os.path.join(here, "base"), case, mesh_subs(1, 0))
+    nscdpost.instantiate_case(os.path.join(here, "base"), case,
+                              mesh_subs(1, 0, width=width, height=height))
     with open(os.path.join(case, "system", "grainDepositDict"), "w") as f:
         f.write("FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n"
                 "material sand;\nmethod box;\n"
-                f"box {{ min (0 0 0); max ({WIDTH:.9g} {HEIGHT:.9g} 1); }}\n"
-                f"number {N_GRAINS};\ndMin {D_MIN};\nsizeRatio {LAMBDA};\nseed 3;\n"
+                f"box {{ min (0 0 0); max ({width:.9g} {height:.9g} 1); }}\n"
+                f"number {n_grains};\ndMin {D_MIN};\nsizeRatio {LAMBDA};\nseed 3;\n"
                 "settle { maxTime 1; deltaT 2e-4; speedTolerance 2e-3; }\n")
-    print(f"{case}: {N_GRAINS} grains to settle")
+    print(f"{case}: {n_grains} grains to settle")
 
 
 def bed_top(case):
@@ -65,17 +69,21 @@ def bed_top(case):
     return float(np.mean(tops))
 
 
-def setup(case, hd, end, root=here, max_delta_t=MAX_DELTA_T):
+def setup(case, hd, end, root=here, max_delta_t=MAX_DELTA_T, width=WIDTH, height=HEIGHT,
+          ramp_time=RAMP_TIME):
+    """A case at mesh h/d = hd with the bed of root/deposit; width, height
+    [m] as given to deposit(), ramp_time [s] of the inlet pressure."""
     dep = os.path.join(root, "deposit")
     top = bed_top(dep)
-    xs = [(i + 0.5) * WIDTH / N_PROBES for i in range(N_PROBES)]
+    xs = [(i + 0.5) * width / N_PROBES for i in range(N_PROBES)]
     probes = "\n".join(f"            ({x:.9g} {top:.9g} 0)" for x in xs)
-    nscdpost.instantiate_case(os.path.join(here, "base"), case, mesh_subs(hd, end, probes, max_delta_t))
+    nscdpost.instantiate_case(os.path.join(here, "base"), case,
+                              mesh_subs(hd, end, probes, max_delta_t, width, height, ramp_time))
     nscdpost.copy_grain_state(dep, case)
     nscdpost.write_json(os.path.join(case, "bed.json"),
-                        {"bed_top": top, "width": WIDTH, "height": HEIGHT, "h_over_d": hd,
-                         "d_mean": D_MEAN, "p_top": P_TOP, "p0": P_TOP + G * HEIGHT,
-                         "head_rate": HEIGHT / RAMP_TIME})
+                        {"bed_top": top, "width": width, "height": height, "h_over_d": hd,
+                         "d_mean": D_MEAN, "p_top": P_TOP, "p0": P_TOP + G * height,
+                         "head_rate": height / ramp_time})
     print(f"{case}: h/d = {hd}, bed top {top * 1e3:.3f} mm, endTime {end} s, maxDeltaT {max_delta_t:g} s")
 
 

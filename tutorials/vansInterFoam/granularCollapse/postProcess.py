@@ -112,12 +112,14 @@ def plot(path, config, params, gauges, res):
     plt.close(fig)
 
 
-def main():
-    if len(sys.argv) < 3:
+def main(argv=None):
+    """argv: OUTDIR CASEDIR [CASEDIR ...] (default: the command line, sys.argv[1:])."""
+    args = sys.argv[1:] if argv is None else list(argv)
+    if len(args) < 2:
         sys.exit(__doc__)
-    out = sys.argv[1]
+    out = args[0]
     results = {}
-    for case in sys.argv[2:]:
+    for case in args[1:]:
         params, front, gauges, res = measure(case)
         config = params["config"]
         res["piston_bore_amplitude"] = piston_bore_amplitude(res["max_front_velocity"],

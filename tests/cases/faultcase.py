@@ -1,0 +1,62 @@
+"""Shared helpers of the fault tests of issue 27 (test_faults_control.py,
+test_faults_state.py, test_faults_boundaries.py): a small 2D box case, edits
+of controlDict, digests of the earlier results, the failure check."""
+import hashlib
+import os
+import re
+
+from foamcase import make_box_case
+
+
+G = 9.81
+MAT = {"glass": {"density": 2500, "friction": 0.4}}
+
+
+def box(tmp_path, name, grains, end=0.02, dt=1e-3, write_interval=0.01, **kw):
+    case = str(tmp_path / name)
+    make_box_case(case, (0, 0, 0), (0.1, 0.1, 0.01), (4, 4, 1), (0, -G, 0), MAT,
+                  grains=grains, end_time=end, dt=dt, write_interval=write_interval, **kw)
+    return case
+
+
+def set_control(case, **entries):
+    """Replace `key value;` entries of system/controlDict."""
+    path = os.path.join(case, "system", "controlDict")
+    txt = open(path).read()
+    for k, v in entries.items():
+        txt, n = re.subn(rf"\b{k} [^;]*;", f"{k} {v};", txt)
+        assert n == 1, k
+    open(path, "w").write(txt)
+
+
+def digest(case, time_name):
+    """Hashes of every file of a time directory (the 'earlier results')."""
+    out = {}
+    root = os.path.join(case, time_name)
+    for d, _, files in os.walk(root):
+        for f in files:
+            p = os.path.join(d, f)
+            out[os.path.relpath(p, root)] = hashlib.sha1(open(p, "rb").read()).hexdigest()
+    assert out, root
+    return out
+
+
+def times(case):
+    return sorted((t for t in os.listdir(case) if re.fullmatch(r"[0-9.e-]+", t)), key=float)
+
+
+def fails_with(p, *words):
+    out = p.stdout + p.stderr
+    assert p.returncode != 0, "expected a failure:\n" + out[-2000:]
+    assert "FOAM FATAL" in out, out[-2000:]
+    for w in words:
+        assert w in out, f"'{w}' missing from:\n{out[-3000:]}"
+    # no signal: no stack trace of OpenFOAM's signal handlers
+    assert "printStack" not in out and "sigHandler" not in out and "Segmentation" not in out
+
+
+def stack(tmp_path, name, **kw):
+    # a 2 x 3 stack of touching discs on the floor
+    d = 0.01
+    grains = [(0.04 + d * 1.0001 * i, d / 2 * 1.0001 + d * j * 1.0001, 0, d) for i in range(2) for j in range(3)]
+    return box(tmp_path, name, grains, **kw)

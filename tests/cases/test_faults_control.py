@@ -1,0 +1,155 @@
+"""Faults of issue 27, run control: never hang (sub-step cap, a blown-up
+fluid), solver health and time control (rows 1, 8-10, 11, 13); every row
+fails loudly (exit status, the message's key words) or does what is
+documented; the earlier results of the case stay intact.  Small 2D cases
+(seconds each); helpers in faultcase.py."""
+import os
+import re
+import subprocess
+import time
+
+from faultcase import G, MAT, box, digest, fails_with, set_control, stack, times
+from foamcase import add_fluid, make_box_case, run
+
+
+# ---- row 1: never hang -------------------------------------------------------
+
+def test_substep_cap_stops_with_cause_and_fix(tmp_path, env):
+    """A step that needs more sub-steps than contactSolver maxSubSteps stops
+    at once with the cause (sub-steps, the fastest grain) and the fix; the
+    last write is kept and nothing is written after it."""
+    case = box(tmp_path, "cap", [(0.05, 0.05, 0, 0.01)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    run("grainFoam", case, env)
+    before = digest(case, "0.02")
+    # a time step 100x too large for a low cap: g dt^2 / (0.1 d) ~ 10 sub-steps
+    set_control(case, endTime=1, deltaT=0.1, writeInterval=0.1)
+    gp = os.path.join(case, "constant", "grainProperties")
+    txt = open(gp).read().replace("maxIterations 5000;", "maxIterations 5000; maxSubSteps 5;")
+    open(gp, "w").write(txt)
+    t0 = time.time()
+    p = run("grainFoam", case, env, check=False)
+    assert time.time() - t0 < 60
+    fails_with(p, "maxSubSteps = 5", "sub-steps", "grain 0", "Fix", "deltaT",
+               "last written time")
+    assert times(case) == ["0", "0.01", "0.02"]
+    assert digest(case, "0.02") == before
+    # a bad value is a keyword error
+    open(gp, "w").write(txt.replace("maxSubSteps 5;", "maxSubSteps 0;"))
+    fails_with(run("grainFoam", case, env, check=False), "maxSubSteps must be >= 1")
+
+
+def test_vansFoam_blown_up_fluid_stops(tmp_path, env):
+    """Row 1 on the fluid side: a fluid velocity that has blown up (here
+    1e4 m/s in the initial field: cell Courant number ~5e4) stops vansFoam
+    before the grain step, with the cause and the fix, within seconds;
+    0/ stays as it was (the issue's case, dt 100x too large with
+    adjustTimeStep no, reached ~1e110 sub-steps and never returned)."""
+    case = str(tmp_path / "blowup")
+    grains = [(0.01 + 0.02 * i, 0.006, 0, 0.01) for i in range(5)]
+    make_box_case(case, (0, 0, 0), (0.1, 0.1, 0.01), (10, 10, 1), (0, -G, 0), MAT,
+                  grains=grains, end_time=5, dt=0.05, write_interval=0.05)
+    add_fluid(case, 1000, 1e-6, max_dt=0.05)
+    open(os.path.join(case, "system", "controlDict"), "a").write("adjustTimeStep no;\n")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    u = os.path.join(case, "0", "U")
+    txt = open(u).read()
+    open(u, "w").write(txt.replace("uniform (0 0 0)", "uniform (0 1e4 0)"))
+    before = digest(case, "0")
+    t0 = time.time()
+    p = subprocess.run(["vansFoam", "-case", case], env=env, capture_output=True,
+                       text=True, timeout=120)
+    open(os.path.join(case, "log.vansFoam"), "w").write(p.stdout + p.stderr)
+    assert time.time() - t0 < 120
+    fails_with(p, "fluid solution blew up", "before the fluid solve", "Courant number",
+               "Fix", "adjustTimeStep yes", "last written time")
+    assert times(case) == ["0"]
+    assert digest(case, "0") == before
+
+
+# ---- rows 8-10, 13: solver health and time control --------------------------
+
+def test_non_converged_contact_steps_are_counted(tmp_path, env):
+    case = stack(tmp_path, "notconv", max_iterations=1, contact_tolerance=1e-12)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    p = run("grainFoam", case, env)
+    out = p.stdout + p.stderr
+    assert out.count("The contact solver did NOT converge at time") == 1, out[-3000:]
+    assert "maxIterations" in out
+    m = re.search(r"NOT converged in (\d+) of (\d+) grain steps.*worst overlap/d_min (\S+)",
+                  out, re.S)
+    assert m, out[-2000:]
+    assert int(m.group(2)) == 20 and 1 <= int(m.group(1)) <= 20
+    assert float(m.group(3)) >= 0
+
+
+def test_converged_run_summary(tmp_path, env):
+    case = stack(tmp_path, "conv")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    out = run("grainFoam", case, env).stdout
+    assert "grainCloud summary: 20 grain steps, contact solver converged in all" in out
+
+
+def test_endTime_before_startTime_warns(tmp_path, env):
+    case = box(tmp_path, "endtime", [(0.05, 0.05, 0, 0.01)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    run("grainFoam", case, env)
+    set_control(case, endTime=0.01)   # latestTime = 0.02
+    out = run("grainFoam", case, env).stdout
+    assert "endTime 0.01 is not after the start time 0.02" in out
+    assert "no time step will run" in out
+
+
+def test_writeInterval_zero_is_an_error(tmp_path, env):
+    """OpenFOAM's Time divides by writeInterval (SIGFPE in every application,
+    blockMesh included): the project's applications stop before it."""
+    case = box(tmp_path, "wi0", [(0.05, 0.05, 0, 0.01)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    set_control(case, writeInterval=0)
+    before = digest(case, "0")
+    for app in ("grainFoam", "vansFoam", "vansInterFoam", "grainDeposit"):
+        fails_with(run(app, case, env, check=False), "writeInterval 0", "controlDict", "> 0")
+    assert digest(case, "0") == before
+
+
+def test_endTime_always_written(tmp_path, env):
+    case = box(tmp_path, "endwrite", [(0.05, 0.05, 0, 0.01)], end=0.015)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    out = run("grainFoam", case, env).stdout
+    assert times(case) == ["0", "0.01", "0.015"]
+    for f in ("grainState.h5", "lagrangian/grains/positions"):
+        assert os.path.isfile(os.path.join(case, "0.015", f))
+    assert "Progress: 100.0 % of the run" in out
+    assert re.search(r"Progress: 66\.7 % of the run, about \d+ s of clock time left", out)
+
+
+# ---- row 11: grainDeposit region against the mesh bounds --------------------
+
+def deposit_box(lo, hi, n=20, dmin=2e-3):
+    return (f"material glass;\nmethod box;\nbox {{ min {lo}; max {hi}; }}\n"
+            f"number {n};\ndMin {dmin};\nseed 3;\n"
+            "settle { maxTime 0.5; deltaT 5e-4; speedTolerance 2e-3; }\n")
+
+
+def test_deposit_box_in_mm_on_mesh_in_m(tmp_path, env):
+    """A box given in mm on a mesh in m: the nodes outside the mesh bounds are
+    not searched (the issue's case searched ~4e8 nodes for 40 min); the log
+    says the region was clipped; a region away from the mesh is an error at
+    once."""
+    case = box(tmp_path, "mm", [], deposit=deposit_box("(0 0 0)", "(100 100 10)"))
+    run("blockMesh", case, env)
+    t0 = time.time()
+    p = run("grainDeposit", case, env)
+    assert time.time() - t0 < 30
+    assert "extends beyond the mesh bounds" in p.stdout
+    case = box(tmp_path, "away", [], deposit=deposit_box("(10 10 0)", "(20 20 0.01)"))
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "does not intersect the mesh bounds",
+               "grainDepositDict", "in mm on a mesh in m")

@@ -1,0 +1,292 @@
+"""Faults of issue 27, the grain state and the writes: bad, truncated or
+missing state files, restarts, interrupted writes, stop signals, parallel
+state, lagrangian output on the case's own mesh (rows 4-7, 12, 14); every
+row fails loudly or does what is documented, never crashes on a signal; the
+earlier results of the case stay intact.  Small 2D cases (seconds each);
+helpers in faultcase.py."""
+import os
+import re
+import shutil
+import signal
+import struct
+import subprocess
+import time
+
+from faultcase import G, MAT, box, fails_with, set_control, stack, times
+from foamcase import make_box_case, run, write
+
+
+# ---- row 4: bad state files -------------------------------------------------
+
+def poke(path, dataset, index, value):
+    """Overwrite element `index` (flat, float64) of a contiguous dataset of an
+    HDF5 file (located with h5dump: no h5py here)."""
+    hdr = subprocess.run(["h5dump", "-p", "-H", "-d", dataset, path],
+                         capture_output=True, text=True, check=True).stdout
+    assert "CONTIGUOUS" in hdr, hdr
+    off = int(re.search(r"OFFSET (\d+)", hdr).group(1))
+    with open(path, "r+b") as f:
+        f.seek(off + 8 * index)
+        f.write(struct.pack("<d", value))
+
+
+def deposited(tmp_path, name, env):
+    case = box(tmp_path, name, [(0.05, 0.006, 0, 0.01), (0.07, 0.006, 0, 0.01)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    return case
+
+
+def test_nan_and_negative_values_in_state(tmp_path, env):
+    for dataset, index, value, words in [
+            ("/positions", 3 + 1, float("nan"), ("grain 1", "non-finite position")),
+            ("/velocities", 0, float("inf"), ("grain 0", "non-finite velocity")),
+            ("/radii", 1, -0.005, ("grain 1", "radius", "> 0"))]:
+        case = deposited(tmp_path, "bad" + dataset.strip("/"), env)
+        poke(os.path.join(case, "0", "grainState.h5"), dataset, index, value)
+        fails_with(run("grainFoam", case, env, check=False), *words, "Cannot use the grain state",
+                   "Fix", "grainDeposit")
+
+
+def test_truncated_state_names_previous_write(tmp_path, env):
+    case = deposited(tmp_path, "trunc", env)
+    run("grainFoam", case, env)
+    path = os.path.join(case, "0.02", "grainState.h5")
+    data = open(path, "rb").read()
+    open(path, "wb").write(data[:len(data) // 2])
+    p = run("grainFoam", case, env, check=False)
+    fails_with(p, "damaged or truncated", "previous write 0.01", "startTime 0.01")
+    assert os.path.getsize(os.path.join(case, "0.01", "grainState.h5")) > 0
+
+
+# ---- row 14: lagrangian output on the case's own mesh -----------------------
+
+def positions_cells(case, time_name):
+    """Cell index of each grain in lagrangian/grains: from `positions`
+    ((x y z) celli) and `coordinates` ((a b c d) celli tetFacei tetPti),
+    which must agree."""
+    d = os.path.join(case, time_name, "lagrangian", "grains")
+    pos = [int(c) for c in re.findall(r"\)\s+(-?\d+)\s*$", open(os.path.join(d, "positions")).read(),
+                                      re.M)]
+    bary = [int(c) for c in re.findall(r"\)\s+(-?\d+)\s+-?\d+\s+-?\d+\s*$",
+                                       open(os.path.join(d, "coordinates")).read(), re.M)]
+    assert pos == bary, (pos, bary)
+    return pos
+
+
+def test_state_from_another_mesh_is_located_on_this_one(tmp_path, env):
+    """A deposit settled on a fine mesh (20 x 20) copied with its lagrangian
+    output into a case on a coarse mesh (2 x 2): the solver writes the start
+    time's grains on its own mesh, so foamToVTK runs (it segfaulted on cell
+    indices of the other mesh) and each grain's cell is the coarse cell that
+    holds it."""
+    fine = str(tmp_path / "fine")
+    grains = [(0.013, 0.006, 0, 0.01), (0.087, 0.006, 0, 0.01), (0.06, 0.07, 0, 0.01)]
+    make_box_case(fine, (0, 0, 0), (0.1, 0.1, 0.01), (20, 20, 1), (0, -G, 0), MAT,
+                  grains=grains, end_time=0.002, dt=1e-3, write_interval=0.002)
+    run("blockMesh", fine, env)
+    run("grainDeposit", fine, env)
+    assert max(positions_cells(fine, "0")) > 4
+    coarse = str(tmp_path / "coarse")
+    make_box_case(coarse, (0, 0, 0), (0.1, 0.1, 0.01), (2, 2, 1), (0, -G, 0), MAT,
+                  end_time=0.002, dt=1e-3, write_interval=0.002)
+    run("blockMesh", coarse, env)
+    os.makedirs(os.path.join(coarse, "0"), exist_ok=True)
+    for item in ("grainState.h5", "lagrangian"):
+        src, dst = os.path.join(fine, "0", item), os.path.join(coarse, "0", item)
+        (shutil.copytree if os.path.isdir(src) else shutil.copy)(src, dst)
+    state = open(os.path.join(coarse, "0", "grainState.h5"), "rb").read()
+    run("grainFoam", coarse, env)
+    assert open(os.path.join(coarse, "0", "grainState.h5"), "rb").read() == state
+    for t in ("0", "0.002"):
+        cells = positions_cells(coarse, t)
+        assert len(cells) == 3 and all(0 <= c < 4 for c in cells), cells
+    # cells of the 2 x 2 mesh: i + 2 j; grains at x = 0.013 / 0.087 / 0.06, low / low / high
+    assert sorted(positions_cells(coarse, "0")) == [0, 1, 3]
+    p = run("foamToVTK", coarse, env, check=False)
+    assert p.returncode == 0, (p.stdout + p.stderr)[-2000:]
+
+
+# ---- row 12: SIGTERM / SIGUSR1 write and stop -------------------------------
+
+def test_sigterm_writes_and_stops(tmp_path, env):
+    case = stack(tmp_path, "sigterm", end=100, write_interval=50)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    log = open(os.path.join(case, "log.grainFoam"), "w")
+    proc = subprocess.Popen(["grainFoam", "-case", case], env=env, stdout=log,
+                            stderr=subprocess.STDOUT, text=True)
+    deadline = time.time() + 60
+    while time.time() < deadline:
+        time.sleep(0.5)
+        if "Time = 0.05" in open(os.path.join(case, "log.grainFoam")).read():
+            break
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=60) == 0
+    log.close()
+    out = open(os.path.join(case, "log.grainFoam")).read()
+    assert "Stop signal 15 (SIGTERM) received: wrote time" in out
+    last = times(case)[-1]
+    assert float(last) >= 0.05
+    assert os.path.isfile(os.path.join(case, last, "grainState.h5"))
+    # and the run continues from it
+    set_control(case, endTime=float(last) + 0.002)
+    out = run("grainFoam", case, env).stdout
+    assert f"Create time" in out and "End" in out
+
+
+# ---- row 5: restart from a write that is not the first ----------------------
+
+def test_vansFoam_restart_from_second_write(tmp_path, env):
+    """Writes at 0.03, 0.06, 0.09 s (adjustable time step, maxCo): a restart
+    from 0.06 (not the first write) reaches 0.09 with the grains and the
+    fluid of the uninterrupted run, to the 17 digits written."""
+    from test_vansFoam import small_sedimentation
+    case = str(tmp_path / "full")
+    small_sedimentation(case, env, end=0.105, write=0.035)
+    run("vansFoam", case, env)
+    assert times(case) == ["0", "0.035", "0.07", "0.105"]
+    restart = str(tmp_path / "restart")
+    shutil.copytree(case, restart)
+    shutil.rmtree(os.path.join(restart, "0.105"))
+    run("vansFoam", restart, env)
+    for f in ("U", "p", os.path.join("lagrangian", "grains", "positions"),
+              os.path.join("lagrangian", "grains", "U"), "uniform/time"):
+        a = open(os.path.join(case, "0.105", f)).read()
+        b = open(os.path.join(restart, "0.105", f)).read()
+        assert a == b, f
+
+
+# ---- row 7: writes that cannot half-fail -------------------------------------
+
+def test_disk_full_during_write(tmp_path, env):
+    """The grain state is written to grainState.h5.tmp and renamed when
+    complete; a full disk (the temporary file is a link to /dev/full) gives
+    'no space left on device', no partial state and no empty time directory
+    that startFrom latestTime would take."""
+    case = box(tmp_path, "full", [(0.05, 0.05, 0, 0.01)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    set_control(case, startFrom="startTime")
+    os.makedirs(os.path.join(case, "0.01"))
+    os.symlink("/dev/full", os.path.join(case, "0.01", "grainState.h5.tmp"))
+    p = run("grainFoam", case, env, check=False)
+    fails_with(p, "Writing the grain state", "no space left on device",
+               "the empty time directory was removed")
+    assert times(case) == ["0"]
+    # and the run restarts as if nothing happened
+    set_control(case, startFrom="latestTime")
+    run("grainFoam", case, env)
+    assert times(case) == ["0", "0.01", "0.02"]
+    assert not any(f.endswith(".tmp") for f in os.listdir(os.path.join(case, "0.02")))
+
+
+# ---- row 6: parallel state ---------------------------------------------------
+
+def test_reconstructPar_carries_grain_state(tmp_path, env):
+    """decomposePar, a parallel run, reconstructPar: the reconstructed time
+    directories hold grainState.h5 (written by the master into the
+    undecomposed case), and a serial run continues from the last one."""
+    from foamcase import run_parallel
+    case = stack(tmp_path, "par")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    run_parallel("grainFoam", case, env, n=2)
+    p = run("reconstructPar", case, env)
+    # the state file carries a FoamFile header (HDF5 user block): neither
+    # decomposePar nor reconstructPar warns about it
+    for app in ("decomposePar", "reconstructPar"):
+        log = open(os.path.join(case, f"log.{app}")).read()
+        assert "FoamFile" not in log and "grainState" not in log, log[-2000:]
+    for t in ("0.01", "0.02"):
+        assert os.path.isfile(os.path.join(case, t, "grainState.h5"))
+        assert os.path.isfile(os.path.join(case, t, "lagrangian", "grains", "positions"))
+    a = open(os.path.join(case, "0.02", "grainState.h5"), "rb").read()
+    b = open(os.path.join(case, "processor0", "0.02", "grainState.h5"), "rb").read()
+    assert a == b
+    shutil.rmtree(os.path.join(case, "processor0"))
+    shutil.rmtree(os.path.join(case, "processor1"))
+    set_control(case, endTime=0.03)
+    out = run("grainFoam", case, env).stdout
+    assert "Create time" in out and times(case)[-1] == "0.03"
+
+
+def test_sigusr1_to_mpirun_writes_and_stops(tmp_path, env):
+    """In parallel, SIGUSR1 sent to mpirun (Open MPI forwards it to every
+    rank) writes the current step on every rank and in the undecomposed case
+    and stops with exit 0 (SIGTERM to mpirun kills the ranks: README)."""
+    import pytest
+    case = stack(tmp_path, "sigpar", end=100, write_interval=50)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
+          "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (2 1 1); delta 0.001; }\n")
+    run("decomposePar", case, env)
+    logp = os.path.join(case, "log.grainFoam")
+    with open(logp, "w") as log:
+        proc = subprocess.Popen(["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+                                env=env, stdout=log, stderr=subprocess.STDOUT, text=True)
+        deadline = time.time() + 60
+        while time.time() < deadline and "Time = 0.05" not in open(logp).read():
+            time.sleep(0.5)
+            if proc.poll() is not None:
+                break
+        if proc.poll() is not None:
+            pytest.skip("mpirun cannot start here: " + open(logp).read()[-300:])
+        proc.send_signal(signal.SIGUSR1)
+        assert proc.wait(timeout=60) == 0
+    out = open(logp).read()
+    m = re.search(r"Stop signal 10 \(SIGUSR1\) received: wrote time (\S+) ", out)
+    assert m, out[-2000:]
+    t = m.group(1)
+    for d in ("processor0", "processor1", "."):
+        assert os.path.isfile(os.path.join(case, d, t, "grainState.h5")), d
+
+
+def test_missing_state_names_previous_write(tmp_path, env):
+    """startFrom startTime on a time directory without grainState.h5 (an
+    interrupted write): the message names the previous write holding one.
+    (startFrom latestTime skips such a directory: row 7 below.)"""
+    case = deposited(tmp_path, "missing", env)
+    run("grainFoam", case, env)
+    os.remove(os.path.join(case, "0.02", "grainState.h5"))
+    set_control(case, startFrom="startTime", startTime="0.02")
+    fails_with(run("grainFoam", case, env, check=False), "Cannot find the grain state",
+               "interrupted", "previous write 0.01", "startTime 0.01")
+
+
+def test_latestTime_skips_incomplete_time_directory(tmp_path, env):
+    """Row 7: the last time directory of an interrupted write (grainState.h5
+    missing, a grainState.h5.tmp left) is moved aside with a warning naming
+    it, and startFrom latestTime restarts from the previous complete one: the
+    rerun rewrites it as the uninterrupted run did (same grain positions)."""
+    case = deposited(tmp_path, "incomplete", env)
+    run("grainFoam", case, env)
+    good = open(os.path.join(case, "0.02", "lagrangian", "grains", "positions")).read()
+    os.rename(os.path.join(case, "0.02", "grainState.h5"),
+              os.path.join(case, "0.02", "grainState.h5.tmp"))
+    p = run("grainFoam", case, env)
+    out = p.stdout + p.stderr
+    assert "0.02 is incomplete" in out and "grainState.h5" in out, out[-3000:]
+    assert "moved to 0.02.incomplete" in out and "starts from 0.01" in out
+    assert times(case) == ["0", "0.01", "0.02"]
+    assert os.path.isdir(os.path.join(case, "0.02.incomplete"))
+    assert open(os.path.join(case, "0.02", "lagrangian", "grains", "positions")).read() == good
+
+
+def test_vansFoam_latestTime_skips_time_without_fluid_fields(tmp_path, env):
+    """Row 7 with the fluid: grainState.h5 written but U and p missing (the
+    disk filled up after the grains): vansFoam restarts from the previous
+    time and reaches the end (the fields of the uninterrupted run)."""
+    from test_vansFoam import small_sedimentation
+    case = str(tmp_path / "vinc")
+    small_sedimentation(case, env, end=0.07, write=0.035)
+    run("vansFoam", case, env)
+    U = open(os.path.join(case, "0.07", "U")).read()
+    for f in ("U", "p"):
+        os.remove(os.path.join(case, "0.07", f))
+    p = run("vansFoam", case, env)
+    out = p.stdout + p.stderr
+    assert "0.07 is incomplete (missing: 2(U p))" in out, out[-3000:]
+    assert times(case) == ["0", "0.035", "0.07"]
+    assert open(os.path.join(case, "0.07", "U")).read() == U
