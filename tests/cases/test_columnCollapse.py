@@ -8,7 +8,8 @@ Hinch (2005, J. Fluid Mech. 545, 1-27) reproduce the experiments with contact
 dynamics discs on a rough floor; the prefactor depends on the grains' friction
 and on the column width in grains (finite-size effects, Man et al. 2021), so
 the reduced cases (500 discs, a = 0.5 and 2) are checked for the scaling
-with a (ratio of the two runouts within 35 % of the law's) and for the
+with a (ratio of the two runouts 0.9-1.7 x the law's: the measured spread
+under solver-tolerance perturbations, 1.24-1.52, with its margin) and for the
 prefactor within a band [0.7, 1.8] x the law.
 """
 import json
@@ -50,12 +51,17 @@ def test_column_collapse_runout(tmp_path, env):
         # measures 1.5-1.6 x the law for a = 0.5, 2 and 6.
         ratio = r["normalised_runout"] / r["reference_normalised_runout"]
         assert 0.7 < ratio < 1.8, ratio
-    # the scaling with a: runout(a~2)/runout(a~0.5) as the law's, within 35 %
-    # (measured: 5.1 vs 3.9 with 500 discs, 4.3 vs 3.9 with the tutorial's 1500:
-    # the narrow reduced columns, ~15 grains wide, add a finite-size effect)
+    # the scaling with a: runout(a~2)/runout(a~0.5) against the law's.  The
+    # narrow reduced columns (~15 grains wide) run out relatively further at
+    # a = 2 (finite-size effect; the tutorial's 1500 discs: 1.14 x the law's
+    # scaling).  Measured with 500 discs, the same set-up perturbed at the
+    # solver-tolerance level (2026-11-23): 1.27 (as is), 1.29 (reorderInterval
+    # 0), 1.24 / 1.41 (contact tolerance 5e-6 / 2e-5 instead of 1e-5), 1.52
+    # (before the relax stage of nscd, which no longer turns overlap
+    # corrections into velocity): the band is that spread plus its margin.
     lo, hi = res
     measured = hi["normalised_runout"] / lo["normalised_runout"]
     law = hi["reference_normalised_runout"] / lo["reference_normalised_runout"]
-    assert measured == pytest.approx(law, rel=0.35)
+    assert 0.9 * law < measured < 1.7 * law, (measured, law)
     # short columns barely lose height (Lube et al.: H_f = H_i for a < 1.15)
     assert lo["final_height"] == pytest.approx(lo["initial_height"], rel=0.1)
