@@ -92,10 +92,15 @@ def settled_column(tmp_path_factory, env):
 
 def test_column_rests_on_its_floor(settled_column):
     """Vertical force balance of the settled column (statics): the floor
-    and the side walls' friction (measured: 12 % of the weight, Janssen's
-    effect) hold the column's weight."""
+    and the side walls' friction (Janssen's effect) hold the column's
+    weight.  The impulses are those of the settle's last step, which ends
+    when the largest grain speed is below speedTolerance (2e-3 m/s), not at
+    exact rest: the column's mean deceleration over that step remains in
+    the balance (measured 2026-11-23: lift/weight 1.0037, floor 0.945,
+    side-wall friction 0.059; below 1.002 before nscd's relax stage, whose
+    last step ends on another state), hence 5e-3."""
     case, _ = settled_column
-    assert wall_lift(case) == pytest.approx(weight(case), rel=2e-3)
+    assert wall_lift(case) == pytest.approx(weight(case), rel=5e-3)
 
 
 def replicate(tmp_path, env, source, copies, settle=SETTLE):

@@ -66,6 +66,44 @@ using namespace Foam;
 namespace
 {
 
+// The functions below take system/grainDepositDict as the IOdictionary it
+// is: its name() is then the object's name (grainDepositDict), which the
+// messages print, not the file's path (dictionary::name()).
+
+//- A temporary wall of the settling: a point on it [m] and its unit normal
+//  (towards the grains), both in the grain system's frame
+typedef std::pair<nscd::Vec3, nscd::Vec3> wallPlane;
+
+//- The grains a deposit method makes, and the contact impulses the settling
+//  starts from (method replicate only; empty otherwise)
+struct depositedGrains
+{
+    std::vector<grainSpec> specs;                           //!< [m], [m]
+    std::vector<nscd::System::ContactView> seedContacts;    //!< [N s]
+    double seedDt = 0;                                      //!< [s]
+};
+
+//- The fixed grains left out of the settling, and the index in the written
+//  system of each grain of the settling system
+struct fixedPlacement
+{
+    //- Fixed grains added after the settling (behind a temporary wall or
+    //  taking part in it), in written order
+    std::vector<grainSpec> fixedLater;
+    //- Written index of each settling grain: the movable ones keep theirs,
+    //  the fixed ones follow in fixedLater order
+    std::vector<int> writtenIndex;
+};
+
+//- A region of the mesh to fill with grains: its bounds [m] and, for method
+//  cellZone, the cells of the zone (empty for method box)
+struct depositRegion
+{
+    vector lo, hi;
+    labelHashSet zoneCells;
+};
+
+
 //- Index range [first, last) of the lattice nodes lo + (i + 1/2) spacing,
 //  i < n, that lie within [bMin, bMax] (the mesh bounds): the nodes outside
 //  cannot be in the mesh, so they are not tried (a box given in mm on a mesh
@@ -80,9 +118,9 @@ std::pair<long, long> nodeRange
     return {long(std::max(0.0, a)), long(std::max(0.0, std::min(n, b)))};
 }
 
-// Loose jittered lattice over [lo, hi], nodes in fill order (bottom first
-// along -gravity), filtered by accept(point); only the nodes within the
-// mesh bounds are tried (the others are not in the mesh)
+//- Loose jittered lattice over [lo, hi] [m], nodes in fill order (bottom
+//  first along up = -gravity), filtered by accept(point); only the nodes
+//  within the mesh bounds are tried (the others are not in the mesh)
 template<class Accept>
 std::vector<nscd::Vec3> latticeNodes
 (
@@ -126,7 +164,597 @@ std::vector<nscd::Vec3> latticeNodes
     return nodes;
 }
 
+
+//- Method replicate: the copies of a settled column (replicateColumn.H)
+//  across meshBounds, with their contact impulses as the settling's seed.
+//  Logs the number of grains and impulses.  Errors: those of
+//  replicateColumn (FatalIOError naming the replicate sub-dictionary).
+depositedGrains replicatedGrains
+(
+    const IOdictionary& depositDict,
+    const fileName& casePath,
+    const boundBox& meshBounds,
+    const label dim
+)
+{
+    depositedGrains out;
+    replicatedColumn rc =
+        replicateColumn(depositDict, casePath, meshBounds, dim);
+    out.specs = std::move(rc.grains);
+    out.seedContacts = std::move(rc.contacts);
+    out.seedDt = rc.dt;
+    Info<< "Replicated the column: " << out.specs.size() << " grains, "
+        << out.seedContacts.size() << " contact impulses ("
+        << rc.sideContacts << " on its side walls, whose friction, "
+        << rc.sideFriction << " of their normal impulse, is not copied)"
+        << endl;
+    return out;
 }
+
+
+//- Method list: the grains (x y z d) of `grains` [m]; z is dropped in 2D.
+//  Error: FatalIOError for a diameter <= 0.
+std::vector<grainSpec> listedGrains
+(
+    const IOdictionary& depositDict,
+    const label dim
+)
+{
+    std::vector<grainSpec> specs;
+    const List<FixedList<scalar, 4>> list
+    (
+        depositDict.get<List<FixedList<scalar, 4>>>("grains")
+    );
+    for (const auto& g : list)
+    {
+        if (!(g[3] > 0))
+        {
+            FatalIOErrorInFunction(depositDict)
+                << "Grain at (" << g[0] << ' ' << g[1] << ' ' << g[2]
+                << ") in 'grains' of " << depositDict.name()
+                << " has diameter " << g[3] << " <= 0."
+                << " Fix: give a positive diameter." << exit(FatalIOError);
+        }
+        specs.push_back({nscd::Vec3(g[0], g[1], dim == 3 ? g[2] : 0), g[3]});
+    }
+    return specs;
+}
+
+
+//- Region of method box (sub-dictionary box { min; max; }) or cellZone (the
+//  bounding box [m] of the zone's points, and its cells); 2D: z spans the
+//  mesh depth.  Errors: FatalIOError for an unknown keyword of box or an
+//  unknown cellZone (listing the zones).
+depositRegion readRegion
+(
+    const IOdictionary& depositDict,
+    const word& method,
+    const fvMesh& mesh,
+    const label dim
+)
+{
+    depositRegion region;
+    vector& lo = region.lo;
+    vector& hi = region.hi;
+    if (method == "box")
+    {
+        const dictionary& b = depositDict.subDict("box");
+        grainTools::checkKeywords(b, {"min", "max"});
+        lo = b.get<vector>("min");
+        hi = b.get<vector>("max");
+    }
+    else
+    {
+        const word zoneName = depositDict.get<word>("cellZone");
+        const label zonei = mesh.cellZones().findZoneID(zoneName);
+        if (zonei < 0)
+        {
+            FatalIOErrorInFunction(depositDict)
+                << "cellZone " << zoneName << " not found. Zones: "
+                << flatOutput(mesh.cellZones().names()) << nl
+                << "    Fix: create it with topoSet/setsToZones"
+                << exit(FatalIOError);
+        }
+        region.zoneCells.insert(mesh.cellZones()[zonei]);
+        boundBox bb(mesh.points(), false);
+        bb = boundBox::invertedBox;
+        for (const label celli : mesh.cellZones()[zonei])
+        {
+            for (const label pointi : mesh.cellPoints()[celli])
+            {
+                bb.add(mesh.points()[pointi]);
+            }
+        }
+        lo = bb.min();
+        hi = bb.max();
+    }
+    if (dim == 2)
+    {
+        lo.z() = mesh.bounds().min().z();
+        hi.z() = mesh.bounds().max().z();
+    }
+    return region;
+}
+
+
+//- The region [lo, hi] against the mesh bounds mb (x, y; and z in 3D),
+//  checked before any lattice node is searched (a box in mm on a mesh in m:
+//  say so at once instead of searching ~1e8 nodes).  Logs when the region
+//  extends beyond mb.  Error: FatalIOError when it does not intersect mb.
+void checkRegionInMesh
+(
+    const IOdictionary& depositDict,
+    const vector& lo,
+    const vector& hi,
+    const boundBox& mb,
+    const label dim
+)
+{
+    bool disjoint = false, clipped = false;
+    for (direction c = 0; c < (dim == 3 ? 3 : 2); ++c)
+    {
+        disjoint = disjoint || hi[c] < mb.min()[c] || lo[c] > mb.max()[c];
+        clipped = clipped || lo[c] < mb.min()[c] || hi[c] > mb.max()[c];
+    }
+    if (disjoint)
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "The region " << lo << " - " << hi << " of "
+            << depositDict.name() << " does not intersect the mesh"
+            << " bounds " << mb << "." << nl
+            << "    Fix: give the region in the mesh's units and"
+            << " coordinates (a box in mm on a mesh in m?)."
+            << exit(FatalIOError);
+    }
+    if (clipped)
+    {
+        Info<< "grainDeposit: the region " << lo << " - " << hi
+            << " extends beyond the mesh bounds " << mb
+            << "; grains are placed in their intersection" << nl;
+    }
+}
+
+
+//- Number of grains to place in the region [lo, hi]: `number`, or else
+//  solidFraction x region volume [m^3] (2D: area [m^2]) / mean grain volume
+//  (diameters uniform in [dMin, lambda dMin], dMin [m]).  Error:
+//  FatalIOError when neither is given or solidFraction is not positive.
+label grainNumber
+(
+    const IOdictionary& depositDict,
+    const vector& lo,
+    const vector& hi,
+    const label dim,
+    const scalar dMin,
+    const scalar lambda
+)
+{
+    const scalar meanVolume = dim == 2
+      ? constant::mathematical::pi/4*sqr(dMin)*(1 + lambda + sqr(lambda))/3
+      : constant::mathematical::pi/6*pow3(dMin)*(1 + lambda)*(1 + sqr(lambda))/4;
+    label number = 0;
+    if (depositDict.found("number"))
+    {
+        number = depositDict.get<label>("number");
+    }
+    else
+    {
+        const scalar frac = grainTools::getPositive(depositDict, "solidFraction");
+        scalar regionVolume = (hi.x() - lo.x())*(hi.y() - lo.y());
+        if (dim == 3) regionVolume *= hi.z() - lo.z();
+        number = label(frac*regionVolume/meanVolume);
+    }
+    return number;
+}
+
+
+//- Methods box and cellZone: polydisperse grains (diameters uniform in
+//  [dMin, sizeRatio dMin] [m], random with `seed`) on the nodes of a loose
+//  jittered lattice (spacing 1.1 d_max) in the region, filled bottom first
+//  along -gravity.  Errors (FatalIOError): dMin not positive, sizeRatio < 1,
+//  those of readRegion, checkRegionInMesh and grainNumber, and more grains
+//  asked for than the lattice holds.
+std::vector<grainSpec> latticeGrains
+(
+    const IOdictionary& depositDict,
+    const word& method,
+    const fvMesh& mesh,
+    const nscd::System& system,
+    const label dim
+)
+{
+    std::vector<grainSpec> specs;
+    const scalar dMin = grainTools::getPositive(depositDict, "dMin");
+    const scalar lambda = depositDict.getOrDefault<scalar>("sizeRatio", 1);
+    if (lambda < 1)
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "sizeRatio (d_max/d_min) must be >= 1, got " << lambda
+            << exit(FatalIOError);
+    }
+    const scalar dMax = lambda*dMin;
+    const label seed = depositDict.getOrDefault<label>("seed", 1);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uni(0, 1);
+
+    const depositRegion region = readRegion(depositDict, method, mesh, dim);
+    const vector& lo = region.lo;
+    const vector& hi = region.hi;
+    const labelHashSet& zoneCells = region.zoneCells;
+
+    // loose lattice: spacing 1.1 d_max, jitter within the free space
+    const scalar spacing = 1.1*dMax;
+    const vector gdir
+    (
+        -system.gravity().x(),
+        -system.gravity().y(),
+        -system.gravity().z()
+    );
+    const scalar zMid = 0.5*(mesh.bounds().min().z() + mesh.bounds().max().z());
+    auto accept = [&](const vector& p) -> bool
+    {
+        const vector pm(p.x(), p.y(), dim == 2 ? zMid : p.z());
+        const label celli = mesh.findCell(pm);
+        if (celli < 0) return false;
+        if (method == "cellZone" && !zoneCells.found(celli)) return false;
+        return true;
+    };
+    const boundBox& mb = mesh.bounds();
+    checkRegionInMesh(depositDict, lo, hi, mb, dim);
+    const std::vector<nscd::Vec3> nodes =
+        latticeNodes(lo, hi, spacing, dim, gdir, mb, accept);
+
+    const label number = grainNumber(depositDict, lo, hi, dim, dMin, lambda);
+    if (number < 1 || number > label(nodes.size()))
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "Cannot place " << number << " grains: the region of "
+            << depositDict.name() << " holds " << nodes.size()
+            << " grains on the loose insertion lattice (spacing "
+            << spacing << " m)." << nl
+            << "    Fix: enlarge the region (it may extend above the"
+            << " final bed, grains settle) or ask for fewer grains."
+            << exit(FatalIOError);
+    }
+    const scalar jitter = 0.5*(spacing - dMax);
+    for (label n = 0; n < number; ++n)
+    {
+        const scalar d = dMin + (dMax - dMin)*uni(rng);
+        nscd::Vec3 x = nodes[n];
+        x.x() += jitter*(2*uni(rng) - 1);
+        x.y() += jitter*(2*uni(rng) - 1);
+        if (dim == 3) x.z() += jitter*(2*uni(rng) - 1);
+        else x.z() = 0;
+        specs.push_back({x, d});
+    }
+    return specs;
+}
+
+
+//- The grains of `method` (box | cellZone | list | replicate) of
+//  depositDict, before settling.  Error: FatalIOError for an unknown method
+//  (and those of each method).
+depositedGrains depositGrains
+(
+    const IOdictionary& depositDict,
+    const word& method,
+    const fvMesh& mesh,
+    const grainCloud& settling
+)
+{
+    const label dim = settling.dimension();
+    depositedGrains dep;
+    if (method == "replicate")
+    {
+        dep = replicatedGrains
+        (
+            depositDict, mesh.time().path(), mesh.bounds(), dim
+        );
+    }
+    else if (method == "list")
+    {
+        dep.specs = listedGrains(depositDict, dim);
+    }
+    else if (method == "box" || method == "cellZone")
+    {
+        dep.specs =
+            latticeGrains(depositDict, method, mesh, settling.system(), dim);
+    }
+    else
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "Unknown method " << method << " in " << depositDict.name()
+            << ". Use box, cellZone, list or replicate." << exit(FatalIOError);
+    }
+    return dep;
+}
+
+
+//- Adds the movable grains of specs (material matId) to the settling system
+//  and returns the fixed ones: all of specs with method list and
+//  `fixed yes;` (a packed bed), none otherwise.
+std::vector<grainSpec> addMovableGrains
+(
+    const IOdictionary& depositDict,
+    const word& method,
+    const std::vector<grainSpec>& specs,
+    grainCloud& settling,
+    const label matId
+)
+{
+    // method list: `fixed yes;` makes every listed grain fixed (a packed bed)
+    const bool listFixed =
+        method == "list" && depositDict.getOrDefault<bool>("fixed", false);
+    std::vector<grainSpec> fixedSpecs;
+    for (const grainSpec& s : specs)
+    {
+        if (listFixed)
+        {
+            fixedSpecs.push_back(s);
+        }
+        else
+        {
+            settling.system().addGrain(s.x, 0.5*s.d, matId);
+        }
+    }
+    return fixedSpecs;
+}
+
+
+//- Optional fixedRow { from; to; diameter; }: a row of fixed, touching
+//  grains (a rough floor, as in Staron & Hinch 2005) from `from` to `to`
+//  [m], diameter [m], appended to fixedSpecs; logs their number.  Errors:
+//  FatalIOError for an unknown keyword or a diameter not positive.
+void addFixedRow
+(
+    const IOdictionary& depositDict,
+    const grainCloud& settling,
+    std::vector<grainSpec>& fixedSpecs
+)
+{
+    if (depositDict.found("fixedRow"))
+    {
+        const dictionary& fr = depositDict.subDict("fixedRow");
+        grainTools::checkKeywords(fr, {"from", "to", "diameter"});
+        const nscd::Vec3 a = settling.toSystem(fr.get<vector>("from"));
+        const nscd::Vec3 b = settling.toSystem(fr.get<vector>("to"));
+        const scalar d = grainTools::getPositive(fr, "diameter");
+        const label n = label((b - a).norm()/d) + 1;
+        for (label k = 0; k < n; ++k)
+        {
+            const nscd::Vec3 x =
+                n > 1 ? nscd::Vec3(a + (b - a)*(scalar(k)/(n - 1))) : a;
+            fixedSpecs.push_back({x, d});
+        }
+        Info<< "Placed a row of " << n << " fixed grains" << endl;
+    }
+}
+
+
+//- The temporary walls of settle { temporaryWalls ( { point; normal; } ...
+//  ); } (settling only), in the grain system's frame, normals made unit.
+//  Errors: FatalIOError for an unknown keyword or a zero normal.
+std::vector<wallPlane> temporaryPlanes
+(
+    const IOdictionary& depositDict,
+    const grainCloud& settling
+)
+{
+    List<dictionary> temporaryWalls;
+    if
+    (
+        depositDict.found("settle")
+     && depositDict.subDict("settle").found("temporaryWalls")
+    )
+    {
+        temporaryWalls =
+            depositDict.subDict("settle").get<List<dictionary>>("temporaryWalls");
+    }
+    std::vector<wallPlane> planes;
+    for (const dictionary& w : temporaryWalls)
+    {
+        grainTools::checkKeywords(w, {"point", "normal"});
+        const vector n = w.get<vector>("normal");
+        if (mag(n) < VSMALL)
+        {
+            FatalIOErrorInFunction(w)
+                << "temporaryWalls: zero normal" << exit(FatalIOError);
+        }
+        planes.push_back
+        (
+            {settling.toSystem(w.get<vector>("point")), settling.toSystem(n/mag(n))}
+        );
+    }
+    return planes;
+}
+
+
+//- Adds the fixed grains (material matId) and the temporary walls to the
+//  settling system.  Fixed grains behind a temporary wall take no part in
+//  the settling (nothing reaches them) and join the system afterwards; a
+//  fixed grain cut by a temporary wall is left out altogether (it would
+//  overlap the wall during settling and the settled grains after it).
+//  Returns the fixed grains to write and the written index of each grain
+//  of the settling system.
+fixedPlacement addFixedGrainsAndWalls
+(
+    const std::vector<grainSpec>& fixedSpecs,
+    const std::vector<wallPlane>& planes,
+    grainCloud& settling,
+    const label matId
+)
+{
+    fixedPlacement out;
+    std::vector<grainSpec>& fixedLater = out.fixedLater;
+    std::vector<int>& writtenIndex = out.writtenIndex;
+    const std::size_t nMovable = settling.system().size();
+    writtenIndex.resize(nMovable);
+    for (std::size_t i = 0; i < writtenIndex.size(); ++i)
+    {
+        writtenIndex[i] = int(i);
+    }
+    for (const grainSpec& f : fixedSpecs)
+    {
+        scalar dist = GREAT;
+        for (const auto& pl : planes)
+        {
+            dist = min(dist, (f.x - pl.first).dot(pl.second));
+        }
+        if (dist >= 0.5*f.d)
+        {
+            settling.system().addGrain(f.x, 0.5*f.d, matId, true);
+            writtenIndex.push_back(int(nMovable + fixedLater.size()));
+            fixedLater.push_back(f);
+        }
+        else if (dist <= -0.5*f.d)
+        {
+            fixedLater.push_back(f);
+        }
+    }
+    for (const auto& pl : planes)
+    {
+        settling.system().addPlane(pl.first, pl.second);
+    }
+    return out;
+}
+
+
+//- Starts the settling from the contact impulses seedContacts [N s] of a
+//  step seedDt [s] (method replicate), if any.  The column's wall ids are
+//  the mesh walls' when both meshes have the same wall patches; a seed that
+//  matches no detected contact is simply not used by the warm start.
+void seedContactImpulses
+(
+    grainCloud& settling,
+    const std::vector<nscd::System::ContactView>& seedContacts,
+    const double seedDt
+)
+{
+    if (!seedContacts.empty())
+    {
+        std::vector<nscd::System::ContactView> seed;
+        for (const auto& c : seedContacts)
+        {
+            if (c.j >= 0 || -c.j - 1 < settling.system().nWalls())
+            {
+                seed.push_back(c);
+            }
+        }
+        settling.system().setContactImpulses(seed, seedDt);
+    }
+}
+
+
+//- Lets the grains settle under gravity, settle { maxTime [s]; deltaT [s];
+//  speedTolerance [m/s]; }: steps of deltaT until maxTime, or until the
+//  largest grain speed falls below speedTolerance (after 20 steps); logs
+//  the first steps and every 100th.  Errors: FatalIOError for an unknown
+//  keyword or a value not positive; a warning if not at rest at maxTime.
+void settle(const dictionary& sd, grainCloud& settling)
+{
+    grainTools::checkKeywords
+    (
+        sd, {"maxTime", "deltaT", "speedTolerance", "temporaryWalls"}
+    );
+    const scalar maxTime = grainTools::getPositive(sd, "maxTime");
+    const scalar dt = grainTools::getPositive(sd, "deltaT");
+    const scalar vTol = grainTools::getPositive(sd, "speedTolerance");
+    scalar t = 0;
+    label step = 0;
+    scalar vmax = GREAT;
+    while (t < maxTime)
+    {
+        const nscd::StepReport r = settling.system().advance(dt, 0.1);
+        t += dt;
+        ++step;
+        vmax = 0;
+        for (const nscd::Vec3& v : settling.system().velocities())
+        {
+            vmax = max(vmax, v.norm());
+        }
+        if (step <= 3 || step % 100 == 0)
+        {
+            Info<< "settling: t = " << t << " s, max speed " << vmax
+                << " m/s, contacts " << r.contacts << ", sweeps "
+                << r.sweeps << endl;
+        }
+        if (t > 20*dt && vmax < vTol)
+        {
+            break;
+        }
+    }
+    Info<< "Settled after " << t << " s (max speed " << vmax << " m/s)"
+        << endl;
+    if (vmax >= vTol)
+    {
+        WarningInFunction
+            << "Grains not at rest after maxTime " << maxTime
+            << " s (max speed " << vmax << " > speedTolerance " << vTol
+            << "). Increase settle.maxTime." << endl;
+    }
+}
+
+
+//- Fills initial (an empty grainCloud of the mesh: mesh walls only) with
+//  the initial state and writes it (grainState.h5 and lagrangian/grains of
+//  the start time): the settled movable grains at rest, then the fixed
+//  grains of placement (material matId).  With writeContactImpulses yes,
+//  the settled contact impulses [N s] go with the grains (renumbered by
+//  placement.writtenIndex; contacts with temporary walls dropped).
+//  Errors: those of grainCloud::checkState.
+void writeInitialState
+(
+    const IOdictionary& depositDict,
+    const grainCloud& settling,
+    const fixedPlacement& placement,
+    const label matId,
+    grainCloud& initial
+)
+{
+    const nscd::System& s = settling.system();
+    for (std::size_t i = 0; i < s.size(); ++i)
+    {
+        if (!s.fixed(i))
+        {
+            initial.system().addGrain
+            (
+                s.positions()[i], s.radii()[i], s.materials()[i]
+            );
+        }
+    }
+    for (const grainSpec& f : placement.fixedLater)
+    {
+        initial.system().addGrain(f.x, 0.5*f.d, matId, true);
+    }
+    // writeContactImpulses yes: the settled contact impulses go with the
+    // grains (the warm start of the run, and the seed of a later `method
+    // replicate`); contacts with temporary walls are dropped.  Off by
+    // default: the impulses of a dry settle are not those of the run (a
+    // submerged bed weighs less, a lifted gate no longer holds it), and an
+    // iteration-capped solve started from them ends elsewhere than one
+    // started cold (the granularCollapse regimes, tests/cases/
+    // test_granularCollapse.py, moved from nonlinear transition to bore)
+    if (depositDict.getOrDefault<bool>("writeContactImpulses", false))
+    {
+        const int nMeshWalls = initial.system().nWalls();
+        std::vector<nscd::System::ContactView> kept;
+        for (nscd::System::ContactView c : s.contacts())
+        {
+            if (c.j < 0 && -c.j - 1 >= nMeshWalls) continue;
+            c.i = placement.writtenIndex[c.i];
+            if (c.j >= 0) c.j = placement.writtenIndex[c.j];
+            kept.push_back(c);
+        }
+        if (s.lastStepDt() > 0)
+        {
+            initial.system().setContactImpulses(kept, s.lastStepDt());
+        }
+    }
+    initial.checkState();
+    initial.write();
+}
+
+} // End anonymous namespace
 
 
 int main(int argc, char *argv[])
@@ -166,396 +794,31 @@ int main(int argc, char *argv[])
     );
 
     grainCloud settling(mesh, false);
-    const label dim = settling.dimension();
     const label matId = settling.materialId(depositDict.get<word>("material"));
     const word method = depositDict.get<word>("method");
 
-    std::vector<grainSpec> specs;
-    // contact impulses the settling starts from (method replicate)
-    std::vector<nscd::System::ContactView> seedContacts;
-    double seedDt = 0;
+    const depositedGrains dep =
+        depositGrains(depositDict, method, mesh, settling);
 
-    if (method == "replicate")
-    {
-        replicatedColumn rc =
-            replicateColumn(depositDict, runTime.path(), mesh.bounds(), dim);
-        specs = std::move(rc.grains);
-        seedContacts = std::move(rc.contacts);
-        seedDt = rc.dt;
-        Info<< "Replicated the column: " << specs.size() << " grains, "
-            << seedContacts.size() << " contact impulses ("
-            << rc.sideContacts << " on its side walls, whose friction, "
-            << rc.sideFriction << " of their normal impulse, is not copied)"
-            << endl;
-    }
-    else if (method == "list")
-    {
-        const List<FixedList<scalar, 4>> list
-        (
-            depositDict.get<List<FixedList<scalar, 4>>>("grains")
-        );
-        for (const auto& g : list)
-        {
-            if (!(g[3] > 0))
-            {
-                FatalIOErrorInFunction(depositDict)
-                    << "Grain at (" << g[0] << ' ' << g[1] << ' ' << g[2]
-                    << ") in 'grains' of " << depositDict.name()
-                    << " has diameter " << g[3] << " <= 0."
-                    << " Fix: give a positive diameter." << exit(FatalIOError);
-            }
-            specs.push_back({nscd::Vec3(g[0], g[1], dim == 3 ? g[2] : 0), g[3]});
-        }
-    }
-    else if (method == "box" || method == "cellZone")
-    {
-        const scalar dMin = grainTools::getPositive(depositDict, "dMin");
-        const scalar lambda = depositDict.getOrDefault<scalar>("sizeRatio", 1);
-        if (lambda < 1)
-        {
-            FatalIOErrorInFunction(depositDict)
-                << "sizeRatio (d_max/d_min) must be >= 1, got " << lambda
-                << exit(FatalIOError);
-        }
-        const scalar dMax = lambda*dMin;
-        const label seed = depositDict.getOrDefault<label>("seed", 1);
-        std::mt19937_64 rng(seed);
-        std::uniform_real_distribution<double> uni(0, 1);
-
-        vector lo, hi;
-        labelHashSet zoneCells;
-        if (method == "box")
-        {
-            const dictionary& b = depositDict.subDict("box");
-            grainTools::checkKeywords(b, {"min", "max"});
-            lo = b.get<vector>("min");
-            hi = b.get<vector>("max");
-        }
-        else
-        {
-            const word zoneName = depositDict.get<word>("cellZone");
-            const label zonei = mesh.cellZones().findZoneID(zoneName);
-            if (zonei < 0)
-            {
-                FatalIOErrorInFunction(depositDict)
-                    << "cellZone " << zoneName << " not found. Zones: "
-                    << flatOutput(mesh.cellZones().names()) << nl
-                    << "    Fix: create it with topoSet/setsToZones"
-                    << exit(FatalIOError);
-            }
-            zoneCells.insert(mesh.cellZones()[zonei]);
-            boundBox bb(mesh.points(), false);
-            bb = boundBox::invertedBox;
-            for (const label celli : mesh.cellZones()[zonei])
-            {
-                for (const label pointi : mesh.cellPoints()[celli])
-                {
-                    bb.add(mesh.points()[pointi]);
-                }
-            }
-            lo = bb.min();
-            hi = bb.max();
-        }
-        if (dim == 2)
-        {
-            lo.z() = mesh.bounds().min().z();
-            hi.z() = mesh.bounds().max().z();
-        }
-
-        // loose lattice: spacing 1.1 d_max, jitter within the free space
-        const scalar spacing = 1.1*dMax;
-        const vector gdir
-        (
-            -settling.system().gravity().x(),
-            -settling.system().gravity().y(),
-            -settling.system().gravity().z()
-        );
-        const scalar zMid = 0.5*(mesh.bounds().min().z() + mesh.bounds().max().z());
-        auto accept = [&](const vector& p) -> bool
-        {
-            const vector pm(p.x(), p.y(), dim == 2 ? zMid : p.z());
-            const label celli = mesh.findCell(pm);
-            if (celli < 0) return false;
-            if (method == "cellZone" && !zoneCells.found(celli)) return false;
-            return true;
-        };
-        // the region against the mesh bounds first (a box in mm on a mesh
-        // in m: say so at once instead of searching ~1e8 nodes)
-        const boundBox& mb = mesh.bounds();
-        bool disjoint = false, clipped = false;
-        for (direction c = 0; c < (dim == 3 ? 3 : 2); ++c)
-        {
-            disjoint = disjoint || hi[c] < mb.min()[c] || lo[c] > mb.max()[c];
-            clipped = clipped || lo[c] < mb.min()[c] || hi[c] > mb.max()[c];
-        }
-        if (disjoint)
-        {
-            FatalIOErrorInFunction(depositDict)
-                << "The region " << lo << " - " << hi << " of "
-                << depositDict.name() << " does not intersect the mesh"
-                << " bounds " << mb << "." << nl
-                << "    Fix: give the region in the mesh's units and"
-                << " coordinates (a box in mm on a mesh in m?)."
-                << exit(FatalIOError);
-        }
-        if (clipped)
-        {
-            Info<< "grainDeposit: the region " << lo << " - " << hi
-                << " extends beyond the mesh bounds " << mb
-                << "; grains are placed in their intersection" << nl;
-        }
-        const std::vector<nscd::Vec3> nodes =
-            latticeNodes(lo, hi, spacing, dim, gdir, mb, accept);
-
-        const scalar meanVolume = dim == 2
-          ? constant::mathematical::pi/4*sqr(dMin)*(1 + lambda + sqr(lambda))/3
-          : constant::mathematical::pi/6*pow3(dMin)*(1 + lambda)*(1 + sqr(lambda))/4;
-        label number = 0;
-        if (depositDict.found("number"))
-        {
-            number = depositDict.get<label>("number");
-        }
-        else
-        {
-            const scalar frac = grainTools::getPositive(depositDict, "solidFraction");
-            scalar regionVolume = (hi.x() - lo.x())*(hi.y() - lo.y());
-            if (dim == 3) regionVolume *= hi.z() - lo.z();
-            number = label(frac*regionVolume/meanVolume);
-        }
-        if (number < 1 || number > label(nodes.size()))
-        {
-            FatalIOErrorInFunction(depositDict)
-                << "Cannot place " << number << " grains: the region of "
-                << depositDict.name() << " holds " << nodes.size()
-                << " grains on the loose insertion lattice (spacing "
-                << spacing << " m)." << nl
-                << "    Fix: enlarge the region (it may extend above the"
-                << " final bed, grains settle) or ask for fewer grains."
-                << exit(FatalIOError);
-        }
-        const scalar jitter = 0.5*(spacing - dMax);
-        for (label n = 0; n < number; ++n)
-        {
-            const scalar d = dMin + (dMax - dMin)*uni(rng);
-            nscd::Vec3 x = nodes[n];
-            x.x() += jitter*(2*uni(rng) - 1);
-            x.y() += jitter*(2*uni(rng) - 1);
-            if (dim == 3) x.z() += jitter*(2*uni(rng) - 1);
-            else x.z() = 0;
-            specs.push_back({x, d});
-        }
-    }
-    else
-    {
-        FatalIOErrorInFunction(depositDict)
-            << "Unknown method " << method << " in " << depositDict.name()
-            << ". Use box, cellZone, list or replicate." << exit(FatalIOError);
-    }
-
-    // method list: `fixed yes;` makes every listed grain fixed (a packed bed)
-    const bool listFixed =
-        method == "list" && depositDict.getOrDefault<bool>("fixed", false);
-    std::vector<grainSpec> fixedSpecs;
-    for (const grainSpec& s : specs)
-    {
-        if (listFixed)
-        {
-            fixedSpecs.push_back(s);
-        }
-        else
-        {
-            settling.system().addGrain(s.x, 0.5*s.d, matId);
-        }
-    }
-
-    // A row of fixed, touching grains (a rough floor, as in Staron & Hinch 2005)
-    if (depositDict.found("fixedRow"))
-    {
-        const dictionary& fr = depositDict.subDict("fixedRow");
-        grainTools::checkKeywords(fr, {"from", "to", "diameter"});
-        const nscd::Vec3 a = settling.toSystem(fr.get<vector>("from"));
-        const nscd::Vec3 b = settling.toSystem(fr.get<vector>("to"));
-        const scalar d = grainTools::getPositive(fr, "diameter");
-        const label n = label((b - a).norm()/d) + 1;
-        for (label k = 0; k < n; ++k)
-        {
-            const nscd::Vec3 x =
-                n > 1 ? nscd::Vec3(a + (b - a)*(scalar(k)/(n - 1))) : a;
-            fixedSpecs.push_back({x, d});
-        }
-        Info<< "Placed a row of " << n << " fixed grains" << endl;
-    }
-
-    // Temporary walls (settling only)
-    List<dictionary> temporaryWalls;
-    if
-    (
-        depositDict.found("settle")
-     && depositDict.subDict("settle").found("temporaryWalls")
-    )
-    {
-        temporaryWalls =
-            depositDict.subDict("settle").get<List<dictionary>>("temporaryWalls");
-    }
-    std::vector<std::pair<nscd::Vec3, nscd::Vec3>> planes;
-    for (const dictionary& w : temporaryWalls)
-    {
-        grainTools::checkKeywords(w, {"point", "normal"});
-        const vector n = w.get<vector>("normal");
-        if (mag(n) < VSMALL)
-        {
-            FatalIOErrorInFunction(w)
-                << "temporaryWalls: zero normal" << exit(FatalIOError);
-        }
-        planes.push_back
-        (
-            {settling.toSystem(w.get<vector>("point")), settling.toSystem(n/mag(n))}
-        );
-    }
-
-    // Fixed grains behind a temporary wall take no part in the settling
-    // (nothing reaches them) and join the system afterwards; a fixed grain
-    // cut by a temporary wall is left out altogether (it would overlap the
-    // wall during settling and the settled grains after it).
-    std::vector<grainSpec> fixedLater;
-    // index in the written system of each settling grain: the movable
-    // grains keep theirs, the fixed ones follow in fixedLater order
-    const std::size_t nMovable = settling.system().size();
-    std::vector<int> writtenIndex(nMovable);
-    for (std::size_t i = 0; i < writtenIndex.size(); ++i)
-    {
-        writtenIndex[i] = int(i);
-    }
-    for (const grainSpec& f : fixedSpecs)
-    {
-        scalar dist = GREAT;
-        for (const auto& pl : planes)
-        {
-            dist = min(dist, (f.x - pl.first).dot(pl.second));
-        }
-        if (dist >= 0.5*f.d)
-        {
-            settling.system().addGrain(f.x, 0.5*f.d, matId, true);
-            writtenIndex.push_back(int(nMovable + fixedLater.size()));
-            fixedLater.push_back(f);
-        }
-        else if (dist <= -0.5*f.d)
-        {
-            fixedLater.push_back(f);
-        }
-    }
-    for (const auto& pl : planes)
-    {
-        settling.system().addPlane(pl.first, pl.second);
-    }
+    std::vector<grainSpec> fixedSpecs =
+        addMovableGrains(depositDict, method, dep.specs, settling, matId);
+    addFixedRow(depositDict, settling, fixedSpecs);
+    const std::vector<wallPlane> planes = temporaryPlanes(depositDict, settling);
+    const fixedPlacement placement =
+        addFixedGrainsAndWalls(fixedSpecs, planes, settling, matId);
 
     settling.checkState();
-    Info<< "Placed " << specs.size() << " grains" << endl;
-    if (!seedContacts.empty())
-    {
-        // the column's wall ids are the mesh walls' when both meshes have
-        // the same wall patches; a seed that matches no detected contact
-        // is simply not used by the warm start
-        std::vector<nscd::System::ContactView> seed;
-        for (const auto& c : seedContacts)
-        {
-            if (c.j >= 0 || -c.j - 1 < settling.system().nWalls())
-            {
-                seed.push_back(c);
-            }
-        }
-        settling.system().setContactImpulses(seed, seedDt);
-    }
+    Info<< "Placed " << dep.specs.size() << " grains" << endl;
+    seedContactImpulses(settling, dep.seedContacts, dep.seedDt);
 
-    // Settle under gravity
     if (depositDict.found("settle"))
     {
-        const dictionary& sd = depositDict.subDict("settle");
-        grainTools::checkKeywords
-        (
-            sd, {"maxTime", "deltaT", "speedTolerance", "temporaryWalls"}
-        );
-        const scalar maxTime = grainTools::getPositive(sd, "maxTime");
-        const scalar dt = grainTools::getPositive(sd, "deltaT");
-        const scalar vTol = grainTools::getPositive(sd, "speedTolerance");
-        scalar t = 0;
-        label step = 0;
-        scalar vmax = GREAT;
-        while (t < maxTime)
-        {
-            const nscd::StepReport r = settling.system().advance(dt, 0.1);
-            t += dt;
-            ++step;
-            vmax = 0;
-            for (const nscd::Vec3& v : settling.system().velocities())
-            {
-                vmax = max(vmax, v.norm());
-            }
-            if (step <= 3 || step % 100 == 0)
-            {
-                Info<< "settling: t = " << t << " s, max speed " << vmax
-                    << " m/s, contacts " << r.contacts << ", sweeps "
-                    << r.sweeps << endl;
-            }
-            if (t > 20*dt && vmax < vTol)
-            {
-                break;
-            }
-        }
-        Info<< "Settled after " << t << " s (max speed " << vmax << " m/s)"
-            << endl;
-        if (vmax >= vTol)
-        {
-            WarningInFunction
-                << "Grains not at rest after maxTime " << maxTime
-                << " s (max speed " << vmax << " > speedTolerance " << vTol
-                << "). Increase settle.maxTime." << endl;
-        }
+        settle(depositDict.subDict("settle"), settling);
     }
 
     // The initial state: settled grains at rest, mesh walls only
     grainCloud initial(mesh, false);
-    const nscd::System& s = settling.system();
-    for (std::size_t i = 0; i < s.size(); ++i)
-    {
-        if (!s.fixed(i))
-        {
-            initial.system().addGrain
-            (
-                s.positions()[i], s.radii()[i], s.materials()[i]
-            );
-        }
-    }
-    for (const grainSpec& f : fixedLater)
-    {
-        initial.system().addGrain(f.x, 0.5*f.d, matId, true);
-    }
-    // writeContactImpulses yes: the settled contact impulses go with the
-    // grains (the warm start of the run, and the seed of a later `method
-    // replicate`); contacts with temporary walls are dropped.  Off by
-    // default: the impulses of a dry settle are not those of the run (a
-    // submerged bed weighs less, a lifted gate no longer holds it), and an
-    // iteration-capped solve started from them ends elsewhere than one
-    // started cold (the granularCollapse regimes, tests/cases/
-    // test_granularCollapse.py, moved from nonlinear transition to bore)
-    if (depositDict.getOrDefault<bool>("writeContactImpulses", false))
-    {
-        const int nMeshWalls = initial.system().nWalls();
-        std::vector<nscd::System::ContactView> kept;
-        for (nscd::System::ContactView c : s.contacts())
-        {
-            if (c.j < 0 && -c.j - 1 >= nMeshWalls) continue;
-            c.i = writtenIndex[c.i];
-            if (c.j >= 0) c.j = writtenIndex[c.j];
-            kept.push_back(c);
-        }
-        if (s.lastStepDt() > 0)
-        {
-            initial.system().setContactImpulses(kept, s.lastStepDt());
-        }
-    }
-    initial.checkState();
-    initial.write();
+    writeInitialState(depositDict, settling, placement, matId, initial);
 
     Info<< "Wrote " << initial.system().size() << " grains to " << runTime.timePath() << nl
         << "End\n" << endl;

@@ -49,10 +49,12 @@ Usage
 
 using namespace Foam;
 
-// Self-check of spread/gather (same result serial and parallel):
+//- Self-check of spread/gather (same result serial and parallel):
 //  - sum_c f_c V_c == sum_g F_g  (Newton's third law, eq. 3.42)
 //  - gather of a uniform field returns it (partition of unity)
 //  - sum_g a_g . F_g == sum_c a_c . f_c V_c  (adjointness)
+//  Logs the three relative errors [-].  Error: FatalError when one is
+//  above 1e-10.
 static void checkCoupling(const overlapMeshAdapter& adapter)
 {
     const fvMesh& mesh = adapter.mesh();
@@ -113,10 +115,10 @@ static void checkCoupling(const overlapMeshAdapter& adapter)
     }
 }
 
-// Decomposition weight of each local cell (see the header):
-// w_c = 1 + grainCost sum_g V_gc/W_g, dimensionless, zeroGradient; w_c >= 1
-// as scotchDecomp requires positive weights.  Sum over all cells of
-// (w_c - 1) = grainCost x number of grains mapped.
+//- Decomposition weight of each local cell (see the header):
+//  w_c = 1 + grainCost sum_g V_gc/W_g, dimensionless, zeroGradient; w_c >= 1
+//  as scotchDecomp requires positive weights.  Sum over all cells of
+//  (w_c - 1) = grainCost x number of grains mapped.
 static tmp<volScalarField> cellWeight
 (
     const overlapMeshAdapter& adapter,
@@ -151,7 +153,9 @@ static tmp<volScalarField> cellWeight
 }
 
 
-int main(int argc, char *argv[])
+//- Declares the application's note and options (-checkCoupling,
+//  -cellWeight, -grainCost) and the time selection options.
+static void addOptions()
 {
     argList::addNote
     (
@@ -181,13 +185,14 @@ int main(int argc, char *argv[])
         " work ratio, ~2 for a resting bed, balances fluid + grain work)"
     );
     timeSelector::addOptions();   // 0/ included (grainDeposit writes it)
+}
 
-    #include "setRootCase.H"
-    #include "createTime.H"
 
-    instantList timeDirs = timeSelector::select0(runTime, args);
-
-    const bool writeWeight = args.found("cellWeight");
+//- The weight of one grain in units of one fluid cell [-], option
+//  -grainCost (default 1000).  Errors (FatalError): -grainCost without
+//  -cellWeight, a value negative or not finite.
+static scalar readGrainCost(const argList& args, const bool writeWeight)
+{
     const scalar grainCost = args.lookupOrDefault<scalar>("grainCost", 1000);
     if (args.found("grainCost") && !writeWeight)
     {
@@ -203,31 +208,40 @@ int main(int argc, char *argv[])
             << " >= 0"
             << exit(FatalError);
     }
+    return grainCost;
+}
 
-    #include "createMesh.H"
 
+//- The mapping settings: system/overlapMappingDict if present, else empty
+//  (the defaults); logs which.
+static dictionary readSettings(const fvMesh& mesh)
+{
     dictionary settings;
+    IOobject io
+    (
+        "overlapMappingDict",
+        mesh.time().system(),
+        mesh,
+        IOobject::MUST_READ,
+        IOobject::NO_WRITE
+    );
+    if (io.typeHeaderOk<IOdictionary>(true))
     {
-        IOobject io
-        (
-            "overlapMappingDict",
-            runTime.system(),
-            mesh,
-            IOobject::MUST_READ,
-            IOobject::NO_WRITE
-        );
-        if (io.typeHeaderOk<IOdictionary>(true))
-        {
-            settings = IOdictionary(io);
-            Info<< "Settings from " << io.objectPath() << nl;
-        }
-        else
-        {
-            Info<< "No system/overlapMappingDict: default settings" << nl;
-        }
+        settings = IOdictionary(io);
+        Info<< "Settings from " << io.objectPath() << nl;
     }
+    else
+    {
+        Info<< "No system/overlapMappingDict: default settings" << nl;
+    }
+    return settings;
+}
 
-    overlapMeshAdapter adapter(mesh, settings);
+
+//- Logs the mapping: 2D (with its depth [m]) or 3D, method, epsMin [-] and
+//  effectiveDiameterFactor [-].
+static void logMapping(const overlapMeshAdapter& adapter)
+{
     Info<< "Mapping: " << (adapter.twoD() ? "2D" : "3D");
     if (adapter.twoD())
     {
@@ -239,6 +253,121 @@ int main(int argc, char *argv[])
         << ", epsMin " << adapter.epsMin()
         << ", effectiveDiameterFactor "
         << adapter.settings().effectiveDiameterFactor << nl << endl;
+}
+
+
+//- Maps the grains of statePath (the grain state of the current time) onto
+//  the mesh.  Parallel: the undecomposed file is read whole on every rank.
+//  Errors (FatalError): unreadable file, or (parallel) a grain system of
+//  another dimension than the mesh; serial: those of grainCloud.
+static void mapGrains
+(
+    overlapMeshAdapter& adapter,
+    const fvMesh& mesh,
+    const fileName& statePath
+)
+{
+    if (Pstream::parRun())
+    {
+        try
+        {
+            const nscd::System grains(nscd::System::readHDF5(statePath));
+            if (grains.dimension() != (adapter.twoD() ? 2 : 3))
+            {
+                FatalErrorInFunction
+                    << statePath << " holds a " << grains.dimension()
+                    << "D grain system but the mesh is "
+                    << (adapter.twoD() ? 2 : 3) << "D" << exit(FatalError);
+            }
+            adapter.map(grains);
+        }
+        catch (const nscd::InputError& err)
+        {
+            FatalErrorInFunction
+                << "Grain system " << statePath << ": " << err.what()
+                << exit(FatalError);
+        }
+    }
+    else
+    {
+        const grainCloud cloud(mesh);
+        adapter.map(cloud.system());
+    }
+}
+
+
+//- Writes cellWeight [-] of the mapped grains (cellWeight above) into the
+//  current time and logs its sum and maximum.
+static void writeCellWeight
+(
+    const overlapMeshAdapter& adapter,
+    const scalar grainCost
+)
+{
+    const fvMesh& mesh = adapter.mesh();
+    tmp<volScalarField> w(cellWeight(adapter, grainCost));
+    Info<< "    grains " << adapter.nGrains() << ", grainCost "
+        << grainCost << ": cellWeight sum "
+        << gSum(w().primitiveField()) << " over "
+        << returnReduce(mesh.nCells(), sumOp<label>())
+        << " cells, max " << gMax(w().primitiveField()) << endl;
+    w().write();
+}
+
+
+//- Writes solidFraction and voidFraction [-] of the mapped grains into the
+//  current time; logs the grain volume and the mapped volume [m^3] and the
+//  extreme fractions.  With check, runs checkCoupling (FatalError if the
+//  self-check fails).
+static void writeFractions(const overlapMeshAdapter& adapter, const bool check)
+{
+    tmp<volScalarField> phi(adapter.solidFraction("solidFraction"));
+    tmp<volScalarField> eps(adapter.voidFraction("voidFraction"));
+
+    scalar Vs = 0;
+    for (const double v : adapter.entryVolume())
+    {
+        Vs += v;
+    }
+    reduce(Vs, sumOp<scalar>());
+    scalar Vg = 0;
+    for (const double v : adapter.grainVolume())
+    {
+        Vg += v;
+    }
+    Info<< "    grains " << adapter.nGrains()
+        << ", grain volume " << Vg << " m^3, mapped " << Vs << " m^3"
+        << ", solidFraction max " << gMax(phi().primitiveField())
+        << ", voidFraction min " << gMin(eps().primitiveField()) << endl;
+
+    phi().write();
+    eps().write();
+
+    if (check)
+    {
+        checkCoupling(adapter);
+    }
+}
+
+
+int main(int argc, char *argv[])
+{
+    addOptions();
+
+    #include "setRootCase.H"
+    #include "createTime.H"
+
+    instantList timeDirs = timeSelector::select0(runTime, args);
+
+    const bool writeWeight = args.found("cellWeight");
+    const scalar grainCost = readGrainCost(args, writeWeight);
+
+    #include "createMesh.H"
+
+    const dictionary settings(readSettings(mesh));
+
+    overlapMeshAdapter adapter(mesh, settings);
+    logMapping(adapter);
 
     label nWritten = 0;
     forAll(timeDirs, timei)
@@ -258,71 +387,15 @@ int main(int argc, char *argv[])
         Info<< "Time = " << runTime.timeName() << endl;
         mesh.readUpdate();
 
-        if (Pstream::parRun())
-        {
-            try
-            {
-                const nscd::System grains(nscd::System::readHDF5(statePath));
-                if (grains.dimension() != (adapter.twoD() ? 2 : 3))
-                {
-                    FatalErrorInFunction
-                        << statePath << " holds a " << grains.dimension()
-                        << "D grain system but the mesh is "
-                        << (adapter.twoD() ? 2 : 3) << "D" << exit(FatalError);
-                }
-                adapter.map(grains);
-            }
-            catch (const nscd::InputError& err)
-            {
-                FatalErrorInFunction
-                    << "Grain system " << statePath << ": " << err.what()
-                    << exit(FatalError);
-            }
-        }
-        else
-        {
-            const grainCloud cloud(mesh);
-            adapter.map(cloud.system());
-        }
+        mapGrains(adapter, mesh, statePath);
 
         if (writeWeight)
         {
-            tmp<volScalarField> w(cellWeight(adapter, grainCost));
-            Info<< "    grains " << adapter.nGrains() << ", grainCost "
-                << grainCost << ": cellWeight sum "
-                << gSum(w().primitiveField()) << " over "
-                << returnReduce(mesh.nCells(), sumOp<label>())
-                << " cells, max " << gMax(w().primitiveField()) << endl;
-            w().write();
-            ++nWritten;
-            continue;
+            writeCellWeight(adapter, grainCost);
         }
-
-        tmp<volScalarField> phi(adapter.solidFraction("solidFraction"));
-        tmp<volScalarField> eps(adapter.voidFraction("voidFraction"));
-
-        scalar Vs = 0;
-        for (const double v : adapter.entryVolume())
+        else
         {
-            Vs += v;
-        }
-        reduce(Vs, sumOp<scalar>());
-        scalar Vg = 0;
-        for (const double v : adapter.grainVolume())
-        {
-            Vg += v;
-        }
-        Info<< "    grains " << adapter.nGrains()
-            << ", grain volume " << Vg << " m^3, mapped " << Vs << " m^3"
-            << ", solidFraction max " << gMax(phi().primitiveField())
-            << ", voidFraction min " << gMin(eps().primitiveField()) << endl;
-
-        phi().write();
-        eps().write();
-
-        if (args.found("checkCoupling"))
-        {
-            checkCoupling(adapter);
+            writeFractions(adapter, args.found("checkCoupling"));
         }
         ++nWritten;
     }
