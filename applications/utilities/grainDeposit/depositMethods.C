@@ -1,0 +1,389 @@
+#include "depositMethods.H"
+#include "grainDictionaryTools.H"
+#include "cellZone.H"
+#include "mathematicalConstants.H"
+
+#include <cmath>
+#include <utility>
+#include <random>
+#include <algorithm>
+
+using namespace Foam;
+
+namespace
+{
+
+//- A region of the mesh to fill with grains: its bounds [m] and, for method
+//  cellZone, the cells of the zone (empty for method box)
+struct depositRegion
+{
+    vector lo, hi;
+    labelHashSet zoneCells;
+};
+
+
+//- Index range [first, last) of the lattice nodes lo + (i + 1/2) spacing,
+//  i < n, that lie within [bMin, bMax] (the mesh bounds): the nodes outside
+//  cannot be in the mesh, so they are not tried (a box given in mm on a mesh
+//  in m would otherwise try ~1e8 nodes)
+std::pair<long, long> nodeRange
+(
+    double lo, double n, double spacing, double bMin, double bMax
+)
+{
+    const double a = std::floor((bMin - lo)/spacing - 0.5);
+    const double b = std::ceil((bMax - lo)/spacing - 0.5) + 1;
+    return {long(std::max(0.0, a)), long(std::max(0.0, std::min(n, b)))};
+}
+
+//- Loose jittered lattice over [lo, hi] [m], nodes in fill order (bottom
+//  first along up = -gravity), filtered by accept(point); only the nodes
+//  within the mesh bounds are tried (the others are not in the mesh)
+template<class Accept>
+std::vector<nscd::Vec3> latticeNodes
+(
+    const vector& lo, const vector& hi, double spacing, int dim,
+    const vector& up, const boundBox& meshBounds, Accept accept
+)
+{
+    std::vector<nscd::Vec3> nodes;
+    const double nx = std::floor((hi.x() - lo.x())/spacing);
+    const double ny = std::floor((hi.y() - lo.y())/spacing);
+    const double nz = dim == 3 ? std::floor((hi.z() - lo.z())/spacing) : 1;
+    const auto ri = nodeRange(lo.x(), nx, spacing, meshBounds.min().x(), meshBounds.max().x());
+    const auto rj = nodeRange(lo.y(), ny, spacing, meshBounds.min().y(), meshBounds.max().y());
+    const auto rk = dim == 3
+      ? nodeRange(lo.z(), nz, spacing, meshBounds.min().z(), meshBounds.max().z())
+      : std::pair<long, long>(0, 1);
+    for (long k = rk.first; k < rk.second; ++k)
+    for (long j = rj.first; j < rj.second; ++j)
+    for (long i = ri.first; i < ri.second; ++i)
+    {
+        const vector p
+        (
+            lo.x() + (i + 0.5)*spacing,
+            lo.y() + (j + 0.5)*spacing,
+            dim == 3 ? lo.z() + (k + 0.5)*spacing : 0.5*(lo.z() + hi.z())
+        );
+        if (accept(p))
+        {
+            nodes.emplace_back(p.x(), p.y(), p.z());
+        }
+    }
+    const nscd::Vec3 u(up.x(), up.y(), up.z());
+    std::stable_sort
+    (
+        nodes.begin(), nodes.end(),
+        [&u](const nscd::Vec3& a, const nscd::Vec3& b)
+        {
+            return a.dot(u) < b.dot(u) - 1e-12;
+        }
+    );
+    return nodes;
+}
+
+
+//- Method replicate: the copies of a settled column (replicateColumn.H)
+//  across meshBounds, with their contact impulses as the settling's seed.
+//  Logs the number of grains and impulses.  Errors: those of
+//  replicateColumn (FatalIOError naming the replicate sub-dictionary).
+depositedGrains replicatedGrains
+(
+    const IOdictionary& depositDict,
+    const fileName& casePath,
+    const boundBox& meshBounds,
+    const label dim
+)
+{
+    depositedGrains out;
+    replicatedColumn rc =
+        replicateColumn(depositDict, casePath, meshBounds, dim);
+    out.specs = std::move(rc.grains);
+    out.seedContacts = std::move(rc.contacts);
+    out.seedDt = rc.dt;
+    Info<< "Replicated the column: " << out.specs.size() << " grains, "
+        << out.seedContacts.size() << " contact impulses ("
+        << rc.sideContacts << " on its side walls, whose friction, "
+        << rc.sideFriction << " of their normal impulse, is not copied)"
+        << endl;
+    return out;
+}
+
+
+//- Method list: the grains (x y z d) of `grains` [m]; z is dropped in 2D.
+//  Error: FatalIOError for a diameter <= 0.
+std::vector<grainSpec> listedGrains
+(
+    const IOdictionary& depositDict,
+    const label dim
+)
+{
+    std::vector<grainSpec> specs;
+    const List<FixedList<scalar, 4>> list
+    (
+        depositDict.get<List<FixedList<scalar, 4>>>("grains")
+    );
+    for (const auto& g : list)
+    {
+        if (!(g[3] > 0))
+        {
+            FatalIOErrorInFunction(depositDict)
+                << "Grain at (" << g[0] << ' ' << g[1] << ' ' << g[2]
+                << ") in 'grains' of " << depositDict.name()
+                << " has diameter " << g[3] << " <= 0."
+                << " Fix: give a positive diameter." << exit(FatalIOError);
+        }
+        specs.push_back({nscd::Vec3(g[0], g[1], dim == 3 ? g[2] : 0), g[3]});
+    }
+    return specs;
+}
+
+
+//- Region of method box (sub-dictionary box { min; max; }) or cellZone (the
+//  bounding box [m] of the zone's points, and its cells); 2D: z spans the
+//  mesh depth.  Errors: FatalIOError for an unknown keyword of box or an
+//  unknown cellZone (listing the zones).
+depositRegion readRegion
+(
+    const IOdictionary& depositDict,
+    const word& method,
+    const fvMesh& mesh,
+    const label dim
+)
+{
+    depositRegion region;
+    vector& lo = region.lo;
+    vector& hi = region.hi;
+    if (method == "box")
+    {
+        const dictionary& b = depositDict.subDict("box");
+        grainTools::checkKeywords(b, {"min", "max"});
+        lo = b.get<vector>("min");
+        hi = b.get<vector>("max");
+    }
+    else
+    {
+        const word zoneName = depositDict.get<word>("cellZone");
+        const label zonei = mesh.cellZones().findZoneID(zoneName);
+        if (zonei < 0)
+        {
+            FatalIOErrorInFunction(depositDict)
+                << "cellZone " << zoneName << " not found. Zones: "
+                << flatOutput(mesh.cellZones().names()) << nl
+                << "    Fix: create it with topoSet/setsToZones"
+                << exit(FatalIOError);
+        }
+        region.zoneCells.insert(mesh.cellZones()[zonei]);
+        boundBox bb(mesh.points(), false);
+        bb = boundBox::invertedBox;
+        for (const label celli : mesh.cellZones()[zonei])
+        {
+            for (const label pointi : mesh.cellPoints()[celli])
+            {
+                bb.add(mesh.points()[pointi]);
+            }
+        }
+        lo = bb.min();
+        hi = bb.max();
+    }
+    if (dim == 2)
+    {
+        lo.z() = mesh.bounds().min().z();
+        hi.z() = mesh.bounds().max().z();
+    }
+    return region;
+}
+
+
+//- The region [lo, hi] against the mesh bounds mb (x, y; and z in 3D),
+//  checked before any lattice node is searched (a box in mm on a mesh in m:
+//  say so at once instead of searching ~1e8 nodes).  Logs when the region
+//  extends beyond mb.  Error: FatalIOError when it does not intersect mb.
+void checkRegionInMesh
+(
+    const IOdictionary& depositDict,
+    const vector& lo,
+    const vector& hi,
+    const boundBox& mb,
+    const label dim
+)
+{
+    bool disjoint = false, clipped = false;
+    for (direction c = 0; c < (dim == 3 ? 3 : 2); ++c)
+    {
+        disjoint = disjoint || hi[c] < mb.min()[c] || lo[c] > mb.max()[c];
+        clipped = clipped || lo[c] < mb.min()[c] || hi[c] > mb.max()[c];
+    }
+    if (disjoint)
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "The region " << lo << " - " << hi << " of "
+            << depositDict.name() << " does not intersect the mesh"
+            << " bounds " << mb << "." << nl
+            << "    Fix: give the region in the mesh's units and"
+            << " coordinates (a box in mm on a mesh in m?)."
+            << exit(FatalIOError);
+    }
+    if (clipped)
+    {
+        Info<< "grainDeposit: the region " << lo << " - " << hi
+            << " extends beyond the mesh bounds " << mb
+            << "; grains are placed in their intersection" << nl;
+    }
+}
+
+
+//- Number of grains to place in the region [lo, hi]: `number`, or else
+//  solidFraction x region volume [m^3] (2D: area [m^2]) / mean grain volume
+//  (diameters uniform in [dMin, lambda dMin], dMin [m]).  Error:
+//  FatalIOError when neither is given or solidFraction is not positive.
+label grainNumber
+(
+    const IOdictionary& depositDict,
+    const vector& lo,
+    const vector& hi,
+    const label dim,
+    const scalar dMin,
+    const scalar lambda
+)
+{
+    const scalar meanVolume = dim == 2
+      ? constant::mathematical::pi/4*sqr(dMin)*(1 + lambda + sqr(lambda))/3
+      : constant::mathematical::pi/6*pow3(dMin)*(1 + lambda)*(1 + sqr(lambda))/4;
+    label number = 0;
+    if (depositDict.found("number"))
+    {
+        number = depositDict.get<label>("number");
+    }
+    else
+    {
+        const scalar frac = grainTools::getPositive(depositDict, "solidFraction");
+        scalar regionVolume = (hi.x() - lo.x())*(hi.y() - lo.y());
+        if (dim == 3) regionVolume *= hi.z() - lo.z();
+        number = label(frac*regionVolume/meanVolume);
+    }
+    return number;
+}
+
+
+//- Methods box and cellZone: polydisperse grains (diameters uniform in
+//  [dMin, sizeRatio dMin] [m], random with `seed`) on the nodes of a loose
+//  jittered lattice (spacing 1.1 d_max) in the region, filled bottom first
+//  along -gravity.  Errors (FatalIOError): dMin not positive, sizeRatio < 1,
+//  those of readRegion, checkRegionInMesh and grainNumber, and more grains
+//  asked for than the lattice holds.
+std::vector<grainSpec> latticeGrains
+(
+    const IOdictionary& depositDict,
+    const word& method,
+    const fvMesh& mesh,
+    const nscd::System& system,
+    const label dim
+)
+{
+    std::vector<grainSpec> specs;
+    const scalar dMin = grainTools::getPositive(depositDict, "dMin");
+    const scalar lambda = depositDict.getOrDefault<scalar>("sizeRatio", 1);
+    if (lambda < 1)
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "sizeRatio (d_max/d_min) must be >= 1, got " << lambda
+            << exit(FatalIOError);
+    }
+    const scalar dMax = lambda*dMin;
+    const label seed = depositDict.getOrDefault<label>("seed", 1);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uni(0, 1);
+
+    const depositRegion region = readRegion(depositDict, method, mesh, dim);
+    const vector& lo = region.lo;
+    const vector& hi = region.hi;
+    const labelHashSet& zoneCells = region.zoneCells;
+
+    // loose lattice: spacing 1.1 d_max, jitter within the free space
+    const scalar spacing = 1.1*dMax;
+    const vector gdir
+    (
+        -system.gravity().x(),
+        -system.gravity().y(),
+        -system.gravity().z()
+    );
+    const scalar zMid = 0.5*(mesh.bounds().min().z() + mesh.bounds().max().z());
+    auto accept = [&](const vector& p) -> bool
+    {
+        const vector pm(p.x(), p.y(), dim == 2 ? zMid : p.z());
+        const label celli = mesh.findCell(pm);
+        if (celli < 0) return false;
+        if (method == "cellZone" && !zoneCells.found(celli)) return false;
+        return true;
+    };
+    const boundBox& mb = mesh.bounds();
+    checkRegionInMesh(depositDict, lo, hi, mb, dim);
+    const std::vector<nscd::Vec3> nodes =
+        latticeNodes(lo, hi, spacing, dim, gdir, mb, accept);
+
+    const label number = grainNumber(depositDict, lo, hi, dim, dMin, lambda);
+    if (number < 1 || number > label(nodes.size()))
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "Cannot place " << number << " grains: the region of "
+            << depositDict.name() << " holds " << nodes.size()
+            << " grains on the loose insertion lattice (spacing "
+            << spacing << " m)." << nl
+            << "    Fix: enlarge the region (it may extend above the"
+            << " final bed, grains settle) or ask for fewer grains."
+            << exit(FatalIOError);
+    }
+    const scalar jitter = 0.5*(spacing - dMax);
+    for (label n = 0; n < number; ++n)
+    {
+        const scalar d = dMin + (dMax - dMin)*uni(rng);
+        nscd::Vec3 x = nodes[n];
+        x.x() += jitter*(2*uni(rng) - 1);
+        x.y() += jitter*(2*uni(rng) - 1);
+        if (dim == 3) x.z() += jitter*(2*uni(rng) - 1);
+        else x.z() = 0;
+        specs.push_back({x, d});
+    }
+    return specs;
+}
+
+} // End anonymous namespace
+
+
+// * * * * * * * * * * * * * * * Global Functions  * * * * * * * * * * * * * //
+
+Foam::depositedGrains Foam::depositGrains
+(
+    const IOdictionary& depositDict,
+    const word& method,
+    const fvMesh& mesh,
+    const grainCloud& settling
+)
+{
+    const label dim = settling.dimension();
+    depositedGrains dep;
+    if (method == "replicate")
+    {
+        dep = replicatedGrains
+        (
+            depositDict, mesh.time().path(), mesh.bounds(), dim
+        );
+    }
+    else if (method == "list")
+    {
+        dep.specs = listedGrains(depositDict, dim);
+    }
+    else if (method == "box" || method == "cellZone")
+    {
+        dep.specs =
+            latticeGrains(depositDict, method, mesh, settling.system(), dim);
+    }
+    else
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "Unknown method " << method << " in " << depositDict.name()
+            << ". Use box, cellZone, list or replicate." << exit(FatalIOError);
+    }
+    return dep;
+}
