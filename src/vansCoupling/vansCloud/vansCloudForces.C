@@ -13,6 +13,8 @@ Description
 #include "vansCloud.H"
 #include "foamTools.H"
 #include "fvc.H"
+#include "fvmSup.H"
+#include "fvMatrices.H"
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
 
@@ -129,6 +131,28 @@ void Foam::vansCloud::updateGrainImpulses
 
 
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::vansCloud::addMomentumSources
+(
+    fvMatrix<vector>& UEqn,
+    const uniformDimensionedVectorField& g
+) const
+{
+    UEqn += fvm::Sp(Kdrag_, UEqn.psi());
+    if (settings_.constantProperties && settings_.resolvedCellsPerDiameter < GREAT)
+    {
+        UEqn -= KUs_ - Kg()*g;
+    }
+    else
+    {
+        UEqn -= KUs_;
+    }
+    if (!modelA())
+    {
+        UEqn -= solidPressureForce_;
+    }
+}
+
 
 void Foam::vansCloud::setFluidForces
 (
