@@ -53,105 +53,133 @@ inline void sweptNormal(const Vec3& d, const Vec3& del, double R, Vec3& n, doubl
     n = p/pn;
     gap = std::max(0.0, n.dot(d) - R);
 }
+
+/// detectWalls stage: append to I.newContacts the contact of slot i with
+/// wall wi, unit normal n (from the wall to the grain), gap [m], the wall's
+/// friction (the grain's if the wall has none).
+inline void pushWallContact(System::Impl& I, int i, int wi, const Vec3& n, double gap)
+{
+    const Wall& W = I.walls[wi];
+    Contact c;
+    c.i = i;
+    c.j = int(I.x.size()) + wi;
+    c.n = n;
+    c.gap = gap;
+    c.mu = W.friction >= 0 ? W.friction : I.packed[i].mu;
+    I.newContacts.push_back(c);
 }
 
-void System::Impl::detectWalls(int i, double dt, double margin, double alertFactor)
+/// detect() stage: the pair test of slots i < j (per-pair alert distance,
+/// swept normal of far-moving pairs); appends the candidate to out.
+inline void detectPair(const System::Impl& I, int i, int j, const System::Impl::DetectGrid& g,
+                       std::vector<Contact>& out)
 {
-    const int N = int(x.size());
+    const GrainSlot& A = I.packed[i];
+    const GrainSlot& B = I.packed[j];
+    if (A.fix && B.fix) return;
+    const double dt = g.dt, margin = g.margin;
+    const Vec3 d = A.x - B.x;
+    const double sum = A.r + B.r;
+    const double lim = sum + g.af*dt*(I.speed[i] + I.speed[j]) + margin;
+    const double d2 = d.squaredNorm();
+    if (d2 >= lim*lim) return;
+    const double dn = std::sqrt(d2);
+    if (!(dn > 0)) return;
+    Contact c;
+    c.i = i;
+    c.j = j;
+    c.n = d/dn;
+    c.gap = dn - sum;
+    if (c.gap > 0)
+    {
+        const Vec3 del = dt*(I.body[i].v - I.body[j].v);  // free relative displacement
+        if (del.squaredNorm() > margin*margin) sweptNormal(d, del, sum, c.n, c.gap);
+    }
+    c.mu = 0.5*(A.mu + B.mu);
+    out.push_back(c);
+}
+}
+
+void System::Impl::detectSegment(int i, int wi, double alert)
+{
+    const Wall& W = walls[wi];
     const Vec3& xi = packed[i].x;
     const double ri = packed[i].r;
-    const double mu = packed[i].mu;
-    const std::size_t first = newContacts.size();  // wall contacts of grain i start here
-    triPoints.clear();
-    for (int wi = 0; wi < int(walls.size()); ++wi)
+    const Vec3 a = W.p + W.displacement, b = W.b + W.displacement;
+    const Vec3 ab = b - a;
+    const double t = (xi - a).dot(ab)/ab.squaredNorm();
+    const int end = t <= 0 ? 0 : (t >= 1 ? 1 : -1);
+    const int nb = end >= 0 ? W.segNb[end] : -1;
+    if (nb >= 0 && walls[nb].displacement == W.displacement)
     {
-        const Wall& W = walls[wi];
-        const double alert = alertFactor*dt*(speed[i] + W.velocity.norm()) + margin;
-        auto push = [&](const Vec3& n, double gap)
+        if (W.segFlat[end])
         {
-            Contact c;
-            c.i = i;
-            c.j = N + wi;
-            c.n = n;
-            c.gap = gap;
-            c.mu = W.friction >= 0 ? W.friction : mu;
-            newContacts.push_back(c);
-        };
-        if (W.type == PlaneWall)
-        {
-            const double gap = (xi - (W.p + W.displacement)).dot(W.n) - ri;
-            if (gap < alert) push(W.n, gap);
+            // joint with a collinear neighbour: beyond it the
+            // neighbour's interior contact carries the grain; at the
+            // joint itself, contact with the line (no tilted normal)
+            if (t < -1e-9 || t > 1 + 1e-9) return;
+            Vec3 n(-ab.y(), ab.x(), 0.0);
+            n.normalize();
+            double s = (xi - a).dot(n);
+            if (s < 0) { s = -s; n = -n; }
+            if (s - ri < alert && s > 0) pushWallContact(*this, i, wi, n, s - ri);
+            return;
         }
-        else if (W.type == SegmentWall)
+        // convex corner shared with a lower-numbered segment: if its
+        // closest point is the same corner, it already gave this contact
+        if (nb < wi)
         {
-            const Vec3 a = W.p + W.displacement, b = W.b + W.displacement;
-            const Vec3 ab = b - a;
-            const double t = (xi - a).dot(ab)/ab.squaredNorm();
-            const int end = t <= 0 ? 0 : (t >= 1 ? 1 : -1);
-            const int nb = end >= 0 ? W.segNb[end] : -1;
-            if (nb >= 0 && walls[nb].displacement == W.displacement)
-            {
-                if (W.segFlat[end])
-                {
-                    // joint with a collinear neighbour: beyond it the
-                    // neighbour's interior contact carries the grain; at the
-                    // joint itself, contact with the line (no tilted normal)
-                    if (t < -1e-9 || t > 1 + 1e-9) continue;
-                    Vec3 n(-ab.y(), ab.x(), 0.0);
-                    n.normalize();
-                    double s = (xi - a).dot(n);
-                    if (s < 0) { s = -s; n = -n; }
-                    if (s - ri < alert && s > 0) push(n, s - ri);
-                    continue;
-                }
-                // convex corner shared with a lower-numbered segment: if its
-                // closest point is the same corner, it already gave this contact
-                if (nb < wi)
-                {
-                    const Wall& T = walls[nb];
-                    const Vec3 corner = end == 0 ? a : b;
-                    const Vec3 ct = closestSegment(xi, T.p + T.displacement, T.b + T.displacement);
-                    if ((ct - corner).norm() <= 1e-9*ab.norm()) continue;
-                }
-            }
-            const Vec3 cp = a + std::min(1.0, std::max(0.0, t))*ab;
-            const Vec3 d = xi - cp;
-            const double dn = d.norm();
-            if (dn - ri < alert && dn > 0) push(d/dn, dn - ri);
-        }
-        else
-        {
-            const Vec3 xl = xi - W.displacement;  // tree coordinates
-            trianglesNear(*W.tree, xl, ri + alert, triCandidates);
-            // candidate closest points (filtered below, after all walls). A
-            // closest point on a flat edge or vertex (shared by coplanar
-            // triangles, see buildTriangleFeatures) is replaced by the
-            // face-plane contact, so that no tilted normal brakes a grain
-            // crossing internal edges of a triangulated plane.
-            for (int t : triCandidates)
-            {
-                const auto& f = W.triangles[t];
-                int feat = -1;
-                Vec3 cp = closestPointTriangle(xl, W.vertices[f[0]], W.vertices[f[1]], W.vertices[f[2]], feat);
-                double dn = (xl - cp).norm();
-                if (feat >= 0 && ((W.triFlat[t] >> (feat < 3 ? 3 + feat : feat - 3)) & 1u))
-                {
-                    const Vec3& fn = W.triNormal[t];
-                    const double sd = (xl - W.vertices[f[0]]).dot(fn);
-                    dn = std::abs(sd);
-                    cp = xl - sd*fn;
-                }
-                if (!(dn > 0) || dn - ri >= alert) continue;
-                triPoints.push_back({dn, cp + W.displacement, wi});
-            }
+            const Wall& T = walls[nb];
+            const Vec3 corner = end == 0 ? a : b;
+            const Vec3 ct = closestSegment(xi, T.p + T.displacement, T.b + T.displacement);
+            if ((ct - corner).norm() <= 1e-9*ab.norm()) return;
         }
     }
+    const Vec3 cp = a + std::min(1.0, std::max(0.0, t))*ab;
+    const Vec3 d = xi - cp;
+    const double dn = d.norm();
+    if (dn - ri < alert && dn > 0) pushWallContact(*this, i, wi, d/dn, dn - ri);
+}
+
+void System::Impl::triangleCandidates(int i, int wi, double alert)
+{
+    const Wall& W = walls[wi];
+    const double ri = packed[i].r;
+    const Vec3 xl = packed[i].x - W.displacement;  // tree coordinates
+    trianglesNear(*W.tree, xl, ri + alert, triCandidates);
+    // candidate closest points (filtered below, after all walls). A
+    // closest point on a flat edge or vertex (shared by coplanar
+    // triangles, see buildTriangleFeatures) is replaced by the
+    // face-plane contact, so that no tilted normal brakes a grain
+    // crossing internal edges of a triangulated plane.
+    for (int t : triCandidates)
+    {
+        const auto& f = W.triangles[t];
+        int feat = -1;
+        Vec3 cp = closestPointTriangle(xl, W.vertices[f[0]], W.vertices[f[1]], W.vertices[f[2]], feat);
+        double dn = (xl - cp).norm();
+        if (feat >= 0 && ((W.triFlat[t] >> (feat < 3 ? 3 + feat : feat - 3)) & 1u))
+        {
+            const Vec3& fn = W.triNormal[t];
+            const double sd = (xl - W.vertices[f[0]]).dot(fn);
+            dn = std::abs(sd);
+            cp = xl - sd*fn;
+        }
+        if (!(dn > 0) || dn - ri >= alert) continue;
+        triPoints.push_back({dn, cp + W.displacement, wi});
+    }
+}
+
+void System::Impl::keepTrianglePoints(int i, std::size_t first)
+{
     // triangle candidates of all triangulated walls, nearest first: a
     // candidate is kept only if it lies strictly in front of every kept
     // contact plane of this grain (any wall) and has a distinct normal. This
     // merges the face contacts of neighbouring (also flat) triangles, also
     // across patches, removes shadowed edge points, keeps genuine convex edges.
     if (triPoints.empty()) return;
+    const Vec3& xi = packed[i].x;
+    const double ri = packed[i].r;
     std::sort(triPoints.begin(), triPoints.end(),
               [](const TriPoint& a, const TriPoint& b) { return a.d < b.d; });
     const double eps = 1e-9*ri;
@@ -164,44 +192,39 @@ void System::Impl::detectWalls(int i, double dt, double margin, double alertFact
             const Vec3 ck = xi - (newContacts[k].gap + ri)*newContacts[k].n;
             if ((tp.c - ck).dot(newContacts[k].n) <= eps || newContacts[k].n.dot(n) > 1.0 - 1e-6) keep = false;
         }
-        if (keep)
-        {
-            Contact c;
-            c.i = i;
-            c.j = N + tp.wall;
-            c.n = n;
-            c.gap = tp.d - ri;
-            c.mu = walls[tp.wall].friction >= 0 ? walls[tp.wall].friction : mu;
-            newContacts.push_back(c);
-        }
+        if (keep) pushWallContact(*this, i, tp.wall, n, tp.d - ri);
     }
 }
 
-void System::Impl::detect(double dt)
+void System::Impl::detectWalls(int i, double dt, double margin, double alertFactor)
 {
-    // Per-pair alert distances (the reach of each body from its own free
-    // velocity, as LMGC90's alert distance): grains i, j are a candidate
-    // contact when their gap is below af dt (s_i + s_j) + margin, s_i =
-    // speed[i]. A uniform grid sized for the largest reach would make one
-    // fast grain enlarge every cell (O(N^2) pair tests for a bed at rest).
-    // Instead the grid is sized for the slow grains (s_i <= sCut) only, and
-    // the few fast ones (at most maxFast) are paired in a separate pass: each
-    // scans the cells its alert sphere covers, and fast-fast pairs are tested
-    // directly. Cost O(N + sum over fast grains of their covered cells +
-    // F^2), O(N) for a bed with a few fast grains (see sCut below).
-    const int N = int(x.size());
-    newContacts.clear();
-    if (N == 0) return;
-    const GrainSlot* const P = packed.data();  // grains by slot (freeVelocities)
-    const Settings& S = settings;
-    const double rmin = rMin(), rmax = rMax();
-    const double margin = S.alertMargin*rmin;
-    const double af = S.alertDistanceFactor;
+    const Vec3& xi = packed[i].x;
+    const double ri = packed[i].r;
+    const std::size_t first = newContacts.size();  // wall contacts of grain i start here
+    triPoints.clear();
+    for (int wi = 0; wi < int(walls.size()); ++wi)
+    {
+        const Wall& W = walls[wi];
+        const double alert = alertFactor*dt*(speed[i] + W.velocity.norm()) + margin;
+        if (W.type == PlaneWall)
+        {
+            const double gap = (xi - (W.p + W.displacement)).dot(W.n) - ri;
+            if (gap < alert) pushWallContact(*this, i, wi, W.n, gap);
+        }
+        else if (W.type == SegmentWall) detectSegment(i, wi, alert);
+        else triangleCandidates(i, wi, alert);
+    }
+    keepTrianglePoints(i, first);
+}
 
+void System::Impl::selectFastGrains(DetectGrid& g)
+{
     // fast grains: reach af dt s above rmax/4 (a cell grows by at most half
     // a radius for the slow ones), and at most maxFast of them (the fastest)
+    const int N = int(x.size());
+    const double af = g.af, dt = g.dt;
     const int maxFast = std::max(32, int(std::sqrt(double(N))));
-    double sCut = af*dt > 0 ? 0.25*rmax/(af*dt) : std::numeric_limits<double>::infinity();
+    double sCut = af*dt > 0 ? 0.25*g.rmax/(af*dt) : std::numeric_limits<double>::infinity();
     int nFast = 0;
     for (int i = 0; i < N; ++i) nFast += speed[i] > sCut;
     if (nFast > maxFast)
@@ -224,7 +247,16 @@ void System::Impl::detect(double dt)
         sCut = std::numeric_limits<double>::infinity();
         for (int i = 0; i < N; ++i) sSlow = std::max(sSlow, speed[i]);
     }
-    double h = 2*rmax + af*dt*2*sSlow + margin;
+    g.sCut = sCut;
+    g.sSlow = sSlow;
+}
+
+void System::Impl::buildDetectGrid(DetectGrid& g)
+{
+    const int N = int(x.size());
+    const GrainSlot* const P = packed.data();
+    const double sCut = g.sCut;
+    double h = 2*g.rmax + g.af*g.dt*2*g.sSlow + g.margin;
 
     // bounding box of the slow grains
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
@@ -241,11 +273,14 @@ void System::Impl::detect(double dt)
         }
         return tot;
     };
-    long dims[3];
+    long* const dims = g.dims;
     long tot = ncells(h, dims);
     const long cap = std::max<long>(4L*N, 64);
     while (tot > cap) { h *= 1.5; tot = ncells(h, dims); }
     const double ih = 1.0/h;
+    g.lo = lo;
+    g.tot = tot;
+    g.ih = ih;
 
     // counting sort of the slow grains into cells (fast ones: cellOf = -1)
     cellOf.resize(N);
@@ -266,71 +301,77 @@ void System::Impl::detect(double dt)
         adjStart.assign(cellStart.begin(), cellStart.end() - 1);
         for (int i = 0; i < N; ++i) if (cellOf[i] >= 0) cellItems[adjStart[cellOf[i]]++] = i;
     }
+}
 
-    // the pair test (i < j): appends to out
-    auto tryPair = [&](int i, int j, std::vector<Contact>& out)
-    {
-        const GrainSlot& A = P[i];
-        const GrainSlot& B = P[j];
-        if (A.fix && B.fix) return;
-        const Vec3 d = A.x - B.x;
-        const double sum = A.r + B.r;
-        const double lim = sum + af*dt*(speed[i] + speed[j]) + margin;
-        const double d2 = d.squaredNorm();
-        if (d2 >= lim*lim) return;
-        const double dn = std::sqrt(d2);
-        if (!(dn > 0)) return;
-        Contact c;
-        c.i = i;
-        c.j = j;
-        c.n = d/dn;
-        c.gap = dn - sum;
-        if (c.gap > 0)
-        {
-            const Vec3 del = dt*(body[i].v - body[j].v);  // free relative displacement
-            if (del.squaredNorm() > margin*margin) sweptNormal(d, del, sum, c.n, c.gap);
-        }
-        c.mu = 0.5*(A.mu + B.mu);
-        out.push_back(c);
-    };
-
-    // pairs with a fast grain, sorted by (i, j), merged below into the grain loop
+void System::Impl::detectFastPairs(const DetectGrid& g)
+{
     fastContacts.clear();
-    if (!fastGrains.empty())
+    if (fastGrains.empty()) return;
+    const GrainSlot* const P = packed.data();
+    const double af = g.af, dt = g.dt, margin = g.margin, ih = g.ih;
+    const long* const dims = g.dims;
+    const Vec3& lo = g.lo;
+    const int D = dim;
+    for (std::size_t a = 0; a < fastGrains.size(); ++a)
     {
-        for (std::size_t a = 0; a < fastGrains.size(); ++a)
+        const int f = fastGrains[a];
+        for (std::size_t b = a + 1; b < fastGrains.size(); ++b)
+            detectPair(*this, f, fastGrains[b], g, fastContacts);  // fastGrains is sorted: f < fastGrains[b]
+        // every slow j with a gap below af dt (s_f + s_j) + margin lies within R of x_f
+        const double R = P[f].r + g.rmax + af*dt*(speed[f] + g.sSlow) + margin;
+        long c0[3] = {0, 0, 0}, c1[3] = {0, 0, 0};
+        bool outside = false;
+        for (int d = 0; d < D; ++d)
         {
-            const int f = fastGrains[a];
-            for (std::size_t b = a + 1; b < fastGrains.size(); ++b)
-                tryPair(f, fastGrains[b], fastContacts);  // fastGrains is sorted: f < fastGrains[b]
-            // every slow j with a gap below af dt (s_f + s_j) + margin lies within R of x_f
-            const double R = P[f].r + rmax + af*dt*(speed[f] + sSlow) + margin;
-            long c0[3] = {0, 0, 0}, c1[3] = {0, 0, 0};
-            bool outside = false;
-            for (int d = 0; d < D; ++d)
+            const double a0 = std::floor((P[f].x[d] - R - lo[d])*ih), a1 = std::floor((P[f].x[d] + R - lo[d])*ih);
+            if (a1 < 0 || a0 > double(dims[d] - 1)) { outside = true; break; }
+            c0[d] = long(std::max(0.0, a0));
+            c1[d] = long(std::min(double(dims[d] - 1), a1));
+        }
+        if (outside) continue;
+        for (long zz = c0[2]; zz <= c1[2]; ++zz)
+        for (long yy = c0[1]; yy <= c1[1]; ++yy)
+        {
+            const long row = dims[0]*(yy + dims[1]*zz);
+            for (int k = cellStart[row + c0[0]], e = cellStart[row + c1[0] + 1]; k < e; ++k)
             {
-                const double a0 = std::floor((P[f].x[d] - R - lo[d])*ih), a1 = std::floor((P[f].x[d] + R - lo[d])*ih);
-                if (a1 < 0 || a0 > double(dims[d] - 1)) { outside = true; break; }
-                c0[d] = long(std::max(0.0, a0));
-                c1[d] = long(std::min(double(dims[d] - 1), a1));
-            }
-            if (outside) continue;
-            for (long zz = c0[2]; zz <= c1[2]; ++zz)
-            for (long yy = c0[1]; yy <= c1[1]; ++yy)
-            {
-                const long row = dims[0]*(yy + dims[1]*zz);
-                for (int k = cellStart[row + c0[0]], e = cellStart[row + c1[0] + 1]; k < e; ++k)
-                {
-                    const int j = cellItems[k];
-                    if (j < f) tryPair(j, f, fastContacts);
-                    else tryPair(f, j, fastContacts);
-                }
+                const int j = cellItems[k];
+                if (j < f) detectPair(*this, j, f, g, fastContacts);
+                else detectPair(*this, f, j, g, fastContacts);
             }
         }
-        std::sort(fastContacts.begin(), fastContacts.end(),
-                  [](const Contact& p, const Contact& q) { return p.i < q.i || (p.i == q.i && p.j < q.j); });
     }
+    std::sort(fastContacts.begin(), fastContacts.end(),
+              [](const Contact& p, const Contact& q) { return p.i < q.i || (p.i == q.i && p.j < q.j); });
+}
 
+void System::Impl::detect(double dt)
+{
+    // Per-pair alert distances (the reach of each body from its own free
+    // velocity, as LMGC90's alert distance): grains i, j are a candidate
+    // contact when their gap is below af dt (s_i + s_j) + margin, s_i =
+    // speed[i]. A uniform grid sized for the largest reach would make one
+    // fast grain enlarge every cell (O(N^2) pair tests for a bed at rest).
+    // Instead the grid is sized for the slow grains (s_i <= sCut) only, and
+    // the few fast ones (at most maxFast) are paired in a separate pass: each
+    // scans the cells its alert sphere covers, and fast-fast pairs are tested
+    // directly. Cost O(N + sum over fast grains of their covered cells +
+    // F^2), O(N) for a bed with a few fast grains (see selectFastGrains).
+    const int N = int(x.size());
+    newContacts.clear();
+    if (N == 0) return;
+    const Settings& S = settings;
+    DetectGrid g;
+    g.dt = dt;
+    g.af = S.alertDistanceFactor;
+    g.margin = S.alertMargin*rMin();
+    g.rmax = rMax();
+    selectFastGrains(g);
+    buildDetectGrid(g);
+    // pairs with a fast grain, sorted by (i, j), merged below into the grain loop
+    detectFastPairs(g);
+
+    const long* const dims = g.dims;
     const bool hasWalls = !walls.empty();
     std::size_t nextFast = 0;
     for (int i = 0; i < N; ++i)
@@ -352,14 +393,14 @@ void System::Impl::detect(double dt)
                 for (int k = b; k < e; ++k)
                 {
                     const int j = cellItems[k];
-                    if (j > i) tryPair(i, j, newContacts);
+                    if (j > i) detectPair(*this, i, j, g, newContacts);
                 }
             }
         }
         // pairs of i with fast grains (or of fast grain i), already sorted
         while (nextFast < fastContacts.size() && fastContacts[nextFast].i == i)
             newContacts.push_back(fastContacts[nextFast++]);
-        if (hasWalls && !P[i].fix) detectWalls(i, dt, margin, af);
+        if (hasWalls && !packed[i].fix) detectWalls(i, dt, g.margin, g.af);
     }
 }
 

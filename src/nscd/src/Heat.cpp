@@ -183,7 +183,7 @@ bool System::Impl::heatCheck() const
     return active;
 }
 
-void System::Impl::heatStep(double dt, StepReport& rep)
+int System::Impl::heatUnknowns(double dt)
 {
     const int N = int(x.size());
     // ---- unknowns: grains with heatCapacity > 0 and no fixed temperature ----
@@ -205,6 +205,12 @@ void System::Impl::heatStep(double dt, StepReport& rep)
         hDiag[a] = hCap[a]/dt + heatH[i];
         hR[a] = heatQ[i] + heatH[i]*(heatTf[i] - T[i]);
     }
+    return n;
+}
+
+void System::Impl::heatGraph(double dt)
+{
+    const int N = int(x.size());
     // ---- conduction graph from this step's contacts (eq. 4.2) ----
     heatEdges.clear();
     heatBounds.clear();
@@ -248,6 +254,11 @@ void System::Impl::heatStep(double dt, StepReport& rep)
             hR[u] += H*(Tb - T[heatGrain[u]]);
         }
     }
+}
+
+void System::Impl::heatSolve(StepReport& rep)
+{
+    const int n = int(heatGrain.size());
     // ---- solve A dT = r0 by Jacobi-preconditioned conjugate gradients ----
     auto applyA = [&](const std::vector<double>& p, std::vector<double>& y)
     {
@@ -293,6 +304,11 @@ void System::Impl::heatStep(double dt, StepReport& rep)
     }
     rep.heatIterations = it;
     rep.heatResidual = res;
+}
+
+void System::Impl::heatUpdate(double dt, StepReport& rep)
+{
+    const int n = int(heatGrain.size());
     // ---- flux-form update with the implicit temperatures T* = T^n + dT ----
     // hX <- T*, hR <- heat rate into each unknown
     for (int a = 0; a < n; ++a)
@@ -317,6 +333,14 @@ void System::Impl::heatStep(double dt, StepReport& rep)
         (bd.wall ? rep.wallHeat : rep.fixedGrainHeat) += dt*F;
     }
     for (int a = 0; a < n; ++a) T[heatGrain[a]] += dt*hR[a]/hCap[a];
+}
+
+void System::Impl::heatStep(double dt, StepReport& rep)
+{
+    heatUnknowns(dt);
+    heatGraph(dt);
+    heatSolve(rep);
+    heatUpdate(dt, rep);
 }
 
 } // namespace nscd

@@ -89,33 +89,18 @@ struct Reader
 
 void put3(std::vector<double>& a, const Vec3& v) { a.push_back(v.x()); a.push_back(v.y()); a.push_back(v.z()); }
 Vec3 get3(const std::vector<double>& a, std::size_t k) { return Vec3(a[k], a[k + 1], a[k + 2]); }
-}
 
-void System::writeHDF5(const std::string& file, const std::string& preamble) const
+/// writeHDF5 stage: format version, dimension, time, last dt, cohesion force
+/// [s, s, N], gravity [m/s^2], solver settings and materials (SI).
+void writeHeader(Writer& w, const System::Impl& I)
 {
-    const Impl& I = *impl_;
-    H5File h;
-    hid_t fcpl = H5P_DEFAULT;
-    if (!preamble.empty())
-    {
-        hsize_t block = 512;   // HDF5 user blocks: 0 or a power of 2 >= 512
-        while (block < preamble.size()) block *= 2;
-        fcpl = H5Pcreate(H5P_FILE_CREATE);
-        H5Pset_userblock(fcpl, block);
-    }
-    h.id = H5Fcreate(file.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
-    if (fcpl != H5P_DEFAULT) H5Pclose(fcpl);
-    if (h.id < 0) throw InputError("nscd::System::writeHDF5: cannot create " + file);
-    Writer w{h.id, file};
-    const std::size_t N = I.x.size();
-
     w.i("format", {formatVersion}, 0);
     w.i("dimension", {I.dim}, 0);
     w.d("time", {I.time, I.lastDt, I.cohesionForce}, 0);
     std::vector<double> g;
     put3(g, I.g);
     w.d("gravity", g, 0);
-    const Settings& S = I.settings;
+    const System::Settings& S = I.settings;
     w.d("settings", {S.tolerance, double(S.maxIterations), S.overlapTolerance, S.alertDistanceFactor,
                      S.alertMargin, S.cohesionDistance, S.warmStart ? 1.0 : 0.0, double(int(S.ordering)),
                      S.overlapSlop, S.relaxation}, 0);
@@ -124,7 +109,14 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
         for (double v : {a.density, a.friction, a.youngModulus, a.poissonRatio, a.conductivity, a.heatCapacity})
             m.push_back(v);
     w.d("materials", m, 6);
+}
 
+/// writeHDF5 stage: per grain (external order) position [m], velocity [m/s],
+/// angular velocity [rad/s], orientation (x y z w), force [N], torque [N m],
+/// radius [m], material, fixed/rotation-locked flags; persistent ids.
+void writeGrains(Writer& w, const System::Impl& I)
+{
+    const std::size_t N = I.x.size();
     std::vector<double> x, v, om, q, f, t;
     x.reserve(3*N); v.reserve(3*N); om.reserve(3*N); q.reserve(4*N); f.reserve(3*N); t.reserve(3*N);
     for (std::size_t k = 0; k < N; ++k)
@@ -148,7 +140,13 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
     // without them read with ids 0 ... N-1)
     w.write("grainIds", I.ids.data(), N, 0, H5T_NATIVE_LONG);
     w.write("nextGrainId", &I.nextId, 1, 0, H5T_NATIVE_LONG);
+}
 
+/// writeHDF5 stage: the walls (type; point, normal, end, velocity,
+/// displacement [m, m/s]; vertices [m] and triangles of triangulated
+/// surfaces) and their friction.
+void writeWalls(Writer& w, const System::Impl& I)
+{
     std::vector<int> wt;
     std::vector<double> wd;
     for (std::size_t k = 0; k < I.walls.size(); ++k)
@@ -171,7 +169,14 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
     std::vector<double> wf;
     for (const Wall& W : I.walls) wf.push_back(W.friction);
     w.d("wallFriction", wf, 0);
+}
 
+/// writeHDF5 stage: the persistent contacts (bodies in the external grain
+/// order, normal, impulses [N s], Delassus terms, gap [m], ages), the
+/// internal grain order and reorder state, and cohesionMinAge.
+void writeContacts(Writer& w, const System::Impl& I)
+{
+    const System::Settings& S = I.settings;
     std::vector<int> ij;
     std::vector<double> cd;
     for (const Contact& c : I.contacts)  // slots to grains (external order)
@@ -194,7 +199,16 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
     for (const Contact& c : I.contacts) age.push_back(c.age);
     w.i("contactAge", age, 0);
     w.i("cohesionMinAge", {S.cohesionMinAge}, 0);
+}
 
+/// writeHDF5 stage: heat state: temperatures [K], sources [W], exchange
+/// coefficients [W/K] and fluid temperatures [K], fixed-temperature flags,
+/// wall temperatures [K] (NaN adiabatic), default temperature and heat
+/// solver settings.
+void writeHeat(Writer& w, const System::Impl& I)
+{
+    const std::size_t N = I.x.size();
+    const System::Settings& S = I.settings;
     // heat (optional datasets: files without them read with the defaults)
     w.d("temperatures", I.T, 0);
     w.d("heatSources", I.heatQ, 0);
@@ -208,6 +222,30 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
     for (const Wall& W : I.walls) wT.push_back(W.temperature);  // NaN: adiabatic
     w.d("wallTemperature", wT, 0);
     w.d("heatSettings", {I.defaultT, S.heatTolerance, double(S.heatMaxIterations)}, 0);
+}
+} // namespace
+
+void System::writeHDF5(const std::string& file, const std::string& preamble) const
+{
+    const Impl& I = *impl_;
+    H5File h;
+    hid_t fcpl = H5P_DEFAULT;
+    if (!preamble.empty())
+    {
+        hsize_t block = 512;   // HDF5 user blocks: 0 or a power of 2 >= 512
+        while (block < preamble.size()) block *= 2;
+        fcpl = H5Pcreate(H5P_FILE_CREATE);
+        H5Pset_userblock(fcpl, block);
+    }
+    h.id = H5Fcreate(file.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    if (fcpl != H5P_DEFAULT) H5Pclose(fcpl);
+    if (h.id < 0) throw InputError("nscd::System::writeHDF5: cannot create " + file);
+    Writer w{h.id, file};
+    writeHeader(w, I);
+    writeGrains(w, I);
+    writeWalls(w, I);
+    writeContacts(w, I);
+    writeHeat(w, I);
     if (H5Fflush(h.id, H5F_SCOPE_LOCAL) < 0) throw InputError("nscd::System::writeHDF5: cannot flush " + file);
     if (preamble.empty()) return;
     // the user block, after HDF5 has closed the file
@@ -219,22 +257,12 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
         throw InputError("nscd::System::writeHDF5: cannot write the preamble of " + file);
 }
 
-System System::readHDF5(const std::string& file)
+namespace
 {
-    H5File h;
-    if (H5Fis_hdf5(file.c_str()) <= 0)
-        throw InputError("nscd::System::readHDF5: " + file + " is missing or not an HDF5 file"
-                         " (damaged or truncated?)");
-    h.id = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (h.id < 0)
-        throw InputError("nscd::System::readHDF5: cannot open " + file + ": the file is damaged or truncated"
-                         " (e.g. a write cut by a full disk or a kill)");
-    Reader r{h.id, file};
-    if (r.i("format", 0, 1)[0] != formatVersion) r.fail("unsupported format version");
-    const int dim = r.i("dimension", 0, 1)[0];
-    if (dim != 2 && dim != 3) r.fail("bad dimension");
-    System s(dim);
-    Impl& I = *s.impl_;
+/// readHDF5 stage: time, last dt, cohesion force [s, s, N], gravity [m/s^2]
+/// and the solver settings, from r into I.
+void readHeader(Reader& r, System::Impl& I)
+{
     const auto tm = r.d("time", 0, 3);
     I.time = tm[0];
     I.lastDt = tm[1];
@@ -248,9 +276,15 @@ System System::readHDF5(const std::string& file)
     I.settings.alertMargin = st[4];
     I.settings.cohesionDistance = st[5];
     I.settings.warmStart = st[6] != 0;
-    I.settings.ordering = st[7] == 1.0 ? Settings::Ordering::Fifo : Settings::Ordering::Symmetric;
+    I.settings.ordering = st[7] == 1.0 ? System::Settings::Ordering::Fifo : System::Settings::Ordering::Symmetric;
     I.settings.overlapSlop = st[8];
     I.settings.relaxation = st[9];
+}
+
+/// readHDF5 stage: the materials (SI, see Material) added to s, validated by
+/// System::addMaterial.
+void readMaterials(Reader& r, System& s)
+{
     const auto m = r.d("materials", 6);
     for (std::size_t k = 0; k < m.size()/6; ++k)
     {
@@ -258,6 +292,14 @@ System System::readHDF5(const std::string& file)
         try { s.addMaterial(a); }
         catch (const InputError& e) { r.fail(std::string("bad material: ") + e.what()); }
     }
+}
+
+/// readHDF5 stage: the grains (positions [m], velocities [m/s], angular
+/// velocities [rad/s], orientations, forces [N], torques [N m], radii [m],
+/// materials, fixed/rotation-locked flags) and their persistent ids, into I
+/// (materials already read). Returns the number of grains N.
+long readGrains(Reader& r, System::Impl& I)
+{
     const auto rad = r.d("radii", 0);
     const long N = long(rad.size());
     const auto x = r.d("positions", 3, N), v = r.d("velocities", 3, N), om = r.d("angularVelocities", 3, N),
@@ -301,6 +343,13 @@ System System::readHDF5(const std::string& file)
             if (sortedIds[k] < 0 || sortedIds[k] >= I.nextId || (k > 0 && sortedIds[k] == sortedIds[k - 1]))
                 r.fail("grain ids are not unique values in [0, nextGrainId)");
     }
+    return N;
+}
+
+/// readHDF5 stage: the walls (geometry [m], velocity [m/s], displacement [m],
+/// triangulated surfaces with their trees) and their friction, into I.
+void readWalls(Reader& r, System::Impl& I)
+{
     const auto wt = r.i("wallTypes", 0);
     const auto wd = r.d("walls", 15, long(wt.size()));
     for (std::size_t k = 0; k < wt.size(); ++k)
@@ -334,6 +383,13 @@ System System::readHDF5(const std::string& file)
         const auto wf = r.d("wallFriction", 0, long(I.walls.size()));
         for (std::size_t k = 0; k < I.walls.size(); ++k) I.walls[k].friction = wf[k];
     }
+}
+
+/// readHDF5 stage: the contact records (bodies as grain numbers in the
+/// external order and wall N + id, normal, impulses [N s], Delassus terms,
+/// gap [m], ages) into I.contacts, N grains and the walls already read.
+void readContacts(Reader& r, System::Impl& I, long N)
+{
     const auto ij = r.i("contactBodies", 2);
     const long NC = long(ij.size()/2);
     const auto cd = r.d("contactData", 14, NC);
@@ -359,7 +415,13 @@ System System::readHDF5(const std::string& file)
             I.contacts[k].age = age[k];
         }
     }
-    // internal order: the grains of the contact records to slots
+}
+
+/// readHDF5 stage: the internal grain order and reorder state (optional),
+/// then the contacts' grain numbers mapped to slots (i < j for grain pairs)
+/// and sorted by i.
+void readOrder(Reader& r, System::Impl& I, long N)
+{
     if (H5Lexists(r.f, "grainOrder", H5P_DEFAULT) > 0)
     {
         const auto ord = r.i("grainOrder", 0, N);
@@ -386,11 +448,14 @@ System System::readHDF5(const std::string& file)
         if (c.j < c.i) { std::swap(c.i, c.j); c.n = -c.n; c.rt = -c.rt; }
     }
     std::stable_sort(I.contacts.begin(), I.contacts.end(), [](const Contact& a, const Contact& b) { return a.i < b.i; });
-    if (H5Lexists(r.f, "cohesionMinAge", H5P_DEFAULT) > 0)
-    {
-        I.settings.cohesionMinAge = r.i("cohesionMinAge", 0, 1)[0];
-        if (I.settings.cohesionMinAge < 0) r.fail("negative cohesionMinAge");
-    }
+}
+
+/// readHDF5 stage: heat state (optional datasets: default temperature [K],
+/// heat solver settings, temperatures [K], sources [W], exchange
+/// coefficients [W/K] and fluid temperatures [K], fixed-temperature flags,
+/// wall temperatures [K], NaN adiabatic) into I; N grains.
+void readHeat(Reader& r, System::Impl& I, long N)
+{
     // heat (optional: files written before it existed keep the defaults:
     // temperatures 0, no sources, no fixed temperatures, adiabatic walls)
     auto has = [&](const char* name) { return H5Lexists(r.f, name, H5P_DEFAULT) > 0; };
@@ -425,6 +490,37 @@ System System::readHDF5(const std::string& file)
         const auto wT = r.d("wallTemperature", 0, long(I.walls.size()));
         for (std::size_t k = 0; k < I.walls.size(); ++k) I.walls[k].temperature = wT[k];
     }
+}
+} // namespace
+
+System System::readHDF5(const std::string& file)
+{
+    H5File h;
+    if (H5Fis_hdf5(file.c_str()) <= 0)
+        throw InputError("nscd::System::readHDF5: " + file + " is missing or not an HDF5 file"
+                         " (damaged or truncated?)");
+    h.id = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (h.id < 0)
+        throw InputError("nscd::System::readHDF5: cannot open " + file + ": the file is damaged or truncated"
+                         " (e.g. a write cut by a full disk or a kill)");
+    Reader r{h.id, file};
+    if (r.i("format", 0, 1)[0] != formatVersion) r.fail("unsupported format version");
+    const int dim = r.i("dimension", 0, 1)[0];
+    if (dim != 2 && dim != 3) r.fail("bad dimension");
+    System s(dim);
+    Impl& I = *s.impl_;
+    readHeader(r, I);
+    readMaterials(r, s);
+    const long N = readGrains(r, I);
+    readWalls(r, I);
+    readContacts(r, I, N);
+    readOrder(r, I, N);
+    if (H5Lexists(r.f, "cohesionMinAge", H5P_DEFAULT) > 0)
+    {
+        I.settings.cohesionMinAge = r.i("cohesionMinAge", 0, 1)[0];
+        if (I.settings.cohesionMinAge < 0) r.fail("negative cohesionMinAge");
+    }
+    readHeat(r, I, N);
     return s;
 }
 
