@@ -110,6 +110,17 @@ def test_dry_cohesion_everywhere(tmp_path, env):
     assert abs(left) < 1e-3 * D and abs(right) < 1e-3 * D
 
 
+def test_cohesion_none_is_off(tmp_path, env):
+    """`cohesion none;` is the run-time selected "off": both discs fall
+    freely (0.05 s of free fall is 12 mm, 12 diameters)."""
+    case = str(tmp_path / "none")
+    hanging_case(case, None, vapour=False)
+    open(os.path.join(case, "constant", "couplingProperties"), "a").write("cohesion none;\n")
+    (left, right), log = displacements(case, env)
+    print(f"cohesion none: discs fell {left:.3e} m, {right:.3e} m")
+    assert left > 0.1 * D and right > 0.1 * D
+
+
 def test_min_age_needs_a_persisting_contact(tmp_path, env):
     case = str(tmp_path / "minAge")
     hanging_case(case, f"force {FC0}; minAge 5;", vapour=False)

@@ -132,7 +132,16 @@ def test_unknown_model(tmp_path, env):
     case = make_case(tmp_path, "unknown", "heatTransferModel Gun;\n")
     p = run("nusseltTable", case, env, check=False)
     fails_with(p, "Unknown heatTransferModel type Gun", "DiFeliceColburn", "Gunn",
-               "RanzMarshall")
+               "RanzMarshall", "or none (no fluid-grain heat exchange)")
+
+
+def test_none_has_no_nusselt_number(tmp_path, env):
+    """`heatTransferModel none;` switches the exchange off in the solvers
+    (test_vansFoam_heat.py::test_heat_transfer_model_none); asked for a
+    table it is a clear error, not a table of zeros."""
+    case = make_case(tmp_path, "none", "heatTransferModel none;\n")
+    p = run("nusseltTable", case, env, check=False)
+    fails_with(p, "heatTransferModel none", "switches the fluid-grain heat exchange off")
 
 
 def test_unknown_coeff_keyword(tmp_path, env):

@@ -139,3 +139,28 @@ def test_closed_box_energy_conservation(tmp_path, env):
     assert Qsum < 0                     # the hot grains heat the fluid
     assert drift < 1e-6 * E0
     assert drift < 1e-6 * abs(Qsum)
+
+
+def test_heat_transfer_model_none(tmp_path, env):
+    """`heatTransferModel none;` is the run-time selected "off": no Cp,
+    kappa or T field needed, and the run is identical to one without the
+    keyword (grain positions and velocities bit for bit). Consistency check
+    of the selection, not of physics."""
+    r = 1.5e-3
+    grains = [(0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001, 0, 2 * r)
+              for j in range(2) for i in range(8)]
+    states = {}
+    for name, extra in (("absent", ""), ("none", "heatTransferModel none;\n")):
+        case = str(tmp_path / name)
+        make_box_case(case, (0, 0, 0), (0.04, 0.06, 0.003), (9, 13, 1), (0, -9.81, 0),
+                      {"grains": {"density": 1500.0, "friction": 0.3}}, grains=grains,
+                      end_time=0.02, dt=1e-3, write_interval=0.02)
+        add_fluid(case, 1000.0, 1e-6)
+        open(os.path.join(case, "constant", "couplingProperties"), "a").write(extra)
+        run("blockMesh", case, env)
+        run("grainDeposit", case, env)
+        log = run("vansFoam", case, env).stdout
+        assert "heat transfer on" not in log
+        states[name] = nscdpost.read_grains(case, "0.02")
+    for key in ("x", "U"):
+        assert (states["none"][key] == states["absent"][key]).all(), key

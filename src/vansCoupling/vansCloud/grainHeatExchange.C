@@ -129,7 +129,8 @@ void Foam::grainHeatExchange::read
     const scalar nu
 )
 {
-    if (!dict.found("heatTransferModel"))
+    // absent or `none`: no fluid-grain heat exchange (KT, KTTp stay zero)
+    if (dict.getOrDefault<word>("heatTransferModel", "none") == "none")
     {
         return;
     }

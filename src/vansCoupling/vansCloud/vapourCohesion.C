@@ -26,7 +26,14 @@ void Foam::vapourCohesion::read(const IOdictionary& dict, const bool vapourOn)
 {
     dictName_ = dict.name();
     nscd::System& s = grains_.system();
-    if (!dict.found("cohesion"))
+    // absent or `cohesion none;`: no cohesion
+    bool none = !dict.found("cohesion");
+    if (!none && !dict.isDict("cohesion"))
+    {
+        const ITstream& is = dict.lookup("cohesion");
+        none = is.size() == 1 && is[0].isWord() && is[0].wordToken() == "none";
+    }
+    if (none)
     {
         // a state written by a run with cohesion keeps its force: off here
         s.setCohesion(nullptr, 0);
@@ -38,7 +45,7 @@ void Foam::vapourCohesion::read(const IOdictionary& dict, const bool vapourOn)
         FatalIOErrorInFunction(dict)
             << "cohesion in " << dict.name() << " must be a sub-dictionary"
             << " { force <F_c0>; vapourThreshold <psi0>; minAge <steps>; }"
-            << " (thesis eq. 4.18)" << exit(FatalIOError);
+            << " (thesis eq. 4.18) or none" << exit(FatalIOError);
     }
     const dictionary& cd = dict.subDict("cohesion");
     grainTools::checkKeywords(cd, {"force", "vapourThreshold", "minAge"});

@@ -25,6 +25,15 @@ Foam::autoPtr<Foam::heatTransferModel> Foam::heatTransferModel::New
     const word modelType(dict.get<word>("heatTransferModel"));
     Info<< "Selecting heat transfer model " << modelType << endl;
 
+    if (modelType == "none")
+    {
+        FatalIOErrorInFunction(dict)
+            << "heatTransferModel none in " << dict.name() << " has no"
+            << " Nusselt number: none switches the fluid-grain heat"
+            << " exchange off." << nl
+            << "    Fix: select a closure (DiFeliceColburn, Gunn,"
+            << " RanzMarshall) to evaluate it" << exit(FatalIOError);
+    }
     auto cstrIter = dictionaryConstructorTablePtr_->cfind(modelType);
     if (!cstrIter.found())
     {
@@ -34,7 +43,8 @@ Foam::autoPtr<Foam::heatTransferModel> Foam::heatTransferModel::New
             "heatTransferModel",
             modelType,
             *dictionaryConstructorTablePtr_
-        ) << exit(FatalIOError);
+        )   << "or none (no fluid-grain heat exchange)" << nl
+            << exit(FatalIOError);
     }
     return autoPtr<heatTransferModel>(cstrIter()(dict));
 }
