@@ -53,10 +53,11 @@ def env():
 
 
 # -- test tiers -----------------------------------------------------------------
-# `./Alltest fast` runs `-m fast`: every test not listed below (each < 30 s on
-# one core here).  `slow`: measured > 20 s with the 2 vCPUs shared (pytest
-# --durations, 2026-11-23); whole modules where a module fixture runs the
-# tutorial once for several tests.  `mpi`: the test runs mpirun (also fast
+# `./Alltest fast` runs `-m fast`: every test not listed below (each < 5 s
+# here, the whole tier with ctest under 3 minutes).  `slow`: the tests
+# measured over that with the 2 vCPUs shared (pytest --durations,
+# 2026-11-23), and whole modules where a module fixture runs the tutorial
+# once for several tests.  `mpi`: the test runs mpirun (also fast
 # or slow by its own duration).  Update the lists when a test's cost moves.
 SLOW_MODULES = {"test_lituyaBay.py", "test_dropletDigging.py", "test_granularCollapse.py",
                 "test_tutorialAllruns.py"}
@@ -75,6 +76,20 @@ SLOW_TESTS = {
     "test_columnCollapse.py::test_column_collapse_runout",
     "test_meshIndependence.py::test_sedimentation_front_mesh_independent",
     "test_droplet_grains.py::test_dense_suspension_settles_steadily",
+    # > 4.5 s each in the fast tier, measured under load (pytest --durations=0,
+    # 2026-11-23): moved so that `./Alltest fast` stays under 3 minutes
+    "test_grainDeposit_replicate.py::test_copies_keep_the_column_packing",
+    "test_grainDeposit_replicate.py::test_replicate_warm_start_converges_fast",
+    "test_drag.py::test_fluidised_bed_expansion",
+    "test_snapshots.py::test_sedimentation_allrun_renders_snapshots",
+    "test_droplet_heat.py::test_tutorial_skeleton_runs",
+    "test_droplet_grains.py::test_porous_grains_pressure_gradient",
+    "test_cohesion.py::test_parallel_same_decision",
+    "test_boussinesq.py::test_heated_cavity_de_vahl_davis",
+    "test_vapour.py::test_front_against_ogata_banks",
+    "test_vansInterFoam.py::test_grain_falling_from_air_into_water",
+    "test_vansInterFoam.py::test_dam_break_martin_moyce",
+    "test_droplet_motion.py::test_falling_droplet_added_mass",
 }
 MPI_TESTS = {
     "test_cohesion.py::test_parallel_same_decision",
