@@ -1,12 +1,13 @@
 /**
  * @file CellMesh.cpp
+ * @brief CellMesh: checks, faces, adjacency, 2D polygons, bins and point
+ *        location (the 3D element shapes are in CellMesh3D.cpp).
  */
 #include "overlapMapping/CellMesh.hpp"
 
 #include "overlapMapping/Geometry2D.hpp"
-#include "overlapMapping/SphereBox.hpp"
 
-#include <overlap.hpp>
+#include <Eigen/Geometry>  // unitOrthogonal()
 
 #include <algorithm>
 #include <cmath>
@@ -19,21 +20,6 @@ namespace overlapMapping {
 namespace {
 
 std::string str(label i) { return std::to_string(i); }
-
-/// Insertion sort of a tiny array (avoids a GCC -Warray-bounds false positive
-/// of std::sort on fixed arrays).
-inline void smallSort(label* a, int n)
-{
-    for (int i = 1; i < n; ++i) {
-        const label v = a[i];
-        int j = i - 1;
-        while (j >= 0 && a[j] > v) {
-            a[j + 1] = a[j];
-            --j;
-        }
-        a[j + 1] = v;
-    }
-}
 
 }  // namespace
 
@@ -292,216 +278,6 @@ void CellMesh::prepare2D()
         }
         boundCentre_[c] = Vec3(polyCentroid_[c][0], polyCentroid_[c][1], zmid);
         boundRadius_[c] = std::sqrt(r2) * (1.0 + 1e-12);
-    }
-}
-
-bool CellMesh::classify3D(label c)
-{
-    const label b = mesh_.cellOffsets[c];
-    const label e = mesh_.cellOffsets[c + 1];
-    const label nf = e - b;
-    int nTri = 0, nQuad = 0;
-    for (label i = b; i < e; ++i) {
-        const label f = mesh_.cellFaces[i];
-        const label n = mesh_.faceOffsets[f + 1] - mesh_.faceOffsets[f];
-        nTri += (n == 3);
-        nQuad += (n == 4);
-        if (!facePlanar_[f]) {
-            return false;
-        }
-    }
-    CellShape s;
-    int nBase;
-    if (nf == 4 && nTri == 4) {
-        s = CellShape::Tet;
-        nBase = 3;
-    } else if (nf == 5 && nTri == 2 && nQuad == 3) {
-        s = CellShape::Prism;
-        nBase = 3;
-    } else if (nf == 6 && nQuad == 6) {
-        s = CellShape::Hex;
-        nBase = 4;
-    } else {
-        return false;
-    }
-    // base face: first face with nBase vertices, oriented into the cell
-    label base = -1, baseSlot = -1;
-    for (label i = b; i < e && base < 0; ++i) {
-        const label f = mesh_.cellFaces[i];
-        if (mesh_.faceOffsets[f + 1] - mesh_.faceOffsets[f] == nBase) {
-            base = f;
-            baseSlot = i;
-        }
-    }
-    label v[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
-    for (int k = 0; k < nBase; ++k) {
-        v[k] = mesh_.faceVertices[mesh_.faceOffsets[base] + k];
-    }
-    if (cellFaceSign_[baseSlot] > 0.0) {
-        std::reverse(v, v + nBase);  // owner: stored normal is outward
-    }
-    auto inBase = [&](label p) {
-        for (int k = 0; k < nBase; ++k) {
-            if (v[k] == p) {
-                return k;
-            }
-        }
-        return -1;
-    };
-    if (s == CellShape::Tet) {
-        for (label i = b; i < e && v[3] < 0; ++i) {
-            const label f = mesh_.cellFaces[i];
-            for (label j = mesh_.faceOffsets[f]; j < mesh_.faceOffsets[f + 1]; ++j) {
-                if (inBase(mesh_.faceVertices[j]) < 0) {
-                    v[3] = mesh_.faceVertices[j];
-                    break;
-                }
-            }
-        }
-        if (v[3] < 0) {
-            return false;
-        }
-    } else {
-        for (label i = b; i < e; ++i) {
-            const label f = mesh_.cellFaces[i];
-            const label fb = mesh_.faceOffsets[f];
-            const label n = mesh_.faceOffsets[f + 1] - fb;
-            for (label j = 0; j < n; ++j) {
-                const label p = mesh_.faceVertices[fb + j];
-                const label q = mesh_.faceVertices[fb + (j + 1) % n];
-                const int kp = inBase(p), kq = inBase(q);
-                if (kp >= 0 && kq < 0) {
-                    if (v[nBase + kp] >= 0 && v[nBase + kp] != q) {
-                        return false;
-                    }
-                    v[nBase + kp] = q;
-                } else if (kq >= 0 && kp < 0) {
-                    if (v[nBase + kq] >= 0 && v[nBase + kq] != p) {
-                        return false;
-                    }
-                    v[nBase + kq] = p;
-                }
-            }
-        }
-        for (int k = 0; k < 2 * nBase; ++k) {
-            if (v[k] < 0) {
-                return false;
-            }
-        }
-    }
-    // validate: every cell face must be a face of the model
-    static const int tetF[4][4] = {{1, 2, 3, -1}, {0, 3, 2, -1}, {0, 1, 3, -1}, {0, 2, 1, -1}};
-    static const int prismF[5][4] = {{0, 2, 1, -1}, {3, 4, 5, -1}, {0, 3, 5, 2},
-                                     {1, 2, 5, 4}, {0, 1, 4, 3}};
-    static const int hexF[6][4] = {{0, 4, 7, 3}, {1, 2, 6, 5}, {0, 1, 5, 4},
-                                   {3, 7, 6, 2}, {0, 3, 2, 1}, {4, 5, 6, 7}};
-    const int (*model)[4] = s == CellShape::Tet ? tetF : (s == CellShape::Prism ? prismF : hexF);
-    for (label i = b; i < e; ++i) {
-        const label f = mesh_.cellFaces[i];
-        const label fb = mesh_.faceOffsets[f];
-        const label n = mesh_.faceOffsets[f + 1] - fb;
-        if (n > 4) {
-            return false;
-        }
-        label fv[4];
-        for (label j = 0; j < n; ++j) {
-            fv[j] = mesh_.faceVertices[fb + j];
-        }
-        smallSort(fv, int(n));
-        bool found = false;
-        for (label m = 0; m < nf && !found; ++m) {
-            const int mn = model[m][3] < 0 ? 3 : 4;
-            if (mn != n) {
-                continue;
-            }
-            label mv[4];
-            for (int j = 0; j < mn; ++j) {
-                mv[j] = v[model[m][j]];
-            }
-            smallSort(mv, mn);
-            found = std::equal(fv, fv + n, mv);
-        }
-        if (!found) {
-            return false;
-        }
-    }
-    // element volume as computed by the overlap library
-    auto P = [&](int k) {
-        const Vec3& p = mesh_.points[v[k]];
-        return overlap::Vector(p[0], p[1], p[2]);
-    };
-    double vol;
-    if (s == CellShape::Tet) {
-        if ((P(1) - P(0)).cross(P(2) - P(0)).dot(P(3) - P(0)) <= 0.0) {
-            return false;
-        }
-        vol = overlap::Tetrahedron(P(0), P(1), P(2), P(3)).volume;
-    } else if (s == CellShape::Prism) {
-        vol = overlap::Wedge(P(0), P(1), P(2), P(3), P(4), P(5)).volume;
-    } else {
-        vol = overlap::Hexahedron(P(0), P(1), P(2), P(3), P(4), P(5), P(6), P(7)).volume;
-    }
-    if (!(vol > 0.0)) {
-        return false;
-    }
-    shape_[c] = s;
-    std::copy(v, v + 8, shapeVerts_.begin() + 8 * c);
-    shapeVolume_[c] = vol;
-    return true;
-}
-
-void CellMesh::prepare3D()
-{
-    shape_.assign(nCells_, CellShape::Polyhedron);
-    shapeVerts_.assign(8 * size_t(nCells_), -1);
-    shapeVolume_.assign(nCells_, 0.0);
-    convex_.assign(nCells_, 1);
-    boxIndex_.assign(nCells_, -1);
-    for (label c = 0; c < nCells_; ++c) {
-        if (!classify3D(c)) {
-            shape_[c] = CellShape::Polyhedron;
-            // volume of the tet decomposition (cell centre, face centre, edge)
-            const Vec3& C = mesh_.cellCentres[c];
-            double vol = 0.0;
-            for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1]; ++i) {
-                const label f = mesh_.cellFaces[i];
-                const Vec3& F = faceCentre_[f];
-                const label fb = mesh_.faceOffsets[f];
-                const label n = mesh_.faceOffsets[f + 1] - fb;
-                for (label k = 0; k < n; ++k) {
-                    const Vec3& p = mesh_.points[mesh_.faceVertices[fb + k]];
-                    const Vec3& q = mesh_.points[mesh_.faceVertices[fb + (k + 1) % n]];
-                    vol += cellFaceSign_[i] * (p - F).cross(q - F).dot(F - C) / 6.0;
-                }
-            }
-            shapeVolume_[c] = vol;
-        }
-        Vec3 lo, hi;
-        if (axisAlignedBoxCell(mesh_, c, lo, hi)) {
-            boxIndex_[c] = label(boxLo_.size());
-            boxLo_.push_back(lo);
-            boxHi_.push_back(hi);
-            shapeVolume_[c] = (hi - lo).prod();
-        }
-        // convexity: all cell vertices behind all (planar) face planes
-        const double tolC = 1e-10 * boundRadius_[c];
-        for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1] && convex_[c];
-             ++i) {
-            const label f = mesh_.cellFaces[i];
-            if (!facePlanar_[f]) {
-                convex_[c] = 0;
-                break;
-            }
-            const Vec3 N = cellFaceSign_[i] * faceNormal_[f];
-            for (label j = mesh_.cellOffsets[c]; j < mesh_.cellOffsets[c + 1]; ++j) {
-                const label g = mesh_.cellFaces[j];
-                for (label k = mesh_.faceOffsets[g]; k < mesh_.faceOffsets[g + 1]; ++k) {
-                    if (N.dot(mesh_.points[mesh_.faceVertices[k]] - faceCentre_[f]) > tolC) {
-                        convex_[c] = 0;
-                    }
-                }
-            }
-        }
     }
 }
 

@@ -202,7 +202,29 @@ private:
     void prepare2D();
     void prepare3D();
     void prepareBins();
+    /// Recognise 3D cell @p c as a tet/prism/hex of the `overlap` library:
+    /// fills shape_, shapeVerts_ and shapeVolume_; false for a polyhedron.
     bool classify3D(label c);
+    /// classify3D() stage 1: shape and base size (3 or 4) from the face
+    /// counts; false if a face is warped or the counts fit no model.
+    bool candidateShape(label c, CellShape& s, int& nBase) const;
+    /// classify3D() stage 2: the base face's vertices in v[0, nBase),
+    /// oriented with their right-hand normal into the cell.
+    void orientedBase(label c, int nBase, label* v) const;
+    /// classify3D() stage 3 (tet): the vertex off the base in v[3].
+    bool findTetApex(label c, label* v) const;
+    /// classify3D() stage 3 (prism, hex): v[nBase + k], the vertex joined
+    /// by an edge to base vertex k; false if not unique or missing.
+    bool findTopVertices(label c, int nBase, label* v) const;
+    /// classify3D() stage 4: every face of the cell is a face of the model.
+    bool facesMatchModel(label c, CellShape s, const label* v) const;
+    /// classify3D() stage 5: element volume from the `overlap` library;
+    /// false if not positive (or a tet is inverted).
+    bool elementVolume(CellShape s, const label* v, double& vol) const;
+    /// Volume of the tet decomposition (cell centre, face centre, edge).
+    double decompositionVolume(label c) const;
+    /// True if all faces are planar and all vertices behind all face planes.
+    bool convex3D(label c) const;
     label walk(const Vec3& x, label start) const;
     label searchBins(const Vec3& x) const;
     double tol(label c) const { return 1e-9 * boundRadius_[c]; }
