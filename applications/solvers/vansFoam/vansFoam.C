@@ -11,7 +11,9 @@ Description
     overlap volumes, so one scheme covers grains smaller than, equal to or
     larger than the cells.
 
-    Step sequence (thesis Figure 3.8):
+    Step sequence (thesis Figure 3.8), one include file of this folder per
+    stage: 1-2 grainMapping.H, 3 fluidStep.H, 4-5 grainStep.H, then the log
+    and the finiteness checks, stepReport.H:
       1. void fraction from the grains' positions (exact overlaps, eq. 3.43)
       2. semi-implicit drag prediction (eq. 3.46-3.50)
       3. fluid: PIMPLE on the VANS momentum and the mixture volume
@@ -71,10 +73,7 @@ int main(int argc, char *argv[])
     // may have been written on another mesh, e.g. a deposit copied in)
     cloud.grains().writeCloud();
 
-    // wall-clock split of the step (reported at the end)
-    couplingStepTimer timer;
-    using clock = couplingStepTimer::clock;
-    const auto seconds = &couplingStepTimer::seconds;
+    #include "createCouplingStepTimer.H"
 
     Info<< "\nStarting time loop\n" << endl;
 
@@ -93,113 +92,15 @@ int main(int argc, char *argv[])
             " void fraction (the particle-centroid method is unstable for"
             " dense packings, thesis 3.2.2)."
         );
+        #include "advanceCouplingTime.H"
 
-        // an absurd velocity (a diverged previous step, a bad initial
-        // field) stops here with the cause, not in the linear solver
-        grainCloud::checkFluidBlowUp(U, runTime.deltaTValue(), "fluid solve");
-
-        ++runTime;
-        Info<< "Time = " << runTime.timeName() << nl << endl;
-
-        // 1. void fraction at the grains' current positions
-        const clock::time_point t0 = clock::now();
-        cloud.mapGrains();
-        if (cloud.modelA())
-        {
-            pressureFactor = eps;
-        }
-
-        // 2. semi-implicit drag prediction
-        cloud.predictDrag(U, p, runTime.deltaTValue());
-
-        const clock::time_point t1 = clock::now();
-
-        // 3. fluid
-        while (pimple.loop())
-        {
-            #include "UEqn.H"
-            while (pimple.correct())
-            {
-                #include "pEqn.H"
-            }
-        }
-
-        // 3b. fluid energy (heat transfer on only, thesis eq. 4.4-4.13)
-        if (cloud.heatOn())
-        {
-            #include "TEqn.H"
-        }
-
-        // 3c. vapour fraction (transportProperties vapour {}, thesis eq.
-        //     4.19); it switches cohesion off where psi >= psi^0 (eq. 4.18)
-        if (psiPtr.valid())
-        {
-            #include "psiEqn.H"
-        }
-
-        const clock::time_point t2 = clock::now();
-
-        // 4. fluid forces on the grains, 5. NSCD (a blown-up fluid stops
-        //    here, before a grain step of ~forever)
-        grainCloud::checkFluidBlowUp(U, runTime.deltaTValue(), "grain step");
-        cloud.setFluidForces(U, p);
-        // 4b. coupling sources (e.g. the droplet, thesis eq. 4.17): their
-        //     step over this time step and their forces on the grains for
-        //     the same NSCD step; afterGrainStep is called by evolve
-        cloud.advanceCouplingSources(runTime.deltaTValue());
-        const clock::time_point t3 = clock::now();
-        cloud.evolve(runTime.deltaTValue());
-        const clock::time_point t4 = clock::now();
-        timer.mapping += seconds(t0, t1) + seconds(t2, t3);
-        timer.fluid += seconds(t1, t2);
-        timer.contacts += seconds(t3, t4);
-        ++timer.steps;
-
-        Info<< "voidFraction min/max = " << gMin(eps.primitiveField())
-            << " " << gMax(eps.primitiveField())
-            << ", mean grain Reynolds number = " << cloud.meanGrainReynolds()
-            << ", max grain Reynolds number = " << cloud.maxGrainReynolds()
-            << endl;
-
-        if (cloud.heatOn())
-        {
-            const volScalarField& T = TPtr();
-            const scalarField epsV(eps.primitiveField()*mesh.V());
-            const scalar sumEpsV = gSum(epsV);
-            const scalar Ef =
-                cloud.rho()*cloud.Cp()*gSum(epsV*T.primitiveField());
-            const scalar Eg = cloud.grainHeatContent();
-            std::ostringstream os;
-            os.precision(16);
-            os  << "heat: grain mean T = " << cloud.grainMeanTemperature()
-                << ", fluid mean T = " << Ef/(cloud.rho()*cloud.Cp()*sumEpsV)
-                << ", exchanged Q = " << cloud.stepHeat()
-                << " J, energy fluid + grains = " << Ef + Eg << " J";
-            Info<< os.str().c_str() << endl;
-            #include "heatBudget.H"
-            if (!std::isfinite(Ef + Eg))
-            {
-                FatalErrorInFunction
-                    << "Non-finite temperature at time " << runTime.timeName()
-                    << ". The last written time holds the last good state."
-                    << exit(FatalError);
-            }
-        }
-
-        // no NaN/Inf: stop before writing a bad state
-        if
-        (
-            !std::isfinite(gSum(mag(U.primitiveField())))
-         || !std::isfinite(gSum(mag(p.primitiveField())))
-        )
-        {
-            FatalErrorInFunction
-                << "Non-finite fluid velocity or pressure at time "
-                << runTime.timeName() << ". The last written time holds the"
-                << " last good state." << nl
-                << "    Fix: reduce maxCo / maxDeltaT in system/controlDict."
-                << exit(FatalError);
-        }
+        // 1. void fraction, 2. drag prediction (t0, t1)
+        #include "grainMapping.H"
+        // 3. fluid: PIMPLE (U, p), [3b. T], [3c. psi] (t2)
+        #include "fluidStep.H"
+        // 4. fluid forces on the grains, [4b. coupling sources], 5. NSCD
+        #include "grainStep.H"
+        #include "stepReport.H"
 
         if (!runControl.writeStep([&]() { cloud.write(); }))
         {

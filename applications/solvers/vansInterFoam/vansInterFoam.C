@@ -37,9 +37,10 @@ Description
 
     Step sequence: void fraction -> drag prediction -> PIMPLE (alpha
     [sub-cycled], mixture properties, U, p_rgh with the solid flux) -> fluid
-    forces on the grains -> NSCD step.  Without constant/grainProperties
-    there are no grains (eps = 1): the solver is then interFoam (laminar,
-    static mesh, Euler).
+    forces on the grains -> NSCD step (grainMapping.H, fluidStep.H,
+    grainStep.H; then the log and the finiteness checks, stepReport.H).
+    Without constant/grainProperties there are no grains (eps = 1): the
+    solver is then interFoam (laminar, static mesh, Euler).
 
     2D: one-cell-thick mesh with empty front/back (discs); 3D: spheres.
     Settings: constant/transportProperties (phases, sigma, phase rho/nu;
@@ -96,10 +97,7 @@ int main(int argc, char *argv[])
         cloudPtr->grains().writeCloud();
     }
 
-    // wall-clock split of the step (reported at the end)
-    couplingStepTimer timer;
-    using clock = couplingStepTimer::clock;
-    const auto seconds = &couplingStepTimer::seconds;
+    #include "createCouplingStepTimer.H"
 
     Info<< "\nStarting time loop\n" << endl;
 
@@ -116,103 +114,15 @@ int main(int argc, char *argv[])
             runTime, adjustTimeStep, maxDeltaT,
             "reduce maxDeltaT/maxCo/maxAlphaCo in system/controlDict."
         );
+        #include "advanceCouplingTime.H"
 
-        // an absurd velocity (a diverged previous step, a bad initial
-        // field) stops here with the cause, not in the linear solver
-        grainCloud::checkFluidBlowUp(U, runTime.deltaTValue(), "fluid solve");
-
-        ++runTime;
-        Info<< "Time = " << runTime.timeName() << nl << endl;
-
-        // 1. void fraction at the grains' current positions,
-        // 2. semi-implicit drag prediction with the local mixture density
-        //    and viscosity (p in Pa: the grains see the force -W grad(p))
-        const clock::time_point t0 = clock::now();
-        if (cloudPtr.valid())
-        {
-            vansCloud& cloud = cloudPtr();
-            cloud.mapGrains();
-            if (cloud.modelA())
-            {
-                pressureFactor = eps;
-            }
-            const volScalarField muMix("muMix", rho*mixture.nu());
-            cloud.predictDrag(U, p, rho, muMix, runTime.deltaTValue());
-            pK = pressureFactor + cloud.Kp();
-            pK.correctBoundaryConditions();
-        }
-        const clock::time_point t1 = clock::now();
-
-        // 3. fluid
-        while (pimple.loop())
-        {
-            #include "alphaControls.H"
-            #include "alphaEqnSubCycle.H"
-
-            mixture.correct();
-
-            #include "UEqn.H"
-
-            while (pimple.correct())
-            {
-                #include "pEqn.H"
-            }
-        }
-
-        const clock::time_point t2 = clock::now();
-
-        // 4. fluid forces on the grains, 5. NSCD
-        if (cloudPtr.valid())
-        {
-            vansCloud& cloud = cloudPtr();
-            // a blown-up fluid stops here, before a grain step of ~forever
-            grainCloud::checkFluidBlowUp(U, runTime.deltaTValue(), "grain step");
-            cloud.setFluidForces(U, p);
-            const clock::time_point t3 = clock::now();
-            cloud.evolve(runTime.deltaTValue());
-            timer.mapping += seconds(t2, t3);
-            timer.contacts += seconds(t3, clock::now());
-        }
-        timer.mapping += seconds(t0, t1);
-        timer.fluid += seconds(t1, t2);
-        ++timer.steps;
-
-        // water volume sum(eps alpha V) (conserved: closed domain)
-        {
-            const scalar waterVolume =
-                gSum(eps.primitiveField()*alpha1.primitiveField()*mesh.V());
-            std::ostringstream os;
-            os.precision(17);
-            os  << "water volume sum(eps alpha V) = " << waterVolume
-                << " m^3, alpha min/max = " << gMin(alpha1.primitiveField())
-                << " " << gMax(alpha1.primitiveField());
-            Info<< os.str().c_str() << endl;
-        }
-        if (cloudPtr.valid())
-        {
-            Info<< "voidFraction min/max = " << gMin(eps.primitiveField())
-                << " " << gMax(eps.primitiveField())
-                << ", mean grain Reynolds number = "
-                << cloudPtr->meanGrainReynolds()
-                << ", max grain Reynolds number = "
-                << cloudPtr->maxGrainReynolds() << endl;
-        }
-
-        // no NaN/Inf: stop before writing a bad state
-        if
-        (
-            !std::isfinite(gSum(mag(U.primitiveField())))
-         || !std::isfinite(gSum(mag(p_rgh.primitiveField())))
-         || !std::isfinite(gSum(alpha1.primitiveField()))
-        )
-        {
-            FatalErrorInFunction
-                << "Non-finite velocity, pressure or phase fraction at time "
-                << runTime.timeName() << ". The last written time holds the"
-                << " last good state." << nl
-                << "    Fix: reduce maxCo / maxAlphaCo / maxDeltaT in"
-                << " system/controlDict." << exit(FatalError);
-        }
+        // 1. void fraction, 2. drag prediction (grains only; t0, t1)
+        #include "grainMapping.H"
+        // 3. fluid: PIMPLE (alpha, mixture, U, p_rgh) (t2)
+        #include "fluidStep.H"
+        // 4. fluid forces on the grains, 5. NSCD (grains only)
+        #include "grainStep.H"
+        #include "stepReport.H"
 
         const bool go = runControl.writeStep
         (

@@ -380,6 +380,15 @@ def snapshot(case, time_name, out):
 
 
 def case_results(case):
+    """Results of one case (the `cases[<T>]` entry of results.json, module
+    docstring): the droplet history of droplet.dat, the mean grain
+    temperature of the log on its steps, the bed's void fraction and U_mf
+    with the Ergun figures and `bed_diagnostics` (when voidFraction is
+    written), `psi_max`, `summary`, `forces`, `stopped`,
+    `bottom_reached_time` and `energy_defect` (printed instead when the
+    budget is not available).  Returns (info, results): info the case.json
+    of setupCase.py.  Raises OSError or ValueError without droplet
+    history."""
     info = json.load(open(os.path.join(case, "case.json")))
     d = read_droplet(case)
     lg = read_log(case)
@@ -425,10 +434,44 @@ def case_results(case):
     return info, res
 
 
-def main(cases, outdir=here, snap=False):
+def pyplot():
+    """matplotlib.pyplot on the non-interactive Agg backend (PNG files only)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    return plt
+
+
+def case_snapshots(case, T, outdir):
+    """`--snap`: `snapshot` PNGs snap_T<T>_<time>s.png in outdir at the
+    written times t > 0 of the case nearest 0.3 s, half the run and its end."""
+    tn = [(t, n) for t, n in nscdpost.time_dirs(case) if t > 0]
+    if tn:
+        pick = {min(tn, key=lambda a: abs(a[0] - x))[1]
+                for x in (0.3, 0.5 * tn[-1][0], tn[-1][0])}
+        for n in sorted(pick, key=float):
+            snapshot(case, n, os.path.join(outdir, f"snap_T{T:g}_{n}s.png"))
+
+
+def case_line(T, r):
+    """The log line of one case: final depth, first-step mdot, mean U_v,
+    U_mf, energy defect and, for a run that stopped early, why.  T [C]: bed
+    temperature, r: its `case_results`."""
+    return (f"T_bed {T:g} C: final depth {r['depth'][-1] * 1e3:.3f} mm, mdot(first step) "
+            f"{r['mdot'][0]:.3e} kg/s, U_v mean {np.mean(r['vapour_velocity'][1:]):.3g} m/s, "
+            f"U_mf {r.get('U_mf', float('nan')):.3g} m/s, energy defect "
+            f"{r.get('energy_defect', float('nan')):.2e}"
+            + (f", STOPPED at t = {r['time'][-1]:.3g} s: {r['stopped']}" if r["stopped"] else ""))
+
+
+def read_cases(cases, outdir, snap):
+    """`case_results` of each case in the order given (a relative path is
+    taken from the working directory; a case without droplet history is
+    skipped with a message), one log line per case (`case_line`) and, with
+    snap, its snapshots (`case_snapshots`).  Returns (res, data): res the
+    results.json dict before sorting (`bed_temperature`, `final_depth`,
+    `cases`, `final_time`, `stopped`; `grain_diameter` and `grains` of the
+    first case), data the list of (T, info, results) per case."""
     res = {"bed_temperature": [], "final_depth": [], "cases": {}}
     data = []
     for c in cases:
@@ -446,34 +489,42 @@ def main(cases, outdir=here, snap=False):
         res["cases"][f"{T:g}"] = r
         data.append((T, info, r))
         if snap:
-            tn = [(t, n) for t, n in nscdpost.time_dirs(c) if t > 0]
-            if tn:
-                pick = {min(tn, key=lambda a: abs(a[0] - x))[1]
-                        for x in (0.3, 0.5 * tn[-1][0], tn[-1][0])}
-                for n in sorted(pick, key=float):
-                    snapshot(c, n, os.path.join(outdir, f"snap_T{T:g}_{n}s.png"))
-        print(f"T_bed {T:g} C: final depth {r['depth'][-1] * 1e3:.3f} mm, mdot(first step) "
-              f"{r['mdot'][0]:.3e} kg/s, U_v mean {np.mean(r['vapour_velocity'][1:]):.3g} m/s, "
-              f"U_mf {r.get('U_mf', float('nan')):.3g} m/s, energy defect "
-              f"{r.get('energy_defect', float('nan')):.2e}"
-              + (f", STOPPED at t = {r['time'][-1]:.3g} s: {r['stopped']}" if r["stopped"] else ""))
+            case_snapshots(c, T, outdir)
+        print(case_line(T, r))
     if data:
         res["grain_diameter"] = data[0][1]["grain_diameter"]
         res["grains"] = data[0][1]["grains"]
+    return res, data
+
+
+def sort_by_bed_temperature(res, data):
+    """Sorts the per-case lists of res (`bed_temperature`, `final_depth`,
+    `final_time`, `stopped`) by bed temperature, adds `mean_velocity` [m/s]
+    (final depth / final time) and returns data in the same order."""
     order = np.argsort(res["bed_temperature"])
     res["bed_temperature"] = [res["bed_temperature"][i] for i in order]
     for key in ("final_depth", "final_time", "stopped"):
         res[key] = [res[key][i] for i in order]
     # mean digging velocity over the run [m/s] (final depth / final time)
     res["mean_velocity"] = [h / t for h, t in zip(res["final_depth"], res["final_time"])]
-    data = [data[i] for i in order]
+    return [data[i] for i in order]
 
-    def save(fig, name):
-        fig.tight_layout()
-        fig.savefig(os.path.join(outdir, name), dpi=120)
-        plt.close(fig)
 
-    # Figure 4.13
+def save_figure(fig, outdir, name):
+    """Writes fig as outdir/name (tight layout, 120 dpi) and closes it."""
+    plt = pyplot()
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, name), dpi=120)
+    plt.close(fig)
+
+
+def plot_final_depth(res, data, outdir):
+    """dropletDigging_finalDepth.png (thesis Figure 4.13): final depth h/D
+    against the bed temperature, the runs that stopped early marked, the bed
+    height, and the digging regime 350-500 C and maximum depth near 400 C
+    that the thesis states in words.  res, data: sorted
+    (`sort_by_bed_temperature`)."""
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(5, 4))
     D0 = data[0][1]["droplet_diameter"] if data else 2.5e-3
     Tb, hf = np.array(res["bed_temperature"]), np.array(res["final_depth"]) / D0
@@ -491,28 +542,45 @@ def main(cases, outdir=here, snap=False):
     ax.set_ylabel("final depth h/D")
     ax.set_title("final depth (thesis Fig. 4.13)")
     ax.legend(fontsize=8)
-    save(fig, "dropletDigging_finalDepth.png")
+    save_figure(fig, outdir, "dropletDigging_finalDepth.png")
 
-    plots = [("depth", "h/D", "droplet depth (thesis Fig. 4.14)", "dropletDigging_depth.png"),
-             ("velocity", "u t_ff/R", "droplet velocity (thesis Fig. 4.15)",
-              "dropletDigging_velocity.png"),
-             ("mean_grain_temperature", "(T_p - T_d)/(T_bed - T_d)",
-              "mean grain temperature (thesis Fig. 4.16)", "dropletDigging_grainTemperature.png"),
-             ("lifetime", "m/mdot [s]", "instant lifetime (thesis Fig. 4.17)",
-              "dropletDigging_lifetime.png")]
-    for key, ylabel, title, name in plots:
+
+# the time series plotted against t/t_ff: results key, y label, title, file
+TIME_SERIES_PLOTS = (
+    ("depth", "h/D", "droplet depth (thesis Fig. 4.14)", "dropletDigging_depth.png"),
+    ("velocity", "u t_ff/R", "droplet velocity (thesis Fig. 4.15)",
+     "dropletDigging_velocity.png"),
+    ("mean_grain_temperature", "(T_p - T_d)/(T_bed - T_d)",
+     "mean grain temperature (thesis Fig. 4.16)", "dropletDigging_grainTemperature.png"),
+    ("lifetime", "m/mdot [s]", "instant lifetime (thesis Fig. 4.17)",
+     "dropletDigging_lifetime.png"))
+
+
+def scaled_series(key, info, r):
+    """(t/t_ff, y) of the time series `key` of one case's results r, y made
+    dimensionless: depth over D, velocity times t_ff/R_0, mean grain
+    temperature as (T_p - T_d)/(T_bed - T_d); the lifetime as it is [s]."""
+    R0 = info["droplet_diameter"] / 2
+    tff = math.sqrt(2 * R0 / G)
+    t = np.array(r["time"]) / tff
+    y = np.array(r[key], dtype=float)
+    if key == "depth":
+        y = y / info["droplet_diameter"]
+    elif key == "velocity":
+        y = y * tff / R0
+    elif key == "mean_grain_temperature":
+        y = (y - info["T_d"]) / (info["bed_temperature_C"] + 273.15 - info["T_d"])
+    return t, y
+
+
+def plot_time_series(data, outdir):
+    """The plots of TIME_SERIES_PLOTS (thesis Figures 4.14-4.17), one curve
+    per case (`scaled_series`); the lifetime on a log scale."""
+    plt = pyplot()
+    for key, ylabel, title, name in TIME_SERIES_PLOTS:
         fig, ax = plt.subplots(figsize=(5, 4))
         for T, info, r in data:
-            R0 = info["droplet_diameter"] / 2
-            tff = math.sqrt(2 * R0 / G)
-            t = np.array(r["time"]) / tff
-            y = np.array(r[key], dtype=float)
-            if key == "depth":
-                y = y / info["droplet_diameter"]
-            elif key == "velocity":
-                y = y * tff / R0
-            elif key == "mean_grain_temperature":
-                y = (y - info["T_d"]) / (info["bed_temperature_C"] + 273.15 - info["T_d"])
+            t, y = scaled_series(key, info, r)
             ax.plot(t, y, label=f"{T:g} C")
         ax.set_xlabel("t / t_ff")
         ax.set_ylabel(ylabel)
@@ -520,17 +588,26 @@ def main(cases, outdir=here, snap=False):
             ax.set_yscale("log")
         ax.set_title(title)
         ax.legend(fontsize=8)
-        save(fig, name)
-    # Figures 4.18 and 4.19: forces over m_0 g (upward) and heat rates over
-    # the first step's L mdot, running means over 0.02 s (the grain forces
-    # of the NSCD steps are impulsive)
-    def smooth(t, y, width=0.02):
-        y = np.asarray(y, dtype=float)
-        n = max(1, int(round(width / max(np.median(np.diff(t)), 1e-12)))) if len(t) > 1 else 1
-        if n <= 1 or len(y) <= n:
-            return y
-        k = np.ones(n)
-        return np.convolve(y, k, mode="same") / np.convolve(np.ones(len(y)), k, mode="same")
+        save_figure(fig, outdir, name)
+
+
+def smooth(t, y, width=0.02):
+    """Running mean of y over `width` s (t the times; the grain forces of
+    the NSCD steps are impulsive), y itself when the window is one step or
+    longer than the series."""
+    y = np.asarray(y, dtype=float)
+    n = max(1, int(round(width / max(np.median(np.diff(t)), 1e-12)))) if len(t) > 1 else 1
+    if n <= 1 or len(y) <= n:
+        return y
+    k = np.ones(n)
+    return np.convolve(y, k, mode="same") / np.convolve(np.ones(len(y)), k, mode="same")
+
+
+def plot_forces(data, outdir):
+    """dropletDigging_forces.png (thesis Figure 4.18): the vertical forces
+    of the gas and the grains on the droplet over m_0 g, upward, running
+    means over 0.02 s (`smooth`), the weight dotted."""
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4))
     for k, (T, info, r) in enumerate(data):
         tff = math.sqrt(info["droplet_diameter"] / G)
@@ -542,7 +619,14 @@ def main(cases, outdir=here, snap=False):
     ax.set_ylabel("vertical force / m_0 g (dotted: weight)")
     ax.set_title("forces on the droplet (thesis Fig. 4.18)")
     ax.legend(fontsize=6)
-    save(fig, "dropletDigging_forces.png")
+    save_figure(fig, outdir, "dropletDigging_forces.png")
+
+
+def plot_heat(data, outdir):
+    """dropletDigging_heat.png (thesis Figure 4.19): the heat rates into
+    the droplet, Q_f and Q_p + Q_film, over the first step's L mdot, running
+    means over 0.02 s (`smooth`)."""
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4))
     for k, (T, info, r) in enumerate(data):
         tff = math.sqrt(info["droplet_diameter"] / G)
@@ -556,10 +640,29 @@ def main(cases, outdir=here, snap=False):
     ax.set_yscale("log")
     ax.set_title("heat into the droplet (thesis Fig. 4.19)")
     ax.legend(fontsize=6)
-    save(fig, "dropletDigging_heat.png")
+    save_figure(fig, outdir, "dropletDigging_heat.png")
+
+
+def write_results(res, outdir):
+    """outdir/results.json (indent 1) and the final log line (bed
+    temperature, final depth per case)."""
     with open(os.path.join(outdir, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
     print("bed temperature [C], final depth [m]:", list(zip(res["bed_temperature"], res["final_depth"])))
+
+
+def main(cases, outdir=here, snap=False):
+    """Post-processes the cases into outdir (module docstring): reads each
+    case (`read_cases`), sorts them by bed temperature, draws Figures
+    4.13-4.19 and writes results.json.  Returns the results.json dict."""
+    pyplot()
+    res, data = read_cases(cases, outdir, snap)
+    data = sort_by_bed_temperature(res, data)
+    plot_final_depth(res, data, outdir)
+    plot_time_series(data, outdir)
+    plot_forces(data, outdir)
+    plot_heat(data, outdir)
+    write_results(res, outdir)
     return res
 
 
