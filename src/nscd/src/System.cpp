@@ -311,7 +311,7 @@ double System::wallFriction(int wall) const
 
 int System::nWalls() const { return int(impl_->walls.size()); }
 
-// droplets (capillary entry barrier, System.H)
+// droplets (capillary entry barrier, Droplet.H)
 
 void checkDroplet(const System::Droplet& d, const char* where)
 {

@@ -1,10 +1,10 @@
-// Capillary entry barrier of a droplet (System::Droplet, System.H).
+// Capillary entry barrier of a droplet (System::Droplet, Droplet.H).
 //
 // References for the numbers below:
 //  - the entry force of a non-wetting surface (contact angle 180 degrees)
 //    on a grain at filling angle phi, cos(phi) = 1 - h/r: 2D 2 sigma
 //    sin(phi) per unit depth, 3D 2 pi sigma r sin^2(phi) (surface tension
-//    along the contact line, tangent to the grain; System.H), with the
+//    along the contact line, tangent to the grain; Droplet.H), with the
 //    threshold F_max = 2 sigma (2D), 2 pi sigma r (3D) up to h = r;
 //  - statics: a droplet held by grains receives exactly its weight from
 //    them, and the floor under the grains carries grains + droplet;
