@@ -54,56 +54,74 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
     solveNLGS(dt, omega, rep);
 }
 
-void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
+namespace
 {
-    const bool twoD = dim == 2;
-    const double dmin = 2*rMin();
-    const int NC = int(rows.size());
-    std::vector<SolverContact>& C = rows;
-    const bool hist = settings.residualHistory;
-    if (hist) rep.residualHistory.push_back(dmin > 0 ? std::sqrt(residualPass(dt, false))/dmin : 0.0);
-    // ---- nonlinear Gauss-Seidel with contact queue (Algorithm 2, section 2.3) ----
-    const double xi = settings.tolerance*dmin;
-    const long maxSolves = long(settings.maxIterations)*long(std::max(NC, 1));
-    long solves = 0;
-    Body* const bodies = body.data();
-    SolverContact* cs = C.data();
-    const int* adjS = adjStart.data();
-    const int* adjI = adjItems.data();
-    // One local update (Algorithm 2 body); returns true if the contact had not
-    // converged (its impulse was changed), false if |W dr| dt < xi (the
-    // previous impulse is kept, as in Algorithm 2).
+
+/// One NLGS solve (Algorithm 2, section 2.3) on the rows of System::Impl:
+/// the local update, the two queue orderings and the result, sharing the
+/// counters of local solves (solves) and of rows in the queue (count).
+struct NlgsSolve
+{
+    System::Impl& I;
+    StepReport& rep;
+    const double dt, omega;
+    const bool twoD = I.dim == 2;
+    const double dmin = 2*I.rMin();
+    const int NC = int(I.rows.size());
+    const bool hist = I.settings.residualHistory;
+    const double xi = I.settings.tolerance*dmin;
+    const long maxSolves = long(I.settings.maxIterations)*long(std::max(NC, 1));
     const double xi2 = xi*xi, dt2 = dt*dt;
-    // 2D: scalar tangential impulse along t = z x n (same law, fewer flops)
-    if (twoD)
-        for (int k = 0; k < NC; ++k)
-            cs[k].rts = cs[k].rt.dot(Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0));
-    auto solveOne2D = [&](int k) -> bool
+    Body* const bodies = I.body.data();
+    SolverContact* const cs = I.rows.data();
+    const int* const adjS = I.adjStart.data();
+    const int* const adjI = I.adjItems.data();
+    char* inQ = nullptr;
+    long solves = 0;  ///< local solves so far
+    int count = 0;    ///< rows in the queue
+
+    NlgsSolve(System::Impl& impl, StepReport& r, double dtStep, double omegaStep)
+    : I(impl), rep(r), dt(dtStep), omega(omegaStep) {}
+
+    /// Residual [-] (residualPass) for residualHistory.
+    double historyEntry(bool scalarTangent) const
+    { return dmin > 0 ? std::sqrt(I.residualPass(dt, scalarTangent))/dmin : 0.0; }
+
+    /// Initial residual, 2D scalar tangential impulses, every row queued.
+    void start()
+    {
+        if (hist) rep.residualHistory.push_back(historyEntry(false));
+        // 2D: scalar tangential impulse along t = z x n (same law, fewer flops)
+        if (twoD)
+            for (int k = 0; k < NC; ++k)
+                cs[k].rts = cs[k].rt.dot(Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0));
+        I.inQueue.assign(NC, 1);
+        inQ = I.inQueue.data();
+        count = NC;
+    }
+
+    /// One local update of row k (Algorithm 2 body), then the residual
+    /// history every NC solves; returns true if the row had not converged
+    /// (its impulse was changed), false if |W dr| dt < xi (the previous
+    /// impulse is kept, as in Algorithm 2).
+    bool solveOne(int k)
     {
         ++solves;
         SolverContact& c = cs[k];
-        return local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega);
-    };
-    auto solveOne3D = [&](int k) -> bool
+        const bool changed = twoD ? local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega)
+                                  : local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega);
+        if (hist && solves % NC == 0) rep.residualHistory.push_back(historyEntry(twoD));
+        return changed;
+    }
+
+    /// FIFO contact queue (section 2.3): a non-converged contact and the
+    /// contacts sharing its bodies are (re-)appended to the queue.
+    void fifo()
     {
-        ++solves;
-        SolverContact& c = cs[k];
-        return local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega);
-    };
-    auto solveOne = [&](int k) -> bool { return twoD ? solveOne2D(k) : solveOne3D(k); };
-    auto recordHistory = [&]
-    { rep.residualHistory.push_back(dmin > 0 ? std::sqrt(residualPass(dt, twoD))/dmin : 0.0); };
-    inQueue.assign(NC, 1);
-    char* inQ = inQueue.data();
-    int count = NC;
-    if (settings.ordering == Settings::Ordering::Fifo)
-    {
-        // FIFO contact queue (section 2.3): a non-converged contact and the
-        // contacts sharing its bodies are (re-)appended to the queue.
-        this->queue.resize(NC);
-        for (int k = 0; k < NC; ++k) this->queue[k] = k;
+        I.queue.resize(NC);
+        for (int k = 0; k < NC; ++k) I.queue[k] = k;
         int head = 0;
-        int* queue = this->queue.data();
+        int* queue = I.queue.data();
         auto push = [&](int kk)
         {
             if (inQ[kk]) return;
@@ -119,22 +137,21 @@ void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
             head = (head + 1 == NC) ? 0 : head + 1;
             --count;
             inQ[k] = 0;
-            const bool changed = solveOne(k);
-            if (hist && solves % NC == 0) recordHistory();
-            if (!changed) continue;
+            if (!solveOne(k)) continue;
             push(k);
             const SolverContact& c = cs[k];
             for (int p = adjS[c.i]; p < adjS[c.i + 1]; ++p) push(adjI[p]);
             for (int p = adjS[c.j]; p < adjS[c.j + 1]; ++p) push(adjI[p]);
         }
     }
-    else
+
+    /// Same queue as a flag set, traversed in alternating (symmetric)
+    /// sweeps: forward then backward over the contact list (sorted by grain).
+    /// Only flagged contacts are solved; a non-converged contact flags
+    /// itself and the contacts sharing its bodies. Alternating directions
+    /// propagate forces through deep piles in both directions.
+    void symmetric()
     {
-        // Same queue as a flag set, traversed in alternating (symmetric)
-        // sweeps: forward then backward over the contact list (sorted by grain).
-        // Only flagged contacts are solved; a non-converged contact flags
-        // itself and the contacts sharing its bodies. Alternating directions
-        // propagate forces through deep piles in both directions.
         auto mark = [&](int kk) { if (!inQ[kk]) { inQ[kk] = 1; ++count; } };
         int lo = 0, hi = NC - 1;  // range that may contain flagged contacts
         bool forward = true;
@@ -146,9 +163,7 @@ void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
                 if (!inQ[k]) return;
                 inQ[k] = 0;
                 --count;
-                const bool changed = solveOne(k);
-                if (hist && solves % NC == 0) recordHistory();
-                if (!changed) return;
+                if (!solveOne(k)) return;
                 mark(k);
                 nlo = std::min(nlo, k); nhi = std::max(nhi, k);
                 const SolverContact& c = cs[k];
@@ -163,26 +178,43 @@ void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
             forward = !forward;
         }
     }
-    if (twoD)
-        for (int k = 0; k < NC; ++k)
-            cs[k].rt = cs[k].rts*Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0);
-    // The residual (the same for every method): max over contacts of the
-    // plain local update |W dr| dt at the final velocities. When the queue is
-    // empty, every contact was last solved after the last change of its
-    // bodies' velocities and not changed then: its last change is this
-    // residual. Otherwise (maxIterations hit) it is evaluated.
-    double res = 0;
-    if (count == 0) for (int k = 0; k < NC; ++k) res = std::max(res, C[k].change);
-    else res = residualPass(dt, false);
-    res = std::sqrt(res);
-    if (hist && (rep.residualHistory.empty() || solves % std::max(NC, 1) != 0))
-        rep.residualHistory.push_back(dmin > 0 ? res/dmin : 0.0);
-    for (int k = 0; k < NC; ++k) C[k].change = std::sqrt(C[k].change);
-    rep.contacts = NC;
-    rep.localSolves = solves;
-    rep.sweeps = NC > 0 ? int((solves + NC - 1)/NC) : 0;
-    rep.residual = dmin > 0 ? res/dmin : 0;
-    rep.converged = count == 0;
+
+    /// 2D tangential impulses back to vectors, the residual and the report.
+    void finish()
+    {
+        if (twoD)
+            for (int k = 0; k < NC; ++k)
+                cs[k].rt = cs[k].rts*Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0);
+        // The residual (the same for every method): max over contacts of the
+        // plain local update |W dr| dt at the final velocities. When the queue is
+        // empty, every contact was last solved after the last change of its
+        // bodies' velocities and not changed then: its last change is this
+        // residual. Otherwise (maxIterations hit) it is evaluated.
+        double res = 0;
+        if (count == 0) for (int k = 0; k < NC; ++k) res = std::max(res, cs[k].change);
+        else res = I.residualPass(dt, false);
+        res = std::sqrt(res);
+        if (hist && (rep.residualHistory.empty() || solves % std::max(NC, 1) != 0))
+            rep.residualHistory.push_back(dmin > 0 ? res/dmin : 0.0);
+        for (int k = 0; k < NC; ++k) cs[k].change = std::sqrt(cs[k].change);
+        rep.contacts = NC;
+        rep.localSolves = solves;
+        rep.sweeps = NC > 0 ? int((solves + NC - 1)/NC) : 0;
+        rep.residual = dmin > 0 ? res/dmin : 0;
+        rep.converged = count == 0;
+    }
+};
+
+} // namespace
+
+void System::Impl::solveNLGS(double dt, double omega, StepReport& rep)
+{
+    // ---- nonlinear Gauss-Seidel with contact queue (Algorithm 2, section 2.3) ----
+    NlgsSolve s(*this, rep, dt, omega);
+    s.start();
+    if (settings.ordering == Settings::Ordering::Fifo) s.fifo();
+    else s.symmetric();
+    s.finish();
 }
 
 } // namespace nscd

@@ -60,34 +60,143 @@ inline void project(const SolverContact& c, Impulse& r)
 }
 }
 
-void System::Impl::solveAPGD(double dt, StepReport& rep)
+// APGD: residual (localResidual2) of impulses R at body velocities V.
+double System::Impl::apgdResidual(const std::vector<Impulse>& R, const std::vector<Velocity>& V, double dt) const
+{
+    const Body* B = body.data();
+    double res = 0;
+    for (std::size_t k = 0; k < rows.size(); ++k)
+    {
+        SolverContact c = rows[k];
+        c.rn = R[k].n;
+        const Body A{V[c.i].v, V[c.i].w, 0, 0, B[c.i].r}, Bb{V[c.j].v, V[c.j].w, 0, 0, B[c.j].r};
+        res = std::max(res, localResidual2(c, R[k].t, A, Bb, dt));
+    }
+    return res;
+}
+
+// APGD: scratch sized, x_0 and its velocities from the (warm-started) rows and bodies.
+void System::Impl::apgdStart()
+{
+    const std::size_t NC = rows.size(), NB = body.size();
+    apgdX.resize(NC); apgdXn.resize(NC); apgdY.resize(NC); apgdG.resize(NC); apgdBest.resize(NC);
+    apgdVX.resize(NB); apgdVXn.resize(NB); apgdVY.resize(NB); apgdVD.resize(NB); apgdVBest.resize(NB);
+    for (std::size_t k = 0; k < NC; ++k) apgdX[k] = {rows[k].rn, rows[k].rt};
+    for (std::size_t b = 0; b < NB; ++b) apgdVX[b] = {body[b].v, body[b].w};
+}
+
+// APGD: gradient at y, contact velocities with De Saxce's normal shift.
+void System::Impl::apgdGradient()
+{
+    const Body* B = body.data();
+    for (std::size_t k = 0; k < rows.size(); ++k)
+    {
+        const SolverContact& c = rows[k];
+        const Vec3 du = relative(c, B, apgdVY.data());
+        const double un = du.dot(c.n);
+        const Vec3 ut = du - un*c.n;
+        apgdG[k] = {un + c.bias + c.mu*ut.norm(), ut};
+    }
+}
+
+// APGD: projected step from y, step size by the quadratic upper bound (L doubled until it holds).
+void System::Impl::apgdProjectedStep(double& L)
 {
     const int NC = int(rows.size());
     const int NB = int(body.size());
+    const Body* B = body.data();
+    for (int tries = 0; tries < 60; ++tries)
+    {
+        const double t = 1.0/L;
+        for (int k = 0; k < NC; ++k)
+        {
+            const SolverContact& c = rows[k];
+            Impulse r{apgdY[k].n - t*c.iwnn*apgdG[k].n, apgdY[k].t - t*c.iwnn*apgdG[k].t};
+            project(c, r);
+            apgdXn[k] = r;
+        }
+        // velocity change of d = xn - y: M^-1 H^T d
+        for (int b = 0; b < NB; ++b) { apgdVD[b].v.setZero(); apgdVD[b].w.setZero(); }
+        double dDd = 0;
+        for (int k = 0; k < NC; ++k)
+        {
+            const SolverContact& c = rows[k];
+            const double dn = apgdXn[k].n - apgdY[k].n;
+            const Vec3 dtv = apgdXn[k].t - apgdY[k].t;
+            dDd += c.wnn*(dn*dn + dtv.squaredNorm());
+            const Vec3 P = dn*c.n + dtv;
+            const Vec3 nxt = c.n.cross(dtv);
+            apgdVD[c.i].v += B[c.i].im*P;
+            apgdVD[c.i].w -= B[c.i].ii*B[c.i].r*nxt;
+            apgdVD[c.j].v -= B[c.j].im*P;
+            apgdVD[c.j].w -= B[c.j].ii*B[c.j].r*nxt;
+        }
+        double dWd = 0;
+        for (int k = 0; k < NC; ++k)
+        {
+            const SolverContact& c = rows[k];
+            const Vec3 du = relative(c, B, apgdVD.data());
+            dWd += (apgdXn[k].n - apgdY[k].n)*du.dot(c.n) + (apgdXn[k].t - apgdY[k].t).dot(du);
+        }
+        if (dWd <= L*dDd*(1 + 1e-12) || dDd == 0) break;
+        L *= 2;
+    }
+    for (int b = 0; b < NB; ++b)
+        apgdVXn[b] = {apgdVY[b].v + apgdVD[b].v, apgdVY[b].w + apgdVD[b].w};
+}
+
+// APGD: Nesterov momentum, restart when the step goes against the gradient.
+void System::Impl::apgdMomentum(double& theta)
+{
+    const std::size_t NC = rows.size(), NB = body.size();
+    const double thetaN = 0.5*(-theta*theta + theta*std::sqrt(theta*theta + 4));
+    const double beta = theta*(1 - theta)/(theta*theta + thetaN);
+    double gdx = 0;
+    for (std::size_t k = 0; k < NC; ++k)
+        gdx += apgdG[k].n*(apgdXn[k].n - apgdX[k].n) + apgdG[k].t.dot(apgdXn[k].t - apgdX[k].t);
+    if (gdx > 0)
+    {
+        apgdY = apgdXn;
+        apgdVY = apgdVXn;
+        theta = 1;
+    }
+    else
+    {
+        for (std::size_t k = 0; k < NC; ++k)
+            apgdY[k] = {apgdXn[k].n + beta*(apgdXn[k].n - apgdX[k].n), apgdXn[k].t + beta*(apgdXn[k].t - apgdX[k].t)};
+        for (std::size_t b = 0; b < NB; ++b)
+            apgdVY[b] = {apgdVXn[b].v + beta*(apgdVXn[b].v - apgdVX[b].v), apgdVXn[b].w + beta*(apgdVXn[b].w - apgdVX[b].w)};
+        theta = thetaN;
+    }
+    std::swap(apgdX, apgdXn);
+    std::swap(apgdVX, apgdVXn);
+}
+
+// APGD: the best iterate (smallest residual) into the rows and bodies.
+void System::Impl::apgdKeepBest(double dt)
+{
+    const Body* B = body.data();
+    for (std::size_t k = 0; k < rows.size(); ++k)
+    {
+        SolverContact& c = rows[k];
+        c.rn = apgdBest[k].n;
+        c.rt = apgdBest[k].t;
+        c.change = std::sqrt(localResidual2(c, c.rt, Body{apgdVBest[c.i].v, apgdVBest[c.i].w, 0, 0, B[c.i].r},
+                                            Body{apgdVBest[c.j].v, apgdVBest[c.j].w, 0, 0, B[c.j].r}, dt));
+    }
+    for (std::size_t b = 0; b < body.size(); ++b) { body[b].v = apgdVBest[b].v; body[b].w = apgdVBest[b].w; }
+}
+
+void System::Impl::solveAPGD(double dt, StepReport& rep)
+{
+    const int NC = int(rows.size());
     const double dmin = 2*rMin();
     const double tol2 = std::pow(settings.tolerance*dmin, 2);
     const bool hist = settings.residualHistory;
-    const Body* B = body.data();
     rep.contacts = NC;
-    apgdX.resize(NC); apgdXn.resize(NC); apgdY.resize(NC); apgdG.resize(NC); apgdBest.resize(NC);
-    apgdVX.resize(NB); apgdVXn.resize(NB); apgdVY.resize(NB); apgdVD.resize(NB); apgdVBest.resize(NB);
-    for (int k = 0; k < NC; ++k) apgdX[k] = {rows[k].rn, rows[k].rt};
-    for (int b = 0; b < NB; ++b) apgdVX[b] = {body[b].v, body[b].w};
-    // residual (localResidual2) of impulses R at velocities V
-    auto residual = [&](const std::vector<Impulse>& R, const std::vector<Velocity>& V)
-    {
-        double res = 0;
-        for (int k = 0; k < NC; ++k)
-        {
-            SolverContact c = rows[k];
-            c.rn = R[k].n;
-            const Body A{V[c.i].v, V[c.i].w, 0, 0, B[c.i].r}, Bb{V[c.j].v, V[c.j].w, 0, 0, B[c.j].r};
-            res = std::max(res, localResidual2(c, R[k].t, A, Bb, dt));
-        }
-        return res;
-    };
+    apgdStart();
     auto toDmin = [&](double r2) { return dmin > 0 ? std::sqrt(r2)/dmin : 0.0; };
-    double res = residual(apgdX, apgdVX);
+    double res = apgdResidual(apgdX, apgdVX, dt);
     if (hist) rep.residualHistory.push_back(toDmin(res));
     apgdBest = apgdX;
     apgdVBest = apgdVX;
@@ -100,55 +209,9 @@ void System::Impl::solveAPGD(double dt, StepReport& rep)
     while (resBest > tol2 && it < maxIt)
     {
         ++it;
-        // gradient at y: contact velocities with De Saxce's normal shift
-        for (int k = 0; k < NC; ++k)
-        {
-            const SolverContact& c = rows[k];
-            const Vec3 du = relative(c, B, apgdVY.data());
-            const double un = du.dot(c.n);
-            const Vec3 ut = du - un*c.n;
-            apgdG[k] = {un + c.bias + c.mu*ut.norm(), ut};
-        }
-        // projected step, step size by the quadratic upper bound (L doubled until it holds)
-        for (int tries = 0; tries < 60; ++tries)
-        {
-            const double t = 1.0/L;
-            for (int k = 0; k < NC; ++k)
-            {
-                const SolverContact& c = rows[k];
-                Impulse r{apgdY[k].n - t*c.iwnn*apgdG[k].n, apgdY[k].t - t*c.iwnn*apgdG[k].t};
-                project(c, r);
-                apgdXn[k] = r;
-            }
-            // velocity change of d = xn - y: M^-1 H^T d
-            for (int b = 0; b < NB; ++b) { apgdVD[b].v.setZero(); apgdVD[b].w.setZero(); }
-            double dDd = 0;
-            for (int k = 0; k < NC; ++k)
-            {
-                const SolverContact& c = rows[k];
-                const double dn = apgdXn[k].n - apgdY[k].n;
-                const Vec3 dtv = apgdXn[k].t - apgdY[k].t;
-                dDd += c.wnn*(dn*dn + dtv.squaredNorm());
-                const Vec3 P = dn*c.n + dtv;
-                const Vec3 nxt = c.n.cross(dtv);
-                apgdVD[c.i].v += B[c.i].im*P;
-                apgdVD[c.i].w -= B[c.i].ii*B[c.i].r*nxt;
-                apgdVD[c.j].v -= B[c.j].im*P;
-                apgdVD[c.j].w -= B[c.j].ii*B[c.j].r*nxt;
-            }
-            double dWd = 0;
-            for (int k = 0; k < NC; ++k)
-            {
-                const SolverContact& c = rows[k];
-                const Vec3 du = relative(c, B, apgdVD.data());
-                dWd += (apgdXn[k].n - apgdY[k].n)*du.dot(c.n) + (apgdXn[k].t - apgdY[k].t).dot(du);
-            }
-            if (dWd <= L*dDd*(1 + 1e-12) || dDd == 0) break;
-            L *= 2;
-        }
-        for (int b = 0; b < NB; ++b)
-            apgdVXn[b] = {apgdVY[b].v + apgdVD[b].v, apgdVY[b].w + apgdVD[b].w};
-        res = residual(apgdXn, apgdVXn);
+        apgdGradient();
+        apgdProjectedStep(L);
+        res = apgdResidual(apgdXn, apgdVXn, dt);
         if (hist) rep.residualHistory.push_back(toDmin(std::min(res, resBest)));
         if (res < resBest)
         {
@@ -157,40 +220,10 @@ void System::Impl::solveAPGD(double dt, StepReport& rep)
             apgdVBest = apgdVXn;
             if (res <= tol2) break;
         }
-        // Nesterov momentum, restart when the step goes against the gradient
-        const double thetaN = 0.5*(-theta*theta + theta*std::sqrt(theta*theta + 4));
-        const double beta = theta*(1 - theta)/(theta*theta + thetaN);
-        double gdx = 0;
-        for (int k = 0; k < NC; ++k)
-            gdx += apgdG[k].n*(apgdXn[k].n - apgdX[k].n) + apgdG[k].t.dot(apgdXn[k].t - apgdX[k].t);
-        if (gdx > 0)
-        {
-            apgdY = apgdXn;
-            apgdVY = apgdVXn;
-            theta = 1;
-        }
-        else
-        {
-            for (int k = 0; k < NC; ++k)
-                apgdY[k] = {apgdXn[k].n + beta*(apgdXn[k].n - apgdX[k].n), apgdXn[k].t + beta*(apgdXn[k].t - apgdX[k].t)};
-            for (int b = 0; b < NB; ++b)
-                apgdVY[b] = {apgdVXn[b].v + beta*(apgdVXn[b].v - apgdVX[b].v), apgdVXn[b].w + beta*(apgdVXn[b].w - apgdVX[b].w)};
-            theta = thetaN;
-        }
-        std::swap(apgdX, apgdXn);
-        std::swap(apgdVX, apgdVXn);
+        apgdMomentum(theta);
         L *= 0.9;
     }
-    // the best iterate (smallest residual)
-    for (int k = 0; k < NC; ++k)
-    {
-        SolverContact& c = rows[k];
-        c.rn = apgdBest[k].n;
-        c.rt = apgdBest[k].t;
-        c.change = std::sqrt(localResidual2(c, c.rt, Body{apgdVBest[c.i].v, apgdVBest[c.i].w, 0, 0, B[c.i].r},
-                                            Body{apgdVBest[c.j].v, apgdVBest[c.j].w, 0, 0, B[c.j].r}, dt));
-    }
-    for (int b = 0; b < NB; ++b) { body[b].v = apgdVBest[b].v; body[b].w = apgdVBest[b].w; }
+    apgdKeepBest(dt);
     rep.localSolves = long(it)*NC;
     rep.sweeps = it;
     rep.residual = toDmin(resBest);

@@ -373,124 +373,163 @@ std::string methodName(const System::Settings& S)
 }
 }
 
-int runSuite(int argc, char** argv)
+namespace
 {
-    const std::string out = argc > 2 ? argv[2] : "nscdDeposit.json";
-    const bool quick = argc > 3 && std::string(argv[3]) == "quick";
-    std::setvbuf(stderr, nullptr, _IOLBF, 0);
-    const double tStart = now();
+/// Sizes of the suite (quick: a short smoke run of the same cases).
+struct SuitePlan
+{
+    bool quick;
     // 2D block: 500 discs, 8 columns wide (width 8 d_max), ~62 rows: tiled
     // 10 / 40 / 140 times for 5,000 / 20,000 / 70,000 discs. (Taller blocks,
     // e.g. 330 rows for a 56 x 68 mm box, do not settle within the budget.)
-    const int blockN = 500, ncol = 8;
-    const int nBig = quick ? 4 : 140;
-    const int relax = quick ? 60 : 300, timed = quick ? 20 : 100;
-    const int maxSettle = 3000;
+    int blockN = 500, ncol = 8;
+    int nBig, relax, timed;
+    int maxSettle = 3000;
+    explicit SuitePlan(bool q) : quick(q), nBig(q ? 4 : 140), relax(q ? 60 : 300), timed(q ? 20 : 100) {}
+};
 
+/// What the suite measured, written to the JSON file by writeSuiteJson.
+struct SuiteResults
+{
+    SettleResult S, S0, S3;      ///< settling of the 2D block (mu = 0.4, mu = 0) and of the 3D block
+    Bed block;                   ///< the settled 2D block (mu = 0.4)
+    std::size_t grains3 = 0;     ///< spheres of the 3D block
+    Timed big, big0, t3;         ///< the 70,000-disc beds (mu = 0.4, mu = 0) and the 3D bed
+    std::vector<Timed> scaling;  ///< the 5,000- and 20,000-disc beds
+    double rssAfterBig = 0;      ///< process peak RSS after the 70,000-disc mu = 0.4 bed [MB]
+    double total = 0;            ///< wall seconds of the whole suite
+};
+
+/// 2D: the blocks settled (mu = 0.4 and 0), the 70,000-disc beds and the scaling beds timed.
+void runSuite2D(const SuitePlan& P, SuiteResults& R)
+{
     // ---- settling (the block, from the loose lattice), mu = 0.4 and 0 ----
-    Bed b0 = lattice(2, blockN, ncol, 1);
+    Bed b0 = lattice(2, P.blockN, P.ncol, 1);
     System blk = makeBlock(b0, 0.4);
     blk.checkInitialOverlaps();
-    const SettleResult S = settle(blk, maxSettle, "block mu=0.4");
-    const Bed block = fromSystem(blk, b0);
+    R.S = settle(blk, P.maxSettle, "block mu=0.4");
+    R.block = fromSystem(blk, b0);
     System blk0 = makeBlock(b0, 0.0);
-    const SettleResult S0 = settle(blk0, maxSettle, "block mu=0");
+    R.S0 = settle(blk0, P.maxSettle, "block mu=0");
     const Bed block0 = fromSystem(blk0, b0);
 
     // ---- 70,000 discs at rest ----
-    Timed big, big0;
     {
-        System s = makeSystem(tile(block, nBig, 1), 0.4);
+        System s = makeSystem(tile(R.block, P.nBig, 1), 0.4);
         s.checkInitialOverlaps();
-        s.setContactImpulses(tileContacts(blk, nBig, 1), dt);
-        big = relaxAndTime(s, relax, timed, "2D mu=0.4");
+        s.setContactImpulses(tileContacts(blk, P.nBig, 1), dt);
+        R.big = relaxAndTime(s, P.relax, P.timed, "2D mu=0.4");
     }
-    const double rssAfterBig = peakRssMb();
+    R.rssAfterBig = peakRssMb();
     {
-        System s = makeSystem(tile(block0, nBig, 1), 0.0);
+        System s = makeSystem(tile(block0, P.nBig, 1), 0.0);
         s.checkInitialOverlaps();
-        s.setContactImpulses(tileContacts(blk0, nBig, 1), dt);
+        s.setContactImpulses(tileContacts(blk0, P.nBig, 1), dt);
         // frictionless beds never come to rest within the tolerance (see
         // settling): every step runs to the 1000-sweep cap, so fewer steps
-        big0 = relaxAndTime(s, quick ? 10 : 20, quick ? 10 : 20, "2D mu=0", 100);
+        R.big0 = relaxAndTime(s, P.quick ? 10 : 20, P.quick ? 10 : 20, "2D mu=0", 100);
     }
     // ---- scaling ----
-    std::vector<Timed> scaling;
     for (int nt : {10, 40})
     {
-        System s = makeSystem(tile(block, quick ? nt/10 : nt, 1), 0.4);
-        s.setContactImpulses(tileContacts(blk, quick ? nt/10 : nt, 1), dt);
-        scaling.push_back(relaxAndTime(s, relax, timed, "2D scaling"));
+        System s = makeSystem(tile(R.block, P.quick ? nt/10 : nt, 1), 0.4);
+        s.setContactImpulses(tileContacts(blk, P.quick ? nt/10 : nt, 1), dt);
+        R.scaling.push_back(relaxAndTime(s, P.relax, P.timed, "2D scaling"));
     }
-    // ---- 3D: 2,500-sphere block (10 x 10 fcc layers), 2 x 4 mirrored tiles ----
-    Bed b3 = lattice(3, quick ? 500 : 2500, 10, 2);
+}
+
+/// 3D: a 2,500-sphere block (10 x 10 fcc layers) settled, 2 x 4 mirrored tiles timed.
+void runSuite3D(const SuitePlan& P, SuiteResults& R)
+{
+    Bed b3 = lattice(3, P.quick ? 500 : 2500, 10, 2);
+    R.grains3 = b3.x.size();
     System blk3 = makeBlock(b3, 0.4);
     blk3.checkInitialOverlaps();
-    const SettleResult S3 = settle(blk3, maxSettle, "3D block");
-    Timed t3;
-    {
-        System s = makeSystem(tile(fromSystem(blk3, b3), 2, quick ? 1 : 4), 0.4);
-        s.checkInitialOverlaps();
-        s.setContactImpulses(tileContacts(blk3, 2, quick ? 1 : 4), dt);
-        t3 = relaxAndTime(s, quick ? relax : 200, timed, "3D");
-    }
-    const double total = now() - tStart;
-    double bedHeight = 0;
-    for (std::size_t i = 0; i < block.x.size(); ++i) bedHeight = std::max(bedHeight, block.x[i].y() + block.r[i]);
+    R.S3 = settle(blk3, P.maxSettle, "3D block");
+    System s = makeSystem(tile(fromSystem(blk3, b3), 2, P.quick ? 1 : 4), 0.4);
+    s.checkInitialOverlaps();
+    s.setContactImpulses(tileContacts(blk3, 2, P.quick ? 1 : 4), dt);
+    R.t3 = relaxAndTime(s, P.quick ? P.relax : 200, P.timed, "3D");
+}
 
-    std::ofstream o(out);
+/// JSON, first part: summary, parameters, setup and the two 70,000-disc beds.
+void writeBedsJson(std::ostream& o, const SuitePlan& P, const SuiteResults& R)
+{
+    double bedHeight = 0;
+    for (std::size_t i = 0; i < R.block.x.size(); ++i) bedHeight = std::max(bedHeight, R.block.x[i].y() + R.block.r[i]);
     o << "{\n"
       << "  \"benchmark\": \"nscdDeposit\",\n"
-      << "  \"wall_seconds_total\": " << total << ",\n"
-      << "  \"seconds_per_step_median\": " << big.spsMedian << ",\n"
-      << "  \"cpu_seconds_per_step_median\": " << big.cpuMedian << ",\n"
-      << "  \"sweeps_per_step_median\": " << big.sweepsMedian << ",\n"
-      << "  \"grains\": " << big.grains << ",\n"
+      << "  \"wall_seconds_total\": " << R.total << ",\n"
+      << "  \"seconds_per_step_median\": " << R.big.spsMedian << ",\n"
+      << "  \"cpu_seconds_per_step_median\": " << R.big.cpuMedian << ",\n"
+      << "  \"sweeps_per_step_median\": " << R.big.sweepsMedian << ",\n"
+      << "  \"grains\": " << R.big.grains << ",\n"
       << "  \"cells\": 0,\n"
       << "  \"target_seconds_per_step\": 0.04,\n"
       << "  \"target_note\": \"issue 26: <= 0.04 s/step (was 0.1); target_met on the CPU time, the machine being shared\",\n"
-      << "  \"target_met\": " << (big.cpuMedian <= 0.04 ? "true" : "false") << ",\n"
-      << "  \"peak_rss_mb\": " << rssAfterBig << ",\n"
+      << "  \"target_met\": " << (R.big.cpuMedian <= 0.04 ? "true" : "false") << ",\n"
+      << "  \"peak_rss_mb\": " << R.rssAfterBig << ",\n"
       << "  \"peak_rss_mb_note\": \"process peak RSS after the 70,000-disc mu = 0.4 case (block settling included)\",\n"
       << "  \"machine\": \"" << machineNote() << "\",\n"
       << "  \"parameters\": {\"d_mean_m\": " << dMean << ", \"d_min_m\": " << dMin << ", \"d_max_m\": " << dMax
       << ", \"lambda\": " << lambda << ", \"diameter_distribution\": \"uniform in [d_min, d_max]\", \"density\": " << rho
       << ", \"dt\": " << dt << ", \"gravity\": " << g << ", \"friction\": 0.4, \"tolerance_over_dmin\": 1e-6, \"max_iterations_sweeps\": 1000, \"overlap_slop_over_rmin\": 1e-4, \"ordering\": \"Fifo\", \"method\": \"" << methodName(System::Settings{}) << "\"},\n"
-      << "  \"setup\": \"Mirror tiling of a settled block. A block of " << blockN << " discs (" << ncol
-      << " columns of a hexagonal lattice of spacing d_max, ~" << blockN/ncol << " rows, each disc lowered onto the discs below it: a dense layered construction; between two side walls and a floor) is settled to rest "
-      << "(see settling); " << nBig << " copies of the settled block are laid side by side, every other one mirrored about the former side wall, so that grains that touched "
-      << "the (frictionless while settling) side wall now touch their mirror images: an exact equilibrium. The tiled bed (box " << nBig*ncol << " d_max = " << 1e3*block.W*nBig << " mm wide, bed "
-      << 1e3*bedHeight << " mm high) is relaxed " << relax << " steps (warm-started from the block's contact impulses, mapped onto the copies: System::setContactImpulses; the first quarter capped at 1000 sweeps/step), "
-      << "then " << timed << " steps are timed; the median wall seconds per step over these steps is reported. The frictionless case uses a block settled with mu = 0.\",\n"
-      << "  \"timed_steps\": " << timed << ",\n"
-      << "  \"mu_0_4\": {\n" << timedJson(big, "    ") << "\n  },\n"
-      << "  \"frictionless\": {\n" << timedJson(big0, "    ") << ",\n"
+      << "  \"setup\": \"Mirror tiling of a settled block. A block of " << P.blockN << " discs (" << P.ncol
+      << " columns of a hexagonal lattice of spacing d_max, ~" << P.blockN/P.ncol << " rows, each disc lowered onto the discs below it: a dense layered construction; between two side walls and a floor) is settled to rest "
+      << "(see settling); " << P.nBig << " copies of the settled block are laid side by side, every other one mirrored about the former side wall, so that grains that touched "
+      << "the (frictionless while settling) side wall now touch their mirror images: an exact equilibrium. The tiled bed (box " << P.nBig*P.ncol << " d_max = " << 1e3*R.block.W*P.nBig << " mm wide, bed "
+      << 1e3*bedHeight << " mm high) is relaxed " << P.relax << " steps (warm-started from the block's contact impulses, mapped onto the copies: System::setContactImpulses; the first quarter capped at 1000 sweeps/step), "
+      << "then " << P.timed << " steps are timed; the median wall seconds per step over these steps is reported. The frictionless case uses a block settled with mu = 0.\",\n"
+      << "  \"timed_steps\": " << P.timed << ",\n"
+      << "  \"mu_0_4\": {\n" << timedJson(R.big, "    ") << "\n  },\n"
+      << "  \"frictionless\": {\n" << timedJson(R.big0, "    ") << ",\n"
       << "    \"note\": \"not a bed at rest: frictionless polydisperse discs keep rearranging (the mu = 0 block did not reach max |v| < g dt/10 within "
-      << maxSettle << " steps; max |v| at the end of timing " << big0.vmaxEnd << " m/s), so these are the figures of a slowly creeping bed, "
-      << "with hundreds of sweeps per step; only " << big0.relaxSteps << " + " << big0.timedSteps << " steps to keep the run bounded\"\n  },\n"
-      << "  \"settling\": {\n"
-      << "    \"what\": \"one " << blockN << "-disc block (" << ncol << " discs wide, full bed height) from the layered construction (hexagonal lattice columns of spacing d_max, each disc lowered onto the discs below) to rest with the measured settings (tolerance 1e-6 d_min, at most 1000 sweeps/step): until max |v| < g dt for 20 steps, then until max |v| < g dt/10 for 50 consecutive steps; mu = 0.4; the 70,000-disc bed is made of " << nBig << " such blocks\",\n"
-      << "    \"grains\": " << blockN << ",\n    \"steps\": " << S.steps << ",\n    \"wall_seconds\": " << S.seconds << ",\n    \"cpu_seconds\": " << S.cpuSeconds
-      << ",\n    \"steps_to_vmax_below_g_dt\": " << S.coarseSteps << ",\n    \"sweeps_per_step_mean\": " << S.sweeps << ",\n    \"reached_rest\": " << (S.rest ? "true" : "false")
-      << ",\n    \"frictionless\": {\"steps\": " << S0.steps << ", \"steps_to_vmax_below_g_dt\": " << S0.coarseSteps << ", \"wall_seconds\": " << S0.seconds << ", \"sweeps_per_step_mean\": " << S0.sweeps
-      << ", \"reached_rest\": " << (S0.rest ? "true" : "false") << "}\n  },\n"
+      << P.maxSettle << " steps; max |v| at the end of timing " << R.big0.vmaxEnd << " m/s), so these are the figures of a slowly creeping bed, "
+      << "with hundreds of sweeps per step; only " << R.big0.relaxSteps << " + " << R.big0.timedSteps << " steps to keep the run bounded\"\n  },\n";
+}
+
+/// JSON, second part: settling, scaling, the 3D bed and the profiles.
+void writeSettlingScalingJson(std::ostream& o, const SuitePlan& P, const SuiteResults& R)
+{
+    o << "  \"settling\": {\n"
+      << "    \"what\": \"one " << P.blockN << "-disc block (" << P.ncol << " discs wide, full bed height) from the layered construction (hexagonal lattice columns of spacing d_max, each disc lowered onto the discs below) to rest with the measured settings (tolerance 1e-6 d_min, at most 1000 sweeps/step): until max |v| < g dt for 20 steps, then until max |v| < g dt/10 for 50 consecutive steps; mu = 0.4; the 70,000-disc bed is made of " << P.nBig << " such blocks\",\n"
+      << "    \"grains\": " << P.blockN << ",\n    \"steps\": " << R.S.steps << ",\n    \"wall_seconds\": " << R.S.seconds << ",\n    \"cpu_seconds\": " << R.S.cpuSeconds
+      << ",\n    \"steps_to_vmax_below_g_dt\": " << R.S.coarseSteps << ",\n    \"sweeps_per_step_mean\": " << R.S.sweeps << ",\n    \"reached_rest\": " << (R.S.rest ? "true" : "false")
+      << ",\n    \"frictionless\": {\"steps\": " << R.S0.steps << ", \"steps_to_vmax_below_g_dt\": " << R.S0.coarseSteps << ", \"wall_seconds\": " << R.S0.seconds << ", \"sweeps_per_step_mean\": " << R.S0.sweeps
+      << ", \"reached_rest\": " << (R.S0.rest ? "true" : "false") << "}\n  },\n"
       << "  \"scaling\": [\n";
-    for (std::size_t k = 0; k < scaling.size(); ++k)
-        o << "    " << scalingJson(scaling[k]) << ",\n";
-    o << "    " << scalingJson(big) << "\n  ],\n"
+    for (std::size_t k = 0; k < R.scaling.size(); ++k)
+        o << "    " << scalingJson(R.scaling[k]) << ",\n";
+    o << "    " << scalingJson(R.big) << "\n  ],\n"
       << "  \"scaling_note\": \"same bed (tiles of the same block), same settings; cpu_ns_per_contact_sweep = CPU time per step / (sweeps x contacts), the per-step passes over grains and contacts included: it grows with size at equal sweeps/step (cache effect: the 70,000-disc working set of bodies, solver rows and persistent contacts, ~60 MB, is far past the 2 MB L2)\",\n"
       << "  \"profile_at_rest\": \"perf record of 40 steps of the 70,000-disc bed at rest (state saved by nscdBench methods, nscdBench 10 0 40 2 with NSCD_LOAD), stage functions of System::step before warm start and adjacency counts were merged into prepareContacts: solveNLGS 42 %, detect 16 % (walls included), prepareContacts 12 %, buildAdjacency 7 %, warmStart 5 %, storeImpulses 5.5 % (gap after the step included), integrate 2.4 %, freeVelocities 2 %: half of the step is memory-bound passes over the contact arrays, not sweeps\",\n"
-      << "  \"3d\": {\n" << timedJson(t3, "    ") << ",\n"
-      << "    \"setup\": \"block of " << b3.x.size() << " spheres (fcc square layers 10 x 10 of spacing d_max in a box, each sphere lowered onto the spheres below) settled for "
-      << S3.steps << " steps (" << S3.seconds << " s, " << S3.sweeps << " sweeps/step, max |v| < g dt/10 for 50 steps reached: " << (S3.rest ? "yes" : "no") << ", max |v| at the end " << S3.vmaxEnd << " m/s"
-      << "), tiled 2 x " << (quick ? 1 : 4) << " with mirroring in x and z, relaxed, timed as in 2D\"\n  },\n"
+      << "  \"3d\": {\n" << timedJson(R.t3, "    ") << ",\n"
+      << "    \"setup\": \"block of " << R.grains3 << " spheres (fcc square layers 10 x 10 of spacing d_max in a box, each sphere lowered onto the spheres below) settled for "
+      << R.S3.steps << " steps (" << R.S3.seconds << " s, " << R.S3.sweeps << " sweeps/step, max |v| < g dt/10 for 50 steps reached: " << (R.S3.rest ? "yes" : "no") << ", max |v| at the end " << R.S3.vmaxEnd << " m/s"
+      << "), tiled 2 x " << (P.quick ? 1 : 4) << " with mirroring in x and z, relaxed, timed as in 2D\"\n  },\n"
       << "  \"profile\": \"perf record -g of the quick suite (settling + at-rest steps): 98 % of the samples in System::step with the Gauss-Seidel local solves inlined "
       << "(solveOne2D inlined, 90 %; the 3D solve lambda 8 %), detection (uniform grid + walls) < 1 %, nothing else visible. At rest, detection is "
-      << big.detectMedian/std::max(big.spsMedian, 1e-30)*100 << " % of the 70,000-disc step (detect_seconds_per_step_median); the rest is "
-      << "sweeps_per_step_median x contacts local solves (~" << 1e9*(big.spsMedian - big.detectMedian)/std::max(1.0, big.sweepsMedian*big.contacts)
+      << R.big.detectMedian/std::max(R.big.spsMedian, 1e-30)*100 << " % of the 70,000-disc step (detect_seconds_per_step_median); the rest is "
+      << "sweeps_per_step_median x contacts local solves (~" << 1e9*(R.big.spsMedian - R.big.detectMedian)/std::max(1.0, R.big.sweepsMedian*R.big.contacts)
       << " ns each, including queue handling) plus per-step O(N) passes (free velocity, adjacency, warm start, positions). The cost is set by the "
       << "number of sweeps: a bed at rest with warm start needs a handful; settling and frictionless beds need hundreds (up to the 1000 cap).\"\n"
       << "}\n";
-    std::fprintf(stderr, "wrote %s (%.0f s)\n", out.c_str(), total);
+}
+}
+
+int runSuite(int argc, char** argv)
+{
+    const std::string out = argc > 2 ? argv[2] : "nscdDeposit.json";
+    const SuitePlan P(argc > 3 && std::string(argv[3]) == "quick");
+    std::setvbuf(stderr, nullptr, _IOLBF, 0);
+    const double tStart = now();
+    SuiteResults R;
+    runSuite2D(P, R);
+    runSuite3D(P, R);
+    R.total = now() - tStart;
+    std::ofstream o(out);
+    writeBedsJson(o, P, R);
+    writeSettlingScalingJson(o, P, R);
+    std::fprintf(stderr, "wrote %s (%.0f s)\n", out.c_str(), R.total);
     return 0;
 }
