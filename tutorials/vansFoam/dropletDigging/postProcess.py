@@ -67,7 +67,12 @@ import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
 import nscdpost
-G = 9.81
+
+# the figures (thesis Figures 4.13-4.19), a sibling module loaded by path so
+# that tests loading this file by path (nscdpost.load_module) find it too
+figures = nscdpost.load_module("dropletDigging_figures", os.path.join(here, "figures.py"))
+G = figures.G
+pyplot = figures.pyplot
 
 # droplet.dat columns (src/dropletCoupling/README.md)
 COL = dict(t=0, x=1, y=2, u=3, v=4, m=5, mdot=6, Qf=7, Qp=8, R=9, depth=10, Vdot=11,
@@ -434,14 +439,6 @@ def case_results(case):
     return info, res
 
 
-def pyplot():
-    """matplotlib.pyplot on the non-interactive Agg backend (PNG files only)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
 def case_snapshots(case, T, outdir):
     """`--snap`: `snapshot` PNGs snap_T<T>_<time>s.png in outdir at the
     written times t > 0 of the case nearest 0.3 s, half the run and its end."""
@@ -510,139 +507,6 @@ def sort_by_bed_temperature(res, data):
     return [data[i] for i in order]
 
 
-def save_figure(fig, outdir, name):
-    """Writes fig as outdir/name (tight layout, 120 dpi) and closes it."""
-    plt = pyplot()
-    fig.tight_layout()
-    fig.savefig(os.path.join(outdir, name), dpi=120)
-    plt.close(fig)
-
-
-def plot_final_depth(res, data, outdir):
-    """dropletDigging_finalDepth.png (thesis Figure 4.13): final depth h/D
-    against the bed temperature, the runs that stopped early marked, the bed
-    height, and the digging regime 350-500 C and maximum depth near 400 C
-    that the thesis states in words.  res, data: sorted
-    (`sort_by_bed_temperature`)."""
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(5, 4))
-    D0 = data[0][1]["droplet_diameter"] if data else 2.5e-3
-    Tb, hf = np.array(res["bed_temperature"]), np.array(res["final_depth"]) / D0
-    ax.plot(Tb, hf, "o-", label="nscdFoam")
-    stop = np.array([s is not None for s in res["stopped"]], dtype=bool)
-    if stop.any():
-        ax.plot(Tb[stop], hf[stop], "rx", ms=10, label="run stopped (e.g. droplet left the mesh)")
-    if data:
-        top = data[0][1]["bed_top"] / D0
-        ax.axhline(top, color="k", lw=0.8, label="bed height")
-        ax.set_ylim(0, 1.1 * max(top, hf.max()))
-    ax.axvspan(350, 500, color="orange", alpha=0.15, label="thesis: digging regime")
-    ax.axvline(400, color="red", ls=":", label="thesis: maximum depth")
-    ax.set_xlabel("bed temperature [C]")
-    ax.set_ylabel("final depth h/D")
-    ax.set_title("final depth (thesis Fig. 4.13)")
-    ax.legend(fontsize=8)
-    save_figure(fig, outdir, "dropletDigging_finalDepth.png")
-
-
-# the time series plotted against t/t_ff: results key, y label, title, file
-TIME_SERIES_PLOTS = (
-    ("depth", "h/D", "droplet depth (thesis Fig. 4.14)", "dropletDigging_depth.png"),
-    ("velocity", "u t_ff/R", "droplet velocity (thesis Fig. 4.15)",
-     "dropletDigging_velocity.png"),
-    ("mean_grain_temperature", "(T_p - T_d)/(T_bed - T_d)",
-     "mean grain temperature (thesis Fig. 4.16)", "dropletDigging_grainTemperature.png"),
-    ("lifetime", "m/mdot [s]", "instant lifetime (thesis Fig. 4.17)",
-     "dropletDigging_lifetime.png"))
-
-
-def scaled_series(key, info, r):
-    """(t/t_ff, y) of the time series `key` of one case's results r, y made
-    dimensionless: depth over D, velocity times t_ff/R_0, mean grain
-    temperature as (T_p - T_d)/(T_bed - T_d); the lifetime as it is [s]."""
-    R0 = info["droplet_diameter"] / 2
-    tff = math.sqrt(2 * R0 / G)
-    t = np.array(r["time"]) / tff
-    y = np.array(r[key], dtype=float)
-    if key == "depth":
-        y = y / info["droplet_diameter"]
-    elif key == "velocity":
-        y = y * tff / R0
-    elif key == "mean_grain_temperature":
-        y = (y - info["T_d"]) / (info["bed_temperature_C"] + 273.15 - info["T_d"])
-    return t, y
-
-
-def plot_time_series(data, outdir):
-    """The plots of TIME_SERIES_PLOTS (thesis Figures 4.14-4.17), one curve
-    per case (`scaled_series`); the lifetime on a log scale."""
-    plt = pyplot()
-    for key, ylabel, title, name in TIME_SERIES_PLOTS:
-        fig, ax = plt.subplots(figsize=(5, 4))
-        for T, info, r in data:
-            t, y = scaled_series(key, info, r)
-            ax.plot(t, y, label=f"{T:g} C")
-        ax.set_xlabel("t / t_ff")
-        ax.set_ylabel(ylabel)
-        if key == "lifetime":
-            ax.set_yscale("log")
-        ax.set_title(title)
-        ax.legend(fontsize=8)
-        save_figure(fig, outdir, name)
-
-
-def smooth(t, y, width=0.02):
-    """Running mean of y over `width` s (t the times; the grain forces of
-    the NSCD steps are impulsive), y itself when the window is one step or
-    longer than the series."""
-    y = np.asarray(y, dtype=float)
-    n = max(1, int(round(width / max(np.median(np.diff(t)), 1e-12)))) if len(t) > 1 else 1
-    if n <= 1 or len(y) <= n:
-        return y
-    k = np.ones(n)
-    return np.convolve(y, k, mode="same") / np.convolve(np.ones(len(y)), k, mode="same")
-
-
-def plot_forces(data, outdir):
-    """dropletDigging_forces.png (thesis Figure 4.18): the vertical forces
-    of the gas and the grains on the droplet over m_0 g, upward, running
-    means over 0.02 s (`smooth`), the weight dotted."""
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for k, (T, info, r) in enumerate(data):
-        tff = math.sqrt(info["droplet_diameter"] / G)
-        t, f, col = np.array(r["time"]), r["forces"], f"C{k}"
-        ax.plot(t / tff, smooth(t, f["fluid"]), "-", color=col, label=f"{T:g} C: fluid F_f")
-        ax.plot(t / tff, smooth(t, f["grains"]), "--", color=col, label=f"{T:g} C: grains F_p (+F_c)")
-        ax.plot(t / tff, f["weight"], ":", color=col, lw=0.8)
-    ax.set_xlabel("t / t_ff")
-    ax.set_ylabel("vertical force / m_0 g (dotted: weight)")
-    ax.set_title("forces on the droplet (thesis Fig. 4.18)")
-    ax.legend(fontsize=6)
-    save_figure(fig, outdir, "dropletDigging_forces.png")
-
-
-def plot_heat(data, outdir):
-    """dropletDigging_heat.png (thesis Figure 4.19): the heat rates into
-    the droplet, Q_f and Q_p + Q_film, over the first step's L mdot, running
-    means over 0.02 s (`smooth`)."""
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for k, (T, info, r) in enumerate(data):
-        tff = math.sqrt(info["droplet_diameter"] / G)
-        t, col = np.array(r["time"]), f"C{k}"
-        qf, qp, qfilm = (np.array(r[x]) for x in ("Q_f", "Q_p", "Q_film"))
-        q0 = qf[0] + qp[0] + qfilm[0]
-        ax.plot(t / tff, smooth(t, qf / q0), "-", color=col, label=f"{T:g} C: Q_f")
-        ax.plot(t / tff, smooth(t, (qp + qfilm) / q0), "--", color=col, label=f"{T:g} C: Q_p (+Q_film)")
-    ax.set_xlabel("t / t_ff")
-    ax.set_ylabel("heat rate / first-step L mdot")
-    ax.set_yscale("log")
-    ax.set_title("heat into the droplet (thesis Fig. 4.19)")
-    ax.legend(fontsize=6)
-    save_figure(fig, outdir, "dropletDigging_heat.png")
-
-
 def write_results(res, outdir):
     """outdir/results.json (indent 1) and the final log line (bed
     temperature, final depth per case)."""
@@ -658,10 +522,10 @@ def main(cases, outdir=here, snap=False):
     pyplot()
     res, data = read_cases(cases, outdir, snap)
     data = sort_by_bed_temperature(res, data)
-    plot_final_depth(res, data, outdir)
-    plot_time_series(data, outdir)
-    plot_forces(data, outdir)
-    plot_heat(data, outdir)
+    figures.plot_final_depth(res, data, outdir)
+    figures.plot_time_series(data, outdir)
+    figures.plot_forces(data, outdir)
+    figures.plot_heat(data, outdir)
     write_results(res, outdir)
     return res
 
