@@ -62,6 +62,7 @@ int main(int argc, char *argv[])
     #include "createControl.H"
     #include "createTimeControls.H"
     #include "createFields.H"
+    #include "createVelocityCorrection.H"
     #include "createFvOptions.H"
     // fvOptions that exchange with the grains (grainCouplingSource, e.g.
     // vapourDropletSource) are coupled to the cloud through typed hooks
