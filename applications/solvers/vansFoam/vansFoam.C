@@ -41,6 +41,7 @@ Usage
 #include "fvCFD.H"
 #include "pimpleControl.H"
 #include "fixedFluxPressureFvPatchScalarField.H"
+#include "polyMeshTools.H"
 #include "fvOptions.H"
 
 #include <sstream>
