@@ -72,7 +72,6 @@ import nscdpost
 # that tests loading this file by path (nscdpost.load_module) find it too
 figures = nscdpost.load_module("dropletDigging_figures", os.path.join(here, "figures.py"))
 G = figures.G
-pyplot = figures.pyplot
 
 # droplet.dat columns (src/dropletCoupling/README.md)
 COL = dict(t=0, x=1, y=2, u=3, v=4, m=5, mdot=6, Qf=7, Qp=8, R=9, depth=10, Vdot=11,
@@ -519,7 +518,6 @@ def main(cases, outdir=here, snap=False):
     """Post-processes the cases into outdir (module docstring): reads each
     case (`read_cases`), sorts them by bed temperature, draws Figures
     4.13-4.19 and writes results.json.  Returns the results.json dict."""
-    pyplot()
     res, data = read_cases(cases, outdir, snap)
     data = sort_by_bed_temperature(res, data)
     figures.plot_final_depth(res, data, outdir)
