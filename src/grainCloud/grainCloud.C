@@ -174,6 +174,7 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
             << " written: re-run grainDeposit." << exit(FatalError);
     }
     readMovingWalls();
+    readWallFriction();
     readWallTemperatures();
     readFrontRearWalls();
     applySolverSettings();

@@ -44,7 +44,7 @@ void Foam::grainCloud::readSettings()
     (
         dict_,
         {
-            "materials", "wallPatches", "maxDisplacementFraction",
+            "materials", "wallPatches", "wallFriction", "maxDisplacementFraction",
             "contactSolver", "movingWalls", "initialTemperature",
             "wallTemperatures", "gates", "frontRearWalls", "outletPatches"
         }

@@ -28,43 +28,10 @@ void Foam::grainCloud::readWallTemperatures()
     const dictionary& wt = dict_.subDict("wallTemperatures");
     const wordList patches(patchWalls_.sortedToc());
     // every wall patch adiabatic, then the listed ones at their temperature
-    // (a patch matched by several entries: the last one wins)
-    HashTable<scalar> Tpatch;
-    for (const entry& e : wt)
-    {
-        if (!e.isStream())
-        {
-            FatalIOErrorInFunction(wt)
-                << "wallTemperatures entry '" << e.keyword() << "' in "
-                << wt.name() << " must be '<patch or \"regex\"> <T [K]>;'"
-                << exit(FatalIOError);
-        }
-        const scalar T = wt.get<scalar>(e.keyword());
-        if (!std::isfinite(T) || T < 0)
-        {
-            FatalIOErrorInFunction(wt)
-                << "wallTemperatures " << e.keyword() << " " << T
-                << " in " << wt.name() << ": the temperature must be a"
-                << " finite value >= 0 [K]" << exit(FatalIOError);
-        }
-        const wordRe re(e.keyword());
-        bool matched = false;
-        for (const word& p : patches)
-        {
-            if (re.match(p))
-            {
-                Tpatch.set(p, T);
-                matched = true;
-            }
-        }
-        if (!matched)
-        {
-            FatalIOErrorInFunction(wt)
-                << "wallTemperatures entry '" << e.keyword() << "' in "
-                << wt.name() << " matches no wall patch. Wall patches: "
-                << flatOutput(patches) << exit(FatalIOError);
-        }
-    }
+    const HashTable<scalar> Tpatch
+    (
+        grainTools::patchValues(wt, patches, "temperature [K]", 0)
+    );
     try
     {
         for (const word& p : patches)

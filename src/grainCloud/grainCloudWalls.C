@@ -5,9 +5,9 @@ Description
     The grains' walls: the mesh wall patches turned into nscd walls (2D: one
     segment per wall face in the plane z = 0, collinear touching segments
     merged; 3D: one triangulated surface per patch), the wall ids of each
-    patch, movingWalls (a wall patch with a prescribed velocity [m/s] over a
-    time window) and the grain-only gates, and their velocities before each
-    step.
+    patch, their friction (wallFriction), movingWalls (a wall patch with a
+    prescribed velocity [m/s] over a time window) and the grain-only gates,
+    and their velocities before each step.
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
@@ -276,6 +276,41 @@ void Foam::grainCloud::readMovingWalls()
                 << " component in a 2D case" << exit(FatalIOError);
         }
         movingWalls_.append(w);
+    }
+}
+
+
+void Foam::grainCloud::readWallFriction()
+{
+    const wordList patches(patchWalls_.sortedToc());
+    HashTable<scalar> mu;
+    if (dict_.found("wallFriction"))
+    {
+        mu = grainTools::patchValues
+        (
+            dict_.subDict("wallFriction"), patches, "friction coefficient", 0
+        );
+    }
+    try
+    {
+        // -1: the grain's material friction (nscd::System::setWallFriction)
+        for (const word& p : patches)
+        {
+            for (const label id : patchWalls_[p])
+            {
+                system_->setWallFriction(id, mu.found(p) ? mu[p] : -1);
+            }
+            if (mu.found(p))
+            {
+                Info<< "grainCloud: wall patch " << p << " friction " << mu[p]
+                    << nl;
+            }
+        }
+    }
+    catch (const nscd::InputError& err)
+    {
+        FatalErrorInFunction
+            << "Grain system: " << err.what() << exit(FatalError);
     }
 }
 

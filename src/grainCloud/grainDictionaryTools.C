@@ -3,6 +3,8 @@
 #include "FlatOutput.H"
 #include "wordRes.H"
 
+#include <cmath>
+
 void Foam::grainTools::checkKeywords
 (
     const dictionary& dict,
@@ -100,4 +102,53 @@ Foam::labelList Foam::grainTools::patchIds
         }
     }
     return pbm.patchSet(names).sortedToc();
+}
+
+
+Foam::HashTable<Foam::scalar> Foam::grainTools::patchValues
+(
+    const dictionary& dict,
+    const wordList& patches,
+    const string& what,
+    scalar minValue
+)
+{
+    const word key(dict.dictName());
+    HashTable<scalar> values;
+    for (const entry& e : dict)
+    {
+        if (!e.isStream())
+        {
+            FatalIOErrorInFunction(dict)
+                << key << " entry '" << e.keyword() << "' in " << dict.name()
+                << " must be '<patch or \"regex\"> <" << what.c_str() << ">;'"
+                << exit(FatalIOError);
+        }
+        const scalar v = dict.get<scalar>(e.keyword());
+        if (!std::isfinite(v) || v < minValue)
+        {
+            FatalIOErrorInFunction(dict)
+                << key << " " << e.keyword() << " " << v << " in "
+                << dict.name() << ": the " << what.c_str() << " must be a"
+                << " finite value >= " << minValue << exit(FatalIOError);
+        }
+        const wordRe re(e.keyword());
+        bool matched = false;
+        for (const word& p : patches)
+        {
+            if (re.match(p))
+            {
+                values.set(p, v);
+                matched = true;
+            }
+        }
+        if (!matched)
+        {
+            FatalIOErrorInFunction(dict)
+                << key << " entry '" << e.keyword() << "' in " << dict.name()
+                << " matches no wall patch. Wall patches: "
+                << flatOutput(patches) << exit(FatalIOError);
+        }
+    }
+    return values;
 }

@@ -100,3 +100,17 @@ def test_negative_reorder_interval(tmp_path, env):
     replace_in(case, "constant/grainProperties", "maxIterations", "reorderInterval -1; maxIterations")
     run("blockMesh", case, env)
     fails_with(run("grainDeposit", case, env, check=False), "reorderInterval must be >= 0", "got -1")
+
+
+@pytest.mark.parametrize("entry, words", [
+    ("wallFriction { nowhere 0; }", ("wallFriction entry 'nowhere'", "matches no wall patch")),
+    ("wallFriction { \".*\" -0.1; }", ("friction coefficient must be a finite value >= 0",)),
+    ("wallFriction { walls (0 1); }", ("wallFriction",)),
+])
+def test_wall_friction_errors(tmp_path, env, entry, words):
+    """grainProperties wallFriction: an entry that matches no wall patch, a
+    negative coefficient or a value that is not a number is a FatalIOError
+    naming the entry."""
+    case = base(tmp_path, "wallFriction", [(0.05, 0.01, 0, 0.01)], extra_props=entry + "\n")
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), *words)
