@@ -90,6 +90,16 @@ def run(app, case, env, args=(), check=True):
     return p
 
 
+def run_fatal_io(app, case, env):
+    """Run an application that must stop on a FatalIOError (a bad input):
+    asserts a non-zero exit and the OpenFOAM FatalIOError banner; returns
+    stdout + stderr for the caller's checks of the message."""
+    p = run(app, case, env, check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0 and "FOAM FATAL IO ERROR" in out, out[-3000:]
+    return out
+
+
 def run_parallel(app, case, env, n=2, delta=0.001):
     """decomposePar the case into n x 1 x 1 slabs (simple method) and run
     `mpirun -np n app -parallel`; writes log.<app>, skips the test when

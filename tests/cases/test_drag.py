@@ -17,7 +17,12 @@ coding error from a deviation of the law).
 - Lab-frame terminal velocity of the same sphere at h/d = 1, 2, 4, 8: an
   unresolved grain drags the fluid of its own cells along (self-induced
   velocity), so its lab-frame speed exceeds the slip.  Reported; within 5 %
-  of the quiescent-fluid terminal speed for h/d >= 4.
+  of the quiescent-fluid terminal speed for h/d >= 4.  With
+  `undisturbedVelocity steadyOseen` (Balachandar, Liu & Lakhote 2019,
+  J. Comput. Phys. 376, 160-185, steady Oseen form): within 5 % for
+  h/d >= 2 (h/d = 2 alone in the fast tier); over-corrected at h/d = 1
+  (known deviation, asserted within [0.75, 0.90]).  An unknown word is a
+  FatalIOError naming the file, the keyword and the allowed words.
 - Fixed bed of spheres (simple cubic lattice, eps = 1 - pi/6 = 0.476) at
   Re_p ~ 1: pressure drop against Ergun (1952), an independent correlation.
   Gidaspow's dense branch is Ergun's law: within 5 %.  Di Felice's voidage
@@ -47,7 +52,7 @@ import correlations
 import nscdpost
 from correlations import (cd_brown_lawler, cd_dallavalle, ergun_gradient,
                           n_garside_al_dibouni, n_richardson_zaki)
-from foamcase import add_fluid, fixed_lattice_bed, make_box_case, run
+from foamcase import add_fluid, fixed_lattice_bed, make_box_case, run, run_fatal_io
 
 G = 9.81
 RHO, RHOP, D = 1000.0, 2500.0, 1e-3
@@ -65,9 +70,10 @@ def nu_for_reynolds(Re):
 
 
 # -- lone sphere ---------------------------------------------------------------
-def settle_one(case, env, model, nu, hd=10, end=0.3):
+def settle_one(case, env, model, nu, hd=10, end=0.3, undisturbed="none"):
     """One sphere of diameter D released near the top of a box of cells of
-    size h = hd D; returns (slip, lab-frame velocity) at the last write."""
+    size h = hd D (couplingProperties undisturbedVelocity `undisturbed`);
+    returns (slip, lab-frame velocity) at the last write."""
     h = hd * D
     # at least 16 d wide and 60 d tall (4 x 20 cells at h/d = 10)
     nx, ny = max(4, int(round(16 / hd))), max(20, int(round(60 / hd)))
@@ -75,8 +81,9 @@ def settle_one(case, env, model, nu, hd=10, end=0.3):
     make_box_case(case, (0, 0, 0), (lx, ly, lx), (nx, ny, nx), (0, -G, 0),
                   {"glass": {"density": RHOP, "friction": 0.4}},
                   grains=[(lx / 2 + 0.3 * h, ly - 15 * D, lx / 2 + 0.3 * h, D)],
-                  end_time=end, dt=1e-3, write_interval=end, two_d=False)
-    add_fluid(case, RHO, nu, drag=model)
+                  end_time=end, dt=1e-3, write_interval=end / 3, two_d=False)
+    add_fluid(case, RHO, nu, drag=model,
+              extra_coupling=f"undisturbedVelocity {undisturbed};\n")
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     p = run("vansFoam", case, env)
@@ -84,17 +91,20 @@ def settle_one(case, env, model, nu, hd=10, end=0.3):
     # of each step: pFinal, relTol 0, tolerance 1e-9)
     errs = [float(m) for m in re.findall(r"continuity errors : sum local = (\S+),", p.stdout)]
     assert errs[1::2] and max(errs[1::2]) < 1e-8
-    t, name = nscdpost.time_dirs(case)[-1]
+    (t0, name0), (t, name) = nscdpost.time_dirs(case)[-2:]
     v = nscdpost.read_grains(case, name)["U"][0]
     u = nscdpost.read_vector_field(os.path.join(case, name, "lagrangian", "grains", "Ufluid"))[0]
-    return u[1] - v[1], -v[1]
+    # lab-frame speed averaged over the last third: the instantaneous one
+    # varies by a few % as the sphere crosses the cell faces at h/d ~ 2
+    fall = nscdpost.read_grains(case, name0)["x"][0][1] - nscdpost.read_grains(case, name)["x"][0][1]
+    return u[1] - v[1], -v[1], fall / (t - t0)
 
 
 @pytest.mark.parametrize("Re", [0.1, 1, 10, 100, 1000])
 @pytest.mark.parametrize("model", ["Gidaspow", "DallavalleDiFelice"])
 def test_lone_sphere_terminal_slip(tmp_path, env, model, Re):
     nu = nu_for_reynolds(Re)
-    slip, lab = settle_one(str(tmp_path / "c"), env, model, nu)
+    slip, lab, _ = settle_one(str(tmp_path / "c"), env, model, nu)
     ref = terminal_slip(cd_brown_lawler, D, nu)
     print(f"{model} Re_t {Re}: slip {slip:.5g} m/s, lab {lab:.5g} m/s, "
           f"Brown & Lawler {ref:.5g} m/s, slip/ref {slip / ref:.4f}")
@@ -107,18 +117,63 @@ def test_lone_sphere_terminal_slip(tmp_path, env, model, Re):
         assert slip == pytest.approx(terminal_slip(cd_dallavalle, D, nu), rel=0.02)
 
 
-def test_lone_sphere_lab_frame_velocity(tmp_path, env):
+@pytest.mark.parametrize("undisturbed", ["none", "steadyOseen"])
+def test_lone_sphere_lab_frame_velocity(tmp_path, env, undisturbed):
     """Lab-frame terminal speed vs h/d at Re_t = 10 (Gidaspow, whose lone-
-    sphere law is within 1 % of Brown & Lawler there)."""
+    sphere law is within 1 % of Brown & Lawler there), without and with the
+    self-induced velocity correction."""
     nu = nu_for_reynolds(10)
     ref = terminal_slip(cd_brown_lawler, D, nu)
-    lab = {}
+    lab, mean = {}, {}
     for hd in (1, 2, 4, 8):
-        slip, lab[hd] = settle_one(str(tmp_path / f"hd{hd}"), env, "Gidaspow", nu, hd=hd)
-    print("lab-frame terminal speed / Brown & Lawler: "
-          + ", ".join(f"h/d {hd}: {v / ref:.3f}" for hd, v in lab.items()))
-    for hd in (4, 8):
-        assert lab[hd] == pytest.approx(ref, rel=0.05)
+        _, lab[hd], mean[hd] = settle_one(str(tmp_path / f"hd{hd}"), env, "Gidaspow", nu,
+                                          hd=hd, undisturbed=undisturbed)
+    print(f"undisturbedVelocity {undisturbed}, "
+          "lab-frame terminal speed / Brown & Lawler: "
+          + ", ".join(f"h/d {hd}: {v / ref:.3f}" for hd, v in lab.items())
+          + "; mean over the last 0.1 s: "
+          + ", ".join(f"h/d {hd}: {v / ref:.3f}" for hd, v in mean.items()))
+    if undisturbed == "none":
+        for hd in (4, 8):
+            assert lab[hd] == pytest.approx(ref, rel=0.05)
+    else:
+        for hd in (2, 4, 8):
+            assert lab[hd] == pytest.approx(ref, rel=0.05)
+            assert mean[hd] == pytest.approx(ref, rel=0.05)
+        # known deviation: at h/d = 1 (kernel width ~0.6 d) the point-force
+        # model over-estimates the self-induced velocity, 0.80 measured
+        assert 0.75 * ref <= lab[1] <= 0.90 * ref
+
+
+def test_lone_sphere_undisturbed_velocity_correction(tmp_path, env):
+    """undisturbedVelocity steadyOseen (Balachandar, Liu & Lakhote 2019):
+    the lab-frame terminal speed at h/d = 2, Re_t = 10, where the gathered
+    velocity makes it 10.5 % too fast, within 5 % of Brown & Lawler's (the
+    band of the h/d >= 4 runs without correction, and of Gidaspow's own
+    lone-sphere law against Brown & Lawler, < 1 % at Re 10)."""
+    nu = nu_for_reynolds(10)
+    ref = terminal_slip(cd_brown_lawler, D, nu)
+    slip, lab, mean = settle_one(str(tmp_path / "c"), env, "Gidaspow", nu, hd=2,
+                                 undisturbed="steadyOseen")
+    print(f"steadyOseen h/d 2 Re_t 10: lab / Brown & Lawler {lab / ref:.4f} "
+          f"(mean over the last 0.1 s {mean / ref:.4f}), gathered slip / ref {slip / ref:.4f}")
+    assert lab == pytest.approx(ref, rel=0.05)
+    assert mean == pytest.approx(ref, rel=0.05)
+
+
+def test_undisturbed_velocity_unknown_word(tmp_path, env):
+    case = str(tmp_path / "bad")
+    make_box_case(case, (0, 0, 0), (0.004, 0.008, 0.004), (2, 4, 2), (0, -G, 0),
+                  {"glass": {"density": RHOP, "friction": 0.4}},
+                  grains=[(0.002, 0.004, 0.002, D)], end_time=0.001, dt=1e-3,
+                  two_d=False)
+    add_fluid(case, RHO, 1e-6, drag="Gidaspow",
+              extra_coupling="undisturbedVelocity Balachandar;\n")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    out = run_fatal_io("vansFoam", case, env)
+    assert "undisturbedVelocity Balachandar" in out and "couplingProperties" in out
+    assert "none" in out and "steadyOseen" in out
 
 
 # -- fixed beds ------------------------------------------------------------------

@@ -79,6 +79,7 @@ Foam::vansCloud::vansCloud
         dict_.found("voidFraction") ? dict_.subDict("voidFraction") : dictionary::null
     ),
     drag_(nullptr),
+    undisturbed_(dict_, adapter_.twoD()),
     voidFraction_
     (
         fieldIO(mesh, "voidFraction", IOobject::AUTO_WRITE),
@@ -192,6 +193,8 @@ void Foam::vansCloud::predictGrains
     resolved_.mark();
     initHeldFraction();
 
+    undisturbed_.updateKernelWidths(mesh_, adapter_);
+
     for (label i = 0; i < n; ++i)
     {
         const vector v(foamTools::toVector(s.velocities()[i]));
@@ -199,13 +202,25 @@ void Foam::vansCloud::predictGrains
         const scalar slip = mag(Ug_[i] - v);
         ReP_[i] = slip*d/nug_[i];
         const scalar eps = max(epsg_[i], adapter_.epsMin());
-        gamma_[i] =
-            W[i] > 0
-          ? drag_->gamma
+        const scalar mu = rhog_[i]*nug_[i];
+        if (!(W[i] > 0))
+        {
+            gamma_[i] = 0;
+        }
+        else if (undisturbed_.on())
+        {
+            // the drag law at the undisturbed slip (ReP_ becomes its
+            // Reynolds number), coefficient gamma/(1 - kappa) on u_g - v
+            gamma_[i] = undisturbed_.gamma
             (
-                eps, ReP_[i], d, rhog_[i]*nug_[i], rhog_[i], adapter_.twoD()
-            )
-          : 0;
+                i, drag_(), eps, ReP_[i], d, mu, rhog_[i], W[i], ReP_[i]
+            );
+        }
+        else
+        {
+            gamma_[i] =
+                drag_->gamma(eps, ReP_[i], d, mu, rhog_[i], adapter_.twoD());
+        }
 
         if (s.fixed(i))
         {

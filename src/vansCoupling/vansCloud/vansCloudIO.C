@@ -158,6 +158,11 @@ void Foam::vansCloud::logSettings() const
         Info<< ", rigid viscosity ratio " << settings_.rigidViscosityRatio
             << " in resolved free grains";
     }
+    if (undisturbed_.on())
+    {
+        Info<< ", undisturbed velocity " << undisturbed_.name()
+            << " (self-induced velocity removed from the drag)";
+    }
     Info<< ", rotation coupling " << (settings_.rotation ? "on" : "off")
         << ", void fraction min "
         << gMin(voidFraction_.primitiveField()) << nl << endl;

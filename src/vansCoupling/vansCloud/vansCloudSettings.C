@@ -15,7 +15,7 @@ const Foam::wordList Foam::vansCloudSettings::couplingKeywords
     "heatTransferModel", "DiFeliceColburnCoeffs", "GunnCoeffs",
     "RanzMarshallCoeffs", "cohesion", "rotationCoupling",
     "resolvedCellsPerDiameter", "grainPorosity", "rigidViscosityRatio",
-    "pressureDiffusion"
+    "pressureDiffusion", "undisturbedVelocity"
 };
 
 
