@@ -22,7 +22,8 @@ coding error from a deviation of the law).
   J. Comput. Phys. 376, 160-185, steady Oseen form): within 5 % for
   h/d >= 2 (h/d = 2 alone in the fast tier); over-corrected at h/d = 1
   (known deviation, asserted within [0.75, 0.90]).  An unknown word is a
-  FatalIOError naming the file, the keyword and the allowed words.
+  FatalIOError naming the file, the keyword and the allowed words, and so
+  is steadyOseen on a 2D mesh.
 - Fixed bed of spheres (simple cubic lattice, eps = 1 - pi/6 = 0.476) at
   Re_p ~ 1: pressure drop against Ergun (1952), an independent correlation.
   Gidaspow's dense branch is Ergun's law: within 5 %.  Di Felice's voidage
@@ -174,6 +175,20 @@ def test_undisturbed_velocity_unknown_word(tmp_path, env):
     out = run_fatal_io("vansFoam", case, env)
     assert "undisturbedVelocity Balachandar" in out and "couplingProperties" in out
     assert "none" in out and "steadyOseen" in out
+
+
+def test_undisturbed_velocity_is_3d_only(tmp_path, env):
+    """steadyOseen is the disturbance of a point force in 3D: a 2D mesh is a
+    FatalIOError saying so."""
+    case = str(tmp_path / "twoD")
+    make_box_case(case, (0, 0, 0), (0.04, 0.08, 0.004), (4, 8, 1), (0, -G, 0),
+                  {"glass": {"density": RHOP, "friction": 0.4}},
+                  grains=[(0.02, 0.04, 0.002, 0.004)], end_time=0.001, dt=1e-3)
+    add_fluid(case, RHO, 1e-6, extra_coupling="undisturbedVelocity steadyOseen;\n")
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    out = run_fatal_io("vansFoam", case, env)
+    assert "undisturbedVelocity steadyOseen" in out and "2D" in out
 
 
 # -- fixed beds ------------------------------------------------------------------
