@@ -82,6 +82,7 @@ SLOW_TESTS = {
     "test_grainDeposit_replicate.py::test_replicate_warm_start_converges_fast",
     "test_grainDeposit_replicate.py::test_frictionless_side_walls_carry_no_weight",
     "test_grainDeposit_replicate.py::test_copies_of_a_frictionless_column_stay_at_rest",
+    "test_grainDeposit_replicate.py::test_noisy_settle_names_the_contact_tolerance",
     "test_drag.py::test_fluidised_bed_expansion",
     "test_snapshots.py::test_sedimentation_allrun_renders_snapshots",
     "test_droplet_heat.py::test_tutorial_skeleton_runs",
