@@ -180,13 +180,14 @@ bool System::Impl::prepareContacts(double dt, int NC0)
     const std::vector<Contact>& P = contacts;
     const bool match = !P.empty();
     const bool warm = settings.warmStart && match && lastDt > 0;
-    if (match)
-    {
-        prevStart.assign(N + 1, 0);
-        for (const Contact& c : P) if (c.i < N) ++prevStart[c.i + 1];
-        for (int i = 0; i < N; ++i) prevStart[i + 1] += prevStart[i];
-    }
+    // the previous contacts of grain c.i: P is sorted by i, and so are the
+    // rows (detect) up to the droplet rows; a cursor walks P along with the
+    // rows (no separate pass over P to index it), restarted by a binary
+    // search when i decreases
+    const int NP = int(P.size());
+    int pLo = 0, lastI = -1;
     const double scale = warm ? dt/lastDt : 0.0;
+    const bool twoD = dim == 2;
     const int NB = int(body.size());
     adjStart.assign(NB + 1, 0);
     pairs.resize(NC);
@@ -225,8 +226,14 @@ bool System::Impl::prepareContacts(double dt, int NC0)
         int best = -1;
         if (match)
         {
+            if (c.i < lastI)
+                pLo = int(std::lower_bound(P.begin(), P.end(), c.i,
+                                           [](const Contact& a, int i) { return a.i < i; }) - P.begin());
+            else
+                while (pLo < NP && P[pLo].i < c.i) ++pLo;
+            lastI = c.i;
             double bestDot = 0.5;
-            for (int p = prevStart[c.i]; p < prevStart[c.i + 1]; ++p)
+            for (int p = pLo; p < NP && P[p].i == c.i; ++p)
             {
                 if (P[p].j != c.j) continue;
                 const double dd = P[p].n.dot(c.n);
@@ -253,12 +260,15 @@ bool System::Impl::prepareContacts(double dt, int NC0)
             if (tn > lim) s.rt *= (tn > 0 ? lim/tn : 0.0);
             warmStart(s);
         }
+        // 2D: the scalar tangential impulse of the NLGS solve (its start() step)
+        if (twoD) s.rts = s.rt.dot(Vec3(-s.n.y(), s.n.x(), 0.0));
         // adjacency counts (buildAdjacency): rows of each movable body
         const bool mi = !packed[c.i].fix, mj = c.j < N ? !packed[c.j].fix : body[c.j].im > 0;
         if (mi) ++adjStart[c.i + 1];
         if (mj) ++adjStart[c.j + 1];
         pairs[k] = {mi ? c.i : -1, mj ? c.j : -1};
     }
+    rowsHaveRts = twoD;
     return warm;
 }
 

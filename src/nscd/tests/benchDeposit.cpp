@@ -14,7 +14,8 @@
 //      little while settling); rain: loose jittered grid that falls.
 // env: NSCD_TOL (tolerance), NSCD_SLOP (overlapSlop), NSCD_RELAX (relaxation),
 //      NSCD_SYMMETRIC (symmetric sweeps), NSCD_POLY (hex radii in [1-poly, 1] r0,
-//      default 0.05), NSCD_SETTLE_TOL (tolerance while settling), NSCD_SAVE / NSCD_LOAD (HDF5 state after settling / instead of it).
+//      default 0.05), NSCD_SETTLE_TOL (tolerance while settling), NSCD_SAVE / NSCD_LOAD (HDF5 state after settling / instead of it),
+//      NSCD_DUMP (HDF5 state after the timed steps).
 #include "nscd/System.H"
 
 #include <algorithm>
@@ -137,6 +138,7 @@ int legacyMain(int argc, char** argv)
         sweeps += r.sweeps; det += r.detectSeconds; sol += r.solveSeconds;
         ov = std::max(ov, r.maxOverlap); contacts = r.contacts;
     }
+    if (const char* dump = std::getenv("NSCD_DUMP")) s.writeHDF5(dump);  // final state (bit-identity checks)
     std::sort(times.begin(), times.end());
     double vmax = 0;
     for (const auto& v : s.velocities()) vmax = std::max(vmax, v.norm());

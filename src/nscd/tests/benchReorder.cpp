@@ -186,6 +186,8 @@ System settledBlock(const Bed& b0, bool quick)
 /// nscdBench reorder-case <tiles> <tiled|shuffled> <interval> <steps>: one
 /// bed (tiles x 500 discs), 10 steps then <steps> steps; prints the CPU
 /// seconds of the stepping (for timing whole processes in pairs).
+/// Environment: NSCD_LOAD (start from this HDF5 state), NSCD_RELAX
+/// (Settings::relaxation), NSCD_DUMP (write the final HDF5 state).
 int runReorderCase(int argc, char** argv)
 {
     if (argc < 6)
@@ -209,11 +211,18 @@ int runReorderCase(int argc, char** argv)
     if (order == "rows") perm = rowOrder(bed);
     System s = build(bed, tileContacts(blk, nt, 1), perm);
     s.settings().maxIterations = 1000;
+    // NSCD_LOAD=<file.h5>: start from a saved state instead (e.g. a relaxed
+    // bed written with NSCD_DUMP), its settings but the interval given
+    if (const char* load = std::getenv("NSCD_LOAD")) s = System::readHDF5(load);
     s.settings().reorderInterval = interval;
+    if (const char* om = std::getenv("NSCD_RELAX")) s.settings().relaxation = std::atof(om);
     for (int k = 0; k < 10; ++k) s.step(dt);
     const double c0 = cpu();
     for (int k = 0; k < steps; ++k) s.step(dt);
     std::printf("%zu discs %s interval %d: %.4f CPU s/step\n", s.size(), argv[3], interval, (cpu() - c0)/steps);
+    // NSCD_DUMP=<file.h5>: the final state (positions, velocities, contact
+    // impulses) for bit-identity checks of library changes (h5diff)
+    if (const char* dump = std::getenv("NSCD_DUMP")) s.writeHDF5(dump);
     return 0;
 }
 
