@@ -125,7 +125,7 @@ struct NlgsSolve
     static constexpr int rowsAhead = 16, bodiesAhead = 8;
 
     /// Prefetch for the FIFO queue whose next row is queue[head] (count
-    /// rows queued). Always inlined (see local::prefetch: GCC drops calls
+    /// rows queued). Always inlined (see prefetch, SystemImpl.H: GCC drops calls
     /// of a function that only prefetches).
 #if defined(__GNUC__)
     __attribute__((always_inline))
@@ -135,14 +135,14 @@ struct NlgsSolve
         if (count > rowsAhead)
         {
             const int h = head + rowsAhead;
-            local::prefetch(cs + queue[h >= NC ? h - NC : h], sizeof(SolverContact));
+            prefetch(cs + queue[h >= NC ? h - NC : h], sizeof(SolverContact));
         }
         if (count > bodiesAhead)
         {
             const int h = head + bodiesAhead;
             const SolverContact& c = cs[queue[h >= NC ? h - NC : h]];
-            local::prefetch(bodies + c.i, sizeof(Body));
-            local::prefetch(bodies + c.j, sizeof(Body));
+            prefetch(bodies + c.i, sizeof(Body));
+            prefetch(bodies + c.j, sizeof(Body));
         }
     }
 
