@@ -27,7 +27,7 @@ namespace
 /// Largest residual weight k of a contact (SolverContact::residualWeight2)
 constexpr double maxResidualWeight = 1e3;
 
-/// Passes over the rows prefetch the bodies of the row this far ahead
+/// prepareContacts prefetches the bodies of the row this far ahead
 /// (the bodies are visited out of memory order; results unchanged).
 constexpr int bodiesAhead = 8;
 
@@ -405,14 +405,8 @@ void System::Impl::storeImpulses(double dt, int NC0, StepReport& rep)
     lastDt = dt;
     double ov = 0;
     int nCoh = 0;
-    const int N = int(x.size());
     for (int k = 0; k < NC0; ++k)
     {
-        if (k + bodiesAhead < NC0 && C[k + bodiesAhead].j < N)  // contactGapNow's grains (a hint)
-        {
-            prefetch(&packed[C[k + bodiesAhead].i], sizeof(GrainSlot));
-            prefetch(&packed[C[k + bodiesAhead].j], sizeof(GrainSlot));
-        }
         Contact& c = C[k];
         const SolverContact& s = rows[k];
         c.rn = s.rn;
