@@ -1,6 +1,7 @@
 """Shared helpers of the fault tests of issue 27 (test_faults_control.py,
 test_faults_state.py, test_faults_boundaries.py): a small 2D box case, edits
-of controlDict, digests of the earlier results, the failure check."""
+of controlDict, digests of the earlier results (the failure check is
+foamcase.fails_with)."""
 import hashlib
 import os
 import re
@@ -43,16 +44,6 @@ def digest(case, time_name):
 
 def times(case):
     return sorted((t for t in os.listdir(case) if re.fullmatch(r"[0-9.e-]+", t)), key=float)
-
-
-def fails_with(p, *words):
-    out = p.stdout + p.stderr
-    assert p.returncode != 0, "expected a failure:\n" + out[-2000:]
-    assert "FOAM FATAL" in out, out[-2000:]
-    for w in words:
-        assert w in out, f"'{w}' missing from:\n{out[-3000:]}"
-    # no signal: no stack trace of OpenFOAM's signal handlers
-    assert "printStack" not in out and "sigHandler" not in out and "Segmentation" not in out
 
 
 def stack(tmp_path, name, **kw):

@@ -90,14 +90,27 @@ def run(app, case, env, args=(), check=True):
     return p
 
 
+def fails_with(p, *words, banner="FOAM FATAL"):
+    """Check that the finished run p (a CompletedProcess of `run(...,
+    check=False)`) stopped on an OpenFOAM fatal error: non-zero exit, the
+    banner (e.g. "FOAM FATAL IO ERROR" for a bad input), each of words in
+    its output, and no signal (no stack trace of OpenFOAM's signal
+    handlers, no segmentation fault).  Returns stdout + stderr."""
+    out = p.stdout + p.stderr
+    assert p.returncode != 0, "expected a failure:\n" + out[-2000:]
+    assert banner in out, out[-3000:]
+    for w in words:
+        assert w in out, f"'{w}' missing from:\n{out[-3000:]}"
+    assert "printStack" not in out and "sigHandler" not in out and "Segmentation" not in out
+    assert "sigsegv" not in out.lower()
+    return out
+
+
 def run_fatal_io(app, case, env):
     """Run an application that must stop on a FatalIOError (a bad input):
-    asserts a non-zero exit and the OpenFOAM FatalIOError banner; returns
-    stdout + stderr for the caller's checks of the message."""
-    p = run(app, case, env, check=False)
-    out = p.stdout + p.stderr
-    assert p.returncode != 0 and "FOAM FATAL IO ERROR" in out, out[-3000:]
-    return out
+    `fails_with` its run and the FatalIOError banner; returns stdout +
+    stderr for the caller's checks of the message."""
+    return fails_with(run(app, case, env, check=False), banner="FOAM FATAL IO ERROR")
 
 
 def run_parallel(app, case, env, n=2, delta=0.001):

@@ -9,8 +9,8 @@ import re
 import numpy as np
 import pytest
 
-from faultcase import G, MAT, box, fails_with, set_control, times
-from foamcase import add_fluid, make_box_case, run
+from faultcase import G, MAT, box, set_control, times
+from foamcase import add_fluid, fails_with, make_box_case, run
 
 
 # ---- rows 2-3: grains never vanish silently ---------------------------------

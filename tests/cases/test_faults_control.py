@@ -8,8 +8,8 @@ import re
 import subprocess
 import time
 
-from faultcase import G, MAT, box, digest, fails_with, set_control, stack, times
-from foamcase import add_fluid, make_box_case, run
+from faultcase import G, MAT, box, digest, set_control, stack, times
+from foamcase import add_fluid, fails_with, make_box_case, run
 
 
 # ---- row 1: never hang -------------------------------------------------------

@@ -12,8 +12,8 @@ import struct
 import subprocess
 import time
 
-from faultcase import G, MAT, box, fails_with, set_control, stack, times
-from foamcase import make_box_case, run, write
+from faultcase import G, MAT, box, set_control, stack, times
+from foamcase import fails_with, make_box_case, run, write
 
 
 # ---- row 4: bad state files -------------------------------------------------

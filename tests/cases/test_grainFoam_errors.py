@@ -3,7 +3,7 @@ import os
 
 import pytest
 
-from foamcase import make_box_case, run, write
+from foamcase import fails_with, make_box_case, run, write
 
 G = 9.81
 MAT = {"glass": {"density": 2500, "friction": 0.4}}
@@ -22,15 +22,6 @@ def replace_in(case, rel, old, new):
     txt = open(p).read()
     assert old in txt, f"'{old}' not in {p}"
     open(p, "w").write(txt.replace(old, new))
-
-
-def fails_with(p, *words):
-    out = p.stdout + p.stderr
-    assert p.returncode != 0, "expected a failure"
-    assert "FOAM FATAL" in out, out[-2000:]
-    for w in words:
-        assert w in out, f"'{w}' missing from:\n{out[-2000:]}"
-    assert "Segmentation" not in out and "sigsegv" not in out.lower()
 
 
 def test_overlapping_initial_grains(tmp_path, env):

@@ -25,7 +25,7 @@ import pytest
 
 import correlations
 
-from foamcase import run
+from foamcase import fails_with, run
 
 EPS, PR = 0.45, 0.71
 RES = [1.0, 10.0, 100.0, 1000.0]
@@ -120,19 +120,14 @@ def test_coeffs_and_dict_option(tmp_path, env):
         assert nu == pytest.approx(ref, rel=1e-6)
 
 
-def fails_with(p, *words):
-    out = p.stdout + p.stderr
-    assert p.returncode != 0, "expected a failure"
-    assert "FOAM FATAL IO ERROR" in out, out[-2000:]
-    for w in words:
-        assert w in out, f"'{w}' missing from:\n{out[-2000:]}"
+FATAL_IO = "FOAM FATAL IO ERROR"
 
 
 def test_unknown_model(tmp_path, env):
     case = make_case(tmp_path, "unknown", "heatTransferModel Gun;\n")
     p = run("nusseltTable", case, env, check=False)
     fails_with(p, "Unknown heatTransferModel type Gun", "DiFeliceColburn", "Gunn",
-               "RanzMarshall", "or none (no fluid-grain heat exchange)")
+               "RanzMarshall", "or none (no fluid-grain heat exchange)", banner=FATAL_IO)
 
 
 def test_none_has_no_nusselt_number(tmp_path, env):
@@ -141,11 +136,12 @@ def test_none_has_no_nusselt_number(tmp_path, env):
     table it is a clear error, not a table of zeros."""
     case = make_case(tmp_path, "none", "heatTransferModel none;\n")
     p = run("nusseltTable", case, env, check=False)
-    fails_with(p, "heatTransferModel none", "switches the fluid-grain heat exchange off")
+    fails_with(p, "heatTransferModel none", "switches the fluid-grain heat exchange off",
+               banner=FATAL_IO)
 
 
 def test_unknown_coeff_keyword(tmp_path, env):
     case = make_case(tmp_path, "badCoeff", "heatTransferModel DiFeliceColburn;\n"
                      "DiFeliceColburnCoeffs { delta 500; alfa 0.4; }\n")
     p = run("nusseltTable", case, env, check=False)
-    fails_with(p, "Unknown keyword", "alfa", "alpha")
+    fails_with(p, "Unknown keyword", "alfa", "alpha", banner=FATAL_IO)
