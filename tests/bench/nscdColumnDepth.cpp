@@ -1,0 +1,74 @@
+// Benchmark driver (issue 26; src/nscd/README.md "Tolerance and bed depth"):
+// a column of discs between frictionless side walls, poured from a loose
+// lattice and stepped with nscd::System::advance, to measure the velocity
+// noise the contact solver's stopping test leaves in a bed N layers deep.
+// 1 mm discs (d in [0.9, 1] mm), rho 2500, mu 0.3, ten discs wide (10 mm),
+// dt 5e-4 s, overlapSlop 1e-4. Every 10th step it prints: max grain speed
+// [m/s], kinetic energy [J/m], centre-of-mass vertical velocity [m/s], the
+// walls' vertical impulse over the step / (weight dt), contacts, sweeps,
+// sub-steps, residual, max overlap. Built and run by tests/bench/nscdColumnDepth.
+//
+// usage: nscdColumnDepth GRAINS STEPS TOLERANCE MAX_ITERATIONS [METHOD]
+//        METHOD: the Settings::Method number (0 NLGS, 1 overRelaxedNLGS,
+//        2 APGD, 3 NNCG), default 0
+#include "nscd/System.H"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+
+using namespace nscd;
+
+int main(int argc, char** argv)
+{
+    if (argc < 5)
+    {
+        std::fprintf(stderr, "usage: %s GRAINS STEPS TOLERANCE MAX_ITERATIONS [METHOD]\n", argv[0]);
+        return 2;
+    }
+    const int nGrains = std::atoi(argv[1]);
+    const int nSteps = std::atoi(argv[2]);
+    const double d = 1e-3, w = 10e-3, H = 0.3, dt = 5e-4, rho = 2500;
+    System s(2);
+    const int m = s.addMaterial({rho, 0.3});
+    s.settings().tolerance = std::atof(argv[3]);
+    s.settings().maxIterations = std::atoi(argv[4]);
+    if (argc > 5) s.settings().method = System::Settings::Method(std::atoi(argv[5]));
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0, 1);
+    const double sp = 1.3*d;
+    for (int j = 0, n = 0; n < nGrains; ++j)
+        for (int i = 0; i < int(w/sp) && n < nGrains; ++i, ++n)
+        {
+            const double dd = 0.9*d + 0.1*d*u(rng);
+            s.addGrain(Vec3((i + 0.5)*sp + 0.1*d*(2*u(rng) - 1), (j + 0.5)*sp + 0.1*d*(2*u(rng) - 1), 0),
+                       dd/2, m);
+        }
+    s.addSegment(Vec3(0, 0, 0), Vec3(w, 0, 0));
+    s.setWallFriction(s.addSegment(Vec3(0, 0, 0), Vec3(0, H, 0)), 0.0);
+    s.setWallFriction(s.addSegment(Vec3(w, 0, 0), Vec3(w, H, 0)), 0.0);
+    s.setGravity(Vec3(0, -9.81, 0));
+    double weight = 0;
+    for (double r : s.radii()) weight += rho*M_PI*r*r*9.81;
+    for (int k = 0; k < nSteps; ++k)
+    {
+        const StepReport r = s.advance(dt, 0.1);
+        if (k % 10 != 9) continue;
+        double vmax = 0, ke = 0, p = 0, M = 0;
+        for (std::size_t i = 0; i < s.size(); ++i)
+        {
+            const double mi = rho*M_PI*s.radii()[i]*s.radii()[i], v = s.velocities()[i].norm();
+            vmax = std::max(vmax, v);
+            ke += 0.5*mi*v*v;
+            p += mi*s.velocities()[i].y();
+            M += mi;
+        }
+        double lift = 0;
+        for (const auto& c : s.contacts())
+            if (c.j < 0) lift += c.impulse.y();
+        std::printf("step %d t %.3f vmax %.2e KE %.3e vycm %.2e lift/W %.4f contacts %d sweeps %d sub %d "
+                    "res %.2e ov %.2e\n", k + 1, (k + 1)*dt, vmax, ke, p/M, lift/dt/weight, r.contacts,
+                    r.sweeps, r.substeps, r.residual, r.maxOverlap);
+    }
+}
