@@ -143,7 +143,7 @@ def test_parallel_same_decision(tmp_path, env):
     par = str(tmp_path / "parallel")
     shutil.copytree(serial, par)
     (ls, rs), _ = displacements(serial, env, mesh=False)
-    p = run_parallel("vansFoam", par, env)
+    run_parallel("vansFoam", par, env)
     run("reconstructPar", par, env, args=("-latestTime",))
     (lp, rp), _ = displacements(par, env, mesh=False, solve=False)
     print(f"serial drops {ls:.3e} {rs:.3e} m, parallel {lp:.3e} {rp:.3e} m")

@@ -122,7 +122,6 @@ def test_porous_grains_pressure_gradient(tmp_path, env):
         if n == 0.0:
             p0 = p
     # explicit grainPorosity 0: identical to the default
-    import shutil
     grad, eps_field, eps, law, p = porous_bed_pressure_gradient(tmp_path / "explicit0", env, 0.0)
     assert np.array_equal(p, p0)
 

@@ -120,13 +120,12 @@ def test_droplet_seeps_through_fixed_bed(tmp_path, env):
     at Re_d = 0.05-0.5) within 3 %.  The gas resistance is < 1 % of F_p
     (nu_gas = 1e-9).  The former hydrostatic model is 2.0 times faster: the
     2 % tolerance excludes it."""
-    G = 9.81
     phi_lat = math.pi / (4 * 1.25**2)
     speeds = {}
     for dg in (5e-5, 1e-4):
         d = seepage_run(tmp_path, env, dg)
         last = d[-4:]
-        m, R, Vp = last[:, 5], last[:, 9], last[:, 12]
+        R, Vp = last[:, 9], last[:, 12]
         V = math.pi * R**2 * DEPTH
         phi = Vp / V
         u = -last[:, 4]

@@ -132,7 +132,7 @@ def test_sigterm_writes_and_stops(tmp_path, env):
     # and the run continues from it
     set_control(case, endTime=float(last) + 0.002)
     out = run("grainFoam", case, env).stdout
-    assert f"Create time" in out and "End" in out
+    assert "Create time" in out and "End" in out
 
 
 # ---- row 5: restart from a write that is not the first ----------------------
@@ -192,7 +192,7 @@ def test_reconstructPar_carries_grain_state(tmp_path, env):
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run_parallel("grainFoam", case, env, n=2)
-    p = run("reconstructPar", case, env)
+    run("reconstructPar", case, env)
     # the state file carries a FoamFile header (HDF5 user block): neither
     # decomposePar nor reconstructPar warns about it
     for app in ("decomposePar", "reconstructPar"):

@@ -25,7 +25,6 @@ the bed stays put at 0.95 U_mf and lifts at 1.05 U_mf.
 """
 import math
 import os
-import shutil
 
 import numpy as np
 import pytest

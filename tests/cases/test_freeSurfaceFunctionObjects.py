@@ -31,7 +31,7 @@ import numpy as np
 import pytest
 
 import nscdpost
-from foamcase import make_box_case, run, run_parallel, write
+from foamcase import make_box_case, run, write
 
 G = 9.81
 NX, NY = 20, 25

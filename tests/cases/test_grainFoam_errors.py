@@ -3,7 +3,7 @@ import os
 
 import pytest
 
-from foamcase import fails_with, make_box_case, run, write
+from foamcase import fails_with, make_box_case, run
 
 G = 9.81
 MAT = {"glass": {"density": 2500, "friction": 0.4}}

@@ -30,9 +30,6 @@ unresolved meshes cannot show; the spread is that physics, not noise.
 A closed-form check of the same run: the cloud cannot fall faster than a lone
 grain in free fall with buoyancy, (1 - rho/rho_p) g t^2/2.
 """
-import math
-import os
-
 import numpy as np
 import pytest
 

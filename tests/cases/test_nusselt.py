@@ -18,7 +18,6 @@ The thesis gives no number read off Figure 4.3 (only the curve at eps = 0.45
 against the packed-bed data of its ref. [115]), so there is no figure check.
 """
 import json
-import math
 import os
 
 import pytest

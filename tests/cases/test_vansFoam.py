@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import nscdpost
-from foamcase import (add_fluid, uniform_inflow, make_box_case, run, run_fatal_io, run_parallel,
-                      write, read_internal)
+from foamcase import (add_fluid, make_box_case, run, run_fatal_io, run_parallel,
+                      read_internal)
 
 G = 9.81
 

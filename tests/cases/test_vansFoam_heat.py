@@ -19,7 +19,6 @@ import math
 import os
 import re
 
-import pytest
 
 import correlations
 import nscdpost

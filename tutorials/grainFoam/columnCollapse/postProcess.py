@@ -16,7 +16,6 @@ Measured per case, from the lagrangian grains of the first and last times:
   runout_change_last_interval: L_f minus the runout one write interval earlier.
 Reference: Staron & Hinch (2005) and Lube et al. (2005), see REFERENCE below.
 """
-import json
 import os
 import sys
 

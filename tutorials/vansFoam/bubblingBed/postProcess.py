@@ -161,7 +161,6 @@ def main(cases):
               f" (physical), 1/e cooling time {tc}, well-mixed air-only tau {tau_air:.1f} s")
     # the thesis' trend: higher inflow velocity -> faster cooling
     order = sorted(range(len(res["inflow_velocity"])), key=lambda i: res["inflow_velocity"][i])
-    ends = [res["excess_temperature"][i][-1] for i in order]
     tmin = min((res["time"][i][-1] for i in order), default=0)
     at = [float(np.interp(tmin, res["time"][i], res["excess_temperature"][i])) for i in order]
     res["excess_temperature_at_common_time"] = {"time": tmin, "values": at}

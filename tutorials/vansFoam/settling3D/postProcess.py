@@ -6,7 +6,6 @@ reference curve is the terminal velocity of one grain of the mean diameter
 a dense cloud (solid fraction ~0.3-0.5) falls slower than a lone grain
 (hindered settling: return flow of the displaced water, Richardson & Zaki
 1954) and stops on the floor."""
-import os
 
 import numpy as np
 

@@ -17,7 +17,6 @@ shallowest, tallest) so that Fr_f = v_f / sqrt(g h0) lands in the three
 regimes of Sarlin et al. (nonlinear transition < 0.35 < solitary < 0.87 <
 bore).  Grains: d = 5 mm mean, polydispersity 1.2, rho_p 2500, mu 0.9.
 """
-import json
 import math
 import os
 import sys
