@@ -361,6 +361,8 @@ void System::Impl::relaxPushOut(double dt, int NC0, StepReport& rep)
     StepReport relax;
     solveContacts(dt, relax);
     rep.sweeps += relax.sweeps;
+    rep.relaxSolves = 1;
+    rep.relaxSweeps = relax.sweeps;
     rep.localSolves += relax.localSolves;
     rep.residual = std::max(rep.residual, relax.residual);
     rep.converged = rep.converged && relax.converged;

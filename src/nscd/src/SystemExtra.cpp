@@ -174,6 +174,8 @@ StepReport System::advance(double dt, double fraction)
         total.converged = total.converged && r.converged;
         total.substeps += 1;
         total.redetections += r.redetections;
+        total.relaxSolves += r.relaxSolves;
+        total.relaxSweeps += r.relaxSweeps;
         total.maxOverlap = std::max(total.maxOverlap, r.maxOverlap);
         total.detectSeconds += r.detectSeconds;
         total.solveSeconds += r.solveSeconds;

@@ -185,7 +185,10 @@ System settledBlock(const Bed& b0, bool quick)
 
 /// nscdBench reorder-case <tiles> <tiled|shuffled> <interval> <steps>: one
 /// bed (tiles x 500 discs), 10 steps then <steps> steps; prints the CPU
-/// seconds of the stepping (for timing whole processes in pairs).
+/// seconds of the stepping (for timing whole processes in pairs), per step
+/// (mean, median), sweeps, the steps in which the relax stage ran
+/// (StepReport::relaxSolves), the max overlap and the max displacement over
+/// the <steps> steps.
 /// Environment: NSCD_LOAD (start from this HDF5 state), NSCD_RELAX
 /// (Settings::relaxation), NSCD_DUMP (write the final HDF5 state).
 int runReorderCase(int argc, char** argv)
@@ -217,9 +220,32 @@ int runReorderCase(int argc, char** argv)
     s.settings().reorderInterval = interval;
     if (const char* om = std::getenv("NSCD_RELAX")) s.settings().relaxation = std::atof(om);
     for (int k = 0; k < 10; ++k) s.step(dt);
+    // per step: thread CPU time, sweeps, relax stage (StepReport::relaxSolves),
+    // max overlap; over the timed steps: max displacement (all in r_min)
+    const std::vector<Vec3> x0 = s.positions();
+    std::vector<double> stepCpu, sweeps;
+    int relaxSteps = 0;
+    long relaxSweeps = 0;
+    double overlap = 0;
     const double c0 = cpu();
-    for (int k = 0; k < steps; ++k) s.step(dt);
-    std::printf("%zu discs %s interval %d: %.4f CPU s/step\n", s.size(), argv[3], interval, (cpu() - c0)/steps);
+    for (int k = 0; k < steps; ++k)
+    {
+        const double a = cpu();
+        const StepReport r = s.step(dt);
+        stepCpu.push_back(cpu() - a);
+        sweeps.push_back(r.sweeps);
+        relaxSteps += r.relaxSolves;
+        relaxSweeps += r.relaxSweeps;
+        overlap = std::max(overlap, r.maxOverlap);
+    }
+    const double total = cpu() - c0, rmin = 0.5*dMin;
+    double disp = 0;
+    for (std::size_t i = 0; i < s.size(); ++i) disp = std::max(disp, (s.positions()[i] - x0[i]).norm());
+    std::printf("%zu discs %s interval %d: %.4f CPU s/step (median %.4f), %.1f sweeps/step (median %.0f), relax stage "
+                "in %d of %d steps (%.1f sweeps/step), max overlap %.3e r_min, max displacement %.3e r_min\n",
+                s.size(), argv[3], interval, total/steps, median(stepCpu),
+                std::accumulate(sweeps.begin(), sweeps.end(), 0.0)/steps, median(sweeps), relaxSteps, steps,
+                double(relaxSweeps)/steps, overlap/rmin, disp/rmin);
     // NSCD_DUMP=<file.h5>: the final state (positions, velocities, contact
     // impulses) for bit-identity checks of library changes (h5diff)
     if (const char* dump = std::getenv("NSCD_DUMP")) s.writeHDF5(dump);
