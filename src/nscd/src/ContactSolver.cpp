@@ -43,7 +43,7 @@ double System::Impl::residualPass(double dt, bool scalarTangent) const
     return res;
 }
 
-void System::Impl::solveContacts(double dt, StepReport& rep)
+void System::Impl::solveContacts(double dt, StepReport& rep, const std::vector<int>* seed)
 {
     const Settings::Method m = settings.method;
     rep.method = int(m);
@@ -53,7 +53,7 @@ void System::Impl::solveContacts(double dt, StepReport& rep)
     if (m == Settings::Method::NNCG) { solveNNCG(dt, rep); return; }
     double omega = settings.relaxation;
     if (m == Settings::Method::OverRelaxedNLGS && omega == 1.0) omega = Settings::defaultOverRelaxation;
-    solveNLGS(dt, omega, rep, haveRts);
+    solveNLGS(dt, omega, rep, haveRts, seed);
 }
 
 namespace
@@ -79,6 +79,7 @@ struct NlgsSolve
     const int* const adjS = I.adjStart.data();
     const int* const adjI = I.adjItems.data();
     char* inQ = nullptr;
+    const std::vector<int>* seed = nullptr;  ///< rows queued at the start (null: all)
     long solves = 0;  ///< local solves so far
     int count = 0;    ///< rows in the queue
 
@@ -90,17 +91,26 @@ struct NlgsSolve
     { return dmin > 0 ? std::sqrt(I.residualPass(dt, scalarTangent))/dmin : 0.0; }
 
     /// Initial residual, 2D scalar tangential impulses (unless haveRts:
-    /// prepareContacts has set them), every row queued.
-    void start(bool haveRts)
+    /// prepareContacts has set them), every row queued, or only the rows
+    /// of seedRows: the others are converged (their change, the square
+    /// root left by the last finish(), is squared again for the residual).
+    void start(bool haveRts, const std::vector<int>* seedRows)
     {
         if (hist) rep.residualHistory.push_back(historyEntry(false));
-        // 2D: scalar tangential impulse along t = z x n (same law, fewer flops)
-        if (twoD && !haveRts)
+        // 2D: scalar tangential impulse along t = z x n (same law, fewer flops;
+        // a seeded solve continues a solve whose rts are kept)
+        if (twoD && !haveRts && !seedRows)
             for (int k = 0; k < NC; ++k)
                 cs[k].rts = cs[k].rt.dot(Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0));
-        I.inQueue.assign(NC, 1);
+        seed = seedRows;
+        I.inQueue.assign(NC, seed ? 0 : 1);
         inQ = I.inQueue.data();
         count = NC;
+        if (!seed) return;
+        for (int k : *seed) inQ[k] = 1;
+        count = int(seed->size());
+        I.seedSolved.clear();
+        I.seedSolvedFlag.assign(NC, 0);
     }
 
     /// One local update of row k (Algorithm 2 body), then the residual
@@ -110,6 +120,7 @@ struct NlgsSolve
     bool solveOne(int k)
     {
         ++solves;
+        if (seed && !I.seedSolvedFlag[k]) { I.seedSolvedFlag[k] = 1; I.seedSolved.push_back(k); }
         SolverContact& c = cs[k];
         const bool changed = twoD ? local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega)
                                   : local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega);
@@ -151,7 +162,8 @@ struct NlgsSolve
     void fifo()
     {
         I.queue.resize(NC);
-        for (int k = 0; k < NC; ++k) I.queue[k] = k;
+        if (seed) std::copy(seed->begin(), seed->end(), I.queue.begin());
+        else for (int k = 0; k < NC; ++k) I.queue[k] = k;
         int head = 0;
         int* queue = I.queue.data();
         auto push = [&](int kk)
@@ -222,14 +234,18 @@ struct NlgsSolve
         // residual. Otherwise (maxIterations hit) it is evaluated.
         // (one pass over the rows when converged: the passes over the
         // contact arrays are memory-bound)
+        // A seeded solve visits only the rows it solved: the others keep
+        // their tangential impulse and their change (already a square root)
+        // from the solve it continues, whose residual bounds theirs.
         double res = 0;
-        for (int k = 0; k < NC; ++k)
+        auto finishRow = [&](SolverContact& c)
         {
-            SolverContact& c = cs[k];
             if (twoD) c.rt = c.rts*Vec3(-c.n.y(), c.n.x(), 0.0);
             if (count == 0) res = std::max(res, c.change);
             c.change = std::sqrt(c.change);
-        }
+        };
+        if (seed) for (int k : I.seedSolved) finishRow(cs[k]);
+        else for (int k = 0; k < NC; ++k) finishRow(cs[k]);
         if (count != 0) res = I.residualPass(dt, false);  // (does not read change)
         res = std::sqrt(res);
         if (hist && (rep.residualHistory.empty() || solves % std::max(NC, 1) != 0))
@@ -244,11 +260,12 @@ struct NlgsSolve
 
 } // namespace
 
-void System::Impl::solveNLGS(double dt, double omega, StepReport& rep, bool haveRts)
+void System::Impl::solveNLGS(double dt, double omega, StepReport& rep, bool haveRts,
+                               const std::vector<int>* seed)
 {
     // ---- nonlinear Gauss-Seidel with contact queue (Algorithm 2, section 2.3) ----
     NlgsSolve s(*this, rep, dt, omega);
-    s.start(haveRts);
+    s.start(haveRts, seed);
     if (settings.ordering == Settings::Ordering::Fifo) s.fifo();
     else s.symmetric();
     s.finish();

@@ -195,6 +195,7 @@ bool System::Impl::prepareContacts(double dt, int NC0)
     const int NB = int(body.size());
     adjStart.assign(NB + 1, 0);
     pairs.resize(NC);
+    relaxSeed.clear();
     for (int k = 0; k < NC; ++k)
     {
         if (k + bodiesAhead < NC)  // the bodies of a later row (random access: a hint)
@@ -226,6 +227,7 @@ bool System::Impl::prepareContacts(double dt, int NC0)
         // within the slop band are only held (u_n^+ >= 0), larger ones are
         // pushed back to the band edge in one step.
         s.bias = c.gap >= 0 || k >= NC0 ? c.gap/dt : (c.gap > -slop ? 0.0 : (c.gap + slop)/dt);
+        if (s.bias < 0 && k < NC0) relaxSeed.push_back(k);  // push-out row (relaxPushOut)
         s.rn = 0;
         s.rt.setZero();
         s.change = 0;
@@ -350,19 +352,19 @@ void System::Impl::integrate(double dt, int NC0)
 void System::Impl::relaxPushOut(double dt, int NC0, StepReport& rep)
 {
     relaxPositionVelocity.clear();
-    bool pushOut = false;
-    for (int k = 0; k < NC0 && !pushOut; ++k) pushOut = rows[k].bias < 0;
-    if (!pushOut) return;
+    if (relaxSeed.empty()) return;  // (filled by prepareContacts)
     const int N = int(x.size());
     relaxPositionVelocity.resize(N);
     for (int s = 0; s < N; ++s) relaxPositionVelocity[s] = body[s].v;
-    for (int k = 0; k < NC0; ++k) rows[k].bias = std::max(rows[k].bias, 0.0);
-    // the solve continues from the rows' impulses and the bodies' velocities
+    for (int k : relaxSeed) rows[k].bias = 0.0;
+    // the solve continues from the rows' impulses and the bodies' velocities;
+    // after a converged solve only the push-out rows have a new law (the
+    // others are converged at these velocities): they alone are queued
     StepReport relax;
-    solveContacts(dt, relax);
+    solveContacts(dt, relax, rep.converged ? &relaxSeed : nullptr);
     rep.sweeps += relax.sweeps;
     rep.relaxSolves = 1;
-    rep.relaxSweeps = relax.sweeps;
+    rep.relaxLocalSolves = relax.localSolves;
     rep.localSolves += relax.localSolves;
     rep.residual = std::max(rep.residual, relax.residual);
     rep.converged = rep.converged && relax.converged;

@@ -175,7 +175,7 @@ StepReport System::advance(double dt, double fraction)
         total.substeps += 1;
         total.redetections += r.redetections;
         total.relaxSolves += r.relaxSolves;
-        total.relaxSweeps += r.relaxSweeps;
+        total.relaxLocalSolves += r.relaxLocalSolves;
         total.maxOverlap = std::max(total.maxOverlap, r.maxOverlap);
         total.detectSeconds += r.detectSeconds;
         total.solveSeconds += r.solveSeconds;

@@ -225,7 +225,7 @@ int runReorderCase(int argc, char** argv)
     const std::vector<Vec3> x0 = s.positions();
     std::vector<double> stepCpu, sweeps;
     int relaxSteps = 0;
-    long relaxSweeps = 0;
+    long relaxSolves = 0;
     double overlap = 0;
     const double c0 = cpu();
     for (int k = 0; k < steps; ++k)
@@ -235,17 +235,17 @@ int runReorderCase(int argc, char** argv)
         stepCpu.push_back(cpu() - a);
         sweeps.push_back(r.sweeps);
         relaxSteps += r.relaxSolves;
-        relaxSweeps += r.relaxSweeps;
+        relaxSolves += r.relaxLocalSolves;
         overlap = std::max(overlap, r.maxOverlap);
     }
     const double total = cpu() - c0, rmin = 0.5*dMin;
     double disp = 0;
     for (std::size_t i = 0; i < s.size(); ++i) disp = std::max(disp, (s.positions()[i] - x0[i]).norm());
     std::printf("%zu discs %s interval %d: %.4f CPU s/step (median %.4f), %.1f sweeps/step (median %.0f), relax stage "
-                "in %d of %d steps (%.1f sweeps/step), max overlap %.3e r_min, max displacement %.3e r_min\n",
+                "in %d of %d steps (%.3f sweeps/step), max overlap %.3e r_min, max displacement %.3e r_min\n",
                 s.size(), argv[3], interval, total/steps, median(stepCpu),
                 std::accumulate(sweeps.begin(), sweeps.end(), 0.0)/steps, median(sweeps), relaxSteps, steps,
-                double(relaxSweeps)/steps, overlap/rmin, disp/rmin);
+                double(relaxSolves)/steps/std::max<double>(1, double(s.nContacts())), overlap/rmin, disp/rmin);
     // NSCD_DUMP=<file.h5>: the final state (positions, velocities, contact
     // impulses) for bit-identity checks of library changes (h5diff)
     if (const char* dump = std::getenv("NSCD_DUMP")) s.writeHDF5(dump);
