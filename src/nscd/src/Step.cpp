@@ -82,7 +82,8 @@ StepReport System::step(double dt)
     // detect, prepareContacts (+ warm start), buildAdjacency, solveContacts;
     // again with larger reaches if a grain leaves its reach (SystemExtra.cpp)
     const int NC0 = I.detectAndSolve(dt, rep);
-    I.relaxPushOut(dt, NC0, rep);  // overlap correction without velocity
+    I.relaxPushOut(dt, rep);  // overlap correction without velocity
+    I.limitCappedEnergy(dt, rep);  // a capped solve may not raise the kinetic energy
 
     I.integrate(dt, NC0);
     I.storeImpulses(dt, NC0, rep);
@@ -349,7 +350,7 @@ void System::Impl::integrate(double dt, int NC0)
 }
 
 // ---- relax stage: the overlap correction moves grains, gives no velocity ----
-void System::Impl::relaxPushOut(double dt, int NC0, StepReport& rep)
+void System::Impl::relaxPushOut(double dt, StepReport& rep)
 {
     relaxPositionVelocity.clear();
     if (relaxSeed.empty()) return;  // (filled by prepareContacts)
@@ -369,6 +370,75 @@ void System::Impl::relaxPushOut(double dt, int NC0, StepReport& rep)
     rep.residual = std::max(rep.residual, relax.residual);
     rep.converged = rep.converged && relax.converged;
     for (double r : relax.residualHistory) rep.residualHistory.push_back(r);
+}
+
+// ---- a capped (unconverged) solve may not raise the kinetic energy ----
+// For the dissipative law (inelastic Signorini with bias >= 0, Coulomb
+// friction, static walls, no cohesion or droplet) the exact solution only
+// removes energy from the free velocities, but a warm-started Gauss-Seidel
+// stopped at maxIterations can leave impulses that add energy (a deep
+// frictionless column: 40-fold in one step, docs/validation/dropletDigging.md,
+// "Eighteenth session"). Then the contact impulses r are scaled to alpha r,
+// alpha in [0, 1) the minimiser of the kinetic energy
+//   E(alpha) = E_free + alpha b + alpha^2 a,
+// b = sum v_free . M dv, a = |dv|_M^2 / 2, dv the velocity change of the
+// solve, so E(alpha) <= E_free: alpha r stays in the Coulomb cone (it is a
+// cone), and the step dissipates (a line search along the impulse of the
+// solve, as an energy-based step rejection). The metric is the solve's
+// (effective masses, implicit drag included). The positions of the step
+// follow the solve's velocities (or the relax stage's), as in a split
+// impulse: only the velocities kept are scaled. Converged steps are untouched.
+void System::Impl::limitCappedEnergy(double dt, StepReport& rep)
+{
+    if (rep.converged || !droplets.empty()) return;
+    for (const auto& W : walls) if (!W.velocity.isZero()) return;
+    for (const SolverContact& c : rows) if (c.coh > 0) return;
+    const int N = int(x.size());
+    for (int i = 0; i < N; ++i) if (fix[i] && !(v[i].isZero() && w[i].isZero())) return;
+    // free velocities again from the start-of-step state (v, w are kept until integrate)
+    std::vector<Vec3>& vf = contactSum;  // scratch (accumulateDragImpulses refills it)
+    vf.resize(2*std::size_t(N));
+    double e0 = 0, a = 0, b = 0;
+    for (int i = 0; i < N; ++i)
+    {
+        if (fix[i]) continue;
+        const Body& B = body[slotOf[i]];
+        Vec3 v0 = freeVelocity(i, dt), w0 = w[i] + dt*B.ii*torque[i];
+        if (dim == 2) { v0.z() = 0; w0.x() = 0; w0.y() = 0; }
+        vf[2*i] = v0;
+        vf[2*i + 1] = w0;
+        const double m = 1.0/B.im, J = B.ii > 0 ? 1.0/B.ii : 0.0;
+        const Vec3 dv = B.v - v0, dw = B.w - w0;
+        e0 += 0.5*(m*v0.squaredNorm() + J*w0.squaredNorm());
+        b += m*v0.dot(dv) + J*w0.dot(dw);
+        a += 0.5*(m*dv.squaredNorm() + J*dw.squaredNorm());
+    }
+    if (!(a + b > 0)) return;  // E(1) <= E_free: nothing to do
+    const double alpha = b < 0 ? -b/(2*a) : 0.0;
+    // the grains still move with the solve's velocities in this step (as the
+    // relax stage's positions: the overlaps the solve prevents stay
+    // prevented); only the velocities they keep are scaled
+    if (relaxPositionVelocity.empty())
+    {
+        relaxPositionVelocity.resize(N);
+        for (int s = 0; s < N; ++s) relaxPositionVelocity[s] = body[s].v;
+    }
+    for (int i = 0; i < N; ++i)
+    {
+        if (fix[i]) continue;
+        Body& B = body[slotOf[i]];
+        B.v = vf[2*i] + alpha*(B.v - vf[2*i]);
+        B.w = vf[2*i + 1] + alpha*(B.w - vf[2*i + 1]);
+    }
+    for (SolverContact& c : rows)
+    {
+        c.rn *= alpha;
+        c.rt *= alpha;
+        c.rts *= alpha;
+    }
+    ++rep.energyLimited;
+    rep.impulseScale = std::min(rep.impulseScale, alpha);
+    rep.energyRaise = std::max(rep.energyRaise, e0 > 0 ? (a + b)/e0 : 0.0);
 }
 
 // Drag impulse dt c (u - v^+) of the step. v^+ = v_free + R/(m + dt c), R

@@ -176,6 +176,9 @@ StepReport System::advance(double dt, double fraction)
         total.redetections += r.redetections;
         total.relaxSolves += r.relaxSolves;
         total.relaxLocalSolves += r.relaxLocalSolves;
+        total.energyLimited += r.energyLimited;
+        total.impulseScale = std::min(total.impulseScale, r.impulseScale);
+        total.energyRaise = std::max(total.energyRaise, r.energyRaise);
         total.maxOverlap = std::max(total.maxOverlap, r.maxOverlap);
         total.detectSeconds += r.detectSeconds;
         total.solveSeconds += r.solveSeconds;
