@@ -198,6 +198,14 @@ void Foam::grainCloud::recordStepHealth()
         health_.worstOverlap = ov;
         health_.worstOverlapTime = t;
     }
+    if (report_.energyLimited > 0)
+    {
+        ++health_.energyLimited;
+        health_.worstEnergyRaise =
+            max(health_.worstEnergyRaise, report_.energyRaise);
+        health_.minImpulseScale =
+            min(health_.minImpulseScale, report_.impulseScale);
+    }
     if (!report_.converged)
     {
         if (health_.notConverged++ == 0)
@@ -228,13 +236,22 @@ Foam::grainCloud::~grainCloud()
     logOutletSummary();
     if (health_.notConverged)
     {
-        WarningInFunction
-            << "contact solver NOT converged in " << health_.notConverged
+        OSstream& os = WarningInFunction;
+        os  << "contact solver NOT converged in " << health_.notConverged
             << " of " << health_.steps << " grain steps (first at time "
             << health_.firstNotConverged << "); worst overlap/d_min "
             << health_.worstOverlap << " at time "
-            << health_.worstOverlapTime << nl
-            << "    Fix: raise maxIterations in the contactSolver dictionary"
+            << health_.worstOverlapTime << nl;
+        if (health_.energyLimited)
+        {
+            os  << "    In " << health_.energyLimited << " of them the"
+                << " impulses of the unconverged solve would have raised the"
+                << " kinetic energy (by up to " << health_.worstEnergyRaise
+                << " of the free-flight energy); they were scaled down"
+                << " (factor >= " << health_.minImpulseScale << ") so that"
+                << " the step dissipates." << nl;
+        }
+        os  << "    Fix: raise maxIterations in the contactSolver dictionary"
             << " of " << dict_.name() << endl;
     }
     else
