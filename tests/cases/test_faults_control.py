@@ -84,6 +84,15 @@ def test_non_converged_contact_steps_are_counted(tmp_path, env):
     assert m, out[-2000:]
     assert int(m.group(2)) == 20 and 1 <= int(m.group(1)) <= 20
     assert float(m.group(3)) >= 0
+    # capped solves of this stack would have raised the kinetic energy; the
+    # summary says so and by which factor the impulses were scaled (nscd
+    # limitCappedEnergy: the step dissipates)
+    e = re.search(r"In (\d+) of them the impulses of the unconverged solve would have raised the"
+                  r" kinetic energy \(by up to (\S+) of the free-flight energy\); they were scaled"
+                  r" down \(factor >= (\S+)\)", out)
+    assert e, out[-2000:]
+    assert 1 <= int(e.group(1)) <= int(m.group(1))
+    assert float(e.group(2)) > 0 and 0 <= float(e.group(3)) < 1
 
 
 def test_converged_run_summary(tmp_path, env):
