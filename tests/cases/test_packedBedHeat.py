@@ -33,7 +33,10 @@ and compared with the closure the run selected, written here independently
    - the bed's Nu (the uniform Nu that makes the chain reproduce T_out)
      within 10 % of the closure at U_s: measured -6.7 % (DiFeliceColburn),
      -4.5 % (Gunn), because the first and last layers' grains see a slip
-     velocity 28-35 % low (test_bed_edge_velocity, xfail: a solver issue);
+     velocity 28-35 % low with vansFoam's default velocity correction
+     (test_bed_edge_velocity); with velocityCorrection fluxReconstruction
+     every layer sees U_s/eps and the bed's Nu is the closure's within 1 %
+     (measured -1.7e-7);
    - the log-mean Nu equals that Nu times ln(1 + n)/n within 2 %.
 
 2. The tutorial's poured bed (300 spheres, W = 8 d, ~4.2 d deep, mesh 2 d x
