@@ -120,7 +120,6 @@ void System::Impl::freeVelocities(double dt)
         P.r = rad[i];
         P.mu = materials[mat[i]].friction;
         P.fix = fix[i];
-        Vec3 vi = v[i], wi = w[i];
         if (fix[i])
         {
             B.im = B.im0 = 0;
@@ -131,10 +130,9 @@ void System::Impl::freeVelocities(double dt)
             B.im = 1.0/effectiveMass(i, dt);
             B.im0 = 1.0/mass[i];
             B.ii = rotLock[i] ? 0.0 : 1.0/inertia[i];
-            vi = freeVelocity(i, dt);
-            wi += dt*B.ii*torque[i];
         }
-        if (twoD) { vi.z() = 0; wi.x() = 0; wi.y() = 0; }
+        Vec3 vi, wi;
+        freeBodyVelocity(i, dt, B.ii, vi, wi);
         B.v = vi;
         B.w = wi;
         B.r = rad[i];
@@ -158,6 +156,13 @@ void System::Impl::freeVelocities(double dt)
         B.w.setZero();
         B.ii = B.r = 0;
     }
+}
+
+void System::Impl::freeBodyVelocity(int i, double dt, double ii, Vec3& vf, Vec3& wf) const
+{
+    vf = fix[i] ? v[i] : freeVelocity(i, dt);
+    wf = fix[i] ? w[i] : Vec3(w[i] + dt*ii*torque[i]);
+    if (dim == 2) { vf.z() = 0; wf.x() = 0; wf.y() = 0; }
 }
 
 Vec3 System::Impl::freeVelocity(int i, double dt) const
@@ -403,8 +408,8 @@ void System::Impl::limitCappedEnergy(double dt, StepReport& rep)
     {
         if (fix[i]) continue;
         const Body& B = body[slotOf[i]];
-        Vec3 v0 = freeVelocity(i, dt), w0 = w[i] + dt*B.ii*torque[i];
-        if (dim == 2) { v0.z() = 0; w0.x() = 0; w0.y() = 0; }
+        Vec3 v0, w0;
+        freeBodyVelocity(i, dt, B.ii, v0, w0);
         vf[2*i] = v0;
         vf[2*i + 1] = w0;
         const double m = 1.0/B.im, J = B.ii > 0 ? 1.0/B.ii : 0.0;
