@@ -1,4 +1,5 @@
 #include "depositMethods.H"
+#include "rainDeposit.H"
 #include "grainDictionaryTools.H"
 #include "cellZone.H"
 #include "mathematicalConstants.H"
@@ -318,6 +319,22 @@ label grainNumber
 }
 
 
+//- dMin [m] (> 0) and sizeRatio (d_max/d_min, >= 1, default 1) of
+//  depositDict.  Errors: FatalIOError for a value out of range.
+std::pair<scalar, scalar> grainSizes(const IOdictionary& depositDict)
+{
+    const scalar dMin = grainTools::getPositive(depositDict, "dMin");
+    const scalar lambda = depositDict.getOrDefault<scalar>("sizeRatio", 1);
+    if (lambda < 1)
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "sizeRatio (d_max/d_min) must be >= 1, got " << lambda
+            << exit(FatalIOError);
+    }
+    return {dMin, lambda};
+}
+
+
 //- Methods box and cellZone: polydisperse grains (diameters uniform in
 //  [dMin, sizeRatio dMin] [m], random with `seed`) on the nodes of a loose
 //  jittered lattice (spacing 1.1 d_max) in the region, filled bottom first
@@ -334,14 +351,8 @@ std::vector<grainSpec> latticeGrains
 )
 {
     std::vector<grainSpec> specs;
-    const scalar dMin = grainTools::getPositive(depositDict, "dMin");
-    const scalar lambda = depositDict.getOrDefault<scalar>("sizeRatio", 1);
-    if (lambda < 1)
-    {
-        FatalIOErrorInFunction(depositDict)
-            << "sizeRatio (d_max/d_min) must be >= 1, got " << lambda
-            << exit(FatalIOError);
-    }
+    const std::pair<scalar, scalar> sizes = grainSizes(depositDict);
+    const scalar dMin = sizes.first, lambda = sizes.second;
     const scalar dMax = lambda*dMin;
     const label seed = depositDict.getOrDefault<label>("seed", 1);
     std::mt19937_64 rng(seed);
@@ -399,6 +410,74 @@ std::vector<grainSpec> latticeGrains
     return specs;
 }
 
+
+//- Method rain (2D): the grains of latticeGrains' keywords (box, number or
+//  solidFraction, dMin, sizeRatio, seed) laid one by one over the box's
+//  floor between its sides (rainDeposit.H).  Errors (FatalIOError): a 3D
+//  case, gravity not along -y, those of latticeGrains' keywords, and a
+//  deposit that rises above the box.
+std::vector<grainSpec> rainGrains
+(
+    const IOdictionary& depositDict,
+    const fvMesh& mesh,
+    const nscd::System& system,
+    const label dim
+)
+{
+    if (dim != 2)
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "method rain in " << depositDict.name() << " lays discs: it"
+            << " needs a 2D case (one cell and empty patches across z)." << nl
+            << "    Fix: use method box or cellZone with settle in 3D."
+            << exit(FatalIOError);
+    }
+    const nscd::Vec3& g = system.gravity();
+    if (!(g.y() < 0) || std::abs(g.x()) > 1e-12*g.norm())
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "method rain in " << depositDict.name() << " drops the grains"
+            << " along -y, but constant/g is (" << g.x() << ' ' << g.y()
+            << ' ' << g.z() << ")." << nl
+            << "    Fix: set gravity along -y, or use method box with settle."
+            << exit(FatalIOError);
+    }
+    const std::pair<scalar, scalar> sizes = grainSizes(depositDict);
+    const scalar dMin = sizes.first, lambda = sizes.second;
+    const label seed = depositDict.getOrDefault<label>("seed", 1);
+    const depositRegion region = readRegion(depositDict, "box", mesh, dim);
+    checkRegionInMesh(depositDict, region.lo, region.hi, mesh.bounds(), dim);
+    if (region.hi.x() - region.lo.x() < lambda*dMin)
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "The box of " << depositDict.name() << " is "
+            << region.hi.x() - region.lo.x() << " m wide, less than the"
+            << " largest grain (" << lambda*dMin << " m)."
+            << exit(FatalIOError);
+    }
+    const label number = grainNumber(depositDict, region.lo, region.hi, dim, dMin, lambda);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uni(0, 1);
+    std::vector<double> diameters(std::max(label(0), number));
+    for (double& d : diameters) d = dMin*(1 + (lambda - 1)*uni(rng));
+    std::vector<grainSpec> specs =
+        rainDeposit(region.lo.x(), region.hi.x(), region.lo.y(), diameters, rng);
+    scalar top = region.lo.y();
+    for (const grainSpec& s : specs) top = max(top, s.x.y() + 0.5*s.d);
+    if (top > region.hi.y())
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "The rain deposit of " << number << " grains rises to y = "
+            << top << " m, above the box of " << depositDict.name()
+            << " (max y " << region.hi.y() << " m)." << nl
+            << "    Fix: ask for fewer grains or raise the box's max."
+            << exit(FatalIOError);
+    }
+    Info<< "Rain deposit: " << specs.size() << " grains, top at y = " << top
+        << " m" << endl;
+    return specs;
+}
+
 } // End anonymous namespace
 
 
@@ -425,6 +504,10 @@ Foam::depositedGrains Foam::depositGrains
     {
         dep.specs = listedGrains(depositDict, dim);
     }
+    else if (method == "rain")
+    {
+        dep.specs = rainGrains(depositDict, mesh, settling.system(), dim);
+    }
     else if (method == "box" || method == "cellZone")
     {
         dep.specs =
@@ -434,7 +517,8 @@ Foam::depositedGrains Foam::depositGrains
     {
         FatalIOErrorInFunction(depositDict)
             << "Unknown method " << method << " in " << depositDict.name()
-            << ". Use box, cellZone, list or replicate." << exit(FatalIOError);
+            << ". Use box, cellZone, rain, list or replicate."
+            << exit(FatalIOError);
     }
     return dep;
 }

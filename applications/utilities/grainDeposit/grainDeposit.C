@@ -18,8 +18,8 @@ Description
     system/grainDepositDict
     \verbatim
     material    glass;              // a material of constant/grainProperties
-    method      box;                // box | cellZone | list | replicate
-    box         { min (0 0 0); max (0.1 0.2 0); }   // method box
+    method      box;                // box | cellZone | rain | list | replicate
+    box         { min (0 0 0); max (0.1 0.2 0); }   // method box, rain
     cellZone    column;             // method cellZone
     grains      ((x y z d) ...);    // method list
     fixed       no;                 // method list: yes = all listed grains fixed
@@ -30,7 +30,13 @@ Description
                                     // the source written with
                                     // writeContactImpulses yes)
     }
-    number      2000;               // box/cellZone: number of grains ...
+                                    // method rain (2D): the grains laid one
+                                    // by one over the box's floor, each rolled
+                                    // to rest on two below (rainDeposit.H),
+                                    // and the settling started from their
+                                    // static contact forces (nscd/StaticLoad.H)
+    staticLoad  yes;                // method rain: no = settle from zero impulses
+    number      2000;               // box/cellZone/rain: number of grains ...
     // solidFraction 0.3;           // ... or fraction of the region's volume
     dMin        2e-3;               // [m]
     sizeRatio   1.2;                // lambda = d_max/d_min (>= 1)
@@ -51,6 +57,7 @@ Description
 
 #include "grainCloud.H"
 #include "depositMethods.H"
+#include "nscd/StaticLoad.H"
 #include "grainDictionaryTools.H"
 #include "grainRunControl.H"
 #include "fvCFD.H"
@@ -261,6 +268,44 @@ void seedContactImpulses
 }
 
 
+//- Seeds the warm start of the settling with contact forces that hold the
+//  grains at rest under gravity, from the top down, inside the Coulomb
+//  cones of the smallest friction of the grains and walls
+//  (nscd/StaticLoad.H; grains touching within 1e-9 d_min), as impulses of
+//  a step dt [s]; logs the grains it could not balance.  The movable grains
+//  are those of method rain, in laying order (addMovableGrains), so the load
+//  path is the reverse order.
+void seedStaticLoad(grainCloud& settling, const scalar dt)
+{
+    nscd::System& sys = settling.system();
+    std::vector<int> order;
+    for (int i = int(sys.size()) - 1; i >= 0; --i)
+    {
+        if (!sys.fixed(i)) order.push_back(i);
+    }
+    // the network's friction: the smallest of the grains' and the walls'
+    scalar mu = GREAT;
+    for (int i = 0; i < int(sys.size()); ++i)
+    {
+        mu = min(mu, sys.material(sys.materials()[i]).friction);
+    }
+    for (int w = 0; w < sys.nWalls(); ++w)
+    {
+        if (sys.wallFriction(w) >= 0) mu = min(mu, sys.wallFriction(w));
+    }
+    const nscd::StaticLoad sl = nscd::staticLoad
+    (
+        sys, sys.touchingContacts(1e-9*sys.minDiameter()), dt, order,
+        mu < GREAT ? mu : 0
+    );
+    sys.setContactImpulses(sl.contacts, dt);
+    Info<< "Static load: " << sl.contacts.size() << " contacts seeded, "
+        << sl.unbalanced << " grains not balanced by their supports"
+        << " (largest imbalance " << sl.maxImbalance << " of a weight)"
+        << endl;
+}
+
+
 //- Velocity noise [m/s] that the contact solver's stopping test leaves in
 //  a bed at rest: (N/2) tolerance d_min/dt, N = the bed's depth along
 //  gravity in smallest diameters (src/nscd/README.md, "Tolerance and bed
@@ -442,7 +487,8 @@ int main(int argc, char *argv[])
         {
             "material", "method", "box", "cellZone", "grains", "number",
             "solidFraction", "dMin", "sizeRatio", "seed", "settle",
-            "fixedRow", "fixed", "replicate", "writeContactImpulses"
+            "fixedRow", "fixed", "replicate", "writeContactImpulses",
+            "staticLoad"
         }
     );
 
@@ -463,6 +509,15 @@ int main(int argc, char *argv[])
     settling.checkState();
     Info<< "Placed " << dep.specs.size() << " grains" << endl;
     seedContactImpulses(settling, dep.seedContacts, dep.seedDt);
+    if (method == "rain" && depositDict.getOrDefault<bool>("staticLoad", true))
+    {
+        seedStaticLoad
+        (
+            settling,
+            depositDict.found("settle")
+          ? depositDict.subDict("settle").get<scalar>("deltaT") : 1.0
+        );
+    }
 
     if (depositDict.found("settle"))
     {

@@ -1,0 +1,88 @@
+"""grainDeposit method rain (2D, applications/utilities/grainDeposit/
+rainDeposit.H): discs laid one by one and rolled to rest on the discs below
+(the rain model of Visscher & Bolsterli, Nature 239, 504-507, 1972), the
+settle started from the top-down static contact forces (nscd/StaticLoad.H).
+Checked against the model's definition and against statics, not against
+the code:
+  - geometry (the model): no two discs overlap, every disc lies in the
+    box, and every disc rests on the floor or on two bodies laid before it
+    (discs or a side wall) with its centre between them;
+  - statics: after the settle the floor and the side walls hold the bed's
+    weight (vertical force balance from the written contact impulses).
+"""
+import os
+import re
+
+import numpy as np
+import pytest
+
+import nscdpost
+from foamcase import run, run_fatal_io, write
+from test_grainDeposit_replicate import box_case, weight, wall_lift, D, WIDTH
+
+NUMBER = 300
+TOUCH = 1e-9 * D             # touching (positions written with 15 digits)
+
+
+def rain_case(tmp_path, env, name, settle=True, number=NUMBER, height=0.06):
+    case = str(tmp_path / name)
+    box_case(case, WIDTH, height, "wallPatches (walls);\n",
+             f"method rain;\nbox {{ min (0 0 0); max ({WIDTH} {height} 1); }}\nnumber {number};\n"
+             f"dMin {0.9 * D};\nsizeRatio {1 / 0.9:.6g};\nseed 3;\nwriteContactImpulses yes;\n"
+             + ("settle { maxTime 0.05; deltaT 5e-4; speedTolerance 2e-3; }\n" if settle else ""),
+             tolerance=1e-6)
+    write(os.path.join(case, "system", "controlDict"), "dictionary", "controlDict",
+          "application grainDeposit; startFrom startTime; startTime 0; stopAt endTime;\n"
+          "endTime 1; deltaT 1e-3; writeControl timeStep; writeInterval 1;\n"
+          "writePrecision 15;\n")
+    run("blockMesh", case, env)
+    return case
+
+
+@pytest.fixture(scope="module")
+def laid(tmp_path_factory, env):
+    case = rain_case(tmp_path_factory.mktemp("rain"), env, "laid", settle=False)
+    run("grainDeposit", case, env)
+    return case
+
+
+def test_rain_deposit_is_the_rain_model(laid):
+    """Every disc of the deposit as written (laying order, no settle) rests
+    on the floor or on two earlier bodies (discs, side walls) with its
+    centre between them, inside the box, and overlaps nothing."""
+    g = nscdpost.read_grains(laid, "0")
+    x, y, r = g["x"][:, 0], g["x"][:, 1], 0.5 * g["d"]
+    n = len(r)
+    assert n == NUMBER
+    assert np.all(x - r >= -TOUCH) and np.all(x + r <= WIDTH + TOUCH) and np.all(y - r >= -TOUCH)
+    gap = np.hypot(x[:, None] - x[None, :], y[:, None] - y[None, :]) - (r[:, None] + r[None, :])
+    np.fill_diagonal(gap, np.inf)
+    assert gap.min() > -TOUCH
+    for i in range(n):
+        if y[i] - r[i] < TOUCH:
+            continue                        # on the floor
+        below = [x[j] for j in range(i) if gap[i, j] < TOUCH]
+        if x[i] - r[i] < TOUCH:
+            below.append(0.0)               # the left wall
+        if WIDTH - x[i] - r[i] < TOUCH:
+            below.append(WIDTH)
+        assert len(below) >= 2, f"disc {i} at ({x[i]:.6g}, {y[i]:.6g}) rests on {len(below)} bodies"
+        assert min(below) - TOUCH <= x[i] <= max(below) + TOUCH, f"disc {i} is not between its supports"
+
+
+def test_rain_deposit_settles_on_its_walls(tmp_path, env):
+    """After the settle (tolerance 1e-6 d_min) the walls hold the bed's
+    weight: vertical force balance of the written contact impulses.  The
+    log reports the seeded static load."""
+    case = rain_case(tmp_path, env, "settled")
+    log = run("grainDeposit", case, env).stdout
+    m = re.search(r"Static load: (\d+) contacts seeded, (\d+) grains not balanced", log)
+    assert m and int(m.group(1)) >= NUMBER
+    assert wall_lift(case) == pytest.approx(weight(case), rel=5e-3)
+
+
+def test_rain_deposit_above_the_box_is_an_error(tmp_path, env):
+    case = rain_case(tmp_path, env, "tall", settle=False, number=2000, height=0.02)
+    out = run_fatal_io("grainDeposit", case, env)
+    assert "rises to y" in out and "fewer grains" in out
+    assert not os.path.exists(os.path.join(case, "0", "grainState.h5"))
