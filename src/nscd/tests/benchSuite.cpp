@@ -73,6 +73,8 @@ System makeSystem(const Bed& b, double mu)
     s.addPlane(Vec3(b.W, 0, 0), Vec3(-1, 0, 0));
     if (b.dim == 3) { s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1)); s.addPlane(Vec3(0, 0, b.D), Vec3(0, 0, -1)); }
     s.setGravity(Vec3(0, -g, 0));
+    // NSCD_SKIN: Settings::verletSkin (timing the Verlet list against the grid scan)
+    if (const char* sk = std::getenv("NSCD_SKIN")) s.settings().verletSkin = std::atof(sk);
     return s;
 }
 
@@ -222,12 +224,13 @@ SettleResult settle(System& s, int maxSteps, const char* tag)
     const System::Settings keep = s.settings();
     const double t0 = now(), c0 = cpu();
     long sw = 0;
-    int calm = 0, phase = 1;
+    int calm = 0, phase = 1, builds = 0;
     s.settings().maxIterations = 1000;
     for (int k = 0; k < maxSteps; ++k)
     {
         const StepReport r = s.step(dt);
         sw += r.sweeps;
+        builds += r.verletBuilds;
         R.steps = k + 1;
         const double v = vmax(s);
         calm = v < (phase == 1 ? 1.0 : 0.1)*g*dt ? calm + 1 : 0;
@@ -247,7 +250,8 @@ SettleResult settle(System& s, int maxSteps, const char* tag)
     R.cpuSeconds = cpu() - c0;
     R.sweeps = double(sw)/R.steps;
     R.vmaxEnd = vmax(s);
-    std::fprintf(stderr, "  [%s] settled: %d steps (%d coarse), %.1f s, %.1f sweeps/step, rest %d\n", tag, R.steps, R.coarseSteps, R.seconds, R.sweeps, int(R.rest));
+    std::fprintf(stderr, "  [%s] settled: %d steps (%d coarse), %.1f s (CPU %.2f s), %.1f sweeps/step, rest %d, "
+                 "%d Verlet list builds\n", tag, R.steps, R.coarseSteps, R.seconds, R.cpuSeconds, R.sweeps, int(R.rest), builds);
     return R;
 }
 
