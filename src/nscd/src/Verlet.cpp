@@ -42,7 +42,8 @@ void System::Impl::buildVerletList(const DetectGrid& g)
     gl.margin = g.margin + L.skin;
     newContacts.clear();
     scanGrid(gl, true);
-    // the pairs (by i) into rows of partners, each sorted by partner
+    // the pairs (scanGrid emits them grouped by i, in increasing i) into
+    // rows of partners, each sorted by partner
     L.start.assign(N + 1, 0);
     for (const Contact& c : newContacts) ++L.start[c.i + 1];
     for (int i = 0; i < N; ++i) L.start[i + 1] += L.start[i];
