@@ -12,6 +12,7 @@ Description
 #include "grainCloud.H"
 #include "grainDictionaryTools.H"
 #include "OStringStream.H"
+#include <cmath>
 
 // * * * * * * * * * * * * * * * Local Functions * * * * * * * * * * * * * * //
 
@@ -109,7 +110,7 @@ void Foam::grainCloud::applySolverSettings()
             cs,
             {
                 "tolerance", "maxIterations", "overlapTolerance", "method",
-                "relaxation", "maxSubSteps", "reorderInterval"
+                "relaxation", "maxSubSteps", "reorderInterval", "verletSkin"
             }
         );
         if (cs.found("method"))
@@ -152,6 +153,14 @@ void Foam::grainCloud::applySolverSettings()
                 << " got " << reorder << exit(FatalIOError);
         }
         s.reorderInterval = int(reorder);
+        s.verletSkin = cs.getOrDefault<scalar>("verletSkin", s.verletSkin);
+        if (!(s.verletSkin >= 0) || !std::isfinite(s.verletSkin))
+        {
+            FatalIOErrorInFunction(cs)
+                << "verletSkin must be finite and >= 0 (skin of the Verlet"
+                << " list of candidate grain pairs, / r_min; 0: the grid scan"
+                << " every step), got " << s.verletSkin << exit(FatalIOError);
+        }
     }
 }
 

@@ -86,11 +86,16 @@ def test_unknown_contact_solver_method(tmp_path, env):
                "NLGS, overRelaxedNLGS, APGD, NNCG")
 
 
-def test_negative_reorder_interval(tmp_path, env):
-    case = base(tmp_path, "reorder", [(0.05, 0.01, 0, 0.01)])
-    replace_in(case, "constant/grainProperties", "maxIterations", "reorderInterval -1; maxIterations")
+@pytest.mark.parametrize("entry, words", [
+    ("reorderInterval -1;", ("reorderInterval must be >= 0", "got -1")),
+    ("verletSkin -0.1;", ("verletSkin must be finite and >= 0", "got -0.1")),
+])
+def test_negative_contact_solver_entry(tmp_path, env, entry, words):
+    """contactSolver reorderInterval and verletSkin (nscd Settings) below 0: a FatalIOError naming the value."""
+    case = base(tmp_path, "negative", [(0.05, 0.01, 0, 0.01)])
+    replace_in(case, "constant/grainProperties", "maxIterations", entry + " maxIterations")
     run("blockMesh", case, env)
-    fails_with(run("grainDeposit", case, env, check=False), "reorderInterval must be >= 0", "got -1")
+    fails_with(run("grainDeposit", case, env, check=False), *words)
 
 
 @pytest.mark.parametrize("entry, words", [

@@ -1,6 +1,6 @@
 // Contact detection: uniform grid for grain pairs, walls (planes, segments,
 // triangulated surfaces) and droplets; gap of a contact after the step.
-#include "SystemImpl.H"
+#include "DetectPair.H"
 
 #include <algorithm>
 #include <cmath>
@@ -21,39 +21,6 @@ inline Vec3 closestSegment(const Vec3& p, const Vec3& a, const Vec3& b)
     return a + t*ab;
 }
 
-/**
- * Normal of a grain pair that moves far in a step. The centre separation
- * d (from B to A, |d| > R = r_A + r_B) moves along p(t) = d + t del, t in
- * [0, 1], del = dt (v_A - v_B) at the free velocities. The gap-based
- * Signorini law of the step, n.(d + dt u) >= R, forbids the half-space on
- * the ball's side of the plane n.p = R: whatever unit n, the end position
- * cannot overlap (|p| >= n.p >= R), and if the start is outside (n.d >= R)
- * the straight path cannot cross the ball (both ends in the half-space).
- * With the start normal d/|d| a pair whose free path passes beside the ball
- * may still end in the forbidden half-space: a spurious impact of a grain
- * skimming past another, several diameters ahead of it. Here n is instead
- *  - the normal at the first touch, p(t_c)/R, if the free path hits the
- *    ball (continuous collision detection: the impact normal);
- *  - otherwise the direction of the path's closest point to the ball,
- *    for which n.p(t) >= |p(t*)| > R all along the free path: the contact
- *    stays inactive unless the solve deflects the pair towards each other.
- * In both cases n.d >= R, and gap = n.d - R >= 0 is the gap along n.
- */
-inline void sweptNormal(const Vec3& d, const Vec3& del, double R, Vec3& n, double& gap)
-{
-    const double a = del.squaredNorm(), b = d.dot(del);
-    Vec3 p;
-    const double disc = b*b - a*(d.squaredNorm() - R*R);
-    double tc = 2;
-    if (b < 0 && disc >= 0) tc = (-b - std::sqrt(disc))/a;
-    if (tc <= 1) p = d + tc*del;
-    else p = d + std::min(1.0, std::max(0.0, -b/a))*del;
-    const double pn = p.norm();
-    if (!(pn > 0)) return;  // keep the start normal
-    n = p/pn;
-    gap = std::max(0.0, n.dot(d) - R);
-}
-
 /// detectWalls stage: append to I.newContacts the contact of slot i with
 /// wall wi, unit normal n (from the wall to the grain), gap [m], the wall's
 /// friction (the grain's if the wall has none).
@@ -69,35 +36,6 @@ inline void pushWallContact(System::Impl& I, int i, int wi, const Vec3& n, doubl
     I.newContacts.push_back(c);
 }
 
-/// detect() stage: the pair test of slots i < j (per-pair alert distance,
-/// swept normal of far-moving pairs); appends the candidate to out.
-inline void detectPair(const System::Impl& I, int i, int j, const System::Impl::DetectGrid& g,
-                       std::vector<Contact>& out)
-{
-    const GrainSlot& A = I.packed[i];
-    const GrainSlot& B = I.packed[j];
-    if (A.fix && B.fix) return;
-    const double dt = g.dt, margin = g.margin;
-    const Vec3 d = A.x - B.x;
-    const double sum = A.r + B.r;
-    const double lim = sum + g.af*dt*(I.speed[i] + I.speed[j]) + margin;
-    const double d2 = d.squaredNorm();
-    if (d2 >= lim*lim) return;
-    const double dn = std::sqrt(d2);
-    if (!(dn > 0)) return;
-    Contact c;
-    c.i = i;
-    c.j = j;
-    c.n = d/dn;
-    c.gap = dn - sum;
-    if (c.gap > 0)
-    {
-        const Vec3 del = dt*(I.body[i].v - I.body[j].v);  // free relative displacement
-        if (del.squaredNorm() > margin*margin) sweptNormal(d, del, sum, c.n, c.gap);
-    }
-    c.mu = 0.5*(A.mu + B.mu);
-    out.push_back(c);
-}
 }
 
 void System::Impl::detectSegment(int i, int wi, double alert)
@@ -217,6 +155,34 @@ void System::Impl::detectWalls(int i, double dt, double margin, double alertFact
     keepTrianglePoints(i, first);
 }
 
+bool System::Impl::nearWalls(int i, double dt, double margin, double alertFactor)
+{
+    const Vec3& xi = packed[i].x;
+    const double ri = packed[i].r;
+    for (const Wall& W : walls)
+    {
+        const double alert = alertFactor*dt*(speed[i] + W.velocity.norm()) + margin;
+        if (W.type == PlaneWall)
+        {
+            if ((xi - (W.p + W.displacement)).dot(W.n) - ri < alert) return true;
+        }
+        else if (W.type == SegmentWall)
+        {
+            // the distance to the segment, less the parameter tolerance of
+            // a flat joint (detectSegment tests the line there)
+            const Vec3 a = W.p + W.displacement, b = W.b + W.displacement;
+            const double dn = (xi - closestSegment(xi, a, b)).norm() - 1e-9*(b - a).norm();
+            if (dn - ri < alert) return true;
+        }
+        else
+        {
+            trianglesNear(*W.tree, xi - W.displacement, ri + alert, triCandidates);
+            if (!triCandidates.empty()) return true;
+        }
+    }
+    return false;
+}
+
 void System::Impl::selectFastGrains(DetectGrid& g)
 {
     // fast grains: reach af dt s above rmax/4 (a cell grows by at most half
@@ -251,7 +217,7 @@ void System::Impl::selectFastGrains(DetectGrid& g)
     g.sSlow = sSlow;
 }
 
-void System::Impl::buildDetectGrid(DetectGrid& g)
+void System::Impl::detectGridGeometry(DetectGrid& g) const
 {
     const int N = int(x.size());
     const GrainSlot* const P = packed.data();
@@ -277,20 +243,24 @@ void System::Impl::buildDetectGrid(DetectGrid& g)
     long tot = ncells(h, dims);
     const long cap = std::max<long>(4L*N, 64);
     while (tot > cap) { h *= 1.5; tot = ncells(h, dims); }
-    const double ih = 1.0/h;
     g.lo = lo;
     g.tot = tot;
-    g.ih = ih;
+    g.ih = 1.0/h;
+}
 
+void System::Impl::buildDetectGrid(DetectGrid& g)
+{
+    detectGridGeometry(g);
+    const int N = int(x.size());
+    const double sCut = g.sCut;
+    const long tot = g.tot;
     // counting sort of the slow grains into cells (fast ones: cellOf = -1)
     cellOf.resize(N);
     cellStart.assign(tot + 1, 0);
     for (int i = 0; i < N; ++i)
     {
         if (speed[i] > sCut) { cellOf[i] = -1; continue; }
-        long c[3] = {0, 0, 0};
-        for (int d = 0; d < D; ++d) c[d] = std::min(dims[d] - 1, long((P[i].x[d] - lo[d])*ih));
-        const int cell = int(c[0] + dims[0]*(c[1] + dims[1]*c[2]));
+        const int cell = int(detectCell(g, packed[i].x, dim));
         cellOf[i] = cell;
         ++cellStart[cell + 1];
     }
@@ -303,22 +273,45 @@ void System::Impl::buildDetectGrid(DetectGrid& g)
     }
 }
 
-void System::Impl::detectFastPairs(const DetectGrid& g)
+namespace
 {
-    fastContacts.clear();
-    if (fastGrains.empty()) return;
-    const GrainSlot* const P = packed.data();
+/// scanGrid's pair test of slots i < j: the candidate contact (detectPair),
+/// or, for the Verlet list (Candidates), the bare pair (i, j) if it passes
+/// pairInReach.
+template <bool Candidates>
+inline void testPair(const System::Impl& I, int i, int j, const System::Impl::DetectGrid& g,
+                     std::vector<Contact>& out)
+{
+    if (!Candidates) { detectPair(I, i, j, g, out); return; }
+    if (!pairInReach(I, i, j, g)) return;
+    Contact c;
+    c.i = i;
+    c.j = j;
+    out.push_back(c);
+}
+
+/// scanGrid stage: the pairs with a fast grain (fast-fast directly,
+/// fast-slow through the cells its alert sphere covers) into
+/// I.fastContacts, sorted by (i, j).
+template <bool Candidates>
+void detectFastPairs(System::Impl& I, const System::Impl::DetectGrid& g)
+{
+    std::vector<Contact>& out = I.fastContacts;
+    out.clear();
+    const std::vector<int>& fast = I.fastGrains;
+    if (fast.empty()) return;
+    const GrainSlot* const P = I.packed.data();
     const double af = g.af, dt = g.dt, margin = g.margin, ih = g.ih;
     const long* const dims = g.dims;
     const Vec3& lo = g.lo;
-    const int D = dim;
-    for (std::size_t a = 0; a < fastGrains.size(); ++a)
+    const int D = I.dim;
+    for (std::size_t a = 0; a < fast.size(); ++a)
     {
-        const int f = fastGrains[a];
-        for (std::size_t b = a + 1; b < fastGrains.size(); ++b)
-            detectPair(*this, f, fastGrains[b], g, fastContacts);  // fastGrains is sorted: f < fastGrains[b]
+        const int f = fast[a];
+        for (std::size_t b = a + 1; b < fast.size(); ++b)
+            testPair<Candidates>(I, f, fast[b], g, out);  // fastGrains is sorted: f < fast[b]
         // every slow j with a gap below af dt (s_f + s_j) + margin lies within R of x_f
-        const double R = P[f].r + g.rmax + af*dt*(speed[f] + g.sSlow) + margin;
+        const double R = P[f].r + g.rmax + af*dt*(I.speed[f] + g.sSlow) + margin;
         long c0[3] = {0, 0, 0}, c1[3] = {0, 0, 0};
         bool outside = false;
         for (int d = 0; d < D; ++d)
@@ -333,50 +326,37 @@ void System::Impl::detectFastPairs(const DetectGrid& g)
         for (long yy = c0[1]; yy <= c1[1]; ++yy)
         {
             const long row = dims[0]*(yy + dims[1]*zz);
-            for (int k = cellStart[row + c0[0]], e = cellStart[row + c1[0] + 1]; k < e; ++k)
+            for (int k = I.cellStart[row + c0[0]], e = I.cellStart[row + c1[0] + 1]; k < e; ++k)
             {
-                const int j = cellItems[k];
-                if (j < f) detectPair(*this, j, f, g, fastContacts);
-                else detectPair(*this, f, j, g, fastContacts);
+                const int j = I.cellItems[k];
+                if (j < f) testPair<Candidates>(I, j, f, g, out);
+                else testPair<Candidates>(I, f, j, g, out);
             }
         }
     }
-    std::sort(fastContacts.begin(), fastContacts.end(),
+    std::sort(out.begin(), out.end(),
               [](const Contact& p, const Contact& q) { return p.i < q.i || (p.i == q.i && p.j < q.j); });
 }
 
-void System::Impl::detect(double dt)
+/// System::Impl::scanGrid for Candidates (the Verlet list's pairs) or not
+/// (the contacts of the step, with the walls).
+template <bool Candidates>
+void scanGridPairs(System::Impl& I, System::Impl::DetectGrid& g)
 {
-    // Per-pair alert distances (the reach of each body from its own free
-    // velocity, as LMGC90's alert distance): grains i, j are a candidate
-    // contact when their gap is below af dt (s_i + s_j) + margin, s_i =
-    // speed[i]. A uniform grid sized for the largest reach would make one
-    // fast grain enlarge every cell (O(N^2) pair tests for a bed at rest).
-    // Instead the grid is sized for the slow grains (s_i <= sCut) only, and
-    // the few fast ones (at most maxFast) are paired in a separate pass: each
-    // scans the cells its alert sphere covers, and fast-fast pairs are tested
-    // directly. Cost O(N + sum over fast grains of their covered cells +
-    // F^2), O(N) for a bed with a few fast grains (see selectFastGrains).
-    const int N = int(x.size());
-    newContacts.clear();
-    if (N == 0) return;
-    const Settings& S = settings;
-    DetectGrid g;
-    g.dt = dt;
-    g.af = S.alertDistanceFactor;
-    g.margin = S.alertMargin*rMin();
-    g.rmax = rMax();
-    selectFastGrains(g);
-    buildDetectGrid(g);
+    const int N = int(I.x.size());
+    I.buildDetectGrid(g);
     // pairs with a fast grain, sorted by (i, j), merged below into the grain loop
-    detectFastPairs(g);
+    detectFastPairs<Candidates>(I, g);
 
     const long* const dims = g.dims;
-    const bool hasWalls = !walls.empty();
+    const bool hasWalls = !Candidates && !I.walls.empty();
+    const std::vector<int>& cellStart = I.cellStart;
+    const std::vector<int>& cellItems = I.cellItems;
+    std::vector<Contact>& out = I.newContacts;
     std::size_t nextFast = 0;
     for (int i = 0; i < N; ++i)
     {
-        const int cell = cellOf[i];
+        const int cell = I.cellOf[i];
         if (cell >= 0)
         {
             const long cx = cell % dims[0];
@@ -393,15 +373,51 @@ void System::Impl::detect(double dt)
                 for (int k = b; k < e; ++k)
                 {
                     const int j = cellItems[k];
-                    if (j > i) detectPair(*this, i, j, g, newContacts);
+                    if (j > i) testPair<Candidates>(I, i, j, g, out);
                 }
             }
         }
         // pairs of i with fast grains (or of fast grain i), already sorted
-        while (nextFast < fastContacts.size() && fastContacts[nextFast].i == i)
-            newContacts.push_back(fastContacts[nextFast++]);
-        if (hasWalls && !packed[i].fix) detectWalls(i, dt, g.margin, g.af);
+        while (nextFast < I.fastContacts.size() && I.fastContacts[nextFast].i == i)
+            out.push_back(I.fastContacts[nextFast++]);
+        if (hasWalls && !I.packed[i].fix) I.detectWalls(i, g.dt, g.margin, g.af);
     }
+}
+}
+
+void System::Impl::scanGrid(DetectGrid& g, bool candidates)
+{
+    if (candidates) scanGridPairs<true>(*this, g);
+    else scanGridPairs<false>(*this, g);
+}
+
+void System::Impl::detect(double dt)
+{
+    // Per-pair alert distances (the reach of each body from its own free
+    // velocity, as LMGC90's alert distance): grains i, j are a candidate
+    // contact when their gap is below af dt (s_i + s_j) + margin, s_i =
+    // speed[i]. A uniform grid sized for the largest reach would make one
+    // fast grain enlarge every cell (O(N^2) pair tests for a bed at rest).
+    // Instead the grid is sized for the slow grains (s_i <= sCut) only, and
+    // the few fast ones (at most maxFast) are paired in a separate pass: each
+    // scans the cells its alert sphere covers, and fast-fast pairs are tested
+    // directly. Cost O(N + sum over fast grains of their covered cells +
+    // F^2), O(N) for a bed with a few fast grains (see selectFastGrains).
+    // With Settings::verletSkin > 0 the grid scan only builds the Verlet
+    // list of candidate pairs, whose pairs are then re-tested each step in
+    // the order of the scan (Verlet.cpp).
+    const int N = int(x.size());
+    newContacts.clear();
+    if (N == 0) return;
+    const Settings& S = settings;
+    DetectGrid g;
+    g.dt = dt;
+    g.af = S.alertDistanceFactor;
+    g.margin = S.alertMargin*rMin();
+    g.rmax = rMax();
+    selectFastGrains(g);
+    if (S.verletSkin > 0) detectListed(g);
+    else scanGrid(g, false);
 }
 
 void System::Impl::detectDroplets(double dt)

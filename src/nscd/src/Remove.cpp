@@ -74,6 +74,7 @@ std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& in
         }
         I.order.resize(ns);
         I.rebuildSlotOf();
+        I.verlet.invalidate();
     }
 
     // contacts (by slot): body j is grain slot j (j < N) or wall j - N;

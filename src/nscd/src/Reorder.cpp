@@ -92,6 +92,7 @@ void System::Impl::applyOrder(std::vector<int> newOrder)
     const std::vector<int> oldOrder = std::move(order);
     order = std::move(newOrder);
     rebuildSlotOf();
+    verlet.invalidate();  // the list is by slot
     // persistent contacts: old slot -> grain -> new slot; grain pairs kept
     // with i < j (as detect() makes them), so that the next step matches them
     for (Contact& c : contacts)

@@ -26,11 +26,15 @@ std::vector<System::ContactView> System::touchingContacts(double touchDistance)
     // of every body is then alertMargin r_min, raised to cover touchDistance.
     // Only solver scratch (bodies, detection records, newContacts) changes;
     // the next step rebuilds it.
-    const double margin = I.settings.alertMargin;
+    // The grid scan itself (verletSkin 0): the Verlet list of the steps is
+    // neither used (its reach may be smaller) nor changed.
+    const double margin = I.settings.alertMargin, skin = I.settings.verletSkin;
     I.settings.alertMargin = std::max(margin, 2*touchDistance/I.rMin());
+    I.settings.verletSkin = 0;
     I.freeVelocities(0);
     I.detect(0);
     I.settings.alertMargin = margin;
+    I.settings.verletSkin = skin;
     for (const Contact& c : I.newContacts)
     {
         if (!(c.gap <= touchDistance)) continue;

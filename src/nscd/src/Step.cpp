@@ -46,9 +46,10 @@ Eigen::Quaterniond rotate(const Eigen::Quaterniond& q, const Vec3& w, double dt)
 void checkSettings(const System::Settings& S)
 {
     if (!(S.tolerance > 0) || S.maxIterations < 1 || !(S.relaxation > 0 && S.relaxation < 2)
-        || !(S.overlapSlop >= 0) || !(S.alertDistanceFactor >= 0) || !(S.alertMargin >= 0))
+        || !(S.overlapSlop >= 0) || !(S.alertDistanceFactor >= 0) || !(S.alertMargin >= 0)
+        || !(S.verletSkin >= 0 && std::isfinite(S.verletSkin)))
         throw InputError("nscd::System::step: invalid settings (need tolerance > 0, maxIterations >= 1, "
-                         "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0)");
+                         "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0, finite verletSkin >= 0)");
     const int m = int(S.method);
     if (m < 0 || m > int(System::Settings::Method::NNCG))
         throw InputError("nscd::System::step: invalid settings (unknown contact solver method "

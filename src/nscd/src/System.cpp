@@ -129,6 +129,7 @@ void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
     ids.push_back(nextId++);
     order.push_back(int(x.size()) - 1);  // a new grain takes the last slot
     slotOf.push_back(int(x.size()) - 1);
+    verlet.invalidate();
     setMassInertia(x.size() - 1);
 }
 

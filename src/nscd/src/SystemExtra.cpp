@@ -174,6 +174,7 @@ StepReport System::advance(double dt, double fraction)
         total.converged = total.converged && r.converged;
         total.substeps += 1;
         total.redetections += r.redetections;
+        total.verletBuilds += r.verletBuilds;
         total.relaxSolves += r.relaxSolves;
         total.relaxLocalSolves += r.relaxLocalSolves;
         total.energyLimited += r.energyLimited;
@@ -199,6 +200,7 @@ int System::Impl::detectAndSolve(double dt, StepReport& rep)
     using clock = std::chrono::steady_clock;
     const int N = int(x.size());
     reachFloor.clear();
+    const long builds = verlet.builds;
     int sweeps = 0;
     long solves = 0;
     for (int redo = 0;; ++redo)
@@ -209,6 +211,7 @@ int System::Impl::detectAndSolve(double dt, StepReport& rep)
         detectDroplets(dt);                        // then grain-droplet ones
         const auto t1 = clock::now();
         rep.detectSeconds += std::chrono::duration<double>(t1 - t0).count();
+        rep.verletBuilds = int(verlet.builds - builds);
 
         prepareContacts(dt, NC0);  // warm start and adjacency counts included
         buildAdjacency();

@@ -13,7 +13,7 @@
 //      spacing 2 r0 in a box (a dense packing from the start; it compacts a
 //      little while settling); rain: loose jittered grid that falls.
 // env: NSCD_TOL (tolerance), NSCD_SLOP (overlapSlop), NSCD_RELAX (relaxation),
-//      NSCD_SYMMETRIC (symmetric sweeps), NSCD_POLY (hex radii in [1-poly, 1] r0,
+//      NSCD_SYMMETRIC (symmetric sweeps), NSCD_SKIN (verletSkin), NSCD_POLY (hex radii in [1-poly, 1] r0,
 //      default 0.05), NSCD_SETTLE_TOL (tolerance while settling), NSCD_SAVE / NSCD_LOAD (HDF5 state after settling / instead of it),
 //      NSCD_DUMP (HDF5 state after the timed steps).
 #include "nscd/System.H"
@@ -99,6 +99,7 @@ int legacyMain(int argc, char** argv)
     if (std::getenv("NSCD_SLOP")) s.settings().overlapSlop = std::atof(std::getenv("NSCD_SLOP"));
     if (std::getenv("NSCD_RELAX")) s.settings().relaxation = std::atof(std::getenv("NSCD_RELAX"));
     if (std::getenv("NSCD_SYMMETRIC")) s.settings().ordering = System::Settings::Ordering::Symmetric;
+    if (std::getenv("NSCD_SKIN")) s.settings().verletSkin = std::atof(std::getenv("NSCD_SKIN"));
     const double dt = 1e-4;
     if (std::getenv("NSCD_LOAD"))
     {

@@ -188,9 +188,10 @@ System settledBlock(const Bed& b0, bool quick)
 /// seconds of the stepping (for timing whole processes in pairs), per step
 /// (mean, median), sweeps, the steps in which the relax stage ran
 /// (StepReport::relaxSolves), the max overlap and the max displacement over
-/// the <steps> steps.
+/// the <steps> steps, the median detection time and the Verlet list builds.
 /// Environment: NSCD_LOAD (start from this HDF5 state), NSCD_RELAX
-/// (Settings::relaxation), NSCD_DUMP (write the final HDF5 state).
+/// (Settings::relaxation), NSCD_SKIN (Settings::verletSkin), NSCD_DUMP
+/// (write the final HDF5 state).
 int runReorderCase(int argc, char** argv)
 {
     if (argc < 6)
@@ -219,12 +220,13 @@ int runReorderCase(int argc, char** argv)
     if (const char* load = std::getenv("NSCD_LOAD")) s = System::readHDF5(load);
     s.settings().reorderInterval = interval;
     if (const char* om = std::getenv("NSCD_RELAX")) s.settings().relaxation = std::atof(om);
+    if (const char* sk = std::getenv("NSCD_SKIN")) s.settings().verletSkin = std::atof(sk);
     for (int k = 0; k < 10; ++k) s.step(dt);
     // per step: thread CPU time, sweeps, relax stage (StepReport::relaxSolves),
     // max overlap; over the timed steps: max displacement (all in r_min)
     const std::vector<Vec3> x0 = s.positions();
-    std::vector<double> stepCpu, sweeps;
-    int relaxSteps = 0;
+    std::vector<double> stepCpu, sweeps, detect;
+    int relaxSteps = 0, builds = 0;
     long relaxSolves = 0;
     double overlap = 0;
     const double c0 = cpu();
@@ -234,6 +236,8 @@ int runReorderCase(int argc, char** argv)
         const StepReport r = s.step(dt);
         stepCpu.push_back(cpu() - a);
         sweeps.push_back(r.sweeps);
+        detect.push_back(r.detectSeconds);
+        builds += r.verletBuilds;
         relaxSteps += r.relaxSolves;
         relaxSolves += r.relaxLocalSolves;
         overlap = std::max(overlap, r.maxOverlap);
@@ -242,10 +246,12 @@ int runReorderCase(int argc, char** argv)
     double disp = 0;
     for (std::size_t i = 0; i < s.size(); ++i) disp = std::max(disp, (s.positions()[i] - x0[i]).norm());
     std::printf("%zu discs %s interval %d: %.4f CPU s/step (median %.4f), %.1f sweeps/step (median %.0f), relax stage "
-                "in %d of %d steps (%.3f sweeps/step), max overlap %.3e r_min, max displacement %.3e r_min\n",
+                "in %d of %d steps (%.3f sweeps/step), max overlap %.3e r_min, max displacement %.3e r_min; "
+                "detection %.4f s/step (median), verletSkin %g, %d list builds\n",
                 s.size(), argv[3], interval, total/steps, median(stepCpu),
                 std::accumulate(sweeps.begin(), sweeps.end(), 0.0)/steps, median(sweeps), relaxSteps, steps,
-                double(relaxSolves)/steps/std::max<double>(1, double(s.nContacts())), overlap/rmin, disp/rmin);
+                double(relaxSolves)/steps/std::max<double>(1, double(s.nContacts())), overlap/rmin, disp/rmin,
+                median(detect), s.settings().verletSkin, builds);
     // NSCD_DUMP=<file.h5>: the final state (positions, velocities, contact
     // impulses) for bit-identity checks of library changes (h5diff)
     if (const char* dump = std::getenv("NSCD_DUMP")) s.writeHDF5(dump);
