@@ -21,6 +21,10 @@ Description
 #include "Time.H"
 #include "OSspecific.H"
 #include "processorPolyPatch.H"
+#include "emptyPolyPatch.H"
+#include "indexedOctree.H"
+#include "treeDataFace.H"
+#include "Random.H"
 
 #include <cerrno>
 #include <chrono>
@@ -266,6 +270,67 @@ Foam::grainCloud::~grainCloud()
 }
 
 
+void Foam::grainCloud::computeCellClearance() const
+{
+    // Around an interior point, a ball that meets no boundary face lies in
+    // the mesh (it is connected and does not cross the boundary): each
+    // cell's centre and the distance from it to the nearest face of this
+    // rank's boundary (processor faces included, so "in the mesh" is "on
+    // this rank"), exact through an octree of the boundary faces, with a
+    // 10 % margin for warped faces (whose tet decomposition, which
+    // findCell uses, differs slightly from the face triangles the octree
+    // measures). In 2D the grains lie in the plane z = zMid_ and the empty
+    // front and back patches are no boundary for them: distances in that
+    // plane, to the other patches.
+    const polyBoundaryMesh& patches = mesh_.boundaryMesh();
+    DynamicList<label> faces(mesh_.nBoundaryFaces());
+    for (const polyPatch& pp : patches)
+    {
+        if (dimension_ == 2 && isA<emptyPolyPatch>(pp))
+        {
+            continue;
+        }
+        forAll(pp, i)
+        {
+            faces.append(pp.start() + i);
+        }
+    }
+    clearCentres_ = mesh_.cellCentres();
+    if (dimension_ == 2)
+    {
+        for (point& c : clearCentres_)
+        {
+            c.z() = zMid_;
+        }
+    }
+    clearRadiusSqr_.setSize(mesh_.nCells(), 0);
+    if (faces.empty())
+    {
+        clearRadiusSqr_ = GREAT;
+        return;
+    }
+    Random rndGen(123456);
+    treeBoundBox bb
+    (
+        treeBoundBox(mesh_.points()).extend(rndGen, 1e-4)
+    );
+    bb.min() -= point::uniform(ROOTVSMALL);
+    bb.max() += point::uniform(ROOTVSMALL);
+    const indexedOctree<treeDataFace> tree
+    (
+        treeDataFace(false, mesh_, labelList(faces)),
+        bb, 8, 10, 3.0
+    );
+    const scalar span2 = magSqr(bb.span());
+    forAll(clearCentres_, celli)
+    {
+        const pointIndexHit hit = tree.findNearest(clearCentres_[celli], span2);
+        clearRadiusSqr_[celli] =
+            hit.hit() ? sqr(0.9)*magSqr(hit.hitPoint() - clearCentres_[celli]) : 0;
+    }
+}
+
+
 void Foam::grainCloud::checkInsideMesh()
 {
     const auto start = std::chrono::steady_clock::now();
@@ -287,12 +352,29 @@ void Foam::grainCloud::checkInsideMesh()
     }
     // this rank's own bounds (polyMesh::bounds() is global in parallel)
     const boundBox local(mesh_.points(), false);
+    // the search-free test first (clearCentres_): most grains stay within
+    // the clear ball of their last cell from step to step
+    if (mesh_.changing())
+    {
+        clearCentres_.clear();
+        clearRadiusSqr_.clear();
+    }
+    else if (clearRadiusSqr_.size() != mesh_.nCells())
+    {
+        computeCellClearance();
+    }
+    const bool clear = clearRadiusSqr_.size() == mesh_.nCells();
     labelList found(n, 0);
     bool allLocal = true;
     for (label i = 0; i < n; ++i)
     {
         const point p(meshPosition(i));
         label& c = cellHint_[i];
+        if (c >= 0 && clear && magSqr(p - clearCentres_[c]) < clearRadiusSqr_[c])
+        {
+            found[i] = 1;
+            continue;
+        }
         if (c >= 0 && mesh_.pointInCell(p, c))
         {
             found[i] = 1;

@@ -14,25 +14,37 @@ Description
 #include "OStringStream.H"
 #include <cmath>
 
+#include <initializer_list>
+#include <utility>
+
 // * * * * * * * * * * * * * * * Local Functions * * * * * * * * * * * * * * //
 
 namespace
 {
-// contactSolver.method: the nscd::System::Settings::Method of the name
-nscd::System::Settings::Method contactSolverMethod(const Foam::dictionary& cs)
+// contactSolver.<key>: the value of the named choice, among names (in the
+// order the error message lists them)
+template<class Choice>
+Choice contactSolverChoice
+(
+    const Foam::dictionary& cs,
+    const char* key,
+    std::initializer_list<std::pair<const char*, Choice>> names
+)
 {
-    using Method = nscd::System::Settings::Method;
-    const Foam::word m(cs.get<Foam::word>("method"));
-    if (m == "NLGS") return Method::NLGS;
-    if (m == "overRelaxedNLGS") return Method::OverRelaxedNLGS;
-    if (m == "NNCG") return Method::NNCG;
-    if (m != "APGD")
+    const Foam::word w(cs.get<Foam::word>(key));
+    for (const auto& n : names)
     {
-        FatalIOErrorInFunction(cs)
-            << "unknown contactSolver method " << m
-            << "; methods: NLGS, overRelaxedNLGS, APGD, NNCG" << Foam::exit(Foam::FatalIOError);
+        if (w == n.first) return n.second;
     }
-    return Method::APGD;
+    Foam::OStringStream list;
+    for (const auto& n : names)
+    {
+        list << (&n == names.begin() ? "" : ", ") << n.first;
+    }
+    FatalIOErrorInFunction(cs)
+        << "unknown contactSolver " << key << " " << w
+        << "; " << key << "s: " << list.str().c_str() << Foam::exit(Foam::FatalIOError);
+    return names.begin()->second;
 }
 }
 
@@ -110,12 +122,32 @@ void Foam::grainCloud::applySolverSettings()
             cs,
             {
                 "tolerance", "maxIterations", "overlapTolerance", "method",
-                "relaxation", "maxSubSteps", "reorderInterval", "verletSkin"
+                "relaxation", "maxSubSteps", "reorderInterval", "verletSkin",
+                "ordering"
             }
         );
         if (cs.found("method"))
         {
-            s.method = contactSolverMethod(cs);
+            using Method = nscd::System::Settings::Method;
+            s.method = contactSolverChoice<Method>
+            (
+                cs, "method",
+                {
+                    {"NLGS", Method::NLGS},
+                    {"overRelaxedNLGS", Method::OverRelaxedNLGS},
+                    {"APGD", Method::APGD},
+                    {"NNCG", Method::NNCG}
+                }
+            );
+        }
+        if (cs.found("ordering"))
+        {
+            using Ordering = nscd::System::Settings::Ordering;
+            s.ordering = contactSolverChoice<Ordering>
+            (
+                cs, "ordering",
+                {{"fifo", Ordering::Fifo}, {"symmetric", Ordering::Symmetric}}
+            );
         }
         s.relaxation = cs.getOrDefault<scalar>("relaxation", s.relaxation);
         if (!(s.relaxation > 0 && s.relaxation < 2))

@@ -78,12 +78,15 @@ def test_unknown_material_name(tmp_path, env):
     fails_with(run("grainDeposit", case, env, check=False), "Unknown material", "sand")
 
 
-def test_unknown_contact_solver_method(tmp_path, env):
-    case = base(tmp_path, "method", [(0.05, 0.01, 0, 0.01)])
-    replace_in(case, "constant/grainProperties", "maxIterations", "method Jacobi; maxIterations")
+@pytest.mark.parametrize("entry, words", [
+    ("method Jacobi", ("unknown contactSolver method", "Jacobi", "NLGS, overRelaxedNLGS, APGD, NNCG")),
+    ("ordering random", ("unknown contactSolver ordering", "random", "fifo, symmetric")),
+])
+def test_unknown_contact_solver_choice(tmp_path, env, entry, words):
+    case = base(tmp_path, "choice", [(0.05, 0.01, 0, 0.01)])
+    replace_in(case, "constant/grainProperties", "maxIterations", entry + "; maxIterations")
     run("blockMesh", case, env)
-    fails_with(run("grainDeposit", case, env, check=False), "unknown contactSolver method", "Jacobi",
-               "NLGS, overRelaxedNLGS, APGD, NNCG")
+    fails_with(run("grainDeposit", case, env, check=False), *words)
 
 
 @pytest.mark.parametrize("entry, words", [
