@@ -1,7 +1,8 @@
 """grainDeposit method rain (2D, applications/utilities/grainDeposit/
 rainDeposit.H): discs laid one by one and rolled to rest on the discs below
 (the rain model of Visscher & Bolsterli, Nature 239, 504-507, 1972), the
-settle started from the top-down static contact forces (nscd/StaticLoad.H).
+settle started from the top-down static contact forces (nscd/StaticLoad.H,
+`staticLoad yes`; the default `no` settles from zero impulses).
 Checked against the model's definition and against statics, not against
 the code:
   - geometry (the model): no two discs overlap, every disc lies in the
@@ -28,7 +29,7 @@ def rain_case(tmp_path, env, name, settle=True, number=NUMBER, height=0.06):
     case = str(tmp_path / name)
     box_case(case, WIDTH, height, "wallPatches (walls);\n",
              f"method rain;\nbox {{ min (0 0 0); max ({WIDTH} {height} 1); }}\nnumber {number};\n"
-             f"dMin {0.9 * D};\nsizeRatio {1 / 0.9:.6g};\nseed 3;\nwriteContactImpulses yes;\n"
+             f"dMin {0.9 * D};\nsizeRatio {1 / 0.9:.6g};\nseed 3;\nwriteContactImpulses yes;\nstaticLoad yes;\n"
              + ("settle { maxTime 0.05; deltaT 5e-4; speedTolerance 2e-3; }\n" if settle else ""),
              tolerance=1e-6)
     write(os.path.join(case, "system", "controlDict"), "dictionary", "controlDict",
