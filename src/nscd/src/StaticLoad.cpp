@@ -1,5 +1,6 @@
 // The contact network of grains at rest: System::touchingContacts (detection
-// without a step) and staticLoad (frictionless forces, top down; StaticLoad.H).
+// without a step) and staticLoad (forces inside the Coulomb cones, top down;
+// StaticLoad.H).
 #include "SystemImpl.H"
 #include "nscd/StaticLoad.H"
 
@@ -7,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <string>
 
 namespace nscd
@@ -25,9 +25,9 @@ std::vector<System::ContactView> System::touchingContacts(double touchDistance)
     // The step's detection at the current velocities over dt = 0: the reach
     // of every body is then alertMargin r_min, raised to cover touchDistance.
     // Only solver scratch (bodies, detection records, newContacts) changes;
-    // the next step rebuilds it.
-    // The grid scan itself (verletSkin 0): the Verlet list of the steps is
-    // neither used (its reach may be smaller) nor changed.
+    // the next step rebuilds it. The grid scan itself (verletSkin 0): the
+    // Verlet list of the steps is neither used (its reach may be smaller)
+    // nor changed.
     const double margin = I.settings.alertMargin, skin = I.settings.verletSkin;
     I.settings.alertMargin = std::max(margin, 2*touchDistance/I.rMin());
     I.settings.verletSkin = 0;
