@@ -35,23 +35,9 @@ std::vector<System::ContactView> System::touchingContacts(double touchDistance)
     I.detect(0);
     I.settings.alertMargin = margin;
     I.settings.verletSkin = skin;
+    // freshly detected records: impulse 0, age 0, not cohesive
     for (const Contact& c : I.newContacts)
-    {
-        if (!(c.gap <= touchDistance)) continue;
-        ContactView v;
-        v.i = I.order[c.i];
-        v.j = c.j < N ? I.order[c.j] : -(c.j - N + 1);
-        v.normal = c.n;
-        if (v.j >= 0 && v.j < v.i)
-        {
-            std::swap(v.i, v.j);
-            v.normal = -v.normal;
-        }
-        v.point = I.x[v.i] - I.rad[v.i]*v.normal;
-        v.gap = c.gap;
-        v.impulse = Vec3::Zero();
-        out.push_back(v);
-    }
+        if (c.gap <= touchDistance) out.push_back(I.contactView(c));
     I.newContacts.clear();
     return out;
 }

@@ -397,30 +397,32 @@ void System::setContactImpulses(const std::vector<ContactView>& views, double dt
 std::vector<System::ContactView> System::contacts() const
 {
     const Impl& I = *impl_;
-    const int N = int(I.x.size());
     std::vector<ContactView> out;
     out.reserve(I.contacts.size());
-    for (const Contact& c : I.contacts)
-    {
-        ContactView v;
-        v.i = I.order[c.i];  // slots to grains
-        v.j = c.j < N ? I.order[c.j] : -(c.j - N + 1);
-        v.normal = c.n;
-        v.impulse = c.rn*c.n + c.rt;
-        if (v.j >= 0 && v.j < v.i)  // grain pairs with i < j, whatever the internal order
-        {
-            std::swap(v.i, v.j);
-            v.normal = -v.normal;
-            v.impulse = -v.impulse;
-        }
-        // contact point on A's surface (current position, normal of the last step)
-        v.point = I.x[v.i] - I.rad[v.i]*v.normal;
-        v.gap = c.gap;
-        v.age = c.age;
-        v.cohesive = c.coh > 0;
-        out.push_back(v);
-    }
+    for (const Contact& c : I.contacts) out.push_back(I.contactView(c));
     return out;
+}
+
+System::ContactView System::Impl::contactView(const Contact& c) const
+{
+    const int N = int(x.size());
+    ContactView v;
+    v.i = order[c.i];  // slots to grains
+    v.j = c.j < N ? order[c.j] : -(c.j - N + 1);
+    v.normal = c.n;
+    v.impulse = c.rn*c.n + c.rt;
+    if (v.j >= 0 && v.j < v.i)  // grain pairs with i < j, whatever the internal order
+    {
+        std::swap(v.i, v.j);
+        v.normal = -v.normal;
+        v.impulse = -v.impulse;
+    }
+    // contact point on A's surface (current position, normal of the last step)
+    v.point = x[v.i] - rad[v.i]*v.normal;
+    v.gap = c.gap;
+    v.age = c.age;
+    v.cohesive = c.coh > 0;
+    return v;
 }
 
 double System::contactConductance(const ContactView& c, double dt) const
