@@ -369,13 +369,7 @@ void System::Impl::relaxPushOut(double dt, StepReport& rep)
     // others are converged at these velocities): they alone are queued
     StepReport relax;
     solveContacts(dt, relax, rep.converged ? &relaxSeed : nullptr);
-    rep.sweeps += relax.sweeps;
-    rep.relaxSolves = 1;
-    rep.relaxLocalSolves = relax.localSolves;
-    rep.localSolves += relax.localSolves;
-    rep.residual = std::max(rep.residual, relax.residual);
-    rep.converged = rep.converged && relax.converged;
-    for (double r : relax.residualHistory) rep.residualHistory.push_back(r);
+    mergeRelaxReport(rep, relax);
 }
 
 // ---- a capped (unconverged) solve may not raise the kinetic energy ----

@@ -1,0 +1,407 @@
+// nscd::Subdomain: the step of one subdomain of a decomposed grain system
+// (Subdomain.H): the stages of System::step (Step.cpp) with the contacts
+// this subdomain owns, copy masses for the interface grains and an NLGS
+// whose sweeps alternate with the averaging of the copies' velocities.
+#include "nscd/Subdomain.H"
+
+#include "LocalSolve.H"
+#include "SystemImpl.H"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace nscd
+{
+
+/// Scratch of the decomposed step, kept between steps (no allocation in steady state).
+struct Subdomain::Scratch
+{
+    std::vector<int> iface;           ///< interface grains (copies > 1, movable)
+    std::vector<Vec3> vAvg, wAvg;     ///< per grain: velocities for averageCopies
+    std::vector<char> inContact;      ///< per grain: body of a contact here
+    std::vector<int> copies;          ///< per grain: copies in this step's solve
+    std::vector<Vec3> lambda0;        ///< interface impulses at the start of the step
+    std::vector<char> ifaceRow;       ///< per row: a body is an interface grain
+};
+
+namespace
+{
+/// Re-detections of one step, as System::step (SystemExtra.cpp).
+constexpr int maxRedetections = 4;
+
+/// Queue prefetch distances, as the undecomposed NLGS (ContactSolver.cpp).
+constexpr int rowsAhead = 16, bodiesAhead = 8;
+
+/// An interface grain whose averaged velocity moves a contact point by more
+/// than this fraction of the solver's xi = tolerance d_min in dt queues its
+/// contacts again (below it the copies agree to within the tolerance).
+constexpr double requeueFraction = 0.5;
+
+/**
+ * The interface-averaged NLGS on the rows of I (prepared): rounds of one
+ * sweep-equivalent of the FIFO contact queue (section 2.3), or until it
+ * empties, then averageCopies of the interface grains, so that the
+ * interface keeps in step with the subdomains (a subdomain solved to
+ * convergence against interface impulses far from theirs can drift far from
+ * the solution); the rows of a grain whose velocity the averaging moved by
+ * more than requeueFraction xi/dt are queued again. When no
+ * subdomain has a queued row, the residual is evaluated (the rows of the
+ * interface grains at the final velocities); the rows of interface grains
+ * still off by more than the tolerance are queued again. Stops converged
+ * (global residual <= tolerance) or capped (Settings::maxIterations
+ * averagings or sweep-equivalents of local solves). seed: rows queued at
+ * the start (null: all). lambda: per grain, the interface impulses of the
+ * copy (linear, angular), to which the averagings' impulses are added.
+ * Fills rep (sweeps: sweep-equivalents of local solves; global residual).
+ */
+void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X,
+                     std::vector<Vec3>& lambda, double dt, double dmin, StepReport& rep,
+                     const std::vector<int>* seed)
+{
+    const int NC = int(I.rows.size());
+    const bool twoD = I.dim == 2;
+    const double xi = I.settings.tolerance*dmin;
+    const double xi2 = xi*xi, dt2 = dt*dt;
+    SolverContact* const cs = I.rows.data();
+    Body* const bodies = I.body.data();
+    const int* const adjS = I.adjStart.data();
+    const int* const adjI = I.adjItems.data();
+    if (twoD && !I.rowsHaveRts)
+        for (int k = 0; k < NC; ++k) cs[k].rts = cs[k].rt.dot(Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0));
+    I.rowsHaveRts = false;
+
+    const std::vector<int>& iface = X.iface;
+    std::vector<Vec3>& vAvg = X.vAvg;
+    std::vector<Vec3>& wAvg = X.wAvg;
+
+    // FIFO queue as a ring of NC entries (each row at most once)
+    I.queue.resize(std::max(NC, 1));
+    I.inQueue.assign(NC, 0);
+    int* const queue = I.queue.data();
+    char* const inQ = I.inQueue.data();
+    int head = 0, count = 0;
+    auto push = [&](int k)
+    {
+        if (inQ[k]) return;
+        inQ[k] = 1;
+        int tail = head + count;
+        if (tail >= NC) tail -= NC;
+        queue[tail] = k;
+        ++count;
+    };
+    auto pushBody = [&](int b)
+    { for (int p = adjS[b]; p < adjS[b + 1]; ++p) push(adjI[p]); };
+    if (seed) for (int k : *seed) push(k);
+    else for (int k = 0; k < NC; ++k) push(k);
+
+    // a seeded solve keeps the rows it does not solve: their change is
+    // squared again, as the solved rows' during the solve
+    if (seed) for (int k = 0; k < NC; ++k) cs[k].change *= cs[k].change;
+    // rows of the interface grains: the averagings move their velocities
+    std::vector<char>& ifaceRow = X.ifaceRow;
+    ifaceRow.assign(NC, seed ? 1 : 0);
+    for (int i : iface)
+    {
+        const int b = I.slotOf[i];
+        for (int p = adjS[b]; p < adjS[b + 1]; ++p) ifaceRow[adjI[p]] = 1;
+    }
+    // residual (ContactSolver.cpp), squared: the last change of each row,
+    // evaluated at the current velocities for the rows of interface grains
+    // (and every row of a seeded solve, as some were not solved)
+    auto residual2 = [&]()
+    {
+        double r = 0;
+        for (int k = 0; k < NC; ++k)
+        {
+            const SolverContact& c = cs[k];
+            if (!ifaceRow[k]) { r = std::max(r, c.change); continue; }
+            const Vec3 rt = twoD ? Vec3(c.rts*Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
+            r = std::max(r, localResidual2(c, rt, bodies[c.i], bodies[c.j], dt));
+        }
+        return r;
+    };
+
+    const long maxSolves = long(I.settings.maxIterations)*long(std::max(NC, 1));
+    long solves = 0;
+    int averagings = 0;
+    bool busy = true;
+    bool capped = false;  // some subdomain reached maxSolves (global)
+    double res = 0;
+    for (;;)
+    {
+        while (busy && !capped && averagings < I.settings.maxIterations)
+        {
+            // one sweep-equivalent of local solves (or the queue emptied)
+            for (long budget = std::max(NC, 1); count > 0 && solves < maxSolves && budget > 0; --budget)
+            {
+                const int k = queue[head];
+                head = head + 1 == NC ? 0 : head + 1;
+                --count;
+                // the rows and bodies ahead in the queue (as the undecomposed
+                // NLGS, ContactSolver.cpp: a hint, results unchanged)
+                if (count > rowsAhead)
+                    prefetch(cs + queue[head + rowsAhead >= NC ? head + rowsAhead - NC : head + rowsAhead],
+                             sizeof(SolverContact));
+                if (count > bodiesAhead)
+                {
+                    const SolverContact& a = cs[queue[head + bodiesAhead >= NC ? head + bodiesAhead - NC
+                                                                                : head + bodiesAhead]];
+                    prefetch(bodies + a.i, sizeof(Body));
+                    prefetch(bodies + a.j, sizeof(Body));
+                }
+                inQ[k] = 0;
+                ++solves;
+                SolverContact& c = cs[k];
+                const bool changed = twoD ? local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, 1.0)
+                                          : local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, 1.0);
+                if (!changed) continue;
+                push(k);
+                pushBody(c.i);
+                pushBody(c.j);
+            }
+            for (int i : iface)
+            {
+                const Body& B = bodies[I.slotOf[i]];
+                vAvg[i] = B.v;
+                wAvg[i] = B.w;
+            }
+            C.averageCopies(vAvg, wAvg);
+            ++averagings;
+            for (int i : iface)
+            {
+                const int s = I.slotOf[i];
+                Body& B = bodies[s];
+                const double du = (vAvg[i] - B.v).norm() + B.r*(wAvg[i] - B.w).norm();
+                // the impulse of the averaging on this copy: M (v_avg - v)
+                if (B.im > 0) lambda[2*i] += (vAvg[i] - B.v)/B.im;
+                if (B.ii > 0) lambda[2*i + 1] += (wAvg[i] - B.w)/B.ii;
+                B.v = vAvg[i];
+                B.w = wAvg[i];
+                if (du*dt > requeueFraction*xi) pushBody(s);
+            }
+            busy = C.maxOverSubdomains(count > 0 ? 1.0 : 0.0) > 0;
+            capped = C.maxOverSubdomains(solves >= maxSolves ? 1.0 : 0.0) > 0;
+        }
+        res = C.maxOverSubdomains(std::sqrt(residual2()));
+        if (busy || capped || res <= xi || averagings >= I.settings.maxIterations) break;
+        // the copies agree to the requeue threshold but a row of an interface
+        // grain is off by more than the tolerance: those rows again
+        for (int k = 0; k < NC; ++k)
+            if (ifaceRow[k])
+            {
+                const SolverContact& c = cs[k];
+                const Vec3 rt = twoD ? Vec3(c.rts*Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
+                if (localResidual2(c, rt, bodies[c.i], bodies[c.j], dt) > xi2) push(k);
+            }
+        busy = C.maxOverSubdomains(count > 0 ? 1.0 : 0.0) > 0;
+        if (!busy) break;
+    }
+    for (int k = 0; k < NC; ++k)
+    {
+        SolverContact& c = cs[k];
+        if (twoD) c.rt = c.rts*Vec3(-c.n.y(), c.n.x(), 0.0);
+        c.change = std::sqrt(c.change);
+    }
+    rep.contacts = std::max(rep.contacts, NC);
+    rep.localSolves += solves;
+    rep.sweeps += NC > 0 ? int((solves + NC - 1)/NC) : 0;
+    rep.residual = std::max(rep.residual, dmin > 0 ? res/dmin : 0.0);
+    rep.converged = rep.converged && !busy && !capped && res <= xi;
+}
+/**
+ * The interface impulses of the last step as the warm start of this one:
+ * zero for a grain with one copy (or a ghost in no contact here); the
+ * others made to sum to zero over the grain's copies (the set of copies may
+ * have changed: their mean is removed, through averageCopies), scaled by
+ * dt/lastDt as the contact impulses, and applied to the copy's body; then
+ * one averaging of the copies' velocities. Lists the interface grains (X.iface).
+ */
+void warmStartInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X,
+                        const std::vector<char>& owned, std::vector<Vec3>& lambda, double scale)
+{
+    const int N = int(I.x.size());
+    // the interface grains of this step (their copies average in the solve)
+    X.iface.clear();
+    for (int i = 0; i < N; ++i)
+    {
+        const bool part = (owned[i] || X.inContact[i]) && X.copies[i] > 1 && !I.fix[i];
+        if (part) X.iface.push_back(i);
+        else { lambda[2*i].setZero(); lambda[2*i + 1].setZero(); }
+    }
+    X.vAvg.resize(N);
+    X.wAvg.resize(N);
+    for (int i : X.iface) { X.vAvg[i] = lambda[2*i]; X.wAvg[i] = lambda[2*i + 1]; }
+    C.averageCopies(X.vAvg, X.wAvg);
+    for (int i : X.iface)
+    {
+        lambda[2*i] = scale*(lambda[2*i] - X.vAvg[i]);
+        lambda[2*i + 1] = scale*(lambda[2*i + 1] - X.wAvg[i]);
+        Body& B = I.body[I.slotOf[i]];
+        B.v += B.im*lambda[2*i];
+        B.w += B.ii*lambda[2*i + 1];
+    }
+    // the copies made to agree before the first sweep: with warm-started
+    // contacts their average is the undecomposed warm-started velocity, and
+    // the local sweeps start from it rather than from each copy's share
+    for (int i : X.iface)
+    {
+        const Body& B = I.body[I.slotOf[i]];
+        X.vAvg[i] = B.v;
+        X.wAvg[i] = B.w;
+    }
+    C.averageCopies(X.vAvg, X.wAvg);
+    for (int i : X.iface)
+    {
+        Body& B = I.body[I.slotOf[i]];
+        if (B.im > 0) lambda[2*i] += (X.vAvg[i] - B.v)/B.im;
+        if (B.ii > 0) lambda[2*i + 1] += (X.wAvg[i] - B.w)/B.ii;
+        B.v = X.vAvg[i];
+        B.w = X.wAvg[i];
+    }
+}
+} // namespace
+
+Subdomain::Subdomain(System& system, SubdomainCoupling& coupling)
+: sys_(system), coupling_(coupling), scratch_(std::make_unique<Scratch>())
+{}
+
+Subdomain::~Subdomain() = default;
+
+Subdomain::GrainState Subdomain::state(std::size_t i) const
+{
+    const System::Impl& I = *sys_.impl_;
+    return {I.x[i], I.v[i], I.w[i], I.q[i], I.force[i], I.torque[i], I.T[i],
+            I.dragCoefficient[i], I.dragVelocity[i]};
+}
+
+void Subdomain::setState(std::size_t i, const GrainState& s)
+{
+    System::Impl& I = *sys_.impl_;
+    I.x[i] = s.x;
+    I.v[i] = s.v;
+    I.w[i] = s.w;
+    I.q[i] = s.q;
+    I.force[i] = s.force;
+    I.torque[i] = s.torque;
+    I.T[i] = s.temperature;
+    I.dragCoefficient[i] = s.dragCoefficient;
+    I.dragVelocity[i] = s.fluidVelocity;
+}
+
+StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std::vector<long>& globalId,
+                           std::vector<Vec3>& interfaceImpulse)
+{
+    using clock = std::chrono::steady_clock;
+    System::Impl& I = *sys_.impl_;
+    const int N = int(I.x.size());
+    if (owned.size() != std::size_t(N) || globalId.size() != std::size_t(N))
+        throw InputError("nscd::Subdomain::step: owned and globalId need one entry per grain ("
+                         + std::to_string(N) + "), got " + std::to_string(owned.size()) + " and "
+                         + std::to_string(globalId.size()));
+    if (!(dt > 0) || !std::isfinite(dt))
+        throw InputError("nscd::Subdomain::step: dt must be > 0, got " + std::to_string(dt));
+    if (!I.droplets.empty() || (I.cohesionForce > 0 && I.cohesionPredicate) || I.heatCheck())
+        throw InputError("nscd::Subdomain::step: heat, cohesion and droplets are not decomposed yet;"
+                         " run them on one rank");
+    if (!(I.settings.tolerance > 0) || I.settings.maxIterations < 1)
+        throw InputError("nscd::Subdomain::step: invalid settings (need tolerance > 0, maxIterations >= 1)");
+
+    Scratch& X = *scratch_;
+    std::vector<Vec3>& lambda = interfaceImpulse;
+    if (lambda.size() != 2*std::size_t(N)) lambda.assign(2*std::size_t(N), Vec3::Zero());
+    X.lambda0 = lambda;  // restored if the step detects again
+    const double warmScale = I.settings.warmStart && I.lastDt > 0 ? dt/I.lastDt : 0.0;
+    StepReport rep;
+    rep.substeps = 1;
+    rep.method = int(System::Settings::Method::NLGS);
+    // the tolerance scale d_min of the undecomposed system
+    const double dmin = -2*coupling_.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
+
+    I.maybeReorder();
+    I.freeVelocities(dt);
+    I.reachFloor.clear();
+    const long builds = I.verlet.builds;
+    std::vector<char>& inContact = X.inContact;
+    std::vector<int>& copies = X.copies;
+    inContact.resize(N);
+    int NC0 = 0;
+    for (int redo = 0;; ++redo)
+    {
+        const auto t0 = clock::now();
+        I.detect(dt);
+        // the contacts this subdomain owns: the owner of the grain with the
+        // smaller global id solves a grain pair, the grain's owner a wall contact
+        std::vector<Contact>& C = I.newContacts;
+        std::size_t m = 0;
+        for (const Contact& c : C)
+        {
+            const int gi = I.order[c.i];
+            bool mine;
+            if (c.j >= N) mine = owned[gi];
+            else
+            {
+                const int gj = I.order[c.j];
+                mine = owned[globalId[gi] < globalId[gj] ? gi : gj];
+            }
+            if (mine) C[m++] = c;
+        }
+        C.resize(m);
+        NC0 = int(m);
+        rep.detectSeconds += std::chrono::duration<double>(clock::now() - t0).count();
+        rep.verletBuilds = int(I.verlet.builds - builds);
+
+        // copies: the interface grains' masses are shared among their copies
+        std::fill(inContact.begin(), inContact.end(), 0);
+        for (const Contact& c : C)
+        {
+            inContact[I.order[c.i]] = 1;
+            if (c.j < N) inContact[I.order[c.j]] = 1;
+        }
+        coupling_.countCopies(inContact, copies);
+        for (int i = 0; i < N; ++i)
+        {
+            if (!(owned[i] || inContact[i]) || copies[i] <= 1) continue;
+            Body& B = I.body[I.slotOf[i]];
+            B.im *= copies[i];
+            B.im0 *= copies[i];
+            B.ii *= copies[i];
+        }
+
+        const auto t1 = clock::now();
+        I.prepareContacts(dt, NC0);
+        I.buildAdjacency();
+        warmStartInterface(I, coupling_, X, owned, lambda, warmScale);
+        solveDecomposed(I, coupling_, X, lambda, dt, dmin, rep, nullptr);
+        rep.solveSeconds += std::chrono::duration<double>(clock::now() - t1).count();
+        const bool again = redo < maxRedetections
+                        && coupling_.maxOverSubdomains(I.raiseReaches(dt) ? 1.0 : 0.0) > 0;
+        if (!again) break;
+        ++rep.redetections;
+        lambda = X.lambda0;
+        rep.converged = true;
+        rep.residual = 0;
+        I.freeVelocities(dt);
+        for (int s = 0; s < N; ++s)
+            if (!I.reachFloor.empty()) I.speed[s] = std::max(I.speed[s], I.reachFloor[s]);
+    }
+
+    // relax stage (Step.cpp, relaxPushOut), on every subdomain if one needs it
+    I.relaxPositionVelocity.clear();
+    if (coupling_.maxOverSubdomains(I.relaxSeed.empty() ? 0.0 : 1.0) > 0)
+    {
+        I.relaxPositionVelocity.resize(N);
+        for (int s = 0; s < N; ++s) I.relaxPositionVelocity[s] = I.body[s].v;
+        for (int k : I.relaxSeed) I.rows[k].bias = 0.0;
+        StepReport relax;
+        solveDecomposed(I, coupling_, X, lambda, dt, dmin, relax, rep.converged ? &I.relaxSeed : nullptr);
+        mergeRelaxReport(rep, relax);
+    }
+
+    I.integrate(dt, NC0);
+    I.storeImpulses(dt, NC0, rep);
+    return rep;
+}
+
+} // namespace nscd

@@ -1,0 +1,173 @@
+// nscdMPIBench: per-rank cost of the decomposed NSCD step on a saved bed
+// (not a test; driven by tests/bench/nscdDecomposed).
+//   mpirun -np N nscdMPIBench state.h5 steps out.json [serial]
+// Every rank reads the whole state (System::readHDF5) and keeps the grains
+// of its slab (equal grain counts along x); the bed is stepped `steps`
+// times (dt of the state's last step) after 3 untimed steps. Per rank:
+// owned grains, ghosts, contacts, thread CPU of the step split into the
+// solve's collectives, the exchange (migration and ghosts) and the rest
+// (NSCD work), bytes sent, averagings per step, resident memory. With
+// `serial` and one rank, System::step of the same state is timed as well.
+#include "nscdMPI/DecomposedSystem.H"
+
+#include <malloc.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace nscd;
+
+namespace
+{
+double threadCpu()
+{
+    timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9*double(t.tv_nsec);
+}
+
+/// Resident memory of the process [MB] (VmRSS).
+double rssMB()
+{
+    std::ifstream f("/proc/self/status");
+    std::string line;
+    while (std::getline(f, line))
+        if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6)/1024.0;
+    return 0;
+}
+
+double median(std::vector<double> v)
+{
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v[v.size()/2];
+}
+
+template<class T>
+std::string list(const std::vector<T>& v)
+{
+    std::ostringstream os;
+    os << "[";
+    for (std::size_t k = 0; k < v.size(); ++k) os << (k ? ", " : "") << v[k];
+    os << "]";
+    return os.str();
+}
+
+std::vector<double> gather(double x, int P)
+{
+    std::vector<double> all(P);
+    MPI_Gather(&x, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    return all;
+}
+} // namespace
+
+int main(int argc, char** argv)
+{
+    MPI_Init(&argc, &argv);
+    int rank = 0, P = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &P);
+    if (argc < 4)
+    {
+        if (rank == 0) std::fprintf(stderr, "usage: nscdMPIBench state.h5 steps out.json [serial]\n");
+        MPI_Finalize();
+        return 1;
+    }
+    const std::string state = argv[1];
+    const int steps = std::atoi(argv[2]);
+    const bool serial = argc > 4 && std::string(argv[4]) == "serial" && P == 1;
+
+    double serialCpu = 0;
+    if (serial)
+    {
+        System S = System::readHDF5(state);
+        const double dt = S.lastStepDt() > 0 ? S.lastStepDt() : 1e-4;
+        for (int n = 0; n < 3; ++n) S.step(dt);
+        std::vector<double> t;
+        for (int n = 0; n < steps; ++n)
+        {
+            const double t0 = threadCpu();
+            S.step(dt);
+            t.push_back(threadCpu() - t0);
+        }
+        serialCpu = median(t);
+    }
+
+    System whole = System::readHDF5(state);
+    const double dt = whole.lastStepDt() > 0 ? whole.lastStepDt() : 1e-4;
+    const std::size_t N = whole.size();
+    std::vector<double> xs(N);
+    double rmax = 0;
+    for (std::size_t i = 0; i < N; ++i)
+    {
+        xs[i] = whole.positions()[i].x();
+        rmax = std::max(rmax, whole.radii()[i]);
+    }
+    std::sort(xs.begin(), xs.end());
+    std::vector<double> cut(P + 1);  // slab bounds at the grain-count quantiles
+    for (int r = 1; r < P; ++r) cut[r] = 0.5*(xs[N*r/P - 1] + xs[N*r/P]);
+    auto ownerOf = [cut, P](const Vec3& x)
+    { return int(std::upper_bound(cut.begin() + 1, cut.begin() + P, x.x()) - (cut.begin() + 1)); };
+    mpi::DecomposedSystem D(std::move(whole), MPI_COMM_WORLD, ownerOf, 3*rmax);
+    xs = {};
+    malloc_trim(0);
+
+    const int warmup = std::getenv("NSCD_WARMUP") ? std::atoi(std::getenv("NSCD_WARMUP")) : 3;
+    for (int n = 0; n < warmup; ++n) D.step(dt);
+    std::vector<double> cpu, comm, exch, work, avg, bytes, contacts;
+    bool converged = true;
+    for (int n = 0; n < steps; ++n)
+    {
+        const double t0 = threadCpu();
+        const StepReport rep = D.step(dt);
+        const double c = threadCpu() - t0;
+        const mpi::ExchangeCounters& k = D.counters();
+        cpu.push_back(c);
+        comm.push_back(k.solveCommCpuSeconds);
+        exch.push_back(k.exchangeCpuSeconds);
+        work.push_back(c - k.solveCommCpuSeconds - k.exchangeCpuSeconds);
+        avg.push_back(k.averagings);
+        bytes.push_back(double(k.bytesSent));
+        contacts.push_back(rep.contacts);
+        converged = converged && rep.converged;
+        if (std::getenv("NSCD_VERBOSE") && (rank == 0 || std::getenv("NSCD_ALLRANKS")))
+            std::printf("rank %d step %d: averagings %d (relax solve %d), local solves %ld, contacts %d, residual %.3g, work %.4f s, migrated %ld, ghosts sent %ld added %ld dropped %ld\n",
+                        rank, n, k.averagings, rep.relaxSolves, rep.localSolves, rep.contacts, rep.residual, work.back(),
+                        k.migratedOut, k.ghostsSent, k.ghostsAdded, k.ghostsDropped);
+    }
+    const auto owned = gather(double(D.nOwned()), P);
+    const auto ghosts = gather(double(D.system().size() - D.nOwned()), P);
+    const auto mCpu = gather(median(cpu), P), mComm = gather(median(comm), P),
+               mExch = gather(median(exch), P), mWork = gather(median(work), P),
+               mAvg = gather(median(avg), P), mBytes = gather(median(bytes), P),
+               mContacts = gather(median(contacts), P), rss = gather(rssMB(), P);
+    if (rank == 0)
+    {
+        std::ofstream o(argv[3]);
+        o << "{\n  \"ranks\": " << P << ",\n  \"grains\": " << N << ",\n  \"dt\": " << dt
+          << ",\n  \"timed_steps\": " << steps << ",\n  \"converged_every_step\": " << (converged ? "true" : "false")
+          << ",\n  \"owned_grains\": " << list(owned) << ",\n  \"ghost_grains\": " << list(ghosts)
+          << ",\n  \"contacts\": " << list(mContacts)
+          << ",\n  \"cpu_seconds_per_step\": " << list(mCpu)
+          << ",\n  \"nscd_work_cpu_seconds_per_step\": " << list(mWork)
+          << ",\n  \"solve_collectives_cpu_seconds_per_step\": " << list(mComm)
+          << ",\n  \"exchange_cpu_seconds_per_step\": " << list(mExch)
+          << ",\n  \"averagings_per_step\": " << list(mAvg)
+          << ",\n  \"bytes_sent_per_step\": " << list(mBytes)
+          << ",\n  \"rss_mb\": " << list(rss);
+        if (serial) o << ",\n  \"undecomposed_cpu_seconds_per_step\": " << serialCpu;
+        o << "\n}\n";
+        std::printf("np %d: owned %s, work CPU %s s/step, collectives %s, exchange %s, averagings %s, rss %s MB\n",
+                    P, list(owned).c_str(), list(mWork).c_str(), list(mComm).c_str(), list(mExch).c_str(),
+                    list(mAvg).c_str(), list(rss).c_str());
+        if (serial) std::printf("undecomposed System::step: %.4f CPU s/step\n", serialCpu);
+    }
+    MPI_Finalize();
+    return 0;
+}

@@ -1,0 +1,260 @@
+// nscdMPI: a grain system decomposed over the ranks of MPI_COMM_WORLD (run
+// by ctest on 1, 2 and 4 ranks). Every rank also runs the undecomposed
+// System for comparison (the cases are small).
+//   - conservation: grains thrown across the rank boundaries keep every id
+//     exactly once and the total momentum (no walls, no gravity: contact
+//     impulses are internal forces, Newton's third law);
+//   - statics: a deposit settled across horizontal rank boundaries carries
+//     its weight to the floor (the floor's impulse over dt equals the total
+//     weight), and settles like the undecomposed run (bed height).
+#include "nscdMPI/DecomposedSystem.H"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+using namespace nscd;
+using nscd::mpi::DecomposedSystem;
+
+namespace
+{
+int worldRank() { int r; MPI_Comm_rank(MPI_COMM_WORLD, &r); return r; }
+int worldSize() { int p; MPI_Comm_size(MPI_COMM_WORLD, &p); return p; }
+
+double sumAll(double x)
+{
+    double s = 0;
+    MPI_Allreduce(&x, &s, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    return s;
+}
+double maxAll(double x)
+{
+    double s = 0;
+    MPI_Allreduce(&x, &s, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    return s;
+}
+
+/// Owner of x: P slabs of [lo, hi) along axis k (clamped).
+DecomposedSystem::OwnerFunction slabs(int k, double lo, double hi)
+{
+    const int P = worldSize();
+    return [=](const Vec3& x)
+    { return std::clamp(int(std::floor((x[k] - lo)/(hi - lo)*P)), 0, P - 1); };
+}
+
+/// The global ids of the grains owned anywhere, sorted (on every rank).
+std::vector<long> ownedIdsEverywhere(const DecomposedSystem& D)
+{
+    std::vector<long> mine;
+    for (std::size_t i = 0; i < D.owned().size(); ++i)
+        if (D.owned()[i]) mine.push_back(D.globalIds()[i]);
+    const int P = worldSize();
+    int n = int(mine.size());
+    std::vector<int> counts(P), offs(P, 0);
+    MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    std::partial_sum(counts.begin(), counts.end() - 1, offs.begin() + 1);
+    std::vector<long> all(offs.back() + counts.back());
+    MPI_Allgatherv(mine.data(), n, MPI_LONG, all.data(), counts.data(), offs.data(), MPI_LONG, MPI_COMM_WORLD);
+    std::sort(all.begin(), all.end());
+    return all;
+}
+
+/// Grains of a case: centre, radius, velocity.
+struct Grain { Vec3 x; double r; Vec3 v; };
+
+/// 20 x 20 discs of radius 0.45-0.5 mm on a lattice of 1.2 mm, converging
+/// on the centre at 20 1/s, drifting at 0.4 m/s along x, plus random
+/// velocities of up to 0.1 m/s.
+std::vector<Grain> gasCase()
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::vector<Grain> g;
+    const double a = 1.2e-3;
+    const Vec3 c(10*a, 10*a, 0);
+    for (int j = 0; j < 20; ++j)
+        for (int i = 0; i < 20; ++i)
+        {
+            const Vec3 x((i + 0.5)*a, (j + 0.5)*a, 0);
+            const double r = 0.5e-3*(0.95 + 0.05*u(rng));
+            g.push_back({x, r, Vec3(-20*(x - c) + 0.1*Vec3(u(rng), u(rng), 0) + Vec3(0.4, 0, 0))});
+        }
+    return g;
+}
+} // namespace
+
+// Grains thrown across the rank boundaries (x slabs): after every step each
+// id is owned exactly once, and the total momentum sum m v of the owned
+// grains is that of the start (internal contact impulses only) to round-off.
+TEST(Decomposed, ThrownGrainsKeepEveryIdAndTheMomentum)
+{
+    const std::vector<Grain> G = gasCase();
+    const double L = 36e-3;
+    DecomposedSystem D(2, MPI_COMM_WORLD, slabs(0, 0, L), 3e-3);
+    System& S = D.system();
+    const int m = S.addMaterial({2500, 0.3});
+    for (std::size_t k = 0; k < G.size(); ++k)
+    {
+        const std::size_t i = D.addGrain(long(k), G[k].x, G[k].r, m);
+        if (i != std::size_t(-1)) S.velocities()[i] = G[k].v;
+    }
+    D.exchange();
+    // total momentum, sum m |v| (its scale) and kinetic energy of the owned grains
+    auto momentum = [&](double& scale, double& energy)
+    {
+        Vec3 p = Vec3::Zero();
+        double s = 0, e = 0;
+        for (std::size_t i = 0; i < S.size(); ++i)
+            if (D.owned()[i])
+            {
+                const Vec3& v = S.velocities()[i];
+                p += S.mass(i)*v;
+                s += S.mass(i)*v.norm();
+                e += 0.5*(S.mass(i)*v.squaredNorm() + S.inertia(i)*S.angularVelocities()[i].squaredNorm());
+            }
+        scale = sumAll(s);
+        energy = sumAll(e);
+        return Vec3(sumAll(p.x()), sumAll(p.y()), 0.0);
+    };
+    double scale0 = 0, energy0 = 0;
+    const Vec3 p0 = momentum(scale0, energy0);
+    std::vector<long> ids(G.size());
+    std::iota(ids.begin(), ids.end(), 0L);
+    long migrated = 0;
+    int contactsMax = 0;
+    for (int n = 0; n < 300; ++n)
+    {
+        const StepReport rep = D.step(1e-4);
+        ASSERT_TRUE(rep.converged) << "step " << n;
+        migrated += D.counters().migratedOut;
+        contactsMax = std::max(contactsMax, rep.contacts);
+        ASSERT_EQ(ownedIdsEverywhere(D), ids) << "step " << n;
+    }
+    double scale = 0, energy = 0;
+    const Vec3 p = momentum(scale, energy);
+    EXPECT_LT((p - p0).norm(), 1e-12*scale0) << "momentum " << p.transpose() << " from " << p0.transpose();
+    EXPECT_LT(energy, 0.98*energy0);  // the (inelastic) collisions dissipated
+    EXPECT_GT(sumAll(double(contactsMax)), 100);
+    if (worldSize() > 1) EXPECT_GT(sumAll(double(migrated)), 20);  // grains changed ranks
+}
+
+// A deposit settled across horizontal rank boundaries (y slabs: the weight of
+// the upper ranks' grains crosses every interface). 300 discs of 0.9-1.1 mm
+// dropped from a loose lattice into a box, 0.15 s. Statics: the floor carries
+// the whole weight (its contact impulses over dt = sum m g, to the solver's
+// tolerance); and the bed settles to the undecomposed run's height.
+TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
+{
+    const int cols = 10, rows = 20;
+    const double a = 1.15e-3, W = cols*a + 0.2e-3, H = rows*a + 1e-3;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0.45e-3, 0.55e-3);
+    std::vector<Grain> G;
+    for (int j = 0; j < rows; ++j)
+        for (int i = 0; i < cols; ++i)
+            G.push_back({Vec3((i + 0.5 + (j % 2 ? 0.1 : -0.1))*a + 0.1e-3, (j + 0.5)*a + 0.1e-3, 0), u(rng), Vec3::Zero()});
+    auto setUp = [&](System& S)
+    {
+        S.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
+        S.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
+        S.addPlane(Vec3(W, 0, 0), Vec3(-1, 0, 0));
+        S.setGravity(Vec3(0, -9.81, 0));
+        return S.addMaterial({2500, 0.4});
+    };
+    DecomposedSystem D(2, MPI_COMM_WORLD, slabs(1, 0, 0.6*H), 2.5e-3);
+    const int m = setUp(D.system());
+    for (std::size_t k = 0; k < G.size(); ++k) D.addGrain(long(k), G[k].x, G[k].r, m);
+    D.exchange();
+    System serial(2);
+    setUp(serial);
+    for (const Grain& g : G) serial.addGrain(g.x, g.r, m);
+
+    // statics, averaged over the last 100 steps: the walls' vertical impulse
+    // (floor, and the side walls' friction) over the time = the weight
+    auto wallLoad = [&](const System& S, const std::vector<char>* owned)
+    {
+        double fy = 0;
+        for (const System::ContactView& c : S.contacts())
+            if (c.j < 0 && (!owned || (*owned)[c.i])) fy += c.impulse.y();
+        return fy;
+    };
+    const double dt = 5e-4;
+    const int steps = 300, averaged = 100;
+    int averagingsMax = 0, capped = 0;
+    double loadDecomposed = 0, loadSerial = 0;
+    for (int n = 0; n < steps; ++n)
+    {
+        const StepReport rep = D.step(dt);
+        averagingsMax = std::max(averagingsMax, rep.sweeps);
+        serial.step(dt);
+        if (n < steps - averaged) continue;
+        capped += !rep.converged;  // (the pour may cap a step, not the bed at rest)
+        loadDecomposed += sumAll(wallLoad(D.system(), &D.owned()))/(averaged*dt);
+        loadSerial += wallLoad(serial, nullptr)/(averaged*dt);
+    }
+    double weight = 0;
+    for (std::size_t i = 0; i < serial.size(); ++i) weight += serial.mass(i)*9.81;
+    EXPECT_NEAR(loadSerial/weight, 1.0, 1e-3);
+    EXPECT_NEAR(loadDecomposed/weight, 1.0, 1e-3);
+    EXPECT_EQ(capped, 0);
+    // at rest, at the undecomposed run's height
+    double vmax = 0, top = 0, topSerial = 0, ySum = 0;
+    for (std::size_t i = 0; i < D.system().size(); ++i)
+        if (D.owned()[i])
+        {
+            vmax = std::max(vmax, D.system().velocities()[i].norm());
+            top = std::max(top, D.system().positions()[i].y() + D.system().radii()[i]);
+            ySum += D.system().positions()[i].y();
+        }
+    vmax = maxAll(vmax);
+    top = maxAll(top);
+    const double yMean = sumAll(ySum)/double(G.size());
+    double ySerial = 0;
+    for (std::size_t i = 0; i < serial.size(); ++i)
+    {
+        topSerial = std::max(topSerial, serial.positions()[i].y() + serial.radii()[i]);
+        ySerial += serial.positions()[i].y();
+    }
+    ySerial /= double(G.size());
+    if (worldRank() == 0)
+        std::printf("[ deposit ] %d ranks: wall load/weight %.6f (serial %.6f), top %.4f mm (serial %.4f), "
+                    "mean y %.5f mm (serial %.5f), vmax %.2e m/s, sweeps/step max %d\n",
+                    worldSize(), loadDecomposed/weight, loadSerial/weight, 1e3*top, 1e3*topSerial,
+                    1e3*yMean, 1e3*ySerial, vmax, averagingsMax);
+    EXPECT_LT(vmax, 5e-3);
+    EXPECT_NEAR(top, topSerial, 0.02*topSerial);
+    EXPECT_NEAR(yMean, ySerial, 0.01*ySerial);
+}
+
+TEST(Decomposed, BadInputIsRefused)
+{
+    EXPECT_THROW(DecomposedSystem(2, MPI_COMM_WORLD, slabs(0, 0, 1), 0.0), InputError);
+    DecomposedSystem D(2, MPI_COMM_WORLD, [](const Vec3&) { return -1; }, 1e-3);
+    const int m = D.system().addMaterial({2500, 0.3});
+    try
+    {
+        D.addGrain(0, Vec3(1, 2, 0), 1e-3, m);
+        FAIL() << "no error for an owner function outside the ranks";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("owner function gives rank -1"), std::string::npos) << e.what();
+    }
+}
+
+int main(int argc, char** argv)
+{
+    MPI_Init(&argc, &argv);
+    ::testing::InitGoogleTest(&argc, argv);
+    if (worldRank() != 0)  // one report: rank 0's
+        delete ::testing::UnitTest::GetInstance()->listeners().Release(
+            ::testing::UnitTest::GetInstance()->listeners().default_result_printer());
+    const int failed = RUN_ALL_TESTS();
+    int anyFailed = 0;
+    MPI_Allreduce(&failed, &anyFailed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Finalize();
+    return anyFailed;
+}
