@@ -110,6 +110,20 @@ void Foam::grainCloud::writeCloud
         fixed[k] = system_->fixed(i) ? 1 : 0;
     }
     cloud.write();
+    if (Pstream::parRun())
+    {
+        // load balance: the grains each rank's mesh holds (whose lagrangian
+        // output it writes; every rank still solves all grains' contacts)
+        labelList perRank(Pstream::nProcs(), 0);
+        perRank[Pstream::myProcNo()] = ids.size();
+        Pstream::gatherList(perRank);
+        if (Pstream::master())
+        {
+            const scalar mean = scalar(sum(perRank))/perRank.size();
+            Info<< "grainCloud: grains per rank " << perRank << ", largest/mean "
+                << (mean > 0 ? max(perRank)/mean : 0) << endl;
+        }
+    }
     const bool valid = ids.size() > 0;
     d.write(valid);
     U.write(valid);

@@ -126,10 +126,23 @@ def run_parallel(app, case, env, n=2, delta=0.001):
                        env=env, capture_output=True, text=True)
     with open(os.path.join(case, f"log.{app}"), "w") as f:
         f.write(p.stdout + p.stderr)
-    if p.returncode != 0 and ("orte" in p.stderr.lower() or "slots" in p.stderr.lower()):
+    if mpirun_could_not_start(p):
         pytest.skip("mpirun cannot start here: " + p.stderr[-300:])
     assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
     return p
+
+
+def mpirun_could_not_start(p):
+    """True if the failed `mpirun` CompletedProcess p failed to start its
+    ranks (no slots, no daemon), not because an application failed: a
+    failing application calls MPI_ABORT, and Open MPI's help text then names
+    orte_base_help_aggregate, which a test of "orte" alone takes for a start
+    failure (that hid a broken case for several sessions)."""
+    err = p.stderr.lower()
+    if p.returncode == 0 or "mpi_abort" in err or "foam fatal" in (p.stdout + p.stderr).lower():
+        return False
+    return any(m in err for m in ("not enough slots", "orte was unable", "unable to launch",
+                                  "daemon has unexpectedly failed", "could not find an allocated"))
 
 
 def add_fluid(case, rho, nu, drag="DallavalleDiFelice", force_model="A",

@@ -15,6 +15,7 @@ uniform blockMesh grid.  A rank owns the grains whose centre lies in its cells
 (issue 29 item 1).
 """
 import os
+import re
 import shutil
 import subprocess
 
@@ -23,7 +24,7 @@ import pytest
 from foamlib import FoamFile
 
 import nscdpost
-from foamcase import run, write, read_internal
+from foamcase import mpirun_could_not_start, run, write, read_internal
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 BASE = os.path.join(ROOT, "tutorials", "vansFoam", "sedimentation", "base")
@@ -35,7 +36,8 @@ def bed_case(case, env, rows, end=0.005):
     """The sedimentation tutorial with `rows` rows of 133 discs resting on the
     floor (lower part of the box); blockMesh and grainDeposit run.  Returns
     the grain centres (n, 2)."""
-    nscdpost.instantiate_case(BASE, case, {"@METHOD@": "overlap", "@ENDTIME@": str(end)})
+    nscdpost.instantiate_case(BASE, case, {"@METHOD@": "overlap", "@ENDTIME@": str(end),
+                                           "@EPSMIN@": "1e-8", "@PRESSUREDIFFUSION@": "0"})
     ncol = int(LX / (2 * R))
     x0 = 0.5 * (LX - ncol * 2 * R)
     xy = np.array([(x0 + (2 * i + 1) * R, (2 * j + 1) * R * (1 + 1e-9))
@@ -132,7 +134,8 @@ def test_scotch_parallel_run_keeps_every_grain(tmp_path, env):
     """The user's path: grainVoidFraction -cellWeight, decomposePar with
     method scotch and weightField, mpirun -np 2 vansFoam -parallel for 5
     steps, reconstructPar: every grain id is there exactly once and both
-    ranks own grains."""
+    ranks own grains; each write logs the grains per rank, which sum to the
+    grain count."""
     case = str(tmp_path / "bed")
     xy = bed_case(case, env, rows=3, end=0.005)
     run("grainVoidFraction", case, env, args=["-cellWeight"])
@@ -142,9 +145,14 @@ def test_scotch_parallel_run_keeps_every_grain(tmp_path, env):
                        env=env, capture_output=True, text=True, timeout=300)
     with open(os.path.join(case, "log.vansFoam"), "w") as f:
         f.write(p.stdout + p.stderr)
-    if p.returncode != 0 and ("orte" in p.stderr.lower() or "slots" in p.stderr.lower()):
+    if mpirun_could_not_start(p):
         pytest.skip("mpirun cannot start here: " + p.stderr[-300:])
     assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    # load balance logged at each write: the grains of each rank's mesh part
+    logged = re.findall(r"grains per rank 2\((\d+) (\d+)\)", p.stdout)
+    assert logged, "no 'grains per rank' line in the log"
+    assert [sum(map(int, x)) for x in logged] == [len(xy)]*len(logged)
+    assert min(map(int, logged[-1])) > 0
     run("reconstructPar", case, env, args=("-latestTime",))
     t, name = nscdpost.time_dirs(case)[-1]
     assert t == pytest.approx(0.005)
