@@ -296,17 +296,30 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     using clock = std::chrono::steady_clock;
     System::Impl& I = *sys_.impl_;
     const int N = int(I.x.size());
-    if (owned.size() != std::size_t(N) || globalId.size() != std::size_t(N))
-        throw InputError("nscd::Subdomain::step: owned and globalId need one entry per grain ("
-                         + std::to_string(N) + "), got " + std::to_string(owned.size()) + " and "
-                         + std::to_string(globalId.size()));
-    if (!(dt > 0) || !std::isfinite(dt))
-        throw InputError("nscd::Subdomain::step: dt must be > 0, got " + std::to_string(dt));
-    if (!I.droplets.empty() || (I.cohesionForce > 0 && I.cohesionPredicate) || I.heatCheck())
-        throw InputError("nscd::Subdomain::step: heat, cohesion and droplets are not decomposed yet;"
-                         " run them on one rank");
-    if (!(I.settings.tolerance > 0) || I.settings.maxIterations < 1)
-        throw InputError("nscd::Subdomain::step: invalid settings (need tolerance > 0, maxIterations >= 1)");
+    // input checks, collective: if one subdomain refuses the step, all do
+    // (none is left waiting in a collective of the step)
+    std::string refused;
+    try
+    {
+        if (owned.size() != std::size_t(N) || globalId.size() != std::size_t(N))
+            throw InputError("nscd::Subdomain::step: owned and globalId need one entry per grain ("
+                             + std::to_string(N) + "), got " + std::to_string(owned.size()) + " and "
+                             + std::to_string(globalId.size()));
+        if (!(dt > 0) || !std::isfinite(dt))
+            throw InputError("nscd::Subdomain::step: dt must be > 0, got " + std::to_string(dt));
+        if (!I.droplets.empty() || (I.cohesionForce > 0 && I.cohesionPredicate) || I.heatCheck())
+            throw InputError("nscd::Subdomain::step: heat, cohesion and droplets are not decomposed yet;"
+                             " run them on one rank");
+        if (!(I.settings.tolerance > 0) || I.settings.maxIterations < 1)
+            throw InputError("nscd::Subdomain::step: invalid settings (need tolerance > 0, maxIterations >= 1)");
+    }
+    catch (const InputError& e)
+    {
+        refused = e.what();
+    }
+    if (coupling_.maxOverSubdomains(refused.empty() ? 0.0 : 1.0) > 0)
+        throw InputError(refused.empty() ? "nscd::Subdomain::step: another subdomain refused the step"
+                                           " (its error names the input)" : refused);
 
     Scratch& X = *scratch_;
     std::vector<Vec3>& lambda = interfaceImpulse;

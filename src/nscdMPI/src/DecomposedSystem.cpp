@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <limits>
 #include <string>
@@ -520,16 +521,43 @@ std::size_t DecomposedSystem::addGrain(long id, const Vec3& centre, double radiu
 void DecomposedSystem::exchange()
 {
     impl_->counters = ExchangeCounters{};
-    impl_->exchange();
+    try
+    {
+        impl_->exchange();
+    }
+    catch (const std::exception& e)  // one rank's fault: stop all (see step)
+    {
+        std::fprintf(stderr, "nscd::mpi::DecomposedSystem::exchange, rank %d: %s\n", impl_->rank, e.what());
+        std::fflush(stderr);
+        MPI_Abort(impl_->comm, 1);
+        throw;
+    }
 }
 
 StepReport DecomposedSystem::step(double dt)
 {
     Impl& I = *impl_;
     I.counters = ExchangeCounters{};
-    const StepReport rep = I.sub.step(dt, I.owned, I.gid, I.lambda);
-    I.exchange();
-    return rep;
+    try
+    {
+        const StepReport rep = I.sub.step(dt, I.owned, I.gid, I.lambda);
+        I.exchange();
+        return rep;
+    }
+    catch (const InputError&)
+    {
+        throw;  // refused by the collective input check: every rank throws it
+    }
+    catch (const std::exception& e)
+    {
+        // a fault on one rank mid-step (e.g. a StepError, an owner outside
+        // the ranks): the others wait in a collective, so stop them all, as
+        // OpenFOAM's FatalError does, rather than hang
+        std::fprintf(stderr, "nscd::mpi::DecomposedSystem::step, rank %d: %s\n", I.rank, e.what());
+        std::fflush(stderr);
+        MPI_Abort(I.comm, 1);
+        throw;
+    }
 }
 
 } // namespace mpi

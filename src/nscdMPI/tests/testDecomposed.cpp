@@ -15,6 +15,7 @@
 #include <cmath>
 #include <numeric>
 #include <random>
+#include <string>
 
 using namespace nscd;
 using nscd::mpi::DecomposedSystem;
@@ -232,6 +233,25 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
 TEST(Decomposed, BadInputIsRefused)
 {
     EXPECT_THROW(DecomposedSystem(2, MPI_COMM_WORLD, slabs(0, 0, 1), 0.0), InputError);
+    {
+        // input refused on one rank only: every rank throws (none hangs)
+        DecomposedSystem D(2, MPI_COMM_WORLD, slabs(0, 0, 10e-3), 3e-3);
+        const int m = D.system().addMaterial({2500, 0.3});
+        for (int k = 0; k < 8; ++k) D.addGrain(k, Vec3((k + 0.5)*1.25e-3, 1e-3, 0), 0.5e-3, m);
+        D.exchange();
+        if (worldRank() == 0) D.system().settings().tolerance = -1;
+        try
+        {
+            D.step(1e-4);
+            FAIL() << "no error for a negative tolerance on rank 0";
+        }
+        catch (const InputError& e)
+        {
+            const std::string what = e.what();
+            if (worldRank() == 0) EXPECT_NE(what.find("tolerance > 0"), std::string::npos) << what;
+            else EXPECT_NE(what.find("another subdomain refused"), std::string::npos) << what;
+        }
+    }
     DecomposedSystem D(2, MPI_COMM_WORLD, [](const Vec3&) { return -1; }, 1e-3);
     const int m = D.system().addMaterial({2500, 0.3});
     try
