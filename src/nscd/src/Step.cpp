@@ -360,9 +360,7 @@ void System::Impl::relaxPushOut(double dt, StepReport& rep)
 {
     relaxPositionVelocity.clear();
     if (relaxSeed.empty()) return;  // (filled by prepareContacts)
-    const int N = int(x.size());
-    relaxPositionVelocity.resize(N);
-    for (int s = 0; s < N; ++s) relaxPositionVelocity[s] = body[s].v;
+    holdPositionVelocities();
     for (int k : relaxSeed) rows[k].bias = 0.0;
     // the solve continues from the rows' impulses and the bodies' velocities;
     // after a converged solve only the push-out rows have a new law (the
@@ -370,6 +368,13 @@ void System::Impl::relaxPushOut(double dt, StepReport& rep)
     StepReport relax;
     solveContacts(dt, relax, rep.converged ? &relaxSeed : nullptr);
     mergeRelaxReport(rep, relax);
+}
+
+void System::Impl::holdPositionVelocities()
+{
+    const int N = int(x.size());
+    relaxPositionVelocity.resize(N);
+    for (int s = 0; s < N; ++s) relaxPositionVelocity[s] = body[s].v;
 }
 
 // ---- a capped (unconverged) solve may not raise the kinetic energy ----
@@ -418,11 +423,7 @@ void System::Impl::limitCappedEnergy(double dt, StepReport& rep)
     // the grains still move with the solve's velocities in this step (as the
     // relax stage's positions: the overlaps the solve prevents stay
     // prevented); only the velocities they keep are scaled
-    if (relaxPositionVelocity.empty())
-    {
-        relaxPositionVelocity.resize(N);
-        for (int s = 0; s < N; ++s) relaxPositionVelocity[s] = body[s].v;
-    }
+    if (relaxPositionVelocity.empty()) holdPositionVelocities();
     for (int i = 0; i < N; ++i)
     {
         if (fix[i]) continue;

@@ -40,6 +40,36 @@ constexpr int rowsAhead = 16, bodiesAhead = 8;
 constexpr double requeueFraction = 0.5;
 
 /**
+ * One averaging of the interface grains' copies (X.iface): their velocities
+ * replaced by the average over the copies (averageCopies), the impulse this
+ * gives each copy, M (v_avg - v), added to its interface impulse lambda;
+ * moved(slot, du) is called with each copy's velocity change |dv| + r |dw|.
+ */
+template<class Moved>
+void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X,
+                      std::vector<Vec3>& lambda, Moved moved)
+{
+    for (int i : X.iface)
+    {
+        const Body& B = I.body[I.slotOf[i]];
+        X.vAvg[i] = B.v;
+        X.wAvg[i] = B.w;
+    }
+    C.averageCopies(X.vAvg, X.wAvg);
+    for (int i : X.iface)
+    {
+        const int s = I.slotOf[i];
+        Body& B = I.body[s];
+        const double du = (X.vAvg[i] - B.v).norm() + B.r*(X.wAvg[i] - B.w).norm();
+        if (B.im > 0) lambda[2*i] += (X.vAvg[i] - B.v)/B.im;
+        if (B.ii > 0) lambda[2*i + 1] += (X.wAvg[i] - B.w)/B.ii;
+        B.v = X.vAvg[i];
+        B.w = X.wAvg[i];
+        moved(s, du);
+    }
+}
+
+/**
  * The interface-averaged NLGS on the rows of I (prepared): rounds of one
  * sweep-equivalent of the FIFO contact queue (section 2.3), or until it
  * empties, then averageCopies of the interface grains, so that the
@@ -73,8 +103,6 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
     I.rowsHaveRts = false;
 
     const std::vector<int>& iface = X.iface;
-    std::vector<Vec3>& vAvg = X.vAvg;
-    std::vector<Vec3>& wAvg = X.wAvg;
 
     // FIFO queue as a ring of NC entries (each row at most once)
     I.queue.resize(std::max(NC, 1));
@@ -110,16 +138,16 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
     // residual (ContactSolver.cpp), squared: the last change of each row,
     // evaluated at the current velocities for the rows of interface grains
     // (and every row of a seeded solve, as some were not solved)
+    auto rowResidual2 = [&](int k)  // at the current velocities
+    {
+        const SolverContact& c = cs[k];
+        const Vec3 rt = twoD ? Vec3(c.rts*Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
+        return localResidual2(c, rt, bodies[c.i], bodies[c.j], dt);
+    };
     auto residual2 = [&]()
     {
         double r = 0;
-        for (int k = 0; k < NC; ++k)
-        {
-            const SolverContact& c = cs[k];
-            if (!ifaceRow[k]) { r = std::max(r, c.change); continue; }
-            const Vec3 rt = twoD ? Vec3(c.rts*Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
-            r = std::max(r, localResidual2(c, rt, bodies[c.i], bodies[c.j], dt));
-        }
+        for (int k = 0; k < NC; ++k) r = std::max(r, ifaceRow[k] ? rowResidual2(k) : cs[k].change);
         return r;
     };
 
@@ -161,26 +189,9 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
                 pushBody(c.i);
                 pushBody(c.j);
             }
-            for (int i : iface)
-            {
-                const Body& B = bodies[I.slotOf[i]];
-                vAvg[i] = B.v;
-                wAvg[i] = B.w;
-            }
-            C.averageCopies(vAvg, wAvg);
+            averageInterface(I, C, X, lambda, [&](int s, double du)
+                             { if (du*dt > requeueFraction*xi) pushBody(s); });
             ++averagings;
-            for (int i : iface)
-            {
-                const int s = I.slotOf[i];
-                Body& B = bodies[s];
-                const double du = (vAvg[i] - B.v).norm() + B.r*(wAvg[i] - B.w).norm();
-                // the impulse of the averaging on this copy: M (v_avg - v)
-                if (B.im > 0) lambda[2*i] += (vAvg[i] - B.v)/B.im;
-                if (B.ii > 0) lambda[2*i + 1] += (wAvg[i] - B.w)/B.ii;
-                B.v = vAvg[i];
-                B.w = wAvg[i];
-                if (du*dt > requeueFraction*xi) pushBody(s);
-            }
             busy = C.maxOverSubdomains(count > 0 ? 1.0 : 0.0) > 0;
             capped = C.maxOverSubdomains(solves >= maxSolves ? 1.0 : 0.0) > 0;
         }
@@ -189,12 +200,7 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
         // the copies agree to the requeue threshold but a row of an interface
         // grain is off by more than the tolerance: those rows again
         for (int k = 0; k < NC; ++k)
-            if (ifaceRow[k])
-            {
-                const SolverContact& c = cs[k];
-                const Vec3 rt = twoD ? Vec3(c.rts*Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
-                if (localResidual2(c, rt, bodies[c.i], bodies[c.j], dt) > xi2) push(k);
-            }
+            if (ifaceRow[k] && rowResidual2(k) > xi2) push(k);
         busy = C.maxOverSubdomains(count > 0 ? 1.0 : 0.0) > 0;
         if (!busy) break;
     }
@@ -245,21 +251,7 @@ void warmStartInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratc
     // the copies made to agree before the first sweep: with warm-started
     // contacts their average is the undecomposed warm-started velocity, and
     // the local sweeps start from it rather than from each copy's share
-    for (int i : X.iface)
-    {
-        const Body& B = I.body[I.slotOf[i]];
-        X.vAvg[i] = B.v;
-        X.wAvg[i] = B.w;
-    }
-    C.averageCopies(X.vAvg, X.wAvg);
-    for (int i : X.iface)
-    {
-        Body& B = I.body[I.slotOf[i]];
-        if (B.im > 0) lambda[2*i] += (X.vAvg[i] - B.v)/B.im;
-        if (B.ii > 0) lambda[2*i + 1] += (X.wAvg[i] - B.w)/B.ii;
-        B.v = X.vAvg[i];
-        B.w = X.wAvg[i];
-    }
+    averageInterface(I, C, X, lambda, [](int, double) {});
 }
 } // namespace
 
@@ -404,8 +396,7 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     I.relaxPositionVelocity.clear();
     if (coupling_.maxOverSubdomains(I.relaxSeed.empty() ? 0.0 : 1.0) > 0)
     {
-        I.relaxPositionVelocity.resize(N);
-        for (int s = 0; s < N; ++s) I.relaxPositionVelocity[s] = I.body[s].v;
+        I.holdPositionVelocities();
         for (int k : I.relaxSeed) I.rows[k].bias = 0.0;
         StepReport relax;
         solveDecomposed(I, coupling_, X, lambda, dt, dmin, relax, rep.converged ? &I.relaxSeed : nullptr);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <limits>
 #include <string>
@@ -175,18 +176,26 @@ struct DecomposedSystem::Impl : public SubdomainCoupling
     {
         CpuTimer t(counters.solveCommCpuSeconds);
         struct VW { double a[6]; };
-        std::vector<std::vector<VW>> toOwner(P), atOwner(P);
-        for (int r = 0; r < P; ++r)
+        // per rank: (v, w) of the grains of lists[r], and a receive buffer of n(r)
+        auto pack = [&](const std::vector<std::vector<int>>& lists, const std::vector<std::vector<int>>& from,
+                        std::vector<std::vector<VW>>& out, std::vector<std::vector<VW>>& in)
         {
-            for (int i : ifaceGhost[r])
+            out.assign(P, {});
+            in.assign(P, {});
+            for (int r = 0; r < P; ++r)
             {
-                VW m;
-                put(m.a, v[i]);
-                put(m.a + 3, w[i]);
-                toOwner[r].push_back(m);
+                for (int i : lists[r])
+                {
+                    VW m;
+                    put(m.a, v[i]);
+                    put(m.a + 3, w[i]);
+                    out[r].push_back(m);
+                }
+                in[r].resize(from[r].size());
             }
-            atOwner[r].resize(ifaceOwned[r].size());
-        }
+        };
+        std::vector<std::vector<VW>> toOwner, atOwner;
+        pack(ifaceGhost, ifaceOwned, toOwner, atOwner);
         counters.bytesSent += exchangeKnown(comm, TagToOwner, toOwner, atOwner);
         // owners: the mean of the copies (equal masses), sent back
         for (int r = 0; r < P; ++r)
@@ -197,18 +206,8 @@ struct DecomposedSystem::Impl : public SubdomainCoupling
                 w[i] += get(atOwner[r][k].a + 3);
             }
         for (int i : ownedShared) { v[i] /= copies[i]; w[i] /= copies[i]; }
-        std::vector<std::vector<VW>> fromOwner(P), back(P);
-        for (int r = 0; r < P; ++r)
-        {
-            for (int i : ifaceOwned[r])
-            {
-                VW m;
-                put(m.a, v[i]);
-                put(m.a + 3, w[i]);
-                fromOwner[r].push_back(m);
-            }
-            back[r].resize(ifaceGhost[r].size());
-        }
+        std::vector<std::vector<VW>> fromOwner, back;
+        pack(ifaceOwned, ifaceGhost, fromOwner, back);
         counters.bytesSent += exchangeKnown(comm, TagFromOwner, fromOwner, back);
         for (int r = 0; r < P; ++r)
             for (std::size_t k = 0; k < back[r].size(); ++k)
@@ -293,6 +292,18 @@ struct DecomposedSystem::Impl : public SubdomainCoupling
     }
 
     void exchange();
+
+    /// A fault on this rank inside a collective (a StepError, an owner
+    /// outside the ranks): the other ranks wait for it, so stop them all,
+    /// as OpenFOAM's FatalError does, rather than hang.
+    [[noreturn]] void abortAll(const char* where, const std::exception& e) const
+    {
+        std::fprintf(stderr, "nscd::mpi::DecomposedSystem::%s, rank %d: %s\n", where, rank, e.what());
+        std::fflush(stderr);
+        MPI_Abort(comm, 1);
+        std::abort();  // MPI_Abort does not return
+    }
+
     /// Add the contacts received with migrated grains to the warm start.
     void seedMigratedContacts(const std::vector<std::vector<ContactRecord>>& recvC);
 };
@@ -525,12 +536,9 @@ void DecomposedSystem::exchange()
     {
         impl_->exchange();
     }
-    catch (const std::exception& e)  // one rank's fault: stop all (see step)
+    catch (const std::exception& e)
     {
-        std::fprintf(stderr, "nscd::mpi::DecomposedSystem::exchange, rank %d: %s\n", impl_->rank, e.what());
-        std::fflush(stderr);
-        MPI_Abort(impl_->comm, 1);
-        throw;
+        impl_->abortAll("exchange", e);
     }
 }
 
@@ -550,13 +558,7 @@ StepReport DecomposedSystem::step(double dt)
     }
     catch (const std::exception& e)
     {
-        // a fault on one rank mid-step (e.g. a StepError, an owner outside
-        // the ranks): the others wait in a collective, so stop them all, as
-        // OpenFOAM's FatalError does, rather than hang
-        std::fprintf(stderr, "nscd::mpi::DecomposedSystem::step, rank %d: %s\n", I.rank, e.what());
-        std::fflush(stderr);
-        MPI_Abort(I.comm, 1);
-        throw;
+        I.abortAll("step", e);
     }
 }
 
