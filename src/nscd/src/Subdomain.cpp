@@ -282,6 +282,24 @@ void Subdomain::setState(std::size_t i, const GrainState& s)
     I.dragVelocity[i] = s.fluidVelocity;
 }
 
+System Subdomain::withoutGrains(const System& s)
+{
+    System out(s.dimension());
+    *out.impl_ = *s.impl_;
+    std::vector<std::size_t> all(out.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+    out.removeGrains(all);
+    return out;
+}
+
+void Subdomain::setGrainId(std::size_t i, long id)
+{
+    if (id < 0) throw InputError("nscd::Subdomain::setGrainId: negative grain id " + std::to_string(id));
+    System::Impl& I = *sys_.impl_;
+    I.ids.at(i) = id;
+    I.nextId = std::max(I.nextId, id + 1);
+}
+
 StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std::vector<long>& globalId,
                            std::vector<Vec3>& interfaceImpulse)
 {

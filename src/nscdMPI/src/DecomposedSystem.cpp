@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <limits>
+#include <numeric>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -43,6 +44,21 @@ struct ContactRecord
     int age;
 };
 
+void put(double* a, const Vec3& v) { a[0] = v.x(); a[1] = v.y(); a[2] = v.z(); }
+Vec3 get(const double* a) { return Vec3(a[0], a[1], a[2]); }
+
+/// The state a record carries.
+Subdomain::GrainState stateOf(const GrainRecord& g)
+{
+    Subdomain::GrainState s;
+    s.x = get(g.x); s.v = get(g.v); s.w = get(g.w);
+    s.q = Eigen::Quaterniond(g.q[0], g.q[1], g.q[2], g.q[3]);
+    s.force = get(g.f); s.torque = get(g.t); s.fluidVelocity = get(g.u);
+    s.temperature = g.T;
+    s.dragCoefficient = g.c;
+    return s;
+}
+
 /// Squared distance from p to the box [lo, hi] (inverted box: infinite).
 double distance2(const Vec3& p, const Vec3& lo, const Vec3& hi)
 {
@@ -73,8 +89,6 @@ struct CpuTimer
     ~CpuTimer() { sum += threadCpu() - t0; }
 };
 
-void put(double* a, const Vec3& v) { a[0] = v.x(); a[1] = v.y(); a[2] = v.z(); }
-Vec3 get(const double* a) { return Vec3(a[0], a[1], a[2]); }
 } // namespace
 
 struct DecomposedSystem::Impl : public SubdomainCoupling
@@ -84,6 +98,10 @@ struct DecomposedSystem::Impl : public SubdomainCoupling
     System sys;
     OwnerFunction ownerOf;
     double halo = 0;
+    /// setRegionBox (inverted: none)
+    Vec3 regionLo = Vec3::Constant(1e300), regionHi = Vec3::Constant(-1e300);
+    /// owned grains that left the region and no rank claimed (last exchange)
+    std::vector<int> unclaimed;
     std::vector<char> owned;
     std::vector<long> gid;
     /// ghosts: local indices of the grains received from each rank (in its send order)
@@ -242,18 +260,13 @@ struct DecomposedSystem::Impl : public SubdomainCoupling
         if (i < 0)
         {
             i = int(sys.addGrain(get(g.x), g.radius, g.material, g.flags & 1));
+            sub.setGrainId(std::size_t(i), g.id);
             gid.push_back(g.id);
             owned.push_back(0);
             lambda.resize(2*gid.size(), Vec3::Zero());
         }
         sys.setRotationLocked(i, g.flags & 2);
-        Subdomain::GrainState s;
-        s.x = get(g.x); s.v = get(g.v); s.w = get(g.w);
-        s.q = Eigen::Quaterniond(g.q[0], g.q[1], g.q[2], g.q[3]);
-        s.force = get(g.f); s.torque = get(g.t); s.fluidVelocity = get(g.u);
-        s.temperature = g.T;
-        s.dragCoefficient = g.c;
-        sub.setState(i, s);
+        sub.setState(i, stateOf(g));
         owned[i] = isOwned ? 1 : 0;
         return i;
     }
@@ -281,15 +294,24 @@ struct DecomposedSystem::Impl : public SubdomainCoupling
         lambda.resize(2*n);
     }
 
-    int checkedOwner(const Vec3& x) const
+    /// ownerOf, checked: a rank or notHere
+    int checkedOwner(const Vec3& x, long id) const
     {
-        const int r = ownerOf(x);
+        const int r = ownerOf(x, id);
+        if (r == notHere) return r;
         if (r < 0 || r >= P)
             throw InputError("nscd::mpi::DecomposedSystem: the owner function gives rank " + std::to_string(r)
                              + " for the point (" + std::to_string(x.x()) + ", " + std::to_string(x.y()) + ", "
-                             + std::to_string(x.z()) + "); ranks are 0 to " + std::to_string(P - 1));
+                             + std::to_string(x.z()) + "); ranks are 0 to " + std::to_string(P - 1)
+                             + " (or notHere)");
         return r;
     }
+
+    /// For the owned grains `leaving` (left this rank's region, owner not
+    /// known here): the lowest rank whose owner function claims each one,
+    /// or -1 if none does (collective: every rank asks its function about
+    /// the leavers of all ranks).
+    std::vector<int> claimLeavers(const std::vector<int>& leaving);
 
     void exchange();
 
@@ -312,7 +334,17 @@ void DecomposedSystem::Impl::exchange()
 {
     CpuTimer t(counters.exchangeCpuSeconds);
     counters.migratedOut = counters.ghostsSent = counters.ghostsAdded = counters.ghostsDropped = 0;
-    if (P == 1) return;  // one rank owns everything: no migration, no ghost
+    counters.unclaimed = 0;
+    unclaimed.clear();
+    if (P == 1)
+    {
+        // one rank owns everything: no migration, no ghost; a grain outside
+        // the region (a local owner function) is reported
+        for (int i = 0; i < int(owned.size()); ++i)
+            if (checkedOwner(sys.positions()[i], gid[i]) == notHere) unclaimed.push_back(i);
+        counters.unclaimed = long(unclaimed.size());
+        return;
+    }
     // 1. migration: owned grains whose centre left the region go to their
     // owner; here they stay as ghosts (with their contacts) until the ghost
     // refresh below keeps or drops them. The contacts the new owner will
@@ -324,14 +356,26 @@ void DecomposedSystem::Impl::exchange()
     std::vector<std::vector<GrainRecord>> send(P), recv;
     std::vector<std::vector<ContactRecord>> sendC(P), recvC;
     std::vector<int> dest(N0, -1);
-    bool any = false;
+    std::vector<int> leaving;  // owner unknown here (a local owner function)
     for (int i = 0; i < N0; ++i)
     {
         if (!owned[i]) continue;
-        const int r = checkedOwner(sys.positions()[i]);
-        if (r == rank) continue;
-        send[r].push_back(record(i));
-        dest[i] = r;
+        const int r = checkedOwner(sys.positions()[i], gid[i]);
+        if (r == notHere) leaving.push_back(i);
+        else if (r != rank) dest[i] = r;
+    }
+    const std::vector<int> claimed = claimLeavers(leaving);
+    for (std::size_t k = 0; k < leaving.size(); ++k)
+    {
+        if (claimed[k] < 0) unclaimed.push_back(leaving[k]);
+        else dest[leaving[k]] = claimed[k];
+    }
+    counters.unclaimed = long(unclaimed.size());
+    bool any = false;
+    for (int i = 0; i < N0; ++i)
+    {
+        if (dest[i] < 0) continue;
+        send[dest[i]].push_back(record(i));
         owned[i] = 0;
         any = true;
         ++counters.migratedOut;
@@ -379,6 +423,12 @@ void DecomposedSystem::Impl::exchange()
                 box[k] = std::min(box[k], sys.positions()[i][k]);
                 box[3 + k] = std::max(box[3 + k], sys.positions()[i][k]);
             }
+    for (int k = 0; k < 3; ++k)
+        if (regionLo[k] <= regionHi[k])
+        {
+            box[k] = std::min(box[k], regionLo[k]);
+            box[3 + k] = std::max(box[3 + k], regionHi[k]);
+        }
     std::vector<double> boxes(6*P);
     MPI_Allgather(box, 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, comm);
     sendTo.assign(P, {});
@@ -425,7 +475,40 @@ void DecomposedSystem::Impl::exchange()
     removeFlagged(drop2);
     for (auto& L : ghostFrom) for (int& i : L) i = newIndex[i];
     for (auto& L : sendTo) for (int& i : L) i = newIndex[i];
+    for (int& i : unclaimed) i = newIndex[i];  // owned: kept
     seedMigratedContacts(recvC);
+}
+
+std::vector<int> DecomposedSystem::Impl::claimLeavers(const std::vector<int>& leaving)
+{
+    struct Leaver { double x[3]; long id; };
+    std::vector<Leaver> mine(leaving.size());
+    for (std::size_t k = 0; k < leaving.size(); ++k)
+    {
+        put(mine[k].x, sys.positions()[leaving[k]]);
+        mine[k].id = gid[leaving[k]];
+    }
+    const int n = int(mine.size()*sizeof(Leaver));
+    std::vector<int> bytes(P), offs(P, 0);
+    MPI_Allgather(&n, 1, MPI_INT, bytes.data(), 1, MPI_INT, comm);
+    std::partial_sum(bytes.begin(), bytes.end() - 1, offs.begin() + 1);
+    const std::size_t total = std::size_t(offs.back() + bytes.back())/sizeof(Leaver);
+    if (total == 0) return {};
+    std::vector<Leaver> all(total);
+    MPI_Allgatherv(mine.data(), n, MPI_BYTE, all.data(), bytes.data(), offs.data(), MPI_BYTE, comm);
+    counters.bytesSent += long(n)*(P - 1);
+    const std::size_t first = std::size_t(offs[rank])/sizeof(Leaver);
+    std::vector<int> claim(total, std::numeric_limits<int>::max());
+    for (std::size_t k = 0; k < total; ++k)
+    {
+        if (k >= first && k < first + mine.size()) continue;  // not in this region: asked already
+        if (checkedOwner(get(all[k].x), all[k].id) == rank) claim[k] = rank;
+    }
+    MPI_Allreduce(MPI_IN_PLACE, claim.data(), int(total), MPI_INT, MPI_MIN, comm);
+    std::vector<int> out(mine.size());
+    for (std::size_t k = 0; k < mine.size(); ++k)
+        out[k] = claim[first + k] == std::numeric_limits<int>::max() ? -1 : claim[first + k];
+    return out;
 }
 
 void DecomposedSystem::Impl::seedMigratedContacts(const std::vector<std::vector<ContactRecord>>& recvC)
@@ -489,11 +572,28 @@ DecomposedSystem::DecomposedSystem(System&& whole, MPI_Comm comm, OwnerFunction 
     // halo of the owned centres' box), with the contacts among them: the
     // contact impulses warm-start the first step, at the interfaces too
     // (exchange() then refreshes the ghosts in place)
+    // owner: the lowest rank that claims the centre
+    std::vector<int> claim(N, std::numeric_limits<int>::max());
+    for (std::size_t i = 0; i < N; ++i)
+        if (I.checkedOwner(I.sys.positions()[i], I.gid[i]) == I.rank) claim[i] = I.rank;
+    if (N > 0) MPI_Allreduce(MPI_IN_PLACE, claim.data(), int(N), MPI_INT, MPI_MIN, I.comm);
+    std::string lost;
+    int nLost = 0;
+    for (std::size_t i = 0; i < N; ++i)
+        if (claim[i] == std::numeric_limits<int>::max() && nLost++ < 5)
+        {
+            const Vec3& x = I.sys.positions()[i];
+            lost += "\n    grain " + std::to_string(I.gid[i]) + " at (" + std::to_string(x.x()) + ", "
+                  + std::to_string(x.y()) + ", " + std::to_string(x.z()) + ")";
+        }
+    if (nLost > 0)
+        throw InputError("nscd::mpi::DecomposedSystem: " + std::to_string(nLost)
+                         + " grain(s) in no rank's region (outside the domain?):" + lost);
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
     for (std::size_t i = 0; i < N; ++i)
     {
         const Vec3& x = I.sys.positions()[i];
-        I.owned[i] = I.checkedOwner(x) == I.rank;
+        I.owned[i] = claim[i] == I.rank;
         if (I.owned[i]) { lo = lo.cwiseMin(x); hi = hi.cwiseMax(x); }
     }
     std::vector<char> drop(N, 0);
@@ -513,6 +613,120 @@ const std::vector<char>& DecomposedSystem::owned() const { return impl_->owned; 
 const std::vector<long>& DecomposedSystem::globalIds() const { return impl_->gid; }
 const ExchangeCounters& DecomposedSystem::counters() const { return impl_->counters; }
 
+const std::vector<int>& DecomposedSystem::unclaimed() const { return impl_->unclaimed; }
+
+void DecomposedSystem::setRegionBox(const Vec3& lo, const Vec3& hi)
+{
+    impl_->regionLo = lo;
+    impl_->regionHi = hi;
+}
+
+void DecomposedSystem::sumToOwners(std::vector<double>& values, int components)
+{
+    Impl& I = *impl_;
+    if (components < 1 || values.size() != std::size_t(components)*I.sys.size())
+        throw InputError("nscd::mpi::DecomposedSystem::sumToOwners: " + std::to_string(values.size())
+                         + " values for " + std::to_string(I.sys.size()) + " grains of "
+                         + std::to_string(components) + " components");
+    if (I.P == 1) return;
+    // a ghost list of this rank is aligned with its owner's send list
+    std::vector<std::vector<double>> send(I.P), recv(I.P);
+    for (int r = 0; r < I.P; ++r)
+    {
+        for (int i : I.ghostFrom[r])
+            send[r].insert(send[r].end(), values.begin() + std::ptrdiff_t(i)*components,
+                           values.begin() + std::ptrdiff_t(i + 1)*components);
+        recv[r].resize(I.sendTo[r].size()*std::size_t(components));
+    }
+    exchangeKnown(I.comm, TagSums, send, recv);
+    for (int r = 0; r < I.P; ++r)
+        for (std::size_t k = 0; k < I.sendTo[r].size(); ++k)
+            for (int c = 0; c < components; ++c)
+                values[std::size_t(I.sendTo[r][k])*components + c] += recv[r][k*components + c];
+}
+
+std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
+{
+    const Impl& I = *impl_;
+    // this rank's owned grains, and the contacts it solves (a grain pair:
+    // the owner of the smaller id; a wall: the grain's owner)
+    std::vector<GrainRecord> grains;
+    for (int i = 0; i < int(I.owned.size()); ++i)
+        if (I.owned[i]) grains.push_back(I.record(i));
+    std::vector<ContactRecord> contacts;
+    for (const System::ContactView& c : I.sys.contacts())
+    {
+        const bool mine = c.j < 0 ? bool(I.owned[c.i])
+                                  : bool(I.owned[I.gid[c.i] < I.gid[c.j] ? c.i : c.j]);
+        if (!mine) continue;
+        ContactRecord k;
+        k.grain = I.gid[c.i];
+        k.partner = c.j >= 0 ? I.gid[c.j] : long(c.j);
+        put(k.n, c.normal);
+        put(k.impulse, c.impulse);
+        k.age = c.age;
+        contacts.push_back(k);
+    }
+    auto gather = [&](const auto& mine, auto& all)
+    {
+        using T = typename std::decay_t<decltype(mine)>::value_type;
+        const int n = int(mine.size()*sizeof(T));
+        std::vector<int> bytes(I.P), offs(I.P, 0);
+        MPI_Gather(&n, 1, MPI_INT, bytes.data(), 1, MPI_INT, root, I.comm);
+        if (I.rank == root)
+        {
+            std::partial_sum(bytes.begin(), bytes.end() - 1, offs.begin() + 1);
+            all.resize(std::size_t(offs.back() + bytes.back())/sizeof(T));
+        }
+        MPI_Gatherv(mine.data(), n, MPI_BYTE, all.data(), bytes.data(), offs.data(), MPI_BYTE, root, I.comm);
+    };
+    std::vector<GrainRecord> allGrains;
+    std::vector<ContactRecord> allContacts;
+    gather(grains, allGrains);
+    gather(contacts, allContacts);
+    if (I.rank != root) return nullptr;
+
+    std::sort(allGrains.begin(), allGrains.end(),
+              [](const GrainRecord& a, const GrainRecord& b) { return a.id < b.id; });
+    auto whole = std::make_unique<System>(Subdomain::withoutGrains(I.sys));
+    struct NoCoupling : SubdomainCoupling
+    {
+        double maxOverSubdomains(double v) override { return v; }
+        void countCopies(const std::vector<char>& in, std::vector<int>& out) override { out.assign(in.size(), 1); }
+        void averageCopies(std::vector<Vec3>&, std::vector<Vec3>&) override {}
+    } none;
+    Subdomain access(*whole, none);
+    std::unordered_map<long, int> index;
+    for (const GrainRecord& g : allGrains)
+    {
+        const std::size_t i = std::size_t(whole->addGrain(get(g.x), g.radius, g.material, g.flags & 1));
+        whole->setRotationLocked(i, g.flags & 2);
+        access.setState(i, stateOf(g));
+        access.setGrainId(i, g.id);
+        index[g.id] = int(i);
+    }
+    if (I.sys.lastStepDt() > 0 && !allContacts.empty())
+    {
+        std::vector<System::ContactView> views;
+        views.reserve(allContacts.size());
+        for (const ContactRecord& k : allContacts)
+        {
+            System::ContactView c;
+            c.point = Vec3::Zero();
+            c.gap = 0;
+            c.cohesive = false;
+            c.i = index.at(k.grain);
+            c.j = k.partner >= 0 ? index.at(k.partner) : int(k.partner);
+            c.normal = get(k.n);
+            c.impulse = get(k.impulse);
+            c.age = k.age;
+            views.push_back(c);
+        }
+        whole->setContactImpulses(views, I.sys.lastStepDt());
+    }
+    return whole;
+}
+
 std::size_t DecomposedSystem::nOwned() const
 {
     return std::size_t(std::count(impl_->owned.begin(), impl_->owned.end(), 1));
@@ -521,8 +735,9 @@ std::size_t DecomposedSystem::nOwned() const
 std::size_t DecomposedSystem::addGrain(long id, const Vec3& centre, double radius, int material, bool fixed)
 {
     Impl& I = *impl_;
-    if (I.checkedOwner(centre) != I.rank) return std::size_t(-1);
+    if (I.checkedOwner(centre, id) != I.rank) return std::size_t(-1);
     const std::size_t i = std::size_t(I.sys.addGrain(centre, radius, material, fixed));
+    I.sub.setGrainId(i, id);
     I.gid.push_back(id);
     I.owned.push_back(1);
     I.lambda.resize(2*I.gid.size(), Vec3::Zero());

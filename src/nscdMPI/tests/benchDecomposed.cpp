@@ -112,7 +112,7 @@ int main(int argc, char** argv)
     std::sort(xs.begin(), xs.end());
     std::vector<double> cut(P + 1);  // slab bounds at the grain-count quantiles
     for (int r = 1; r < P; ++r) cut[r] = 0.5*(xs[N*r/P - 1] + xs[N*r/P]);
-    auto ownerOf = [cut, P](const Vec3& x)
+    auto ownerOf = [cut, P](const Vec3& x, long)
     { return int(std::upper_bound(cut.begin() + 1, cut.begin() + P, x.x()) - (cut.begin() + 1)); };
     mpi::DecomposedSystem D(std::move(whole), MPI_COMM_WORLD, ownerOf, 3*rmax);
     xs = {};

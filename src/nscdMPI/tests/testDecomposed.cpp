@@ -12,6 +12,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <memory>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -42,8 +44,20 @@ double maxAll(double x)
 DecomposedSystem::OwnerFunction slabs(int k, double lo, double hi)
 {
     const int P = worldSize();
-    return [=](const Vec3& x)
+    return [=](const Vec3& x, long)
     { return std::clamp(int(std::floor((x[k] - lo)/(hi - lo)*P)), 0, P - 1); };
+}
+
+/// The same slabs seen locally: this rank's slab, notHere elsewhere (as a
+/// mesh region: a rank knows its own cells only); nothing beyond [lo, hi).
+DecomposedSystem::OwnerFunction localSlabs(int k, double lo, double hi)
+{
+    const int P = worldSize(), me = worldRank();
+    return [=](const Vec3& x, long)
+    {
+        const double s = std::floor((x[k] - lo)/(hi - lo)*P);
+        return s == me ? me : DecomposedSystem::notHere;
+    };
 }
 
 /// The global ids of the grains owned anywhere, sorted (on every rank).
@@ -90,11 +104,10 @@ std::vector<Grain> gasCase()
 // Grains thrown across the rank boundaries (x slabs): after every step each
 // id is owned exactly once, and the total momentum sum m v of the owned
 // grains is that of the start (internal contact impulses only) to round-off.
-TEST(Decomposed, ThrownGrainsKeepEveryIdAndTheMomentum)
+void throwGrains(const DecomposedSystem::OwnerFunction& ownerOf)
 {
     const std::vector<Grain> G = gasCase();
-    const double L = 36e-3;
-    DecomposedSystem D(2, MPI_COMM_WORLD, slabs(0, 0, L), 3e-3);
+    DecomposedSystem D(2, MPI_COMM_WORLD, ownerOf, 3e-3);
     System& S = D.system();
     const int m = S.addMaterial({2500, 0.3});
     for (std::size_t k = 0; k < G.size(); ++k)
@@ -140,6 +153,61 @@ TEST(Decomposed, ThrownGrainsKeepEveryIdAndTheMomentum)
     EXPECT_LT(energy, 0.98*energy0);  // the (inelastic) collisions dissipated
     EXPECT_GT(sumAll(double(contactsMax)), 100);
     if (worldSize() > 1) EXPECT_GT(sumAll(double(migrated)), 20);  // grains changed ranks
+}
+
+TEST(Decomposed, ThrownGrainsKeepEveryIdAndTheMomentum)
+{
+    throwGrains(slabs(0, 0, 36e-3));
+}
+
+// The same with an owner function that knows only its own rank's slab: the
+// owners of the grains leaving a slab are found by asking every rank.
+TEST(Decomposed, ThrownGrainsKeepEveryIdWithALocalOwnerFunction)
+{
+    throwGrains(localSlabs(0, -2e-3, 36e-3));
+}
+
+// Summing to the owners: every copy of a grain (owned or ghost) holds 1, so
+// after the sum an owner holds the number of ranks that hold the grain, and
+// the sum over the owned grains is the number of local grains of all ranks
+// (nothing lost, nothing counted twice). A grain thrown out of every region
+// stays with its owner and is reported unclaimed.
+TEST(Decomposed, GhostValuesSumToTheirOwnersAndLostGrainsAreReported)
+{
+    const std::vector<Grain> G = gasCase();
+    DecomposedSystem D(2, MPI_COMM_WORLD, localSlabs(0, -2e-3, 36e-3), 3e-3);
+    System& S = D.system();
+    const int m = S.addMaterial({2500, 0.3});
+    for (std::size_t k = 0; k < G.size(); ++k) D.addGrain(long(k), G[k].x, G[k].r, m);
+    D.exchange();
+    std::vector<double> ones(2*S.size(), 1.0);
+    D.sumToOwners(ones, 2);
+    double owned = 0, held = 0;
+    for (std::size_t i = 0; i < S.size(); ++i)
+        if (D.owned()[i])
+        {
+            owned += ones[2*i];
+            EXPECT_EQ(ones[2*i], ones[2*i + 1]);
+        }
+    EXPECT_EQ(sumAll(owned), sumAll(double(S.size())));
+    EXPECT_EQ(D.system().grainIds(), D.globalIds());  // the local System's ids are the global ones
+    if (worldSize() > 1) EXPECT_GT(sumAll(double(S.size())), double(G.size()));  // ghosts exist
+    EXPECT_THROW(D.sumToOwners(ones, 3), InputError);
+
+    // grain 0 (on the lowest slab) thrown below every region
+    for (std::size_t i = 0; i < S.size(); ++i)
+        if (D.globalIds()[i] == 0) S.velocities()[i] = Vec3(-2e4, 0, 0);
+    D.step(1e-4);
+    double lost = 0;
+    for (int i : D.unclaimed())
+    {
+        EXPECT_EQ(D.globalIds()[i], 0);
+        EXPECT_TRUE(D.owned()[i]);
+        lost += 1;
+    }
+    EXPECT_EQ(sumAll(lost), 1.0);
+    EXPECT_EQ(sumAll(double(D.counters().unclaimed)), 1.0);
+    EXPECT_EQ(ownedIdsEverywhere(D).size(), G.size());
 }
 
 // A deposit settled across horizontal rank boundaries (y slabs: the weight of
@@ -228,6 +296,34 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
     EXPECT_LT(vmax, 5e-3);
     EXPECT_NEAR(top, topSerial, 0.02*topSerial);
     EXPECT_NEAR(yMean, ySerial, 0.01*ySerial);
+
+    // the bed gathered whole on rank 0 (every grain once, in id order, with
+    // its contacts), written, and restarted on x slabs (another
+    // decomposition): the first step carries the weight to the walls at
+    // once (the warm start was kept) and the bed stays at rest
+    const std::string state = "decomposedRestart.h5";
+    std::unique_ptr<System> whole = D.gatherWhole(0);
+    EXPECT_EQ(bool(whole), worldRank() == 0);
+    if (whole)
+    {
+        ASSERT_EQ(whole->size(), G.size());
+        for (std::size_t i = 0; i < G.size(); ++i) EXPECT_EQ(whole->grainIds()[i], long(i));
+        EXPECT_GT(whole->nContacts(), G.size());
+        EXPECT_NEAR(wallLoad(*whole, nullptr)/dt/weight, 1.0, 2e-3);
+        whole->writeHDF5(state);
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+    DecomposedSystem R(System::readHDF5(state), MPI_COMM_WORLD, localSlabs(0, 0, W), 2.5e-3);
+    const StepReport rep = R.step(dt);
+    EXPECT_TRUE(rep.converged);
+    const double restartLoad = sumAll(wallLoad(R.system(), &R.owned()))/dt/weight;
+    EXPECT_NEAR(restartLoad, 1.0, 2e-3);
+    EXPECT_EQ(ownedIdsEverywhere(R).size(), G.size());
+    if (worldRank() == 0)
+        std::printf("[ restart ] %d ranks: first step %d sweeps, wall load/weight %.6f\n", worldSize(), rep.sweeps,
+                    restartLoad);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (worldRank() == 0) std::remove(state.c_str());
 }
 
 TEST(Decomposed, BadInputIsRefused)
@@ -252,7 +348,7 @@ TEST(Decomposed, BadInputIsRefused)
             else EXPECT_NE(what.find("another subdomain refused"), std::string::npos) << what;
         }
     }
-    DecomposedSystem D(2, MPI_COMM_WORLD, [](const Vec3&) { return -1; }, 1e-3);
+    DecomposedSystem D(2, MPI_COMM_WORLD, [](const Vec3&, long) { return -2; }, 1e-3);
     const int m = D.system().addMaterial({2500, 0.3});
     try
     {
@@ -261,7 +357,7 @@ TEST(Decomposed, BadInputIsRefused)
     }
     catch (const InputError& e)
     {
-        EXPECT_NE(std::string(e.what()).find("owner function gives rank -1"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("owner function gives rank -2"), std::string::npos) << e.what();
     }
 }
 
