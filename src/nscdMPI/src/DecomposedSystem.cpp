@@ -624,10 +624,13 @@ void DecomposedSystem::setRegionBox(const Vec3& lo, const Vec3& hi)
 void DecomposedSystem::sumToOwners(std::vector<double>& values, int components)
 {
     Impl& I = *impl_;
-    if (components < 1 || values.size() != std::size_t(components)*I.sys.size())
+    // checked on every rank (one refusing alone would leave the others waiting)
+    int bad = components < 1 || values.size() != std::size_t(components)*I.sys.size();
+    MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, I.comm);
+    if (bad)
         throw InputError("nscd::mpi::DecomposedSystem::sumToOwners: " + std::to_string(values.size())
                          + " values for " + std::to_string(I.sys.size()) + " grains of "
-                         + std::to_string(components) + " components");
+                         + std::to_string(components) + " components here, or a size mismatch on another rank");
     if (I.P == 1) return;
     // a ghost list of this rank is aligned with its owner's send list
     std::vector<std::vector<double>> send(I.P), recv(I.P);
