@@ -12,6 +12,7 @@ Description
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
+#include "nscdMPI/DecomposedSystem.H"  // (unique_ptr member: complete type)
 #include "grainVectorTools.H"
 #include "uniformDimensionedFields.H"
 #include "OSspecific.H"
@@ -50,7 +51,8 @@ Foam::fileName Foam::grainCloud::createSystem(const bool readState)
         {
             // a missing, damaged or bad file: FatalError naming the
             // previous write that holds a state (grainCloudChecks.C)
-            system_.reset(new nscd::System(readStateFile(statePath)));
+            whole_.reset(new nscd::System(readStateFile(statePath)));
+            system_ = whole_.get();
             if (system_->dimension() != dimension_)
             {
                 FatalErrorInFunction
@@ -62,7 +64,8 @@ Foam::fileName Foam::grainCloud::createSystem(const bool readState)
         }
         else
         {
-            system_.reset(new nscd::System(dimension_));
+            whole_.reset(new nscd::System(dimension_));
+            system_ = whole_.get();
             for (const nscd::Material& m : dictionaryMaterials())
             {
                 system_->addMaterial(m);
@@ -115,7 +118,12 @@ void Foam::grainCloud::readGravity()
 
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
-Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
+Foam::grainCloud::grainCloud
+(
+    const fvMesh& mesh,
+    bool readState,
+    bool decomposable
+)
 :
     mesh_(mesh),
     dict_
@@ -181,6 +189,7 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
     setHeartbeat();
 
     readGravity();
+    selectDecomposition(readState && decomposable);
 
     if (!mesh.foundObject<regIOobject>(registryName))
     {
@@ -202,7 +211,7 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
         );
     }
 
-    Info<< "grainCloud: " << system_->size() << (dimension_ == 2 ? " discs" : " spheres")
+    Info<< "grainCloud: " << nGrainsTotal() << (dimension_ == 2 ? " discs" : " spheres")
         << ", " << system_->nWalls() << " walls from "
         << patchWalls_.size() << " wall patches, "
         << movingWalls_.size() << " moving, " << gates_.size()
@@ -214,8 +223,13 @@ Foam::grainCloud::grainCloud(const fvMesh& mesh, bool readState)
 
 Foam::vector Foam::grainCloud::meshPosition(label i) const
 {
-    const nscd::Vec3& x = system_->positions()[i];
-    return vector(x.x(), x.y(), dimension_ == 2 ? zMid_ : x.z());
+    return meshPoint(system_->positions()[i]);
+}
+
+
+Foam::point Foam::grainCloud::meshPoint(const nscd::Vec3& x) const
+{
+    return point(x.x(), x.y(), dimension_ == 2 ? zMid_ : x.z());
 }
 
 
@@ -228,13 +242,17 @@ nscd::Vec3 Foam::grainCloud::toSystem(const vector& p) const
 void Foam::grainCloud::checkState() const
 {
     const std::vector<double>& r = system_->radii();
-    labelList found(system_->size(), 0);
-    for (std::size_t i = 0; i < system_->size(); ++i)
+    // (decomposed: every grain is in the cells of the rank that owns it)
+    labelList found(system_->size(), 1);
+    if (!decomposed_)
     {
-        found[i] = mesh_.findCell(meshPosition(i)) >= 0 ? 1 : 0;
+        for (std::size_t i = 0; i < system_->size(); ++i)
+        {
+            found[i] = mesh_.findCell(meshPosition(i)) >= 0 ? 1 : 0;
+        }
+        Pstream::listCombineGather(found, maxEqOp<label>());
+        Pstream::listCombineScatter(found);
     }
-    Pstream::listCombineGather(found, maxEqOp<label>());
-    Pstream::listCombineScatter(found);
     for (std::size_t i = 0; i < system_->size(); ++i)
     {
         if (!(r[i] > 0))
@@ -272,10 +290,20 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
     setWallVelocities(dt);
     applyFrontRearWalls();
     oldPositions_ = system_->positions();
+    // decomposed: grains migrate in the step, so the old positions are
+    // found by id
+    std::vector<long> oldIds;
+    if (decomposed_)
+    {
+        oldIds = system_->grainIds();
+    }
     lastRemoved_.clear();
     try
     {
-        report_ = system_->advance(dt, maxDisplacementFraction_);
+        report_ =
+            decomposed_
+          ? advanceDecomposed(dt)
+          : system_->advance(dt, maxDisplacementFraction_);
     }
     catch (const std::exception& err)
     {
@@ -304,7 +332,14 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
     }
 
     recordStepHealth();
-    checkInsideMesh();
+    if (decomposed_)
+    {
+        checkDecomposedInsideMesh(oldPositions_, oldIds);
+    }
+    else
+    {
+        checkInsideMesh();
+    }
 
     if (gates_.size())
     {
@@ -335,11 +370,11 @@ Foam::scalar Foam::grainCloud::kineticEnergy() const
     scalar e = 0;
     for (std::size_t i = 0; i < system_->size(); ++i)
     {
-        if (system_->fixed(i)) continue;
+        if (system_->fixed(i) || !owned(i)) continue;
         e += 0.5*system_->mass(i)*system_->velocities()[i].squaredNorm()
            + 0.5*system_->inertia(i)*system_->angularVelocities()[i].squaredNorm();
     }
-    return e;
+    return decomposed_ ? returnReduce(e, sumOp<scalar>()) : e;
 }
 
 // ************************************************************************* //

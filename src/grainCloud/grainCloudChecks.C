@@ -17,6 +17,7 @@ Description
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
+#include "nscdMPI/DecomposedSystem.H"  // (unique_ptr member: complete type)
 #include "volFields.H"
 #include "Time.H"
 #include "OSspecific.H"
@@ -115,7 +116,11 @@ nscd::System Foam::grainCloud::readStateFile(const fileName& statePath) const
 }
 
 
-void Foam::grainCloud::writeStateFile(const fileName& path) const
+void Foam::grainCloud::writeStateFile
+(
+    const fileName& path,
+    const nscd::System& state
+) const
 {
     const std::string tmp(path + ".tmp");
     std::string what;
@@ -132,7 +137,7 @@ void Foam::grainCloud::writeStateFile(const fileName& path) const
             << path.path().name() << "\";\n    object      " << path.name()
             << ";\n}\n// nscd grain state: an HDF5 file after this header (HDF5"
             << " user block), read it with h5dump or h5py\n";
-        system_->writeHDF5(tmp, header.str());
+        state.writeHDF5(tmp, header.str());
         if (std::rename(tmp.c_str(), path.c_str()) != 0)
         {
             what = std::string("cannot rename ") + tmp + ": " + std::strerror(errno);
@@ -415,16 +420,14 @@ void Foam::grainCloud::checkInsideMesh()
             outPatches.append(patch);
             continue;
         }
-        const string how(describeExit(i, patch));
-        FatalErrorInFunction
-            << "Grain " << i << " (grainId " << label(system_->grainIds()[i])
-            << ") left the mesh at time "
-            << mesh_.time().timeName() << ": from "
-            << vector(oldPositions_[i].x(), oldPositions_[i].y(), meshPosition(i).z())
-            << " to " << meshPosition(i) << " (radius "
-            << system_->radii()[i] << "), " << how.c_str() << nl
-            << "    The last written time holds the last good state."
-            << exit(FatalError);
+        grainLeftMesh
+        (
+            i,
+            system_->grainIds()[i],
+            meshPoint(oldPositions_[i]),
+            meshPosition(i),
+            patch
+        );
     }
     if (outGrains.size())
     {
@@ -433,14 +436,52 @@ void Foam::grainCloud::checkInsideMesh()
 }
 
 
+void Foam::grainCloud::grainLeftMesh
+(
+    const label i,
+    const long id,
+    const point& x0,
+    const point& x1,
+    const label patch
+) const
+{
+    const string how(describeExit(x0, x1, patch));
+    FatalErrorInFunction
+        << "Grain " << i << " (grainId " << label(id)
+        << ") left the mesh at time "
+        << mesh_.time().timeName() << ": from " << x0 << " to " << x1
+        << " (radius " << system_->radii()[i] << "), " << how.c_str() << nl
+        << "    The last written time holds the last good state."
+        << exit(FatalError);
+}
+
+
 Foam::labelList Foam::grainCloud::exitPatches(const labelList& grains) const
 {
-    // first boundary face crossed by each grain's path on this rank
-    scalarList tFirst(grains.size(), GREAT);
-    labelList patch(grains.size(), -1);
+    List<Pair<point>> paths(grains.size());
     forAll(grains, k)
     {
-        firstCrossing(grains[k], tFirst[k], patch[k]);
+        paths[k] = Pair<point>
+        (
+            meshPoint(oldPositions_[grains[k]]),
+            meshPosition(grains[k])
+        );
+    }
+    return exitPatches(paths);
+}
+
+
+Foam::labelList Foam::grainCloud::exitPatches
+(
+    const List<Pair<point>>& paths
+) const
+{
+    // first boundary face crossed by each path on this rank
+    scalarList tFirst(paths.size(), GREAT);
+    labelList patch(paths.size(), -1);
+    forAll(paths, k)
+    {
+        firstCrossing(paths[k].first(), paths[k].second(), tFirst[k], patch[k]);
     }
     // the rank whose face is crossed first names the patch (the indices of
     // the non-processor patches are the same on every rank); two list
@@ -448,7 +489,7 @@ Foam::labelList Foam::grainCloud::exitPatches(const labelList& grains) const
     scalarList tGlobal(tFirst);
     Pstream::listCombineGather(tGlobal, minEqOp<scalar>());
     Pstream::listCombineScatter(tGlobal);
-    forAll(grains, k)
+    forAll(paths, k)
     {
         if (!(tGlobal[k] < GREAT && tFirst[k] == tGlobal[k]))
         {
@@ -463,14 +504,12 @@ Foam::labelList Foam::grainCloud::exitPatches(const labelList& grains) const
 
 void Foam::grainCloud::firstCrossing
 (
-    const label i,
+    const point& x0,
+    const point& x1,
     scalar& tBest,
     label& patchBest
 ) const
 {
-    const nscd::Vec3& o = oldPositions_[i];
-    const vector x1(meshPosition(i));
-    const vector x0(o.x(), o.y(), x1.z());
     const vector dx(x1 - x0);
 
     // first boundary face crossed by the path x0 -> x1 on this rank
@@ -510,11 +549,13 @@ void Foam::grainCloud::firstCrossing
 }
 
 
-Foam::string Foam::grainCloud::describeExit(label i, label patch) const
+Foam::string Foam::grainCloud::describeExit
+(
+    const point& x0,
+    const point& x1,
+    const label patch
+) const
 {
-    const nscd::Vec3& o = oldPositions_[i];
-    const vector x1(meshPosition(i));
-    const vector x0(o.x(), o.y(), x1.z());
     const vector dx(x1 - x0);
     const polyBoundaryMesh& pbm = mesh_.boundaryMesh();
     if (patch >= 0)

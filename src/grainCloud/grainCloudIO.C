@@ -37,15 +37,29 @@ void Foam::grainCloud::write
     const Time& runTime = mesh_.time();
     mkDir(runTime.timePath());
 
-    // HDF5 state (grains are held whole on every rank: each writes its
+    // HDF5 state. Decomposed: gathered on the master, written into the
+    // undecomposed case (a run on any number of ranks, or serial, restarts
+    // from it). Replicated: every rank holds the whole state and writes its
     // copy; in parallel the master also writes the undecomposed case's, so
-    // that reconstructPar gives time directories a serial run continues from)
-    writeStateFile(runTime.timePath()/stateFileName);
-    if (Pstream::parRun() && Pstream::master())
+    // that reconstructPar gives time directories a serial run continues from
+    const fileName global(runTime.globalPath()/runTime.timeName());
+    if (decomposed_)
     {
-        const fileName global(runTime.globalPath()/runTime.timeName());
-        mkDir(global);
-        writeStateFile(global/stateFileName);
+        const std::unique_ptr<nscd::System> whole(gatherWhole());
+        if (whole)
+        {
+            mkDir(global);
+            writeStateFile(global/stateFileName, *whole);
+        }
+    }
+    else
+    {
+        writeStateFile(runTime.timePath()/stateFileName, *system_);
+        if (Pstream::parRun() && Pstream::master())
+        {
+            mkDir(global);
+            writeStateFile(global/stateFileName, *system_);
+        }
     }
     writeOutletCounts();
     writeCloud(extra, extraScalars);
@@ -62,9 +76,9 @@ void Foam::grainCloud::writeCloud
     mkDir(runTime.timePath());
 
     // Lagrangian cloud for foamToVTK / ParaView: the grains whose centre
-    // lies in this rank's part of the mesh; a centre on a processor
-    // boundary is found by both sides: the lowest rank writes it, so that
-    // reconstructPar gives every grain once
+    // lies in this rank's part of the mesh (decomposed: the grains it owns);
+    // a centre on a processor boundary is found by both sides: the lowest
+    // rank writes it, so that reconstructPar gives every grain once
     passiveParticleCloud cloud(mesh_, cloudName, IDLList<passiveParticle>());
     // origId 0, 1, ... at every write (not a count over the run): the same
     // grains give the same files (the start time is rewritten at start)
@@ -74,13 +88,17 @@ void Foam::grainCloud::writeCloud
     labelList owner(n, labelMax);
     for (label i = 0; i < n; ++i)
     {
+        if (!owned(i))
+        {
+            continue;
+        }
         cells[i] = mesh_.findCell(meshPosition(i));
         if (cells[i] >= 0)
         {
             owner[i] = Pstream::myProcNo();
         }
     }
-    if (Pstream::parRun())
+    if (Pstream::parRun() && !decomposed_)
     {
         Pstream::listCombineGather(owner, minEqOp<label>());
         Pstream::listCombineScatter(owner);
@@ -113,7 +131,8 @@ void Foam::grainCloud::writeCloud
     if (Pstream::parRun())
     {
         // load balance: the grains each rank's mesh holds (whose lagrangian
-        // output it writes; every rank still solves all grains' contacts)
+        // output it writes; replicated: every rank still solves all grains'
+        // contacts)
         labelList perRank(Pstream::nProcs(), 0);
         perRank[Pstream::myProcNo()] = ids.size();
         Pstream::gatherList(perRank);

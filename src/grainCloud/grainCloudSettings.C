@@ -59,7 +59,8 @@ void Foam::grainCloud::readSettings()
         {
             "materials", "wallPatches", "wallFriction", "maxDisplacementFraction",
             "contactSolver", "movingWalls", "initialTemperature",
-            "wallTemperatures", "gates", "frontRearWalls", "outletPatches"
+            "wallTemperatures", "gates", "frontRearWalls", "outletPatches",
+            "grainDecomposition"
         }
     );
 

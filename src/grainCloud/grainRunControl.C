@@ -72,33 +72,80 @@ void Foam::grainRunControl::skipIncompleteTimes
 )
 {
     const fileName casePath(args.path());
-    instantList times(TimePaths::findTimes(casePath, "constant"));
-    label nTimes = 0;
-    for (const instant& t : times)
+    // the master's times on every rank: each rank takes the same number of
+    // steps of the loop below (its reduction is collective), even if its
+    // own processor directory lacks a time (a directory missing here is
+    // incomplete)
+    wordList names;
+    if (Pstream::master())
     {
-        if (t.name() != "constant")
+        for (const instant& t : TimePaths::findTimes(casePath, "constant"))
         {
-            times[nTimes++] = t;
+            if (t.name() != "constant")
+            {
+                names.append(t.name());
+            }
         }
     }
-    times.setSize(nTimes);
+    Pstream::scatter(names);
+    const label nTimes = names.size();
+    if (Pstream::parRun() && nTimes > 0)
+    {
+        // decomposePar gives no time directory to a rank whose cells hold
+        // no grain (nothing to write): Time would stop the run ("processor
+        // N has startTime 0"). Such a rank gets the latest time from the
+        // undecomposed case (its uniform/ data), as the master has it.
+        const fileName dir(casePath/names.last());
+        const fileName global
+        (
+            args.rootPath()/args.globalCaseName()/names.last()
+        );
+        if (!isDir(dir) && isDir(global))
+        {
+            mkDir(dir);
+            if (isDir(global/"uniform"))
+            {
+                cp(global/"uniform", dir);
+            }
+            Pout<< "grainRunControl: no directory " << names.last()
+                << " in " << casePath.name() << " (no grain in its cells):"
+                << " created from the case's" << endl;
+        }
+    }
     // from the latest down; the earliest is never moved
     for (label k = nTimes - 1; k > 0; --k)
     {
-        const fileName dir(casePath/times[k].name());
+        const fileName dir(casePath/names[k]);
         DynamicList<word> missing;
+        if (!isDir(dir))
+        {
+            missing.append(word("the directory"));
+        }
+        // in parallel a required file may be in the undecomposed case's
+        // time directory instead (the grain state of a decomposed run)
+        const fileName global
+        (
+            args.rootPath()/args.globalCaseName()/names[k]
+        );
         for (const word& f : required)
         {
-            if (!isFile(dir/f))
+            if (!isFile(dir/f) && !(Pstream::parRun() && isFile(global/f)))
             {
                 missing.append(f);
             }
         }
-        for (const fileName& f : readDir(dir, fileName::FILE, false))
+        for (const fileName& d : {dir, global})
         {
-            if (f.hasExt("tmp"))
+            for (const fileName& f : readDir(d, fileName::FILE, false))
             {
-                missing.append(word(f + " (an interrupted write)"));
+                if (f.hasExt("tmp"))
+                {
+                    missing.append(word(f + " (an interrupted write)"));
+                }
+            }
+            if (!Pstream::parRun())
+            {
+                break;  // (dir is global)
             }
         }
         const bool incomplete = returnReduce(missing.size() > 0, orOp<bool>());
@@ -111,7 +158,7 @@ void Foam::grainRunControl::skipIncompleteTimes
         {
             rmDir(aside);
         }
-        if (!mv(dir, aside))
+        if (isDir(dir) && !mv(dir, aside))
         {
             FatalErrorInFunction
                 << "The latest time directory " << dir << " is incomplete"
@@ -120,12 +167,12 @@ void Foam::grainRunControl::skipIncompleteTimes
                 << exit(FatalError);
         }
         WarningInFunction
-            << "The latest time directory " << times[k].name() << " is"
+            << "The latest time directory " << names[k] << " is"
             << " incomplete (missing: " << flatOutput(missing)
             << (missing.empty() ? " here, incomplete on another rank" : "")
             << "): moved to " << aside.name() << " in " << casePath << "."
             << nl << "    startFrom latestTime starts from "
-            << times[k - 1].name() << " instead." << endl;
+            << names[k - 1] << " instead." << endl;
     }
 }
 

@@ -60,7 +60,7 @@ def env():
 # once for several tests.  `mpi`: the test runs mpirun (also fast
 # or slow by its own duration).  Update the lists when a test's cost moves.
 SLOW_MODULES = {"test_lituyaBay.py", "test_dropletDigging.py", "test_granularCollapse.py",
-                "test_tutorialAllruns.py"}
+                "test_tutorialAllruns.py", "test_grainFoam_decomposed.py"}
 SLOW_TESTS = {
     "test_resolvedRegime.py::test_falling_cylinder_terminal_velocity",
     "test_resolvedRegime.py::test_free_fixed_disc_galilean_consistency",
@@ -100,6 +100,9 @@ MPI_TESTS = {
     "test_faults_state.py::test_reconstructPar_carries_grain_state",
     "test_faults_state.py::test_sigusr1_to_mpirun_writes_and_stops",
     "test_freeSurfaceFunctionObjects.py::test_wave_gauges_parallel_equals_serial",
+    "test_grainFoam_decomposed.py::test_decomposed_collapse_matches_serial",
+    "test_grainFoam_decomposed.py::test_pile_at_rest_across_ranks_and_restart",
+    "test_grainFoam_decomposed.py::test_decomposition_refused_with_heat",
     "test_overlapAdapter.py::test_parallel_matches_serial",
     "test_scotchDecomp.py::test_scotch_parallel_run_keeps_every_grain",
     "test_vansFoam.py::test_parallel_matches_serial",

@@ -80,9 +80,9 @@ def make_box_case(case, lo, hi, cells, gravity, materials, grains=None,
               "grainDepositDict", body)
 
 
-def run(app, case, env, args=(), check=True):
+def run(app, case, env, args=(), check=True, cwd=None):
     """Run an application in a case; returns CompletedProcess (stdout+stderr)."""
-    p = subprocess.run([app, "-case", case, *args], env=env, capture_output=True, text=True)
+    p = subprocess.run([app, "-case", case, *args], env=env, capture_output=True, text=True, cwd=cwd)
     with open(os.path.join(case, f"log.{app}"), "w") as f:
         f.write(p.stdout + p.stderr)
     if check and p.returncode != 0:
@@ -113,15 +113,18 @@ def run_fatal_io(app, case, env):
     return fails_with(run(app, case, env, check=False), banner="FOAM FATAL IO ERROR")
 
 
-def run_parallel(app, case, env, n=2, delta=0.001):
-    """decomposePar the case into n x 1 x 1 slabs (simple method) and run
-    `mpirun -np n app -parallel`; writes log.<app>, skips the test when
-    mpirun cannot start here, fails on a non-zero exit.  Returns the
-    CompletedProcess (stdout + stderr)."""
+def run_parallel(app, case, env, n=2, delta=0.001, split=None):
+    """decomposePar the case into n x 1 x 1 slabs (simple method; split:
+    another (nx, ny, nz)) and run `mpirun -np n app -parallel`; writes
+    log.<app>, skips the test when mpirun cannot start here, fails on a
+    non-zero exit.  Returns the CompletedProcess (stdout + stderr)."""
     import pytest
+    nx, ny, nz = split or (n, 1, 1)
     write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
-          f"numberOfSubdomains {n};\nmethod simple;\nsimpleCoeffs {{ n ({n} 1 1); delta {delta}; }}\n")
-    run("decomposePar", case, env)
+          f"numberOfSubdomains {n};\nmethod simple;\nsimpleCoeffs {{ n ({nx} {ny} {nz}); delta {delta}; }}\n")
+    # (in the case: decomposePar links a time's uniform/ into a rank without
+    # that time directory relative to the working directory)
+    run("decomposePar", case, env, args=("-force",), cwd=case)
     p = subprocess.run(["mpirun", "-np", str(n), app, "-parallel", "-case", case],
                        env=env, capture_output=True, text=True)
     with open(os.path.join(case, f"log.{app}"), "w") as f:

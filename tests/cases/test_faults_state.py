@@ -12,6 +12,8 @@ import struct
 import subprocess
 import time
 
+import pytest
+
 from faultcase import G, MAT, box, set_control, stack, times
 from foamcase import fails_with, make_box_case, run, write
 
@@ -183,12 +185,15 @@ def test_disk_full_during_write(tmp_path, env):
 
 # ---- row 6: parallel state ---------------------------------------------------
 
-def test_reconstructPar_carries_grain_state(tmp_path, env):
+@pytest.mark.parametrize("mode", ["decomposed", "replicated"])
+def test_reconstructPar_carries_grain_state(tmp_path, env, mode):
     """decomposePar, a parallel run, reconstructPar: the reconstructed time
     directories hold grainState.h5 (written by the master into the
-    undecomposed case), and a serial run continues from the last one."""
+    undecomposed case: decomposed, the state gathered from the ranks;
+    replicated, its own copy, the same as each rank's) and the lagrangian
+    cloud, and a serial run continues from the last one."""
     from foamcase import run_parallel
-    case = stack(tmp_path, "par")
+    case = stack(tmp_path, "par", extra_props=f"grainDecomposition {mode};\n")
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run_parallel("grainFoam", case, env, n=2)
@@ -201,9 +206,12 @@ def test_reconstructPar_carries_grain_state(tmp_path, env):
     for t in ("0.01", "0.02"):
         assert os.path.isfile(os.path.join(case, t, "grainState.h5"))
         assert os.path.isfile(os.path.join(case, t, "lagrangian", "grains", "positions"))
-    a = open(os.path.join(case, "0.02", "grainState.h5"), "rb").read()
-    b = open(os.path.join(case, "processor0", "0.02", "grainState.h5"), "rb").read()
-    assert a == b
+    if mode == "replicated":
+        a = open(os.path.join(case, "0.02", "grainState.h5"), "rb").read()
+        b = open(os.path.join(case, "processor0", "0.02", "grainState.h5"), "rb").read()
+        assert a == b
+    else:
+        assert not os.path.exists(os.path.join(case, "processor0", "0.02", "grainState.h5"))
     shutil.rmtree(os.path.join(case, "processor0"))
     shutil.rmtree(os.path.join(case, "processor1"))
     set_control(case, endTime=0.03)
@@ -213,9 +221,9 @@ def test_reconstructPar_carries_grain_state(tmp_path, env):
 
 def test_sigusr1_to_mpirun_writes_and_stops(tmp_path, env):
     """In parallel, SIGUSR1 sent to mpirun (Open MPI forwards it to every
-    rank) writes the current step on every rank and in the undecomposed case
-    and stops with exit 0 (SIGTERM to mpirun kills the ranks: README)."""
-    import pytest
+    rank) writes the current step (the grain state gathered into the
+    undecomposed case, each rank's lagrangian cloud) and stops with exit 0
+    (SIGTERM to mpirun kills the ranks: README)."""
     case = stack(tmp_path, "sigpar", end=100, write_interval=50)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
@@ -239,8 +247,9 @@ def test_sigusr1_to_mpirun_writes_and_stops(tmp_path, env):
     m = re.search(r"Stop signal 10 \(SIGUSR1\) received: wrote time (\S+) ", out)
     assert m, out[-2000:]
     t = m.group(1)
-    for d in ("processor0", "processor1", "."):
-        assert os.path.isfile(os.path.join(case, d, t, "grainState.h5")), d
+    assert os.path.isfile(os.path.join(case, t, "grainState.h5"))
+    for d in ("processor0", "processor1"):
+        assert os.path.isdir(os.path.join(case, d, t, "lagrangian")), d
 
 
 def test_missing_state_names_previous_write(tmp_path, env):

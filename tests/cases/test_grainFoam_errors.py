@@ -113,3 +113,13 @@ def test_wall_friction_errors(tmp_path, env, entry, words):
     case = base(tmp_path, "wallFriction", [(0.05, 0.01, 0, 0.01)], extra_props=entry + "\n")
     run("blockMesh", case, env)
     fails_with(run("grainDeposit", case, env, check=False), *words)
+
+
+def test_unknown_grain_decomposition(tmp_path, env):
+    """grainProperties grainDecomposition takes decomposed or replicated:
+    another word is a FatalIOError naming both (also in a serial run)."""
+    case = base(tmp_path, "decomposition", [(0.05, 0.01, 0, 0.01)],
+                extra_props="grainDecomposition mixed;\n")
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "grainDecomposition mixed: unknown",
+               "decomposed", "replicated")

@@ -116,11 +116,16 @@ bool Foam::functionObjects::granularFront::execute()
     const std::vector<double>& r = s.radii();
     for (std::size_t i = 0; i < s.size(); ++i)
     {
+        if (!cloud.owned(i)) continue;  // (decomposed: ghosts)
         const vector p(cloud.meshPosition(i));
         if (mag((p & up) - yBand) <= r[i] + bandHalfWidth_)
         {
             xf = max(xf, (p & direction_) + r[i]);
         }
+    }
+    if (cloud.decomposed())
+    {
+        reduce(xf, maxOp<scalar>());
     }
     const scalar t = time_.value();
     found_ = xf > -0.5*GREAT;

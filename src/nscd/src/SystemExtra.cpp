@@ -167,30 +167,7 @@ StepReport System::advance(double dt, double fraction)
             I.settings.heartbeat(total.substeps + 1, total.substeps + 1 + remaining/h);
             lastBeat = clock::now();
         }
-        total.contacts = std::max(total.contacts, r.contacts);
-        total.sweeps += r.sweeps;
-        total.localSolves += r.localSolves;
-        total.residual = std::max(total.residual, r.residual);
-        total.converged = total.converged && r.converged;
-        total.substeps += 1;
-        total.redetections += r.redetections;
-        total.verletBuilds += r.verletBuilds;
-        total.relaxSolves += r.relaxSolves;
-        total.relaxLocalSolves += r.relaxLocalSolves;
-        total.energyLimited += r.energyLimited;
-        total.impulseScale = std::min(total.impulseScale, r.impulseScale);
-        total.energyRaise = std::max(total.energyRaise, r.energyRaise);
-        total.maxOverlap = std::max(total.maxOverlap, r.maxOverlap);
-        total.detectSeconds += r.detectSeconds;
-        total.solveSeconds += r.solveSeconds;
-        total.wallHeat += r.wallHeat;
-        total.fixedGrainHeat += r.fixedGrainHeat;
-        total.sourceHeat += r.sourceHeat;
-        total.exchangeHeat += r.exchangeHeat;
-        total.heatIterations += r.heatIterations;
-        total.heatResidual = std::max(total.heatResidual, r.heatResidual);
-        total.heatSeconds += r.heatSeconds;
-        total.cohesiveContacts = r.cohesiveContacts;  // the last sub-step's
+        total.addSubStep(r);
     }
     return total;
 }

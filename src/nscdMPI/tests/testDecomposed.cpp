@@ -104,7 +104,8 @@ std::vector<Grain> gasCase()
 // Grains thrown across the rank boundaries (x slabs): after every step each
 // id is owned exactly once, and the total momentum sum m v of the owned
 // grains is that of the start (internal contact impulses only) to round-off.
-void throwGrains(const DecomposedSystem::OwnerFunction& ownerOf)
+/// advanceDt > 0: 30 advance(advanceDt) instead of 300 step(1e-4)
+void throwGrains(const DecomposedSystem::OwnerFunction& ownerOf, double advanceDt = 0)
 {
     const std::vector<Grain> G = gasCase();
     DecomposedSystem D(2, MPI_COMM_WORLD, ownerOf, 3e-3);
@@ -139,10 +140,13 @@ void throwGrains(const DecomposedSystem::OwnerFunction& ownerOf)
     std::iota(ids.begin(), ids.end(), 0L);
     long migrated = 0;
     int contactsMax = 0;
-    for (int n = 0; n < 300; ++n)
+    int substeps = 0;
+    for (int n = 0; n < (advanceDt > 0 ? 30 : 300); ++n)
     {
-        const StepReport rep = D.step(1e-4);
+        const StepReport rep = advanceDt > 0 ? D.advance(advanceDt) : D.step(1e-4);
         ASSERT_TRUE(rep.converged) << "step " << n;
+        ASSERT_LT(rep.maxOverlap, 1e-3*0.5e-3) << "step " << n;
+        substeps = std::max(substeps, rep.substeps);
         migrated += D.counters().migratedOut;
         contactsMax = std::max(contactsMax, rep.contacts);
         ASSERT_EQ(ownedIdsEverywhere(D), ids) << "step " << n;
@@ -153,6 +157,7 @@ void throwGrains(const DecomposedSystem::OwnerFunction& ownerOf)
     EXPECT_LT(energy, 0.98*energy0);  // the (inelastic) collisions dissipated
     EXPECT_GT(sumAll(double(contactsMax)), 100);
     if (worldSize() > 1) EXPECT_GT(sumAll(double(migrated)), 20);  // grains changed ranks
+    if (advanceDt > 0) EXPECT_GT(substeps, 1);
 }
 
 TEST(Decomposed, ThrownGrainsKeepEveryIdAndTheMomentum)
@@ -165,6 +170,13 @@ TEST(Decomposed, ThrownGrainsKeepEveryIdAndTheMomentum)
 TEST(Decomposed, ThrownGrainsKeepEveryIdWithALocalOwnerFunction)
 {
     throwGrains(localSlabs(0, -2e-3, 36e-3));
+}
+
+// Steps of 2 ms: a grain at 0.5 m/s would reach beyond the halo's spare
+// (3 mm - 2 r_max), so advance() sub-steps, and the ids and momentum are kept.
+TEST(Decomposed, AdvanceSubStepsToKeepTheContactReachInTheHalo)
+{
+    throwGrains(localSlabs(0, -2e-3, 36e-3), 2e-3);
 }
 
 // Summing to the owners: every copy of a grain (owned or ghost) holds 1, so

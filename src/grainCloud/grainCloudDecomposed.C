@@ -1,0 +1,276 @@
+/*---------------------------------------------------------------------------*\
+  nscdFoam: grainCloud decomposed over the ranks (see grainCloud.H)
+
+Description
+    grainDecomposition decomposed: in a parallel run each rank owns the
+    grains whose centre lies in its cells (OpenFOAM's decomposition) and
+    holds ghost copies of the other ranks' grains within a halo of its own;
+    it detects and solves only its contacts (nscd::mpi::DecomposedSystem,
+    src/nscdMPI: the interface-averaged NSCD of Visseq et al. 2012).
+
+    Owner function: a grain stays with this rank while its centre lies in
+    one of its cells, tested first against the clear ball of its last cell
+    (computeCellClearance, processor faces included), then pointInCell, then
+    a search of this rank's cells; the owner of a grain that left them is the
+    rank whose cells hold it (asked of every rank by the library).
+
+    Halo: 6 r_max, so that a contact pair (reach 2 r_max + the alert
+    distance) is on the rank that solves it; DecomposedSystem::advance
+    sub-steps a step whose fastest grain would reach beyond it.
+
+    Start: every rank reads the whole state and keeps its part; write: the
+    state is gathered on the master and written whole into the undecomposed
+    case (a run restarts from it on any number of ranks).
+\*---------------------------------------------------------------------------*/
+
+#include "grainCloud.H"
+#include "nscdMPI/DecomposedSystem.H"
+
+#include <algorithm>
+
+// * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+void Foam::grainCloud::selectDecomposition(const bool decomposable)
+{
+    const word mode
+    (
+        dict_.getOrDefault<word>("grainDecomposition", "decomposed")
+    );
+    if (mode != "decomposed" && mode != "replicated")
+    {
+        FatalIOErrorInFunction(dict_)
+            << "grainDecomposition " << mode << ": unknown; use decomposed"
+            << " (each rank holds the grains in its cells, the default) or"
+            << " replicated (every rank holds every grain)."
+            << exit(FatalIOError);
+    }
+    if (!Pstream::parRun() || mode == "replicated")
+    {
+        return;
+    }
+    // what the decomposed system does not follow yet
+    DynamicList<string> why;
+    if (!decomposable)
+    {
+        why.append("this solver (decomposed grains: grainFoam so far)");
+    }
+    if (heatOn())
+    {
+        why.append("heat conduction (a material with heatCapacity)");
+    }
+    if (outletPatches_.size())
+    {
+        why.append("outletPatches");
+    }
+    if (why.size())
+    {
+        OStringStream os;
+        forAll(why, k)
+        {
+            os << (k ? "; " : "") << why[k].c_str();
+        }
+        if (dict_.found("grainDecomposition"))
+        {
+            FatalIOErrorInFunction(dict_)
+                << "grainDecomposition decomposed: not available with "
+                << os.str().c_str() << "." << nl
+                << "    Fix: use grainDecomposition replicated (every rank"
+                << " holds every grain), or remove the keyword."
+                << exit(FatalIOError);
+        }
+        Info<< "grainCloud: every rank holds every grain (grainDecomposition"
+            << " replicated: " << os.str().c_str() << ")" << endl;
+        return;
+    }
+
+    if (!mesh_.changing())
+    {
+        computeCellClearance();
+    }
+    // findCell and pointInCell (the owner function) use the tet base points
+    // of the faces, which the mesh builds at the first call by an exchange
+    // over the processor patches (collective): built here on every rank, as
+    // a rank whose cells hold no grain would never call them and leave the
+    // others waiting in that exchange
+    (void)mesh_.tetBasePtIs();
+    localBounds_ = boundBox(mesh_.points(), false);
+    double rMax = 0;
+    for (const double r : system_->radii())
+    {
+        rMax = std::max(rMax, r);
+    }
+    reduce(rMax, maxOp<scalar>());
+    if (!(rMax > 0))
+    {
+        rMax = VSMALL;  // no grain: any positive halo
+    }
+    const double halo = 6*rMax;
+    try
+    {
+        decomposed_.reset
+        (
+            new nscd::mpi::DecomposedSystem
+            (
+                std::move(*whole_),
+                MPI_COMM_WORLD,
+                [this](const nscd::Vec3& x, long id) { return ownerOf(x, id); },
+                halo
+            )
+        );
+    }
+    catch (const nscd::InputError& err)
+    {
+        FatalErrorInFunction
+            << "Decomposing the grains: " << err.what() << nl
+            << "    Fix: every grain centre must lie inside the mesh."
+            << exit(FatalError);
+    }
+    whole_.reset();
+    system_ = &decomposed_->system();
+    // ghosts also over this rank's cells (for the cell mapping)
+    const point& lo = localBounds_.min();
+    const point& hi = localBounds_.max();
+    decomposed_->setRegionBox
+    (
+        toSystem(lo),
+        toSystem(hi)
+    );
+    labelList perRank(Pstream::nProcs(), 0);
+    perRank[Pstream::myProcNo()] = label(decomposed_->nOwned());
+    Pstream::gatherList(perRank);
+    Info<< "grainCloud: grains decomposed over " << Pstream::nProcs()
+        << " ranks (owned per rank " << perRank << ", halo " << halo
+        << " m)" << endl;
+}
+
+
+int Foam::grainCloud::ownerOf(const nscd::Vec3& x, const long id) const
+{
+    const int me = Pstream::myProcNo();
+    const point p(meshPoint(x));
+    auto hint = ownerCellHint_.find(id);
+    if (hint != ownerCellHint_.end())
+    {
+        const label c = hint->second;
+        if
+        (
+            clearRadiusSqr_.size() == mesh_.nCells()
+         && magSqr(p - clearCentres_[c]) < clearRadiusSqr_[c]
+        )
+        {
+            return me;
+        }
+        if (mesh_.pointInCell(p, c))
+        {
+            return me;
+        }
+    }
+    const label c = localBounds_.contains(p) ? mesh_.findCell(p) : -1;
+    if (c < 0)
+    {
+        if (hint != ownerCellHint_.end())
+        {
+            ownerCellHint_.erase(hint);
+        }
+        return nscd::mpi::DecomposedSystem::notHere;
+    }
+    ownerCellHint_[id] = c;
+    return me;
+}
+
+
+nscd::StepReport Foam::grainCloud::advanceDecomposed(const scalar dt)
+{
+    nscd::StepReport rep = decomposed_->advance(dt, maxDisplacementFraction_);
+    // the rank's contacts and overlap: the run's (residual, converged and
+    // the sub-steps are the same on every rank)
+    scalar contacts = rep.contacts;
+    reduce(contacts, sumOp<scalar>());
+    rep.contacts = int(contacts);
+    reduce(rep.maxOverlap, maxOp<scalar>());
+    return rep;
+}
+
+
+std::unique_ptr<nscd::System> Foam::grainCloud::gatherWhole() const
+{
+    return decomposed_->gatherWhole(Pstream::masterNo());
+}
+
+
+void Foam::grainCloud::checkDecomposedInsideMesh
+(
+    const std::vector<nscd::Vec3>& oldPositions,
+    const std::vector<long>& oldIds
+)
+{
+    // owned grains whose centre no rank's cells hold: their paths, on
+    // every rank, for the exit diagnosis (exitPatches is collective)
+    const std::vector<int>& lost = decomposed_->unclaimed();
+    List<List<Pair<point>>> paths(Pstream::nProcs());
+    List<Pair<point>>& mine = paths[Pstream::myProcNo()];
+    mine.setSize(label(lost.size()));
+    forAll(mine, k)
+    {
+        const label i = lost[k];
+        const long id = system_->grainIds()[i];
+        const auto old = std::find(oldIds.begin(), oldIds.end(), id);
+        const point x1(meshPosition(i));
+        mine[k] = Pair<point>
+        (
+            old == oldIds.end()
+          ? x1
+          : meshPoint(oldPositions[old - oldIds.begin()]),
+            x1
+        );
+    }
+    Pstream::gatherList(paths);
+    Pstream::scatterList(paths);
+    List<Pair<point>> all;
+    label first = 0;
+    forAll(paths, r)
+    {
+        if (r == Pstream::myProcNo())
+        {
+            first = all.size();
+        }
+        all.append(paths[r]);
+    }
+    if (all.empty())
+    {
+        return;
+    }
+    const labelList exits(exitPatches(all));
+    forAll(mine, k)
+    {
+        const label i = lost[k];
+        grainLeftMesh
+        (
+            i,
+            system_->grainIds()[i],
+            mine[k].first(),
+            mine[k].second(),
+            exits[first + k]
+        );
+    }
+    // the rank of the lost grain stops the run (FatalError: MPI_Abort)
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+bool Foam::grainCloud::owned(const label i) const
+{
+    return !decomposed_ || decomposed_->owned()[i];
+}
+
+
+Foam::label Foam::grainCloud::nGrainsTotal() const
+{
+    return
+        decomposed_
+      ? returnReduce(label(decomposed_->nOwned()), sumOp<label>())
+      : label(system_->size());
+}
+
+// ************************************************************************* //

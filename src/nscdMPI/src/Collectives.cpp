@@ -1,0 +1,124 @@
+// nscd::mpi::DecomposedSystem: values of the ghosts summed to their owners,
+// and the whole system gathered on one rank (for writing a state).
+#include "DecomposedSystemImpl.H"
+
+#include <numeric>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace nscd
+{
+namespace mpi
+{
+
+void DecomposedSystem::sumToOwners(std::vector<double>& values, int components)
+{
+    Impl& I = *impl_;
+    // checked on every rank (one refusing alone would leave the others waiting)
+    int bad = components < 1 || values.size() != std::size_t(components)*I.sys.size();
+    MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, I.comm);
+    if (bad)
+        throw InputError("nscd::mpi::DecomposedSystem::sumToOwners: " + std::to_string(values.size())
+                         + " values for " + std::to_string(I.sys.size()) + " grains of "
+                         + std::to_string(components) + " components here, or a size mismatch on another rank");
+    if (I.P == 1) return;
+    // a ghost list of this rank is aligned with its owner's send list
+    std::vector<std::vector<double>> send(I.P), recv(I.P);
+    for (int r = 0; r < I.P; ++r)
+    {
+        for (int i : I.ghostFrom[r])
+            send[r].insert(send[r].end(), values.begin() + std::ptrdiff_t(i)*components,
+                           values.begin() + std::ptrdiff_t(i + 1)*components);
+        recv[r].resize(I.sendTo[r].size()*std::size_t(components));
+    }
+    exchangeKnown(I.comm, TagSums, send, recv);
+    for (int r = 0; r < I.P; ++r)
+        for (std::size_t k = 0; k < I.sendTo[r].size(); ++k)
+            for (int c = 0; c < components; ++c)
+                values[std::size_t(I.sendTo[r][k])*components + c] += recv[r][k*components + c];
+}
+
+std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
+{
+    const Impl& I = *impl_;
+    // this rank's owned grains, and the contacts it solves (a grain pair:
+    // the owner of the smaller id; a wall: the grain's owner)
+    std::vector<GrainRecord> grains;
+    for (int i = 0; i < int(I.owned.size()); ++i)
+        if (I.owned[i]) grains.push_back(I.record(i));
+    std::vector<ContactRecord> contacts;
+    for (const System::ContactView& c : I.sys.contacts())
+    {
+        const bool mine = c.j < 0 ? bool(I.owned[c.i])
+                                  : bool(I.owned[I.gid[c.i] < I.gid[c.j] ? c.i : c.j]);
+        if (!mine) continue;
+        ContactRecord k;
+        k.grain = I.gid[c.i];
+        k.partner = c.j >= 0 ? I.gid[c.j] : long(c.j);
+        put(k.n, c.normal);
+        put(k.impulse, c.impulse);
+        k.age = c.age;
+        contacts.push_back(k);
+    }
+    auto gather = [&](const auto& mine, auto& all)
+    {
+        using T = typename std::decay_t<decltype(mine)>::value_type;
+        const int n = int(mine.size()*sizeof(T));
+        std::vector<int> bytes(I.P), offs(I.P, 0);
+        MPI_Gather(&n, 1, MPI_INT, bytes.data(), 1, MPI_INT, root, I.comm);
+        if (I.rank == root)
+        {
+            std::partial_sum(bytes.begin(), bytes.end() - 1, offs.begin() + 1);
+            all.resize(std::size_t(offs.back() + bytes.back())/sizeof(T));
+        }
+        MPI_Gatherv(mine.data(), n, MPI_BYTE, all.data(), bytes.data(), offs.data(), MPI_BYTE, root, I.comm);
+    };
+    std::vector<GrainRecord> allGrains;
+    std::vector<ContactRecord> allContacts;
+    gather(grains, allGrains);
+    gather(contacts, allContacts);
+    if (I.rank != root) return nullptr;
+
+    std::sort(allGrains.begin(), allGrains.end(),
+              [](const GrainRecord& a, const GrainRecord& b) { return a.id < b.id; });
+    auto whole = std::make_unique<System>(Subdomain::withoutGrains(I.sys));
+    struct NoCoupling : SubdomainCoupling
+    {
+        double maxOverSubdomains(double v) override { return v; }
+        void countCopies(const std::vector<char>& in, std::vector<int>& out) override { out.assign(in.size(), 1); }
+        void averageCopies(std::vector<Vec3>&, std::vector<Vec3>&) override {}
+    } none;
+    Subdomain access(*whole, none);
+    std::unordered_map<long, int> index;
+    for (const GrainRecord& g : allGrains)
+    {
+        const std::size_t i = std::size_t(whole->addGrain(get(g.x), g.radius, g.material, g.flags & 1));
+        whole->setRotationLocked(i, g.flags & 2);
+        access.setState(i, stateOf(g));
+        access.setGrainId(i, g.id);
+        index[g.id] = int(i);
+    }
+    if (I.sys.lastStepDt() > 0 && !allContacts.empty())
+    {
+        std::vector<System::ContactView> views;
+        views.reserve(allContacts.size());
+        for (const ContactRecord& k : allContacts)
+        {
+            System::ContactView c;
+            c.point = Vec3::Zero();
+            c.gap = 0;
+            c.cohesive = false;
+            c.i = index.at(k.grain);
+            c.j = k.partner >= 0 ? index.at(k.partner) : int(k.partner);
+            c.normal = get(k.n);
+            c.impulse = get(k.impulse);
+            c.age = k.age;
+            views.push_back(c);
+        }
+        whole->setContactImpulses(views, I.sys.lastStepDt());
+    }
+    return whole;
+}
+
+} // namespace mpi
+} // namespace nscd

@@ -1,0 +1,239 @@
+// nscd::mpi::DecomposedSystem: migration of the grains that left a rank's
+// region (their owner found by asking every rank when the owner function is
+// local), the ghost refresh, and the warm start of migrated contacts.
+#include "DecomposedSystemImpl.H"
+
+#include <numeric>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace nscd
+{
+namespace mpi
+{
+
+void DecomposedSystem::Impl::exchange()
+{
+    CpuTimer t(counters.exchangeCpuSeconds);
+    counters.migratedOut = counters.ghostsSent = counters.ghostsAdded = counters.ghostsDropped = 0;
+    counters.unclaimed = 0;
+    unclaimed.clear();
+    if (P == 1)
+    {
+        // one rank owns everything: no migration, no ghost; a grain outside
+        // the region (a local owner function) is reported
+        for (int i = 0; i < int(owned.size()); ++i)
+            if (checkedOwner(sys.positions()[i], gid[i]) == notHere) unclaimed.push_back(i);
+        counters.unclaimed = long(unclaimed.size());
+        return;
+    }
+    // 1. migration: owned grains whose centre left the region go to their
+    // owner; here they stay as ghosts (with their contacts) until the ghost
+    // refresh below keeps or drops them. The contacts the new owner will
+    // solve (the grain's walls, and its grain pairs where it has the smaller
+    // id) go with it, so that their warm start is not lost: a contact of a
+    // deep bed restarted from zero costs the solve the sweeps that carry the
+    // weight of the grains above it down again.
+    const int N0 = int(owned.size());
+    std::vector<std::vector<GrainRecord>> send(P), recv;
+    std::vector<std::vector<ContactRecord>> sendC(P), recvC;
+    std::vector<int> dest(N0, -1);
+    std::vector<int> leaving;  // owner unknown here (a local owner function)
+    for (int i = 0; i < N0; ++i)
+    {
+        if (!owned[i]) continue;
+        const int r = checkedOwner(sys.positions()[i], gid[i]);
+        if (r == notHere) leaving.push_back(i);
+        else if (r != rank) dest[i] = r;
+    }
+    const std::vector<int> claimed = claimLeavers(leaving);
+    for (std::size_t k = 0; k < leaving.size(); ++k)
+    {
+        if (claimed[k] < 0) unclaimed.push_back(leaving[k]);
+        else dest[leaving[k]] = claimed[k];
+    }
+    counters.unclaimed = long(unclaimed.size());
+    bool any = false;
+    for (int i = 0; i < N0; ++i)
+    {
+        if (dest[i] < 0) continue;
+        send[dest[i]].push_back(record(i));
+        owned[i] = 0;
+        any = true;
+        ++counters.migratedOut;
+    }
+    if (any)
+        for (const System::ContactView& c : sys.contacts())
+        {
+            // as seen from grain a (the migrant): partner b (grain id, or a wall -(w+1))
+            for (int side = 0; side < 2; ++side)
+            {
+                const int a = side == 0 ? c.i : c.j;
+                const int b = side == 0 ? c.j : c.i;
+                if (a < 0 || dest[a] < 0) continue;
+                if (b >= 0 && !(gid[a] < gid[b])) continue;  // the partner's owner keeps it
+                ContactRecord k;
+                k.grain = gid[a];
+                k.partner = b >= 0 ? gid[b] : long(b);
+                const double sgn = side == 0 ? 1.0 : -1.0;
+                put(k.n, sgn*c.normal);
+                put(k.impulse, sgn*c.impulse);
+                k.age = c.age;
+                sendC[dest[a]].push_back(k);
+            }
+        }
+    counters.bytesSent += exchangeLists(comm, TagRecords, send, recv);
+    counters.bytesSent += exchangeLists(comm, TagContacts, sendC, recvC);
+    {
+        std::unordered_map<long, int> local;  // the ghosts here (a migrant may be one)
+        for (int i = 0; i < int(gid.size()); ++i) if (!owned[i]) local[gid[i]] = i;
+        for (int r = 0; r < P; ++r)
+            for (const GrainRecord& g : recv[r])
+            {
+                auto it = local.find(g.id);  // a ghost here becomes owned (keeps its contacts)
+                place(it == local.end() ? -1 : it->second, g, true);
+            }
+    }
+
+    // 2. ghosts: owned grains within halo of another rank's owned box
+    const int N = int(owned.size());
+    double box[6] = {1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+    for (int i = 0; i < N; ++i)
+        if (owned[i])
+            for (int k = 0; k < 3; ++k)
+            {
+                box[k] = std::min(box[k], sys.positions()[i][k]);
+                box[3 + k] = std::max(box[3 + k], sys.positions()[i][k]);
+            }
+    for (int k = 0; k < 3; ++k)
+        if (regionLo[k] <= regionHi[k])
+        {
+            box[k] = std::min(box[k], regionLo[k]);
+            box[3 + k] = std::max(box[3 + k], regionHi[k]);
+        }
+    std::vector<double> boxes(6*P);
+    MPI_Allgather(box, 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, comm);
+    sendTo.assign(P, {});
+    send.assign(P, {});
+    const double h2 = halo*halo;
+    for (int i = 0; i < N; ++i)
+    {
+        if (!owned[i]) continue;
+        const Vec3& x = sys.positions()[i];
+        for (int r = 0; r < P; ++r)
+        {
+            if (r == rank) continue;
+            const double* b = &boxes[6*r];
+            if (distance2(x, Vec3(b[0], b[1], b[2]), Vec3(b[3], b[4], b[5])) > h2) continue;
+            sendTo[r].push_back(i);
+            send[r].push_back(record(i));
+            ++counters.ghostsSent;
+        }
+    }
+    counters.bytesSent += exchangeLists(comm, TagRecords, send, recv);
+    std::unordered_map<long, int> local;  // the ghosts here (refreshed in place)
+    for (int i = 0; i < N; ++i) if (!owned[i]) local[gid[i]] = i;
+    std::vector<char> keep(N, 0);
+    for (int i = 0; i < N; ++i) keep[i] = owned[i];
+    ghostFrom.assign(P, {});
+    for (int r = 0; r < P; ++r)
+        for (const GrainRecord& g : recv[r])
+        {
+            auto it = local.find(g.id);
+            const int i = place(it == local.end() ? -1 : it->second, g, false);
+            if (i >= N) { keep.push_back(1); ++counters.ghostsAdded; } else keep[i] = 1;
+            ghostFrom[r].push_back(i);
+        }
+    // ghosts not refreshed are dropped; the indices kept shift down
+    std::vector<char> drop2(keep.size());
+    std::vector<int> newIndex(keep.size(), -1);
+    int n = 0;
+    for (std::size_t i = 0; i < keep.size(); ++i)
+    {
+        drop2[i] = !keep[i];
+        counters.ghostsDropped += drop2[i];
+        if (keep[i]) newIndex[i] = n++;
+    }
+    removeFlagged(drop2);
+    for (auto& L : ghostFrom) for (int& i : L) i = newIndex[i];
+    for (auto& L : sendTo) for (int& i : L) i = newIndex[i];
+    for (int& i : unclaimed) i = newIndex[i];  // owned: kept
+    seedMigratedContacts(recvC);
+}
+
+std::vector<int> DecomposedSystem::Impl::claimLeavers(const std::vector<int>& leaving)
+{
+    struct Leaver { double x[3]; long id; };
+    std::vector<Leaver> mine(leaving.size());
+    for (std::size_t k = 0; k < leaving.size(); ++k)
+    {
+        put(mine[k].x, sys.positions()[leaving[k]]);
+        mine[k].id = gid[leaving[k]];
+    }
+    const int n = int(mine.size()*sizeof(Leaver));
+    std::vector<int> bytes(P), offs(P, 0);
+    MPI_Allgather(&n, 1, MPI_INT, bytes.data(), 1, MPI_INT, comm);
+    std::partial_sum(bytes.begin(), bytes.end() - 1, offs.begin() + 1);
+    const std::size_t total = std::size_t(offs.back() + bytes.back())/sizeof(Leaver);
+    if (total == 0) return {};
+    std::vector<Leaver> all(total);
+    MPI_Allgatherv(mine.data(), n, MPI_BYTE, all.data(), bytes.data(), offs.data(), MPI_BYTE, comm);
+    counters.bytesSent += long(n)*(P - 1);
+    const std::size_t first = std::size_t(offs[rank])/sizeof(Leaver);
+    std::vector<int> claim(total, std::numeric_limits<int>::max());
+    for (std::size_t k = 0; k < total; ++k)
+    {
+        if (k >= first && k < first + mine.size()) continue;  // not in this region: asked already
+        if (checkedOwner(get(all[k].x), all[k].id) == rank) claim[k] = rank;
+    }
+    MPI_Allreduce(MPI_IN_PLACE, claim.data(), int(total), MPI_INT, MPI_MIN, comm);
+    std::vector<int> out(mine.size());
+    for (std::size_t k = 0; k < mine.size(); ++k)
+        out[k] = claim[first + k] == std::numeric_limits<int>::max() ? -1 : claim[first + k];
+    return out;
+}
+
+void DecomposedSystem::Impl::seedMigratedContacts(const std::vector<std::vector<ContactRecord>>& recvC)
+{
+    std::size_t n = 0;
+    for (const auto& L : recvC) n += L.size();
+    if (n == 0 || !(sys.lastStepDt() > 0)) return;
+    std::unordered_map<long, int> local;
+    for (int i = 0; i < int(gid.size()); ++i) local[gid[i]] = i;
+    std::vector<System::ContactView> views = sys.contacts();
+    auto key = [](int i, int j)  // a pair either way round (j < 0: a wall)
+    {
+        if (j >= 0 && j < i) std::swap(i, j);
+        return (static_cast<unsigned long long>(unsigned(i)) << 32) | unsigned(j);
+    };
+    std::unordered_set<unsigned long long> known;  // the pairs with a record here already
+    for (const System::ContactView& c : views) known.insert(key(c.i, c.j));
+    for (const auto& L : recvC)
+        for (const ContactRecord& k : L)
+        {
+            auto a = local.find(k.grain);
+            if (a == local.end()) continue;
+            int b = int(k.partner);
+            if (k.partner >= 0)
+            {
+                auto it = local.find(k.partner);
+                if (it == local.end()) continue;  // the partner is not within the halo any more
+                b = it->second;
+            }
+            if (!known.insert(key(a->second, b)).second) continue;
+            System::ContactView c;
+            c.point = Vec3::Zero();
+            c.gap = 0;
+            c.cohesive = false;
+            c.i = a->second;
+            c.j = b;
+            c.normal = get(k.n);
+            c.impulse = get(k.impulse);
+            c.age = k.age;
+            views.push_back(c);
+        }
+    sys.setContactImpulses(views, sys.lastStepDt());
+}
+
+} // namespace mpi
+} // namespace nscd
