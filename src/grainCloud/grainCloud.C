@@ -358,7 +358,7 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
         << ", residual " << report_.residual
         << (report_.converged ? "" : " (NOT converged)")
         << ", max overlap/d_min "
-        << report_.maxOverlap/max(system_->minDiameter(), VSMALL)
+        << report_.maxOverlap/max(minDiameter(), VSMALL)
         << endl;
 
     return report_;

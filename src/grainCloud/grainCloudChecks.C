@@ -201,7 +201,7 @@ void Foam::grainCloud::recordStepHealth()
 {
     const scalar t = mesh_.time().value();
     ++health_.steps;
-    const scalar ov = report_.maxOverlap/max(system_->minDiameter(), VSMALL);
+    const scalar ov = report_.maxOverlap/max(minDiameter(), VSMALL);
     if (ov > health_.worstOverlap)
     {
         health_.worstOverlap = ov;

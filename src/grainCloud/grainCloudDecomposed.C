@@ -100,6 +100,8 @@ void Foam::grainCloud::selectDecomposition(const bool decomposable)
         rMax = std::max(rMax, r);
     }
     reduce(rMax, maxOp<scalar>());
+    // (every rank still holds the whole system here)
+    minDiameterAll_ = system_->minDiameter();
     if (!(rMax > 0))
     {
         rMax = VSMALL;  // no grain: any positive halo
