@@ -275,6 +275,32 @@ Foam::grainCloud::~grainCloud()
 }
 
 
+Foam::label Foam::grainCloud::findLocalCell
+(
+    const point& p,
+    const label hint,
+    const boundBox& local
+) const
+{
+    if (hint >= 0)
+    {
+        if
+        (
+            clearRadiusSqr_.size() == mesh_.nCells()
+         && magSqr(p - clearCentres_[hint]) < clearRadiusSqr_[hint]
+        )
+        {
+            return hint;
+        }
+        if (mesh_.pointInCell(p, hint))
+        {
+            return hint;
+        }
+    }
+    return local.contains(p) ? mesh_.findCell(p) : -1;
+}
+
+
 void Foam::grainCloud::computeCellClearance() const
 {
     // Around an interior point, a ball that meets no boundary face lies in
@@ -368,24 +394,12 @@ void Foam::grainCloud::checkInsideMesh()
     {
         computeCellClearance();
     }
-    const bool clear = clearRadiusSqr_.size() == mesh_.nCells();
     labelList found(n, 0);
     bool allLocal = true;
     for (label i = 0; i < n; ++i)
     {
-        const point p(meshPosition(i));
         label& c = cellHint_[i];
-        if (c >= 0 && clear && magSqr(p - clearCentres_[c]) < clearRadiusSqr_[c])
-        {
-            found[i] = 1;
-            continue;
-        }
-        if (c >= 0 && mesh_.pointInCell(p, c))
-        {
-            found[i] = 1;
-            continue;
-        }
-        c = local.contains(p) ? mesh_.findCell(p) : -1;
+        c = findLocalCell(meshPosition(i), c, local);
         found[i] = c >= 0 ? 1 : 0;
         allLocal = allLocal && found[i];
     }

@@ -94,13 +94,12 @@ void Foam::grainCloud::selectDecomposition(const bool decomposable)
     // others waiting in that exchange
     (void)mesh_.tetBasePtIs();
     localBounds_ = boundBox(mesh_.points(), false);
+    // (every rank still holds the whole system here)
     double rMax = 0;
     for (const double r : system_->radii())
     {
         rMax = std::max(rMax, r);
     }
-    reduce(rMax, maxOp<scalar>());
-    // (every rank still holds the whole system here)
     minDiameterAll_ = system_->minDiameter();
     if (!(rMax > 0))
     {
@@ -148,26 +147,13 @@ void Foam::grainCloud::selectDecomposition(const bool decomposable)
 
 int Foam::grainCloud::ownerOf(const nscd::Vec3& x, const long id) const
 {
-    const int me = Pstream::myProcNo();
-    const point p(meshPoint(x));
     auto hint = ownerCellHint_.find(id);
-    if (hint != ownerCellHint_.end())
-    {
-        const label c = hint->second;
-        if
-        (
-            clearRadiusSqr_.size() == mesh_.nCells()
-         && magSqr(p - clearCentres_[c]) < clearRadiusSqr_[c]
-        )
-        {
-            return me;
-        }
-        if (mesh_.pointInCell(p, c))
-        {
-            return me;
-        }
-    }
-    const label c = localBounds_.contains(p) ? mesh_.findCell(p) : -1;
+    const label c = findLocalCell
+    (
+        meshPoint(x),
+        hint == ownerCellHint_.end() ? -1 : hint->second,
+        localBounds_
+    );
     if (c < 0)
     {
         if (hint != ownerCellHint_.end())
@@ -177,7 +163,7 @@ int Foam::grainCloud::ownerOf(const nscd::Vec3& x, const long id) const
         return nscd::mpi::DecomposedSystem::notHere;
     }
     ownerCellHint_[id] = c;
-    return me;
+    return Pstream::myProcNo();
 }
 
 
@@ -209,6 +195,10 @@ void Foam::grainCloud::checkDecomposedInsideMesh
     // owned grains whose centre no rank's cells hold: their paths, on
     // every rank, for the exit diagnosis (exitPatches is collective)
     const std::vector<int>& lost = decomposed_->unclaimed();
+    if (returnReduce(label(lost.size()), sumOp<label>()) == 0)
+    {
+        return;  // (every step: one reduction, not the lists' gather)
+    }
     List<List<Pair<point>>> paths(Pstream::nProcs());
     List<Pair<point>>& mine = paths[Pstream::myProcNo()];
     mine.setSize(label(lost.size()));
@@ -237,10 +227,6 @@ void Foam::grainCloud::checkDecomposedInsideMesh
             first = all.size();
         }
         all.append(paths[r]);
-    }
-    if (all.empty())
-    {
-        return;
     }
     const labelList exits(exitPatches(all));
     forAll(mine, k)

@@ -103,6 +103,7 @@ MPI_TESTS = {
     "test_grainFoam_decomposed.py::test_decomposed_collapse_matches_serial",
     "test_grainFoam_decomposed.py::test_pile_at_rest_across_ranks_and_restart",
     "test_grainFoam_decomposed.py::test_decomposition_refused_with_heat",
+    "test_grainFoam_decomposed.py::test_grain_leaving_the_mesh_stops_a_decomposed_run",
     "test_overlapAdapter.py::test_parallel_matches_serial",
     "test_scotchDecomp.py::test_scotch_parallel_run_keeps_every_grain",
     "test_vansFoam.py::test_parallel_matches_serial",

@@ -232,3 +232,27 @@ def test_decomposition_refused_with_heat(tmp_path, env):
     out = p.stdout + p.stderr
     assert "grainDecomposition decomposed: not available with heat conduction" in out, out[-2000:]
     assert "grainDecomposition replicated" in out
+
+
+def test_grain_leaving_the_mesh_stops_a_decomposed_run(tmp_path, env):
+    """A grain falling through an open bottom patch on 2 ranks: no rank's
+    cells claim it, and the run stops (no hang) naming the grain and the
+    patch crossed, as the serial run does (test_faults_boundaries.py)."""
+    from faultcase import box
+    from foamcase import mpirun_could_not_start, write
+    from test_faults_boundaries import open_bottom
+    case = box(tmp_path, "open", [(0.03, 0.03, 0, 0.01)], end=0.5, write_interval=0.05)
+    open_bottom(case)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
+          "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (2 1 1); delta 0.001; }\n")
+    run("decomposePar", case, env, cwd=case)
+    p = subprocess.run(["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+                       env=env, capture_output=True, text=True, timeout=300)
+    if mpirun_could_not_start(p):
+        pytest.skip("mpirun cannot start here")
+    out = p.stdout + p.stderr
+    assert p.returncode != 0
+    assert "grains decomposed over 2 ranks" in out
+    assert "Grain 0 (grainId 0) left the mesh" in out and "open patch bottom" in out, out[-3000:]
