@@ -466,7 +466,9 @@ void System::Impl::accumulateDragImpulses(double dt)
         const double c = dragCoefficient[i];
         if (!(c > 0) || fix[i]) continue;
         const Vec3 v0 = v[i] + dt*(g + force[i]/mass[i]);
-        Vec3 J = dt*c*(mass[i]*(dragVelocity[i] - v0) - contactSum[s])/effectiveMass(i, dt);
+        Vec3 R = contactSum[s];
+        if (dragCopies && (*dragCopies)[i] > 1) R = double((*dragCopies)[i])*(R + (*dragInterface)[2*i]);
+        Vec3 J = dt*c*(mass[i]*(dragVelocity[i] - v0) - R)/effectiveMass(i, dt);
         if (dim == 2) J.z() = 0;
         dragImpulse[i] += J;
     }

@@ -24,6 +24,7 @@ struct Subdomain::Scratch
     std::vector<int> copies;          ///< per grain: copies in this step's solve
     std::vector<Vec3> lambda0;        ///< interface impulses at the start of the step
     std::vector<char> ifaceRow;       ///< per row: a body is an interface grain
+    std::vector<int> dragCopies;      ///< per grain: copies for the drag impulse (1 outside the solve)
 };
 
 namespace
@@ -265,7 +266,7 @@ Subdomain::GrainState Subdomain::state(std::size_t i) const
 {
     const System::Impl& I = *sys_.impl_;
     return {I.x[i], I.v[i], I.w[i], I.q[i], I.force[i], I.torque[i], I.T[i],
-            I.dragCoefficient[i], I.dragVelocity[i]};
+            I.dragCoefficient[i], I.dragVelocity[i], I.dragImpulse[i]};
 }
 
 void Subdomain::setState(std::size_t i, const GrainState& s)
@@ -280,6 +281,7 @@ void Subdomain::setState(std::size_t i, const GrainState& s)
     I.T[i] = s.temperature;
     I.dragCoefficient[i] = s.dragCoefficient;
     I.dragVelocity[i] = s.fluidVelocity;
+    I.dragImpulse[i] = s.dragImpulse;
 }
 
 System Subdomain::withoutGrains(const System& s)
@@ -421,7 +423,16 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         mergeRelaxReport(rep, relax);
     }
 
+    // the drag impulse of an interface grain from its whole contact impulse
+    // (its copies' contacts here and elsewhere: n (local + interface))
+    X.dragCopies.assign(N, 1);
+    for (int i = 0; i < N; ++i)
+        if (owned[i] || inContact[i]) X.dragCopies[i] = std::max(copies[i], 1);
+    I.dragCopies = &X.dragCopies;
+    I.dragInterface = &lambda;
     I.integrate(dt, NC0);
+    I.dragCopies = nullptr;
+    I.dragInterface = nullptr;
     I.storeImpulses(dt, NC0, rep);
     return rep;
 }

@@ -10,17 +10,27 @@ namespace nscd
 {
 namespace mpi
 {
+namespace
+{
+/// components doubles per local grain, checked on every rank (one refusing
+/// alone would leave the others waiting); InputError naming the function
+void checkGrainValues(const DecomposedSystem::Impl& I, const char* function, const std::vector<double>& values,
+                      int components)
+{
+    int bad = components < 1 || values.size() != std::size_t(components)*I.sys.size();
+    MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, I.comm);
+    if (bad)
+        throw InputError(std::string("nscd::mpi::DecomposedSystem::") + function + ": "
+                         + std::to_string(values.size()) + " values for " + std::to_string(I.sys.size())
+                         + " grains of " + std::to_string(components)
+                         + " components here, or a size mismatch on another rank");
+}
+} // namespace
 
 void DecomposedSystem::sumToOwners(std::vector<double>& values, int components)
 {
     Impl& I = *impl_;
-    // checked on every rank (one refusing alone would leave the others waiting)
-    int bad = components < 1 || values.size() != std::size_t(components)*I.sys.size();
-    MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, I.comm);
-    if (bad)
-        throw InputError("nscd::mpi::DecomposedSystem::sumToOwners: " + std::to_string(values.size())
-                         + " values for " + std::to_string(I.sys.size()) + " grains of "
-                         + std::to_string(components) + " components here, or a size mismatch on another rank");
+    checkGrainValues(I, "sumToOwners", values, components);
     if (I.P == 1) return;
     // a ghost list of this rank is aligned with its owner's send list
     std::vector<std::vector<double>> send(I.P), recv(I.P);
@@ -36,6 +46,27 @@ void DecomposedSystem::sumToOwners(std::vector<double>& values, int components)
         for (std::size_t k = 0; k < I.sendTo[r].size(); ++k)
             for (int c = 0; c < components; ++c)
                 values[std::size_t(I.sendTo[r][k])*components + c] += recv[r][k*components + c];
+}
+
+void DecomposedSystem::copyToGhosts(std::vector<double>& values, int components)
+{
+    Impl& I = *impl_;
+    checkGrainValues(I, "copyToGhosts", values, components);
+    if (I.P == 1) return;
+    // an owner's send list is aligned with the ghost list of the receiver
+    std::vector<std::vector<double>> send(I.P), recv(I.P);
+    for (int r = 0; r < I.P; ++r)
+    {
+        for (int i : I.sendTo[r])
+            send[r].insert(send[r].end(), values.begin() + std::ptrdiff_t(i)*components,
+                           values.begin() + std::ptrdiff_t(i + 1)*components);
+        recv[r].resize(I.ghostFrom[r].size()*std::size_t(components));
+    }
+    exchangeKnown(I.comm, TagGhostValues, send, recv);
+    for (int r = 0; r < I.P; ++r)
+        for (std::size_t k = 0; k < I.ghostFrom[r].size(); ++k)
+            std::copy_n(recv[r].begin() + std::ptrdiff_t(k)*components, components,
+                        values.begin() + std::ptrdiff_t(I.ghostFrom[r][k])*components);
 }
 
 std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const

@@ -151,8 +151,23 @@ std::size_t DecomposedSystem::addGrain(long id, const Vec3& centre, double radiu
     I.gid.push_back(id);
     I.owned.push_back(1);
     I.lambda.resize(2*I.gid.size(), Vec3::Zero());
+    I.data.resize(I.gid.size()*std::size_t(I.dataWidth), 0.0);
     return i;
 }
+
+void DecomposedSystem::setGrainDataWidth(int width)
+{
+    Impl& I = *impl_;
+    if (width < 0)
+        throw InputError("nscd::mpi::DecomposedSystem::setGrainDataWidth: negative width "
+                         + std::to_string(width));
+    if (width != I.dataWidth) I.data.assign(I.gid.size()*std::size_t(width), 0.0);
+    I.dataWidth = width;
+}
+
+int DecomposedSystem::grainDataWidth() const { return impl_->dataWidth; }
+std::vector<double>& DecomposedSystem::grainData() { return impl_->data; }
+const std::vector<double>& DecomposedSystem::grainData() const { return impl_->data; }
 
 void DecomposedSystem::exchange()
 {

@@ -36,6 +36,7 @@ void DecomposedSystem::Impl::exchange()
     // weight of the grains above it down again.
     const int N0 = int(owned.size());
     std::vector<std::vector<GrainRecord>> send(P), recv;
+    std::vector<std::vector<double>> sendD(P), recvD;
     std::vector<std::vector<ContactRecord>> sendC(P), recvC;
     std::vector<int> dest(N0, -1);
     std::vector<int> leaving;  // owner unknown here (a local owner function)
@@ -58,6 +59,7 @@ void DecomposedSystem::Impl::exchange()
     {
         if (dest[i] < 0) continue;
         send[dest[i]].push_back(record(i));
+        appendData(i, sendD[dest[i]]);
         owned[i] = 0;
         any = true;
         ++counters.migratedOut;
@@ -83,15 +85,17 @@ void DecomposedSystem::Impl::exchange()
             }
         }
     counters.bytesSent += exchangeLists(comm, TagRecords, send, recv);
+    counters.bytesSent += exchangeData(sendD, recv, recvD);
     counters.bytesSent += exchangeLists(comm, TagContacts, sendC, recvC);
     {
         std::unordered_map<long, int> local;  // the ghosts here (a migrant may be one)
         for (int i = 0; i < int(gid.size()); ++i) if (!owned[i]) local[gid[i]] = i;
         for (int r = 0; r < P; ++r)
-            for (const GrainRecord& g : recv[r])
+            for (std::size_t k = 0; k < recv[r].size(); ++k)
             {
+                const GrainRecord& g = recv[r][k];
                 auto it = local.find(g.id);  // a ghost here becomes owned (keeps its contacts)
-                place(it == local.end() ? -1 : it->second, g, true);
+                place(it == local.end() ? -1 : it->second, g, recvD[r].data() + k*std::size_t(dataWidth), true);
             }
     }
 
@@ -115,6 +119,7 @@ void DecomposedSystem::Impl::exchange()
     MPI_Allgather(box, 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, comm);
     sendTo.assign(P, {});
     send.assign(P, {});
+    sendD.assign(P, {});
     const double h2 = halo*halo;
     for (int i = 0; i < N; ++i)
     {
@@ -127,20 +132,24 @@ void DecomposedSystem::Impl::exchange()
             if (distance2(x, Vec3(b[0], b[1], b[2]), Vec3(b[3], b[4], b[5])) > h2) continue;
             sendTo[r].push_back(i);
             send[r].push_back(record(i));
+            appendData(i, sendD[r]);
             ++counters.ghostsSent;
         }
     }
     counters.bytesSent += exchangeLists(comm, TagRecords, send, recv);
+    counters.bytesSent += exchangeData(sendD, recv, recvD);
     std::unordered_map<long, int> local;  // the ghosts here (refreshed in place)
     for (int i = 0; i < N; ++i) if (!owned[i]) local[gid[i]] = i;
     std::vector<char> keep(N, 0);
     for (int i = 0; i < N; ++i) keep[i] = owned[i];
     ghostFrom.assign(P, {});
     for (int r = 0; r < P; ++r)
-        for (const GrainRecord& g : recv[r])
+        for (std::size_t k = 0; k < recv[r].size(); ++k)
         {
+            const GrainRecord& g = recv[r][k];
             auto it = local.find(g.id);
-            const int i = place(it == local.end() ? -1 : it->second, g, false);
+            const int i = place(it == local.end() ? -1 : it->second, g,
+                                recvD[r].data() + k*std::size_t(dataWidth), false);
             if (i >= N) { keep.push_back(1); ++counters.ghostsAdded; } else keep[i] = 1;
             ghostFrom[r].push_back(i);
         }

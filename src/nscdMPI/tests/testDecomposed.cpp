@@ -179,6 +179,73 @@ TEST(Decomposed, AdvanceSubStepsToKeepTheContactReachInTheHalo)
     throwGrains(localSlabs(0, -2e-3, 36e-3), 2e-3);
 }
 
+// Grains thrown across the rank boundaries in a fluid: each grain has an
+// implicit drag (System::setFluidDrag, c dt/m = 1) towards a uniform flow.
+// Without walls and gravity the contacts are internal, so over each step the
+// grains' total momentum changes by the sum of their drag impulses
+// (System::fluidDragImpulses; Newton's third law), also for the interface
+// grains, whose contacts are solved on several ranks. Their caller's values
+// travel with them (setGrainDataWidth: every copy holds its grain's id), and
+// copyToGhosts sets the ghosts to their owners' values.
+TEST(Decomposed, DragImpulsesAndTravellingValuesFollowTheGrains)
+{
+    const std::vector<Grain> G = gasCase();
+    DecomposedSystem D(2, MPI_COMM_WORLD, localSlabs(0, -2e-3, 36e-3), 3e-3);
+    System& S = D.system();
+    const int m = S.addMaterial({2500, 0.3});
+    for (std::size_t k = 0; k < G.size(); ++k)
+    {
+        const std::size_t i = D.addGrain(long(k), G[k].x, G[k].r, m);
+        if (i != std::size_t(-1)) S.velocities()[i] = G[k].v;
+    }
+    D.setGrainDataWidth(2);
+    for (std::size_t i = 0; i < S.size(); ++i) D.grainData()[2*i] = double(D.globalIds()[i]);
+    D.exchange();
+    const double dt = 1e-4;
+    const Vec3 u(0.2, 0.1, 0);
+    auto momentum = [&](double& scale)
+    {
+        Vec3 p = Vec3::Zero();
+        double s = 0;
+        for (std::size_t i = 0; i < S.size(); ++i)
+            if (D.owned()[i])
+            {
+                p += S.mass(i)*S.velocities()[i];
+                s += S.mass(i)*S.velocities()[i].norm();
+            }
+        scale = sumAll(s);
+        return Vec3(sumAll(p.x()), sumAll(p.y()), 0.0);
+    };
+    double worst = 0, scale = 0;
+    long interface = 0;
+    for (int n = 0; n < 100; ++n)
+    {
+        for (std::size_t i = 0; i < S.size(); ++i) S.setFluidDrag(i, 0.05*S.mass(i)/dt, u);
+        const Vec3 p0 = momentum(scale);
+        const StepReport rep = D.step(dt);
+        ASSERT_TRUE(rep.converged) << "step " << n;
+        interface += sumAll(D.counters().averagings) > worldSize();
+        Vec3 J = Vec3::Zero();
+        for (std::size_t i = 0; i < S.size(); ++i)
+        {
+            if (D.owned()[i]) J += S.fluidDragImpulses()[i];
+            ASSERT_EQ(D.grainData()[2*i], double(D.globalIds()[i])) << "step " << n;  // travelled, ghosts too
+        }
+        J = Vec3(sumAll(J.x()), sumAll(J.y()), 0.0);
+        worst = std::max(worst, (momentum(scale) - p0 - J).norm()/scale);
+    }
+    if (worldRank() == 0)
+        std::printf("[ drag ] %d ranks: |d(sum m v) - sum J|/sum m|v| at most %.2e per step\n", worldSize(), worst);
+    EXPECT_LT(worst, 1e-12);
+    if (worldSize() > 1) EXPECT_GT(interface, 10);  // steps with interface averagings
+
+    std::vector<double> values(S.size());
+    for (std::size_t i = 0; i < S.size(); ++i) values[i] = D.owned()[i] ? 2.0*double(D.globalIds()[i]) : -1.0;
+    D.copyToGhosts(values, 1);
+    for (std::size_t i = 0; i < S.size(); ++i) EXPECT_EQ(values[i], 2.0*double(D.globalIds()[i]));
+    EXPECT_THROW(D.setGrainDataWidth(-1), InputError);
+}
+
 // Summing to the owners: every copy of a grain (owned or ghost) holds 1, so
 // after the sum an owner holds the number of ranks that hold the grain, and
 // the sum over the owned grains is the number of local grains of all ranks
