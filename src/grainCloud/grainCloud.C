@@ -122,7 +122,7 @@ Foam::grainCloud::grainCloud
 (
     const fvMesh& mesh,
     bool readState,
-    bool decomposable
+    const string& notDecomposable
 )
 :
     mesh_(mesh),
@@ -189,7 +189,7 @@ Foam::grainCloud::grainCloud
     setHeartbeat();
 
     readGravity();
-    selectDecomposition(readState && decomposable);
+    selectDecomposition(readState ? notDecomposable : string("grain deposition"));
 
     if (!mesh.foundObject<regIOobject>(registryName))
     {

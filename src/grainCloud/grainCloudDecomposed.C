@@ -26,11 +26,15 @@ Description
 #include "grainCloud.H"
 #include "nscdMPI/DecomposedSystem.H"
 
+#include "Tuple2.H"
+#include "grainVectorTools.H"
+
 #include <algorithm>
+#include <unordered_map>
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
 
-void Foam::grainCloud::selectDecomposition(const bool decomposable)
+void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
 {
     const word mode
     (
@@ -50,9 +54,9 @@ void Foam::grainCloud::selectDecomposition(const bool decomposable)
     }
     // what the decomposed system does not follow yet
     DynamicList<string> why;
-    if (!decomposable)
+    if (!notDecomposable.empty())
     {
-        why.append("this solver (decomposed grains: grainFoam so far)");
+        why.append(notDecomposable);
     }
     if (heatOn())
     {
@@ -101,6 +105,7 @@ void Foam::grainCloud::selectDecomposition(const bool decomposable)
         rMax = std::max(rMax, r);
     }
     minDiameterAll_ = system_->minDiameter();
+    startIds_ = system_->grainIds();
     if (!(rMax > 0))
     {
         rMax = VSMALL;  // no grain: any positive halo
@@ -251,6 +256,134 @@ bool Foam::grainCloud::owned(const label i) const
 {
     return !decomposed_ || decomposed_->owned()[i];
 }
+
+
+void Foam::grainCloud::sumOverCopies
+(
+    std::vector<double>& values,
+    const int components
+)
+{
+    if (decomposed_)
+    {
+        decomposed_->sumToOwners(values, components);
+        decomposed_->copyToGhosts(values, components);
+    }
+    else
+    {
+        grainTools::sumOverRanks(values);
+    }
+}
+
+
+std::vector<double>& Foam::grainCloud::carriedValues(const int width)
+{
+    if (!decomposed_)
+    {
+        FatalErrorInFunction
+            << "carriedValues: the grains are not decomposed"
+            << abort(FatalError);
+    }
+    if (decomposed_->grainDataWidth() != width)
+    {
+        decomposed_->setGrainDataWidth(width);
+    }
+    return decomposed_->grainData();
+}
+
+
+template<class Type>
+Foam::List<Type> Foam::grainCloud::gatherInStateOrder
+(
+    const UList<Type>& list
+) const
+{
+    if (!decomposed_)
+    {
+        return List<Type>(list);
+    }
+    // (id, value) of the owned grains, gathered and sorted by id
+    List<List<Tuple2<label, Type>>> perRank(Pstream::nProcs());
+    DynamicList<Tuple2<label, Type>> mine;
+    forAll(list, i)
+    {
+        if (owned(i))
+        {
+            mine.append(Tuple2<label, Type>(label(system_->grainIds()[i]), list[i]));
+        }
+    }
+    perRank[Pstream::myProcNo()].transfer(mine);
+    Pstream::gatherList(perRank);
+    List<Type> out;
+    if (Pstream::master())
+    {
+        List<Tuple2<label, Type>> all;
+        for (const auto& l : perRank)
+        {
+            all.append(l);
+        }
+        std::sort
+        (
+            all.begin(), all.end(),
+            [](const Tuple2<label, Type>& a, const Tuple2<label, Type>& b)
+            { return a.first() < b.first(); }
+        );
+        out.setSize(all.size());
+        forAll(all, k)
+        {
+            out[k] = all[k].second();
+        }
+    }
+    return out;
+}
+
+
+template<class Type>
+bool Foam::grainCloud::fromStartOrder
+(
+    const UList<Type>& whole,
+    List<Type>& local
+) const
+{
+    if (!decomposed_)
+    {
+        local = whole;
+        return true;
+    }
+    if (whole.size() != label(startIds_.size()))
+    {
+        return false;
+    }
+    std::unordered_map<long, label> index;
+    for (std::size_t k = 0; k < startIds_.size(); ++k)
+    {
+        index[startIds_[k]] = label(k);
+    }
+    const label n = system_->size();
+    List<Type> out(n, Zero);
+    for (label i = 0; i < n; ++i)
+    {
+        const auto it = index.find(system_->grainIds()[i]);
+        if (it == index.end())
+        {
+            return false;
+        }
+        out[i] = whole[it->second];
+    }
+    local.transfer(out);
+    return true;
+}
+
+
+// the per-grain list types of the coupling's restart state
+template Foam::List<Foam::scalar>
+Foam::grainCloud::gatherInStateOrder(const UList<scalar>&) const;
+template Foam::List<Foam::vector>
+Foam::grainCloud::gatherInStateOrder(const UList<vector>&) const;
+template bool
+Foam::grainCloud::fromStartOrder(const UList<scalar>&, List<scalar>&) const;
+template bool
+Foam::grainCloud::fromStartOrder(const UList<vector>&, List<vector>&) const;
 
 
 Foam::label Foam::grainCloud::nGrainsTotal() const

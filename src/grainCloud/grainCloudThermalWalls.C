@@ -8,6 +8,23 @@ Description
     bath at T_w [K] with relaxation time tau [s]), the heat rate [W] (2D:
     W/m) through each fixed-temperature patch, and the grain temperatures
     [K].
+
+    frontRearWalls: a 2D run has no front and rear walls, but in a
+    Hele-Shaw cell (gap l) every grain is within l/2 of them.  With the
+    walls at T_w (thermal reservoirs, thesis section 4.3.2) a bed that is
+    heated or cooled in the plane relaxes across the gap by conduction: for
+    a slab between two walls at T_w with a uniform sink q, the mean
+    temperature deficit is q l^2/(12 k_eff), hence per unit bed volume the
+    exchange (12 k_eff/l^2)(T_w - T) and for each grain
+        Q_i = (m_i c_i/tau)(T_w - T_i),  tau = (rho c)_bed l^2/(12 k_eff),
+    (rho c)_bed and k_eff the bed's heat capacity per volume and effective
+    conductivity (e.g. Zehner and Schluender 1970; the dropletDigging
+    tutorial computes tau).  The same volumetric wall exchange as the
+    thesis' eq. 4.14 (q_l = lambda (T_w - T), section 4.2.1) applied to the
+    grains; integrated implicitly (nscd::System::setHeatExchange), its heat
+    is reported in nscd::StepReport::exchangeHeat (vansFoam's heat budget:
+    "grain walls").  Errors (FatalIOError): 3D mesh, tau <= 0, T_w <= 0,
+    unknown keyword, no material with heatCapacity.
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"

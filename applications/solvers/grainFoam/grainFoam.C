@@ -47,9 +47,9 @@ int main(int argc, char *argv[])
     #include "createMesh.H"
     grainRunControl runControl(runTime);
 
-    // decomposable: in a parallel run each rank holds the grains in its
-    // cells (grainProperties grainDecomposition)
-    grainCloud grains(mesh, true, true);
+    // no reason to hold every grain: in a parallel run each rank holds the
+    // grains in its cells (grainProperties grainDecomposition)
+    grainCloud grains(mesh, true, "");
     grains.checkState();
     // the start time's lagrangian output located on this mesh (the state
     // may have been written on another mesh)

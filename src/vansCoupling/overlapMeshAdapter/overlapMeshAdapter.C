@@ -382,8 +382,24 @@ void gatherImpl
     }
     if (Pstream::parRun())
     {
-        Pstream::listCombineGather(out, plusEqOp<Type>());
-        Pstream::listCombineScatter(out);
+        // (the components of each grain's value, grain-major)
+        const int nc = pTraits<Type>::nComponents;
+        std::vector<double> sums(std::size_t(out.size())*nc);
+        forAll(out, g)
+        {
+            for (int k = 0; k < nc; ++k)
+            {
+                sums[g*nc + k] = component(out[g], k);
+            }
+        }
+        a.sumOverRanks(sums, nc);
+        forAll(out, g)
+        {
+            for (int k = 0; k < nc; ++k)
+            {
+                setComponent(out[g], k) = sums[g*nc + k];
+            }
+        }
     }
     const auto& W = a.grainMappedVolume();
     forAll(out, g)

@@ -5,6 +5,7 @@
 \*---------------------------------------------------------------------------*/
 
 #include "overlapMeshAdapter.H"
+#include "foamTools.H"
 
 #include "Pstream.H"
 #include "ops.H"
@@ -43,7 +44,22 @@ Foam::labelList Foam::overlapMeshAdapter::grainOwners
 ) const
 {
     labelList owner(n, labelMax);
-    if (Pstream::parRun())
+    if (sumOverCopies_)
+    {
+        // decomposed grains: this rank's if its cells hold the centre, else
+        // a ghost mapped by the processor-boundary search
+        const label me = Pstream::myProcNo();
+        for (label g = 0; g < n; ++g)
+        {
+            om::Vec3 x(centres[g]);
+            if (twoD_)
+            {
+                x[2] = zMid();
+            }
+            owner[g] = cellMesh_->findCell(x) >= 0 ? me : labelMin;
+        }
+    }
+    else if (Pstream::parRun())
     {
         const label me = Pstream::myProcNo();
         for (label g = 0; g < n; ++g)
@@ -260,14 +276,7 @@ void Foam::overlapMeshAdapter::finishMap()
     {
         mappedVolume_[entryGrain_[e]] += entryVolume_[e];
     }
-    if (Pstream::parRun())
-    {
-        List<scalar> W(nGrains_);
-        std::copy(mappedVolume_.begin(), mappedVolume_.end(), W.begin());
-        Pstream::listCombineGather(W, plusEqOp<scalar>());
-        Pstream::listCombineScatter(W);
-        std::copy(W.begin(), W.end(), mappedVolume_.begin());
-    }
+    sumOverRanks(mappedVolume_, 1);
 
     // phi_c = sum_g V_gc / V_c
     phi_.assign(mesh_.nCells(), 0.0);
@@ -285,6 +294,37 @@ void Foam::overlapMeshAdapter::finishMap()
 
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
 
+void Foam::overlapMeshAdapter::sumOverRanks
+(
+    std::vector<double>& values,
+    const int components
+) const
+{
+    if (sumOverCopies_)
+    {
+        sumOverCopies_(values, components);
+    }
+    else
+    {
+        foamTools::sumOverRanks(values);
+    }
+}
+
+
+void Foam::overlapMeshAdapter::setDecomposedGrains
+(
+    std::function<void(std::vector<double>&, int)> sum
+)
+{
+    if (!sum)
+    {
+        FatalErrorInFunction
+            << "no sum function for the decomposed grains" << abort(FatalError);
+    }
+    sumOverCopies_ = std::move(sum);
+}
+
+
 void Foam::overlapMeshAdapter::map
 (
     const om::Vec3* centres,
@@ -300,7 +340,10 @@ void Foam::overlapMeshAdapter::map
     checkRadii(radii, n);
     labelList owner(grainOwners(centres, n));
     mapOwned(centres, radii, n, owner);
-    checkOutside(centres, radii, n, owner);
+    if (!sumOverCopies_)
+    {
+        checkOutside(centres, radii, n, owner);
+    }
 
     // Grains straddling a processor boundary from another rank
     if

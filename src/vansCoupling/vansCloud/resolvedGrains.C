@@ -47,7 +47,11 @@ void Foam::resolvedGrains::mark()
     resolved_ = false;
     // without constant properties (vansInterFoam) the solver does not add
     // the B part of the solid flux: keep every grain unresolved
-    if (!settings_.constantProperties || n == 0)
+    if
+    (
+        !settings_.constantProperties || n == 0
+     || !(settings_.resolvedCellsPerDiameter < GREAT)
+    )
     {
         return;
     }

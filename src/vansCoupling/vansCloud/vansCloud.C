@@ -38,6 +38,49 @@ namespace
         );
     }
 
+    //- Why the coupling needs every grain on every rank (empty: it runs
+    //  with the grains decomposed, grainProperties grainDecomposition):
+    //  the sub-models whose per-grain sums are not yet made over the
+    //  grains' copies on several ranks
+    Foam::string replicatedReasons
+    (
+        const Foam::dictionary& dict,
+        const Foam::vansCloudSettings& s
+    )
+    {
+        using namespace Foam;
+        DynamicList<word> why;
+        if (!s.constantProperties)
+        {
+            why.append("vansInterFoam");
+        }
+        if (s.rotation)
+        {
+            why.append("rotationCoupling");
+        }
+        if (s.resolvedCellsPerDiameter < GREAT)
+        {
+            why.append("resolvedCellsPerDiameter");
+        }
+        for (const word key : {"heatTransferModel", "undisturbedVelocity"})
+        {
+            if (dict.getOrDefault<word>(key, "none") != "none")
+            {
+                why.append(key);
+            }
+        }
+        if (dict.isDict("cohesion"))
+        {
+            why.append("cohesion");
+        }
+        string out;
+        forAll(why, k)
+        {
+            out += (k ? ", " : "") + why[k];
+        }
+        return out.empty() ? out : "couplingProperties " + out;
+    }
+
     Foam::dictionary transportDict(const Foam::fvMesh& mesh)
     {
         using namespace Foam;
@@ -72,7 +115,7 @@ Foam::vansCloud::vansCloud
         )
     ),
     settings_(dict_, constantProperties),
-    grains_(mesh),
+    grains_(mesh, true, replicatedReasons(dict_, settings_)),
     adapter_
     (
         mesh,
@@ -153,6 +196,18 @@ Foam::vansCloud::vansCloud
             << endl;
     }
     cohesion_.read(dict_, vap.on);
+    if (grains_.decomposed())
+    {
+        // the grains' overlap sums over several ranks' cells are completed
+        // over the grains' copies (owned and ghosts)
+        adapter_.setDecomposedGrains
+        (
+            [this](std::vector<double>& values, int components)
+            {
+                grains_.sumOverCopies(values, components);
+            }
+        );
+    }
     contactImpulse_.setSize(grains_.system().size(), Zero);
     dragImpulseDefect_.setSize(grains_.system().size(), Zero);
 
@@ -487,13 +542,32 @@ void Foam::vansCloud::setHeatSources(const volScalarField& T, const scalar dt)
 
 Foam::scalar Foam::vansCloud::maxGrainReynolds() const
 {
-    return ReP_.empty() ? 0 : max(ReP_);
+    scalar m = 0;
+    forAll(ReP_, i)
+    {
+        if (grains_.owned(i))
+        {
+            m = max(m, ReP_[i]);
+        }
+    }
+    return grains_.decomposed() ? returnReduce(m, maxOp<scalar>()) : m;
 }
 
 
 Foam::scalar Foam::vansCloud::meanGrainReynolds() const
 {
-    return ReP_.empty() ? 0 : sum(ReP_)/ReP_.size();
+    scalar s = 0;
+    forAll(ReP_, i)
+    {
+        if (grains_.owned(i))
+        {
+            s += ReP_[i];
+        }
+    }
+    const label n = grains_.nGrainsTotal();
+    return
+        (grains_.decomposed() ? returnReduce(s, sumOp<scalar>()) : s)
+       /max(n, label(1));
 }
 
 

@@ -218,8 +218,75 @@ void Foam::vansCloud::addExternalForces(const UList<vector>& F)
 }
 
 
+void Foam::vansCloud::evolveDecomposed(const scalar dt)
+{
+    // the grains change ranks and ghosts in the step: the per-grain state
+    // of its start that updateGrainImpulses needs travels with them
+    // (v^n, the explicit fluid force, the drag impulse the fluid gave, the
+    // gathered fluid velocity, Re_p for the log)
+    const nscd::System& s = grains_.system();
+    constexpr int width = 13;
+    label n = s.size();
+    const bool coupled =
+        explicitFluidForce_.size() == n && fluidDragGiven_.size() == n
+     && fluidVelocity_.size() == n && ReP_.size() == n;
+    {
+        std::vector<double>& carried = grains_.carriedValues(width);
+        std::fill(carried.begin(), carried.end(), 0.0);
+        for (label i = 0; i < n; ++i)
+        {
+            double* c = carried.data() + std::size_t(i)*width;
+            const vector v(foamTools::toVector(s.velocities()[i]));
+            const vector zero(Zero);
+            const vector* parts[4] =
+            {
+                &v,
+                coupled ? &explicitFluidForce_[i] : &zero,
+                coupled ? &fluidDragGiven_[i] : &zero,
+                coupled ? &fluidVelocity_[i] : &zero
+            };
+            for (int k = 0; k < 4; ++k)
+            {
+                for (direction d = 0; d < 3; ++d)
+                {
+                    c[3*k + d] = (*parts[k])[d];
+                }
+            }
+            c[12] = coupled ? ReP_[i] : 0;
+        }
+    }
+
+    grains_.evolve(dt);
+
+    n = s.size();
+    const std::vector<double>& carried = grains_.carriedValues(width);
+    List<vector> v0(n);
+    explicitFluidForce_.setSize(n);
+    fluidDragGiven_.setSize(n);
+    fluidVelocity_.setSize(n);
+    fluidForce_.setSize(n);
+    ReP_.setSize(n);
+    contactImpulse_.setSize(n);
+    for (label i = 0; i < n; ++i)
+    {
+        const double* c = carried.data() + std::size_t(i)*width;
+        v0[i] = vector(c[0], c[1], c[2]);
+        explicitFluidForce_[i] = vector(c[3], c[4], c[5]);
+        fluidDragGiven_[i] = vector(c[6], c[7], c[8]);
+        fluidVelocity_[i] = vector(c[9], c[10], c[11]);
+        ReP_[i] = c[12];
+    }
+    updateGrainImpulses(v0, dt);
+}
+
+
 void Foam::vansCloud::evolve(const scalar dt)
 {
+    if (grains_.decomposed())
+    {
+        evolveDecomposed(dt);
+        return;
+    }
     nscd::System& s = grains_.system();
     const label n = s.size();
     List<vector> v0(n);

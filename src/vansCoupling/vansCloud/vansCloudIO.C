@@ -5,68 +5,107 @@ Description
     The per-grain coupling state that makes a restarted run identical to an
     uninterrupted one (uniform/grainContactImpulse, grainDragImpulseDefect,
     grainHeldFraction, binary IOLists, one entry per grain; a list of
-    another size is ignored), the grain output with the coupling fields, and
-    the start-up warning about closed pores in 2D packings.
+    another size is ignored; grains decomposed over the ranks: written
+    whole by the master into the undecomposed case, in the order of the
+    grain state written there, and read back from it on any number of
+    ranks), the grain output with the coupling fields, and the start-up
+    warning about closed pores in 2D packings.
 \*---------------------------------------------------------------------------*/
 
 #include "vansCloud.H"
 #include "IOList.H"
+#include "OFstream.H"
+#include "OSspecific.H"
 
 // * * * * * * * * * * * * * * * Local Functions  * * * * * * * * * * * * * //
 
 namespace
 {
-    //- Read <time>/uniform/<name> into list if it exists with nGrains
-    //  entries (else list is left as it is)
+    //- <time>/uniform/<name>; grains decomposed: in the undecomposed
+    //  case (an absolute instance)
+    Foam::IOobject grainListIO
+    (
+        const Foam::grainCloud& grains,
+        const Foam::word& name,
+        const Foam::IOobject::readOption r
+    )
+    {
+        using namespace Foam;
+        const Time& runTime = grains.mesh().time();
+        if (grains.decomposed())
+        {
+            return IOobject
+            (
+                name, runTime.globalPath()/runTime.timeName()/"uniform",
+                grains.mesh(), r, IOobject::NO_WRITE, false
+            );
+        }
+        return IOobject
+        (
+            name, runTime.timeName(), "uniform", grains.mesh(), r,
+            IOobject::NO_WRITE, false
+        );
+    }
+
+    //- Read <time>/uniform/<name> into list (one entry per grain of
+    //  system()) if it exists with one entry per grain of the state (else
+    //  list is left as it is)
     template<class Type>
     void readGrainList
     (
-        const Foam::fvMesh& mesh,
+        const Foam::grainCloud& grains,
         const Foam::word& name,
-        const Foam::label nGrains,
         Foam::List<Type>& list
     )
     {
         using namespace Foam;
-        IOobject io
-        (
-            name, mesh.time().timeName(), "uniform", mesh,
-            IOobject::MUST_READ, IOobject::NO_WRITE, false
-        );
+        IOobject io(grainListIO(grains, name, IOobject::MUST_READ));
         if (io.typeHeaderOk<IOList<Type>>(true))
         {
             const IOList<Type> read(io);
-            if (read.size() == nGrains)
+            if (grains.decomposed())
+            {
+                grains.fromStartOrder(read, list);
+            }
+            else if (read.size() == label(grains.system().size()))
             {
                 list = read;
             }
         }
     }
 
-    //- Write list to <time>/uniform/<name>, binary
+    //- Write list (one entry per grain of system()) to
+    //  <time>/uniform/<name>, binary; grains decomposed: gathered in the
+    //  state's order and written by the master (collective)
     template<class Type>
     void writeGrainList
     (
-        const Foam::fvMesh& mesh,
+        const Foam::grainCloud& grains,
         const Foam::word& name,
         const Foam::List<Type>& list
     )
     {
         using namespace Foam;
-        IOList<Type> io
-        (
-            IOobject
+        const List<Type> whole(grains.gatherInStateOrder(list));
+        IOList<Type> io(grainListIO(grains, name, IOobject::NO_READ), whole);
+        if (!grains.decomposed())
+        {
+            io.writeObject
             (
-                name, mesh.time().timeName(), "uniform",
-                mesh, IOobject::NO_READ, IOobject::NO_WRITE, false
-            ),
-            list
-        );
-        io.writeObject
-        (
-            IOstream::BINARY, IOstream::currentVersion,
-            IOstream::UNCOMPRESSED, true
-        );
+                IOstream::BINARY, IOstream::currentVersion,
+                IOstream::UNCOMPRESSED, true
+            );
+        }
+        else if (Pstream::master())
+        {
+            // (regIOobject::writeObject would move an absolute instance
+            // into the processor directory's time)
+            mkDir(io.path());
+            OFstream os(io.objectPath(), IOstream::BINARY);
+            io.writeHeader(os);
+            os << static_cast<const List<Type>&>(io);
+            io.writeEndDivider(os);
+        }
     }
 }
 
@@ -87,10 +126,9 @@ void Foam::vansCloud::readRestart()
         voidFraction_.correctBoundaryConditions();
     }
     voidFraction_.oldTime();
-    const label nGrains = grains_.system().size();
-    readGrainList(mesh_, "grainContactImpulse", nGrains, contactImpulse_);
-    readGrainList(mesh_, "grainDragImpulseDefect", nGrains, dragImpulseDefect_);
-    readGrainList(mesh_, "grainHeldFraction", nGrains, heldFraction_);
+    readGrainList(grains_, "grainContactImpulse", contactImpulse_);
+    readGrainList(grains_, "grainDragImpulseDefect", dragImpulseDefect_);
+    readGrainList(grains_, "grainHeldFraction", heldFraction_);
 }
 
 
@@ -175,11 +213,11 @@ void Foam::vansCloud::write() const
 {
     // the grains' coupling state for the exact restart (read back by the
     // constructor), binary
-    writeGrainList(mesh_, "grainContactImpulse", contactImpulse_);
-    writeGrainList(mesh_, "grainDragImpulseDefect", dragImpulseDefect_);
-    if (heldFraction_.size())
+    writeGrainList(grains_, "grainContactImpulse", contactImpulse_);
+    writeGrainList(grains_, "grainDragImpulseDefect", dragImpulseDefect_);
+    if (grains_.decomposed() || heldFraction_.size())   // (collective)
     {
-        writeGrainList(mesh_, "grainHeldFraction", heldFraction_);
+        writeGrainList(grains_, "grainHeldFraction", heldFraction_);
     }
     const label n = grains_.system().size();
     if (fluidForce_.size() != n || fluidVelocity_.size() != n)

@@ -22,6 +22,14 @@ void Foam::vansCloud::addCouplingSource(grainCouplingSource& source)
             return;
         }
     }
+    if (grains_.decomposed())
+    {
+        FatalErrorInFunction
+            << "The coupling source " << source.couplingName() << " needs"
+            << " every grain on every rank." << nl
+            << "    Fix: grainDecomposition replicated; in"
+            << " constant/grainProperties." << exit(FatalError);
+    }
     source.attach(*this);
     couplingSources_.append(&source);
     Info<< "vansCloud: coupling source " << source.couplingName() << endl;
