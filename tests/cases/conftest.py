@@ -110,6 +110,7 @@ MPI_TESTS = {
     "test_vansFoam_decomposed.py::test_sedimentation_matches_serial",
     "test_vansFoam_decomposed.py::test_restart_on_4_ranks_continues_a_2_rank_run",
     "test_vansFoam_decomposed.py::test_rotation_coupling_keeps_every_grain_on_every_rank",
+    "test_vansFoam_decomposed.py::test_bed_at_rest_across_ranks_matches_serial",
     "test_vansFoam_sources.py::test_parallel_heat_matches_serial",
 }
 

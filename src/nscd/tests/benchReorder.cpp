@@ -191,7 +191,8 @@ System settledBlock(const Bed& b0, bool quick)
 /// the <steps> steps, the median detection time and the Verlet list builds.
 /// Environment: NSCD_LOAD (start from this HDF5 state), NSCD_RELAX
 /// (Settings::relaxation), NSCD_SKIN (Settings::verletSkin), NSCD_DUMP
-/// (write the final HDF5 state).
+/// (write the final HDF5 state), NSCD_DIM=3 (spheres: a block of 500 in
+/// fcc layers of 8 x 8, tiles x NSCD_TILES_Z copies side by side).
 int runReorderCase(int argc, char** argv)
 {
     if (argc < 6)
@@ -206,14 +207,21 @@ int runReorderCase(int argc, char** argv)
         std::fprintf(stderr, "nscdBench reorder-case: order must be tiled, rows or shuffled, got %s\n", argv[3]);
         return 2;
     }
-    const Bed b0 = lattice(2, 500, 8, 1);
+    const int dim = std::getenv("NSCD_DIM") ? std::atoi(std::getenv("NSCD_DIM")) : 2;
+    const int nz = dim == 3 && std::getenv("NSCD_TILES_Z") ? std::atoi(std::getenv("NSCD_TILES_Z")) : 1;
+    if ((dim != 2 && dim != 3) || nz < 1)
+    {
+        std::fprintf(stderr, "nscdBench reorder-case: NSCD_DIM must be 2 or 3 and NSCD_TILES_Z >= 1\n");
+        return 2;
+    }
+    const Bed b0 = lattice(dim, 500, 8, 1);
     const System blk = settledBlock(b0, false);
-    const Bed bed = tile(fromSystem(blk, b0), nt, 1);
+    const Bed bed = tile(fromSystem(blk, b0), nt, nz);
     std::vector<int> perm(bed.x.size());
     std::iota(perm.begin(), perm.end(), 0);
     if (order == "shuffled") std::shuffle(perm.begin(), perm.end(), std::mt19937(42));
     if (order == "rows") perm = rowOrder(bed);
-    System s = build(bed, tileContacts(blk, nt, 1), perm);
+    System s = build(bed, tileContacts(blk, nt, nz), perm);
     s.settings().maxIterations = 1000;
     // NSCD_LOAD=<file.h5>: start from a saved state instead (e.g. a relaxed
     // bed written with NSCD_DUMP), its settings but the interval given

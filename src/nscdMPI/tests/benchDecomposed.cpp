@@ -6,8 +6,10 @@
 // times (dt of the state's last step) after 3 untimed steps. Per rank:
 // owned grains, ghosts, contacts, thread CPU of the step split into the
 // solve's collectives, the exchange (migration and ghosts) and the rest
-// (NSCD work), bytes sent, averagings per step, resident memory. With
-// `serial` and one rank, System::step of the same state is timed as well.
+// (NSCD work), bytes sent, averagings per step, resident memory (after the
+// steps, and the peak, which includes the whole state every rank reads at
+// the start). With `serial` and one rank, System::step of the same state
+// is timed as well, and the resident memory while it holds the state.
 #include "nscdMPI/DecomposedSystem.H"
 
 #include <malloc.h>
@@ -32,13 +34,14 @@ double threadCpu()
     return double(t.tv_sec) + 1e-9*double(t.tv_nsec);
 }
 
-/// Resident memory of the process [MB] (VmRSS).
-double rssMB()
+/// Resident memory of the process [MB]: now (VmRSS) or its peak (VmHWM).
+double rssMB(const char* field = "VmRSS:")
 {
     std::ifstream f("/proc/self/status");
     std::string line;
+    const std::size_t n = std::string(field).size();
     while (std::getline(f, line))
-        if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6)/1024.0;
+        if (line.rfind(field, 0) == 0) return std::atof(line.c_str() + n)/1024.0;
     return 0;
 }
 
@@ -83,7 +86,7 @@ int main(int argc, char** argv)
     const int steps = std::atoi(argv[2]);
     const bool serial = argc > 4 && std::string(argv[4]) == "serial" && P == 1;
 
-    double serialCpu = 0;
+    double serialCpu = 0, serialRss = 0;
     if (serial)
     {
         System S = System::readHDF5(state);
@@ -97,7 +100,9 @@ int main(int argc, char** argv)
             t.push_back(threadCpu() - t0);
         }
         serialCpu = median(t);
+        serialRss = rssMB();  // (the undecomposed system held, after its steps)
     }
+    malloc_trim(0);
 
     System whole = System::readHDF5(state);
     const double dt = whole.lastStepDt() > 0 ? whole.lastStepDt() : 1e-4;
@@ -146,7 +151,8 @@ int main(int argc, char** argv)
     const auto mCpu = gather(median(cpu), P), mComm = gather(median(comm), P),
                mExch = gather(median(exch), P), mWork = gather(median(work), P),
                mAvg = gather(median(avg), P), mBytes = gather(median(bytes), P),
-               mContacts = gather(median(contacts), P), rss = gather(rssMB(), P);
+               mContacts = gather(median(contacts), P), rss = gather(rssMB(), P),
+               peak = gather(rssMB("VmHWM:"), P);
     if (rank == 0)
     {
         std::ofstream o(argv[3]);
@@ -160,8 +166,11 @@ int main(int argc, char** argv)
           << ",\n  \"exchange_cpu_seconds_per_step\": " << list(mExch)
           << ",\n  \"averagings_per_step\": " << list(mAvg)
           << ",\n  \"bytes_sent_per_step\": " << list(mBytes)
-          << ",\n  \"rss_mb\": " << list(rss);
-        if (serial) o << ",\n  \"undecomposed_cpu_seconds_per_step\": " << serialCpu;
+          << ",\n  \"rss_mb\": " << list(rss)
+          << ",\n  \"peak_rss_mb\": " << list(peak);
+        if (serial)
+            o << ",\n  \"undecomposed_cpu_seconds_per_step\": " << serialCpu
+              << ",\n  \"undecomposed_rss_mb\": " << serialRss;
         o << "\n}\n";
         std::printf("np %d: owned %s, work CPU %s s/step, collectives %s, exchange %s, averagings %s, rss %s MB\n",
                     P, list(owned).c_str(), list(mWork).c_str(), list(mComm).c_str(), list(mExch).c_str(),

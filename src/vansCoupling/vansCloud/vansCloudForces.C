@@ -22,22 +22,37 @@ void Foam::vansCloud::initHeldFraction()
 {
     const nscd::System& s = grains_.system();
     const label n = s.size();
-    if (heldFraction_.size() == n)
+    bool missing = heldFraction_.size() != n;
+    if (grains_.decomposed())
+    {
+        reduce(missing, orOp<bool>());   // (the same decision on every rank)
+    }
+    if (!missing)
     {
         return;
     }
-    heldFraction_.setSize(n);
-    heldFraction_ = 0;
+    std::vector<double> held(n, 0.0);
     for (const nscd::System::ContactView& c : s.contacts())
     {
         if (c.impulse.squaredNorm() > 0)
         {
-            heldFraction_[c.i] = 1;
+            held[c.i] = 1;
             if (c.j >= 0)
             {
-                heldFraction_[c.j] = 1;
+                held[c.j] = 1;
             }
         }
+    }
+    // decomposed: a grain's contacts may be solved on several ranks (the
+    // rank of each contact's smaller grain id): held if held on any
+    if (grains_.decomposed())
+    {
+        grains_.sumOverCopies(held, 1);
+    }
+    heldFraction_.setSize(n);
+    forAll(heldFraction_, i)
+    {
+        heldFraction_[i] = min(held[i], scalar(1));
     }
 }
 
