@@ -3,6 +3,7 @@
 #include "SystemImpl.H"
 
 #include <algorithm>
+#include <iterator>
 #include <sstream>
 
 namespace nscd
@@ -10,6 +11,19 @@ namespace nscd
 
 namespace
 {
+/// Give back the memory of a when less than 3/4 of it is used (a decomposed
+/// system keeps a part of the whole one it was cut from), keeping 1/4 of
+/// headroom so that grains arriving later do not reallocate at once.
+template<class T, class A>
+void releaseSpare(std::vector<T, A>& a)
+{
+    if (a.size() >= a.capacity()/4*3) return;
+    std::vector<T, A> b;
+    b.reserve(a.size() + a.size()/4);
+    b.assign(std::make_move_iterator(a.begin()), std::make_move_iterator(a.end()));
+    a.swap(b);
+}
+
 /// Keep a[k] for the k with keep[k] != 0, in order.
 template<class T, class A>
 void compact(std::vector<T, A>& a, const std::vector<char>& keep)
@@ -18,6 +32,7 @@ void compact(std::vector<T, A>& a, const std::vector<char>& keep)
     for (std::size_t k = 0; k < a.size(); ++k)
         if (keep[k]) a[n++] = a[k];
     a.resize(n);
+    releaseSpare(a);
 }
 }
 
@@ -73,6 +88,7 @@ std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& in
             I.order[ns++] = newIndex[g];
         }
         I.order.resize(ns);
+        releaseSpare(I.order);
         I.rebuildSlotOf();
         I.verlet.invalidate();
     }
@@ -91,6 +107,7 @@ std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& in
         I.contacts[m++] = d;
     }
     I.contacts.resize(m);
+    releaseSpare(I.contacts);
     return sorted;
 }
 
