@@ -90,6 +90,7 @@ std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& in
         I.order.resize(ns);
         releaseSpare(I.order);
         I.rebuildSlotOf();
+        releaseSpare(I.slotOf);
         I.verlet.invalidate();
     }
 

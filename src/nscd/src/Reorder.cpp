@@ -83,7 +83,6 @@ std::vector<int> mortonOrder(const std::vector<Vec3>& x, int dim, double cell)
 void System::Impl::rebuildSlotOf()
 {
     slotOf.resize(order.size());
-    if (slotOf.size() < slotOf.capacity()/2) slotOf.shrink_to_fit();  // (most grains removed)
     for (int s = 0; s < int(order.size()); ++s) slotOf[order[s]] = s;
 }
 

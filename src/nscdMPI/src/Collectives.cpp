@@ -25,6 +25,30 @@ void checkGrainValues(const DecomposedSystem::Impl& I, const char* function, con
                          + " grains of " + std::to_string(components)
                          + " components here, or a size mismatch on another rank");
 }
+
+
+/// Send the values of the grains of from[r] to each rank r, which receives
+/// them for its grains of to[r] (the lists of the two sides aligned: ghosts
+/// and their owners' send lists) and applies combine(value here, received).
+template<class Combine>
+void passAlong(const DecomposedSystem::Impl& I, const std::vector<std::vector<int>>& from,
+               const std::vector<std::vector<int>>& to, std::vector<double>& values, int components, int tag,
+               Combine combine)
+{
+    std::vector<std::vector<double>> send(I.P), recv(I.P);
+    for (int r = 0; r < I.P; ++r)
+    {
+        for (int i : from[r])
+            send[r].insert(send[r].end(), values.begin() + std::ptrdiff_t(i)*components,
+                           values.begin() + std::ptrdiff_t(i + 1)*components);
+        recv[r].resize(to[r].size()*std::size_t(components));
+    }
+    exchangeKnown(I.comm, tag, send, recv);
+    for (int r = 0; r < I.P; ++r)
+        for (std::size_t k = 0; k < to[r].size(); ++k)
+            for (int c = 0; c < components; ++c)
+                combine(values[std::size_t(to[r][k])*components + c], recv[r][k*components + c]);
+}
 } // namespace
 
 void DecomposedSystem::sumToOwners(std::vector<double>& values, int components)
@@ -32,20 +56,7 @@ void DecomposedSystem::sumToOwners(std::vector<double>& values, int components)
     Impl& I = *impl_;
     checkGrainValues(I, "sumToOwners", values, components);
     if (I.P == 1) return;
-    // a ghost list of this rank is aligned with its owner's send list
-    std::vector<std::vector<double>> send(I.P), recv(I.P);
-    for (int r = 0; r < I.P; ++r)
-    {
-        for (int i : I.ghostFrom[r])
-            send[r].insert(send[r].end(), values.begin() + std::ptrdiff_t(i)*components,
-                           values.begin() + std::ptrdiff_t(i + 1)*components);
-        recv[r].resize(I.sendTo[r].size()*std::size_t(components));
-    }
-    exchangeKnown(I.comm, TagSums, send, recv);
-    for (int r = 0; r < I.P; ++r)
-        for (std::size_t k = 0; k < I.sendTo[r].size(); ++k)
-            for (int c = 0; c < components; ++c)
-                values[std::size_t(I.sendTo[r][k])*components + c] += recv[r][k*components + c];
+    passAlong(I, I.ghostFrom, I.sendTo, values, components, TagSums, [](double& v, double got) { v += got; });
 }
 
 void DecomposedSystem::copyToGhosts(std::vector<double>& values, int components)
@@ -53,20 +64,7 @@ void DecomposedSystem::copyToGhosts(std::vector<double>& values, int components)
     Impl& I = *impl_;
     checkGrainValues(I, "copyToGhosts", values, components);
     if (I.P == 1) return;
-    // an owner's send list is aligned with the ghost list of the receiver
-    std::vector<std::vector<double>> send(I.P), recv(I.P);
-    for (int r = 0; r < I.P; ++r)
-    {
-        for (int i : I.sendTo[r])
-            send[r].insert(send[r].end(), values.begin() + std::ptrdiff_t(i)*components,
-                           values.begin() + std::ptrdiff_t(i + 1)*components);
-        recv[r].resize(I.ghostFrom[r].size()*std::size_t(components));
-    }
-    exchangeKnown(I.comm, TagGhostValues, send, recv);
-    for (int r = 0; r < I.P; ++r)
-        for (std::size_t k = 0; k < I.ghostFrom[r].size(); ++k)
-            std::copy_n(recv[r].begin() + std::ptrdiff_t(k)*components, components,
-                        values.begin() + std::ptrdiff_t(I.ghostFrom[r][k])*components);
+    passAlong(I, I.sendTo, I.ghostFrom, values, components, TagGhostValues, [](double& v, double got) { v = got; });
 }
 
 std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
