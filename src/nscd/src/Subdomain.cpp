@@ -22,8 +22,10 @@ struct Subdomain::Scratch
     std::vector<Vec3> vAvg, wAvg;     ///< per grain: velocities for averageCopies
     std::vector<char> inContact;      ///< per grain: body of a contact here
     std::vector<int> copies;          ///< per grain: copies in this step's solve
-    std::vector<Vec3> lambda0;        ///< interface impulses at the start of the step
+    std::vector<int> lambda0Grains;   ///< grains with interface impulses at the step start
+    std::vector<Vec3> lambda0;        ///< their impulses (linear, angular), restored on re-detection
     std::vector<char> ifaceRow;       ///< per row: a body is an interface grain
+    std::vector<int> ifaceRows;       ///< the rows flagged in ifaceRow
     std::vector<int> dragCopies;      ///< per grain: copies for the drag impulse (1 outside the solve)
 };
 
@@ -83,9 +85,12 @@ void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch&
  * still off by more than the tolerance are queued again. Stops converged
  * (global residual <= tolerance) or capped (Settings::maxIterations
  * averagings or sweep-equivalents of local solves). seed: rows queued at
- * the start (null: all). lambda: per grain, the interface impulses of the
- * copy (linear, angular), to which the averagings' impulses are added.
- * Fills rep (sweeps: sweep-equivalents of local solves; global residual).
+ * the start (null: all; a seeded solve continues a converged solve of the
+ * same rows, as System::Impl::solveNLGS: the rows it does not solve keep
+ * their tangential impulse and change, whose residual the solve it continues
+ * bounds). lambda: per grain, the interface impulses of the copy (linear,
+ * angular), to which the averagings' impulses are added. Fills rep (sweeps:
+ * sweep-equivalents of local solves; global residual).
  */
 void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X,
                      std::vector<Vec3>& lambda, double dt, double dmin, StepReport& rep,
@@ -99,7 +104,9 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
     Body* const bodies = I.body.data();
     const int* const adjS = I.adjStart.data();
     const int* const adjI = I.adjItems.data();
-    if (twoD && !I.rowsHaveRts)
+    // 2D scalar tangential impulses (a seeded solve keeps those of the
+    // solve it continues)
+    if (twoD && !I.rowsHaveRts && !seed)
         for (int k = 0; k < NC; ++k) cs[k].rts = cs[k].rt.dot(Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0));
     I.rowsHaveRts = false;
 
@@ -124,32 +131,54 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
     { for (int p = adjS[b]; p < adjS[b + 1]; ++p) push(adjI[p]); };
     if (seed) for (int k : *seed) push(k);
     else for (int k = 0; k < NC; ++k) push(k);
+    // the rows a seeded solve solves (the others keep their change, already
+    // a square root, and are not visited again)
+    std::vector<int>& solved = I.seedSolved;
+    std::vector<char>& solvedFlag = I.seedSolvedFlag;
+    solved.clear();
+    if (seed) solvedFlag.assign(NC, 0);
 
-    // a seeded solve keeps the rows it does not solve: their change is
-    // squared again, as the solved rows' during the solve
-    if (seed) for (int k = 0; k < NC; ++k) cs[k].change *= cs[k].change;
     // rows of the interface grains: the averagings move their velocities
     std::vector<char>& ifaceRow = X.ifaceRow;
-    ifaceRow.assign(NC, seed ? 1 : 0);
+    std::vector<int>& ifaceRows = X.ifaceRows;
+    ifaceRow.assign(NC, 0);
+    ifaceRows.clear();
     for (int i : iface)
     {
         const int b = I.slotOf[i];
-        for (int p = adjS[b]; p < adjS[b + 1]; ++p) ifaceRow[adjI[p]] = 1;
+        for (int p = adjS[b]; p < adjS[b + 1]; ++p)
+            if (!ifaceRow[adjI[p]]) { ifaceRow[adjI[p]] = 1; ifaceRows.push_back(adjI[p]); }
     }
-    // residual (ContactSolver.cpp), squared: the last change of each row,
-    // evaluated at the current velocities for the rows of interface grains
-    // (and every row of a seeded solve, as some were not solved)
+    // residual (ContactSolver.cpp), squared: the last change of each row
+    // solved, evaluated at the current velocities for the rows of interface
+    // grains. In the same pass the rows are finished (2D tangential impulse
+    // back to a vector, change to its square root: one pass over the rows,
+    // which are memory-bound); unfinish() undoes it if the solve goes on.
     auto rowResidual2 = [&](int k)  // at the current velocities
     {
         const SolverContact& c = cs[k];
         const Vec3 rt = twoD ? Vec3(c.rts*Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
         return localResidual2(c, rt, bodies[c.i], bodies[c.j], dt);
     };
-    auto residual2 = [&]()
+    auto finishRow = [&](int k, double& r)
+    {
+        SolverContact& c = cs[k];
+        if (!ifaceRow[k]) r = std::max(r, c.change);
+        if (twoD) c.rt = c.rts*Vec3(-c.n.y(), c.n.x(), 0.0);
+        c.change = std::sqrt(c.change);
+    };
+    auto residual2AndFinish = [&]()
     {
         double r = 0;
-        for (int k = 0; k < NC; ++k) r = std::max(r, ifaceRow[k] ? rowResidual2(k) : cs[k].change);
+        if (seed) for (int k : solved) finishRow(k, r);
+        else for (int k = 0; k < NC; ++k) finishRow(k, r);
+        for (int k : ifaceRows) r = std::max(r, rowResidual2(k));
         return r;
+    };
+    auto unfinish = [&]()
+    {
+        if (seed) for (int k : solved) cs[k].change *= cs[k].change;
+        else for (int k = 0; k < NC; ++k) cs[k].change *= cs[k].change;
     };
 
     const long maxSolves = long(I.settings.maxIterations)*long(std::max(NC, 1));
@@ -182,6 +211,7 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
                 }
                 inQ[k] = 0;
                 ++solves;
+                if (seed && !solvedFlag[k]) { solvedFlag[k] = 1; solved.push_back(k); }
                 SolverContact& c = cs[k];
                 const bool changed = twoD ? local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, 1.0)
                                           : local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, 1.0);
@@ -196,20 +226,15 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
             busy = C.maxOverSubdomains(count > 0 ? 1.0 : 0.0) > 0;
             capped = C.maxOverSubdomains(solves >= maxSolves ? 1.0 : 0.0) > 0;
         }
-        res = C.maxOverSubdomains(std::sqrt(residual2()));
+        res = C.maxOverSubdomains(std::sqrt(residual2AndFinish()));
         if (busy || capped || res <= xi || averagings >= I.settings.maxIterations) break;
         // the copies agree to the requeue threshold but a row of an interface
         // grain is off by more than the tolerance: those rows again
-        for (int k = 0; k < NC; ++k)
-            if (ifaceRow[k] && rowResidual2(k) > xi2) push(k);
+        for (int k : ifaceRows)
+            if (rowResidual2(k) > xi2) push(k);
         busy = C.maxOverSubdomains(count > 0 ? 1.0 : 0.0) > 0;
         if (!busy) break;
-    }
-    for (int k = 0; k < NC; ++k)
-    {
-        SolverContact& c = cs[k];
-        if (twoD) c.rt = c.rts*Vec3(-c.n.y(), c.n.x(), 0.0);
-        c.change = std::sqrt(c.change);
+        unfinish();
     }
     rep.contacts = std::max(rep.contacts, NC);
     rep.localSolves += solves;
@@ -226,16 +251,26 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
  * one averaging of the copies' velocities. Lists the interface grains (X.iface).
  */
 void warmStartInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X,
-                        const std::vector<char>& owned, std::vector<Vec3>& lambda, double scale)
+                        const std::vector<char>& owned, std::vector<Vec3>& lambda, double scale,
+                        bool save)
 {
     const int N = int(I.x.size());
-    // the interface grains of this step (their copies average in the solve)
+    // the interface grains of this step (their copies average in the solve);
+    // save: the non-zero impulses kept in X.lambda0 (restoreInterface)
     X.iface.clear();
+    if (save) { X.lambda0Grains.clear(); X.lambda0.clear(); }
     for (int i = 0; i < N; ++i)
     {
         const bool part = (owned[i] || X.inContact[i]) && X.copies[i] > 1 && !I.fix[i];
         if (part) X.iface.push_back(i);
-        else { lambda[2*i].setZero(); lambda[2*i + 1].setZero(); }
+        if (lambda[2*i] == Vec3::Zero() && lambda[2*i + 1] == Vec3::Zero()) continue;  // (exact; isZero has a tolerance)
+        if (save)
+        {
+            X.lambda0Grains.push_back(i);
+            X.lambda0.push_back(lambda[2*i]);
+            X.lambda0.push_back(lambda[2*i + 1]);
+        }
+        if (!part) { lambda[2*i].setZero(); lambda[2*i + 1].setZero(); }
     }
     X.vAvg.resize(N);
     X.wAvg.resize(N);
@@ -253,6 +288,18 @@ void warmStartInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratc
     // contacts their average is the undecomposed warm-started velocity, and
     // the local sweeps start from it rather than from each copy's share
     averageInterface(I, C, X, lambda, [](int, double) {});
+}
+/// The interface impulses back to those saved by warmStartInterface (after
+/// a solve, only the interface grains X.iface have non-zero ones).
+void restoreInterface(Subdomain::Scratch& X, std::vector<Vec3>& lambda)
+{
+    for (int i : X.iface) { lambda[2*i].setZero(); lambda[2*i + 1].setZero(); }
+    for (std::size_t n = 0; n < X.lambda0Grains.size(); ++n)
+    {
+        const int i = X.lambda0Grains[n];
+        lambda[2*i] = X.lambda0[2*n];
+        lambda[2*i + 1] = X.lambda0[2*n + 1];
+    }
 }
 } // namespace
 
@@ -336,7 +383,6 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     Scratch& X = *scratch_;
     std::vector<Vec3>& lambda = interfaceImpulse;
     if (lambda.size() != 2*std::size_t(N)) lambda.assign(2*std::size_t(N), Vec3::Zero());
-    X.lambda0 = lambda;  // restored if the step detects again
     const double warmScale = I.settings.warmStart && I.lastDt > 0 ? dt/I.lastDt : 0.0;
     StepReport rep;
     rep.substeps = 1;
@@ -357,20 +403,22 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         const auto t0 = clock::now();
         I.detect(dt);
         // the contacts this subdomain owns: the owner of the grain with the
-        // smaller global id solves a grain pair, the grain's owner a wall contact
+        // smaller global id solves a grain pair, the grain's owner a wall
+        // contact; their grains flagged in inContact (one pass over the
+        // contacts, which are memory-bound)
         std::vector<Contact>& C = I.newContacts;
+        std::fill(inContact.begin(), inContact.end(), 0);
         std::size_t m = 0;
-        for (const Contact& c : C)
+        for (std::size_t k = 0; k < C.size(); ++k)
         {
+            const Contact& c = C[k];
             const int gi = I.order[c.i];
-            bool mine;
-            if (c.j >= N) mine = owned[gi];
-            else
-            {
-                const int gj = I.order[c.j];
-                mine = owned[globalId[gi] < globalId[gj] ? gi : gj];
-            }
-            if (mine) C[m++] = c;
+            const int gj = c.j < N ? I.order[c.j] : -1;
+            if (!owned[gj < 0 || globalId[gi] < globalId[gj] ? gi : gj]) continue;
+            inContact[gi] = 1;
+            if (gj >= 0) inContact[gj] = 1;
+            if (m != k) C[m] = c;
+            ++m;
         }
         C.resize(m);
         NC0 = int(m);
@@ -378,12 +426,6 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         rep.verletBuilds = int(I.verlet.builds - builds);
 
         // copies: the interface grains' masses are shared among their copies
-        std::fill(inContact.begin(), inContact.end(), 0);
-        for (const Contact& c : C)
-        {
-            inContact[I.order[c.i]] = 1;
-            if (c.j < N) inContact[I.order[c.j]] = 1;
-        }
         coupling_.countCopies(inContact, copies);
         for (int i = 0; i < N; ++i)
         {
@@ -397,14 +439,14 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         const auto t1 = clock::now();
         I.prepareContacts(dt, NC0);
         I.buildAdjacency();
-        warmStartInterface(I, coupling_, X, owned, lambda, warmScale);
+        warmStartInterface(I, coupling_, X, owned, lambda, warmScale, redo == 0);
         solveDecomposed(I, coupling_, X, lambda, dt, dmin, rep, nullptr);
         rep.solveSeconds += std::chrono::duration<double>(clock::now() - t1).count();
         const bool again = redo < maxRedetections
                         && coupling_.maxOverSubdomains(I.raiseReaches(dt) ? 1.0 : 0.0) > 0;
         if (!again) break;
         ++rep.redetections;
-        lambda = X.lambda0;
+        restoreInterface(X, lambda);
         rep.converged = true;
         rep.residual = 0;
         I.freeVelocities(dt);

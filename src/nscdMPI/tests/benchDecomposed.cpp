@@ -96,8 +96,11 @@ int main(int argc, char** argv)
         for (int n = 0; n < steps; ++n)
         {
             const double t0 = threadCpu();
-            S.step(dt);
+            const StepReport rep = S.step(dt);
             t.push_back(threadCpu() - t0);
+            if (std::getenv("NSCD_VERBOSE"))
+                std::printf("undecomposed step %d: sweeps %d (relax solve %d), local solves %ld, contacts %d, residual %.3g, cpu %.4f s\n",
+                            n, rep.sweeps, rep.relaxSolves, rep.localSolves, rep.contacts, rep.residual, t.back());
         }
         serialCpu = median(t);
         serialRss = rssMB();  // (the undecomposed system held, after its steps)
