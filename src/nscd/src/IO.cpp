@@ -54,6 +54,10 @@ struct Writer
     { write(name, a.data(), cols ? a.size()/cols : a.size(), cols, H5T_NATIVE_INT); }
 };
 
+/// Rows read at once by a picking read (Reader::read with pick): its peak
+/// memory is the rows kept plus one chunk.
+constexpr hsize_t chunkRows = 65536;
+
 struct Reader
 {
     hid_t f;
@@ -62,12 +66,13 @@ struct Reader
     {
         throw InputError("nscd::System::readHDF5: " + file + ": " + what);
     }
-    template<class T>
-    std::vector<T> read(const std::string& name, hid_t type, hsize_t cols, long expectRows = -1)
+    /// Open dataset name and check its shape (rows x cols; cols 0: 1D;
+    /// expectRows >= 0: that many rows); returns its rows.
+    hsize_t open(const std::string& name, hsize_t cols, long expectRows, hid_t& ds, hid_t& space)
     {
-        const hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+        ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
         if (ds < 0) fail("missing dataset '" + name + "'");
-        const hid_t space = H5Dget_space(ds);
+        space = H5Dget_space(ds);
         const int nd = H5Sget_simple_extent_ndims(space);
         hsize_t dims[2] = {0, 0};
         if (nd < 1 || nd > 2 || H5Sget_simple_extent_dims(space, dims, nullptr) < 0)
@@ -75,16 +80,84 @@ struct Reader
         const hsize_t c = nd == 2 ? dims[1] : 0;
         if (c != cols || (expectRows >= 0 && dims[0] != hsize_t(expectRows)))
         { H5Sclose(space); H5Dclose(ds); fail("unexpected size of dataset '" + name + "'"); }
-        std::vector<T> out(dims[0]*(cols ? cols : 1));
+        return dims[0];
+    }
+    /// Rows of dataset name (see open): all of them, or (pick) only the rows
+    /// listed, in ascending order, read by chunks of chunkRows rows.
+    template<class T>
+    std::vector<T> read(const std::string& name, hid_t type, hsize_t cols, long expectRows = -1,
+                        const std::vector<long>* pick = nullptr)
+    {
+        const std::size_t w = cols ? cols : 1;
+        std::vector<T> out;
+        if (!pick)
+        {
+            hid_t ds, space;
+            const hsize_t rows = open(name, cols, expectRows, ds, space);
+            out.resize(rows*w);
+            herr_t st = 0;
+            if (!out.empty()) st = H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+            H5Sclose(space);
+            H5Dclose(ds);
+            if (st < 0) fail("cannot read dataset '" + name + "': the file is damaged or truncated");
+            return out;
+        }
+        out.resize(pick->size()*w);
+        std::size_t p = 0;
+        visit<T>(name, type, cols, expectRows, [&](long a, long n, const T* b)
+        {
+            for (; p < pick->size() && (*pick)[p] < a + n; ++p)
+                std::copy_n(b + ((*pick)[p] - a)*w, w, out.begin() + p*w);
+        }, pick);
+        return out;
+    }
+    /// Rows of dataset name (see open), chunk by chunk: visit(first row,
+    /// rows, data); pick (ascending rows): only the chunks that hold one.
+    template<class T, class Visit>
+    void visit(const std::string& name, hid_t type, hsize_t cols, long expectRows, Visit visit,
+               const std::vector<long>* pick = nullptr)
+    {
+        hid_t ds, space;
+        const hsize_t rows = open(name, cols, expectRows, ds, space);
+        const hsize_t w = cols ? cols : 1;
+        std::vector<T> buf;
         herr_t st = 0;
-        if (!out.empty()) st = H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+        std::size_t p = 0;
+        for (hsize_t a = 0; a < rows && st >= 0; a += chunkRows)
+        {
+            const hsize_t n = std::min(chunkRows, rows - a);
+            if (pick)
+            {
+                while (p < pick->size() && hsize_t((*pick)[p]) < a) ++p;
+                if (p == pick->size()) break;
+                if (hsize_t((*pick)[p]) >= a + n) continue;  // nothing picked in this chunk
+            }
+            const hsize_t start[2] = {a, 0}, count[2] = {n, w};
+            st = H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+            const hsize_t all = n*w;
+            const hid_t mem = H5Screate_simple(1, &all, nullptr);
+            buf.resize(all);
+            if (st >= 0) st = H5Dread(ds, type, mem, space, H5P_DEFAULT, buf.data());
+            H5Sclose(mem);
+            if (st >= 0) visit(long(a), long(n), buf.data());
+        }
         H5Sclose(space);
         H5Dclose(ds);
         if (st < 0) fail("cannot read dataset '" + name + "': the file is damaged or truncated");
-        return out;
     }
-    std::vector<double> d(const std::string& n, hsize_t cols, long rows = -1) { return read<double>(n, H5T_NATIVE_DOUBLE, cols, rows); }
-    std::vector<int> i(const std::string& n, hsize_t cols, long rows = -1) { return read<int>(n, H5T_NATIVE_INT, cols, rows); }
+    /// Rows of dataset name (see open).
+    long rows(const std::string& name, hsize_t cols)
+    {
+        hid_t ds, space;
+        const hsize_t n = open(name, cols, -1, ds, space);
+        H5Sclose(space);
+        H5Dclose(ds);
+        return long(n);
+    }
+    std::vector<double> d(const std::string& n, hsize_t cols, long rows = -1, const std::vector<long>* pick = nullptr)
+    { return read<double>(n, H5T_NATIVE_DOUBLE, cols, rows, pick); }
+    std::vector<int> i(const std::string& n, hsize_t cols, long rows = -1, const std::vector<long>* pick = nullptr)
+    { return read<int>(n, H5T_NATIVE_INT, cols, rows, pick); }
 };
 
 void put3(std::vector<double>& a, const Vec3& v) { a.push_back(v.x()); a.push_back(v.y()); a.push_back(v.z()); }
@@ -297,17 +370,21 @@ void readMaterials(Reader& r, System& s)
 /// readHDF5 stage: the grains (positions [m], velocities [m/s], angular
 /// velocities [rad/s], orientations, forces [N], torques [N m], radii [m],
 /// materials, fixed/rotation-locked flags) and their persistent ids, into I
-/// (materials already read). Returns the number of grains N.
-long readGrains(Reader& r, System::Impl& I)
+/// (materials already read): the N grains of the file, or (pick) those
+/// listed (ascending grain numbers of the file; ids: the file's, else the
+/// grain numbers). Returns the number of grains of the file N.
+long readGrains(Reader& r, System::Impl& I, const std::vector<long>* pick)
 {
-    const auto rad = r.d("radii", 0);
-    const long N = long(rad.size());
-    const auto x = r.d("positions", 3, N), v = r.d("velocities", 3, N), om = r.d("angularVelocities", 3, N),
-               q = r.d("orientations_xyzw", 4, N), f = r.d("forces", 3, N), t = r.d("torques", 3, N);
-    const auto mid = r.i("materialIds", 0, N), fx = r.i("fixed", 0, N);
-    for (long k = 0; k < N; ++k)
+    const long N = r.rows("radii", 0);
+    const auto rad = r.d("radii", 0, N, pick);
+    const auto x = r.d("positions", 3, N, pick), v = r.d("velocities", 3, N, pick),
+               om = r.d("angularVelocities", 3, N, pick), q = r.d("orientations_xyzw", 4, N, pick),
+               f = r.d("forces", 3, N, pick), t = r.d("torques", 3, N, pick);
+    const auto mid = r.i("materialIds", 0, N, pick), fx = r.i("fixed", 0, N, pick);
+    const long NK = long(rad.size());
+    for (long k = 0; k < NK; ++k)
     {
-        const std::string g = "grain " + std::to_string(k) + ": ";
+        const std::string g = "grain " + std::to_string(pick ? (*pick)[k] : k) + ": ";
         // std::isfinite first: an ordered comparison with a NaN raises
         // FE_INVALID (SIGFPE under OpenFOAM's FPE trapping)
         if (!std::isfinite(rad[k]) || !(rad[k] > 0))
@@ -335,13 +412,18 @@ long readGrains(Reader& r, System::Impl& I)
     }
     if (H5Lexists(r.f, "grainIds", H5P_DEFAULT) > 0)
     {
-        I.ids = r.read<long>("grainIds", H5T_NATIVE_LONG, 0, N);
+        I.ids = r.read<long>("grainIds", H5T_NATIVE_LONG, 0, N, pick);
         I.nextId = r.read<long>("nextGrainId", H5T_NATIVE_LONG, 0, 1)[0];
         std::vector<long> sortedIds(I.ids);
         std::sort(sortedIds.begin(), sortedIds.end());
-        for (long k = 0; k < N; ++k)
+        for (long k = 0; k < NK; ++k)
             if (sortedIds[k] < 0 || sortedIds[k] >= I.nextId || (k > 0 && sortedIds[k] == sortedIds[k - 1]))
                 r.fail("grain ids are not unique values in [0, nextGrainId)");
+    }
+    else if (pick)
+    {
+        I.ids = *pick;  // (the ids a whole read gives)
+        I.nextId = N;
     }
     return N;
 }
@@ -387,20 +469,54 @@ void readWalls(Reader& r, System::Impl& I)
 
 /// readHDF5 stage: the contact records (bodies as grain numbers in the
 /// external order and wall N + id, normal, impulses [N s], Delassus terms,
-/// gap [m], ages) into I.contacts, N grains and the walls already read.
-void readContacts(Reader& r, System::Impl& I, long N)
+/// gap [m], ages) into I.contacts, N grains of the file and the walls
+/// already read; pick (the grains read, see readGrains): only the contacts
+/// among them and with the walls, their bodies numbered as read.
+void readContacts(Reader& r, System::Impl& I, long N, const std::vector<long>* pick)
 {
-    const auto ij = r.i("contactBodies", 2);
-    const long NC = long(ij.size()/2);
-    const auto cd = r.d("contactData", 14, NC);
     const long NB = N + long(I.walls.size());
-    I.contacts.resize(NC);
-    for (long k = 0; k < NC; ++k)
+    std::vector<int> ij;
+    std::vector<long> cpick;  // pick: the contacts kept (numbers in the file)
+    long NC = 0;
+    auto check = [&](long k, int i, int j)
+    {
+        if (i < 0 || i >= N || j < 0 || j >= NB) r.fail("bad contact " + std::to_string(k));
+        if (i == j) r.fail("bad contact " + std::to_string(k) + " (a grain with itself)");
+    };
+    if (!pick)
+    {
+        ij = r.i("contactBodies", 2);
+        NC = long(ij.size()/2);
+        for (long k = 0; k < NC; ++k) check(k, ij[2*k], ij[2*k + 1]);
+    }
+    else
+    {
+        // the grains read, by their number in the file
+        std::vector<int> readAs(N, -1);
+        const long NK = long(pick->size());
+        for (long k = 0; k < NK; ++k) readAs[(*pick)[k]] = int(k);
+        r.visit<int>("contactBodies", H5T_NATIVE_INT, 2, -1, [&](long a, long n, const int* b)
+        {
+            for (long k = 0; k < n; ++k)
+            {
+                const int i = b[2*k], j = b[2*k + 1];
+                check(a + k, i, j);
+                const int jr = j >= N ? int(NK + (j - N)) : readAs[j];
+                if (readAs[i] < 0 || jr < 0) continue;
+                cpick.push_back(a + k);
+                ij.push_back(readAs[i]);
+                ij.push_back(jr);
+            }
+            NC = a + n;
+        });
+    }
+    const auto cd = r.d("contactData", 14, NC, pick ? &cpick : nullptr);
+    const long NCK = long(ij.size()/2);
+    I.contacts.resize(NCK);
+    for (long k = 0; k < NCK; ++k)
     {
         Contact& c = I.contacts[k];
         c.i = ij[2*k]; c.j = ij[2*k + 1];
-        if (c.i < 0 || c.i >= N || c.j < 0 || c.j >= NB) r.fail("bad contact " + std::to_string(k));
-        if (c.i == c.j) r.fail("bad contact " + std::to_string(k) + " (a grain with itself)");
         c.n = get3(cd, 14*k); c.rt = get3(cd, 14*k + 3);
         const double* p = &cd[14*k + 6];
         c.rn = p[0]; c.wnn = p[1]; c.wtt = p[2]; c.bias = p[3]; c.mu = p[4]; c.coh = p[5]; c.gap = p[6]; c.change = p[7];
@@ -408,21 +524,29 @@ void readContacts(Reader& r, System::Impl& I, long N)
     // contact ages (optional: files written before they existed read with age 0)
     if (H5Lexists(r.f, "contactAge", H5P_DEFAULT) > 0)
     {
-        const auto age = r.i("contactAge", 0, NC);
-        for (long k = 0; k < NC; ++k)
+        const auto age = r.i("contactAge", 0, NC, pick ? &cpick : nullptr);
+        for (long k = 0; k < NCK; ++k)
         {
-            if (age[k] < 0) r.fail("negative contact age " + std::to_string(k));
+            if (age[k] < 0) r.fail("negative contact age " + std::to_string(pick ? cpick[k] : k));
             I.contacts[k].age = age[k];
         }
     }
 }
 
-/// readHDF5 stage: the internal grain order and reorder state (optional),
-/// then the contacts' grain numbers mapped to slots (i < j for grain pairs)
-/// and sorted by i.
-void readOrder(Reader& r, System::Impl& I, long N)
+/// readHDF5 stage: the internal grain order and reorder state (optional;
+/// a part of the file (pick) keeps the reorder interval only: its grains are
+/// sorted again at its first step), then the contacts' grain numbers mapped
+/// to slots (i < j for grain pairs) and sorted by i.
+void readOrder(Reader& r, System::Impl& I, long N, bool part)
 {
-    if (H5Lexists(r.f, "grainOrder", H5P_DEFAULT) > 0)
+    if (part && H5Lexists(r.f, "reorder", H5P_DEFAULT) > 0)
+    {
+        const auto ro = r.read<long>("reorder", H5T_NATIVE_LONG, 0, 2);
+        if (ro[0] < 0 || ro[0] > std::numeric_limits<int>::max())
+            r.fail("bad reorder dataset (interval " + std::to_string(ro[0]) + ")");
+        I.settings.reorderInterval = int(ro[0]);
+    }
+    else if (H5Lexists(r.f, "grainOrder", H5P_DEFAULT) > 0)
     {
         const auto ord = r.i("grainOrder", 0, N);
         std::vector<char> seen(N, 0);
@@ -440,6 +564,7 @@ void readOrder(Reader& r, System::Impl& I, long N)
         I.settings.reorderInterval = int(ro[0]);
         I.stepsSinceReorder = ro[1];
     }
+    N = long(I.x.size());
     for (Contact& c : I.contacts)
     {
         c.i = I.slotOf[c.i];
@@ -453,9 +578,11 @@ void readOrder(Reader& r, System::Impl& I, long N)
 /// readHDF5 stage: heat state (optional datasets: default temperature [K],
 /// heat solver settings, temperatures [K], sources [W], exchange
 /// coefficients [W/K] and fluid temperatures [K], fixed-temperature flags,
-/// wall temperatures [K], NaN adiabatic) into I; N grains.
-void readHeat(Reader& r, System::Impl& I, long N)
+/// wall temperatures [K], NaN adiabatic) into I; N grains of the file, pick
+/// those read (readGrains).
+void readHeat(Reader& r, System::Impl& I, long N, const std::vector<long>* pick)
 {
+    const long NK = long(I.x.size());
     // heat (optional: files written before it existed keep the defaults:
     // temperatures 0, no sources, no fixed temperatures, adiabatic walls)
     auto has = [&](const char* name) { return H5Lexists(r.f, name, H5P_DEFAULT) > 0; };
@@ -468,22 +595,22 @@ void readHeat(Reader& r, System::Impl& I, long N)
     }
     if (has("temperatures"))
     {
-        I.T = r.d("temperatures", 0, N);
-        for (long k = 0; k < N; ++k)
+        I.T = r.d("temperatures", 0, N, pick);
+        for (long k = 0; k < NK; ++k)
             if (!std::isfinite(I.T[k]) || I.T[k] < 0)
-                r.fail("grain " + std::to_string(k) + ": temperature " + std::to_string(I.T[k])
+                r.fail("grain " + std::to_string(pick ? (*pick)[k] : k) + ": temperature " + std::to_string(I.T[k])
                        + " K (must be finite and >= 0)");
     }
-    if (has("heatSources")) I.heatQ = r.d("heatSources", 0, N);
+    if (has("heatSources")) I.heatQ = r.d("heatSources", 0, N, pick);
     if (has("heatExchange"))
     {
-        const auto hx = r.d("heatExchange", 2, N);
-        for (long k = 0; k < N; ++k) { I.heatH[k] = hx[2*k]; I.heatTf[k] = hx[2*k + 1]; }
+        const auto hx = r.d("heatExchange", 2, N, pick);
+        for (long k = 0; k < NK; ++k) { I.heatH[k] = hx[2*k]; I.heatTf[k] = hx[2*k + 1]; }
     }
     if (has("fixedTemperature"))
     {
-        const auto ft = r.i("fixedTemperature", 0, N);
-        for (long k = 0; k < N; ++k) I.fixT[k] = ft[k] ? 1 : 0;
+        const auto ft = r.i("fixedTemperature", 0, N, pick);
+        for (long k = 0; k < NK; ++k) I.fixT[k] = ft[k] ? 1 : 0;
     }
     if (has("wallTemperature"))
     {
@@ -495,7 +622,14 @@ void readHeat(Reader& r, System::Impl& I, long N)
 
 System System::readHDF5(const std::string& file)
 {
-    H5File h;
+    return readHDF5(file, nullptr);
+}
+
+namespace
+{
+/// Open file (H5File h) for reading: a Reader, or InputError naming the cause.
+Reader openState(H5File& h, const std::string& file)
+{
     if (H5Fis_hdf5(file.c_str()) <= 0)
         throw InputError("nscd::System::readHDF5: " + file + " is missing or not an HDF5 file"
                          " (damaged or truncated?)");
@@ -505,22 +639,53 @@ System System::readHDF5(const std::string& file)
                          " (e.g. a write cut by a full disk or a kill)");
     Reader r{h.id, file};
     if (r.i("format", 0, 1)[0] != formatVersion) r.fail("unsupported format version");
+    return r;
+}
+} // namespace
+
+std::vector<long> System::grainIdsHDF5(const std::string& file)
+{
+    H5File h;
+    Reader r = openState(h, file);
+    const long N = r.rows("radii", 0);
+    if (H5Lexists(r.f, "grainIds", H5P_DEFAULT) > 0) return r.read<long>("grainIds", H5T_NATIVE_LONG, 0, N);
+    std::vector<long> ids(N);
+    for (long k = 0; k < N; ++k) ids[k] = k;
+    return ids;
+}
+
+System System::readHDF5(const std::string& file, const std::function<bool(const Vec3&, double)>& keep)
+{
+    H5File h;
+    Reader r = openState(h, file);
     const int dim = r.i("dimension", 0, 1)[0];
     if (dim != 2 && dim != 3) r.fail("bad dimension");
     System s(dim);
     Impl& I = *s.impl_;
     readHeader(r, I);
     readMaterials(r, s);
-    const long N = readGrains(r, I);
+    // keep: the grain numbers whose centre it accepts (a pass over the positions)
+    std::vector<long> pick;
+    if (keep)
+    {
+        const auto rad = r.d("radii", 0);
+        r.visit<double>("positions", H5T_NATIVE_DOUBLE, 3, long(rad.size()), [&](long a, long n, const double* x)
+        {
+            for (long k = 0; k < n; ++k)
+                if (keep(Vec3(x[3*k], x[3*k + 1], dim == 2 ? 0.0 : x[3*k + 2]), rad[a + k])) pick.push_back(a + k);
+        });
+    }
+    const std::vector<long>* part = keep ? &pick : nullptr;
+    const long N = readGrains(r, I, part);
     readWalls(r, I);
-    readContacts(r, I, N);
-    readOrder(r, I, N);
+    readContacts(r, I, N, part);
+    readOrder(r, I, N, part);
     if (H5Lexists(r.f, "cohesionMinAge", H5P_DEFAULT) > 0)
     {
         I.settings.cohesionMinAge = r.i("cohesionMinAge", 0, 1)[0];
         if (I.settings.cohesionMinAge < 0) r.fail("negative cohesionMinAge");
     }
-    readHeat(r, I, N);
+    readHeat(r, I, N, part);
     return s;
 }
 

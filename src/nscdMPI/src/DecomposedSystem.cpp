@@ -2,6 +2,8 @@
 // a whole system), grains added, the step and the sub-stepped advance.
 #include "DecomposedSystemImpl.H"
 
+#include <algorithm>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
 #include <unordered_set>
@@ -18,7 +20,12 @@ DecomposedSystem::DecomposedSystem(int dimension, MPI_Comm comm, OwnerFunction o
 }
 
 DecomposedSystem::DecomposedSystem(System&& whole, MPI_Comm comm, OwnerFunction ownerOf, double halo)
-: impl_(std::make_unique<Impl>(std::move(whole)))
+: DecomposedSystem(std::move(whole), -1, comm, std::move(ownerOf), halo)
+{}
+
+DecomposedSystem::DecomposedSystem(System&& part, long wholeSize, MPI_Comm comm, OwnerFunction ownerOf,
+                                   double halo)
+: impl_(std::make_unique<Impl>(std::move(part)))
 {
     Impl& I = *impl_;
     I.init(comm, std::move(ownerOf), halo);
@@ -30,30 +37,45 @@ DecomposedSystem::DecomposedSystem(System&& whole, MPI_Comm comm, OwnerFunction 
     // halo of the owned centres' box), with the contacts among them: the
     // contact impulses warm-start the first step, at the interfaces too
     // (exchange() then refreshes the ghosts in place)
-    // owner: the lowest rank that claims the centre
-    std::vector<int> claim(N, std::numeric_limits<int>::max());
+    // owner: the lowest rank that claims the centre (by grain id, as the
+    // ranks may hold different parts)
+    long idEnd = 0;
+    for (long id : I.gid) idEnd = std::max(idEnd, id + 1);
+    MPI_Allreduce(MPI_IN_PLACE, &idEnd, 1, MPI_LONG, MPI_MAX, I.comm);
+    long expected = wholeSize;
+    if (wholeSize < 0) expected = long(N);  // the whole system on every rank
+    std::vector<int> claim(idEnd, std::numeric_limits<int>::max());
     for (std::size_t i = 0; i < N; ++i)
-        if (I.checkedOwner(I.sys.positions()[i], I.gid[i]) == I.rank) claim[i] = I.rank;
-    if (N > 0) MPI_Allreduce(MPI_IN_PLACE, claim.data(), int(N), MPI_INT, MPI_MIN, I.comm);
-    std::string lost;
-    int nLost = 0;
-    for (std::size_t i = 0; i < N; ++i)
-        if (claim[i] == std::numeric_limits<int>::max() && nLost++ < 5)
-        {
-            const Vec3& x = I.sys.positions()[i];
-            lost += "\n    grain " + std::to_string(I.gid[i]) + " at (" + std::to_string(x.x()) + ", "
-                  + std::to_string(x.y()) + ", " + std::to_string(x.z()) + ")";
-        }
-    if (nLost > 0)
-        throw InputError("nscd::mpi::DecomposedSystem: " + std::to_string(nLost)
-                         + " grain(s) in no rank's region (outside the domain?):" + lost);
+        if (I.checkedOwner(I.sys.positions()[i], I.gid[i]) == I.rank) claim[I.gid[i]] = I.rank;
+    if (idEnd > 0) MPI_Allreduce(MPI_IN_PLACE, claim.data(), int(idEnd), MPI_INT, MPI_MIN, I.comm);
+    const long claimed = long(std::count_if(claim.begin(), claim.end(),
+                                            [](int r) { return r != std::numeric_limits<int>::max(); }));
+    if (claimed != expected)
+    {
+        // the grains held here that no rank claims, named (a part read: a
+        // grain outside every rank's part is only counted)
+        std::string lost;
+        int named = 0;
+        for (std::size_t i = 0; i < N && named < 5; ++i)
+            if (claim[I.gid[i]] == std::numeric_limits<int>::max())
+            {
+                const Vec3& x = I.sys.positions()[i];
+                lost += "\n    grain " + std::to_string(I.gid[i]) + " at (" + std::to_string(x.x()) + ", "
+                      + std::to_string(x.y()) + ", " + std::to_string(x.z()) + ")";
+                ++named;
+            }
+        throw InputError("nscd::mpi::DecomposedSystem: " + std::to_string(expected - claimed) + " of "
+                         + std::to_string(expected) + " grain(s) in no rank's region (outside the domain?)"
+                         + (wholeSize >= 0 ? ", or outside every rank's part of the state" : "") + lost);
+    }
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
     for (std::size_t i = 0; i < N; ++i)
     {
         const Vec3& x = I.sys.positions()[i];
-        I.owned[i] = claim[i] == I.rank;
+        I.owned[i] = claim[I.gid[i]] == I.rank;
         if (I.owned[i]) { lo = lo.cwiseMin(x); hi = hi.cwiseMax(x); }
     }
+    claim = {};
     std::vector<char> drop(N, 0);
     for (std::size_t i = 0; i < N; ++i)
         drop[i] = !I.owned[i] && distance2(I.sys.positions()[i], lo, hi) > I.halo*I.halo;

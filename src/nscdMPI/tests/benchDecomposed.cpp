@@ -2,13 +2,15 @@
 // (not a test; driven by tests/bench/nscdDecomposed).
 //   mpirun -np N nscdMPIBench state.h5 steps out.json [serial]
 // Every rank reads the whole state (System::readHDF5) and keeps the grains
-// of its slab (equal grain counts along x); the bed is stepped `steps`
+// of its slab (equal grain counts along x), or with NSCD_PARTREAD=1 reads
+// only its slab grown by the halo (System::readHDF5(file, keep), after a
+// pass over the centres for the slab bounds); the bed is stepped `steps`
 // times (dt of the state's last step) after 3 untimed steps. Per rank:
 // owned grains, ghosts, contacts, thread CPU of the step split into the
 // solve's collectives, the exchange (migration and ghosts) and the rest
 // (NSCD work), bytes sent, averagings per step, resident memory (after the
 // steps, and the peak, which includes the whole state every rank reads at
-// the start). With `serial` and one rank, System::step of the same state
+// the start, or its part with NSCD_PARTREAD=1). With `serial` and one rank, System::step of the same state
 // is timed as well, and the resident memory while it holds the state.
 #include "nscdMPI/DecomposedSystem.H"
 
@@ -19,6 +21,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -107,23 +110,41 @@ int main(int argc, char** argv)
     }
     malloc_trim(0);
 
-    System whole = System::readHDF5(state);
-    const double dt = whole.lastStepDt() > 0 ? whole.lastStepDt() : 1e-4;
-    const std::size_t N = whole.size();
-    std::vector<double> xs(N);
+    const bool partRead = std::getenv("NSCD_PARTREAD") && std::string(std::getenv("NSCD_PARTREAD")) == "1";
+    // the centres along x and the largest radius: from the whole state, or
+    // (partRead) from a pass over the file that keeps no grain
+    std::vector<double> xs;
     double rmax = 0;
-    for (std::size_t i = 0; i < N; ++i)
+    System whole(2);
+    if (partRead)
+        System::readHDF5(state, [&](const Vec3& x, double r) { xs.push_back(x.x()); rmax = std::max(rmax, r); return false; });
+    else
     {
-        xs[i] = whole.positions()[i].x();
-        rmax = std::max(rmax, whole.radii()[i]);
+        whole = System::readHDF5(state);
+        for (std::size_t i = 0; i < whole.size(); ++i)
+        {
+            xs.push_back(whole.positions()[i].x());
+            rmax = std::max(rmax, whole.radii()[i]);
+        }
     }
+    const std::size_t N = xs.size();
     std::sort(xs.begin(), xs.end());
     std::vector<double> cut(P + 1);  // slab bounds at the grain-count quantiles
+    cut[0] = -1e300;
+    cut[P] = 1e300;
     for (int r = 1; r < P; ++r) cut[r] = 0.5*(xs[N*r/P - 1] + xs[N*r/P]);
+    xs = {};
     auto ownerOf = [cut, P](const Vec3& x, long)
     { return int(std::upper_bound(cut.begin() + 1, cut.begin() + P, x.x()) - (cut.begin() + 1)); };
-    mpi::DecomposedSystem D(std::move(whole), MPI_COMM_WORLD, ownerOf, 3*rmax);
-    xs = {};
+    const double halo = 3*rmax;
+    if (partRead)
+        whole = System::readHDF5(state, [&](const Vec3& x, double)
+                                 { return x.x() >= cut[rank] - halo && x.x() < cut[rank + 1] + halo; });
+    const double dt = whole.lastStepDt() > 0 ? whole.lastStepDt() : 1e-4;
+    std::unique_ptr<mpi::DecomposedSystem> decomposed(
+        partRead ? new mpi::DecomposedSystem(std::move(whole), long(N), MPI_COMM_WORLD, ownerOf, halo)
+                 : new mpi::DecomposedSystem(std::move(whole), MPI_COMM_WORLD, ownerOf, halo));
+    mpi::DecomposedSystem& D = *decomposed;
     malloc_trim(0);
 
     const int warmup = std::getenv("NSCD_WARMUP") ? std::atoi(std::getenv("NSCD_WARMUP")) : 3;
