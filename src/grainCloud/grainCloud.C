@@ -35,13 +35,17 @@ namespace Foam
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
 
-Foam::fileName Foam::grainCloud::createSystem(const bool readState)
+Foam::fileName Foam::grainCloud::createSystem
+(
+    const bool readState,
+    const string& notDecomposable
+)
 {
     fileName statePath(mesh_.time().timePath()/stateFileName);
     if (Pstream::parRun() && !isFile(statePath))
     {
         // decomposed case: every rank reads the undecomposed case's state
-        // (grains are held whole on every rank)
+        // (its part of it, or the whole when the grains are replicated)
         statePath =
             mesh_.time().globalPath()/mesh_.time().timeName()/stateFileName;
     }
@@ -51,7 +55,14 @@ Foam::fileName Foam::grainCloud::createSystem(const bool readState)
         {
             // a missing, damaged or bad file: FatalError naming the
             // previous write that holds a state (grainCloudChecks.C)
-            whole_.reset(new nscd::System(readStateFile(statePath)));
+            if (partStart(notDecomposable))
+            {
+                readStatePart(statePath);
+            }
+            else
+            {
+                whole_.reset(new nscd::System(readStateFile(statePath)));
+            }
             system_ = whole_.get();
             if (system_->dimension() != dimension_)
             {
@@ -163,7 +174,7 @@ Foam::grainCloud::grainCloud
 
     readSettings();
 
-    const fileName statePath(createSystem(readState));
+    const fileName statePath(createSystem(readState, notDecomposable));
 
     computePatchWallIds();
     readOutletPatches();

@@ -74,7 +74,11 @@ namespace
 
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
 
-nscd::System Foam::grainCloud::readStateFile(const fileName& statePath) const
+nscd::System Foam::grainCloud::readStateFile
+(
+    const fileName& statePath,
+    const std::function<bool(const nscd::Vec3&, double)>& keep
+) const
 {
     try
     {
@@ -87,7 +91,7 @@ nscd::System Foam::grainCloud::readStateFile(const fileName& statePath) const
                 " interrupted)"
             );
         }
-        return nscd::System::readHDF5(statePath);
+        return keep ? nscd::System::readHDF5(statePath, keep) : nscd::System::readHDF5(statePath);
     }
     catch (const nscd::InputError& err)
     {

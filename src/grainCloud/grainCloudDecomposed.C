@@ -18,9 +18,12 @@ Description
     distance) is on the rank that solves it; DecomposedSystem::advance
     sub-steps a step whose fastest grain would reach beyond it.
 
-    Start: every rank reads the whole state and keeps its part; write: the
-    state is gathered on the master and written whole into the undecomposed
-    case (a run restarts from it on any number of ranks).
+    Start: every rank reads its part of the state, the grains within the
+    halo of its cells' bounding box (nscd::System::readHDF5 with a region:
+    no rank holds the whole system), unless something replicates the grains
+    (then every rank reads the whole state); write: the state is gathered
+    on the master and written whole into the undecomposed case (a run
+    restarts from it on any number of ranks).
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
@@ -34,8 +37,83 @@ Description
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
 
+bool Foam::grainCloud::partStart(const string& notDecomposable) const
+{
+    // the conditions of selectDecomposition that replicate the grains,
+    // known before the state is read (the dictionary's materials replace
+    // the state's: applyDictionaryMaterials)
+    if
+    (
+        !Pstream::parRun()
+     || !notDecomposable.empty()
+     || dict_.found("outletPatches")
+     || dict_.getOrDefault<word>("grainDecomposition", "decomposed") != "decomposed"
+    )
+    {
+        return false;
+    }
+    for (const nscd::Material& m : dictionaryMaterials())
+    {
+        if (m.heatCapacity > 0)
+        {
+            return false;
+        }
+    }
+    return true;
+}
+
+
+void Foam::grainCloud::readStatePart(const fileName& statePath)
+{
+    // the radii of the whole state (the halo, the smallest diameter) and
+    // its ids, without keeping a grain
+    double rMin = GREAT, rMax = 0;
+    readStateFile
+    (
+        statePath,
+        [&rMin, &rMax](const nscd::Vec3&, double r)
+        {
+            rMin = std::min(rMin, r);
+            rMax = std::max(rMax, r);
+            return false;
+        }
+    );
+    startIds_ = nscd::System::grainIdsHDF5(statePath);
+    startRMax_ = rMax > 0 ? rMax : VSMALL;  // (no grain: any positive halo)
+    minDiameterAll_ = rMax > 0 ? 2*rMin : 0;
+    // the grains within the halo of this rank's cells (selectDecomposition)
+    const scalar halo = 6*startRMax_;
+    localBounds_ = boundBox(mesh_.points(), false);
+    const nscd::Vec3 lo(toSystem(localBounds_.min()));
+    const nscd::Vec3 hi(toSystem(localBounds_.max()));
+    const int dim = dimension_;
+    whole_.reset
+    (
+        new nscd::System
+        (
+            readStateFile
+            (
+                statePath,
+                [=](const nscd::Vec3& x, double)
+                {
+                    for (int k = 0; k < dim; ++k)
+                    {
+                        if (x[k] < lo[k] - halo || x[k] > hi[k] + halo)
+                        {
+                            return false;
+                        }
+                    }
+                    return true;
+                }
+            )
+        )
+    );
+}
+
+
 void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
 {
+    const bool partRead = startRMax_ > 0;
     const word mode
     (
         dict_.getOrDefault<word>("grainDecomposition", "decomposed")
@@ -48,7 +126,7 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
             << " replicated (every rank holds every grain)."
             << exit(FatalIOError);
     }
-    if (!Pstream::parRun() || mode == "replicated")
+    if ((!Pstream::parRun() || mode == "replicated") && !partRead)
     {
         return;
     }
@@ -66,8 +144,16 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
     {
         why.append("outletPatches");
     }
-    if (why.size())
+    if (why.size() || mode == "replicated")
     {
+        if (partRead)
+        {
+            FatalErrorInFunction
+                << "The grain state was read in parts for a decomposed run,"
+                << " but the grains are replicated (partStart and"
+                << " selectDecomposition disagree): report this."
+                << exit(FatalError);
+        }
         OStringStream os;
         forAll(why, k)
         {
@@ -97,30 +183,36 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
     // a rank whose cells hold no grain would never call them and leave the
     // others waiting in that exchange
     (void)mesh_.tetBasePtIs();
-    localBounds_ = boundBox(mesh_.points(), false);
-    // (every rank still holds the whole system here)
-    double rMax = 0;
-    for (const double r : system_->radii())
+    double rMax = startRMax_;
+    if (!partRead)
     {
-        rMax = std::max(rMax, r);
-    }
-    minDiameterAll_ = system_->minDiameter();
-    startIds_ = system_->grainIds();
-    if (!(rMax > 0))
-    {
-        rMax = VSMALL;  // no grain: any positive halo
+        // every rank holds the whole system here
+        localBounds_ = boundBox(mesh_.points(), false);
+        for (const double r : system_->radii())
+        {
+            rMax = std::max(rMax, r);
+        }
+        minDiameterAll_ = system_->minDiameter();
+        startIds_ = system_->grainIds();
+        if (!(rMax > 0))
+        {
+            rMax = VSMALL;  // no grain: any positive halo
+        }
     }
     const double halo = 6*rMax;
     try
     {
+        auto owner = [this](const nscd::Vec3& x, long id) { return ownerOf(x, id); };
         decomposed_.reset
         (
-            new nscd::mpi::DecomposedSystem
+            partRead
+          ? new nscd::mpi::DecomposedSystem
             (
-                std::move(*whole_),
-                MPI_COMM_WORLD,
-                [this](const nscd::Vec3& x, long id) { return ownerOf(x, id); },
-                halo
+                std::move(*whole_), long(startIds_.size()), MPI_COMM_WORLD, owner, halo
+            )
+          : new nscd::mpi::DecomposedSystem
+            (
+                std::move(*whole_), MPI_COMM_WORLD, owner, halo
             )
         );
     }
@@ -146,7 +238,8 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
     Pstream::gatherList(perRank);
     Info<< "grainCloud: grains decomposed over " << Pstream::nProcs()
         << " ranks (owned per rank " << perRank << ", halo " << halo
-        << " m)" << endl;
+        << " m; " << (partRead ? "each rank read its part" : "every rank read")
+        << " of the start state)" << endl;
 }
 
 

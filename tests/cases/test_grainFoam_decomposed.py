@@ -195,7 +195,7 @@ def test_pile_at_rest_across_ranks_and_restart(tmp_path, env):
         if d.startswith("processor"):
             shutil.rmtree(os.path.join(case, d))
     p = run_parallel("grainFoam", case, env, n=4, split=(1, 4, 1))
-    assert re.search(r"grains decomposed over 4 ranks", p.stdout)
+    assert re.search(r"grains decomposed over 4 ranks.*each rank read its part", p.stdout)
     first = [l for l in p.stdout.splitlines() if l.startswith("NSCD:")][0]
     load = _wall_load(case, "0.3", 2500, G)
     print(f"restart on 4 ranks: wall load / weight {load:.6f}; first step: {first}")
