@@ -139,7 +139,9 @@ struct Reader
             buf.resize(all);
             if (st >= 0) st = H5Dread(ds, type, mem, space, H5P_DEFAULT, buf.data());
             H5Sclose(mem);
-            if (st >= 0) visit(long(a), long(n), buf.data());
+            if (st < 0) break;
+            try { visit(long(a), long(n), buf.data()); }
+            catch (...) { H5Sclose(space); H5Dclose(ds); throw; }  // (e.g. fail: a bad contact)
         }
         H5Sclose(space);
         H5Dclose(ds);
