@@ -74,15 +74,12 @@ namespace
 
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
 
-nscd::System Foam::grainCloud::readStateFile
-(
-    const fileName& statePath,
-    const std::function<bool(const nscd::Vec3&, double)>& keep
-) const
+namespace
 {
-    try
+    //- nscd::InputError if the grain state file statePath is missing
+    void checkStateFileExists(const Foam::fileName& statePath)
     {
-        if (!isFile(statePath))
+        if (!Foam::isFile(statePath))
         {
             throw nscd::InputError
             (
@@ -91,32 +88,75 @@ nscd::System Foam::grainCloud::readStateFile
                 " interrupted)"
             );
         }
-        return keep ? nscd::System::readHDF5(statePath, keep) : nscd::System::readHDF5(statePath);
+    }
+}
+
+
+nscd::System Foam::grainCloud::readStateFile
+(
+    const fileName& statePath,
+    const std::function<bool(const nscd::Vec3&, double)>& keep
+) const
+{
+    try
+    {
+        checkStateFileExists(statePath);
+        return nscd::System::readHDF5(statePath, keep);
     }
     catch (const nscd::InputError& err)
     {
-        const fileName timeDir(statePath.path());
-        const word prev =
-            previousStateTime(timeDir.path(), mesh_.time().value());
-        OStringStream fix;
-        if (prev.size())
-        {
-            fix << "restart from the previous write " << prev
-                << " (startFrom startTime; startTime " << prev
-                << "; in system/controlDict, or delete " << timeDir
-                << " and use startFrom latestTime)";
-        }
-        else
-        {
-            fix << "no earlier time holds a grain state: create the"
-                << " initial grains with grainDeposit";
-        }
-        FatalErrorInFunction
-            << "Cannot use the grain state " << statePath << nl
-            << "    " << err.what() << nl
-            << "    Fix: " << fix.str().c_str() << exit(FatalError);
+        stateFileError(statePath, err.what());
     }
     return nscd::System(dimension_);  // not reached
+}
+
+
+std::vector<double> Foam::grainCloud::readStateRadii
+(
+    const fileName& statePath,
+    std::vector<long>& ids
+) const
+{
+    try
+    {
+        checkStateFileExists(statePath);
+        ids = nscd::System::grainIdsHDF5(statePath);
+        return nscd::System::grainRadiiHDF5(statePath);
+    }
+    catch (const nscd::InputError& err)
+    {
+        stateFileError(statePath, err.what());
+    }
+    return {};  // not reached
+}
+
+
+void Foam::grainCloud::stateFileError
+(
+    const fileName& statePath,
+    const std::string& what
+) const
+{
+    const fileName timeDir(statePath.path());
+    const word prev =
+        previousStateTime(timeDir.path(), mesh_.time().value());
+    OStringStream fix;
+    if (prev.size())
+    {
+        fix << "restart from the previous write " << prev
+            << " (startFrom startTime; startTime " << prev
+            << "; in system/controlDict, or delete " << timeDir
+            << " and use startFrom latestTime)";
+    }
+    else
+    {
+        fix << "no earlier time holds a grain state: create the"
+            << " initial grains with grainDeposit";
+    }
+    FatalErrorInFunction
+        << "Cannot use the grain state " << statePath << nl
+        << "    " << what.c_str() << nl
+        << "    Fix: " << fix.str().c_str() << exit(FatalError);
 }
 
 

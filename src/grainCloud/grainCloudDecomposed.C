@@ -66,19 +66,13 @@ bool Foam::grainCloud::partStart(const string& notDecomposable) const
 void Foam::grainCloud::readStatePart(const fileName& statePath)
 {
     // the radii of the whole state (the halo, the smallest diameter) and
-    // its ids, without keeping a grain
+    // its ids, without its grains
     double rMin = GREAT, rMax = 0;
-    readStateFile
-    (
-        statePath,
-        [&rMin, &rMax](const nscd::Vec3&, double r)
-        {
-            rMin = std::min(rMin, r);
-            rMax = std::max(rMax, r);
-            return false;
-        }
-    );
-    startIds_ = nscd::System::grainIdsHDF5(statePath);
+    for (const double r : readStateRadii(statePath, startIds_))
+    {
+        rMin = std::min(rMin, r);
+        rMax = std::max(rMax, r);
+    }
     startRMax_ = rMax > 0 ? rMax : VSMALL;  // (no grain: any positive halo)
     minDiameterAll_ = rMax > 0 ? 2*rMin : 0;
     // the grains within the halo of this rank's cells (selectDecomposition)

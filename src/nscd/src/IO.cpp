@@ -656,6 +656,13 @@ std::vector<long> System::grainIdsHDF5(const std::string& file)
     return ids;
 }
 
+std::vector<double> System::grainRadiiHDF5(const std::string& file)
+{
+    H5File h;
+    Reader r = openState(h, file);
+    return r.d("radii", 0);
+}
+
 System System::readHDF5(const std::string& file, const std::function<bool(const Vec3&, double)>& keep)
 {
     H5File h;

@@ -267,6 +267,7 @@ TEST(HDF5, PartReadKeepsTheGrainsAndTheirContacts)
         const auto none = [](const Vec3&, double) { return false; };
         EXPECT_EQ(System::readHDF5(f, none).size(), 0u);
         EXPECT_EQ(System::grainIdsHDF5(f), whole.grainIds());
+        EXPECT_EQ(System::grainRadiiHDF5(f), whole.radii());
     }
     // touching discs on a floor: 300 columns x 240 rows
     System s(2);
