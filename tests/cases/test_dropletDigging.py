@@ -293,6 +293,26 @@ def test_three_regimes(sweep):
     assert depth[400.0] > depth[300.0] + d and depth[400.0] > depth[600.0] + d
 
 
+def test_cohesion_is_ten_grain_weights_per_unit_depth():
+    """Units of Table 4.2's F_c^0 = 7.5e-4 (thesis eq. 4.18) in 2D.  The
+    thesis' grain code is 2D per unit depth (MigFlow 1.4, scontact.py: disc
+    volume pi r^2), and F_c^0 is then 10.0 weights per unit depth of the
+    55 um disc of 3200 kg/m^3 (Table 4.2: 7.46e-5 N/m), a granular Bond number
+    of 10; read as a force on a grain of length l it would be 74 times the
+    largest capillary force of two 55 um water-wetted spheres (2 pi R sigma,
+    sigma = 58.91 mN/m at 100 C, IAPWS R1-76), which no contact can carry.
+    setupCase writes F_c^0 as the per-unit-depth force (the slow
+    test_similarity_scaling_keeps_umf checks the dictionary).  < 1 s."""
+    setup, _ = tutorial_modules("vansFoam", "dropletDigging")
+    weight = setup.RHO_P * 9.81 * np.pi / 4 * setup.D_GRAIN_TABLE ** 2      # N/m
+    bond = setup.F_C0 / weight
+    capillary = 2 * np.pi * setup.D_GRAIN_TABLE / 2 * setup.SIGMA_WATER      # N
+    print(f"F_c^0 = {setup.F_C0} N/m = {bond:.3f} disc weights; as a force on a grain: "
+          f"{setup.F_C0 / capillary:.1f} x 2 pi R sigma")
+    assert abs(bond - 10) < 0.1, bond
+    assert setup.F_C0 / capillary > 10
+
+
 def test_similarity_scaling_keeps_umf(sweep, tmp_path):
     """(d) The scaled bed's U_mf equals the 55 um bed's: Ergun's law
     (postProcess.ergun_umf, Ergun 1952) at the thesis' bed (eps = 0.607,
@@ -334,5 +354,7 @@ def test_similarity_scaling_keeps_umf(sweep, tmp_path):
     print(f"1 mm bed scaled to 55 um: nu x {ratio_nu:.2f}, mu_l x {ratio_mu:.2f}, F_c x {ratio_fc:.3f}")
     assert abs(ratio_nu - ratio_mu) < 1e-6 * ratio_nu
     assert abs(ratio_fc ** 2 - ratio_nu) < 1e-5 * ratio_nu
+    # 2D cohesion per unit depth, unscaled: Table 4.2's F_c^0 itself [N/m]
+    assert abs(entry(plain, "couplingProperties", r"force\s+([0-9.eE+-]+);") - setup.F_C0) < 1e-12
     assert ratio_nu > 100          # 1 mm / 55 um: s ~ 330
     assert abs(entry(plain, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);") - 2.82e-4) < 1e-12

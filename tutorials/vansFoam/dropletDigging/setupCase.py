@@ -16,8 +16,9 @@ bed of height ~h_p at T_bed (grains and side/bottom walls), air (Table 4.2)
 at T_bed, open top (p = 0).  Water droplet D = 2.5 mm at T_d = 100 C resting
 on the bed surface at t = 0 (moving, blowing, grain-droplet force F_p:
 constant/dropletProperties, src/dropletCoupling/README.md).  Cohesion
-F_c^0 = 7.5e-4 N (per unit depth in 2D: 7.5e-4/l N/m) where psi < psi^0 = 0.9
-(eq. 4.18).  Porous grains (thesis 4.3.2, couplingProperties grainPorosity):
+F_c^0 = 7.5e-4 N/m per unit depth where psi < psi^0 = 0.9 (eq. 4.18; Table
+4.2's 7.5e-4 is the thesis' 2D value per unit depth: `COHESION_NOTE`).
+Porous grains (thesis 4.3.2, couplingProperties grainPorosity):
 porosity="auto" gives n = 1 - 0.4/phi_2D (bed solid fraction 0.4) and grain
 density (1 - n) rho_s.  Mesh: uniform, D/8 = 0.3125 mm cells (README.md).
 case.json keeps what postProcess.py needs (properties, bed, mesh).
@@ -45,6 +46,13 @@ W, H, H_P, GAP, D_DROP = 10e-3, 30e-3, 22.5e-3, 1.5e-3, 2.5e-3
 D_GRAIN_TABLE = 55e-6
 DT = 5e-4
 F_C0, PSI0 = 7.5e-4, 0.9
+COHESION_NOTE = """Table 4.2's F_c^0 = 7.5e-4 is a 2D force per unit depth
+[N/m], as every 2D quantity of the thesis' grain code (MigFlow: disc volume
+pi r^2, scontact.py): it is 10.0 times the weight per unit depth of a 55 um disc
+of 3200 kg/m^3 (rho_s g pi d^2/4 = 7.46e-5 N/m), a granular Bond number of 10.
+Read as a force on a grain of length l = 1.5 mm (7.5e-4/l = 0.5 N/m) it would
+be 6,700 grain weights, 74 times the largest capillary force between two 55 um
+spheres (2 pi R sigma = 1.0e-5 N), which no wet contact can carry."""
 # water (not in Table 4.2)
 RHO_L, LATENT, T_D = 958.0, 2.257e6, 373.15
 DEPTH = GAP                      # 2D mesh depth = the Hele-Shaw gap
@@ -387,7 +395,7 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
           + ("0.88; }\n" if porosity is None else f"1; }}\ngrainPorosity {porosity:.6g};\n")
           +
           "heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n"
-          f"cohesion {{ force {f_c0 / DEPTH:.9g}; vapourThreshold {PSI0}; }}\n")
+          f"cohesion {{ force {f_c0:.9g}; vapourThreshold {PSI0}; }}\n")  # N/m: COHESION_NOTE
     sig = surface_tension(sigma)
     release = vapour_release(release)
     film = film_conduction(film)
