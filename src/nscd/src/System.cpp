@@ -129,6 +129,11 @@ void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
     ids.push_back(nextId++);
     order.push_back(int(x.size()) - 1);  // a new grain takes the last slot
     slotOf.push_back(int(x.size()) - 1);
+    // the kept contacts name a wall or droplet as body N + k: one more grain
+    // shifts them (as Remove.cpp's compaction does the other way)
+    const int oldN = int(x.size()) - 1;
+    for (Contact& c : contacts)
+        if (c.j >= oldN) ++c.j;
     verlet.invalidate();
     setMassInertia(x.size() - 1);
 }

@@ -219,3 +219,26 @@ TEST(Materials, SetMaterialRecomputesMassAndWeight)
         EXPECT_NEAR(s.mass(0), 1600*shape, 1e-12*1600*shape);
     }
 }
+
+// Consistency check of the kept contact records: a contact with a wall is
+// kept as body N + k; a grain added after a step must not turn it into a
+// contact with the new grain (the record is shifted with N, as removal
+// compacts it), so the view still names the wall and the floor's impulse is
+// still there as the warm start (the next step converges at once).
+TEST(Contacts, AddingAGrainKeepsWallContacts)
+{
+    System s(2);
+    const int m = s.addMaterial({2500, 0.3});
+    s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
+    s.addGrain(Vec3(0, 0.01, 0), 0.01, m);
+    s.setGravity(Vec3(0, -9.81, 0));
+    for (int k = 0; k < 3; ++k) s.step(1e-3);
+    ASSERT_EQ(s.contacts().size(), 1u);
+    EXPECT_EQ(s.contacts()[0].j, -1);
+    s.addGrain(Vec3(1, 1, 0), 0.01, m);  // far away
+    ASSERT_EQ(s.contacts().size(), 1u);
+    EXPECT_EQ(s.contacts()[0].j, -1);
+    const StepReport r = s.step(1e-3);
+    EXPECT_LE(r.sweeps, 1);
+    EXPECT_NEAR(s.contacts()[0].impulse.y(), s.mass(0)*9.81*1e-3, 1e-9*s.mass(0)*9.81*1e-3);
+}
