@@ -256,7 +256,7 @@ void writeContacts(Writer& w, const System::Impl& I)
     std::vector<double> cd;
     for (const Contact& c : I.contacts)  // slots to grains (external order)
     {
-        ij.push_back(I.grainOf(c.i)); ij.push_back(I.grainOf(c.j));
+        ij.push_back(I.grainOf(c.i)); ij.push_back(I.grainOf(I.keptBody(c)));
         put3(cd, c.n); put3(cd, c.rt);
         for (double a : {c.rn, c.wnn, c.wtt, c.bias, c.mu, c.coh, c.gap, c.change}) cd.push_back(a);
     }
@@ -575,6 +575,7 @@ void readOrder(Reader& r, System::Impl& I, long N, bool part)
         if (c.j < c.i) { std::swap(c.i, c.j); c.n = -c.n; c.rt = -c.rt; }
     }
     std::stable_sort(I.contacts.begin(), I.contacts.end(), [](const Contact& a, const Contact& b) { return a.i < b.i; });
+    I.keptContactsN = -1;  // written for the grains read
 }
 
 /// readHDF5 stage: heat state (optional datasets: default temperature [K],

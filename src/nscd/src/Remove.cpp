@@ -94,6 +94,7 @@ std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& in
         I.verlet.invalidate();
     }
 
+    I.syncKeptContacts();
     // contacts (by slot): body j is grain slot j (j < N) or wall j - N;
     // droplet contacts are not kept between steps (storeImpulses); the
     // slot map is increasing, so the records (sorted by i) stay sorted

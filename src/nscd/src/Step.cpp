@@ -78,6 +78,7 @@ StepReport System::step(double dt)
     StepReport rep;
     rep.substeps = 1;
 
+    I.syncKeptContacts();  // after grains were added
     I.maybeReorder();  // internal slot order along the Morton curve (Reorder.cpp)
     I.freeVelocities(dt);
     // detect, prepareContacts (+ warm start), buildAdjacency, solveContacts;

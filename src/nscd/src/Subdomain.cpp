@@ -390,6 +390,7 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     // the tolerance scale d_min of the undecomposed system
     const double dmin = -2*coupling_.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
 
+    I.syncKeptContacts();  // after grains were added (migrants, ghosts)
     I.maybeReorder();
     I.freeVelocities(dt);
     I.reachFloor.clear();

@@ -78,6 +78,7 @@ void System::setMaterial(int id, const Material& m)
     {
         // warm start of a packing under gravity: impulses scale with the masses
         // (contact records index grains by slot: I.order maps them to grains)
+        I.syncKeptContacts();
         const int N = int(I.x.size());
         auto grain = [&](int b) { return b < N ? I.order[b] : -1; };
         auto other = [&](int g) { return g < 0 || I.fix[g] || I.mat[g] == id; };
@@ -130,10 +131,9 @@ void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
     order.push_back(int(x.size()) - 1);  // a new grain takes the last slot
     slotOf.push_back(int(x.size()) - 1);
     // the kept contacts name a wall or droplet as body N + k: one more grain
-    // shifts them (as Remove.cpp's compaction does the other way)
-    const int oldN = int(x.size()) - 1;
-    for (Contact& c : contacts)
-        if (c.j >= oldN) ++c.j;
+    // shifts them (as Remove.cpp's compaction does the other way), once,
+    // when they are next used (keptContactsN)
+    if (keptContactsN < 0 && !contacts.empty()) keptContactsN = int(x.size()) - 1;
     verlet.invalidate();
     setMassInertia(x.size() - 1);
 }

@@ -34,6 +34,7 @@ namespace
     Fastest fastest(ImplT& I, double dt)
     {
         Fastest f;
+        I.syncKeptContacts();  // the contacts of the last step, after grains were added
         I.freeVelocities(dt);
         const int N = int(I.x.size()), NW = int(I.walls.size());
         for (int i = 0; i < N; ++i)  // by grain (bodies by slot)
@@ -368,6 +369,7 @@ void System::setContactImpulses(const std::vector<ContactView>& views, double dt
     }
     std::stable_sort(cs.begin(), cs.end(), [](const Contact& a, const Contact& b) { return a.i < b.i; });
     I.contacts = std::move(cs);
+    I.keptContactsN = -1;  // written for the grains there are now
     I.lastDt = dt;
 }
 
@@ -376,7 +378,11 @@ std::vector<System::ContactView> System::contacts() const
     const Impl& I = *impl_;
     std::vector<ContactView> out;
     out.reserve(I.contacts.size());
-    for (const Contact& c : I.contacts) out.push_back(I.contactView(c));
+    for (Contact c : I.contacts)
+    {
+        c.j = I.keptBody(c);  // (grains added since the last step)
+        out.push_back(I.contactView(c));
+    }
     return out;
 }
 

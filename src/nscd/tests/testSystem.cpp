@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 using namespace nscd;
@@ -236,8 +237,15 @@ TEST(Contacts, AddingAGrainKeepsWallContacts)
     ASSERT_EQ(s.contacts().size(), 1u);
     EXPECT_EQ(s.contacts()[0].j, -1);
     s.addGrain(Vec3(1, 1, 0), 0.01, m);  // far away
+    s.addGrain(Vec3(2, 1, 0), 0.01, m);  // two grains added before the records are used
     ASSERT_EQ(s.contacts().size(), 1u);
     EXPECT_EQ(s.contacts()[0].j, -1);
+    // a state written before the next step keeps the wall contact too
+    s.writeHDF5("nscd_added_grains.h5");
+    const System back = System::readHDF5("nscd_added_grains.h5");
+    std::remove("nscd_added_grains.h5");
+    ASSERT_EQ(back.contacts().size(), 1u);
+    EXPECT_EQ(back.contacts()[0].j, -1);
     const StepReport r = s.step(1e-3);
     EXPECT_LE(r.sweeps, 1);
     EXPECT_NEAR(s.contacts()[0].impulse.y(), s.mass(0)*9.81*1e-3, 1e-9*s.mass(0)*9.81*1e-3);
