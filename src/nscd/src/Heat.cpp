@@ -256,11 +256,12 @@ void System::Impl::heatGraph(double dt)
     }
 }
 
-void System::Impl::heatSolve(StepReport& rep)
+void System::Impl::heatSolve(StepReport& rep, const HeatProduct& applyA, const HeatDot& dot,
+                             const std::vector<char>& rows)
 {
     const int n = int(heatGrain.size());
     // ---- solve A dT = r0 by Jacobi-preconditioned conjugate gradients ----
-    auto applyA = [&](const std::vector<double>& p, std::vector<double>& y)
+    const HeatProduct wholeA = [&](std::vector<double>& p, std::vector<double>& y)
     {
         for (int a = 0; a < n; ++a) y[a] = hDiag[a]*p[a];
         for (const HeatEdge& e : heatEdges)
@@ -269,33 +270,37 @@ void System::Impl::heatSolve(StepReport& rep)
             y[e.b] -= e.H*p[e.a];
         }
     };
-    auto dot = [n](const std::vector<double>& u, const std::vector<double>& v)
+    const HeatDot wholeDot = [n](const std::vector<double>& u, const std::vector<double>& v)
     {
         double s = 0;
         for (int a = 0; a < n; ++a) s += u[a]*v[a];
         return s;
     };
-    const double r0 = std::sqrt(dot(hR, hR));
+    const HeatProduct& A = applyA ? applyA : wholeA;
+    const HeatDot& inner = dot ? dot : wholeDot;
+    auto row = [&](int a) { return rows.empty() || rows[a]; };
+    const double r0 = std::sqrt(inner(hR, hR));
     int it = 0;
     double res = 0;
     if (r0 > 0)
     {
-        for (int a = 0; a < n; ++a) { hZ[a] = hR[a]/hDiag[a]; hP[a] = hZ[a]; }
-        double rz = dot(hR, hZ);
+        for (int a = 0; a < n; ++a) { hZ[a] = row(a) ? hR[a]/hDiag[a] : 0.0; hP[a] = hZ[a]; }
+        double rz = inner(hR, hZ);
         const double tol = settings.heatTolerance*r0;
         double rn = r0;
         while (it < settings.heatMaxIterations)
         {
             ++it;
-            applyA(hP, hAp);
-            const double pAp = dot(hP, hAp);
+            A(hP, hAp);
+            const double pAp = inner(hP, hAp);
             if (!(pAp > 0)) break;
             const double alpha = rz/pAp;
-            for (int a = 0; a < n; ++a) { hX[a] += alpha*hP[a]; hR[a] -= alpha*hAp[a]; }
-            rn = std::sqrt(dot(hR, hR));
+            for (int a = 0; a < n; ++a)
+                if (row(a)) { hX[a] += alpha*hP[a]; hR[a] -= alpha*hAp[a]; }
+            rn = std::sqrt(inner(hR, hR));
             if (rn <= tol) break;
-            for (int a = 0; a < n; ++a) hZ[a] = hR[a]/hDiag[a];
-            const double rzNew = dot(hR, hZ);
+            for (int a = 0; a < n; ++a) hZ[a] = row(a) ? hR[a]/hDiag[a] : 0.0;
+            const double rzNew = inner(hR, hZ);
             const double beta = rzNew/rz;
             rz = rzNew;
             for (int a = 0; a < n; ++a) hP[a] = hZ[a] + beta*hP[a];

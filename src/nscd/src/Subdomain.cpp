@@ -5,6 +5,7 @@
 #include "nscd/Subdomain.H"
 
 #include "LocalSolve.H"
+#include "SubdomainHeat.H"
 #include "SystemImpl.H"
 
 #include <algorithm>
@@ -313,7 +314,8 @@ Subdomain::GrainState Subdomain::state(std::size_t i) const
 {
     const System::Impl& I = *sys_.impl_;
     return {I.x[i], I.v[i], I.w[i], I.q[i], I.force[i], I.torque[i], I.T[i],
-            I.dragCoefficient[i], I.dragVelocity[i], I.dragImpulse[i]};
+            I.dragCoefficient[i], I.dragVelocity[i], I.dragImpulse[i],
+            bool(I.fixT[i]), I.heatQ[i], I.heatH[i], I.heatTf[i]};
 }
 
 void Subdomain::setState(std::size_t i, const GrainState& s)
@@ -329,6 +331,10 @@ void Subdomain::setState(std::size_t i, const GrainState& s)
     I.dragCoefficient[i] = s.dragCoefficient;
     I.dragVelocity[i] = s.fluidVelocity;
     I.dragImpulse[i] = s.dragImpulse;
+    I.fixT[i] = s.fixedTemperature;
+    I.heatQ[i] = s.heatSource;
+    I.heatH[i] = s.heatExchange;
+    I.heatTf[i] = s.bathTemperature;
 }
 
 System Subdomain::withoutGrains(const System& s)
@@ -358,6 +364,7 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     // input checks, collective: if one subdomain refuses the step, all do
     // (none is left waiting in a collective of the step)
     std::string refused;
+    bool heat = false;
     try
     {
         if (owned.size() != std::size_t(N) || globalId.size() != std::size_t(N))
@@ -366,9 +373,13 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
                              + std::to_string(globalId.size()));
         if (!(dt > 0) || !std::isfinite(dt))
             throw InputError("nscd::Subdomain::step: dt must be > 0, got " + std::to_string(dt));
-        if (!I.droplets.empty() || (I.cohesionForce > 0 && I.cohesionPredicate) || I.heatCheck())
-            throw InputError("nscd::Subdomain::step: heat, cohesion and droplets are not decomposed yet;"
+        if (!I.droplets.empty() || (I.cohesionForce > 0 && I.cohesionPredicate))
+            throw InputError("nscd::Subdomain::step: cohesion and droplets are not decomposed yet;"
                              " run them on one rank");
+        if (!(I.settings.heatTolerance > 0) || I.settings.heatMaxIterations < 1)
+            throw InputError("nscd::Subdomain::step: invalid settings (need heatTolerance > 0,"
+                             " heatMaxIterations >= 1)");
+        heat = I.heatCheck();
         if (!(I.settings.tolerance > 0) || I.settings.maxIterations < 1)
             throw InputError("nscd::Subdomain::step: invalid settings (need tolerance > 0, maxIterations >= 1)");
     }
@@ -477,6 +488,13 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     I.dragCopies = nullptr;
     I.dragInterface = nullptr;
     I.storeImpulses(dt, NC0, rep);
+
+    if (coupling_.maxOverSubdomains(heat ? 1.0 : 0.0) > 0)
+    {
+        const auto t2 = clock::now();
+        decomposedHeatStep(I, coupling_, owned, dt, rep);
+        rep.heatSeconds = std::chrono::duration<double>(clock::now() - t2).count();
+    }
     return rep;
 }
 

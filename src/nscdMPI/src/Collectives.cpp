@@ -67,6 +67,28 @@ void DecomposedSystem::copyToGhosts(std::vector<double>& values, int components)
     passAlong(I, I.sendTo, I.ghostFrom, values, components, TagGhostValues, [](double& v, double got) { v = got; });
 }
 
+double DecomposedSystem::Impl::sumOverSubdomains(double value)
+{
+    CpuTimer t(counters.solveCommCpuSeconds);
+    double out = value;
+    MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_SUM, comm);
+    return out;
+}
+
+void DecomposedSystem::Impl::sumGhostsToOwners(std::vector<double>& values)
+{
+    CpuTimer t(counters.solveCommCpuSeconds);
+    if (P == 1) return;
+    passAlong(*this, ghostFrom, sendTo, values, 1, TagSums, [](double& v, double got) { v += got; });
+}
+
+void DecomposedSystem::Impl::copyOwnersToGhosts(std::vector<double>& values)
+{
+    CpuTimer t(counters.solveCommCpuSeconds);
+    if (P == 1) return;
+    passAlong(*this, sendTo, ghostFrom, values, 1, TagGhostValues, [](double& v, double got) { v = got; });
+}
+
 std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
 {
     const Impl& I = *impl_;

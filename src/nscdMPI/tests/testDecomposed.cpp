@@ -447,6 +447,96 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
     if (worldRank() == 0) std::remove(state.c_str());
 }
 
+// Heat conduction across the interfaces: 6 vertical columns of 12 discs of
+// 1 mm resting on a floor held at 300 K, the discs at 300-500 K, a heat
+// source on each column's top disc, an exchange with a 350 K bath on its
+// third, a fixed-temperature disc (450 K) in column 2; horizontal slabs, so
+// every column's conduction crosses every interface. A column's contact
+// forces are statically determinate (the weight above), so the decomposed
+// and the undecomposed solves give the same conductances to the contact
+// tolerance, and the temperatures must agree to 1e-8 of the 200 K span after
+// 20 steps. Independent of the serial run, the heat budget closes to
+// round-off: the change of the heat content of the owned grains equals the
+// summed wall, fixed-grain and source heat (conservation). The heat capacity
+// is small (1e-3 J/(kg K)) so that H dt/(m c) ~ 0.1 and heat crosses several
+// discs in 20 steps.
+TEST(Decomposed, HeatConductionAcrossTheInterfacesMatchesSerial)
+{
+    const int cols = 6, rows = 12;
+    const double r = 0.5e-3, pitch = 1.5e-3, H = rows*2*r, dt = 1e-4;
+    auto setUp = [&](System& S)
+    {
+        S.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
+        S.setWallTemperature(0, 300);
+        S.setGravity(Vec3(0, -9.81, 0));
+        S.settings().tolerance = 1e-13;
+        S.settings().heatTolerance = 1e-14;
+        Material m{2500, 0.3};
+        m.youngModulus = 1e9;
+        m.poissonRatio = 0.3;
+        m.conductivity = 1.0;
+        m.heatCapacity = 1e-3;
+        return S.addMaterial(m);
+    };
+    auto centre = [&](long k) { return Vec3((k/rows + 0.5)*pitch, (2*(k % rows) + 1)*r, 0); };
+    auto T0 = [&](long k) { return 300 + 200*double((k*7) % 13)/12; };
+    // heat input of grain k: (fixed temperature, source Q [W/m], exchange h [W/(m K)])
+    auto heatInput = [&](System& S, std::size_t i, long k)
+    {
+        S.temperatures()[i] = T0(k);
+        if (k % rows == rows - 1) S.setHeatSource(i, 1e-3*(1 + k/rows));
+        if (k % rows == 2) S.setHeatExchange(i, 1e-3, 350);
+        if (k == 2*rows + 5) { S.setFixedTemperature(i, true); S.temperatures()[i] = 450; }
+    };
+    DecomposedSystem D(2, MPI_COMM_WORLD, slabs(1, 0, H), 2.5e-3);
+    const int m = setUp(D.system());
+    for (long k = 0; k < cols*rows; ++k) D.addGrain(k, centre(k), r, m);
+    D.exchange();
+    for (std::size_t i = 0; i < D.system().size(); ++i) heatInput(D.system(), i, D.globalIds()[i]);
+    System serial(2);
+    setUp(serial);
+    for (long k = 0; k < cols*rows; ++k) serial.addGrain(centre(k), r, m);
+    for (long k = 0; k < cols*rows; ++k) heatInput(serial, std::size_t(k), k);
+
+    auto ownedHeat = [&]()
+    {
+        double q = 0;
+        const System& S = D.system();
+        for (std::size_t i = 0; i < S.size(); ++i)
+            if (D.owned()[i] && !S.fixedTemperature(i))
+                q += S.mass(i)*S.material(S.materials()[i]).heatCapacity*S.temperatures()[i];
+        return sumAll(q);
+    };
+    const double q0 = ownedHeat();
+    double budget = 0, budgetScale = 0;
+    int iterations = 0;
+    for (int n = 0; n < 20; ++n)
+    {
+        const StepReport rep = D.step(dt);
+        const StepReport repSerial = serial.step(dt);
+        EXPECT_TRUE(rep.converged);
+        budget += rep.wallHeat + rep.fixedGrainHeat + rep.sourceHeat;
+        budgetScale += std::abs(rep.wallHeat) + std::abs(rep.fixedGrainHeat) + std::abs(rep.sourceHeat);
+        EXPECT_NEAR(rep.wallHeat, repSerial.wallHeat, 1e-8*std::abs(repSerial.wallHeat));
+        iterations = std::max(iterations, rep.heatIterations);
+    }
+    double dT = 0, spread = 0;
+    for (std::size_t i = 0; i < D.system().size(); ++i)
+    {
+        const double Ts = serial.temperatures()[std::size_t(D.globalIds()[i])];
+        dT = std::max(dT, std::abs(D.system().temperatures()[i] - Ts));  // ghosts included
+    }
+    for (std::size_t k = 0; k < serial.size(); ++k) spread = std::max(spread, std::abs(serial.temperatures()[k] - T0(long(k))));
+    dT = maxAll(dT);
+    const double closure = std::abs(ownedHeat() - q0 - budget);
+    if (worldRank() == 0)
+        std::printf("[ heat ] %d ranks: max |T - T(serial)| %.2e K (largest change %.2f K), budget defect %.2e of "
+                    "%.2e J/m, CG iterations/step max %d\n", worldSize(), dT, spread, closure, budgetScale, iterations);
+    EXPECT_GT(spread, 1.0);  // the heat moved
+    EXPECT_LT(dT, 1e-8*200);
+    EXPECT_LT(closure, 1e-12*budgetScale + 1e-14*q0);
+}
+
 TEST(Decomposed, BadInputIsRefused)
 {
     EXPECT_THROW(DecomposedSystem(2, MPI_COMM_WORLD, slabs(0, 0, 1), 0.0), InputError);
