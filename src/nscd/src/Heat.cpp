@@ -256,20 +256,23 @@ void System::Impl::heatGraph(double dt)
     }
 }
 
+void System::Impl::heatProduct(const std::vector<double>& p, std::vector<double>& y) const
+{
+    const int n = int(heatGrain.size());
+    for (int a = 0; a < n; ++a) y[a] = hDiag[a]*p[a];
+    for (const HeatEdge& e : heatEdges)
+    {
+        y[e.a] -= e.H*p[e.b];
+        y[e.b] -= e.H*p[e.a];
+    }
+}
+
 void System::Impl::heatSolve(StepReport& rep, const HeatProduct& applyA, const HeatDot& dot,
                              const std::vector<char>& rows)
 {
     const int n = int(heatGrain.size());
     // ---- solve A dT = r0 by Jacobi-preconditioned conjugate gradients ----
-    const HeatProduct wholeA = [&](std::vector<double>& p, std::vector<double>& y)
-    {
-        for (int a = 0; a < n; ++a) y[a] = hDiag[a]*p[a];
-        for (const HeatEdge& e : heatEdges)
-        {
-            y[e.a] -= e.H*p[e.b];
-            y[e.b] -= e.H*p[e.a];
-        }
-    };
+    const HeatProduct wholeA = [this](std::vector<double>& p, std::vector<double>& y) { heatProduct(p, y); };
     const HeatDot wholeDot = [n](const std::vector<double>& u, const std::vector<double>& v)
     {
         double s = 0;
@@ -311,15 +314,19 @@ void System::Impl::heatSolve(StepReport& rep, const HeatProduct& applyA, const H
     rep.heatResidual = res;
 }
 
-void System::Impl::heatUpdate(double dt, StepReport& rep)
+void System::Impl::heatUpdate(double dt, StepReport& rep, const std::vector<char>& rows,
+                              const std::function<void(std::vector<double>&)>& toOwners)
 {
     const int n = int(heatGrain.size());
+    auto row = [&](int a) { return rows.empty() || rows[a]; };
     // ---- flux-form update with the implicit temperatures T* = T^n + dT ----
     // hX <- T*, hR <- heat rate into each unknown
     for (int a = 0; a < n; ++a)
     {
         const int i = heatGrain[a];
         hX[a] += T[i];
+        hR[a] = 0;
+        if (!row(a)) continue;
         const double exchange = heatH[i]*(heatTf[i] - hX[a]);
         hR[a] = heatQ[i] + exchange;
         rep.sourceHeat += dt*hR[a];
@@ -337,7 +344,9 @@ void System::Impl::heatUpdate(double dt, StepReport& rep)
         hR[bd.a] += F;
         (bd.wall ? rep.wallHeat : rep.fixedGrainHeat) += dt*F;
     }
-    for (int a = 0; a < n; ++a) T[heatGrain[a]] += dt*hR[a]/hCap[a];
+    if (toOwners) toOwners(hR);
+    for (int a = 0; a < n; ++a)
+        if (row(a)) T[heatGrain[a]] += dt*hR[a]/hCap[a];
 }
 
 void System::Impl::heatStep(double dt, StepReport& rep)

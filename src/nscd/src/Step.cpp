@@ -41,28 +41,27 @@ Eigen::Quaterniond rotate(const Eigen::Quaterniond& q, const Vec3& w, double dt)
     r.normalize();
     return r;
 }
+} // namespace
 
-/// Throws InputError if the settings cannot be used by a step.
-void checkSettings(const System::Settings& S)
+void System::Impl::checkSettings(const System::Settings& S, const char* where)
 {
     if (!(S.tolerance > 0) || S.maxIterations < 1 || !(S.relaxation > 0 && S.relaxation < 2)
         || !(S.overlapSlop >= 0) || !(S.alertDistanceFactor >= 0) || !(S.alertMargin >= 0)
         || !(S.verletSkin >= 0 && std::isfinite(S.verletSkin)))
-        throw InputError("nscd::System::step: invalid settings (need tolerance > 0, maxIterations >= 1, "
+        throw InputError(std::string(where) + ": invalid settings (need tolerance > 0, maxIterations >= 1, "
                          "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0, finite verletSkin >= 0)");
     const int m = int(S.method);
     if (m < 0 || m > int(System::Settings::Method::NNCG))
-        throw InputError("nscd::System::step: invalid settings (unknown contact solver method "
+        throw InputError(std::string(where) + ": invalid settings (unknown contact solver method "
                          + std::to_string(m) + "; methods: NLGS, OverRelaxedNLGS, APGD, NNCG)");
     if (!(S.heatTolerance > 0) || S.heatMaxIterations < 1)
-        throw InputError("nscd::System::step: invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
+        throw InputError(std::string(where) + ": invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
     if (S.reorderInterval < 0)
-        throw InputError("nscd::System::step: invalid settings (need reorderInterval >= 0, got "
+        throw InputError(std::string(where) + ": invalid settings (need reorderInterval >= 0, got "
                          + std::to_string(S.reorderInterval) + "; 0 switches the reordering off)");
     if (S.cohesionMinAge < 0)
-        throw InputError("nscd::System::step: invalid settings (need cohesionMinAge >= 0, got "
+        throw InputError(std::string(where) + ": invalid settings (need cohesionMinAge >= 0, got "
                          + std::to_string(S.cohesionMinAge) + ")");
-}
 }
 
 StepReport System::step(double dt)
@@ -70,7 +69,7 @@ StepReport System::step(double dt)
     if (!(dt > 0) || !std::isfinite(dt))
         throw InputError("nscd::System::step: dt must be > 0, got " + std::to_string(dt));
     Impl& I = *impl_;
-    checkSettings(I.settings);
+    Impl::checkSettings(I.settings, "nscd::System::step");
     for (const Droplet& d : I.droplets) checkDroplet(d, "nscd::System::step");
     for (Droplet& d : I.droplets)
         if (d.grainImpulse.size() != I.x.size()) d.grainImpulse.assign(I.x.size(), 0.0);

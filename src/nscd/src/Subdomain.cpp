@@ -376,12 +376,8 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         if (!I.droplets.empty() || (I.cohesionForce > 0 && I.cohesionPredicate))
             throw InputError("nscd::Subdomain::step: cohesion and droplets are not decomposed yet;"
                              " run them on one rank");
-        if (!(I.settings.heatTolerance > 0) || I.settings.heatMaxIterations < 1)
-            throw InputError("nscd::Subdomain::step: invalid settings (need heatTolerance > 0,"
-                             " heatMaxIterations >= 1)");
+        System::Impl::checkSettings(I.settings, "nscd::Subdomain::step");
         heat = I.heatCheck();
-        if (!(I.settings.tolerance > 0) || I.settings.maxIterations < 1)
-            throw InputError("nscd::Subdomain::step: invalid settings (need tolerance > 0, maxIterations >= 1)");
     }
     catch (const InputError& e)
     {

@@ -6,9 +6,6 @@
 namespace nscd
 {
 
-using HeatEdge = System::Impl::HeatEdge;
-using HeatBoundary = System::Impl::HeatBoundary;
-
 void decomposedHeatStep(System::Impl& I, SubdomainCoupling& C, const std::vector<char>& owned, double dt,
                         StepReport& rep)
 {
@@ -51,60 +48,26 @@ void decomposedHeatStep(System::Impl& I, SubdomainCoupling& C, const std::vector
     const System::Impl::HeatProduct applyA = [&](std::vector<double>& p, std::vector<double>& y)
     {
         copyToGhosts(p);
-        for (int a = 0; a < n; ++a) y[a] = mine[a] ? I.hDiag[a]*p[a] : 0.0;
-        for (const HeatEdge& e : I.heatEdges)
-        {
-            y[e.a] -= e.H*p[e.b];
-            y[e.b] -= e.H*p[e.a];
-        }
+        I.heatProduct(p, y);
         sumToOwners(y);
     };
-    sumToOwners(I.hDiag);
+    sumToOwners(I.hDiag);  // (the ghosts' entries now 0: not rows here)
     sumToOwners(I.hR);
-    for (int a = 0; a < n; ++a)
-        if (!mine[a]) I.hDiag[a] = 1;  // not a row here
 
-    // Jacobi-preconditioned conjugate gradients for the increment (Heat.cpp)
-    // on the owned rows
-    I.heatSolve(rep, applyA, dot, mine);
-
-    // flux-form update with T* = T^n + dT (Heat.cpp), the ghosts' T* from
-    // their owners; the fluxes into ghosts summed to their owners
-    std::vector<double>& x = I.hX;
-    copyToGhosts(x);
-    double source = 0, exchange = 0, wall = 0, fixedGrain = 0;
-    std::vector<double>& q = I.hR;
-    for (int a = 0; a < n; ++a)
-    {
-        const int i = I.heatGrain[a];
-        x[a] += I.T[i];
-        q[a] = 0;
-        if (!mine[a]) continue;
-        const double e = I.heatH[i]*(I.heatTf[i] - x[a]);
-        q[a] = I.heatQ[i] + e;
-        source += dt*q[a];
-        exchange += dt*e;
-    }
-    for (const HeatEdge& e : I.heatEdges)
-    {
-        const double F = e.H*(x[e.b] - x[e.a]);
-        q[e.a] += F;
-        q[e.b] -= F;
-    }
-    for (const HeatBoundary& bd : I.heatBounds)
-    {
-        const double F = bd.H*(bd.T - x[bd.a]);
-        q[bd.a] += F;
-        (bd.wall ? wall : fixedGrain) += dt*F;
-    }
-    sumToOwners(q);
-    for (int a = 0; a < n; ++a)
-        if (mine[a]) I.T[I.heatGrain[a]] += dt*q[a]/I.hCap[a];
+    // Jacobi-preconditioned conjugate gradients for the increment and the
+    // flux-form update (Heat.cpp) on the owned rows, the ghosts' T* from
+    // their owners and the heat rates into ghosts moved to their owners
+    StepReport h;
+    I.heatSolve(h, applyA, dot, mine);
+    copyToGhosts(I.hX);
+    I.heatUpdate(dt, h, mine, sumToOwners);
     C.copyOwnersToGhosts(I.T);
-    rep.sourceHeat += C.sumOverSubdomains(source);
-    rep.exchangeHeat += C.sumOverSubdomains(exchange);
-    rep.wallHeat += C.sumOverSubdomains(wall);
-    rep.fixedGrainHeat += C.sumOverSubdomains(fixedGrain);
+    rep.heatIterations = h.heatIterations;
+    rep.heatResidual = h.heatResidual;
+    rep.sourceHeat += C.sumOverSubdomains(h.sourceHeat);
+    rep.exchangeHeat += C.sumOverSubdomains(h.exchangeHeat);
+    rep.wallHeat += C.sumOverSubdomains(h.wallHeat);
+    rep.fixedGrainHeat += C.sumOverSubdomains(h.fixedGrainHeat);
 }
 
 } // namespace nscd
