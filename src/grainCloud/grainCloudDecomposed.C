@@ -40,26 +40,12 @@ Description
 bool Foam::grainCloud::partStart(const string& notDecomposable) const
 {
     // the conditions of selectDecomposition that replicate the grains,
-    // known before the state is read (the dictionary's materials replace
-    // the state's: applyDictionaryMaterials)
-    if
-    (
-        !Pstream::parRun()
-     || !notDecomposable.empty()
-     || dict_.found("outletPatches")
-     || dict_.getOrDefault<word>("grainDecomposition", "decomposed") != "decomposed"
-    )
-    {
-        return false;
-    }
-    for (const nscd::Material& m : dictionaryMaterials())
-    {
-        if (m.heatCapacity > 0)
-        {
-            return false;
-        }
-    }
-    return true;
+    // known before the state is read
+    return
+        Pstream::parRun()
+     && notDecomposable.empty()
+     && !dict_.found("outletPatches")
+     && dict_.getOrDefault<word>("grainDecomposition", "decomposed") == "decomposed";
 }
 
 
@@ -129,10 +115,6 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
     if (!notDecomposable.empty())
     {
         why.append(notDecomposable);
-    }
-    if (heatOn())
-    {
-        why.append("heat conduction (a material with heatCapacity)");
     }
     if (outletPatches_.size())
     {

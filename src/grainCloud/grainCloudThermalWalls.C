@@ -194,14 +194,17 @@ void Foam::grainCloud::applyFrontRearWalls()
 
 bool Foam::grainCloud::heatOn() const
 {
+    bool on = false;
     for (const int m : system_->materials())
     {
         if (system_->material(m).heatCapacity > 0)
         {
-            return true;
+            on = true;
+            break;
         }
     }
-    return false;
+    // decomposed: a rank may hold no grain (the same answer on every rank)
+    return decomposed_ ? returnReduce(on, orOp<bool>()) : on;
 }
 
 
@@ -213,13 +216,19 @@ Foam::scalar Foam::grainCloud::meanTemperature() const
     {
         if
         (
-            system_->material(system_->materials()[i]).heatCapacity > 0
+            owned(i)
+         && system_->material(system_->materials()[i]).heatCapacity > 0
          && !system_->fixedTemperature(i)
         )
         {
             s += system_->temperatures()[i];
             ++n;
         }
+    }
+    if (decomposed_)
+    {
+        reduce(s, sumOp<scalar>());
+        reduce(n, sumOp<label>());
     }
     return n > 0 ? s/n : 0;
 }
@@ -259,14 +268,23 @@ Foam::grainCloud::wallHeatRates(scalar dt) const
         const auto iter = wallSlot.cfind(Foam::name(w));
         if (!iter.found()) continue;
         const label i = c.i;
+        // decomposed: a grain-wall contact conducts on the grain's owner
         if
         (
-            system_->material(system_->materials()[i]).heatCapacity > 0
+            owned(i)
+         && system_->material(system_->materials()[i]).heatCapacity > 0
          && !system_->fixedTemperature(i)
         )
         {
             const scalar H = system_->contactConductance(c, dtSub);
             rates[iter.val()].second += H*(system_->wallTemperature(w) - T[i]);
+        }
+    }
+    if (decomposed_)
+    {
+        for (auto& r : rates)
+        {
+            reduce(r.second, sumOp<scalar>());
         }
     }
     return rates;

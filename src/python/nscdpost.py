@@ -187,8 +187,9 @@ def heat_log(log):
     """Per time step of a vansFoam log (text) with heat on: dict of arrays
     from the "heat:" lines, `time` [s] (of the preceding "Time =" line),
     `grain_T`, `fluid_T` [K] (means), `Q` [J] (exchanged), `E` [J] (fluid +
-    grains energy), and from the "heat budget:" lines `budget` (n, 5) [J]
-    (fluid boundary, advected, sources, grain walls, fixed grains) and
+    grains energy), and from the "heat budget:" lines `budget` (n, 6) [J]
+    (fluid boundary, advected, sources, grain walls, fixed grains,
+    continuity defect: 0 in logs without it) and
     `patches`, a list with one dict per budget line mapping each patch of
     the preceding "heat patch" lines to its (conduction, advected) rates [W]."""
     t, heat, bud, patches, current = None, [], [], [], {}
@@ -207,14 +208,15 @@ def heat_log(log):
             heat.append((t,) + tuple(float(v) for v in m.groups()))
             continue
         m = re.match(r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, "
-                     r"sources = (\S+) J, grain walls = (\S+) J, fixed grains = (\S+) J", line)
+                     r"sources = (\S+) J, grain walls = (\S+) J, fixed grains = (\S+) J"
+                     r"(?:, continuity defect = (\S+) J)?", line)
         if m:
-            bud.append([float(v) for v in m.groups()])
+            bud.append([float(v) if v is not None else 0.0 for v in m.groups()])
             patches.append(current)
             current = {}
     h = np.array(heat, dtype=float).reshape(-1, 5)
     return {"time": h[:, 0], "grain_T": h[:, 1], "fluid_T": h[:, 2], "Q": h[:, 3], "E": h[:, 4],
-            "budget": np.array(bud, dtype=float).reshape(-1, 5), "patches": patches}
+            "budget": np.array(bud, dtype=float).reshape(-1, 6), "patches": patches}
 
 
 def log_paths(case, app="vansFoam"):

@@ -134,6 +134,9 @@ def test_parallel_matches_serial(tmp_path, env, release):
                  outlet=True, centre=centre, extra=f"vapourRelease {release};\n")
     par = str(tmp_path / "par")
     shutil.copytree(case, par)
+    # the droplet needs every grain on every rank (vansFoam README, Parallel)
+    with open(os.path.join(par, "constant", "grainProperties"), "a") as f:
+        f.write("grainDecomposition replicated;\n")
     run("vansFoam", case, env)
     from foamcase import run_parallel
     run_parallel("vansFoam", par, env, n=2)

@@ -21,7 +21,10 @@ References, independent of the decomposition:
   - no grain lost or duplicated: the state gathered at every write holds
     every grain id exactly once;
   - restart: a run stopped on 2 ranks continues on 4 from the gathered
-    state, carrying the weight at once (warm start kept).
+    state, carrying the weight at once (warm start kept);
+  - heat conduction across a processor boundary: the steady temperatures
+    of a conducting column in closed form, and the serial run to 1e-8 of
+    the temperature span.
 """
 import os
 import re
@@ -204,34 +207,33 @@ def test_pile_at_rest_across_ranks_and_restart(tmp_path, env):
     assert sorted(ids) == list(range(300))
 
 
-def test_decomposition_refused_with_heat(tmp_path, env):
-    """Heat conduction is not decomposed yet: by default the run says so and
-    replicates the grains; an explicit grainDecomposition decomposed stops
-    with the reason and the fix."""
-    from foamcase import mpirun_could_not_start
-    case = str(tmp_path / "heat")
-    make_box_case(case, (0, 0, 0), (0.1, 0.1, 0.01), (4, 4, 1), (0, -G, 0),
-                  {"glass": {"density": 2500, "friction": 0.4}},
-                  grains=[(0.03, 0.005, 0, 0.01), (0.07, 0.005, 0, 0.01)],
-                  end_time=0.002, dt=1e-3, write_interval=0.002, extra_props="initialTemperature 300;\n")
-    path = os.path.join(case, "constant", "grainProperties")
-    text = open(path).read()
-    assert "friction 0.4; }" in text
-    open(path, "w").write(text.replace("friction 0.4; }", "friction 0.4; conductivity 1; heatCapacity 800;"
-                                       " youngModulus 6e10; poissonRatio 0.2; }"))
-    run("blockMesh", case, env)
-    run("grainDeposit", case, env)
-    p = run_parallel("grainFoam", case, env, n=2)
-    assert "every rank holds every grain (grainDecomposition replicated: heat conduction" in p.stdout
-    open(path, "a").write("grainDecomposition decomposed;\n")
-    p = subprocess.run(["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
-                       env=env, capture_output=True, text=True)
-    if mpirun_could_not_start(p):
-        pytest.skip("mpirun cannot start here")
-    assert p.returncode != 0
-    out = p.stdout + p.stderr
-    assert "grainDecomposition decomposed: not available with heat conduction" in out, out[-2000:]
-    assert "grainDecomposition replicated" in out
+def test_heat_conduction_across_ranks_matches_serial(tmp_path, env):
+    """Contact conduction (thesis eq. 4.1-4.3) with the grains decomposed:
+    the static column of test_grainHeat.py (5 discs between a floor at
+    400 K and a right wall at 300 K) split across its height over 2 ranks,
+    so that a grain-grain contact conducts across the processor boundary.
+    References: the steady ladder network solved in closed form
+    (test_grainHeat.check_column: grain temperatures to 1e-3 of the span,
+    wall heat rates to 1 %, summed over the ranks), and the serial run:
+    grain temperatures within 1e-6 K (1e-8 of the 100 K span) at 0.6 s."""
+    from test_grainHeat import check_column, column_case
+    serial, _ = column_case(tmp_path, env, "serial")
+    par = str(tmp_path / "par")
+    _copy(serial, par)
+    p = run_parallel("grainFoam", par, env, n=2, split=(1, 2, 1))
+    assert "grains decomposed over 2 ranks" in p.stdout
+    assert min(_owned_per_rank(p.stdout, 2)) > 0   # the column crosses the boundary
+    run("reconstructPar", par, env, args=("-latestTime",))
+    check_column(par, p.stdout)
+    check_column(serial, run("grainFoam", serial, env).stdout)
+    temps = []
+    for case in (serial, par):
+        g = nscdpost.read_grains(case, "0.6")
+        T = nscdpost.read_scalar_field(os.path.join(case, "0.6", "lagrangian", "grains", "T"))
+        temps.append(T[np.argsort(g["grainId"])])
+    dT = np.max(np.abs(temps[0] - temps[1]))
+    print(f"[ heat, 2 ranks ] max |T - T_serial| = {dT:.2e} K; T {temps[1]}")
+    assert dT < 1e-6
 
 
 def test_grain_leaving_the_mesh_stops_a_decomposed_run(tmp_path, env):

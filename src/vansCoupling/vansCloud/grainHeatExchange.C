@@ -59,6 +59,17 @@ void Foam::grainHeatExchange::readProperties
             << " heatTransferModel is given in " << dict.name()
             << exit(FatalIOError);
     }
+    const word form(td.getOrDefault<word>("energyForm", "advective"));
+    if (form != "advective" && form != "conservative")
+    {
+        FatalIOErrorInFunction(td)
+            << "energyForm " << form << " in " << td.name() << ": unknown."
+            << nl << "    Fix: use advective (the default: the fluid"
+            << " temperature stays within its initial and boundary values"
+            << " where grains move) or conservative (eps T conserved"
+            << " exactly, the thesis' eq. 4.4)." << exit(FatalIOError);
+    }
+    advectiveForm_ = form == "advective";
     if (beta_ != 0 && !td.found("TRef"))
     {
         FatalIOErrorInFunction(td)
@@ -92,6 +103,10 @@ void Foam::grainHeatExchange::readProperties
     for (label i = 0; i < n; ++i)
     {
         if (T[i] != 0) allZero = false;
+    }
+    if (grains_.decomposed())
+    {
+        reduce(allZero, andOp<bool>());   // (a rank may hold no grain)
     }
     if (n > 0 && allZero)
     {
@@ -148,7 +163,8 @@ void Foam::grainHeatExchange::read
     readProperties(dict, td);
 
     Info<< "vansCloud: heat transfer on, fluid Cp " << Cp_ << " kappa "
-        << kappa_ << " Pr " << Cp_*rho_*nu_/kappa_;
+        << kappa_ << " Pr " << Cp_*rho_*nu_/kappa_ << ", energy equation in "
+        << (advectiveForm_ ? "advective" : "conservative") << " form";
     if (beta_ != 0)
     {
         Info<< ", Boussinesq beta " << beta_ << " TRef " << TRef_;
@@ -253,7 +269,10 @@ void Foam::grainHeatExchange::setSources
             // exactly the heat the fluid lost to grain i (the same weights
             // spread KT, KTTp and gather T)
             Qgrain_[i] = Hstar_[i]*(Tfluid_[i] - Tgrain0_[i]);
-            Qstep_ += dt*Qgrain_[i];
+            if (grains_.owned(i))
+            {
+                Qstep_ += dt*Qgrain_[i];
+            }
             s.setHeatSource
             (
                 i, Qgrain_[i]/depth + (film ? filmHeat[i] : scalar(0))
@@ -264,12 +283,37 @@ void Foam::grainHeatExchange::setSources
     {
         FatalErrorInFunction << err.what() << exit(FatalError);
     }
+    if (grains_.decomposed())
+    {
+        reduce(Qstep_, sumOp<scalar>());
+    }
+}
+
+
+void Foam::grainHeatExchange::setTfluid(List<scalar>&& Tf)
+{
+    Tfluid_.transfer(Tf);
 }
 
 
 Foam::scalar Foam::grainHeatExchange::grainHeatContent() const
 {
-    return grains_.system().heatContent()*adapter_.depth();
+    const nscd::System& s = grains_.system();
+    if (!grains_.decomposed())
+    {
+        return s.heatContent()*adapter_.depth();
+    }
+    // the owned grains' sum m c T (nscd::System::heatContent), over the ranks
+    scalar e = 0;
+    for (label i = 0; i < label(s.size()); ++i)
+    {
+        const scalar c = s.material(s.materials()[i]).heatCapacity;
+        if (grains_.owned(i) && !s.fixedTemperature(i) && c > 0)
+        {
+            e += s.mass(i)*c*s.temperatures()[i];
+        }
+    }
+    return returnReduce(e, sumOp<scalar>())*adapter_.depth();
 }
 
 
@@ -277,8 +321,19 @@ Foam::scalar Foam::grainHeatExchange::grainMeanTemperature() const
 {
     const std::vector<double>& T = grains_.system().temperatures();
     scalar sum = 0;
-    for (const double t : T) sum += t;
-    return T.empty() ? 0 : sum/T.size();
+    forAll(T, i)
+    {
+        if (grains_.owned(i))
+        {
+            sum += T[i];
+        }
+    }
+    const label n = grains_.nGrainsTotal();
+    if (grains_.decomposed())
+    {
+        reduce(sum, sumOp<scalar>());
+    }
+    return n > 0 ? sum/n : 0;
 }
 
 

@@ -62,12 +62,9 @@ namespace
         {
             why.append("resolvedCellsPerDiameter");
         }
-        for (const word key : {"heatTransferModel", "undisturbedVelocity"})
+        if (dict.getOrDefault<word>("undisturbedVelocity", "none") != "none")
         {
-            if (dict.getOrDefault<word>(key, "none") != "none")
-            {
-                why.append(key);
-            }
+            why.append("undisturbedVelocity");
         }
         if (dict.isDict("cohesion"))
         {

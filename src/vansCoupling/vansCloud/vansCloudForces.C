@@ -238,13 +238,15 @@ void Foam::vansCloud::evolveDecomposed(const scalar dt)
     // the grains change ranks and ghosts in the step: the per-grain state
     // of its start that updateGrainImpulses needs travels with them
     // (v^n, the explicit fluid force, the drag impulse the fluid gave, the
-    // gathered fluid velocity, Re_p for the log)
+    // gathered fluid velocity, Re_p for the log, the gathered fluid
+    // temperature for the output)
     const nscd::System& s = grains_.system();
-    constexpr int width = 13;
+    constexpr int width = 14;
     label n = s.size();
     const bool coupled =
         explicitFluidForce_.size() == n && fluidDragGiven_.size() == n
      && fluidVelocity_.size() == n && ReP_.size() == n;
+    const bool heat = heat_.Tfluid().size() == n;
     {
         std::vector<double>& carried = grains_.carriedValues(width);
         std::fill(carried.begin(), carried.end(), 0.0);
@@ -268,6 +270,7 @@ void Foam::vansCloud::evolveDecomposed(const scalar dt)
                 }
             }
             c[12] = coupled ? ReP_[i] : 0;
+            c[13] = heat ? heat_.Tfluid()[i] : 0;
         }
     }
 
@@ -282,6 +285,7 @@ void Foam::vansCloud::evolveDecomposed(const scalar dt)
     fluidForce_.setSize(n);
     ReP_.setSize(n);
     contactImpulse_.setSize(n);
+    List<scalar> Tfluid(n);
     for (label i = 0; i < n; ++i)
     {
         const double* c = carried.data() + std::size_t(i)*width;
@@ -290,6 +294,11 @@ void Foam::vansCloud::evolveDecomposed(const scalar dt)
         fluidDragGiven_[i] = vector(c[6], c[7], c[8]);
         fluidVelocity_[i] = vector(c[9], c[10], c[11]);
         ReP_[i] = c[12];
+        Tfluid[i] = c[13];
+    }
+    if (heat_.on())
+    {
+        heat_.setTfluid(std::move(Tfluid));
     }
     updateGrainImpulses(v0, dt);
 }
