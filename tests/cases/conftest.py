@@ -60,7 +60,8 @@ def env():
 # once for several tests.  `mpi`: the test runs mpirun (also fast
 # or slow by its own duration).  Update the lists when a test's cost moves.
 SLOW_MODULES = {"test_lituyaBay.py", "test_dropletDigging.py", "test_granularCollapse.py",
-                "test_tutorialAllruns.py", "test_grainFoam_decomposed.py"}
+                "test_tutorialAllruns.py", "test_grainFoam_decomposed.py",
+                "test_fluidisedBed3D.py"}
 SLOW_TESTS = {
     "test_resolvedRegime.py::test_falling_cylinder_terminal_velocity",
     "test_resolvedRegime.py::test_free_fixed_disc_galilean_consistency",
@@ -98,6 +99,7 @@ MPI_TESTS = {
     "test_cohesion.py::test_parallel_same_decision",
     "test_droplet_restart.py::test_parallel_matches_serial",
     "test_faults_state.py::test_reconstructPar_carries_grain_state",
+    "test_fluidisedBed3D.py::test_decomposed_bed_exchanges_momentum_and_keeps_its_grains",
     "test_faults_state.py::test_sigusr1_to_mpirun_writes_and_stops",
     "test_freeSurfaceFunctionObjects.py::test_wave_gauges_parallel_equals_serial",
     "test_grainFoam_decomposed.py::test_decomposed_collapse_matches_serial",

@@ -37,6 +37,8 @@ SMOKE = {
     "vansFoam/packedBedHeat": (["DiFeliceColburn", "1", "100"], "results.json", "Re*/Re*_T_t*.png"),
     "vansFoam/rayleighTaylor": (["0.1", "0.005"], "results.json", "case/case_voidFraction_t*.png"),
     "vansFoam/settling3D": (["0.02"], "results.json", "settling3D_voidFraction_t*.png"),
+    # 100,000 spheres on 2 ranks for 20 steps
+    "vansFoam/fluidisedBed3D": (["0.02", "2"], "case/results.json", "case/case_voidFraction_t*.png"),
     "vansInterFoam/damBreak": (["4"], "results.json", "case/case_alpha.water_t*.png"),
     # the six below pour a bed even at their smallest run (12-60 s each here)
     "grainFoam/columnCollapse": (["100"], "results.json", "a*/a*_grains_t*.png"),
