@@ -97,6 +97,7 @@ SLOW_TESTS = {
 }
 MPI_TESTS = {
     "test_cohesion.py::test_parallel_same_decision",
+    "test_cohesion.py::test_dry_cohesion_decomposed",
     "test_droplet_restart.py::test_parallel_matches_serial",
     "test_faults_state.py::test_reconstructPar_carries_grain_state",
     "test_fluidisedBed3D.py::test_decomposed_bed_exchanges_momentum_and_keeps_its_grains",

@@ -151,6 +151,29 @@ def test_parallel_same_decision(tmp_path, env):
     assert abs(lp - ls) < 1e-9 and abs(rp - rs) < 1e-9
 
 
+def test_dry_cohesion_decomposed(tmp_path, env):
+    """mpirun -np 2 with the grains decomposed (dry cohesion needs no
+    replication; cut at x = W/2): both discs hang as in the serial run
+    (displacements within 1e-9 m), every grain written once.  Cohesive
+    contacts across a rank interface: src/nscdMPI/tests/testDecomposed.cpp
+    (CohesiveChainHangsAcrossTheInterfacesAsSerial)."""
+    import shutil
+    serial = str(tmp_path / "serial")
+    hanging_case(serial, f"force {FC0};", vapour=False)
+    run("blockMesh", serial, env)
+    run("grainDeposit", serial, env)
+    par = str(tmp_path / "parallel")
+    shutil.copytree(serial, par)
+    (ls, rs), _ = displacements(serial, env, mesh=False)
+    log = run_parallel("vansFoam", par, env).stdout
+    assert "grains decomposed over 2 ranks" in log, log[-3000:]
+    run("reconstructPar", par, env, args=("-latestTime",))
+    (lp, rp), _ = displacements(par, env, mesh=False, solve=False)
+    print(f"dry cohesion, serial drops {ls:.3e} {rs:.3e} m, decomposed {lp:.3e} {rp:.3e} m")
+    assert abs(lp) < 1e-3 * D and abs(rp) < 1e-3 * D
+    assert abs(lp - ls) < 1e-9 and abs(rp - rs) < 1e-9
+
+
 @pytest.mark.parametrize("what", ["noVapour", "unknownKeyword", "noForce", "negativeAge"])
 def test_cohesion_input_errors(tmp_path, env, what):
     case = str(tmp_path / what)

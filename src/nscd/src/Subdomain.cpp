@@ -373,9 +373,8 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
                              + std::to_string(globalId.size()));
         if (!(dt > 0) || !std::isfinite(dt))
             throw InputError("nscd::Subdomain::step: dt must be > 0, got " + std::to_string(dt));
-        if (!I.droplets.empty() || (I.cohesionForce > 0 && I.cohesionPredicate))
-            throw InputError("nscd::Subdomain::step: cohesion and droplets are not decomposed yet;"
-                             " run them on one rank");
+        if (!I.droplets.empty())
+            throw InputError("nscd::Subdomain::step: droplets are not decomposed yet; run them on one rank");
         System::Impl::checkSettings(I.settings, "nscd::Subdomain::step");
         heat = I.heatCheck();
     }
@@ -396,6 +395,14 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     rep.method = int(System::Settings::Method::NLGS);
     // the tolerance scale d_min of the undecomposed system
     const double dmin = -2*coupling_.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
+    // the lengths scaled by r_min are the undecomposed system's for the
+    // step (System::Impl::rMinShared), restored however the step ends
+    struct SharedRMin
+    {
+        System::Impl& I;
+        SharedRMin(System::Impl& impl, double r) : I(impl) { I.rMinShared = r < 1e300 ? r : 0.0; }
+        ~SharedRMin() { I.rMinShared = 0; }
+    } sharedRMin(I, 0.5*dmin);
 
     I.syncKeptContacts();  // after grains were added (migrants, ghosts)
     I.maybeReorder();

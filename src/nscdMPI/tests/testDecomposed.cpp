@@ -537,6 +537,93 @@ TEST(Decomposed, HeatConductionAcrossTheInterfacesMatchesSerial)
     EXPECT_LT(closure, 1e-12*budgetScale + 1e-14*q0);
 }
 
+// A chain of discs hanging under a ceiling by cohesion (thesis eq. 4.18),
+// cut by horizontal slabs so its contacts cross the interfaces. Statics: a
+// contact k places below the ceiling carries the weight of the grains under
+// it, (n - k) m g, in tension; it holds while that is <= F_c. With F_c =
+// 1.5 n m g the chain hangs (the ceiling's contact pulls n m g); with F_c =
+// (n/2) m g the ceiling lets go: the chain falls as a rigid body at
+// g (1 - F_c/(n m g)) while the ceiling's gap is within cohesionDistance r,
+// then at g (its inner contacts carry at most (n - 1) m g/2 < F_c), which a
+// scalar recurrence of the same time stepping gives. Either way the grains'
+// positions are the undecomposed run's.
+TEST(Decomposed, CohesiveChainHangsAcrossTheInterfacesAsSerial)
+{
+    const int n = 12;
+    const double r = 0.5e-3, H = 2*n*r, dt = 1e-4, g = 9.81;
+    for (const double load : {1.5, 0.5})
+    {
+        double Fc = 0;
+        auto setUp = [&](System& S)
+        {
+            S.addPlane(Vec3(0, H, 0), Vec3(0, -1, 0));  // the ceiling
+            S.setGravity(Vec3(0, -g, 0));
+            S.settings().tolerance = 1e-12;
+            const int m = S.addMaterial({2500, 0.3});
+            return m;
+        };
+        auto centre = [&](long k) { return Vec3(2*r, H - (2*k + 1)*r, 0); };
+        DecomposedSystem D(2, MPI_COMM_WORLD, slabs(1, 0, H), 2.5e-3);
+        const int m = setUp(D.system());
+        for (long k = 0; k < n; ++k) D.addGrain(k, centre(k), r, m);
+        D.exchange();
+        System serial(2);
+        setUp(serial);
+        for (long k = 0; k < n; ++k) serial.addGrain(centre(k), r, m);
+        const double W = n*serial.mass(0)*g;  // [N/m]
+        Fc = load*W;
+        D.system().setCohesion([](int, int) { return true; }, Fc);
+        serial.setCohesion([](int, int) { return true; }, Fc);
+
+        const int steps = 30;
+        double ceilingImpulse = 0;  // this rank's owned contacts with the ceiling, last step
+        for (int s = 0; s < steps; ++s)
+        {
+            const StepReport rep = D.step(dt);
+            serial.step(dt);
+            EXPECT_TRUE(rep.converged);
+            ceilingImpulse = 0;
+            for (const System::ContactView& c : D.system().contacts())
+                if (c.j < 0 && D.owned()[std::size_t(c.i)]) ceilingImpulse += c.impulse.y();
+        }
+        ceilingImpulse = sumAll(ceilingImpulse);
+        double dx = 0, drop = 0;
+        for (std::size_t i = 0; i < D.system().size(); ++i)
+        {
+            const long k = D.globalIds()[i];
+            dx = std::max(dx, (D.system().positions()[i] - serial.positions()[std::size_t(k)]).norm());
+            if (D.owned()[i] && k == n - 1) drop = centre(k).y() - D.system().positions()[i].y();
+        }
+        dx = maxAll(dx);
+        drop = sumAll(drop);
+        const double tEnd = steps*dt;
+        if (worldRank() == 0)
+            std::printf("[ cohesion ] %d ranks, F_c = %.1f n m g: max |x - x(serial)| %.2e m, lowest grain fell "
+                        "%.3e m (free fall %.3e), ceiling pull %.6f n m g dt\n", worldSize(), load, dx, drop,
+                        0.5*g*tEnd*tEnd, ceilingImpulse/(W*dt));
+        EXPECT_LT(dx, 1e-9*r);
+        if (load > 1)
+        {
+            EXPECT_LT(drop, 1e-6*r);                                  // the chain hangs
+            EXPECT_NEAR(ceilingImpulse, W*dt, 1e-6*W*dt);             // and the ceiling carries it
+        }
+        else
+        {
+            // rigid fall, pulled back while the gap is within the cohesion distance
+            double v = 0, y = 0;
+            const double reach = serial.settings().cohesionDistance*r;
+            for (int s = 0; s < steps; ++s)
+            {
+                v += (y <= reach ? g*(1 - Fc/W) : g)*dt;
+                y += v*dt;
+            }
+            if (worldRank() == 0) std::printf("[ cohesion ] expected fall %.6e m\n", y);
+            EXPECT_GT(y, 0.5*0.5*g*tEnd*tEnd);
+            EXPECT_NEAR(drop, y, 1e-6*y);
+        }
+    }
+}
+
 TEST(Decomposed, BadInputIsRefused)
 {
     EXPECT_THROW(DecomposedSystem(2, MPI_COMM_WORLD, slabs(0, 0, 1), 0.0), InputError);

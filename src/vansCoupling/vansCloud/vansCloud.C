@@ -66,9 +66,15 @@ namespace
         {
             why.append("undisturbedVelocity");
         }
-        if (dict.isDict("cohesion"))
+        // cohesion everywhere (dry) is decomposed; switched by the vapour
+        // field, the contact's psi lookup assumes every grain on every rank
+        if
+        (
+            dict.isDict("cohesion")
+         && dict.subDict("cohesion").found("vapourThreshold")
+        )
         {
-            why.append("cohesion");
+            why.append("cohesion.vapourThreshold");
         }
         string out;
         forAll(why, k)
