@@ -129,47 +129,48 @@ def test_min_age_needs_a_persisting_contact(tmp_path, env):
     assert left > 0.1 * D and right > 0.1 * D
 
 
-def test_parallel_same_decision(tmp_path, env):
-    """mpirun -np 2, the ranks split at x = W/2 between the dry and the wet
-    pair: the psi lookup is reduced over the ranks, so both take the serial
-    decision (dry disc hangs, wet disc falls, displacements equal to the
-    serial ones within 1e-9 m: solver tolerance) and every grain is written
-    once (the fixed disc at x = W/2 lies on the processor boundary)."""
+def serial_and_parallel(tmp_path, env, cohesion, vapour):
+    """The hanging case run serial and on 2 ranks (cut at x = W/2, between
+    the pairs); returns the serial and the parallel drops (left, right) and
+    the parallel log."""
     import shutil
     serial = str(tmp_path / "serial")
-    hanging_case(serial, f"force {FC0}; vapourThreshold 0.5;", vapour=True)
+    hanging_case(serial, cohesion, vapour=vapour)
     run("blockMesh", serial, env)
     run("grainDeposit", serial, env)
     par = str(tmp_path / "parallel")
     shutil.copytree(serial, par)
-    (ls, rs), _ = displacements(serial, env, mesh=False)
-    run_parallel("vansFoam", par, env)
+    drops, _ = displacements(serial, env, mesh=False)
+    log = run_parallel("vansFoam", par, env).stdout
     run("reconstructPar", par, env, args=("-latestTime",))
-    (lp, rp), _ = displacements(par, env, mesh=False, solve=False)
+    drops_par, _ = displacements(par, env, mesh=False, solve=False)
+    return drops, drops_par, log
+
+
+def test_parallel_same_decision(tmp_path, env):
+    """mpirun -np 2, the ranks split at x = W/2 between the dry and the wet
+    pair: the psi lookup is reduced over the ranks (the grains replicated),
+    so both take the serial decision (dry disc hangs, wet disc falls,
+    displacements equal to the serial ones within 1e-9 m: solver tolerance)
+    and every grain is written once (the fixed disc at x = W/2 lies on the
+    processor boundary)."""
+    (ls, rs), (lp, rp), log = serial_and_parallel(
+        tmp_path, env, f"force {FC0}; vapourThreshold 0.5;", vapour=True)
     print(f"serial drops {ls:.3e} {rs:.3e} m, parallel {lp:.3e} {rp:.3e} m")
+    assert "cohesion.vapourThreshold" in log, log[-3000:]   # why the grains are replicated
     assert abs(lp) < 1e-3 * D and rp > 0.1 * D
     assert abs(lp - ls) < 1e-9 and abs(rp - rs) < 1e-9
 
 
 def test_dry_cohesion_decomposed(tmp_path, env):
-    """mpirun -np 2 with the grains decomposed (dry cohesion needs no
-    replication; cut at x = W/2): both discs hang as in the serial run
-    (displacements within 1e-9 m), every grain written once.  Cohesive
-    contacts across a rank interface: src/nscdMPI/tests/testDecomposed.cpp
+    """The same with dry cohesion, which needs no replication: the grains
+    decomposed, both discs hang as in the serial run (displacements within
+    1e-9 m), every grain written once.  Cohesive contacts across a rank
+    interface: src/nscdMPI/tests/testDecomposed.cpp
     (CohesiveChainHangsAcrossTheInterfacesAsSerial)."""
-    import shutil
-    serial = str(tmp_path / "serial")
-    hanging_case(serial, f"force {FC0};", vapour=False)
-    run("blockMesh", serial, env)
-    run("grainDeposit", serial, env)
-    par = str(tmp_path / "parallel")
-    shutil.copytree(serial, par)
-    (ls, rs), _ = displacements(serial, env, mesh=False)
-    log = run_parallel("vansFoam", par, env).stdout
-    assert "grains decomposed over 2 ranks" in log, log[-3000:]
-    run("reconstructPar", par, env, args=("-latestTime",))
-    (lp, rp), _ = displacements(par, env, mesh=False, solve=False)
+    (ls, rs), (lp, rp), log = serial_and_parallel(tmp_path, env, f"force {FC0};", vapour=False)
     print(f"dry cohesion, serial drops {ls:.3e} {rs:.3e} m, decomposed {lp:.3e} {rp:.3e} m")
+    assert "grains decomposed over 2 ranks" in log, log[-3000:]
     assert abs(lp) < 1e-3 * D and abs(rp) < 1e-3 * D
     assert abs(lp - ls) < 1e-9 and abs(rp - rs) < 1e-9
 
