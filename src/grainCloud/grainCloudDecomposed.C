@@ -327,6 +327,16 @@ bool Foam::grainCloud::owned(const label i) const
 }
 
 
+Foam::scalar Foam::grainCloud::heatContent() const
+{
+    if (!decomposed_)
+    {
+        return system_->heatContent();
+    }
+    return returnReduce(system_->heatContent(&decomposed_->owned()), sumOp<scalar>());
+}
+
+
 void Foam::grainCloud::sumOverCopies
 (
     std::vector<double>& values,

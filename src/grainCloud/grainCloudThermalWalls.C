@@ -208,7 +208,7 @@ bool Foam::grainCloud::heatOn() const
 }
 
 
-Foam::scalar Foam::grainCloud::meanTemperature() const
+Foam::scalar Foam::grainCloud::meanTemperature(const bool integratedOnly) const
 {
     scalar s = 0;
     label n = 0;
@@ -217,8 +217,13 @@ Foam::scalar Foam::grainCloud::meanTemperature() const
         if
         (
             owned(i)
-         && system_->material(system_->materials()[i]).heatCapacity > 0
-         && !system_->fixedTemperature(i)
+         && (
+                !integratedOnly
+             || (
+                    system_->material(system_->materials()[i]).heatCapacity > 0
+                 && !system_->fixedTemperature(i)
+                )
+            )
         )
         {
             s += system_->temperatures()[i];

@@ -76,14 +76,17 @@ bool System::fixedTemperature(std::size_t i) const
     return impl_->fixT[i] != 0;
 }
 
-double System::heatContent() const
+double System::heatContent(const std::vector<char>* counted) const
 {
     const Impl& I = *impl_;
+    if (counted && counted->size() != I.x.size())
+        throw InputError("nscd::System::heatContent: " + std::to_string(counted->size())
+                         + " flags for " + std::to_string(I.x.size()) + " grains");
     double e = 0;
     for (std::size_t i = 0; i < I.x.size(); ++i)
     {
         const double c = I.materials[I.mat[i]].heatCapacity;
-        if (!I.fixT[i] && c > 0) e += I.mass[i]*c*I.T[i];
+        if (!I.fixT[i] && c > 0 && (!counted || (*counted)[i])) e += I.mass[i]*c*I.T[i];
     }
     return e;
 }

@@ -54,6 +54,12 @@ TEST(Heat, TwoGrainsRelaxToMassWeightedMean)
             const double CA = s.mass(a)*cA, CB = s.mass(b)*cB;
             const double E0 = CA*400 + CB*300;
             EXPECT_NEAR(s.heatContent(), E0, 1e-15*E0);
+            // counted grains only (a subdomain's owned ones): each grain's C T
+            const std::vector<char> onlyA{1, 0}, onlyB{0, 1};
+            EXPECT_NEAR(s.heatContent(&onlyA), CA*400, 1e-15*E0);
+            EXPECT_NEAR(s.heatContent(&onlyB), CB*300, 1e-15*E0);
+            const std::vector<char> wrongSize{1};
+            EXPECT_THROW(s.heatContent(&wrongSize), InputError);
             const double mean = E0/(CA + CB);
             const double dt = 1e-3;
             double D = 100, kappa0 = 0, maxDiscrete = 0, maxCont = 0, maxCons = 0, contBound = 0;

@@ -298,42 +298,14 @@ void Foam::grainHeatExchange::setTfluid(List<scalar>&& Tf)
 
 Foam::scalar Foam::grainHeatExchange::grainHeatContent() const
 {
-    const nscd::System& s = grains_.system();
-    if (!grains_.decomposed())
-    {
-        return s.heatContent()*adapter_.depth();
-    }
-    // the owned grains' sum m c T (nscd::System::heatContent), over the ranks
-    scalar e = 0;
-    for (label i = 0; i < label(s.size()); ++i)
-    {
-        const scalar c = s.material(s.materials()[i]).heatCapacity;
-        if (grains_.owned(i) && !s.fixedTemperature(i) && c > 0)
-        {
-            e += s.mass(i)*c*s.temperatures()[i];
-        }
-    }
-    return returnReduce(e, sumOp<scalar>())*adapter_.depth();
+    return grains_.heatContent()*adapter_.depth();
 }
 
 
 Foam::scalar Foam::grainHeatExchange::grainMeanTemperature() const
 {
-    const std::vector<double>& T = grains_.system().temperatures();
-    scalar sum = 0;
-    forAll(T, i)
-    {
-        if (grains_.owned(i))
-        {
-            sum += T[i];
-        }
-    }
-    const label n = grains_.nGrainsTotal();
-    if (grains_.decomposed())
-    {
-        reduce(sum, sumOp<scalar>());
-    }
-    return n > 0 ? sum/n : 0;
+    // every grain, fixed-temperature ones included
+    return grains_.meanTemperature(false);
 }
 
 
