@@ -66,13 +66,8 @@ namespace
         {
             why.append("undisturbedVelocity");
         }
-        // cohesion everywhere (dry) is decomposed; switched by the vapour
-        // field, the contact's psi lookup assumes every grain on every rank
-        if
-        (
-            dict.isDict("cohesion")
-         && dict.subDict("cohesion").found("vapourThreshold")
-        )
+        // cohesion everywhere (dry) is decomposed, not the vapour-switched
+        if (vapourCohesion::switchedByVapour(dict))
         {
             why.append("cohesion.vapourThreshold");
         }

@@ -68,7 +68,7 @@ void Foam::vapourCohesion::read(const IOdictionary& dict, const bool vapourOn)
             << " or a number of steps the contact must persist"
             << exit(FatalIOError);
     }
-    byVapour_ = cd.found("vapourThreshold");
+    byVapour_ = switchedByVapour(dict);
     if (byVapour_)
     {
         vapourThreshold_ = cd.get<scalar>("vapourThreshold");
