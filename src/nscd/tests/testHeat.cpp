@@ -55,6 +55,7 @@ TEST(Heat, TwoGrainsRelaxToMassWeightedMean)
             const double E0 = CA*400 + CB*300;
             EXPECT_NEAR(s.heatContent(), E0, 1e-15*E0);
             // counted grains only (a subdomain's owned ones): each grain's C T
+            // (consistency check of the flag argument, no physics)
             const std::vector<char> onlyA{1, 0}, onlyB{0, 1};
             EXPECT_NEAR(s.heatContent(&onlyA), CA*400, 1e-15*E0);
             EXPECT_NEAR(s.heatContent(&onlyB), CB*300, 1e-15*E0);

@@ -545,8 +545,9 @@ TEST(Decomposed, HeatConductionAcrossTheInterfacesMatchesSerial)
 // (n/2) m g the ceiling lets go: the chain falls as a rigid body at
 // g (1 - F_c/(n m g)) while the ceiling's gap is within cohesionDistance r,
 // then at g (its inner contacts carry at most (n - 1) m g/2 < F_c), which a
-// scalar recurrence of the same time stepping gives. Either way the grains'
-// positions are the undecomposed run's.
+// scalar recurrence of the same time stepping gives (a consistency check of
+// the cohesion-distance rule; the hanging chain's statics is the independent
+// reference). Either way the grains' positions are the undecomposed run's.
 TEST(Decomposed, CohesiveChainHangsAcrossTheInterfacesAsSerial)
 {
     const int n = 12;
