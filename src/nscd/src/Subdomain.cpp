@@ -397,12 +397,7 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     const double dmin = -2*coupling_.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
     // the lengths scaled by r_min are the undecomposed system's for the
     // step (System::Impl::rMinShared), restored however the step ends
-    struct SharedRMin
-    {
-        System::Impl& I;
-        SharedRMin(System::Impl& impl, double r) : I(impl) { I.rMinShared = r < 1e300 ? r : 0.0; }
-        ~SharedRMin() { I.rMinShared = 0; }
-    } sharedRMin(I, 0.5*dmin);
+    const System::Impl::StepRMin sharedRMin(I, 0.5*dmin);
 
     I.syncKeptContacts();  // after grains were added (migrants, ghosts)
     I.maybeReorder();
