@@ -396,7 +396,7 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     // the tolerance scale d_min of the undecomposed system
     const double dmin = -2*coupling_.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
     // the lengths scaled by r_min are the undecomposed system's for the
-    // step (System::Impl::rMinShared), restored however the step ends
+    // step (System::Impl::rMinOfStep), restored however the step ends
     const System::Impl::StepRMin sharedRMin(I, 0.5*dmin);
 
     I.syncKeptContacts();  // after grains were added (migrants, ghosts)

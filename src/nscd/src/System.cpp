@@ -380,7 +380,7 @@ double System::time() const { return impl_->time; }
 
 double System::Impl::rMin() const
 {
-    if (rMinShared > 0) return rMinShared;
+    if (rMinOfStep > 0) return rMinOfStep;
     double r = std::numeric_limits<double>::max();
     for (double a : rad) r = std::min(r, a);
     return rad.empty() ? 0.0 : r;
