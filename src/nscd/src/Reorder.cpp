@@ -2,8 +2,11 @@
 // reorderInterval): the slots of a step (bodies, detection records, solver
 // rows, persistent contacts) follow the Morton (Z-order) curve over the grid
 // cells of the grain centres, so that neighbours in space are neighbours in
-// memory. The per-grain arrays of the interface keep the external order.
+// memory. The per-grain arrays of the interface keep the external order,
+// unless a caller that owns the grain indices renumbers them along the
+// internal one (System::renumberAlongInternalOrder).
 #include "Reorder.H"
+#include "nscd/Permutation.H"
 #include "SystemImpl.H"
 
 #include <algorithm>
@@ -119,6 +122,33 @@ bool orderIsScattered(const std::vector<int>& curve, const std::vector<int>& slo
     for (int k = 0; k + 1 < N; ++k)
         if (std::abs(slotOf[curve[k]] - slotOf[curve[k + 1]]) > window) ++far;
     return double(far) > reorderFarFraction*(N - 1);
+}
+
+std::vector<std::size_t> System::renumberAlongInternalOrder()
+{
+    Impl& I = *impl_;
+    const int N = int(I.x.size());
+    if (N < 2 || int(I.order.size()) != N) return {};
+    // scattered: consecutive slots whose grains are far apart in index (the
+    // test of orderIsScattered with the grain index in place of the slot)
+    const int window = std::min(reorderWindow, std::max(1, N/8));
+    long far = 0;
+    for (int s = 0; s + 1 < N; ++s)
+        if (std::abs(I.order[s + 1] - I.order[s]) > window) ++far;
+    if (double(far) <= reorderFarFraction*(N - 1)) return {};
+
+    // new grain s is the grain of slot s: the slots keep their order, so the
+    // bodies, detection records, Verlet list and contact records (all by
+    // slot) stay as they are
+    const std::vector<std::size_t> oldOf(I.order.begin(), I.order.end());
+    permuteInPlace(oldOf, I.x, I.v, I.w, I.q, I.rad, I.mat, I.fix, I.rotLock, I.force, I.torque,
+                   I.mass, I.inertia, I.ids, I.dragCoefficient, I.dragVelocity, I.dragImpulse,
+                   I.T, I.heatQ, I.heatH, I.heatTf, I.fixT);
+    for (Droplet& d : I.droplets)  // (per-grain output of the last step, when sized)
+        if (d.grainImpulse.size() == oldOf.size()) permuteInPlace(oldOf, d.grainImpulse);
+    std::iota(I.order.begin(), I.order.end(), 0);
+    I.rebuildSlotOf();
+    return oldOf;
 }
 
 void System::Impl::maybeReorder()

@@ -16,6 +16,7 @@ void DecomposedSystem::Impl::exchange()
 {
     CpuTimer t(counters.exchangeCpuSeconds);
     counters.migratedOut = counters.ghostsSent = counters.ghostsAdded = counters.ghostsDropped = 0;
+    counters.renumbered = 0;
     counters.unclaimed = 0;
     unclaimed.clear();
     if (P == 1)
@@ -25,6 +26,7 @@ void DecomposedSystem::Impl::exchange()
         for (int i = 0; i < int(owned.size()); ++i)
             if (checkedOwner(sys.positions()[i], gid[i]) == notHere) unclaimed.push_back(i);
         counters.unclaimed = long(unclaimed.size());
+        renumberAlongSlots();
         return;
     }
     // 1. migration: owned grains whose centre left the region go to their
@@ -168,6 +170,7 @@ void DecomposedSystem::Impl::exchange()
     for (auto& L : sendTo) for (int& i : L) i = newIndex[i];
     for (int& i : unclaimed) i = newIndex[i];  // owned: kept
     seedMigratedContacts(recvC);
+    renumberAlongSlots();
 }
 
 std::vector<int> DecomposedSystem::Impl::claimLeavers(const std::vector<int>& leaving)

@@ -186,7 +186,8 @@ TEST(Decomposed, AdvanceSubStepsToKeepTheContactReachInTheHalo)
 // grains' total momentum changes by the sum of their drag impulses
 // (System::fluidDragImpulses; Newton's third law), also for the interface
 // grains, whose contacts are solved on several ranks. Their caller's values
-// travel with them (setGrainDataWidth: every copy holds its grain's id), and
+// travel with them (setGrainDataWidth: every copy holds its grain's id),
+// also when a rank renumbers its local grains along the Morton order, and
 // copyToGhosts sets the ghosts to their owners' values.
 TEST(Decomposed, DragImpulsesAndTravellingValuesFollowTheGrains)
 {
@@ -218,7 +219,7 @@ TEST(Decomposed, DragImpulsesAndTravellingValuesFollowTheGrains)
         return Vec3(sumAll(p.x()), sumAll(p.y()), 0.0);
     };
     double worst = 0, scale = 0;
-    long interface = 0;
+    long interface = 0, renumbered = 0;
     for (int n = 0; n < 100; ++n)
     {
         for (std::size_t i = 0; i < S.size(); ++i) S.setFluidDrag(i, 0.05*S.mass(i)/dt, u);
@@ -226,6 +227,7 @@ TEST(Decomposed, DragImpulsesAndTravellingValuesFollowTheGrains)
         const StepReport rep = D.step(dt);
         ASSERT_TRUE(rep.converged) << "step " << n;
         interface += sumAll(D.counters().averagings) > worldSize();
+        renumbered += sumAll(double(D.counters().renumbered)) > 0;
         Vec3 J = Vec3::Zero();
         for (std::size_t i = 0; i < S.size(); ++i)
         {
@@ -239,6 +241,10 @@ TEST(Decomposed, DragImpulsesAndTravellingValuesFollowTheGrains)
         std::printf("[ drag ] %d ranks: |d(sum m v) - sum J|/sum m|v| at most %.2e per step\n", worldSize(), worst);
     EXPECT_LT(worst, 1e-12);
     if (worldSize() > 1) EXPECT_GT(interface, 10);  // steps with interface averagings
+    // the gas's grains reach a rank in a scattered order: its local indices
+    // are renumbered along the Morton order, and the travelling values, the
+    // drag impulses and the momentum balance above went through it
+    if (worldSize() > 1) EXPECT_GT(renumbered, 0);
 
     std::vector<double> values(S.size());
     for (std::size_t i = 0; i < S.size(); ++i) values[i] = D.owned()[i] ? 2.0*double(D.globalIds()[i]) : -1.0;
