@@ -28,6 +28,9 @@ struct Subdomain::Scratch
     std::vector<char> ifaceRow;       ///< per row: a body is an interface grain
     std::vector<int> ifaceRows;       ///< the rows flagged in ifaceRow
     std::vector<int> dragCopies;      ///< per grain: copies for the drag impulse (1 outside the solve)
+    std::vector<int> dropletBodies;   ///< bodies of the droplets with mass (averaged over the subdomains)
+    std::vector<char> dropletShared;  ///< per droplet: a contact of it is solved here
+    std::vector<double> dropletV, dropletW;  ///< per droplet, 3 each: weightedMeanOverSubdomains buffers
 };
 
 namespace
@@ -70,6 +73,28 @@ void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch&
         B.v = X.vAvg[i];
         B.w = X.wAvg[i];
         moved(s, du);
+    }
+    // droplets with mass: the mean of the copies of the subdomains that
+    // solve one of its contacts, the same on every subdomain (a subdomain
+    // without its contacts takes it too)
+    if (X.dropletBodies.empty()) return;
+    const int b0 = int(I.x.size() + I.walls.size());
+    const int ND = int(I.droplets.size());
+    X.dropletV.assign(3*ND, 0.0);
+    X.dropletW.assign(3*ND, 0.0);
+    for (int b : X.dropletBodies)
+        for (int c = 0; c < 3; ++c)
+        {
+            X.dropletV[3*(b - b0) + c] = I.body[b].v[c];
+            X.dropletW[3*(b - b0) + c] = X.dropletShared[b - b0] ? 1.0 : 0.0;
+        }
+    C.weightedMeanOverSubdomains(X.dropletV, X.dropletW);
+    for (int b : X.dropletBodies)
+    {
+        const Vec3 v(X.dropletV[3*(b - b0)], X.dropletV[3*(b - b0) + 1], X.dropletV[3*(b - b0) + 2]);
+        const double du = (v - I.body[b].v).norm();
+        I.body[b].v = v;
+        moved(b, du);
     }
 }
 
@@ -144,12 +169,13 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
     std::vector<int>& ifaceRows = X.ifaceRows;
     ifaceRow.assign(NC, 0);
     ifaceRows.clear();
-    for (int i : iface)
+    auto flagRows = [&](int b)
     {
-        const int b = I.slotOf[i];
         for (int p = adjS[b]; p < adjS[b + 1]; ++p)
             if (!ifaceRow[adjI[p]]) { ifaceRow[adjI[p]] = 1; ifaceRows.push_back(adjI[p]); }
-    }
+    };
+    for (int i : iface) flagRows(I.slotOf[i]);
+    for (int b : X.dropletBodies) flagRows(b);  // (averaged as well)
     // residual (ContactSolver.cpp), squared: the last change of each row
     // solved, evaluated at the current velocities for the rows of interface
     // grains. In the same pass the rows are finished (2D tangential impulse
@@ -373,8 +399,7 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
                              + std::to_string(globalId.size()));
         if (!(dt > 0) || !std::isfinite(dt))
             throw InputError("nscd::Subdomain::step: dt must be > 0, got " + std::to_string(dt));
-        if (!I.droplets.empty())
-            throw InputError("nscd::Subdomain::step: droplets are not decomposed yet; run them on one rank");
+        for (const System::Droplet& d : I.droplets) checkDroplet(d, "nscd::Subdomain::step");
         System::Impl::checkSettings(I.settings, "nscd::Subdomain::step");
         heat = I.heatCheck();
     }
@@ -387,6 +412,12 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
                                            " (its error names the input)" : refused);
 
     Scratch& X = *scratch_;
+    for (System::Droplet& d : I.droplets)
+        if (d.grainImpulse.size() != std::size_t(N)) d.grainImpulse.assign(N, 0.0);
+    const int NW = int(I.walls.size()), ND = int(I.droplets.size());
+    X.dropletBodies.clear();
+    for (int k = 0; k < ND; ++k)
+        if (I.droplets[k].mass > 0) X.dropletBodies.push_back(N + NW + k);
     std::vector<Vec3>& lambda = interfaceImpulse;
     if (lambda.size() != 2*std::size_t(N)) lambda.assign(2*std::size_t(N), Vec3::Zero());
     const double warmScale = I.settings.warmStart && I.lastDt > 0 ? dt/I.lastDt : 0.0;
@@ -432,6 +463,19 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         }
         C.resize(m);
         NC0 = int(m);
+        // grain-droplet contacts: the grain's owner solves them
+        I.detectDroplets(dt);
+        X.dropletShared.assign(ND, 0);
+        for (std::size_t k = std::size_t(NC0); k < C.size(); ++k)
+        {
+            const Contact& c = C[k];
+            const int gi = I.order[c.i];
+            if (!owned[gi]) continue;
+            inContact[gi] = 1;
+            X.dropletShared[c.j - N - NW] = 1;
+            C[m++] = c;
+        }
+        C.resize(m);
         rep.detectSeconds += std::chrono::duration<double>(clock::now() - t0).count();
         rep.verletBuilds = int(I.verlet.builds - builds);
 
@@ -444,6 +488,15 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
             B.im *= copies[i];
             B.im0 *= copies[i];
             B.ii *= copies[i];
+        }
+        // a droplet with mass: a copy of mass m/n on each of the n
+        // subdomains that solve one of its contacts
+        for (int b : X.dropletBodies)
+        {
+            const double n = coupling_.sumOverSubdomains(X.dropletShared[b - N - NW] ? 1.0 : 0.0);
+            if (!X.dropletShared[b - N - NW] || !(n > 1)) continue;
+            I.body[b].im *= n;
+            I.body[b].im0 *= n;
         }
 
         const auto t1 = clock::now();
@@ -482,7 +535,15 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         if (owned[i] || inContact[i]) X.dragCopies[i] = std::max(copies[i], 1);
     I.dragCopies = &X.dragCopies;
     I.dragInterface = &lambda;
+    std::vector<Vec3> dropletImpulse0(ND);
+    for (int k = 0; k < ND; ++k) dropletImpulse0[k] = I.droplets[k].impulse;
     I.integrate(dt, NC0);
+    for (int k = 0; k < ND; ++k)  // the impulse of the contacts of every subdomain
+    {
+        Vec3& J = I.droplets[k].impulse;
+        const Vec3 dJ = J - dropletImpulse0[k];
+        for (int c = 0; c < 3; ++c) J[c] = dropletImpulse0[k][c] + coupling_.sumOverSubdomains(dJ[c]);
+    }
     I.dragCopies = nullptr;
     I.dragInterface = nullptr;
     I.storeImpulses(dt, NC0, rep);

@@ -75,6 +75,33 @@ double DecomposedSystem::Impl::sumOverSubdomains(double value)
     return out;
 }
 
+void DecomposedSystem::Impl::weightedMeanOverSubdomains(std::vector<double>& values,
+                                                        const std::vector<double>& weights)
+{
+    CpuTimer t(counters.solveCommCpuSeconds);
+    const std::size_t n = values.size();
+    if (P == 1 || n == 0) return;
+    // every rank's (w v, w) gathered and summed in rank order: the same bits everywhere
+    std::vector<double> mine(2*n), all(2*n*std::size_t(P));
+    for (std::size_t j = 0; j < n; ++j)
+    {
+        mine[2*j] = weights[j]*values[j];
+        mine[2*j + 1] = weights[j];
+    }
+    MPI_Allgather(mine.data(), int(2*n), MPI_DOUBLE, all.data(), int(2*n), MPI_DOUBLE, comm);
+    counters.bytesSent += long(2*n*sizeof(double))*(P - 1);
+    for (std::size_t j = 0; j < n; ++j)
+    {
+        double wv = 0, w = 0;
+        for (int r = 0; r < P; ++r)
+        {
+            wv += all[2*n*std::size_t(r) + 2*j];
+            w += all[2*n*std::size_t(r) + 2*j + 1];
+        }
+        if (w > 0) values[j] = wv/w;
+    }
+}
+
 void DecomposedSystem::Impl::sumGhostsToOwners(std::vector<double>& values)
 {
     CpuTimer t(counters.solveCommCpuSeconds);

@@ -97,7 +97,7 @@ void DecomposedSystem::Impl::exchange()
             {
                 const GrainRecord& g = recv[r][k];
                 auto it = local.find(g.id);  // a ghost here becomes owned (keeps its contacts)
-                place(it == local.end() ? -1 : it->second, g, recvD[r].data() + k*std::size_t(dataWidth), true);
+                place(it == local.end() ? -1 : it->second, g, recvD[r].data() + k*std::size_t(travelWidth()), true);
             }
     }
 
@@ -151,7 +151,7 @@ void DecomposedSystem::Impl::exchange()
             const GrainRecord& g = recv[r][k];
             auto it = local.find(g.id);
             const int i = place(it == local.end() ? -1 : it->second, g,
-                                recvD[r].data() + k*std::size_t(dataWidth), false);
+                                recvD[r].data() + k*std::size_t(travelWidth()), false);
             if (i >= N) { keep.push_back(1); ++counters.ghostsAdded; } else keep[i] = 1;
             ghostFrom[r].push_back(i);
         }

@@ -100,6 +100,58 @@ std::vector<Grain> gasCase()
         }
     return g;
 }
+
+/// cols x rows discs of radius 0.45-0.55 mm (random, seed) on a loose
+/// lattice of spacing a, odd rows shifted, 0.1 mm above the floor and off
+/// the left wall: a pour into a box of width cols a + 0.2 mm.
+std::vector<Grain> looseLattice(int cols, int rows, double a, unsigned seed)
+{
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.45e-3, 0.55e-3);
+    std::vector<Grain> G;
+    for (int j = 0; j < rows; ++j)
+        for (int i = 0; i < cols; ++i)
+            G.push_back({Vec3((i + 0.5 + (j % 2 ? 0.1 : -0.1))*a + 0.1e-3, (j + 0.5)*a + 0.1e-3, 0), u(rng), Vec3::Zero()});
+    return G;
+}
+
+/// A box of width W (floor y = 0, walls x = 0 and x = W), gravity 9.81 m/s^2
+/// down; returns the grains' material (2500 kg/m^3, mu 0.4).
+int box(System& S, double W)
+{
+    S.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
+    S.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
+    S.addPlane(Vec3(W, 0, 0), Vec3(-1, 0, 0));
+    S.setGravity(Vec3(0, -9.81, 0));
+    return S.addMaterial({2500, 0.4});
+}
+
+/// Momentum sum m v of the grains owned on every rank (2D) [kg m/s per m];
+/// scale: their sum m |v|.
+Vec3 ownedMomentum(const DecomposedSystem& D, double& scale)
+{
+    const System& S = D.system();
+    Vec3 p = Vec3::Zero();
+    double s = 0;
+    for (std::size_t i = 0; i < S.size(); ++i)
+        if (D.owned()[i])
+        {
+            p += S.mass(i)*S.velocities()[i];
+            s += S.mass(i)*S.velocities()[i].norm();
+        }
+    scale = sumAll(s);
+    return Vec3(sumAll(p.x()), sumAll(p.y()), 0.0);
+}
+
+/// The walls' vertical impulse in the last step's contacts [N s/m] (of the
+/// owned grains' contacts if owned is given).
+double wallLoad(const System& S, const std::vector<char>* owned)
+{
+    double fy = 0;
+    for (const System::ContactView& c : S.contacts())
+        if (c.j < 0 && (!owned || (*owned)[c.i])) fy += c.impulse.y();
+    return fy;
+}
 } // namespace
 
 // Grains thrown across the rank boundaries (x slabs): after every step each
@@ -205,19 +257,7 @@ TEST(Decomposed, DragImpulsesAndTravellingValuesFollowTheGrains)
     D.exchange();
     const double dt = 1e-4;
     const Vec3 u(0.2, 0.1, 0);
-    auto momentum = [&](double& scale)
-    {
-        Vec3 p = Vec3::Zero();
-        double s = 0;
-        for (std::size_t i = 0; i < S.size(); ++i)
-            if (D.owned()[i])
-            {
-                p += S.mass(i)*S.velocities()[i];
-                s += S.mass(i)*S.velocities()[i].norm();
-            }
-        scale = sumAll(s);
-        return Vec3(sumAll(p.x()), sumAll(p.y()), 0.0);
-    };
+    auto momentum = [&](double& scale) { return ownedMomentum(D, scale); };
     double worst = 0, scale = 0;
     long interface = 0, renumbered = 0;
     for (int n = 0; n < 100; ++n)
@@ -306,37 +346,17 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
 {
     const int cols = 10, rows = 20;
     const double a = 1.15e-3, W = cols*a + 0.2e-3, H = rows*a + 1e-3;
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> u(0.45e-3, 0.55e-3);
-    std::vector<Grain> G;
-    for (int j = 0; j < rows; ++j)
-        for (int i = 0; i < cols; ++i)
-            G.push_back({Vec3((i + 0.5 + (j % 2 ? 0.1 : -0.1))*a + 0.1e-3, (j + 0.5)*a + 0.1e-3, 0), u(rng), Vec3::Zero()});
-    auto setUp = [&](System& S)
-    {
-        S.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-        S.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
-        S.addPlane(Vec3(W, 0, 0), Vec3(-1, 0, 0));
-        S.setGravity(Vec3(0, -9.81, 0));
-        return S.addMaterial({2500, 0.4});
-    };
+    const std::vector<Grain> G = looseLattice(cols, rows, a, 3);
     DecomposedSystem D(2, MPI_COMM_WORLD, slabs(1, 0, 0.6*H), 2.5e-3);
-    const int m = setUp(D.system());
+    const int m = box(D.system(), W);
     for (std::size_t k = 0; k < G.size(); ++k) D.addGrain(long(k), G[k].x, G[k].r, m);
     D.exchange();
     System serial(2);
-    setUp(serial);
+    box(serial, W);
     for (const Grain& g : G) serial.addGrain(g.x, g.r, m);
 
     // statics, averaged over the last 100 steps: the walls' vertical impulse
     // (floor, and the side walls' friction) over the time = the weight
-    auto wallLoad = [&](const System& S, const std::vector<char>* owned)
-    {
-        double fy = 0;
-        for (const System::ContactView& c : S.contacts())
-            if (c.j < 0 && (!owned || (*owned)[c.i])) fy += c.impulse.y();
-        return fy;
-    };
     const double dt = 5e-4;
     const int steps = 300, averaged = 100;
     int averagingsMax = 0, capped = 0;
@@ -451,6 +471,176 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
                     "max |x - x(whole read)| %.2e m\n", worldSize(), repPart.sweeps, partLoad, dx);
     MPI_Barrier(MPI_COMM_WORLD);
     if (worldRank() == 0) std::remove(state.c_str());
+}
+
+// A droplet with mass driven through the gas of grains across the rank
+// boundaries (x slabs), no walls, no gravity: the droplet's copies on the
+// ranks that solve its contacts exchange momentum with the grains there,
+// and the total momentum, grains' sum m v plus the droplet's M V, is kept to
+// round-off (internal contact impulses only; Newton's third law), while
+// every rank holds the same droplet.
+TEST(Decomposed, DropletThroughTheGrainsKeepsTheMomentum)
+{
+    const std::vector<Grain> G = gasCase();
+    DecomposedSystem D(2, MPI_COMM_WORLD, slabs(0, 0, 24e-3), 3e-3);
+    System& S = D.system();
+    const int m = S.addMaterial({2500, 0.3});
+    for (std::size_t k = 0; k < G.size(); ++k)
+    {
+        const std::size_t i = D.addGrain(long(k), G[k].x, G[k].r, m);
+        if (i != std::size_t(-1)) S.velocities()[i] = G[k].v;
+    }
+    System::Droplet drop;
+    drop.centre = Vec3(12e-3, 12e-3, 0);
+    drop.radius = 2.5e-3;
+    drop.mass = 1000*M_PI*drop.radius*drop.radius;
+    drop.velocity = Vec3(0.3, -0.2, 0);
+    drop.surfaceTension = 0.02;  // grains pushed in beyond 2 sigma = 0.04 N/m
+    S.addDroplet(drop);
+    D.exchange();
+    auto momentum = [&](double& scale) -> Vec3  // (a Vec3, not an Eigen expression of temporaries)
+    {
+        const Vec3 p = ownedMomentum(D, scale);
+        const System::Droplet& d = S.droplet(0);
+        scale += d.mass*d.velocity.norm();
+        return p + d.mass*d.velocity;
+    };
+    double scale0 = 0, worst = 0, spread = 0, exchanged = 0;
+    int shared = 0;
+    const Vec3 p0 = momentum(scale0);
+    for (int n = 0; n < 150; ++n)
+    {
+        S.droplet(0).impulse.setZero();
+        const StepReport rep = D.step(1e-4);
+        ASSERT_TRUE(rep.converged) << "step " << n;
+        double scale = 0;
+        worst = std::max(worst, (momentum(scale) - p0).norm()/scale0);
+
+
+        exchanged += S.droplet(0).impulse.norm();
+        const System::Droplet& d = S.droplet(0);
+        double here = 0;  // this rank solved a droplet contact
+        for (double rn : d.grainImpulse) here = std::max(here, rn > 0 ? 1.0 : 0.0);
+        shared = std::max(shared, int(sumAll(here)));
+        std::fill(S.droplet(0).grainImpulse.begin(), S.droplet(0).grainImpulse.end(), 0.0);
+        spread = std::max({spread, maxAll(d.centre.x()) + maxAll(-d.centre.x()),
+                           maxAll(d.velocity.x()) + maxAll(-d.velocity.x())});
+    }
+    if (worldRank() == 0)
+        std::printf("[ droplet gas ] %d ranks: |d(sum m v + M V)|/sum m|v| at most %.2e, droplet impulses "
+                    "%.3g of its momentum, at most %d ranks solving its contacts\n", worldSize(), worst,
+                    exchanged/(drop.mass*drop.velocity.norm()), shared);
+    EXPECT_LT(worst, 1e-12);
+    EXPECT_GT(exchanged, 0.05*drop.mass*drop.velocity.norm());  // the droplet did meet grains
+    if (worldSize() > 1) EXPECT_GT(shared, 1);  // on several ranks in one step
+    EXPECT_EQ(spread, 0.0);
+    EXPECT_EQ(ownedIdsEverywhere(D).size(), G.size());
+}
+
+// A droplet resting on a deposit across vertical rank boundaries (x slabs:
+// its contacts are solved on several ranks, each holding a copy of it of
+// mass m/n). 128 discs of 0.9-1.1 mm dropped from a loose lattice into a box,
+// a 2D water droplet of R = 3 mm dropped on them (its weight as its force:
+// System gravity does not act on droplets; a surface tension of 0.5 N/m, so
+// that the entry barrier 2 sigma = 1 N/m per grain is 3.6 times its weight
+// and it stays on the grains' tops), 0.2 s. Statics, independent of the
+// serial run (Newton's third law): over the last 100 steps the droplet's
+// contact impulse over dt carries its weight, and the walls carry the
+// grains' and the droplet's. Every rank holds the same droplet (centre and
+// velocity, bit for bit), and it rests at the undecomposed run's height.
+TEST(Decomposed, DropletRestsOnTheBedAcrossTheInterfacesAsSerial)
+{
+    const int cols = 16, rows = 8;
+    const double a = 1.15e-3, W = cols*a + 0.2e-3, R = 3e-3, g = 9.81;
+    const std::vector<Grain> G = looseLattice(cols, rows, a, 5);
+    System::Droplet drop;
+    drop.centre = Vec3(0.5*W, rows*a + R + 1e-3, 0);
+    drop.radius = R;
+    drop.mass = 1000*M_PI*R*R;  // [kg/m]
+    drop.force = Vec3(0, -drop.mass*g, 0);
+    drop.surfaceTension = 0.5;
+    auto setUp = [&](System& S)
+    {
+        S.addDroplet(drop);
+        return box(S, W);
+    };
+    DecomposedSystem D(2, MPI_COMM_WORLD, slabs(0, 0, W), 2.5e-3);
+    const int m = setUp(D.system());
+    for (std::size_t k = 0; k < G.size(); ++k) D.addGrain(long(k), G[k].x, G[k].r, m);
+    D.exchange();
+    System serial(2);
+    setUp(serial);
+    for (const Grain& g0 : G) serial.addGrain(g0.x, g0.r, m);
+
+    const double dt = 5e-4;
+    const int steps = 400, averaged = 100;
+    double loadDecomposed = 0, loadSerial = 0, dropDecomposed = 0, dropSerial = 0, spread = 0;
+    double grainImpulse = 0, grainImpulseSerial = 0, ghostImpulse = 0;  // sum of r_n [N s/m]
+    double farImpulse = -1;  // largest gap [m] of a grain with an impulse on the droplet
+    int shared = 0;
+    for (int n = 0; n < steps; ++n)
+    {
+        for (System* S : {&D.system(), &serial})
+        {
+            S->droplet(0).impulse.setZero();
+            std::fill(S->droplet(0).grainImpulse.begin(), S->droplet(0).grainImpulse.end(), 0.0);
+        }
+        D.step(dt);
+        serial.step(dt);
+        const System::Droplet& d = D.system().droplet(0);
+        spread = std::max({spread, maxAll(d.centre.y()) + maxAll(-d.centre.y()),
+                           maxAll(d.velocity.norm()) + maxAll(-d.velocity.norm())});
+        // after the step's exchange (migrations, ghosts): each entry still
+        // belongs to its grain (a grain pressed on the droplet), ghosts zero
+        double here = 0;  // ranks solving a droplet contact
+        ASSERT_EQ(d.grainImpulse.size(), D.system().size());
+        for (std::size_t i = 0; i < D.system().size(); ++i)
+        {
+            if (!(d.grainImpulse[i] > 0)) continue;
+            here = 1;
+            const double gap = (D.system().positions()[i] - d.centre).norm() - R - D.system().radii()[i];
+            farImpulse = std::max(farImpulse, gap);
+            if (!D.owned()[i]) ghostImpulse = std::max(ghostImpulse, d.grainImpulse[i]);
+        }
+        shared = std::max(shared, int(sumAll(here)));
+        if (n < steps - averaged) continue;
+        loadDecomposed += sumAll(wallLoad(D.system(), &D.owned()))/(averaged*dt);
+        loadSerial += wallLoad(serial, nullptr)/(averaged*dt);
+        dropDecomposed += d.impulse.y()/(averaged*dt);
+        dropSerial += serial.droplet(0).impulse.y()/(averaged*dt);
+        double mine = 0;
+        for (std::size_t i = 0; i < D.system().size(); ++i)
+            if (D.owned()[i]) mine += d.grainImpulse[i];
+        grainImpulse += sumAll(mine);
+        for (double rn : serial.droplet(0).grainImpulse) grainImpulseSerial += rn;
+    }
+    double weight = 0;
+    for (std::size_t i = 0; i < serial.size(); ++i) weight += serial.mass(i)*g;
+    const double dropWeight = drop.mass*g;
+    const double yd = D.system().droplet(0).centre.y(), ydSerial = serial.droplet(0).centre.y();
+    if (worldRank() == 0)
+        std::printf("[ droplet ] %d ranks (at most %d solving its contacts): droplet impulse/weight %.6f "
+                    "(serial %.6f), wall load/total weight %.6f (serial %.6f), centre %.4f mm (serial %.4f), "
+                    "sum of grain impulses %.4g (serial %.4g) N s/m\n", worldSize(), shared,
+                    dropDecomposed/dropWeight, dropSerial/dropWeight, loadDecomposed/(weight + dropWeight),
+                    loadSerial/(weight + dropWeight), 1e3*yd, 1e3*ydSerial, grainImpulse, grainImpulseSerial);
+    EXPECT_NEAR(dropSerial/dropWeight, 1.0, 1e-3);
+    EXPECT_NEAR(dropDecomposed/dropWeight, 1.0, 1e-3);
+    EXPECT_NEAR(loadSerial/(weight + dropWeight), 1.0, 1e-3);
+    EXPECT_NEAR(loadDecomposed/(weight + dropWeight), 1.0, 1e-3);
+    EXPECT_EQ(spread, 0.0);        // the same droplet on every rank
+    EXPECT_EQ(ghostImpulse, 0.0);  // a contact's impulse is its owner's
+    EXPECT_LT(maxAll(farImpulse), 0.1*0.45e-3);  // only grains at the droplet's surface
+    EXPECT_NEAR(grainImpulse, grainImpulseSerial, 0.05*grainImpulseSerial);
+    EXPECT_NEAR(yd, ydSerial, 0.02*ydSerial);  // (as the deposit's top above)
+    // held on the grains' tops by the barrier: no grain immersed
+    double immersed = 0;
+    for (std::size_t i = 0; i < D.system().size(); ++i)
+        immersed = std::max(immersed, R + D.system().radii()[i]
+                                      - (D.system().positions()[i] - D.system().droplet(0).centre).norm());
+    EXPECT_LT(maxAll(immersed), 1e-3*0.45e-3);
+    EXPECT_EQ(ownedIdsEverywhere(D).size(), G.size());
+    if (worldSize() > 1) EXPECT_GT(shared, 1);  // the droplet's contacts on several ranks
 }
 
 // Heat conduction across the interfaces: 6 vertical columns of 12 discs of
