@@ -244,11 +244,14 @@ int Foam::grainCloud::ownerOf(const nscd::Vec3& x, const long id) const
 nscd::StepReport Foam::grainCloud::advanceDecomposed(const scalar dt)
 {
     nscd::StepReport rep = decomposed_->advance(dt, maxDisplacementFraction_);
-    // the rank's contacts and overlap: the run's (residual, converged and
-    // the sub-steps are the same on every rank)
+    // the rank's contacts, cohesive contacts and overlap: the run's
+    // (residual, converged and the sub-steps are the same on every rank)
     scalar contacts = rep.contacts;
     reduce(contacts, sumOp<scalar>());
     rep.contacts = int(contacts);
+    scalar cohesive = rep.cohesiveContacts;
+    reduce(cohesive, sumOp<scalar>());
+    rep.cohesiveContacts = int(cohesive);
     reduce(rep.maxOverlap, maxOp<scalar>());
     return rep;
 }

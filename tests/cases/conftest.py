@@ -89,6 +89,7 @@ SLOW_TESTS = {
     "test_droplet_heat.py::test_tutorial_skeleton_runs",
     "test_droplet_grains.py::test_porous_grains_pressure_gradient",
     "test_cohesion.py::test_parallel_same_decision",
+    "test_cohesion.py::test_parallel_contact_point_across_the_cut",
     "test_boussinesq.py::test_heated_cavity_de_vahl_davis",
     "test_vapour.py::test_front_against_ogata_banks",
     "test_vansInterFoam.py::test_grain_falling_from_air_into_water",
@@ -98,6 +99,7 @@ SLOW_TESTS = {
 MPI_TESTS = {
     "test_cohesion.py::test_parallel_same_decision",
     "test_cohesion.py::test_dry_cohesion_decomposed",
+    "test_cohesion.py::test_parallel_contact_point_across_the_cut",
     "test_droplet_restart.py::test_parallel_matches_serial",
     "test_faults_state.py::test_reconstructPar_carries_grain_state",
     "test_fluidisedBed3D.py::test_decomposed_bed_exchanges_momentum_and_keeps_its_grains",

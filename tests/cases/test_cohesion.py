@@ -44,13 +44,13 @@ NX, NY = 10, 20
 XL, XR, Y0 = 0.005, 0.015, 0.031   # fixed row (5 discs) from (XL, Y0) to (XR, Y0)
 
 
-def hanging_case(case, cohesion, vapour):
+def hanging_case(case, cohesion, vapour, y0=Y0):
     make_box_case(case, (0, 0, 0), (W, H, DEPTH), (NX, NY, 1), (0, -9.81, 0),
                   {"glass": {"density": RHO_P, "friction": 0.4}},
-                  grains=[(XL, Y0 - D, 0, D), (XR, Y0 - D, 0, D)],
+                  grains=[(XL, y0 - D, 0, D), (XR, y0 - D, 0, D)],
                   end_time=0.05, dt=1e-4, write_interval=0.05)
     open(os.path.join(case, "system", "grainDepositDict"), "a").write(
-        f"fixedRow {{ from ({XL} {Y0} 0); to ({XR} {Y0} 0); diameter {D}; }}\n")
+        f"fixedRow {{ from ({XL} {y0} 0); to ({XR} {y0} 0); diameter {D}; }}\n")
     add_fluid(case, 1.2, 1.5e-5, max_dt=1e-4,
               extra_coupling=f"cohesion {{ {cohesion} }}\n" if cohesion is not None else "")
     if vapour:
@@ -129,19 +129,20 @@ def test_min_age_needs_a_persisting_contact(tmp_path, env):
     assert left > 0.1 * D and right > 0.1 * D
 
 
-def serial_and_parallel(tmp_path, env, cohesion, vapour):
-    """The hanging case run serial and on 2 ranks (cut at x = W/2, between
-    the pairs); returns the serial and the parallel drops (left, right) and
-    the parallel log."""
+def serial_and_parallel(tmp_path, env, cohesion, vapour, y0=Y0, split=None):
+    """The hanging case (fixed row at height y0) run serial and on 2 ranks
+    (cut at x = W/2, between the pairs; split (1, 2, 1): at y = H/2);
+    returns the serial and the parallel drops (left, right) and the
+    parallel log."""
     import shutil
     serial = str(tmp_path / "serial")
-    hanging_case(serial, cohesion, vapour=vapour)
+    hanging_case(serial, cohesion, vapour=vapour, y0=y0)
     run("blockMesh", serial, env)
     run("grainDeposit", serial, env)
     par = str(tmp_path / "parallel")
     shutil.copytree(serial, par)
     drops, _ = displacements(serial, env, mesh=False)
-    log = run_parallel("vansFoam", par, env).stdout
+    log = run_parallel("vansFoam", par, env, split=split).stdout
     run("reconstructPar", par, env, args=("-latestTime",))
     drops_par, _ = displacements(par, env, mesh=False, solve=False)
     return drops, drops_par, log
@@ -149,15 +150,32 @@ def serial_and_parallel(tmp_path, env, cohesion, vapour):
 
 def test_parallel_same_decision(tmp_path, env):
     """mpirun -np 2, the ranks split at x = W/2 between the dry and the wet
-    pair: the psi lookup is reduced over the ranks (the grains replicated),
-    so both take the serial decision (dry disc hangs, wet disc falls,
-    displacements equal to the serial ones within 1e-9 m: solver tolerance)
-    and every grain is written once (the fixed disc at x = W/2 lies on the
-    processor boundary)."""
+    pair, the grains decomposed: each rank looks psi up at the contact
+    points of the contacts it solves, so both take the serial decision (dry
+    disc hangs, wet disc falls, displacements equal to the serial ones
+    within 1e-9 m: solver tolerance) and every grain is written once (the
+    fixed disc at x = W/2 lies on the processor boundary)."""
     (ls, rs), (lp, rp), log = serial_and_parallel(
         tmp_path, env, f"force {FC0}; vapourThreshold 0.5;", vapour=True)
     print(f"serial drops {ls:.3e} {rs:.3e} m, parallel {lp:.3e} {rp:.3e} m")
-    assert "cohesion.vapourThreshold" in log, log[-3000:]   # why the grains are replicated
+    assert "grains decomposed over 2 ranks" in log, log[-3000:]
+    assert abs(lp) < 1e-3 * D and rp > 0.1 * D
+    assert abs(lp - ls) < 1e-9 and abs(rp - rs) < 1e-9
+
+
+def test_parallel_contact_point_across_the_cut(tmp_path, env):
+    """The ranks split at y = H/2 = 20 mm, the fixed row at 21.5 mm (rank 1)
+    and the hanging discs at 19.5 mm (rank 0): each hanging pair's contact
+    is solved by rank 0 (the owner of the grain with the smaller id, the
+    hanging disc) while its contact point, at 20.5 mm, lies in rank 1's
+    cells, so rank 0 gets psi there from rank 1. A lookup that failed
+    would leave the dry pair without cohesion and its disc would fall; it
+    hangs, as in the serial run (within 1e-9 m), and the wet one falls."""
+    (ls, rs), (lp, rp), log = serial_and_parallel(
+        tmp_path, env, f"force {FC0}; vapourThreshold 0.5;", vapour=True, y0=0.0215, split=(1, 2, 1))
+    print(f"cut at y = 20 mm: serial drops {ls:.3e} {rs:.3e} m, decomposed {lp:.3e} {rp:.3e} m")
+    assert "grains decomposed over 2 ranks" in log, log[-3000:]
+    assert abs(ls) < 1e-3 * D and rs > 0.1 * D
     assert abs(lp) < 1e-3 * D and rp > 0.1 * D
     assert abs(lp - ls) < 1e-9 and abs(rp - rs) < 1e-9
 

@@ -66,11 +66,6 @@ namespace
         {
             why.append("undisturbedVelocity");
         }
-        // cohesion everywhere (dry) is decomposed, not the vapour-switched
-        if (vapourCohesion::switchedByVapour(dict))
-        {
-            why.append("cohesion.vapourThreshold");
-        }
         string out;
         forAll(why, k)
         {

@@ -274,7 +274,11 @@ void Foam::vansCloud::evolveDecomposed(const scalar dt)
         }
     }
 
+    // vapour-switched cohesion: each rank looks psi up at the contacts it
+    // solves (across a processor boundary: where the point lies)
+    cohesion_.beforeGrainStep();
     grains_.evolve(dt);
+    cohesion_.report();
 
     n = s.size();
     const std::vector<double>& carried = grains_.carriedValues(width);

@@ -101,7 +101,7 @@ void Foam::vapourCohesion::read(const IOdictionary& dict, const bool vapourOn)
             (
                 [this](int i, int j)
                 {
-                    const auto it = dryPairs_.find(pairKey(i, j));
+                    const auto it = dryPairs_.find(pairKeyOfIndices(i, j));
                     return it != dryPairs_.end() && it->second;
                 },
                 force_
@@ -162,6 +162,8 @@ void Foam::vapourCohesion::lookupVapour()
 
     // 1 dry, 0 wet, -1 contact point not in a local cell
     labelList state(nc, -1);
+    DynamicList<point> elsewhere;  // (decomposed) those points, in order
+    DynamicList<label> elsewhereContact;
     for (label k = 0; k < nc; ++k)
     {
         const nscd::System::ContactView& c = cs[k];
@@ -192,8 +194,24 @@ void Foam::vapourCohesion::lookupVapour()
             cellHint_[c.i] = cell;
             state[k] = psiI[cell] < vapourThreshold_ ? 1 : 0;
         }
+        else if (grains_.decomposed())
+        {
+            elsewhere.append(point(p.x(), p.y(), p.z()));
+            elsewhereContact.append(k);
+        }
     }
-    if (Pstream::parRun())
+    if (grains_.decomposed())
+    {
+        // each rank decides its own contacts (those it solves); a point
+        // across a processor boundary is looked up where it lies
+        labelList got(elsewhere.size(), -1);
+        resolveElsewhere(elsewhere, got);
+        forAll(got, n)
+        {
+            state[elsewhereContact[n]] = got[n];
+        }
+    }
+    else if (Pstream::parRun())
     {
         // the same decision on every rank (the grains are advanced
         // identically everywhere): dry if dry where the point was found
@@ -207,7 +225,7 @@ void Foam::vapourCohesion::lookupVapour()
     {
         const bool dry = state[k] == 1;
         // several contacts of a grain with one wall (a crease): dry if all are
-        const auto ins = dryPairs_.emplace(pairKey(cs[k].i, cs[k].j), dry);
+        const auto ins = dryPairs_.emplace(pairKeyOfIndices(cs[k].i, cs[k].j), dry);
         if (!ins.second)
         {
             ins.first->second = ins.first->second && dry;
@@ -222,18 +240,73 @@ void Foam::vapourCohesion::lookupVapour()
 }
 
 
+void Foam::vapourCohesion::resolveElsewhere
+(
+    const UList<point>& points,
+    labelList& state
+) const
+{
+    // every rank's points on every rank (few: the contacts whose point
+    // lies across a processor boundary), answered where a cell holds them,
+    // the answers combined by max (-1: in no rank's cells)
+    List<List<point>> all(Pstream::nProcs());
+    all[Pstream::myProcNo()] = points;
+    Pstream::gatherList(all);
+    Pstream::scatterList(all);
+    labelList offset(Pstream::nProcs() + 1, 0);
+    forAll(all, r)
+    {
+        offset[r + 1] = offset[r] + all[r].size();
+    }
+    labelList answer(offset.last(), -1);
+    const scalarField& psiI = psi_->primitiveField();
+    const overlapMapping::CellMesh& cm = adapter_.cellMesh();
+    forAll(all, r)
+    {
+        if (r == Pstream::myProcNo())
+        {
+            continue;  // (not in a local cell: asked for that reason)
+        }
+        forAll(all[r], n)
+        {
+            const point& x = all[r][n];
+            const label cell = cm.findCell(overlapMapping::Vec3(x.x(), x.y(), x.z()));
+            if (cell >= 0)
+            {
+                answer[offset[r] + n] = psiI[cell] < vapourThreshold_ ? 1 : 0;
+            }
+        }
+    }
+    Pstream::listCombineGather(answer, maxEqOp<label>());
+    Pstream::listCombineScatter(answer);
+    state.setSize(points.size());
+    forAll(points, n)
+    {
+        state[n] = answer[offset[Pstream::myProcNo()] + n];
+    }
+}
+
+
 void Foam::vapourCohesion::report() const
 {
     if (!on())
     {
         return;
     }
+    // (decomposed: each rank's contacts are its own, summed)
+    label nContacts = grains_.system().nContacts();
+    label nDry = nDryPairs_, nWet = nWetPairs_;
+    if (grains_.decomposed())
+    {
+        reduce(nContacts, sumOp<label>());
+        reduce(nDry, sumOp<label>());
+        reduce(nWet, sumOp<label>());
+    }
     Info<< "cohesion: cohesive contacts " << grains_.report().cohesiveContacts
-        << " of " << grains_.system().nContacts();
+        << " of " << nContacts;
     if (byVapour_)
     {
-        Info<< ", pairs looked up dry " << nDryPairs_ << " wet "
-            << nWetPairs_;
+        Info<< ", pairs looked up dry " << nDry << " wet " << nWet;
     }
     Info<< endl;
 }
