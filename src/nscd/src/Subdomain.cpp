@@ -106,9 +106,15 @@ void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch&
  * convergence against interface impulses far from theirs can drift far from
  * the solution); the rows of a grain whose velocity the averaging moved by
  * more than requeueFraction xi/dt are queued again. When no
- * subdomain has a queued row, the residual is evaluated (the rows of the
- * interface grains at the final velocities); the rows of interface grains
- * still off by more than the tolerance are queued again. Stops converged
+ * subdomain has a queued row, every row's last change is below the
+ * tolerance (a row whose change was not is queued again) except possibly
+ * the rows of the interface grains, whose velocities the averagings moved
+ * by less than the requeue threshold: those are evaluated at the final
+ * velocities and queued again if off by more than the tolerance. The pass
+ * over every row that finishes them (and gives the residual, eq. in
+ * ContactSolver.cpp) is made once, when the solve stops, not at each such
+ * re-entry (several a step on a 3D interface), where it would cost two
+ * memory-bound passes over the rows. Stops converged
  * (global residual <= tolerance) or capped (Settings::maxIterations
  * averagings or sweep-equivalents of local solves). seed: rows queued at
  * the start (null: all; a seeded solve continues a converged solve of the
@@ -180,7 +186,7 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
     // solved, evaluated at the current velocities for the rows of interface
     // grains. In the same pass the rows are finished (2D tangential impulse
     // back to a vector, change to its square root: one pass over the rows,
-    // which are memory-bound); unfinish() undoes it if the solve goes on.
+    // which are memory-bound), once, when the solve stops.
     auto rowResidual2 = [&](int k)  // at the current velocities
     {
         const SolverContact& c = cs[k];
@@ -201,11 +207,6 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
         else for (int k = 0; k < NC; ++k) finishRow(k, r);
         for (int k : ifaceRows) r = std::max(r, rowResidual2(k));
         return r;
-    };
-    auto unfinish = [&]()
-    {
-        if (seed) for (int k : solved) cs[k].change *= cs[k].change;
-        else for (int k = 0; k < NC; ++k) cs[k].change *= cs[k].change;
     };
 
     const long maxSolves = long(I.settings.maxIterations)*long(std::max(NC, 1));
@@ -250,19 +251,23 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
             averageInterface(I, C, X, lambda, [&](int s, double du)
                              { if (du*dt > requeueFraction*xi) pushBody(s); });
             ++averagings;
-            busy = C.maxOverSubdomains(count > 0 ? 1.0 : 0.0) > 0;
-            capped = C.maxOverSubdomains(solves >= maxSolves ? 1.0 : 0.0) > 0;
+            double flags[2] = {count > 0 ? 1.0 : 0.0, solves >= maxSolves ? 1.0 : 0.0};
+            C.maxOverSubdomainsEach(flags, 2);  // one reduction for both
+            busy = flags[0] > 0;
+            capped = flags[1] > 0;
         }
-        res = C.maxOverSubdomains(std::sqrt(residual2AndFinish()));
-        if (busy || capped || res <= xi || averagings >= I.settings.maxIterations) break;
-        // the copies agree to the requeue threshold but a row of an interface
-        // grain is off by more than the tolerance: those rows again
+        if (busy || capped || averagings >= I.settings.maxIterations) break;
+        // no queued row anywhere: the copies agree to the requeue threshold,
+        // but a row of an interface grain may be off by more than the
+        // tolerance (the other rows are not, see above): those rows again.
+        // A row off here makes the residual exceed the tolerance, and none
+        // off means it does not: the same decision as the residual's.
         for (int k : ifaceRows)
             if (rowResidual2(k) > xi2) push(k);
         busy = C.maxOverSubdomains(count > 0 ? 1.0 : 0.0) > 0;
         if (!busy) break;
-        unfinish();
     }
+    res = C.maxOverSubdomains(std::sqrt(residual2AndFinish()));
     rep.contacts = std::max(rep.contacts, NC);
     rep.localSolves += solves;
     rep.sweeps += NC > 0 ? int((solves + NC - 1)/NC) : 0;

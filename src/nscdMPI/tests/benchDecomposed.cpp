@@ -37,10 +37,14 @@ double threadCpu()
     return double(t.tv_sec) + 1e-9*double(t.tv_nsec);
 }
 
-/// Resident memory of the process [MB]: now (VmRSS) or its peak (VmHWM).
-double rssMB(const char* field = "VmRSS:")
+/// Resident memory of the process [MB]: now (VmRSS) or its peak (VmHWM)
+/// from /proc/self/status; with file "/proc/self/smaps_rollup" and field
+/// "Pss:", the proportional set size (pages shared with other processes,
+/// e.g. the other ranks' copies of the MPI and system libraries and the MPI
+/// shared-memory segments, counted as 1/n of a page each).
+double rssMB(const char* field = "VmRSS:", const char* file = "/proc/self/status")
 {
-    std::ifstream f("/proc/self/status");
+    std::ifstream f(file);
     std::string line;
     const std::size_t n = std::string(field).size();
     while (std::getline(f, line))
@@ -89,7 +93,7 @@ int main(int argc, char** argv)
     const int steps = std::atoi(argv[2]);
     const bool serial = argc > 4 && std::string(argv[4]) == "serial" && P == 1;
 
-    double serialCpu = 0, serialRss = 0;
+    double serialCpu = 0, serialRss = 0, serialPss = 0;
     if (serial)
     {
         System S = System::readHDF5(state);
@@ -107,6 +111,7 @@ int main(int argc, char** argv)
         }
         serialCpu = median(t);
         serialRss = rssMB();  // (the undecomposed system held, after its steps)
+        serialPss = rssMB("Pss:", "/proc/self/smaps_rollup");
     }
     malloc_trim(0);
 
@@ -176,7 +181,7 @@ int main(int argc, char** argv)
                mExch = gather(median(exch), P), mWork = gather(median(work), P),
                mAvg = gather(median(avg), P), mBytes = gather(median(bytes), P),
                mContacts = gather(median(contacts), P), rss = gather(rssMB(), P),
-               peak = gather(rssMB("VmHWM:"), P);
+               peak = gather(rssMB("VmHWM:"), P), pss = gather(rssMB("Pss:", "/proc/self/smaps_rollup"), P);
     if (rank == 0)
     {
         std::ofstream o(argv[3]);
@@ -191,10 +196,12 @@ int main(int argc, char** argv)
           << ",\n  \"averagings_per_step\": " << list(mAvg)
           << ",\n  \"bytes_sent_per_step\": " << list(mBytes)
           << ",\n  \"rss_mb\": " << list(rss)
-          << ",\n  \"peak_rss_mb\": " << list(peak);
+          << ",\n  \"peak_rss_mb\": " << list(peak)
+          << ",\n  \"pss_mb\": " << list(pss);
         if (serial)
             o << ",\n  \"undecomposed_cpu_seconds_per_step\": " << serialCpu
-              << ",\n  \"undecomposed_rss_mb\": " << serialRss;
+              << ",\n  \"undecomposed_rss_mb\": " << serialRss
+              << ",\n  \"undecomposed_pss_mb\": " << serialPss;
         o << "\n}\n";
         std::printf("np %d: owned %s, work CPU %s s/step, collectives %s, exchange %s, averagings %s, rss %s MB\n",
                     P, list(owned).c_str(), list(mWork).c_str(), list(mComm).c_str(), list(mExch).c_str(),
