@@ -479,14 +479,19 @@ void System::Impl::accumulateDragImpulses(double dt)
         if (c.i < N) contactSum[c.i] += P;
         if (c.j < N) contactSum[c.j] -= P;
     }
+    if (dragInterface)  // interface grains: n (local contacts + interface impulse)
+        for (const DragInterfaceTerm& t : *dragInterface)
+        {
+            Vec3& R = contactSum[slotOf[t.grain]];
+            R = double(t.copies)*(R + t.impulse);
+        }
     for (int s = 0; s < N; ++s)  // contactSum by slot
     {
         const int i = order[s];
         const double c = dragCoefficient[i];
         if (!(c > 0) || fix[i]) continue;
         const Vec3 v0 = v[i] + dt*(g + force[i]/mass[i]);
-        Vec3 R = contactSum[s];
-        if (dragCopies && (*dragCopies)[i] > 1) R = double((*dragCopies)[i])*(R + (*dragInterface)[2*i]);
+        const Vec3& R = contactSum[s];
         Vec3 J = dt*c*(mass[i]*(dragVelocity[i] - v0) - R)/effectiveMass(i, dt);
         if (dim == 2) J.z() = 0;
         dragImpulse[i] += J;

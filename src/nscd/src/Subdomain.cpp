@@ -23,14 +23,24 @@ struct Subdomain::Scratch
     std::vector<Vec3> vAvg, wAvg;     ///< per grain: velocities for averageCopies
     std::vector<char> inContact;      ///< per grain: body of a contact here
     std::vector<int> copies;          ///< per grain: copies in this step's solve
-    std::vector<int> lambda0Grains;   ///< grains with interface impulses at the step start
-    std::vector<Vec3> lambda0;        ///< their impulses (linear, angular), restored on re-detection
+    std::vector<Vec3> lambda;         ///< per interface grain (aligned with iface), 2 each: its copy's
+                                      ///< interface impulses in this step (linear, angular)
     std::vector<char> ifaceRow;       ///< per row: a body is an interface grain
     std::vector<int> ifaceRows;       ///< the rows flagged in ifaceRow
-    std::vector<int> dragCopies;      ///< per grain: copies for the drag impulse (1 outside the solve)
+    std::vector<System::Impl::DragInterfaceTerm> dragTerms;  ///< per interface grain: its drag impulse's terms
     std::vector<int> dropletBodies;   ///< bodies of the droplets with mass (averaged over the subdomains)
     std::vector<char> dropletShared;  ///< per droplet: a contact of it is solved here
     std::vector<double> dropletV, dropletW;  ///< per droplet, 3 each: weightedMeanOverSubdomains buffers
+};
+
+/// Kept from step to step (apart from the scratch): the interface impulses
+/// of the last step, by global id (local indices change at every exchange).
+/// Only the grains that had copies in the last step's solve have one, so the
+/// subdomain keeps no per-grain list for them.
+struct Subdomain::InterfaceImpulses
+{
+    std::vector<long> id;       ///< global ids, ascending
+    std::vector<Vec3> impulse;  ///< 2 per id: linear [N s], angular [N m s] (2D: per unit depth)
 };
 
 namespace
@@ -49,7 +59,8 @@ constexpr double requeueFraction = 0.5;
 /**
  * One averaging of the interface grains' copies (X.iface): their velocities
  * replaced by the average over the copies (averageCopies), the impulse this
- * gives each copy, M (v_avg - v), added to its interface impulse lambda;
+ * gives each copy, M (v_avg - v), added to its interface impulse (lambda,
+ * 2 entries per interface grain, aligned with X.iface);
  * moved(slot, du) is called with each copy's velocity change |dv| + r |dw|.
  */
 template<class Moved>
@@ -63,13 +74,14 @@ void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch&
         X.wAvg[i] = B.w;
     }
     C.averageCopies(X.vAvg, X.wAvg);
-    for (int i : X.iface)
+    for (std::size_t k = 0; k < X.iface.size(); ++k)
     {
+        const int i = X.iface[k];
         const int s = I.slotOf[i];
         Body& B = I.body[s];
         const double du = (X.vAvg[i] - B.v).norm() + B.r*(X.wAvg[i] - B.w).norm();
-        if (B.im > 0) lambda[2*i] += (X.vAvg[i] - B.v)/B.im;
-        if (B.ii > 0) lambda[2*i + 1] += (X.wAvg[i] - B.w)/B.ii;
+        if (B.im > 0) lambda[2*k] += (X.vAvg[i] - B.v)/B.im;
+        if (B.ii > 0) lambda[2*k + 1] += (X.wAvg[i] - B.w)/B.ii;
         B.v = X.vAvg[i];
         B.w = X.wAvg[i];
         moved(s, du);
@@ -120,7 +132,7 @@ void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch&
  * the start (null: all; a seeded solve continues a converged solve of the
  * same rows, as System::Impl::solveNLGS: the rows it does not solve keep
  * their tangential impulse and change, whose residual the solve it continues
- * bounds). lambda: per grain, the interface impulses of the copy (linear,
+ * bounds). lambda: per interface grain (X.iface), the interface impulses of the copy (linear,
  * angular), to which the averagings' impulses are added. Fills rep (sweeps:
  * sweep-equivalents of local solves; global residual).
  */
@@ -275,68 +287,78 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
     rep.converged = rep.converged && !busy && !capped && res <= xi;
 }
 /**
- * The interface impulses of the last step as the warm start of this one:
- * zero for a grain with one copy (or a ghost in no contact here); the
- * others made to sum to zero over the grain's copies (the set of copies may
- * have changed: their mean is removed, through averageCopies), scaled by
- * dt/lastDt as the contact impulses, and applied to the copy's body; then
- * one averaging of the copies' velocities. Lists the interface grains (X.iface).
+ * The interface impulses of the last step (last, by global id) as the warm
+ * start of this one: zero for a grain with one copy (or a ghost in no
+ * contact here); the others made to sum to zero over the grain's copies
+ * (the set of copies may have changed: their mean is removed, through
+ * averageCopies), scaled by dt/lastDt as the contact impulses, and applied
+ * to the copy's body; then one averaging of the copies' velocities. Lists
+ * the interface grains (X.iface) and sets their impulses (X.lambda). A
+ * re-detection calls it again with the same last impulses.
  */
 void warmStartInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X,
-                        const std::vector<char>& owned, std::vector<Vec3>& lambda, double scale,
-                        bool save)
+                        const std::vector<char>& owned, const std::vector<long>& globalId,
+                        const Subdomain::InterfaceImpulses& last, double scale)
 {
     const int N = int(I.x.size());
-    // the interface grains of this step (their copies average in the solve);
-    // save: the non-zero impulses kept in X.lambda0 (restoreInterface)
+    // the interface grains of this step (their copies average in the solve)
     X.iface.clear();
-    if (save) { X.lambda0Grains.clear(); X.lambda0.clear(); }
     for (int i = 0; i < N; ++i)
+        if ((owned[i] || X.inContact[i]) && X.copies[i] > 1 && !I.fix[i]) X.iface.push_back(i);
+    std::vector<Vec3>& lambda = X.lambda;
+    lambda.assign(2*X.iface.size(), Vec3::Zero());
+    for (std::size_t k = 0; k < X.iface.size(); ++k)
     {
-        const bool part = (owned[i] || X.inContact[i]) && X.copies[i] > 1 && !I.fix[i];
-        if (part) X.iface.push_back(i);
-        if (lambda[2*i] == Vec3::Zero() && lambda[2*i + 1] == Vec3::Zero()) continue;  // (exact; isZero has a tolerance)
-        if (save)
-        {
-            X.lambda0Grains.push_back(i);
-            X.lambda0.push_back(lambda[2*i]);
-            X.lambda0.push_back(lambda[2*i + 1]);
-        }
-        if (!part) { lambda[2*i].setZero(); lambda[2*i + 1].setZero(); }
+        const long id = globalId[X.iface[k]];
+        const auto it = std::lower_bound(last.id.begin(), last.id.end(), id);
+        if (it == last.id.end() || *it != id) continue;
+        const std::size_t n = std::size_t(it - last.id.begin());
+        lambda[2*k] = last.impulse[2*n];
+        lambda[2*k + 1] = last.impulse[2*n + 1];
     }
     X.vAvg.resize(N);
     X.wAvg.resize(N);
-    for (int i : X.iface) { X.vAvg[i] = lambda[2*i]; X.wAvg[i] = lambda[2*i + 1]; }
+    for (std::size_t k = 0; k < X.iface.size(); ++k) { X.vAvg[X.iface[k]] = lambda[2*k]; X.wAvg[X.iface[k]] = lambda[2*k + 1]; }
     C.averageCopies(X.vAvg, X.wAvg);
-    for (int i : X.iface)
+    for (std::size_t k = 0; k < X.iface.size(); ++k)
     {
-        lambda[2*i] = scale*(lambda[2*i] - X.vAvg[i]);
-        lambda[2*i + 1] = scale*(lambda[2*i + 1] - X.wAvg[i]);
+        const int i = X.iface[k];
+        lambda[2*k] = scale*(lambda[2*k] - X.vAvg[i]);
+        lambda[2*k + 1] = scale*(lambda[2*k + 1] - X.wAvg[i]);
         Body& B = I.body[I.slotOf[i]];
-        B.v += B.im*lambda[2*i];
-        B.w += B.ii*lambda[2*i + 1];
+        B.v += B.im*lambda[2*k];
+        B.w += B.ii*lambda[2*k + 1];
     }
     // the copies made to agree before the first sweep: with warm-started
     // contacts their average is the undecomposed warm-started velocity, and
     // the local sweeps start from it rather than from each copy's share
     averageInterface(I, C, X, lambda, [](int, double) {});
 }
-/// The interface impulses back to those saved by warmStartInterface (after
-/// a solve, only the interface grains X.iface have non-zero ones).
-void restoreInterface(Subdomain::Scratch& X, std::vector<Vec3>& lambda)
+
+/// The interface impulses of this step (X.iface, X.lambda), non-zero ones,
+/// kept by global id for the next step's warm start.
+void keepInterface(const Subdomain::Scratch& X, const std::vector<long>& globalId,
+                   Subdomain::InterfaceImpulses& last)
 {
-    for (int i : X.iface) { lambda[2*i].setZero(); lambda[2*i + 1].setZero(); }
-    for (std::size_t n = 0; n < X.lambda0Grains.size(); ++n)
+    std::vector<std::pair<long, std::size_t>> byId;
+    for (std::size_t k = 0; k < X.iface.size(); ++k)
+        if (X.lambda[2*k] != Vec3::Zero() || X.lambda[2*k + 1] != Vec3::Zero())  // (exact; isZero has a tolerance)
+            byId.emplace_back(globalId[X.iface[k]], k);
+    std::sort(byId.begin(), byId.end());
+    last.id.resize(byId.size());
+    last.impulse.resize(2*byId.size());
+    for (std::size_t n = 0; n < byId.size(); ++n)
     {
-        const int i = X.lambda0Grains[n];
-        lambda[2*i] = X.lambda0[2*n];
-        lambda[2*i + 1] = X.lambda0[2*n + 1];
+        last.id[n] = byId[n].first;
+        last.impulse[2*n] = X.lambda[2*byId[n].second];
+        last.impulse[2*n + 1] = X.lambda[2*byId[n].second + 1];
     }
 }
 } // namespace
 
 Subdomain::Subdomain(System& system, SubdomainCoupling& coupling)
-: sys_(system), coupling_(coupling), scratch_(std::make_unique<Scratch>())
+: sys_(system), coupling_(coupling), scratch_(std::make_unique<Scratch>()),
+  interface_(std::make_unique<InterfaceImpulses>())
 {}
 
 Subdomain::~Subdomain() = default;
@@ -386,8 +408,7 @@ void Subdomain::setGrainId(std::size_t i, long id)
     I.nextId = std::max(I.nextId, id + 1);
 }
 
-StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std::vector<long>& globalId,
-                           std::vector<Vec3>& interfaceImpulse)
+StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std::vector<long>& globalId)
 {
     using clock = std::chrono::steady_clock;
     System::Impl& I = *sys_.impl_;
@@ -423,8 +444,7 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     X.dropletBodies.clear();
     for (int k = 0; k < ND; ++k)
         if (I.droplets[k].mass > 0) X.dropletBodies.push_back(N + NW + k);
-    std::vector<Vec3>& lambda = interfaceImpulse;
-    if (lambda.size() != 2*std::size_t(N)) lambda.assign(2*std::size_t(N), Vec3::Zero());
+    std::vector<Vec3>& lambda = X.lambda;
     const double warmScale = I.settings.warmStart && I.lastDt > 0 ? dt/I.lastDt : 0.0;
     StepReport rep;
     rep.substeps = 1;
@@ -507,14 +527,13 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         const auto t1 = clock::now();
         I.prepareContacts(dt, NC0);
         I.buildAdjacency();
-        warmStartInterface(I, coupling_, X, owned, lambda, warmScale, redo == 0);
+        warmStartInterface(I, coupling_, X, owned, globalId, *interface_, warmScale);
         solveDecomposed(I, coupling_, X, lambda, dt, dmin, rep, nullptr);
         rep.solveSeconds += std::chrono::duration<double>(clock::now() - t1).count();
         const bool again = redo < maxRedetections
                         && coupling_.maxOverSubdomains(I.raiseReaches(dt) ? 1.0 : 0.0) > 0;
         if (!again) break;
         ++rep.redetections;
-        restoreInterface(X, lambda);
         rep.converged = true;
         rep.residual = 0;
         I.freeVelocities(dt);
@@ -535,11 +554,10 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
 
     // the drag impulse of an interface grain from its whole contact impulse
     // (its copies' contacts here and elsewhere: n (local + interface))
-    X.dragCopies.assign(N, 1);
-    for (int i = 0; i < N; ++i)
-        if (owned[i] || inContact[i]) X.dragCopies[i] = std::max(copies[i], 1);
-    I.dragCopies = &X.dragCopies;
-    I.dragInterface = &lambda;
+    X.dragTerms.resize(X.iface.size());
+    for (std::size_t k = 0; k < X.iface.size(); ++k)
+        X.dragTerms[k] = {X.iface[k], copies[X.iface[k]], lambda[2*k]};
+    I.dragInterface = &X.dragTerms;
     std::vector<Vec3> dropletImpulse0(ND);
     for (int k = 0; k < ND; ++k) dropletImpulse0[k] = I.droplets[k].impulse;
     I.integrate(dt, NC0);
@@ -549,9 +567,9 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         const Vec3 dJ = J - dropletImpulse0[k];
         for (int c = 0; c < 3; ++c) J[c] = dropletImpulse0[k][c] + coupling_.sumOverSubdomains(dJ[c]);
     }
-    I.dragCopies = nullptr;
     I.dragInterface = nullptr;
     I.storeImpulses(dt, NC0, rep);
+    keepInterface(X, globalId, *interface_);
 
     if (coupling_.maxOverSubdomains(heat ? 1.0 : 0.0) > 0)
     {

@@ -32,7 +32,6 @@ DecomposedSystem::DecomposedSystem(System&& part, long wholeSize, MPI_Comm comm,
     const std::size_t N = I.sys.size();
     I.gid = I.sys.grainIds();
     I.owned.assign(N, 1);
-    I.lambda.assign(2*N, Vec3::Zero());
     // keep the grains owned here and those that will be ghosts here (within
     // halo of the owned centres' box), with the contacts among them: the
     // contact impulses warm-start the first step, at the interfaces too
@@ -172,7 +171,6 @@ std::size_t DecomposedSystem::addGrain(long id, const Vec3& centre, double radiu
     I.sub.setGrainId(i, id);
     I.gid.push_back(id);
     I.owned.push_back(1);
-    I.lambda.resize(2*I.gid.size(), Vec3::Zero());
     I.data.resize(I.gid.size()*std::size_t(I.dataWidth), 0.0);
     return i;
 }
@@ -210,7 +208,7 @@ StepReport DecomposedSystem::step(double dt)
     I.counters = ExchangeCounters{};
     try
     {
-        const StepReport rep = I.sub.step(dt, I.owned, I.gid, I.lambda);
+        const StepReport rep = I.sub.step(dt, I.owned, I.gid);
         I.exchange();
         return rep;
     }
