@@ -8,10 +8,12 @@
 // times (dt of the state's last step) after 3 untimed steps. Per rank:
 // owned grains, ghosts, contacts, thread CPU of the step split into the
 // solve's collectives, the exchange (migration and ghosts) and the rest
-// (NSCD work), bytes sent, averagings per step, resident memory (after the
-// steps, and the peak, which includes the whole state every rank reads at
-// the start, or its part with NSCD_PARTREAD=1). With `serial` and one rank, System::step of the same state
-// is timed as well, and the resident memory while it holds the state.
+// (NSCD work), bytes sent, averagings per step, resident memory and
+// proportional set size after the steps, and the peak resident memory
+// (which includes the whole state every rank reads at the start, or its
+// part with NSCD_PARTREAD=1). With `serial` and one rank, System::step of
+// the same state is timed as well, with the resident memory and
+// proportional set size while it holds the state.
 #include "nscdMPI/DecomposedSystem.H"
 
 #include <malloc.h>
