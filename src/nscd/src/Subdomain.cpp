@@ -59,14 +59,14 @@ constexpr double requeueFraction = 0.5;
 /**
  * One averaging of the interface grains' copies (X.iface): their velocities
  * replaced by the average over the copies (averageCopies), the impulse this
- * gives each copy, M (v_avg - v), added to its interface impulse (lambda,
+ * gives each copy, M (v_avg - v), added to its interface impulse (X.lambda,
  * 2 entries per interface grain, aligned with X.iface);
  * moved(slot, du) is called with each copy's velocity change |dv| + r |dw|.
  */
 template<class Moved>
-void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X,
-                      std::vector<Vec3>& lambda, Moved moved)
+void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X, Moved moved)
 {
+    std::vector<Vec3>& lambda = X.lambda;
     for (int i : X.iface)
     {
         const Body& B = I.body[I.slotOf[i]];
@@ -132,12 +132,13 @@ void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch&
  * the start (null: all; a seeded solve continues a converged solve of the
  * same rows, as System::Impl::solveNLGS: the rows it does not solve keep
  * their tangential impulse and change, whose residual the solve it continues
- * bounds). lambda: per interface grain (X.iface), the interface impulses of the copy (linear,
- * angular), to which the averagings' impulses are added. Fills rep (sweeps:
+ * bounds). The averagings' impulses are added to the interface impulses
+ * of the copies (X.lambda, per interface grain of X.iface: linear,
+ * angular). Fills rep (sweeps:
  * sweep-equivalents of local solves; global residual).
  */
 void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X,
-                     std::vector<Vec3>& lambda, double dt, double dmin, StepReport& rep,
+                     double dt, double dmin, StepReport& rep,
                      const std::vector<int>* seed)
 {
     const int NC = int(I.rows.size());
@@ -260,7 +261,7 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
                 pushBody(c.i);
                 pushBody(c.j);
             }
-            averageInterface(I, C, X, lambda, [&](int s, double du)
+            averageInterface(I, C, X, [&](int s, double du)
                              { if (du*dt > requeueFraction*xi) pushBody(s); });
             ++averagings;
             double flags[2] = {count > 0 ? 1.0 : 0.0, solves >= maxSolves ? 1.0 : 0.0};
@@ -332,7 +333,7 @@ void warmStartInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratc
     // the copies made to agree before the first sweep: with warm-started
     // contacts their average is the undecomposed warm-started velocity, and
     // the local sweeps start from it rather than from each copy's share
-    averageInterface(I, C, X, lambda, [](int, double) {});
+    averageInterface(I, C, X, [](int, double) {});
 }
 
 /// The interface impulses of this step (X.iface, X.lambda), non-zero ones,
@@ -444,7 +445,6 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     X.dropletBodies.clear();
     for (int k = 0; k < ND; ++k)
         if (I.droplets[k].mass > 0) X.dropletBodies.push_back(N + NW + k);
-    std::vector<Vec3>& lambda = X.lambda;
     const double warmScale = I.settings.warmStart && I.lastDt > 0 ? dt/I.lastDt : 0.0;
     StepReport rep;
     rep.substeps = 1;
@@ -528,7 +528,7 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         I.prepareContacts(dt, NC0);
         I.buildAdjacency();
         warmStartInterface(I, coupling_, X, owned, globalId, *interface_, warmScale);
-        solveDecomposed(I, coupling_, X, lambda, dt, dmin, rep, nullptr);
+        solveDecomposed(I, coupling_, X, dt, dmin, rep, nullptr);
         rep.solveSeconds += std::chrono::duration<double>(clock::now() - t1).count();
         const bool again = redo < maxRedetections
                         && coupling_.maxOverSubdomains(I.raiseReaches(dt) ? 1.0 : 0.0) > 0;
@@ -548,7 +548,7 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         I.holdPositionVelocities();
         for (int k : I.relaxSeed) I.rows[k].bias = 0.0;
         StepReport relax;
-        solveDecomposed(I, coupling_, X, lambda, dt, dmin, relax, rep.converged ? &I.relaxSeed : nullptr);
+        solveDecomposed(I, coupling_, X, dt, dmin, relax, rep.converged ? &I.relaxSeed : nullptr);
         mergeRelaxReport(rep, relax);
     }
 
@@ -556,7 +556,7 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     // (its copies' contacts here and elsewhere: n (local + interface))
     X.dragTerms.resize(X.iface.size());
     for (std::size_t k = 0; k < X.iface.size(); ++k)
-        X.dragTerms[k] = {X.iface[k], copies[X.iface[k]], lambda[2*k]};
+        X.dragTerms[k] = {X.iface[k], copies[X.iface[k]], X.lambda[2*k]};
     I.dragInterface = &X.dragTerms;
     std::vector<Vec3> dropletImpulse0(ND);
     for (int k = 0; k < ND; ++k) dropletImpulse0[k] = I.droplets[k].impulse;
