@@ -190,7 +190,8 @@ System settledBlock(const Bed& b0, bool quick)
 /// (StepReport::relaxSolves), the max overlap and the max displacement over
 /// the <steps> steps, the median detection time and the Verlet list builds.
 /// Environment: NSCD_LOAD (start from this HDF5 state), NSCD_RELAX
-/// (Settings::relaxation), NSCD_SKIN (Settings::verletSkin), NSCD_DUMP
+/// (Settings::relaxation), NSCD_SKIN (Settings::verletSkin), NSCD_TOL
+/// (Settings::tolerance), NSCD_SLOP (Settings::overlapSlop), NSCD_DUMP
 /// (write the final HDF5 state), NSCD_DIM=3 (spheres: a block of 500 in
 /// fcc layers of 8 x 8, tiles x NSCD_TILES_Z copies side by side).
 int runReorderCase(int argc, char** argv)
@@ -229,6 +230,8 @@ int runReorderCase(int argc, char** argv)
     s.settings().reorderInterval = interval;
     if (const char* om = std::getenv("NSCD_RELAX")) s.settings().relaxation = std::atof(om);
     if (const char* sk = std::getenv("NSCD_SKIN")) s.settings().verletSkin = std::atof(sk);
+    if (const char* tol = std::getenv("NSCD_TOL")) s.settings().tolerance = std::atof(tol);
+    if (const char* slop = std::getenv("NSCD_SLOP")) s.settings().overlapSlop = std::atof(slop);
     for (int k = 0; k < 10; ++k) s.step(dt);
     // per step: thread CPU time, sweeps, relax stage (StepReport::relaxSolves),
     // max overlap; over the timed steps: max displacement (all in r_min)
