@@ -1,6 +1,7 @@
 """nscdpost: read nscdFoam case output from Python (tutorial post-processing, tests).
 
-Needs numpy and foamlib (PyPI; OpenFOAM files, ascii or binary).  Installed
+Needs numpy, foamlib (PyPI; OpenFOAM files, ascii or binary) and h5py
+(the HDF5 grain state).  Installed
 with the other tools of src/python by `pip install -e src/python`
 (etc/installDependencies).  Functions:
   time_dirs(case)              -> sorted list of (float time, str name) with grains
@@ -11,7 +12,8 @@ with the other tools of src/python by `pip install -e src/python`
   write_json(path, obj)        -> results.json writer (sorted keys, floats as-is)
   instantiate_case(base, case, subs) -> copy a template case, replacing @KEYS@
   copy_grain_state(src, dst)   -> copy 0/grainState.h5 and 0/lagrangian of a settled case
-  read_contacts(case, time_name) -> the saved contact list and impulses (h5dump)
+  read_contacts(case, time_name) -> the saved contact list and impulses (h5py)
+  read_h5(path, dataset)       -> one dataset of an HDF5 file (grainState.h5) with h5py
   read_droplet_history(case), heat_log_history(case) -> droplet.dat / vansFoam heat
                                 lines of a run continued from its writes, joined
 """
@@ -337,16 +339,27 @@ def copy_grain_state(src, dst, time_name="0"):
         (shutil.copytree if os.path.isdir(a) else shutil.copy)(a, b)
 
 
-def _h5dump_array(path, dataset, cols):
-    """Dataset of the nscd HDF5 state path as an (n, cols) array, through
-    the HDF5 command-line tool h5dump (libhdf5's own reader)."""
-    import subprocess
-    out = subprocess.run(["h5dump", "-y", "-w", "0", "-d", dataset, path],
-                         capture_output=True, text=True, check=True).stdout
-    body = out[out.index("DATA {") + 6:]
-    body = body[:body.index("}")]
-    vals = np.array([float(v) for v in re.findall(_FLOAT, body)])
-    return vals.reshape(-1, cols)
+def read_h5(path, dataset, cols=None):
+    """Dataset `dataset` (e.g. "/positions") of the HDF5 file `path` as a numpy
+    array of the file's own type (float64 or int), read with h5py.  The nscd
+    grain state grainState.h5 starts with a FoamFile header in its HDF5 user
+    block; h5py (libhdf5) skips it.  cols: reshape to (n, cols), e.g. 1 for
+    a column of a 1D dataset.  Raises FileNotFoundError when path does not
+    exist, OSError naming path when it is not an HDF5 file, KeyError naming
+    path when the dataset is missing."""
+    import h5py
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"{path}: no such HDF5 file")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        raise OSError(f"{path}: cannot be read as HDF5 ({e})") from e
+    with f:
+        if dataset not in f:
+            raise KeyError(f"{path}: no dataset '{dataset}' (has: {', '.join(sorted(f))})")
+        a = f[dataset][()]
+    a = np.asarray(a)
+    return a.reshape(-1, cols) if cols else a
 
 
 def read_contacts(case, time_name):
@@ -356,16 +369,20 @@ def read_contacts(case, time_name):
     -1), 'normal' (n x 3, from B to A), 'rn' (n, normal impulse [N s],
     2D: per unit depth), 'rt' (n x 3, tangential impulse on A [N s]) and
     'dt' (the time step [s] of those impulses: the last sub-step's).
-    Raises subprocess.CalledProcessError if h5dump cannot read the file."""
+    In the file (src/nscd/src/IO.cpp): /contactBodies (n, 2) int, the second
+    body a grain index or n_grains + wall index; /contactData (n, 14) float,
+    normal (3), tangential impulse (3), normal impulse, then the Delassus
+    terms, gap and state; /time = {time, last dt, cohesion force}.
+    Raises the errors of read_h5 (naming the file) on a missing or bad file."""
     path = os.path.join(case, time_name, "grainState.h5")
-    n_grains = len(_h5dump_array(path, "/radii", 1))
-    ij = _h5dump_array(path, "/contactBodies", 2).astype(int)
-    cd = _h5dump_array(path, "/contactData", 14)
+    n_grains = len(read_h5(path, "/radii"))
+    ij = read_h5(path, "/contactBodies", 2).astype(int)
+    cd = read_h5(path, "/contactData", 14).astype(float)
     j = ij[:, 1]
     wall = np.where(j >= n_grains, j - n_grains, -1)
     return {"i": ij[:, 0], "j": np.where(j < n_grains, j, -1), "wall": wall,
             "normal": cd[:, 0:3], "rt": cd[:, 3:6], "rn": cd[:, 6],
-            "dt": float(_h5dump_array(path, "/time", 1)[1, 0])}
+            "dt": float(read_h5(path, "/time")[1])}
 
 
 def power_law_fit(h, f, p_grid):

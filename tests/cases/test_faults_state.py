@@ -8,7 +8,6 @@ import os
 import re
 import shutil
 import signal
-import struct
 import subprocess
 import time
 
@@ -21,15 +20,14 @@ from foamcase import fails_with, make_box_case, run, write
 # ---- row 4: bad state files -------------------------------------------------
 
 def poke(path, dataset, index, value):
-    """Overwrite element `index` (flat, float64) of a contiguous dataset of an
-    HDF5 file (located with h5dump: no h5py here)."""
-    hdr = subprocess.run(["h5dump", "-p", "-H", "-d", dataset, path],
-                         capture_output=True, text=True, check=True).stdout
-    assert "CONTIGUOUS" in hdr, hdr
-    off = int(re.search(r"OFFSET (\d+)", hdr).group(1))
-    with open(path, "r+b") as f:
-        f.seek(off + 8 * index)
-        f.write(struct.pack("<d", value))
+    """Overwrite element `index` (flat, row-major) of a float64 dataset of an
+    HDF5 file in place (h5py; the FoamFile user block is left as it is)."""
+    import h5py
+    with h5py.File(path, "r+") as f:
+        ds = f[dataset]
+        flat = ds[()].reshape(-1)
+        flat[index] = value
+        ds[...] = flat.reshape(ds.shape)
 
 
 def deposited(tmp_path, name, env):

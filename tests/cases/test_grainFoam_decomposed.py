@@ -45,10 +45,10 @@ N_GRAINS = 500
 def _state(case, time_name):
     """Positions, radii, ids and fixed flags of the (whole) grain state."""
     path = os.path.join(case, time_name, "grainState.h5")
-    x = nscdpost._h5dump_array(path, "/positions", 3)
-    r = nscdpost._h5dump_array(path, "/radii", 1)[:, 0]
-    ids = nscdpost._h5dump_array(path, "/grainIds", 1)[:, 0].astype(int)
-    fixed = nscdpost._h5dump_array(path, "/fixed", 1)[:, 0] > 0
+    x = nscdpost.read_h5(path, "/positions").astype(float)
+    r = nscdpost.read_h5(path, "/radii").astype(float)
+    ids = nscdpost.read_h5(path, "/grainIds").astype(int)
+    fixed = nscdpost.read_h5(path, "/fixed") > 0
     return x, r, ids, fixed
 
 

@@ -47,8 +47,6 @@ overlap-distributed force is handed to NSCD as an external torque.
 import math
 import os
 import re
-import struct
-import subprocess
 
 import numpy as np
 import pytest
@@ -60,22 +58,17 @@ setupCase, = tutorial_modules("vansFoam", "cylinderSedimentation", names=("setup
 
 
 def set_angular_velocity(case, omega_z, time="0"):
-    """Overwrite the z angular velocity of every grain in
-    <case>/<time>/grainState.h5 (contiguous float64 dataset; located with
-    h5dump, no h5py here)."""
+    """Overwrite the z angular velocity [rad/s] of every grain in
+    <case>/<time>/grainState.h5 in place (h5py; the FoamFile user block is
+    left as it is)."""
+    import h5py
     path = os.path.join(case, time, "grainState.h5")
-    hdr = subprocess.run(["h5dump", "-p", "-H", "-d", "/angularVelocities", path],
-                         capture_output=True, text=True, check=True).stdout
-    assert "CONTIGUOUS" in hdr
-    off = int(re.search(r"OFFSET (\d+)", hdr).group(1))
-    n = int(re.search(r"SIMPLE \{ \( (\d+), 3 \)", hdr).group(1))
-    with open(path, "r+b") as f:
-        for i in range(n):
-            f.seek(off + 24 * i + 16)
-            f.write(struct.pack("<d", omega_z))
-    out = subprocess.run(["h5dump", "-d", "/angularVelocities", path],
-                         capture_output=True, text=True, check=True).stdout
-    assert f"{omega_z:g}" in out.replace("e+00", "")
+    with h5py.File(path, "r+") as f:
+        ds = f["/angularVelocities"]
+        w = ds[()]
+        w[:, 2] = omega_z
+        ds[...] = w
+    assert np.all(nscdpost.read_h5(path, "/angularVelocities")[:, 2] == omega_z)
 
 
 def disc_case(case, env, rho_s, fixed, omega, end, dt, L, d, cells, nu, write_interval=None,
