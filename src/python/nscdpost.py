@@ -14,6 +14,8 @@ with the other tools of src/python by `pip install -e src/python`
   copy_grain_state(src, dst)   -> copy 0/grainState.h5 and 0/lagrangian of a settled case
   read_contacts(case, time_name) -> the saved contact list and impulses (h5py)
   read_h5(path, dataset)       -> one dataset of an HDF5 file (grainState.h5) with h5py
+  write_xdmf(h5path), write_xdmf_series(case) -> XDMF 3 files of the grains and
+                                contacts of grainState.h5 for ParaView
   read_droplet_history(case), heat_log_history(case) -> droplet.dat / vansFoam heat
                                 lines of a run continued from its writes, joined
 """
@@ -374,7 +376,11 @@ def read_contacts(case, time_name):
     normal (3), tangential impulse (3), normal impulse, then the Delassus
     terms, gap and state; /time = {time, last dt, cohesion force}.
     Raises the errors of read_h5 (naming the file) on a missing or bad file."""
-    path = os.path.join(case, time_name, "grainState.h5")
+    return read_state_contacts(os.path.join(case, time_name, "grainState.h5"))
+
+
+def read_state_contacts(path):
+    """read_contacts of the grain state file path (any name)."""
     n_grains = len(read_h5(path, "/radii"))
     ij = read_h5(path, "/contactBodies", 2).astype(int)
     cd = read_h5(path, "/contactData", 14).astype(float)
@@ -383,6 +389,143 @@ def read_contacts(case, time_name):
     return {"i": ij[:, 0], "j": np.where(j < n_grains, j, -1), "wall": wall,
             "normal": cd[:, 0:3], "rt": cd[:, 3:6], "rn": cd[:, 6],
             "dt": float(read_h5(path, "/time")[1])}
+
+
+def _xdmf_item(dims, text, number="Float", precision=8, fmt="XML"):
+    """One XDMF DataItem element: `text` is either "file.h5:/dataset" (fmt
+    "HDF", data stay in the HDF5 file) or the values written inline (fmt
+    "XML")."""
+    d = " ".join(str(int(n)) for n in dims)
+    return (f'<DataItem Dimensions="{d}" NumberType="{number}" Precision="{precision}" '
+            f'Format="{fmt}">{text}</DataItem>')
+
+
+def _xdmf_values(a, integer=False):
+    """Inline XDMF text of array a (row-major; 17 significant digits, so
+    that float64 values read back exactly)."""
+    a = np.asarray(a).reshape(-1)
+    return " ".join(str(int(v)) for v in a) if integer else " ".join(f"{v:.17g}" for v in a)
+
+
+def xdmf_grids(h5path, h5ref=None):
+    """The XDMF 3 grids of one grain state (grainState.h5, written by
+    src/nscd/src/IO.cpp) as XML text, without the <Xdmf>/<Domain> frame:
+
+    - "grains": a Polyvertex grid of the N grains, geometry /positions [m]
+      (2D: the discs in the nscd plane z = 0, not the mesh mid-plane) and
+      node attributes radius [m] (/radii), velocity [m/s] (/velocities),
+      angularVelocity [rad/s] (/angularVelocities), id (/grainIds, the
+      persistent grain id) and temperature [K] (/temperatures; in a run
+      without heat the default temperature).  These point into the HDF5
+      file (h5ref:/dataset, no copy); only the connectivity 0 ... N-1 is
+      written inline (the state holds no such index list).
+    - "contacts": the grain-grain contacts of the last step as Polyline
+      cells of 2 points (the two grain centres), with cell attributes
+      normalForce = rn n / dt and tangentialForce = rt / dt [N; 2D: N/m per
+      unit depth], the impulses rn, rt [N s] of /contactData divided by the
+      last sub-step's dt (/time[1]), and contactNormal (unit, from the
+      second grain to the first).  A state with dt = 0 (not stepped yet,
+      e.g. written by grainDeposit without settling) gives normalImpulse
+      and tangentialImpulse [N s] instead.  Wall contacts are left out: the state
+      gives no point of the wall.  The pairs and forces are computed here
+      and written inline: the state lists grain-grain and wall contacts
+      mixed, so no slice of it is the grain-grain list.  No contacts grid
+      when there is no grain-grain contact.
+
+    h5ref: how the XDMF file names the HDF5 file (default its base name:
+    the .xmf beside it).  Raises the errors of read_h5 (naming the file)."""
+    h5ref = h5ref or os.path.basename(h5path)
+    x = read_h5(h5path, "/positions", 3)
+    n = len(x)
+    attrs = [("radius", "Scalar", "/radii", (n,), "Float", 8),
+             ("velocity", "Vector", "/velocities", (n, 3), "Float", 8),
+             ("angularVelocity", "Vector", "/angularVelocities", (n, 3), "Float", 8),
+             ("id", "Scalar", "/grainIds", (n,), "Int", 8)]
+    import h5py
+    with h5py.File(h5path, "r") as f:
+        for a in attrs:
+            if a[2] not in f:
+                raise KeyError(f"{h5path}: no dataset '{a[2]}' (not an nscd grain state?)")
+            if f[a[2]].shape != a[3]:
+                raise ValueError(f"{h5path}: dataset '{a[2]}' has shape {f[a[2]].shape},"
+                                 f" expected {a[3]} for {n} grains")
+        if "temperatures" in f and f["temperatures"].shape == (n,):
+            attrs.append(("temperature", "Scalar", "/temperatures", (n,), "Float", 8))
+    out = ['<Grid Name="grains" GridType="Uniform">',
+           f'<Topology TopologyType="Polyvertex" NumberOfElements="{n}" NodesPerElement="1">'
+           + _xdmf_item((n,), _xdmf_values(np.arange(n), True), "Int", 8) + '</Topology>',
+           '<Geometry GeometryType="XYZ">'
+           + _xdmf_item((n, 3), f"{h5ref}:/positions", fmt="HDF") + '</Geometry>']
+    for name, kind, ds, dims, number, prec in attrs:
+        out.append(f'<Attribute Name="{name}" AttributeType="{kind}" Center="Node">'
+                   + _xdmf_item(dims, f"{h5ref}:{ds}", number, prec, "HDF") + '</Attribute>')
+    out.append('</Grid>')
+
+    c = read_state_contacts(h5path)
+    keep = c["j"] >= 0
+    m = int(keep.sum())
+    # forces need the step length; a state that has not stepped yet (dt 0,
+    # e.g. a grainDeposit start without settling) gives the impulses
+    dt = c["dt"]
+    per, unit = (dt, "Force") if dt > 0 else (1.0, "Impulse")
+    pairs = np.column_stack([c["i"][keep], c["j"][keep]])
+    fn = c["rn"][keep, None] * c["normal"][keep] / per
+    ft = c["rt"][keep] / per
+    if m == 0:          # no contacts grid: an empty grid crashes VTK's XDMF reader
+        return "\n".join(out)
+    out += ['<Grid Name="contacts" GridType="Uniform">',
+            f'<Topology TopologyType="Polyline" NumberOfElements="{m}" NodesPerElement="2">'
+            + _xdmf_item((m, 2), _xdmf_values(pairs, True), "Int", 8) + '</Topology>',
+            '<Geometry GeometryType="XYZ">'
+            + _xdmf_item((n, 3), f"{h5ref}:/positions", fmt="HDF") + '</Geometry>']
+    for name, a in (("normal" + unit, fn), ("tangential" + unit, ft),
+                    ("contactNormal", c["normal"][keep])):
+        out.append(f'<Attribute Name="{name}" AttributeType="Vector" Center="Cell">'
+                   + _xdmf_item((m, 3), _xdmf_values(a)) + '</Attribute>')
+    out.append('</Grid>')
+    return "\n".join(out)
+
+
+def write_xdmf(h5path, xmf_path=None):
+    """Write an XDMF 3 file that ParaView opens (File > Open, then the XDMF
+    reader): the grains and grain-grain contacts of the grain state h5path
+    (see xdmf_grids for what each grid holds, units and what is left out).
+    xmf_path: default h5path with .xmf for .h5, i.e. <time>/grainState.xmf
+    beside the state.  OpenFOAM's utilities (foamToVTK, decomposePar,
+    reconstructPar) warn about a file without a FoamFile header in a time
+    directory; write_xdmf_series writes one file for all times in the case
+    directory instead.  Returns the path written."""
+    xmf_path = xmf_path or os.path.splitext(h5path)[0] + ".xmf"
+    ref = os.path.relpath(os.path.abspath(h5path), os.path.dirname(os.path.abspath(xmf_path)))
+    body = xdmf_grids(h5path, ref)
+    with open(xmf_path, "w") as f:
+        f.write('<?xml version="1.0" ?>\n<Xdmf Version="3.0">\n<Domain>\n'
+                '<Grid Name="grainState" GridType="Collection" CollectionType="Spatial">\n'
+                + body + '\n</Grid>\n</Domain>\n</Xdmf>\n')
+    return xmf_path
+
+
+def write_xdmf_series(case, xmf_name="grainState.xmf"):
+    """Write <case>/<xmf_name>: one XDMF 3 file of every time directory of
+    the case holding a grainState.h5, a temporal collection of the grids of
+    xdmf_grids (grains and contacts) pointing into <time>/grainState.h5:
+    ParaView opens it as a time series.  Beside the time directories, so
+    that OpenFOAM's utilities do not see it.  Returns the path written."""
+    steps = []
+    for t, name in numeric_dirs(case):
+        h5 = os.path.join(case, name, "grainState.h5")
+        if os.path.isfile(h5):
+            steps.append(f'<Grid Name="t={name}" GridType="Collection" CollectionType="Spatial">'
+                         f'<Time Value="{t:.17g}"/>\n'
+                         + xdmf_grids(h5, f"{name}/grainState.h5") + '\n</Grid>')
+    if not steps:
+        raise FileNotFoundError(f"{case}: no time directory holds a grainState.h5")
+    path = os.path.join(case, xmf_name)
+    with open(path, "w") as f:
+        f.write('<?xml version="1.0" ?>\n<Xdmf Version="3.0">\n<Domain>\n'
+                '<Grid Name="grainState" GridType="Collection" CollectionType="Temporal">\n'
+                + "\n".join(steps) + '\n</Grid>\n</Domain>\n</Xdmf>\n')
+    return path
 
 
 def power_law_fit(h, f, p_grid):
