@@ -182,12 +182,13 @@ void Foam::grainCloud::writeStateFile
             << ";\n}\n// nscd grain state: an HDF5 file after this header (HDF5"
             << " user block), read it with h5dump or h5py\n";
         state.writeHDF5(tmp, header.str());
+        addXdmfDatasets(tmp);
         if (std::rename(tmp.c_str(), path.c_str()) != 0)
         {
             what = std::string("cannot rename ") + tmp + ": " + std::strerror(errno);
         }
     }
-    catch (const nscd::InputError& err)
+    catch (const std::runtime_error& err)  // nscd::InputError, the XDMF datasets
     {
         what = err.what();
         if (errno != 0)

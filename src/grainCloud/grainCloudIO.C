@@ -3,7 +3,8 @@
 
 Description
     Writes of a time directory: the HDF5 state <time>/grainState.h5 (bit-exact
-    restart; written atomically by writeStateFile, grainCloudChecks.C), the
+    restart; written atomically by writeStateFile, grainCloudChecks.C) and
+    its entry in <case>/grainState.xmf (ParaView, grainCloudXdmf.C), the
     outlet counts and the lagrangian cloud <time>/lagrangian/grains/
     {positions, d [m], U [m/s], omega [1/s], grainId, fixed, extra fields}
     for foamToVTK and ParaView.
@@ -50,6 +51,7 @@ void Foam::grainCloud::write
         {
             mkDir(global);
             writeStateFile(global/stateFileName, *whole);
+            writeXdmf(global/stateFileName);
         }
     }
     else
@@ -59,6 +61,10 @@ void Foam::grainCloud::write
         {
             mkDir(global);
             writeStateFile(global/stateFileName, *system_);
+        }
+        if (!Pstream::parRun() || Pstream::master())
+        {
+            writeXdmf(global/stateFileName);
         }
     }
     writeOutletCounts();

@@ -14,8 +14,8 @@ with the other tools of src/python by `pip install -e src/python`
   copy_grain_state(src, dst)   -> copy 0/grainState.h5 and 0/lagrangian of a settled case
   read_contacts(case, time_name) -> the saved contact list and impulses (h5py)
   read_h5(path, dataset)       -> one dataset of an HDF5 file (grainState.h5) with h5py
-  write_xdmf(h5path), write_xdmf_series(case) -> XDMF 3 files of the grains and
-                                contacts of grainState.h5 for ParaView
+  write_xdmf(h5path)           -> XDMF 3 file of the grains and contacts of one
+                                grainState.h5 for ParaView
   read_droplet_history(case), heat_log_history(case) -> droplet.dat / vansFoam heat
                                 lines of a run continued from its writes, joined
 """
@@ -491,10 +491,12 @@ def write_xdmf(h5path, xmf_path=None):
     reader): the grains and grain-grain contacts of the grain state h5path
     (see xdmf_grids for what each grid holds, units and what is left out).
     xmf_path: default h5path with .xmf for .h5, i.e. <time>/grainState.xmf
-    beside the state.  OpenFOAM's utilities (foamToVTK, decomposePar,
-    reconstructPar) warn about a file without a FoamFile header in a time
-    directory; write_xdmf_series writes one file for all times in the case
-    directory instead.  Returns the path written."""
+    beside the state.  The solvers write <case>/grainState.xmf themselves
+    (all times, src/grainCloud/grainCloudXdmf.C); this is for one state
+    file, e.g. one written before they did.  OpenFOAM's utilities
+    (foamToVTK, decomposePar, reconstructPar) warn about a file without a
+    FoamFile header in a time directory: give xmf_path outside it when
+    they still run on the case.  Returns the path written."""
     xmf_path = xmf_path or os.path.splitext(h5path)[0] + ".xmf"
     ref = os.path.relpath(os.path.abspath(h5path), os.path.dirname(os.path.abspath(xmf_path)))
     body = xdmf_grids(h5path, ref)
@@ -503,29 +505,6 @@ def write_xdmf(h5path, xmf_path=None):
                 '<Grid Name="grainState" GridType="Collection" CollectionType="Spatial">\n'
                 + body + '\n</Grid>\n</Domain>\n</Xdmf>\n')
     return xmf_path
-
-
-def write_xdmf_series(case, xmf_name="grainState.xmf"):
-    """Write <case>/<xmf_name>: one XDMF 3 file of every time directory of
-    the case holding a grainState.h5, a temporal collection of the grids of
-    xdmf_grids (grains and contacts) pointing into <time>/grainState.h5:
-    ParaView opens it as a time series.  Beside the time directories, so
-    that OpenFOAM's utilities do not see it.  Returns the path written."""
-    steps = []
-    for t, name in numeric_dirs(case):
-        h5 = os.path.join(case, name, "grainState.h5")
-        if os.path.isfile(h5):
-            steps.append(f'<Grid Name="t={name}" GridType="Collection" CollectionType="Spatial">'
-                         f'<Time Value="{t:.17g}"/>\n'
-                         + xdmf_grids(h5, f"{name}/grainState.h5") + '\n</Grid>')
-    if not steps:
-        raise FileNotFoundError(f"{case}: no time directory holds a grainState.h5")
-    path = os.path.join(case, xmf_name)
-    with open(path, "w") as f:
-        f.write('<?xml version="1.0" ?>\n<Xdmf Version="3.0">\n<Domain>\n'
-                '<Grid Name="grainState" GridType="Collection" CollectionType="Temporal">\n'
-                + "\n".join(steps) + '\n</Grid>\n</Domain>\n</Xdmf>\n')
-    return path
 
 
 def power_law_fit(h, f, p_grid):

@@ -1,22 +1,27 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The XDMF 3 files of the grains (nscdpost.write_xdmf, write_xdmf_series),
-read back with VTK's XDMF reader (vtkXdmfReader, the reader ParaView offers
-as "XDMF Reader"; meshio 5.3 reads only files of one uniform grid, these
-hold a grains and a contacts grid).
+"""The grains for ParaView: <case>/grainState.xmf written by the solvers
+(grainCloudXdmf.C, with its xdmf* datasets in each grainState.h5) and the
+per-state file of nscdpost.write_xdmf, read back with VTK's XDMF reader
+(vtkXdmfReader, the reader ParaView offers as "XDMF Reader"; meshio 5.3
+reads only files of one uniform grid, these hold a grains and a contacts
+grid per time).
 
-Independent reference: the datasets of the same grainState.h5 read with
-h5py directly (src/nscd/src/IO.cpp layout), not through nscdpost: grain
-count, positions, radii, velocities, ids; the grain-grain contact pairs and
-the normal contact force rn n / dt.  Case: the 2 x 3 stack of discs of the
-fault tests on the floor of a 4 x 4 box, grainFoam to 0.02 s (a few s)."""
+Independent reference: the datasets nscd writes into the same
+grainState.h5 (src/nscd/src/IO.cpp layout) read with h5py directly, not
+through nscdpost: grain count, positions, radii, velocities, angular
+velocities, ids; the grain-grain rows of /contactBodies and the contact
+forces rn n / dt, rt / dt from /contactData and /time.  Case: the 2 x 3
+stack of discs of the fault tests on the floor of a 4 x 4 box,
+grainDeposit then grainFoam to 0.02 s (a few s)."""
 import os
+import shutil
 
 import h5py
 import numpy as np
 import pytest
 
 import nscdpost
-from faultcase import stack
+from faultcase import set_control, stack
 from foamcase import run
 
 vtk = pytest.importorskip("vtk")
@@ -72,37 +77,72 @@ def settled(tmp_path_factory, env):
     return case
 
 
-def test_xdmf_of_one_state_reads_back(settled):
-    h5 = os.path.join(settled, "0.02", "grainState.h5")
-    xmf = nscdpost.write_xdmf(h5)
-    assert xmf == os.path.join(settled, "0.02", "grainState.xmf")
-    grids, _ = _blocks(xmf)
-    _check_grains(grids["grains"], h5)
-
+def _contacts_reference(h5):
+    """Grain-grain pairs and normal, tangential contact forces [N per unit
+    depth] of a state, from nscd's own datasets."""
     with h5py.File(h5, "r") as f:
         n = len(f["radii"])
         ij, cd, dt = f["contactBodies"][()], f["contactData"][()], f["time"][1]
     gg = ij[:, 1] < n                                # grain-grain rows
-    assert 0 < gg.sum() < len(ij)                    # the stack has both kinds
-    c = grids["contacts"]
+    return gg, ij[gg], cd[gg, 6:7] * cd[gg, 0:3] / dt, cd[gg, 3:6] / dt
+
+
+def _check_contacts(c, h5):
+    gg, pairs, fn, ft = _contacts_reference(h5)
+    assert 0 < gg.sum() < len(gg)                    # the stack has both kinds
     assert c.GetNumberOfCells() == gg.sum()
     cells = vtk_to_numpy(c.GetCells().GetConnectivityArray()).reshape(-1, 2)
-    np.testing.assert_array_equal(cells, ij[gg])
-    fn = _arr(c.GetCellData(), "normalForce")
-    np.testing.assert_allclose(fn, cd[gg, 6:7] * cd[gg, 0:3] / dt, rtol=1e-15, atol=0)
-    # the stack's weight goes through its vertical contacts: the force is
-    # finite, non-zero and of the order of the grains' weight per depth
+    np.testing.assert_array_equal(cells, pairs)
+    np.testing.assert_allclose(_arr(c.GetCellData(), "normalForce"), fn, rtol=1e-15, atol=0)
+    np.testing.assert_allclose(_arr(c.GetCellData(), "tangentialForce"), ft, rtol=1e-15, atol=0)
+    # the stack's weight goes down through its vertical contacts
     assert np.abs(fn).max() > 0
 
 
-def test_xdmf_series_of_a_case(settled):
-    xmf = nscdpost.write_xdmf_series(settled)
-    assert xmf == os.path.join(settled, "grainState.xmf")
+def test_solver_writes_the_grains_of_every_time(settled):
+    xmf = os.path.join(settled, "grainState.xmf")
     grids, steps = _blocks(xmf, 0.02)
     assert list(steps) == [0.0, 0.01, 0.02]
-    _check_grains(grids["grains"], os.path.join(settled, "0.02", "grainState.h5"))
+    h5 = os.path.join(settled, "0.02", "grainState.h5")
+    _check_grains(grids["grains"], h5)
+    _check_contacts(grids["contacts"], h5)
+    # the deposit at 0 has not stepped: no contacts, no contacts grid
     grids0, _ = _blocks(xmf, 0.0)
     _check_grains(grids0["grains"], os.path.join(settled, "0", "grainState.h5"))
+    assert "contacts" not in grids0
+    # nothing of the .xmf in the time directories (OpenFOAM's tools read
+    # every file there and warn about one without a FoamFile header)
+    for t in ("0", "0.01", "0.02"):
+        assert not [f for f in os.listdir(os.path.join(settled, t)) if f.endswith(".xmf")]
+
+
+def test_restart_keeps_the_earlier_times(settled, tmp_path, env):
+    """A run restarted from 0.01 rewrites 0.02 and keeps 0 and 0.01; one
+    restarted from 0 to 0.01 drops 0.02 (a later time of an earlier run)."""
+    case = str(tmp_path / "restart")
+    shutil.copytree(settled, case)
+    set_control(case, startFrom="startTime", startTime="0.01")
+    run("grainFoam", case, env)
+    grids, steps = _blocks(os.path.join(case, "grainState.xmf"), 0.02)
+    assert list(steps) == [0.0, 0.01, 0.02]
+    _check_grains(grids["grains"], os.path.join(case, "0.02", "grainState.h5"))
+    set_control(case, startFrom="startTime", startTime="0")
+    set_control(case, endTime="0.01")
+    run("grainFoam", case, env)
+    _, steps = _blocks(os.path.join(case, "grainState.xmf"))
+    assert list(steps) == [0.0, 0.01]
+
+
+def test_write_xdmf_of_one_state(settled, tmp_path):
+    """nscdpost.write_xdmf: the same grids for one state, beside it (any
+    state, also one written before the solvers wrote the XDMF datasets)."""
+    h5 = str(tmp_path / "grainState.h5")
+    shutil.copy(os.path.join(settled, "0.02", "grainState.h5"), h5)
+    xmf = nscdpost.write_xdmf(h5)
+    assert xmf == str(tmp_path / "grainState.xmf")
+    grids, _ = _blocks(xmf)
+    _check_grains(grids["grains"], h5)
+    _check_contacts(grids["contacts"], h5)
 
 
 def test_xdmf_names_a_bad_file(tmp_path):
