@@ -5,7 +5,8 @@ Description
     constant/grainProperties read and checked (FatalIOError naming the file,
     the keyword and the fix): the top-level keywords, the materials (density
     [kg/m^3], friction [-], youngModulus [Pa], poissonRatio [-], conductivity
-    [W/(m K)], heatCapacity [J/(kg K)]), the contactSolver settings, and the
+    [W/(m K)], heatCapacity [J/(kg K)], contact compliance [m/N] or
+    relativeCompliance [-]), the contactSolver settings, and the
     replacement of a saved state's materials by those of the dictionary.
 \*---------------------------------------------------------------------------*/
 
@@ -97,9 +98,38 @@ void Foam::grainCloud::readSettings()
             e.dict(),
             {
                 "density", "friction", "youngModulus", "poissonRatio",
-                "conductivity", "heatCapacity"
+                "conductivity", "heatCapacity", "compliance",
+                "relativeCompliance"
             }
         );
+        // contact compliance (nscd::Material): >= 0, one of the two
+        for (const char* key : {"compliance", "relativeCompliance"})
+        {
+            const scalar c = e.dict().getOrDefault<scalar>(key, 0);
+            if (!(c >= 0) || !std::isfinite(c))
+            {
+                FatalIOErrorInFunction(e.dict())
+                    << key << " of material " << e.keyword() << " in "
+                    << dict_.name() << " must be finite and >= 0, got " << c
+                    << nl << "    compliance [m/N] (2D: [m^2/N], per unit"
+                    << " depth) = allowed overlap / reference normal load;"
+                    << " relativeCompliance [-] = beta, relative to the"
+                    << " contact's Delassus diagonal; 0 (default): hard"
+                    << " contact" << exit(FatalIOError);
+            }
+        }
+        if
+        (
+            e.dict().getOrDefault<scalar>("compliance", 0) > 0
+         && e.dict().getOrDefault<scalar>("relativeCompliance", 0) > 0
+        )
+        {
+            FatalIOErrorInFunction(e.dict())
+                << "material " << e.keyword() << " in " << dict_.name()
+                << " gives both compliance and relativeCompliance: give one"
+                << " of the two (or neither, for hard contacts)"
+                << exit(FatalIOError);
+        }
         const scalar mu = e.dict().get<scalar>("friction");
         if (mu < 0)
         {
@@ -124,9 +154,20 @@ void Foam::grainCloud::applySolverSettings()
             {
                 "tolerance", "maxIterations", "overlapTolerance", "method",
                 "relaxation", "maxSubSteps", "reorderInterval", "verletSkin",
-                "ordering"
+                "ordering", "convergence", "rmsTolerance"
             }
         );
+        if (cs.found("convergence"))
+        {
+            using Convergence = nscd::System::Settings::Convergence;
+            s.convergence = contactSolverChoice<Convergence>
+            (
+                cs, "convergence",
+                {{"max", Convergence::Max}, {"rms", Convergence::RMS}}
+            );
+        }
+        s.rmsTolerance =
+            grainTools::getPositiveOrDefault(cs, "rmsTolerance", s.rmsTolerance);
         if (cs.found("method"))
         {
             using Method = nscd::System::Settings::Method;
@@ -194,6 +235,19 @@ void Foam::grainCloud::applySolverSettings()
                 << " list of candidate grain pairs, / r_min; 0: the grid scan"
                 << " every step), got " << s.verletSkin << exit(FatalIOError);
         }
+        if
+        (
+            s.convergence == nscd::System::Settings::Convergence::RMS
+         && (s.method == nscd::System::Settings::Method::APGD
+          || s.method == nscd::System::Settings::Method::NNCG)
+        )
+        {
+            FatalIOErrorInFunction(cs)
+                << "convergence rms in " << cs.name() << " is the stopping"
+                << " test of the Gauss-Seidel methods (method NLGS or"
+                << " overRelaxedNLGS); APGD and NNCG stop on convergence max"
+                << exit(FatalIOError);
+        }
     }
 }
 
@@ -211,6 +265,8 @@ std::vector<nscd::Material> Foam::grainCloud::dictionaryMaterials() const
         m.poissonRatio = d.getOrDefault<scalar>("poissonRatio", 0);
         m.conductivity = d.getOrDefault<scalar>("conductivity", 0);
         m.heatCapacity = d.getOrDefault<scalar>("heatCapacity", 0);
+        m.compliance = d.getOrDefault<scalar>("compliance", 0);
+        m.relativeCompliance = d.getOrDefault<scalar>("relativeCompliance", 0);
         if (m.conductivity > 0 && !(m.youngModulus > 0))
         {
             WarningInFunction
@@ -264,6 +320,8 @@ void Foam::grainCloud::applyDictionaryMaterials(const fileName& statePath)
         note("poissonRatio", old.poissonRatio, m.poissonRatio);
         note("conductivity", old.conductivity, m.conductivity);
         note("heatCapacity", old.heatCapacity, m.heatCapacity);
+        note("compliance", old.compliance, m.compliance);
+        note("relativeCompliance", old.relativeCompliance, m.relativeCompliance);
         if (changes.str().empty())
         {
             continue;

@@ -9,6 +9,10 @@
 // sub-steps, residual, max overlap. Built and run by tests/bench/nscdColumnDepth.
 //
 // usage: nscdColumnDepth GRAINS STEPS TOLERANCE MAX_ITERATIONS [METHOD]
+//        env NSCD_BETA, NSCD_COMPLIANCE: Material::relativeCompliance,
+//        compliance [m^2/N] (contact compliance; default 0, hard);
+//        NSCD_RELAX: Settings::relaxation; NSCD_CONVERGENCE=rms and
+//        NSCD_RMS_TOL: Settings::convergence, rmsTolerance
 //        METHOD: the Settings::Method number (0 NLGS, 1 overRelaxedNLGS,
 //        2 APGD, 3 NNCG), default 0
 #include "nscd/System.H"
@@ -17,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <string>
 
 using namespace nscd;
 
@@ -31,10 +36,22 @@ int main(int argc, char** argv)
     const int nSteps = std::atoi(argv[2]);
     const double d = 1e-3, w = 10e-3, H = 0.3, dt = 5e-4, rho = 2500;
     System s(2);
-    const int m = s.addMaterial({rho, 0.3});
+    // env NSCD_BETA / NSCD_COMPLIANCE: Material::relativeCompliance [-] /
+    // compliance [m^2/N] (default 0: the hard law)
+    Material mat{rho, 0.3};
+    if (const char* e = std::getenv("NSCD_BETA")) mat.relativeCompliance = std::atof(e);
+    if (const char* e = std::getenv("NSCD_COMPLIANCE")) mat.compliance = std::atof(e);
+    const int m = s.addMaterial(mat);
     s.settings().tolerance = std::atof(argv[3]);
     s.settings().maxIterations = std::atoi(argv[4]);
     if (argc > 5) s.settings().method = System::Settings::Method(std::atoi(argv[5]));
+    // env NSCD_RELAX: Settings::relaxation (over-relaxation factor of the NLGS update)
+    if (const char* e = std::getenv("NSCD_RELAX")) s.settings().relaxation = std::atof(e);
+    // env NSCD_CONVERGENCE=rms, NSCD_RMS_TOL: Settings::convergence, rmsTolerance
+    if (const char* e = std::getenv("NSCD_CONVERGENCE"))
+        s.settings().convergence = std::string(e) == "rms" ? System::Settings::Convergence::RMS
+                                                            : System::Settings::Convergence::Max;
+    if (const char* e = std::getenv("NSCD_RMS_TOL")) s.settings().rmsTolerance = std::atof(e);
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(0, 1);
     const double sp = 1.3*d;
@@ -51,9 +68,12 @@ int main(int argc, char** argv)
     s.setGravity(Vec3(0, -9.81, 0));
     double weight = 0;
     for (double r : s.radii()) weight += rho*M_PI*r*r*9.81;
+    long sweeps = 0, unconverged = 0;
     for (int k = 0; k < nSteps; ++k)
     {
         const StepReport r = s.advance(dt, 0.1);
+        sweeps += r.sweeps;
+        unconverged += r.converged ? 0 : 1;
         if (k % 10 != 9) continue;
         double vmax = 0, ke = 0, p = 0, M = 0;
         for (std::size_t i = 0; i < s.size(); ++i)
@@ -71,4 +91,6 @@ int main(int argc, char** argv)
                     "res %.2e ov %.2e\n", k + 1, (k + 1)*dt, vmax, ke, p/M, lift/dt/weight, r.contacts,
                     r.sweeps, r.substeps, r.residual, r.maxOverlap);
     }
+    std::printf("total sweeps %ld steps %d unconverged %ld beta %g compliance %g\n", sweeps, nSteps, unconverged,
+                mat.relativeCompliance, mat.compliance);
 }

@@ -56,6 +56,19 @@ def test_unknown_material_keyword(tmp_path, env):
     fails_with(run("grainDeposit", case, env, check=False), "Unknown keyword", "densty")
 
 
+@pytest.mark.parametrize("entry, words", [
+    ("compliance -1e-7;", ("compliance of material glass", ">= 0", "allowed overlap")),
+    ("compliance 1e-7; relativeCompliance 1e-3;", ("both compliance and relativeCompliance",)),
+])
+def test_bad_contact_compliance(tmp_path, env, entry, words):
+    """A negative or doubly given contact compliance (nscd::Material) is a
+    FatalIOError naming the keyword, the material and the allowed values."""
+    case = base(tmp_path, "compliance", [(0.05, 0.01, 0, 0.01)])
+    replace_in(case, "constant/grainProperties", "friction 0.4;", "friction 0.4; " + entry)
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), *words)
+
+
 def test_missing_grain_properties(tmp_path, env):
     case = base(tmp_path, "missing", [(0.05, 0.01, 0, 0.01)])
     os.remove(os.path.join(case, "constant", "grainProperties"))

@@ -73,7 +73,22 @@ struct NlgsSolve
     const bool hist = I.settings.residualHistory;
     const double xi = I.settings.tolerance*dmin;
     const long maxSolves = long(I.settings.maxIterations)*long(std::max(NC, 1));
-    const double xi2 = xi*xi, dt2 = dt*dt;
+    const double dt2 = dt*dt;
+    /// squared threshold of a row's update below which it is converged:
+    /// Max test xi^2; RMS test (rmsTolerance V dt)^2, updated every pass
+    double xi2 = xi*xi;
+    // ---- Settings::Convergence::RMS (LMGC90's Quad norm) ----
+    const bool rms = I.settings.convergence == System::Settings::Convergence::RMS;
+    const double rmsTol2 = I.settings.rmsTolerance*I.settings.rmsTolerance;
+    /// the pass test's safeguard: no update of the pass above 10 rmsTolerance V
+    static constexpr double rmsSafeguard2 = 100;
+    /// floor of the RMS threshold (no impulse yet: V = 0): round-off of d_min
+    const double rmsFloor2 = 1e-24*dmin*dmin;
+    double refSum = 0;   ///< sum_k |W_kk r_k|^2 dt^2 k^2 (V^2 NC dt^2, as change)
+    double passSum = 0;  ///< sum of the squared updates of the current pass
+    double passMax = 0;  ///< largest squared update of the current pass
+    double lastPassMax = 0;  ///< passMax of the pass that met the test
+    bool rmsStopped = false; ///< the RMS test was met at the end of a pass
     Body* const bodies = I.body.data();
     SolverContact* const cs = I.rows.data();
     const int* const adjS = I.adjStart.data();
@@ -102,6 +117,11 @@ struct NlgsSolve
         if (twoD && !haveRts && !seedRows)
             for (int k = 0; k < NC; ++k)
                 cs[k].rts = cs[k].rt.dot(Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0));
+        if (rms)
+        {
+            for (int k = 0; k < NC; ++k) refSum += ref2(cs[k]);
+            xi2 = std::max(rmsTol2*refSum/std::max(NC, 1), rmsFloor2);
+        }
         seed = seedRows;
         I.inQueue.assign(NC, seed ? 0 : 1);
         inQ = I.inQueue.data();
@@ -122,10 +142,42 @@ struct NlgsSolve
         ++solves;
         if (seed && !I.seedSolvedFlag[k]) { I.seedSolvedFlag[k] = 1; I.seedSolved.push_back(k); }
         SolverContact& c = cs[k];
+        const double before = rms ? ref2(c) : 0.0;
         const bool changed = twoD ? local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega)
                                   : local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega);
         if (hist && solves % NC == 0) rep.residualHistory.push_back(historyEntry(twoD));
+        if (rms)
+        {
+            refSum += ref2(c) - before;
+            passSum += c.change;
+            passMax = std::max(passMax, c.change);
+            if (solves % NC == 0) endPass();
+        }
         return changed;
+    }
+
+    /// |W_kk r_k|^2 dt^2 k^2 of row c (the RMS test's reference, in the
+    /// units of SolverContact::change): the velocity its own impulse makes.
+    double ref2(const SolverContact& c) const
+    {
+        const double t2 = twoD ? c.rts*c.rts : c.rt.squaredNorm();
+        return (c.wnn*c.wnn*c.rn*c.rn + c.wtt*c.wtt*t2)*dt2*c.residualWeight2;
+    }
+
+    /// RMS test at the end of a pass of NC local solves (Settings::convergence):
+    /// met if the pass's RMS update is <= rmsTolerance V and none of its
+    /// updates exceeds 10 rmsTolerance V; the row threshold follows V.
+    void endPass()
+    {
+        const double v2 = std::max(refSum, 0.0)/NC;  // V^2 dt^2 (incremental sum: no sign drift below 0)
+        if (passSum/NC <= rmsTol2*v2 && passMax <= rmsSafeguard2*rmsTol2*v2)
+        {
+            rmsStopped = true;
+            lastPassMax = passMax;
+            rep.rmsResidual = v2 > 0 ? std::sqrt(passSum/NC/v2) : 0.0;
+        }
+        xi2 = std::max(rmsTol2*v2, rmsFloor2);
+        passSum = passMax = 0;
     }
 
     /// Rows this far ahead in the queue are prefetched, and the bodies of
@@ -175,7 +227,7 @@ struct NlgsSolve
             queue[tail] = kk;
             ++count;
         };
-        while (count > 0 && solves < maxSolves)
+        while (count > 0 && solves < maxSolves && !rmsStopped)
         {
             const int k = queue[head];
             head = (head + 1 == NC) ? 0 : head + 1;
@@ -200,7 +252,7 @@ struct NlgsSolve
         auto mark = [&](int kk) { if (!inQ[kk]) { inQ[kk] = 1; ++count; } };
         int lo = 0, hi = NC - 1;  // range that may contain flagged contacts
         bool forward = true;
-        while (count > 0 && solves < maxSolves)
+        while (count > 0 && solves < maxSolves && !rmsStopped)
         {
             int nlo = NC, nhi = -1;
             auto visit = [&](int k)
@@ -217,8 +269,8 @@ struct NlgsSolve
                 for (int p = adjS[c.j]; p < adjS[c.j + 1]; ++p)
                 { const int kk = adjI[p]; mark(kk); nlo = std::min(nlo, kk); nhi = std::max(nhi, kk); }
             };
-            if (forward) for (int k = lo; k <= hi && solves < maxSolves; ++k) visit(k);
-            else for (int k = hi; k >= lo && solves < maxSolves; --k) visit(k);
+            if (forward) for (int k = lo; k <= hi && solves < maxSolves && !rmsStopped; ++k) visit(k);
+            else for (int k = hi; k >= lo && solves < maxSolves && !rmsStopped; --k) visit(k);
             lo = nlo; hi = nhi;
             forward = !forward;
         }
@@ -246,7 +298,18 @@ struct NlgsSolve
         };
         if (seed) for (int k : I.seedSolved) finishRow(cs[k]);
         else for (int k = 0; k < NC; ++k) finishRow(cs[k]);
-        if (count != 0) res = I.residualPass(dt, false);  // (does not read change)
+        // RMS test met with rows still queued: the largest update of the
+        // last pass stands for the max residual (no extra pass)
+        if (rmsStopped && count != 0) res = lastPassMax;
+        else if (count != 0) res = I.residualPass(dt, false);  // (does not read change)
+        // queue emptied under the RMS test: every row's last update is below
+        // rmsTolerance V, the RMS of the rows' last updates is the residual
+        if (rms && !rmsStopped && count == 0 && NC > 0)
+        {
+            double sum = 0, ref = 0;
+            for (int k = 0; k < NC; ++k) { sum += cs[k].change*cs[k].change; ref += ref2(cs[k]); }
+            rep.rmsResidual = ref > 0 ? std::sqrt(sum/ref) : 0.0;
+        }
         res = std::sqrt(res);
         if (hist && (rep.residualHistory.empty() || solves % std::max(NC, 1) != 0))
             rep.residualHistory.push_back(dmin > 0 ? res/dmin : 0.0);
@@ -254,7 +317,7 @@ struct NlgsSolve
         rep.localSolves = solves;
         rep.sweeps = NC > 0 ? int((solves + NC - 1)/NC) : 0;
         rep.residual = dmin > 0 ? res/dmin : 0;
-        rep.converged = count == 0;
+        rep.converged = count == 0 || rmsStopped;
     }
 };
 

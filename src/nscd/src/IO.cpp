@@ -184,6 +184,12 @@ void writeHeader(Writer& w, const System::Impl& I)
         for (double v : {a.density, a.friction, a.youngModulus, a.poissonRatio, a.conductivity, a.heatCapacity})
             m.push_back(v);
     w.d("materials", m, 6);
+    // contact compliance [m/N] and relative compliance [-] per material
+    // (a dataset of its own: files without it read as 0, the hard law)
+    std::vector<double> cm;
+    for (const Material& a : I.materials)
+        for (double v : {a.compliance, a.relativeCompliance}) cm.push_back(v);
+    w.d("materialCompliance", cm, 2);
 }
 
 /// writeHDF5 stage: per grain (external order) position [m], velocity [m/s],
@@ -361,9 +367,14 @@ void readHeader(Reader& r, System::Impl& I)
 void readMaterials(Reader& r, System& s)
 {
     const auto m = r.d("materials", 6);
+    // contact compliance (optional: files written before it existed are hard)
+    std::vector<double> cm;
+    if (H5Lexists(r.f, "materialCompliance", H5P_DEFAULT) > 0)
+        cm = r.d("materialCompliance", 2, long(m.size()/6));
     for (std::size_t k = 0; k < m.size()/6; ++k)
     {
         Material a{m[6*k], m[6*k + 1], m[6*k + 2], m[6*k + 3], m[6*k + 4], m[6*k + 5]};
+        if (!cm.empty()) { a.compliance = cm[2*k]; a.relativeCompliance = cm[2*k + 1]; }
         try { s.addMaterial(a); }
         catch (const InputError& e) { r.fail(std::string("bad material: ") + e.what()); }
     }

@@ -72,6 +72,18 @@ void System::Impl::checkSettings(const System::Settings& S, const char* where)
     if (m < 0 || m > int(System::Settings::Method::NNCG))
         throw InputError(std::string(where) + ": invalid settings (unknown contact solver method "
                          + std::to_string(m) + "; methods: NLGS, OverRelaxedNLGS, APGD, NNCG)");
+    const int cv = int(S.convergence);
+    if (cv < 0 || cv > int(System::Settings::Convergence::RMS))
+        throw InputError(std::string(where) + ": invalid settings (unknown convergence test "
+                         + std::to_string(cv) + "; tests: Max, RMS)");
+    if (S.convergence == System::Settings::Convergence::RMS
+        && (!(S.rmsTolerance > 0) || !std::isfinite(S.rmsTolerance)))
+        throw InputError(std::string(where) + ": invalid settings (need rmsTolerance > 0 and finite, got "
+                         + std::to_string(S.rmsTolerance) + ")");
+    if (S.convergence == System::Settings::Convergence::RMS
+        && (S.method == System::Settings::Method::APGD || S.method == System::Settings::Method::NNCG))
+        throw InputError(std::string(where) + ": invalid settings (the RMS convergence test is that of the "
+                         "Gauss-Seidel methods NLGS and OverRelaxedNLGS; APGD and NNCG use Max)");
     if (!(S.heatTolerance > 0) || S.heatMaxIterations < 1)
         throw InputError(std::string(where) + ": invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
     if (S.reorderInterval < 0)
@@ -82,12 +94,21 @@ void System::Impl::checkSettings(const System::Settings& S, const char* where)
                          + std::to_string(S.cohesionMinAge) + ")");
 }
 
+void System::Impl::checkComplianceMethod(const char* where) const
+{
+    if (settings.method == System::Settings::Method::APGD && anyCompliance())
+        throw InputError(std::string(where) + ": a material has a contact compliance (compliance or "
+                         "relativeCompliance > 0), which the APGD method does not solve; use NLGS, "
+                         "OverRelaxedNLGS or NNCG, or set both to 0");
+}
+
 StepReport System::step(double dt)
 {
     if (!(dt > 0) || !std::isfinite(dt))
         throw InputError("nscd::System::step: dt must be > 0, got " + std::to_string(dt));
     Impl& I = *impl_;
     Impl::checkSettings(I.settings, "nscd::System::step");
+    I.checkComplianceMethod("nscd::System::step");
     for (const Droplet& d : I.droplets) checkDroplet(d, "nscd::System::step");
     for (Droplet& d : I.droplets)
         if (d.grainImpulse.size() != I.x.size()) d.grainImpulse.assign(I.x.size(), 0.0);
@@ -222,6 +243,19 @@ bool System::Impl::prepareContacts(double dt, int NC0)
     adjStart.assign(NB + 1, 0);
     pairs.resize(NC);
     relaxSeed.clear();
+    // contact compliance (Material::compliance, relativeCompliance) of each
+    // slot's material, only when some material has one
+    const bool compliant = anyCompliance();
+    if (compliant)
+    {
+        slotCompliance.resize(N);
+        for (int sl = 0; sl < N; ++sl)
+        {
+            const Material& m = materials[mat[order[sl]]];
+            slotCompliance[sl] = {m.compliance, m.relativeCompliance};
+        }
+    }
+    const double idt2 = 1.0/(dt*dt);
     for (int k = 0; k < NC; ++k)
     {
         if (k + bodiesAhead < NC)  // the bodies of a later row (random access: a hint)
@@ -252,8 +286,28 @@ bool System::Impl::prepareContacts(double dt, int NC0)
         // gap-based Signorini (eq. 2.37 with the gap): u_n^+ >= -g/dt; overlaps
         // within the slop band are only held (u_n^+ >= 0), larger ones are
         // pushed back to the band edge in one step.
-        s.bias = c.gap >= 0 || k >= NC0 ? c.gap/dt : (c.gap > -slop ? 0.0 : (c.gap + slop)/dt);
-        if (s.bias < 0 && k < NC0) relaxSeed.push_back(k);  // push-out row (relaxPushOut)
+        // compliant contact (Material::compliance): g^+ + c F_n >= 0, i.e.
+        // u_n^+ + g/dt + eps r_n >= 0 with eps = c/dt^2 (+ beta W_nn): the
+        // local solve's normal diagonal is W_nn + eps; the whole gap enters
+        // (the overlap c F_n is the law's, no slop band, no push-out)
+        double eps = 0;
+        if (compliant && k < NC0)
+        {
+            const std::array<double, 2>& a = slotCompliance[c.i];
+            double cc = a[0], beta = a[1];
+            if (c.j < N) { cc = 0.5*(cc + slotCompliance[c.j][0]); beta = 0.5*(beta + slotCompliance[c.j][1]); }
+            eps = cc*idt2 + beta*s.wnn;
+        }
+        if (eps > 0)
+        {
+            s.iwnn = 1.0/(s.wnn + eps);
+            s.bias = c.gap/dt;
+        }
+        else
+        {
+            s.bias = c.gap >= 0 || k >= NC0 ? c.gap/dt : (c.gap > -slop ? 0.0 : (c.gap + slop)/dt);
+            if (s.bias < 0 && k < NC0) relaxSeed.push_back(k);  // push-out row (relaxPushOut)
+        }
         s.rn = 0;
         s.rt.setZero();
         s.change = 0;
@@ -414,7 +468,7 @@ void System::Impl::holdPositionVelocities()
 // impulse: only the velocities kept are scaled. Converged steps are untouched.
 void System::Impl::limitCappedEnergy(double dt, StepReport& rep)
 {
-    if (rep.converged || !droplets.empty()) return;
+    if (rep.converged || !droplets.empty() || anyCompliance()) return;
     for (const auto& W : walls) if (!W.velocity.isZero()) return;
     for (const SolverContact& c : rows) if (c.coh > 0) return;
     const int N = int(x.size());

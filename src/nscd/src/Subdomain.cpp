@@ -428,6 +428,10 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
             throw InputError("nscd::Subdomain::step: dt must be > 0, got " + std::to_string(dt));
         for (const System::Droplet& d : I.droplets) checkDroplet(d, "nscd::Subdomain::step");
         System::Impl::checkSettings(I.settings, "nscd::Subdomain::step");
+        I.checkComplianceMethod("nscd::Subdomain::step");
+        if (I.settings.convergence != System::Settings::Convergence::Max)
+            throw InputError("nscd::Subdomain::step: the RMS convergence test is not available with "
+                             "decomposed grains (its interface averaging stops on the Max test); use Max");
         heat = I.heatCheck();
     }
     catch (const InputError& e)

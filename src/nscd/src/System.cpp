@@ -57,6 +57,12 @@ void checkMaterial(const char* caller, const Material& m)
     if (!(m.heatCapacity >= 0) || !std::isfinite(m.heatCapacity))
         fail("heatCapacity", ">= 0 and finite", m.heatCapacity);
     if (!(m.poissonRatio > -1 && m.poissonRatio <= 0.5)) fail("poissonRatio", "in (-1, 0.5]", m.poissonRatio);
+    if (!(m.compliance >= 0) || !std::isfinite(m.compliance))
+        fail("compliance", ">= 0 and finite [m/N] (0: hard contact)", m.compliance);
+    if (!(m.relativeCompliance >= 0) || !std::isfinite(m.relativeCompliance))
+        fail("relativeCompliance", ">= 0 and finite (0: hard contact)", m.relativeCompliance);
+    if (m.compliance > 0 && m.relativeCompliance > 0)
+        fail("relativeCompliance", "0 when compliance is given (give one of the two)", m.relativeCompliance);
 }
 }
 

@@ -191,7 +191,9 @@ System settledBlock(const Bed& b0, bool quick)
 /// the <steps> steps, the median detection time and the Verlet list builds.
 /// Environment: NSCD_LOAD (start from this HDF5 state), NSCD_RELAX
 /// (Settings::relaxation), NSCD_SKIN (Settings::verletSkin), NSCD_TOL
-/// (Settings::tolerance), NSCD_SLOP (Settings::overlapSlop), NSCD_DUMP
+/// (Settings::tolerance), NSCD_SLOP (Settings::overlapSlop), NSCD_BETA
+/// (Material::relativeCompliance of every material), NSCD_CONVERGENCE=rms
+/// and NSCD_RMS_TOL (Settings::convergence, rmsTolerance), NSCD_DUMP
 /// (write the final HDF5 state), NSCD_DIM=3 (spheres: a block of 500 in
 /// fcc layers of 8 x 8, tiles x NSCD_TILES_Z copies side by side).
 int runReorderCase(int argc, char** argv)
@@ -232,6 +234,19 @@ int runReorderCase(int argc, char** argv)
     if (const char* sk = std::getenv("NSCD_SKIN")) s.settings().verletSkin = std::atof(sk);
     if (const char* tol = std::getenv("NSCD_TOL")) s.settings().tolerance = std::atof(tol);
     if (const char* slop = std::getenv("NSCD_SLOP")) s.settings().overlapSlop = std::atof(slop);
+    // NSCD_BETA: Material::relativeCompliance of every material (contact
+    // compliance), NSCD_CONVERGENCE=rms with NSCD_RMS_TOL: the RMS stopping test
+    if (const char* beta = std::getenv("NSCD_BETA"))
+        for (int id = 0; id < s.nMaterials(); ++id)
+        {
+            Material mat = s.material(id);
+            mat.relativeCompliance = std::atof(beta);
+            s.setMaterial(id, mat);
+        }
+    if (const char* cv = std::getenv("NSCD_CONVERGENCE"))
+        s.settings().convergence = std::string(cv) == "rms" ? System::Settings::Convergence::RMS
+                                                              : System::Settings::Convergence::Max;
+    if (const char* rt = std::getenv("NSCD_RMS_TOL")) s.settings().rmsTolerance = std::atof(rt);
     for (int k = 0; k < 10; ++k) s.step(dt);
     // per step: thread CPU time, sweeps, relax stage (StepReport::relaxSolves),
     // max overlap; over the timed steps: max displacement (all in r_min)
