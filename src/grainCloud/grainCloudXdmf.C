@@ -198,6 +198,14 @@ void Foam::grainCloud::addXdmfDatasets(const std::string& path)
         readDataset<double>(h.id, path, "contactData", H5T_NATIVE_DOUBLE, 14);
     const std::vector<double> t =
         readDataset<double>(h.id, path, "time", H5T_NATIVE_DOUBLE, 1);
+    if (cd.size() != 7*ij.size())
+    {
+        throw std::runtime_error
+        (
+            path + ": datasets 'contactBodies' and 'contactData' list"
+            " different numbers of contacts"
+        );
+    }
     const double dt = t.size() > 1 && t[1] > 0 ? t[1] : 1.0;  // 1: impulses
 
     std::vector<int> vertices(n);
