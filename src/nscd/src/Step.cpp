@@ -288,8 +288,9 @@ bool System::Impl::prepareContacts(double dt, int NC0)
         // pushed back to the band edge in one step.
         // compliant contact (Material::compliance): g^+ + c F_n >= 0, i.e.
         // u_n^+ + g/dt + eps r_n >= 0 with eps = c/dt^2 (+ beta W_nn): the
-        // local solve's normal diagonal is W_nn + eps; the whole gap enters
-        // (the overlap c F_n is the law's, no slop band, no push-out)
+        // local solve's normal diagonal is W_nn + eps; the gap enters whole
+        // (the overlap c F_n is the law's; no push-out), up to the slop band
+        // around the equilibrium set after the warm start (below)
         double eps = 0;
         if (compliant && k < NC0)
         {
@@ -350,6 +351,17 @@ bool System::Impl::prepareContacts(double dt, int NC0)
             const double tn = s.rt.norm();
             if (tn > lim) s.rt *= (tn > 0 ? lim/tn : 0.0);
             warmStart(s);
+        }
+        // compliant contact: the slop band, as the hard law's, around the
+        // equilibrium gap -c F_n of the warm-start force (c F_n = eps dt r_n):
+        // a departure e = g + eps dt r_n from it within the band is held (the
+        // law is written for the equilibrium gap), a larger one corrected by
+        // its excess over the band; an unloaded contact (r_n = 0) has the
+        // hard law's band (overlaps only: a positive gap may close)
+        if (eps > 0 && slop > 0)
+        {
+            const double e = c.gap + eps*dt*s.rn;
+            s.bias = (c.gap - std::clamp(e, -slop, s.rn > 0 ? slop : 0.0))/dt;
         }
         // 2D: the scalar tangential impulse of the NLGS solve (its start() step)
         if (twoD) s.rts = s.rt.dot(Vec3(-s.n.y(), s.n.x(), 0.0));

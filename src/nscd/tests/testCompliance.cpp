@@ -40,6 +40,9 @@ System column2D(int n, const Material& mat)
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -gAcc, 0));
     s.settings().tolerance = 1e-11;
+    // the law exactly: no slop band (Settings::overlapSlop; its bound is
+    // checked by SlopBandHoldsTheOverlapsWithinTheBand)
+    s.settings().overlapSlop = 0;
     return s;
 }
 
@@ -95,6 +98,7 @@ TEST(Compliance, RestingColumnOverlapIsLoadTimesRelativeCompliance3D)
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -gAcc, 0));
     s.settings().tolerance = 1e-11;
+    s.settings().overlapSlop = 0;
     for (int k = 0; k < 2000; ++k) ASSERT_TRUE(s.step(dt).converged) << "step " << k;
     const std::vector<double> ov = overlaps(s);
     for (int k = 0; k < n; ++k)
@@ -124,6 +128,7 @@ TEST(Compliance, DroppedGrainOnCompliantFloorCreatesNoEnergy)
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -gAcc, 0));
     s.settings().tolerance = 1e-11;
+    s.settings().overlapSlop = 0;
     auto energy = [&]()
     {
         const double y = s.positions()[0].y(), v2 = s.velocities()[0].squaredNorm();
@@ -165,10 +170,33 @@ TEST(Compliance, MixedPairTakesTheMeanCompliance)
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -gAcc, 0));
     s.settings().tolerance = 1e-11;
+    s.settings().overlapSlop = 0;
     for (int k = 0; k < 3000; ++k) s.step(dt);
     const std::vector<double> ov = overlaps(s);
     EXPECT_LT(ov[0], 1e-4*rad);  // hard floor contact: within the slop band
     EXPECT_NEAR(ov[1], 0.5*soft.compliance*mass*gAcc, 1e-6*soft.compliance*mass*gAcc);
+}
+
+// With the slop band (Settings::overlapSlop, default 1e-4 r_min) a compliant
+// contact holds departures from its equilibrium below the band: the column's
+// overlaps are c x weight above to within the band, and the floor still
+// carries the weight (statics).
+TEST(Compliance, SlopBandHoldsTheOverlapsWithinTheBand)
+{
+    const int n = 20;
+    const double mass = rho*M_PI*rad*rad, dt = 1e-4;
+    const double c = 1e-3*rad/(n*mass*gAcc);
+    Material mat{rho, 0.3};
+    mat.compliance = c;
+    System s = column2D(n, mat);
+    s.settings().overlapSlop = 1e-4;
+    const double band = 1e-4*rad;
+    for (int k = 0; k < 3000; ++k) ASSERT_TRUE(s.step(dt).converged) << "step " << k;
+    const std::vector<double> ov = overlaps(s);
+    for (int k = 0; k < n; ++k)
+        EXPECT_NEAR(ov[k], c*(n - k)*mass*gAcc, band*(1 + 1e-6)) << "contact below grain " << k;
+    for (const auto& v : s.contacts())
+        if (v.j < 0) EXPECT_NEAR(v.impulse.y()/dt, n*mass*gAcc, 1e-6*n*mass*gAcc);
 }
 
 // Bad settings are InputErrors naming the field; the restart state keeps
@@ -223,6 +251,7 @@ TEST(Compliance, RmsConvergenceRestingColumnForcesMatchTheWeight)
     const int n = 30;
     const double mass = rho*M_PI*rad*rad, dt = 1e-4;
     System s = column2D(n, Material{rho, 0.0});
+    s.settings().overlapSlop = 1e-4;  // the library's default band
     s.settings().convergence = System::Settings::Convergence::RMS;
     s.settings().rmsTolerance = 1e-6;
     StepReport last;
