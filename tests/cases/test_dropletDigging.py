@@ -358,3 +358,30 @@ def test_similarity_scaling_keeps_umf(sweep, tmp_path):
     assert abs(entry(plain, "couplingProperties", r"force\s+([0-9.eE+-]+);") - setup.F_C0) < 1e-12
     assert ratio_nu > 100          # 1 mm / 55 um: s ~ 330
     assert abs(entry(plain, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);") - 2.82e-4) < 1e-12
+
+
+def test_contact_compliance_settings(tmp_path, monkeypatch):
+    """setupCase's CONTACT_COMPLIANCE / CONTACT_RELAXATION (the settings that
+    settle the 55 um bed, docs/validation/contactCompliance.md) reach
+    constant/grainProperties as the grains' relativeCompliance and the
+    contactSolver's relaxation; unset, the dictionary has neither (the hard
+    law); a negative compliance or a factor outside (0, 2) is a ValueError
+    naming the variable.  Consistency check of the script only.  < 1 s."""
+    setup, _ = tutorial_modules("vansFoam", "dropletDigging")
+    monkeypatch.delenv("CONTACT_COMPLIANCE", raising=False)
+    monkeypatch.delenv("CONTACT_RELAXATION", raising=False)
+    setup.mesh_and_grains(str(tmp_path / "hard"), 1e-3)
+    txt = open(tmp_path / "hard" / "constant" / "grainProperties").read()
+    assert "relativeCompliance" not in txt and "relaxation" not in txt
+    monkeypatch.setenv("CONTACT_COMPLIANCE", "2e-3")
+    monkeypatch.setenv("CONTACT_RELAXATION", "1.5")
+    setup.mesh_and_grains(str(tmp_path / "soft"), 1e-3)
+    txt = open(tmp_path / "soft" / "constant" / "grainProperties").read()
+    assert "relativeCompliance 0.002;" in txt and "relaxation 1.5;" in txt
+    monkeypatch.setenv("CONTACT_COMPLIANCE", "-1")
+    with pytest.raises(ValueError, match="CONTACT_COMPLIANCE"):
+        setup.contact_compliance()
+    monkeypatch.setenv("CONTACT_COMPLIANCE", "0")
+    monkeypatch.setenv("CONTACT_RELAXATION", "2")
+    with pytest.raises(ValueError, match="CONTACT_RELAXATION"):
+        setup.contact_compliance()

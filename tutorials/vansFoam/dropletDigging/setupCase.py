@@ -124,6 +124,22 @@ def contact_max_iterations():
     return n
 
 
+def contact_compliance():
+    """(relativeCompliance, relaxation) of the grains' contacts (nscd
+    Material::relativeCompliance, Settings::relaxation): env
+    CONTACT_COMPLIANCE=<beta> (default 0: hard contacts) and
+    CONTACT_RELAXATION=<omega> (default 1), e.g. 2e-3 and 1.5 to settle the
+    55 um bed (docs/validation/contactCompliance.md); raises ValueError if
+    beta < 0 or omega is not in (0, 2)."""
+    beta = float(os.environ.get("CONTACT_COMPLIANCE", "0"))
+    omega = float(os.environ.get("CONTACT_RELAXATION", "1"))
+    if not beta >= 0:
+        raise ValueError(f"CONTACT_COMPLIANCE={beta}: the relative contact compliance must be >= 0")
+    if not 0 < omega < 2:
+        raise ValueError(f"CONTACT_RELAXATION={omega}: the over-relaxation factor must be in (0, 2)")
+    return beta, omega
+
+
 def mesh_and_grains(case, d_grain, rho_grain=RHO_P):
     nx, ny = int(round(W / CELL)), int(round(H / CELL))
     write(case, "system/blockMeshDict", "dictionary",
@@ -133,13 +149,16 @@ def mesh_and_grains(case, d_grain, rho_grain=RHO_P):
           "boundary (\n walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1)); }\n"
           " outlet { type patch; faces ((3 7 6 2)); }\n"
           " frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n")
+    beta, omega = contact_compliance()
+    compliance = f" relativeCompliance {beta:g};" if beta > 0 else ""
+    relaxation = f" relaxation {omega:g};" if omega != 1 else ""
     write(case, "constant/grainProperties", "dictionary",
           f"materials {{ grains {{ density {rho_grain:.9g}; friction {FRICTION}; conductivity {K_P};"
-          f" youngModulus {E_P:g}; poissonRatio {NU_P}; heatCapacity {C_P}; }} }}\n"
+          f" youngModulus {E_P:g}; poissonRatio {NU_P}; heatCapacity {C_P};{compliance} }} }}\n"
           "wallPatches (walls);\n"
           f"contactSolver {{ tolerance {contact_tolerance(d_grain):g};"
           f" maxIterations {contact_max_iterations()};"
-          " overlapTolerance 1e-2; }\n"
+          f" overlapTolerance 1e-2;{relaxation} }}\n"
           f"// grain diameter of this bed: {d_grain:g} m (Table 4.2: {D_GRAIN_TABLE:g} m)\n")
     write(case, "constant/g", "uniformDimensionedVectorField",
           "dimensions [0 1 -2 0 0 0 0];\nvalue (0 -9.81 0);\n")
