@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /*---------------------------------------------------------------------------*\
   nscdFoam: grainCloud outlet patches (issue 27, item 4)
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "grainDictionaryTools.H"
 #include "IOstreams.H"
 #include "FlatOutput.H"

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Reference closed forms of the grain/fluid closures, written independently
 of the C++ models (src/vansCoupling/heatTransferModels, dragModels), for the
 case tests and the tutorials' post-processing.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """nscdpost: read nscdFoam case output from Python (tutorial post-processing, tests).
 
 Needs numpy, foamlib (PyPI; OpenFOAM files, ascii or binary) and h5py

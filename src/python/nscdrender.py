@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """nscdrender: snapshot PNGs of a case from its foamToVTK output, like the
 figures of M. Henry, PhD thesis, UCLouvain: the grains, coloured by their
 speed |U| [m/s] or temperature T [K], over a cell field (void fraction,

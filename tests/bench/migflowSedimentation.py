@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Peer-code run of the sedimentation case with MigFlow 1.4 (PyPI `migflow`).
 
 Case: tutorials/vansFoam/sedimentation (M. Henry, PhD thesis, UCLouvain,

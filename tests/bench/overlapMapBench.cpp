@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // overlapMap benchmark: cost of one full grain -> cell map (candidate search,
 // exact overlaps, solid fraction) on one core.
 //   Case 1 (2D): 70,000 discs, d = 230 um, on a triangle mesh with edge h = 2d

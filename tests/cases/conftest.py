@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Shared fixtures for the case tests: build small OpenFOAM cases in a tmp dir
 and run the project's applications on them (environment from etc/bashrc)."""
 import os

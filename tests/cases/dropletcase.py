@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Shared set-up of the immersed vaporising droplet tests (issue 8;
 src/dropletCoupling, fvOption vapourDropletSource in vansFoam), split by
 concern into test_droplet_heat.py, test_droplet_motion.py,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Write small grainFoam cases from Python (test helper); dictionaries are
 edited in place with foamlib."""
 import os

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Reduced dry 2D column collapse (tutorials/grainFoam/columnCollapse) against
 the runout scaling of 2D columns.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The drag models against references independent of the code.
 
 Each test names its reference; none re-derives the formula under test, except

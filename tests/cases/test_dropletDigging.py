@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """dropletDigging tutorial (issue 8; thesis section 4.3, Table 4.2): the
 reduced copy (tutorials/vansFoam/dropletDigging, its own setupCase.py and
 postProcess.py; 1 mm porous grains, grainPorosity so that the bed's solid

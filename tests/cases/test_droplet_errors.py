@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Immersed vaporising droplet (issue 8): bad input - constant/dropletProperties
 and couplingProperties grainPorosity are keyword-checked (FatalIOErrors naming
 the file, the keyword and the fix).  Case set-up in dropletcase.py."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Immersed vaporising droplet (issue 8, first increment; thesis section 4.3.1,
 eq. 4.15-4.17): src/dropletCoupling, fvOption vapourDropletSource in vansFoam.
 

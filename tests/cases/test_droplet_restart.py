@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Immersed vaporising droplet (issue 8): a run stopped at a write time and
 restarted, and a run on two ranks, reproduce the uninterrupted serial run
 (droplet state in <time>/uniform/droplet, global sums over the ranks).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Minimum fluidisation of a uniform bed (issue 4: "the bed lifts within 10 %
 of the predicted u_mf").
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Liquid-fluidised bed of spheres in 3D: a reduced copy of
 tutorials/vansFoam/fluidisedBed3D (2,000 spheres of 1 mm glass in a column
 12 lattice spacings wide, water at U_0 = 0.07 m/s), its own setupCase.py and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Measurement function objects of libfreeSurfaceFunctionObjects (issue 6):
 waveGauges, runUp, granularFront (src/freeSurfaceFunctionObjects).
 

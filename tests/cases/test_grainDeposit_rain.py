@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """grainDeposit method rain (2D, applications/utilities/grainDeposit/
 rainDeposit.H): discs laid one by one and rolled to rest on the discs below
 (the rain model of Visscher & Bolsterli, Nature 239, 504-507, 1972), the

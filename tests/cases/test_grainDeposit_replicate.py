@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """grainDeposit method replicate: a wide bed built from one settled column
 (applications/utilities/grainDeposit/replicateColumn.H), copied across the
 mesh, every other copy mirrored, with its contact impulses, then settled

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """grainFoam with the grains decomposed over the ranks (grainDecomposition
 decomposed, the default of a parallel run; src/nscdMPI): each rank owns the
 grains whose centre lies in its cells and solves their contacts (the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Bad input gives a clear FatalError naming the cause (and no crash/NaN run)."""
 import os
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Physics of dry grains run through grainDeposit + grainFoam (NSCD, thesis ch. 2).
 
 References (rigid-body mechanics, e.g. Goldstein, Classical Mechanics):

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Grain-only gate (grainProperties `gates`, src/grainCloud) and the
 granularCollapse tutorial (tutorials/vansInterFoam/granularCollapse, thesis
 section 5.2).

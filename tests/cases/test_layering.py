@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Library layering of the C++ sources (docs/architecture.md, "Library
 layers"; issue 28 item 1: no objectRegistry lookup by name crosses a library
 boundary).

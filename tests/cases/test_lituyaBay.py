@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """lituyaBay (tutorials/vansInterFoam/lituyaBay, thesis section 5.3): the
 reduced copy (150 grains of 8.8-26 m, same geometry and slide mass 98.5e3 t/m,
 25 m cells, 55 s simulated; ~20 s here) run by the tutorial's own

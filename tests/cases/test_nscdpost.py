@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """nscdpost's readers (foamlib underneath) on files written here with known
 values, in the forms OpenFOAM v1912 writes: the reference is the values the
 test wrote (17 significant digits round-trip exactly), not the reader.

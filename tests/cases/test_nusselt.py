@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Nusselt-number closures (src/vansCoupling/heatTransferModels) through the
 nusseltTable utility, against closed forms written here independently:
 

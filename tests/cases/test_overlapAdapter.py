@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """OpenFOAM adapter of the overlap mapping (src/vansCoupling/overlapMeshAdapter)
 through the grainVoidFraction utility (thesis section 3.2.1, eq. 3.43).
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Packed-bed heat transfer measured from the air side (issue 5; thesis
 section 4.1.2, eq. 4.4-4.13): air at T_in flows up through a fixed bed of
 hot spheres held at T_p (very large heat capacity: no keyword holds a grain

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """vansFoam rotation coupling (couplingProperties rotationCoupling yes;
 issue 7, resolved regime): the Brinkman penalisation of the semi-implicit
 drag imposes v_p + omega_p x (x_c - x_p) in the cells a grain covers, and

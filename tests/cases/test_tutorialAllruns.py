@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Every tutorial's own Allrun runs to its end (issue 27, item 2).
 
 Each tutorial is copied (its files under version control only, so no

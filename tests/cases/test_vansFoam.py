@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """vansFoam: exact restart, mixture volume conservation, serial = MPI.
 
 The drag laws against independent references (lone sphere, Ergun, Richardson-

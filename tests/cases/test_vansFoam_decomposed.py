@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """vansFoam with the grains decomposed over the ranks (grainDecomposition
 decomposed, the default of a parallel run without the sub-models that still
 need every grain on every rank): each rank owns the grains whose centre lies

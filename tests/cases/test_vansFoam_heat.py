@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """vansFoam energy transport (issue 5; thesis section 4.1.2, eq. 4.4-4.13).
 
 - Single fixed grain (d = 0.5 mm) in a uniform upward flow at T_in, grain at

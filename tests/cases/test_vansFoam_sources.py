@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """vansFoam fvOptions, wall heat flux and heat budget (issue 5; thesis
 section 4.2.1, eq. 4.14).
 

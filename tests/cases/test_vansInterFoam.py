@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """vansInterFoam: two immiscible fluids (VOF) in the void space of NSCD grains.
 
 - Dam break without grains (tutorials/vansInterFoam/damBreak, a/16 mesh)

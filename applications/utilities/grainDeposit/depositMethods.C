@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "depositMethods.H"
 #include "rainDeposit.H"
 #include "grainDictionaryTools.H"

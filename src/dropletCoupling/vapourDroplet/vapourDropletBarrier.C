@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /*---------------------------------------------------------------------------*\
   nscdFoam: vapourDroplet capillary entry barrier (see vapourDroplet.H)
 

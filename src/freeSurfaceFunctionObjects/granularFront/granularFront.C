@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "granularFront.H"
 #include "freeSurfaceTools.H"
 #include "grainCloud.H"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "runUp.H"
 #include "freeSurfaceTools.H"
 #include "addToRunTimeSelectionTable.H"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "nscd/ContactLaw.H"
 
 namespace nscd

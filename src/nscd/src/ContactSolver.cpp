@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The contact solve of System::step on the rows prepared by prepareContacts:
 // nonlinear Gauss-Seidel with contact queue (NLGS, optionally over-relaxed)
 // and the residual shared by every method (APGD: ContactSolverAPGD.cpp, NNCG:

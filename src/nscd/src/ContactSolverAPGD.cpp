@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // APGD contact solve (System::Settings::Method::APGD): Nesterov-accelerated
 // projected gradient with adaptive step and restart, Mazhar, Heyn, Negrut &
 // Tasora, "Using Nesterov's method to accelerate multibody dynamics with

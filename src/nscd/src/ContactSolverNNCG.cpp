@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // NNCG contact solve (System::Settings::Method::NNCG): nonsmooth nonlinear
 // conjugate gradient, Silcowitz, Niebe & Erleben, "A nonsmooth nonlinear
 // conjugate gradient method for interactive contact force problems", The

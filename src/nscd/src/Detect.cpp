@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Contact detection: uniform grid for grain pairs, walls (planes, segments,
 // triangulated surfaces) and droplets; gap of a contact after the step.
 #include "DetectPair.H"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Grain temperatures (thesis section 4.1, eq. 4.1-4.3): state, contact
 // conductance and the backward-Euler heat step.
 #include "SystemImpl.H"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscd::System::removeGrains: grains leaving the system (e.g. through an
 // outlet of the fluid domain), with their per-grain state and contacts.
 #include "SystemImpl.H"

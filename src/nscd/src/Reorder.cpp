@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Internal grain order along a space-filling curve (System::Settings::
 // reorderInterval): the slots of a step (bodies, detection records, solver
 // rows, persistent contacts) follow the Morton (Z-order) curve over the grid

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The contact network of grains at rest: System::touchingContacts (detection
 // without a step) and staticLoad (forces inside the Coulomb cones, top down;
 // StaticLoad.H).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // System::step in named stages (the contact solve itself is in ContactSolver.cpp).
 //
 // Layout, in the manner of Box2D v3 (E. Catto, solver.c / contact_solver.c):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscd::Subdomain: the step of one subdomain of a decomposed grain system
 // (Subdomain.H): the stages of System::step (Step.cpp) with the contacts
 // this subdomain owns, copy masses for the interface grains and an NLGS

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Heat stage of the decomposed step (SubdomainHeat.H).
 #include "SubdomainHeat.H"
 

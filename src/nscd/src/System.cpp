@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscd::System: construction, grain/wall/droplet state and accessors.
 // (Detection: Detect.cpp; the step in stages: Step.cpp; contact solve:
 // ContactSolver.cpp; sub-steps and views: SystemExtra.cpp.)

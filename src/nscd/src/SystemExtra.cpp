@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Sub-stepping (advance), detection with re-detection of grains that leave
 // their reach (detectAndSolve), checks, contact views, conductance.
 #include "SystemImpl.H"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Verlet list of candidate grain pairs (System::Settings::verletSkin; the
 // argument in Verlet.H): built by the grid scan with the reach enlarged by
 // the skin, its pairs re-tested each step in the order of the grid scan,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Triangulated walls: CGAL AABB tree of triangles, sphere range queries.
 #include "SystemImpl.H"
 

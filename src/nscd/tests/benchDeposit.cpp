@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Dense deposit benchmark (not a test).
 //   nscdBench substeps <out.json> [quick]   sub-steps of advance() (benchSubsteps.cpp)
 //   nscdBench state <grainState.h5> <dt> <steps> <out.json> [tol [maxIt]]   the contact

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscdBench methods: the contact solver methods (System::Settings::Method)
 // compared on the beds of tests/bench/nscdDeposit, one core:
 //  - settling the 500-disc block from the loose lattice (mu = 0.4), to rest

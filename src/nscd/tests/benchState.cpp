@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscdBench state: the contact solver methods (System::Settings::Method) on
 // a grain state saved by a run (the grainState.h5 of a time directory, read
 // by System::readHDF5 with its contact impulses, i.e. warm-started as the run

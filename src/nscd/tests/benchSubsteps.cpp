@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Sub-steps of System::advance on the nscdDeposit beds (issue 26 item 2).
 //   nscdBench substeps <out.json> [quick]
 // Cases (d = 230 um beds of benchSuite.cpp, one core):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // tests/bench/nscdDeposit suite: dense polydisperse deposits at rest.
 //
 // Grains: diameters uniform in [d_min, 1.2 d_min] (lambda = d_max/d_min = 1.2),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Broad phase: uniform grid vs brute force; timing vs CGAL box_intersection_d.
 #include "nscd/System.H"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A contact solve stopped at its cap (Settings::maxIterations) must not
 // inject energy: for the dissipative law (inelastic Signorini, Coulomb
 // friction, static walls) the kinetic energy after the step may not exceed

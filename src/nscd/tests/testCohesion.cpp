@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Cohesion switched by the contact age (thesis eq. 4.18, section 4.3.2: "a
 // contact is considered cohesive if it persists for several time steps").
 //

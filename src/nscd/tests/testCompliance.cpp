@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Contact compliance (Material::compliance, relativeCompliance): the normal
 // law g^+ + c F_n >= 0, F_n >= 0, complementary (an implicit, backward Euler,
 // spring of compliance c in compression).

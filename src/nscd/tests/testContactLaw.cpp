@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Contact kinematics (eq. 2.14-2.28) and local laws (eq. 2.37-2.41).
 #include "nscd/ContactLaw.H"
 #include "nscd/System.H"

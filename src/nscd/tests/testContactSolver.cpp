@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Contact solver methods (System::Settings::Method: NLGS, OverRelaxedNLGS,
 // APGD) on problems with an independent reference, and the stopping test.
 #include "nscd/System.H"

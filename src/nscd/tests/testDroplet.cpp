@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Capillary entry barrier of a droplet (System::Droplet, Droplet.H).
 //
 // References for the numbers below:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Fast grains without global sub-steps (issue 26 item 2): per-pair alert
 // distances, the separate broad-phase pass of fast grains, the swept normal
 // of far-moving pairs and the re-detection of grains that leave their reach.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Implicit fluid drag inside the contact problem (System::setFluidDrag):
 // checks against analytical solutions and conservation of momentum.
 #include "nscd/System.H"

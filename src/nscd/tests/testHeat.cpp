@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Grain temperatures (thesis eq. 4.1-4.3): contact conduction, walls and
 // fixed-temperature grains, sources and exchange, conservation, HDF5 state.
 #include "nscd/System.H"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // HDF5 state I/O: round trip, bit-exact restart, errors.
 #include "nscd/System.H"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Library-level physics: incline, drop, stack, pile at rest, walls.
 #include "nscd/System.H"
 

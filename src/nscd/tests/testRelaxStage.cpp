@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The relax stage of System::step (split impulse: E. Catto, GDC 2006; the
 // relax of Box2D v3's soft step; src/nscd/README.md "Relax stage"): an
 // overlap deeper than the slop band (Settings::overlapSlop) is pushed back

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Internal grain order along the Morton curve (System::Settings::
 // reorderInterval): the curve itself, the same physics with and without it,
 // the external grain order of the interface and of the HDF5 state, and a

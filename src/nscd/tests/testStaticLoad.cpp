@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscd::staticLoad and System::touchingContacts (nscd/StaticLoad.H): the
 // frictionless contact forces of grains at rest under gravity, top down,
 // checked against the statics of simple assemblies (analytical) and

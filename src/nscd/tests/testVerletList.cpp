@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Verlet list of candidate grain pairs (System::Settings::verletSkin): the
 // contacts detected through the list are those of the grid scan (skin 0),
 // in the same order, so the whole state stays bit-identical, for a moving

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Wall contacts at internal edges of flat triangulated / segmented walls,
 // genuine convex edges, and fixed grains against walls.
 #include "nscd/System.H"

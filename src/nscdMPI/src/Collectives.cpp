@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscd::mpi::DecomposedSystem: values of the ghosts summed to their owners,
 // and the whole system gathered on one rank (for writing a state).
 #include "DecomposedSystemImpl.H"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscd::mpi::DecomposedSystem: construction (from nothing or by decomposing
 // a whole system), grains added, the step and the sub-stepped advance.
 #include "DecomposedSystemImpl.H"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscd::mpi::DecomposedSystem: migration of the grains that left a rank's
 // region (their owner found by asking every rank when the owner function is
 // local), the ghost refresh, and the warm start of migrated contacts.

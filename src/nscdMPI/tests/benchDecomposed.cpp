@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscdMPIBench: per-rank cost of the decomposed NSCD step on a saved bed
 // (not a test; driven by tests/bench/nscdDecomposed).
 //   mpirun -np N nscdMPIBench state.h5 steps out.json [serial]

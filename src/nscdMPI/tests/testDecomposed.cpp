@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // nscdMPI: a grain system decomposed over the ranks of MPI_COMM_WORLD (run
 // by ctest on 1, 2 and 4 ranks). Every rank also runs the undecomposed
 // System for comparison (the cases are small).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file CellMesh.cpp
  * @brief CellMesh: checks, faces, adjacency, 2D polygons, bins and point

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file CellMesh3D.cpp
  * @brief CellMesh, 3D part: tet/prism/hex recognition for the `overlap`

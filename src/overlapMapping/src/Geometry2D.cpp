@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file Geometry2D.cpp
  * @brief Disc / polygon exact intersection (thesis section 3.2.1).

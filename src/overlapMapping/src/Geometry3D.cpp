@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file Geometry3D.cpp
  * @brief Sphere / cell overlaps through the `overlap` library.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file SphereBox.cpp
  * @brief Closed-form sphere ∩ axis-aligned box (derivation in SphereBox.hpp).

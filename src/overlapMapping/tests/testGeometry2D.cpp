@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Unit tests of the exact disc/polygon intersection (thesis section 3.2.1).
 // References: closed-form areas/centroids of discs, quarter/half discs and
 // circular segments; Monte-Carlo estimates (fixed seed) for generic cases.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Unit tests of sphere/cell overlaps: vertex-ordering mapping OpenFOAM <->
 // overlap library, closed forms (half/quarter/eighth ball and their
 // centroids 3r/8), Monte-Carlo checks, and the tet decomposition of polyhedra.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Unit tests of OverlapMapper: partition of unity on many mesh kinds, solid
 // fraction bounds, spread/gather adjointness and conservation, continuity of
 // the exact solid fraction vs PCM jumps, linear exactness of the centroid

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Unit tests of the mesh layer: builders (volumes, conformity), CellMesh
 // preparation (shapes, 2D polygons), point location and error reporting.
 #include "overlapMapping/CellMesh.hpp"

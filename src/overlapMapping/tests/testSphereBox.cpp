@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Unit tests of the closed-form sphere / axis-aligned box overlap
 // (SphereBox.hpp) and of the detection of box cells:
 //  - against the general sphere/hexahedron routine of the `overlap` library

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /*---------------------------------------------------------------------------*\
   nscdFoam: overlapMeshAdapter (see overlapMeshAdapter.H): settings,
   construction (mesh view, processor-boundary cells) and the field

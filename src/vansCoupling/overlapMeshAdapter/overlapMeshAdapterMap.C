@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /*---------------------------------------------------------------------------*\
   nscdFoam: overlapMeshAdapter, the grain -> cell mapping: owner ranks,
   the library's map of the owned grains, halo overlaps of grains straddling

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "grainHeatExchange.H"
 #include "zeroGradientFvPatchFields.H"
 #include "mathematicalConstants.H"

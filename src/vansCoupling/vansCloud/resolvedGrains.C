@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "resolvedGrains.H"
 #include "fvc.H"
 #include "zeroGradientFvPatchFields.H"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "vansCloud.H"
 #include "foamTools.H"
 #include "fvc.H"

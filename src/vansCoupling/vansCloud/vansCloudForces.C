@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /*---------------------------------------------------------------------------*\
   nscdFoam: vansCloud, fluid forces on the grains and the grain step
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "vansCloudSettings.H"
 #include "grainDictionaryTools.H"
 #include "dimensionedScalar.H"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /*---------------------------------------------------------------------------*\
   nscdFoam: vansCloud coupling sources (see grainCouplingSource.H)
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark: the side walls' effect on the falling cylinder's speed
 (issue 7; thesis 3.3.3).
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark: grid convergence of the drag on a fixed disc between plane walls
 in Stokes flow, vansFoam resolved regime (issue 7; thesis 3.2.2, 3.3.3).
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Consistency check (not a physics test): nscdpost's readers (foamlib
 underneath since issue 28) return the same arrays (values, dtype, shape) as
 a former nscdpost, on every case output found under the given directories

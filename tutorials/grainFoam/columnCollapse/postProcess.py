@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Column collapse post-processing: results.json and runout.png.
 
 usage: postProcess.py CASEDIR [CASEDIR ...]   (one per aspect ratio)

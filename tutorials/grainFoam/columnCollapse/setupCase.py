@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Create one column-collapse case from base/ for an aspect ratio a = H_i/L_i.
 
 usage: setupCase.py CASEDIR ASPECT_RATIO NGRAINS [FRICTION]

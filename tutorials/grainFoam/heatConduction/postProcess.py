@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Heat conduction post-processing: results.json, meanTemperature.png, snapshot.png.
 
 usage: postProcess.py CASEDIR

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Create the heat-conduction case from base/ (thesis Figure 4.2 analogue).
 
 usage: setupCase.py CASEDIR [NGRAINS [ENDTIME [DELTAT]]]

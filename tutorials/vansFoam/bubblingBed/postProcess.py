@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Post-process the bubbling-bed cases (thesis section 4.2, Figures 4.6-4.8).
 
 usage: postProcess.py CASE [CASE ...]     (cases made by setupCase.py)

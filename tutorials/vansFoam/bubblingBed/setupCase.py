@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Set up the bubbling fluidised bed cases (thesis section 4.2, Table 4.1,
 after the pseudo-2D experiment of Patil et al.).
 

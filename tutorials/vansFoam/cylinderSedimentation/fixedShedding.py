@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Vortex shedding of the penalised cylinder held fixed in the frame of the
 falling cylinder (companion of the falling-cylinder tutorial, issue 7).
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Falling cylinder post-processing: results.json and velocity.png.
 
 usage: postProcess.py CASEDIR      (postProcess.py --selftest: check the frequency extraction)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Resolved-regime cases of vansFoam (thesis sections 3.3.3-3.3.4): one or a
 few discs spanning many cells in a 2D box of water-like fluid.  The grains
 are NSCD discs; in the cells they cover eps -> epsMin and the semi-implicit

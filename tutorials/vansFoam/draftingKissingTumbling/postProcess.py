@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Drafting-kissing-tumbling post-processing: results.json and positions.png.
 
 usage: postProcess.py CASEDIR [OTHER_RESULTS.json ...]

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Drafting-kissing-tumbling of two discs (thesis section 3.3.4; Feng, Hu &
 Joseph 1994, J. Fluid Mech. 261:95; Glowinski, Pan, Hesla, Joseph & Periaux
 2001, J. Comput. Phys. 169:363): channel 2 x 8 cm, fluid rho = 1 g/cm^3,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Figures of the dropletDigging tutorial (thesis Figures 4.13-4.19) drawn
 from the results of postProcess.py: the final depth against the bed
 temperature, the depth, velocity, mean grain temperature and lifetime

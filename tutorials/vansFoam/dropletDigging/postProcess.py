@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Post-process the dropletDigging cases (issue 8; thesis section 4.3.3,
 Figures 4.13-4.19).
 

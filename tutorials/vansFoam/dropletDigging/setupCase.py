@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Set up the dropletDigging cases (issue 8; thesis section 4.3, Table 4.2).
 
 usage: setupCase.py deposit [D_GRAIN]   the bed: grains of diameter D_GRAIN

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Fluidisation post-processing: results.json and fluidisation.png.
 
 usage: postProcess.py CASEDIR [CASEDIR ...]   (one per mesh, made by setupCase.py)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Set up the fluidisation cases (thesis section 3.3.2, after Peng et al.).
 
 usage: setupCase.py deposit            the settled bed, once (mesh h/d = 1)

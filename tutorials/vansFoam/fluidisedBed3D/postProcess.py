@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Post-processing of the liquid-fluidised bed (fluidisedBed3D).
 
 usage: postProcess.py [CASE]      (default: this directory)

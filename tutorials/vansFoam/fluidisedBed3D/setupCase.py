@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Set up the liquid-fluidised bed of spheres (vansFoam, 3D).
 
 usage: setupCase.py CASEDIR [--across N] [--grains N] [--u0 U] [--end T] [--ranks NP]

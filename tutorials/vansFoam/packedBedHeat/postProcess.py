@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """packedBedHeat post-processing: the bed's Nusselt number measured from the
 air side, as in a steady packed-bed heat-transfer experiment, against the
 closure the run used (results.json, packedBedHeat.png).

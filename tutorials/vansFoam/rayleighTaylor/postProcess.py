@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Granular Rayleigh-Taylor post-processing: results.json and fingers.png.
 
 usage: postProcess.py CASEDIR

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Set up the granular Rayleigh-Taylor case (thesis section 3.3.1, after
 Vinningland et al. 2007): frictionless discs d in [d_max/1.2, d_max],
 d_max = 230 um (lambda = 1.2), rho_p = 1050, in air, closed box W x H =

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Sedimentation post-processing: results.json and front.png.
 
 usage: postProcess.py CASEDIR [CASEDIR ...]   (one per void-fraction method)

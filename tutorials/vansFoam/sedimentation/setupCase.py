@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Create a sedimentation case from base/ (thesis section 3.2.2 / MigFlow's
 grid deposit): 6,600 discs r = 1.5 mm in a square lattice (spacing 2r) filling
 the top 0.15 m of the 0.4 x 0.6 m box.

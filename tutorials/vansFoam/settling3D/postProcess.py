@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """settling3D post-processing: results.json (time, mean_grain_velocity) and
 settling.png.  mean_grain_velocity: mean vertical grain velocity [m/s].  The
 reference curve is the terminal velocity of one grain of the mean diameter

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """damBreak post-processing: surge front vs Martin & Moyce (1952), results.json
 and front.png.
 

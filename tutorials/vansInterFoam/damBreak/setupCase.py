@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Create the damBreak case from base/ at a given mesh resolution.
 
 usage: setupCase.py CASEDIR [N]     N: cells per column width a (default 16)

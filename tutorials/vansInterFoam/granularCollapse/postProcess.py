@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Post-process granularCollapse configurations (thesis section 5.2).
 
 usage: postProcess.py OUTDIR CASEDIR [CASEDIR ...]

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Create one granularCollapse configuration from base/ (thesis section 5.2).
 
 usage: setupCase.py CASEDIR CONFIG [DX] [BASIN] [ENDTIME]

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """lituyaBay post-processing: gauge elevation, run-up, slide front Froude
 number, water volume and energy checks; results.json, gauge.png, runup.png.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Create the Lituya Bay case (thesis section 5.3, Fig. 5.9) from base/.
 
 usage: setupCase.py CASEDIR [full|medium|reduced]

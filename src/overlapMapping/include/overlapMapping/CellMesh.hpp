@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file CellMesh.hpp
  * @brief Mesh prepared for overlap computations: cell adjacency, bounding

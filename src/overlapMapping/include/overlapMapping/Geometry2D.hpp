@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file Geometry2D.hpp
  * @brief Exact disc / polygon intersection: area, first and polar moments.

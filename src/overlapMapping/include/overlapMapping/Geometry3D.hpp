@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file Geometry3D.hpp
  * @brief Sphere / cell overlap volume and centroid.

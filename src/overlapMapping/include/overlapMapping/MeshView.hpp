@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file MeshView.hpp
  * @brief Plain-array description of a finite-volume mesh (OpenFOAM polyMesh

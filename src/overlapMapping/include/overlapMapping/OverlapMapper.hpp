@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file OverlapMapper.hpp
  * @brief Grain -> cell mapping: sparse overlap list, solid/void fraction,

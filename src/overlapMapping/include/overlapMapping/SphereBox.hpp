@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file SphereBox.hpp
  * @brief Exact, closed-form volume and first moment of sphere ∩ axis-aligned

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file Types.hpp
  * @brief Basic types shared by the overlapMapping library.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file overlapMapping.hpp
  * @brief Umbrella header of the overlapMapping library (grain/cell overlaps,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "dragModel.H"
 #include "diFeliceExponent.H"
 #include "mathematicalConstants.H"
