@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Contact detection: uniform grid for grain pairs, walls (planes, segments,
 // triangulated surfaces) and droplets; gap of a contact after the step.
+#include "ContactLaws.H"
 #include "DetectPair.H"
 
 #include <algorithm>
@@ -447,8 +448,8 @@ void System::Impl::detectDroplets(double dt)
             c.j = N + NW + k;
             c.n = d/dn;
             c.gap = gap;
-            c.mu = 0;
-            c.cap = System::capillaryEntryForce(dim, D.surfaceTension, ri, -gap)*dt;
+            c.mu = law::CapillaryCap::friction;
+            c.cap = law::CapillaryCap::cap(System::capillaryEntryForce(dim, D.surfaceTension, ri, -gap), dt);
             newContacts.push_back(c);
         }
     }

@@ -14,6 +14,7 @@
 // The warm start and the adjacency counts are applied row by row inside
 // prepareContacts (one pass over the rows instead of three: at 70,000 discs
 // at rest the passes over the contact arrays are memory-bound).
+#include "ContactLaws.H"
 #include "SystemImpl.H"
 
 #include <algorithm>
@@ -284,31 +285,27 @@ bool System::Impl::prepareContacts(double dt, int NC0)
             const double k = s.wnn > 0 ? std::min((A.im0 + B.im0)/s.wnn, maxResidualWeight) : 1.0;
             s.residualWeight2 = k*k;
         }
-        // gap-based Signorini (eq. 2.37 with the gap): u_n^+ >= -g/dt; overlaps
-        // within the slop band are only held (u_n^+ >= 0), larger ones are
-        // pushed back to the band edge in one step.
-        // compliant contact (Material::compliance): g^+ + c F_n >= 0, i.e.
-        // u_n^+ + g/dt + eps r_n >= 0 with eps = c/dt^2 (+ beta W_nn): the
-        // local solve's normal diagonal is W_nn + eps; the gap enters whole
-        // (the overlap c F_n is the law's; no push-out), up to the slop band
-        // around the equilibrium set after the warm start (below)
+        // the contact's law (ContactLaws.H): compliant if its materials
+        // have a compliance (the normal diagonal W_nn + eps; its gap term
+        // after the warm start, below), else the hard law with the slop band
+        // and push-out (droplet rows k >= NC0: the hard law exactly)
         double eps = 0;
         if (compliant && k < NC0)
         {
             const std::array<double, 2>& a = slotCompliance[c.i];
             double cc = a[0], beta = a[1];
-            if (c.j < N) { cc = 0.5*(cc + slotCompliance[c.j][0]); beta = 0.5*(beta + slotCompliance[c.j][1]); }
-            eps = cc*idt2 + beta*s.wnn;
+            if (c.j < N)
+            {
+                cc = law::CompliantSignorini::pair(cc, slotCompliance[c.j][0]);
+                beta = law::CompliantSignorini::pair(beta, slotCompliance[c.j][1]);
+            }
+            eps = law::CompliantSignorini::regularisation(cc, beta, s.wnn, idt2);
         }
-        if (eps > 0)
-        {
-            s.iwnn = 1.0/(s.wnn + eps);
-            s.bias = c.gap/dt;
-        }
+        if (eps > 0) s.iwnn = 1.0/(s.wnn + eps);
         else
         {
-            s.bias = c.gap >= 0 || k >= NC0 ? c.gap/dt : (c.gap > -slop ? 0.0 : (c.gap + slop)/dt);
-            if (s.bias < 0 && k < NC0) relaxSeed.push_back(k);  // push-out row (relaxPushOut)
+            s.bias = law::HardSignorini::bias(c.gap, dt, slop, k < NC0);
+            if (k < NC0 && law::HardSignorini::pushesOut(s.bias)) relaxSeed.push_back(k);  // relaxPushOut
         }
         s.rn = 0;
         s.rt.setZero();
@@ -335,13 +332,13 @@ bool System::Impl::prepareContacts(double dt, int NC0)
             if (best >= 0) c.age = P[best].age;
         }
         // cohesion (eq. 4.18): close, persistent, and the user's condition
-        if (cohesion && k < NC0 && c.gap <= cohDist && c.age >= minAge)
+        if (cohesion && k < NC0 && law::Cohesion::eligible(c.gap, cohDist, c.age, minAge))
         {
             // grains, a grain pair with i < j (as contacts())
             const int gi = order[c.i], gj = c.j < N ? order[c.j] : -(c.j - N + 1);
             const bool pair = gj >= 0;
             if (cohesionPredicate(pair ? std::min(gi, gj) : gi, pair ? std::max(gi, gj) : gj))
-                s.coh = cohesionForce*dt;
+                s.coh = law::Cohesion::impulse(cohesionForce, dt);
         }
         if (warm && best >= 0)
         {
@@ -353,17 +350,9 @@ bool System::Impl::prepareContacts(double dt, int NC0)
             if (tn > lim) s.rt *= (tn > 0 ? lim/tn : 0.0);
             warmStart(s);
         }
-        // compliant contact: the slop band, as the hard law's, around the
-        // equilibrium gap -c F_n of the warm-start force (c F_n = eps dt r_n):
-        // a departure e = g + eps dt r_n from it within the band is held (the
-        // law is written for the equilibrium gap), a larger one corrected by
-        // its excess over the band; an unloaded contact (r_n = 0) has the
-        // hard law's band (overlaps only: a positive gap may close)
-        if (eps > 0 && slop > 0)
-        {
-            const double e = c.gap + eps*dt*s.rn;
-            s.bias = (c.gap - std::clamp(e, -slop, s.rn > 0 ? slop : 0.0))/dt;
-        }
+        // compliant contact: its gap term with the slop band around the
+        // equilibrium gap of the warm-start force (ContactLaws.H)
+        if (eps > 0) s.bias = law::CompliantSignorini::bias(c.gap, eps, s.rn, dt, slop);
         // 2D: the scalar tangential impulse of the NLGS solve (its start() step)
         if (twoD) s.rts = s.rt.dot(Vec3(-s.n.y(), s.n.x(), 0.0));
         // adjacency counts (buildAdjacency): rows of each movable body
