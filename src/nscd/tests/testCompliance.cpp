@@ -5,9 +5,12 @@
 //
 // References, independent of the solver:
 //  - statics: in a column at rest on a floor every contact carries the
-//    weight of the grains above it (momentum balance), so the overlap of a
-//    contact is c times that weight (Hooke's law, the meaning of c). The
-//    positions give the overlaps; nothing is read from the solver's gaps;
+//    weight of the grains above it (momentum balance): checked on the
+//    contact impulses (floor = weight). The overlap of a contact being c
+//    times that weight is Hooke's law with c's own definition, so the
+//    overlap checks are consistency checks of the law's implementation
+//    (the positions give the overlaps; nothing is read from the solver's
+//    gaps), their load from statics is the independent part;
 //  - energy: backward Euler on a convex potential dissipates,
 //    E^{n+1} - E^n = -m |v^{n+1} - v^n|^2/2 + (convexity gap) <= 0 with
 //    E = m |v|^2/2 + m g y + delta^2/(2 c), delta the overlap (E. Hairer,
@@ -31,11 +34,11 @@ constexpr double rad = 1e-3;   // grain radius [m]
 constexpr double rho = 2500;   // [kg/m^3]
 constexpr double gAcc = 9.81;  // [m/s^2]
 
-/// A 2D column of n discs touching each other and the floor y = 0 (gaps
-/// exactly 0), material mat.
-System column2D(int n, const Material& mat)
+/// A column of n discs (dim 2) or spheres (dim 3) touching each other and
+/// the floor y = 0 (gaps exactly 0), material mat.
+System column(int dim, int n, const Material& mat)
 {
-    System s(2);
+    System s(dim);
     const int m = s.addMaterial(mat);
     for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, rad + 2*rad*k, 0), rad, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
@@ -46,6 +49,8 @@ System column2D(int n, const Material& mat)
     s.settings().overlapSlop = 0;
     return s;
 }
+
+System column2D(int n, const Material& mat) { return column(2, n, mat); }
 
 /// Overlaps from the positions: [0] with the floor, [k] between grains k-1, k.
 std::vector<double> overlaps(const System& s)
@@ -91,15 +96,9 @@ TEST(Compliance, RestingColumnOverlapIsLoadTimesRelativeCompliance3D)
     const int n = 6;
     const double mass = rho*4.0/3.0*M_PI*rad*rad*rad;
     const double beta = 1e-2, dt = 1e-4;
-    System s(3);
     Material mat{rho, 0.3};
     mat.relativeCompliance = beta;
-    const int m = s.addMaterial(mat);
-    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, rad + 2*rad*k, 0), rad, m);
-    s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-    s.setGravity(Vec3(0, -gAcc, 0));
-    s.settings().tolerance = 1e-11;
-    s.settings().overlapSlop = 0;
+    System s = column(3, n, mat);
     for (int k = 0; k < 2000; ++k) ASSERT_TRUE(s.step(dt).converged) << "step " << k;
     const std::vector<double> ov = overlaps(s);
     for (int k = 0; k < n; ++k)
