@@ -111,7 +111,9 @@ def test_state_from_another_mesh_is_located_on_this_one(tmp_path, env):
 # ---- row 12: SIGTERM / SIGUSR1 write and stop -------------------------------
 
 def test_sigterm_writes_and_stops(tmp_path, env):
-    case = stack(tmp_path, "sigterm", end=100, write_interval=50)
+    # endTime far beyond the signal: the 3-grain run steps ~200,000 steps/s
+    # on an idle machine, so an end of 100 s could finish before the first poll
+    case = stack(tmp_path, "sigterm", end=1000, write_interval=500)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     log = open(os.path.join(case, "log.grainFoam"), "w")
@@ -119,7 +121,7 @@ def test_sigterm_writes_and_stops(tmp_path, env):
                             stderr=subprocess.STDOUT, text=True)
     deadline = time.time() + 60
     while time.time() < deadline:
-        time.sleep(0.5)
+        time.sleep(0.01)
         if "Time = 0.05" in open(os.path.join(case, "log.grainFoam")).read():
             break
     proc.send_signal(signal.SIGTERM)
