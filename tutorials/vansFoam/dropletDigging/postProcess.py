@@ -26,7 +26,9 @@ grain temperature and the energy E = rho Cp sum(eps T V) + sum(m c T), the
   `mean_grain_temperature` [K] (time series on `time`), `lifetime` [s]
   (instant lifetime m/mdot, Figure 4.17), `vapour_velocity` [m/s] (U_v =
   Vdot/(2 pi R l), the mean radial vapour velocity at the droplet surface),
-  `U_mf` [m/s] (Ergun, `ergun_umf`, at the bed's mean void fraction) and
+  `U_mf` [m/s] (measured in vansFoam by umf.py when the case was set up
+  with it, case.json `U_mf_measured`; else Ergun, `ergun_umf`, at the bed's
+  mean void fraction; `U_mf_source` says which, `U_mf_ergun` is Ergun's) and
   `fluidisation_number` (time mean of U_v / U_mf), `energy_defect` (relative
   closure of the energy budget, `energy_budget`), `stopped` (None, or why
   the run stopped early, `stop_reason`), `bottom_reached_time` [s] (first
@@ -231,7 +233,7 @@ def bed_diagnostics(case, info, d, umf):
       (y < y_d) and below the initial bed top minus dx (in the bed), dx the
       cell size; `ring_radial` [m/s]: mean outward radial superficial flux
       eps u.r_hat over the same cells; `ring_speed_over_Umf`,
-      `ring_radial_over_Umf`: both over U_mf (Ergun, `ergun_umf`);
+      `ring_radial_over_Umf`: both over U_mf (`U_mf` above);
     - `ejected`: grains outside the droplet (r > R) whose centre is more than
       5 d above the initial bed top (d the mean grain diameter; chimney /
       ejection), `above_top_1d`: the same count above top + d (crater rim);
@@ -415,10 +417,13 @@ def case_results(case):
     eps = bed_void_fraction(case, info)
     mu = info.get("mu", 2e-5)             # gas viscosity of the case (similarity scaling)
     if eps is not None:
-        umf = ergun_umf(info["grain_diameter"], eps, info["grain_density"], rho_f=info["rho"],
-                        mu=mu, weight_fraction=info.get("bed_weight_fraction"))
+        ergun = ergun_umf(info["grain_diameter"], eps, info["grain_density"], rho_f=info["rho"],
+                          mu=mu, weight_fraction=info.get("bed_weight_fraction"))
+        umf = info.get("U_mf_measured") or ergun
         res["bed_void_fraction"] = eps
         res["U_mf"] = umf
+        res["U_mf_source"] = "measured (umf.py)" if info.get("U_mf_measured") else "Ergun"
+        res["U_mf_ergun"] = ergun
         res["fluidisation_number"] = float(np.mean(uv[1:]) / umf) if len(uv) > 1 else None
         res["Re_mf"] = info["rho"] * umf * info["grain_diameter"] / mu
         a, b = ergun_coefficients(info["grain_diameter"], eps, info["rho"], mu)

@@ -65,24 +65,32 @@ MU_L = 2.82e-4                   # liquid (water, 100 C) viscosity [Pa s]: dropl
 SIGMA_WATER = 0.05891
 
 
-def similarity_factors(d_grain, d_ref):
+def similarity_factors(d_grain, d_ref, permeability_ratio=1.0):
     """A-priori similarity scaling of a bed of grains d_grain [m] to the
-    reference grain d_ref [m] (Table 4.2: 55e-6), issue 8 / README.md
-    "Measured, similarity-scaled 0.2 mm bed".  With s = (d_grain/d_ref)^2:
+    reference grain d_ref [m] (Table 4.2: 55e-6), docs/validation/dropletDigging.md
+    "similarity-scaled 0.2 mm bed".  With s = (d_grain/d_ref)^2 x permeability_ratio:
       - gas dynamic viscosity eta_g x s (transportProperties nu x s, rho kept),
       - liquid viscosity mu_l x s (dropletProperties liquidViscosity),
       - cohesion F_c^0 x d_grain/d_ref,
-    which keeps the Table 4.2 values of U_mf (Carman-Kozeny: ~ d^2/eta_g), the
-    liquid's Darcy seepage speed (~ k/mu_l, k ~ d^2), the grains' Stokes time
-    rho_s d^2/(18 eta_g) and the 2D bed tensile strength ~ F_c/d.  Not kept:
+    which keeps the reference bed's U_mf (Darcy regime: ~ k/eta_g, k ~ d^2),
+    the liquid's Darcy seepage speed (~ k/mu_l), the grains' Stokes time
+    rho_s d^2/(18 eta_g) and the 2D bed tensile strength ~ F_c/d.
+    permeability_ratio: U_mf measured in vansFoam on this bed (umf.py) over
+    Ergun's U_mf at the same gas, i.e. how much more permeable the 2D
+    porous-disc bed is than Ergun's packing of spheres (1: Ergun's U_mf, the
+    scaling before issue 54; measured 1.75 on the 0.2 mm bed); with it the
+    scaled bed's measured U_mf is the reference bed's Ergun U_mf.  Not kept:
     the droplet's gas Reynolds number (/ s), the gas Prandtl number (x s), the
     grain-gas thermal relaxation time (~ d^2/k_f), the grain Bond number and D/d.
     Returns dict s (viscosity factor) and c (cohesion factor); raises
-    ValueError if d_ref <= 0."""
+    ValueError if d_ref <= 0 or permeability_ratio <= 0."""
     if not d_ref > 0:
         raise ValueError(f"similarity_factors: reference grain diameter {d_ref} must be > 0")
+    if not permeability_ratio > 0:
+        raise ValueError(f"similarity_factors: permeability ratio {permeability_ratio} must be > 0"
+                         " (U_mf measured / U_mf Ergun, umf.py)")
     r = d_grain / d_ref
-    return {"s": r * r, "c": r}
+    return {"s": r * r * permeability_ratio, "c": r}
 
 
 def header(cls, obj):
@@ -141,14 +149,36 @@ def contact_compliance():
     return beta, omega
 
 
-def mesh_and_grains(case, d_grain, rho_grain=RHO_P):
+def cohesion_settings():
+    """(minAge, factor) of the grains' vapour cohesion (couplingProperties
+    cohesion): minAge, the NSCD steps a contact must persist before it is
+    cohesive (the thesis, section 4.3.1: cohesive once the contact "persists
+    for several time steps"), env COHESION_MIN_AGE (default 5); factor, a
+    multiplier of F_c^0 for the cohesion sweep (env COHESION_FACTOR, default
+    1).  Raises ValueError if minAge < 0 or factor < 0."""
+    min_age = int(os.environ.get("COHESION_MIN_AGE", "5"))
+    factor = float(os.environ.get("COHESION_FACTOR", "1"))
+    if min_age < 0:
+        raise ValueError(f"COHESION_MIN_AGE={min_age}: must be a non-negative number of steps")
+    if not factor >= 0:
+        raise ValueError(f"COHESION_FACTOR={factor}: the cohesion multiplier must be >= 0")
+    return min_age, factor
+
+
+def mesh_and_grains(case, d_grain, rho_grain=RHO_P, inlet=False):
+    """blockMeshDict, grainProperties and g of the cell.  inlet: the floor
+    is its own patch `inlet` (the fluidisation column of umf.py; a grain wall:
+    a porous floor) instead of a part of `walls`, and a grain reaching the
+    outlet leaves the case (`outletPatches`)."""
     nx, ny = int(round(W / CELL)), int(round(H / CELL))
+    floor = "" if inlet else "(1 5 4 0) "
     write(case, "system/blockMeshDict", "dictionary",
           "scale 1;\nvertices ((0 0 0) (%g 0 0) (%g %g 0) (0 %g 0) (0 0 %g) (%g 0 %g) (%g %g %g) (0 %g %g));\n"
           % (W, W, H, H, DEPTH, W, DEPTH, W, H, DEPTH, H, DEPTH)
           + f"blocks (hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1));\n"
-          "boundary (\n walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1)); }\n"
-          " outlet { type patch; faces ((3 7 6 2)); }\n"
+          + f"boundary (\n walls {{ type wall; faces ({floor}(0 4 7 3) (2 6 5 1)); }}\n"
+          + (" inlet { type patch; faces ((1 5 4 0)); }\n" if inlet else "")
+          + " outlet { type patch; faces ((3 7 6 2)); }\n"
           " frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n")
     beta, omega = contact_compliance()
     compliance = f" relativeCompliance {beta:g};" if beta > 0 else ""
@@ -156,8 +186,9 @@ def mesh_and_grains(case, d_grain, rho_grain=RHO_P):
     write(case, "constant/grainProperties", "dictionary",
           f"materials {{ grains {{ density {rho_grain:.9g}; friction {FRICTION}; conductivity {K_P};"
           f" youngModulus {E_P:g}; poissonRatio {NU_P}; heatCapacity {C_P};{compliance} }} }}\n"
-          "wallPatches (walls);\n"
-          f"contactSolver {{ tolerance {contact_tolerance(d_grain):g};"
+          + f"wallPatches (walls{' inlet' if inlet else ''});\n"
+          + ("outletPatches (outlet);\n" if inlet else "")
+          + f"contactSolver {{ tolerance {contact_tolerance(d_grain):g};"
           f" maxIterations {contact_max_iterations()};"
           f" overlapTolerance 1e-2;{relaxation} }}\n"
           f"// grain diameter of this bed: {d_grain:g} m (Table 4.2: {D_GRAIN_TABLE:g} m)\n")
@@ -357,6 +388,7 @@ def front_rear_walls(value=None):
 
 def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=None,
           similarity=None, deposit_root=None, sigma=None, release=None, film=None,
+          permeability_ratio=1.0, u_mf=None,
           walls=None):
     """Case CASE at bed temperature t_bed_c [C] with the bed of root/deposit.
     porosity: None (solid discs; the gas sees the discs of radius 0.88 r,
@@ -373,12 +405,17 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
     release: where the vapour leaves the droplet (`vapour_release(release)`).
     film: Leidenfrost film conduction (`film_conduction(film)`; needs sigma > 0).
     walls: the front and rear walls at T_bed as a heat bath of the grains
-    (`front_rear_walls(walls)`)."""
+    (`front_rear_walls(walls)`).  permeability_ratio: the similarity
+    scaling's correction (`similarity_factors`).  u_mf: U_mf [m/s] of this
+    bed and gas measured by umf.py (case.json `U_mf_measured`; postProcess
+    divides by it instead of Ergun's value)."""
     dep = os.path.join(deposit_root or root, "deposit")
     g = nscdpost.read_grains(dep, "0")
     d_grain = float(np.mean(g["d"]))
-    sim = similarity_factors(d_grain, similarity) if similarity else {"s": 1.0, "c": 1.0}
-    nu, mu_l, f_c0 = NU * sim["s"], MU_L * sim["s"], F_C0 * sim["c"]
+    sim = (similarity_factors(d_grain, similarity, permeability_ratio) if similarity
+           else {"s": 1.0, "c": 1.0})
+    min_age, c_factor = cohesion_settings()
+    nu, mu_l, f_c0 = NU * sim["s"], MU_L * sim["s"], F_C0 * sim["c"] * c_factor
     phi2d = packing_2d(g, bed_top(dep))
     if porosity == "auto":
         porosity = 1 - PHI_BED / phi2d
@@ -415,7 +452,7 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
           + ("0.88; }\n" if porosity is None else f"1; }}\ngrainPorosity {porosity:.6g};\n")
           +
           "heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n"
-          f"cohesion {{ force {f_c0:.9g}; vapourThreshold {PSI0}; }}\n")  # N/m: COHESION_NOTE
+          f"cohesion {{ force {f_c0:.9g}; vapourThreshold {PSI0}; minAge {min_age}; }}\n")  # N/m: COHESION_NOTE
     sig = surface_tension(sigma)
     release = vapour_release(release)
     film = film_conduction(film)
@@ -460,10 +497,12 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
         "grains": int(len(g["d"])), "droplet_diameter": D_DROP, "width": W, "height": H,
         "depth_l": DEPTH, "cells": [int(round(W / CELL)), int(round(H / CELL))],
         "rho": RHO, "Cp": CP, "mu": nu * RHO, "liquid_viscosity": mu_l,
-        "cohesion_force": f_c0, "similarity_reference_diameter": similarity,
+        "cohesion_force": f_c0, "cohesion_min_age": min_age,
+        "cohesion_factor": c_factor, "similarity_reference_diameter": similarity,
         "surface_tension": sig, "vapour_release": release, "film_conduction": film,
         "front_rear_walls_tau": tau,
-        "similarity_s": sim["s"], "T_d": T_D, "latent_heat": LATENT,
+        "similarity_s": sim["s"], "permeability_ratio": permeability_ratio if similarity else None,
+        "U_mf_measured": u_mf, "T_d": T_D, "latent_heat": LATENT,
         "grain_density": RHO_P, "packing_2d": phi2d, "grain_porosity": porosity,
         "bed_weight_fraction": phi2d * (1 - (porosity or 0.0))})
     print(f"{case}: T_bed = {t_bed_c:g} C, {len(g['d'])} grains of {d_grain:g} m, bed top "
