@@ -155,7 +155,8 @@ void Foam::grainCloud::applySolverSettings()
             {
                 "tolerance", "maxIterations", "overlapTolerance", "method",
                 "relaxation", "maxSubSteps", "reorderInterval", "verletSkin",
-                "ordering", "convergence", "rmsTolerance"
+                "ordering", "convergence", "rmsTolerance", "newtonTolerance",
+                "tangentialRegularisation", "newtonLinearSolver"
             }
         );
         if (cs.found("convergence"))
@@ -179,9 +180,55 @@ void Foam::grainCloud::applySolverSettings()
                     {"NLGS", Method::NLGS},
                     {"overRelaxedNLGS", Method::OverRelaxedNLGS},
                     {"APGD", Method::APGD},
-                    {"NNCG", Method::NNCG}
+                    {"NNCG", Method::NNCG},
+                    {"newton", Method::Newton}
                 }
             );
+        }
+        s.newtonTolerance =
+            grainTools::getPositiveOrDefault
+            (
+                cs, "newtonTolerance", s.newtonTolerance
+            );
+        s.tangentialRegularisation =
+            grainTools::getPositiveOrDefault
+            (
+                cs, "tangentialRegularisation", s.tangentialRegularisation
+            );
+        if (cs.found("newtonLinearSolver"))
+        {
+            using Linear = nscd::System::Settings::NewtonLinearSolver;
+            s.newtonLinearSolver = contactSolverChoice<Linear>
+            (
+                cs, "newtonLinearSolver",
+                {
+                    {"cholesky", Linear::Cholesky},
+                    {"conjugateGradient", Linear::ConjugateGradient}
+                }
+            );
+        }
+        if (s.method == nscd::System::Settings::Method::Newton)
+        {
+            // the Newton solver solves the compliant (regularised) law
+            // only: every material needs a compliance
+            for (const entry& e : dict_.subDict("materials"))
+            {
+                if
+                (
+                    !(e.dict().getOrDefault<scalar>("compliance", 0) > 0)
+                 && !(e.dict().getOrDefault<scalar>("relativeCompliance", 0) > 0)
+                )
+                {
+                    FatalIOErrorInFunction(cs)
+                        << "contactSolver method newton in " << dict_.name()
+                        << " solves compliant contacts only, but material "
+                        << e.keyword() << " has neither compliance nor"
+                        << " relativeCompliance > 0 (the hard law)." << nl
+                        << "    Give materials." << e.keyword()
+                        << ".relativeCompliance (e.g. 2e-3) or compliance"
+                        << " [m/N], or use method NLGS" << exit(FatalIOError);
+                }
+            }
         }
         if (cs.found("ordering"))
         {
@@ -240,14 +287,15 @@ void Foam::grainCloud::applySolverSettings()
         (
             s.convergence == nscd::System::Settings::Convergence::RMS
          && (s.method == nscd::System::Settings::Method::APGD
-          || s.method == nscd::System::Settings::Method::NNCG)
+          || s.method == nscd::System::Settings::Method::NNCG
+          || s.method == nscd::System::Settings::Method::Newton)
         )
         {
             FatalIOErrorInFunction(cs)
                 << "convergence rms in " << cs.name() << " is the stopping"
                 << " test of the Gauss-Seidel methods (method NLGS or"
-                << " overRelaxedNLGS); APGD and NNCG stop on convergence max"
-                << exit(FatalIOError);
+                << " overRelaxedNLGS); APGD and NNCG stop on convergence max,"
+                << " newton on newtonTolerance" << exit(FatalIOError);
         }
     }
 }

@@ -103,6 +103,17 @@ def test_unknown_contact_solver_choice(tmp_path, env, entry, words):
     fails_with(run("grainDeposit", case, env, check=False), *words)
 
 
+def test_newton_needs_compliant_materials(tmp_path, env):
+    """contactSolver method newton solves compliant contacts only: a material
+    without compliance or relativeCompliance is a FatalIOError naming the
+    method, the material's keyword and the fix."""
+    case = base(tmp_path, "newton", [(0.05, 0.01, 0, 0.01)])
+    replace_in(case, "constant/grainProperties", "maxIterations", "method newton; maxIterations")
+    run("blockMesh", case, env)
+    fails_with(run("grainDeposit", case, env, check=False), "contactSolver method newton",
+               "relativeCompliance", "or use method NLGS")
+
+
 @pytest.mark.parametrize("entry, words", [
     ("reorderInterval -1;", ("reorderInterval must be >= 0", "got -1")),
     ("verletSkin -0.1;", ("verletSkin must be finite and >= 0", "got -0.1")),

@@ -52,6 +52,7 @@ void System::Impl::solveContacts(double dt, StepReport& rep, const std::vector<i
     rowsHaveRts = false;
     if (m == Settings::Method::APGD) { solveAPGD(dt, rep); return; }
     if (m == Settings::Method::NNCG) { solveNNCG(dt, rep); return; }
+    if (m == Settings::Method::Newton) { solveNewton(dt, rep); return; }
     double omega = settings.relaxation;
     if (m == Settings::Method::OverRelaxedNLGS && omega == 1.0) omega = Settings::defaultOverRelaxation;
     solveNLGS(dt, omega, rep, haveRts, seed);

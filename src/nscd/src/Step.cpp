@@ -71,9 +71,21 @@ void System::Impl::checkSettings(const System::Settings& S, const char* where)
         throw InputError(std::string(where) + ": invalid settings (need tolerance > 0, maxIterations >= 1, "
                          "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0, finite verletSkin >= 0)");
     const int m = int(S.method);
-    if (m < 0 || m > int(System::Settings::Method::NNCG))
+    if (m < 0 || m > int(System::Settings::Method::Newton))
         throw InputError(std::string(where) + ": invalid settings (unknown contact solver method "
-                         + std::to_string(m) + "; methods: NLGS, OverRelaxedNLGS, APGD, NNCG)");
+                         + std::to_string(m) + "; methods: NLGS, OverRelaxedNLGS, APGD, NNCG, Newton)");
+    if (S.method == System::Settings::Method::Newton)
+    {
+        if (!(S.newtonTolerance > 0) || !std::isfinite(S.newtonTolerance)
+            || !(S.tangentialRegularisation > 0) || !std::isfinite(S.tangentialRegularisation))
+            throw InputError(std::string(where) + ": invalid settings (Newton needs newtonTolerance > 0 and "
+                             "tangentialRegularisation > 0, both finite; got " + std::to_string(S.newtonTolerance)
+                             + " and " + std::to_string(S.tangentialRegularisation) + ")");
+        const int ls = int(S.newtonLinearSolver);
+        if (ls < 0 || ls > int(System::Settings::NewtonLinearSolver::ConjugateGradient))
+            throw InputError(std::string(where) + ": invalid settings (unknown newtonLinearSolver "
+                             + std::to_string(ls) + "; Cholesky, ConjugateGradient)");
+    }
     const int cv = int(S.convergence);
     if (cv < 0 || cv > int(System::Settings::Convergence::RMS))
         throw InputError(std::string(where) + ": invalid settings (unknown convergence test "
@@ -83,9 +95,11 @@ void System::Impl::checkSettings(const System::Settings& S, const char* where)
         throw InputError(std::string(where) + ": invalid settings (need rmsTolerance > 0 and finite, got "
                          + std::to_string(S.rmsTolerance) + ")");
     if (S.convergence == System::Settings::Convergence::RMS
-        && (S.method == System::Settings::Method::APGD || S.method == System::Settings::Method::NNCG))
+        && (S.method == System::Settings::Method::APGD || S.method == System::Settings::Method::NNCG
+            || S.method == System::Settings::Method::Newton))
         throw InputError(std::string(where) + ": invalid settings (the RMS convergence test is that of the "
-                         "Gauss-Seidel methods NLGS and OverRelaxedNLGS; APGD and NNCG use Max)");
+                         "Gauss-Seidel methods NLGS and OverRelaxedNLGS; APGD and NNCG use Max, Newton "
+                         "its own (newtonTolerance))");
     if (!(S.heatTolerance > 0) || S.heatMaxIterations < 1)
         throw InputError(std::string(where) + ": invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
     if (S.reorderInterval < 0)
@@ -102,6 +116,22 @@ void System::Impl::checkComplianceMethod(const char* where) const
         throw InputError(std::string(where) + ": a material has a contact compliance (compliance or "
                          "relativeCompliance > 0), which the APGD method does not solve; use NLGS, "
                          "OverRelaxedNLGS or NNCG, or set both to 0");
+    if (settings.method != System::Settings::Method::Newton) return;
+    // Newton solves the regularised (compliant) problem only: every
+    // contact needs a compliance, i.e. every grain's material
+    const int N = int(x.size());
+    for (int i = 0; i < N; ++i)
+    {
+        const Material& m = materials[mat[i]];
+        if (!(m.compliance > 0 || m.relativeCompliance > 0))
+            throw InputError(std::string(where) + ": the Newton contact solver needs a contact compliance on "
+                             "every contact, but grain " + std::to_string(i) + " has material "
+                             + std::to_string(mat[i]) + " with compliance = relativeCompliance = 0 (the hard "
+                             "law); give that material a compliance or relativeCompliance > 0, or use NLGS");
+    }
+    if (!droplets.empty())
+        throw InputError(std::string(where) + ": the Newton contact solver does not solve droplet contacts "
+                         "(hard, capped by the capillary entry force); remove the droplets or use NLGS");
 }
 
 StepReport System::step(double dt)

@@ -430,6 +430,9 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         for (const System::Droplet& d : I.droplets) checkDroplet(d, "nscd::Subdomain::step");
         System::Impl::checkSettings(I.settings, "nscd::Subdomain::step");
         I.checkComplianceMethod("nscd::Subdomain::step");
+        if (I.settings.method == System::Settings::Method::Newton)
+            throw InputError("nscd::Subdomain::step: the Newton contact solver is not available with "
+                             "decomposed grains (the interface averaging is a Gauss-Seidel's); use NLGS");
         if (I.settings.convergence != System::Settings::Convergence::Max)
             throw InputError("nscd::Subdomain::step: the RMS convergence test is not available with "
                              "decomposed grains (its interface averaging stops on the Max test); use Max");

@@ -1,0 +1,445 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Newton contact solve for compliant contacts (System::Settings::Method::Newton):
+// the primal, unconstrained convex formulation of compliant contact of
+// A. M. Castro, F. N. Permenter & X. Han, "An unconstrained convex
+// formulation of compliant contact", IEEE Trans. Robotics 39(2), 2023
+// (Drake's SAP; MuJoCo's Newton solver, E. Todorov, "Convex and analytically-
+// invertible dynamics with contacts and constraints", ICRA 2014, is of the
+// same family). Written from the paper; no code copied.
+//
+// Unknowns: the velocities v of the movable bodies (grains: translation,
+// and rotation unless locked; 2D: v_x, v_y, w_z; 3D: v, w), size nv. Cost
+//   l(v) = 1/2 (v - v*)^T M (v - v*) + sum_k [l_k(J_k v + c_k) + coh_k (J_k v + c_k)_n]
+// M = diag(m + dt c_drag, I) (the NLGS's effective masses), v* the free
+// velocities (eq. 2.11, the warm start's impulses removed), J_k the contact
+// Jacobian in the contact's frame (n, t1[, t2]) and c_k the part of the
+// contact velocity from bodies that are not unknowns (walls, fixed grains,
+// locked rotations), l_k the cost of the regularised cone projection
+// (NewtonCone.H) with R_n = eps (the compliant law's regularisation,
+// ContactLaws.H), R_t = sigma R_n, vhat_n = -(bias - eps coh) (the law's
+// gap term; cohesion shifts the cone to r_n >= -coh, r~ = r + coh e_n).
+// grad l = M (v - v*) - sum_k J_k^T (gamma_k - coh_k e_n), so at the minimum
+// M (v - v*) = J^T r with r = gamma - coh e_n: momentum balance with the
+// compliant law's impulses (Castro et al., eq. 18-20 and Theorem 1).
+// Each iteration: Hessian H = M + sum_k J_k^T G_k J_k (Eigen SparseMatrix,
+// the same pattern for every iteration of a step), Newton direction
+// H dv = -grad l (SimplicialLDLT or incomplete-Cholesky CG,
+// Settings::newtonLinearSolver), exact line search on l along dv (a
+// safeguarded Newton-bisection on dl/dalpha, which is monotone: l is
+// convex), stop on SAP's relative optimality test (Settings::newtonTolerance).
+// At the end the bodies get v* + M^-1 J^T r(v) (momentum exactly
+// consistent with the rows' impulses, as in the Gauss-Seidel methods) and
+// the rows r(v); StepReport::residual is the common residual of every
+// method (ContactSolver.cpp; it also sees the tangential creep R_t r_t).
+#include "NewtonCone.H"
+#include "SystemImpl.H"
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <cmath>
+
+namespace nscd
+{
+
+namespace
+{
+
+using SpMat = Eigen::SparseMatrix<double>;
+
+/// Most Newton iterations, whatever Settings::maxIterations (SAP's default cap is 100).
+constexpr int maxNewtonIterations = 200;
+/// Relative residual of the conjugate-gradient linear solve (inexact Newton).
+constexpr double cgTolerance = 1e-3;
+/// Cost stall: a step that lowers l by less than this relative amount ends
+/// the solve (the round-off floor of l; converged only if the test holds).
+constexpr double costStall = 1e-14;
+
+/// One contact of the Newton solve: its Jacobian (local rows x the
+/// unknowns it touches), the velocity of the bodies that are not unknowns,
+/// and its law's constants.
+struct NewtonRow
+{
+    int ncol = 0;        ///< unknowns touched (<= 12)
+    int col[12];         ///< their indices in v
+    double J[3][12];     ///< J_k (rows n, t1, t2) [m/s per unit of v]
+    Eigen::Vector3d c0;  ///< contact velocity of the fixed parts [m/s]
+    Eigen::Vector3d e[3];  ///< basis n, t1, t2 (global)
+    double Rn = 0, Rt = 0, vhatN = 0, mu = 0, coh = 0;
+    bool skip = false;   ///< no unknown touched: left out of the solve (impulse 0)
+};
+
+/// Everything the solve of one step needs.
+struct NewtonSolve
+{
+    System::Impl& I;
+    const double dt;
+    const int m;      ///< local components: 2 (2D) or 3
+    const int NC;
+    std::vector<int> tDof, rDof;  ///< per body: first translational / rotational unknown (-1: none)
+    int nv = 0;
+    Eigen::VectorXd mass, vStar, v, grad, dv;
+    std::vector<NewtonRow> R;
+    std::vector<Eigen::Vector3d> vc, wc;  ///< contact velocities at v, J_k dv
+    double cost = 0;
+    double pNorm = 0, jNorm = 0, gNorm = 0;  ///< |D p|, |D j_c|, |D grad l|
+
+    NewtonSolve(System::Impl& impl, double dtStep)
+    : I(impl), dt(dtStep), m(impl.dim == 2 ? 2 : 3), NC(int(impl.rows.size())) {}
+
+    int nt() const { return I.dim == 2 ? 2 : 3; }  ///< translational unknowns per body
+    int nr() const { return I.dim == 2 ? 1 : 3; }  ///< rotational unknowns per body
+
+    /// Unknowns of the movable bodies and their masses; x0 the bodies' velocities.
+    void numberUnknowns(Eigen::VectorXd& x0)
+    {
+        const int NB = int(I.body.size());
+        tDof.assign(NB, -1);
+        rDof.assign(NB, -1);
+        nv = 0;
+        for (int b = 0; b < NB; ++b)
+        {
+            if (!(I.body[b].im > 0)) continue;
+            tDof[b] = nv; nv += nt();
+            if (I.body[b].ii > 0) { rDof[b] = nv; nv += nr(); }
+        }
+        mass.resize(nv);
+        x0.resize(nv);
+        for (int b = 0; b < NB; ++b)
+        {
+            const Body& B = I.body[b];
+            if (tDof[b] >= 0)
+                for (int a = 0; a < nt(); ++a) { mass(tDof[b] + a) = 1.0/B.im; x0(tDof[b] + a) = B.v(a); }
+            if (rDof[b] >= 0)
+            {
+                if (I.dim == 2) { mass(rDof[b]) = 1.0/B.ii; x0(rDof[b]) = B.w.z(); }
+                else for (int a = 0; a < 3; ++a) { mass(rDof[b] + a) = 1.0/B.ii; x0(rDof[b] + a) = B.w(a); }
+            }
+        }
+    }
+
+    /// Jacobian rows of one body side (sign +1 for A, -1 for B) of row r.
+    void addSide(NewtonRow& r, int b, double sign, const Vec3& n)
+    {
+        const Body& B = I.body[b];
+        // contact point velocity of body b along e: sign (v - r (w x n)) . e
+        // = sign (v . e - r w . (n x e))
+        Vec3 nxe[3];
+        for (int a = 0; a < m; ++a) nxe[a] = n.cross(r.e[a]);
+        const Vec3 vFix = tDof[b] >= 0 ? Vec3::Zero() : B.v;
+        const Vec3 wFix = rDof[b] >= 0 ? Vec3::Zero() : B.w;
+        for (int a = 0; a < m; ++a) r.c0(a) += sign*(vFix.dot(r.e[a]) - B.r*wFix.dot(nxe[a]));
+        if (tDof[b] >= 0)
+            for (int d = 0; d < nt(); ++d)
+            {
+                const int k = r.ncol++;
+                r.col[k] = tDof[b] + d;
+                for (int a = 0; a < m; ++a) r.J[a][k] = sign*r.e[a](d);
+            }
+        if (rDof[b] >= 0)
+            for (int d = 0; d < nr(); ++d)
+            {
+                const int k = r.ncol++;
+                const int comp = I.dim == 2 ? 2 : d;
+                r.col[k] = rDof[b] + d;
+                for (int a = 0; a < m; ++a) r.J[a][k] = -sign*B.r*nxe[a](comp);
+            }
+    }
+
+    /// The rows' Jacobians and law constants (throws InputError on a hard row).
+    void buildRows(double sigma)
+    {
+        R.resize(NC);
+        for (int k = 0; k < NC; ++k)
+        {
+            const SolverContact& s = I.rows[k];
+            NewtonRow& r = R[k];
+            const Vec3& n = s.n;
+            r.e[0] = n;
+            if (I.dim == 2) { r.e[1] = Vec3(-n.y(), n.x(), 0.0); r.e[2].setZero(); }
+            else
+            {
+                // tangents: t1 orthogonal to n and to its smallest component's axis
+                const Vec3 a = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
+                r.e[1] = (a - a.dot(n)*n).normalized();
+                r.e[2] = n.cross(r.e[1]);
+            }
+            r.ncol = 0;
+            r.c0.setZero();
+            addSide(r, s.i, 1.0, n);
+            addSide(r, s.j, -1.0, n);
+            // the compliant law's eps: iwnn = 1/(W_nn + eps) (prepareContacts)
+            const double eps = s.iwnn > 0 ? 1.0/s.iwnn - s.wnn : 0.0;
+            r.skip = r.ncol == 0;  // no movable body (e.g. a fixed grain on a wall): no impulse
+            if (r.skip) continue;
+            if (!(eps > 1e-12*s.wnn) || std::isfinite(s.cap))
+                throw InputError("nscd::System::step: the Newton contact solver met a hard (zero-compliance) "
+                                 "or capped contact (bodies " + std::to_string(s.i) + ", "
+                                 + std::to_string(s.j) + "); every contact needs a compliance");
+            r.Rn = eps;
+            r.Rt = sigma*eps;
+            r.mu = s.mu;
+            r.coh = s.coh;
+            r.vhatN = -(s.bias - eps*s.coh);
+        }
+    }
+
+    /// Contact velocity J_k x + c0 of row k.
+    Eigen::Vector3d contactVelocity(int k, const Eigen::VectorXd& x, bool withFixed) const
+    {
+        const NewtonRow& r = R[k];
+        Eigen::Vector3d u = withFixed ? r.c0 : Eigen::Vector3d::Zero();
+        for (int j = 0; j < r.ncol; ++j)
+        {
+            const double xj = x(r.col[j]);
+            for (int a = 0; a < m; ++a) u(a) += r.J[a][j]*xj;
+        }
+        return u;
+    }
+
+    /// y += J_k^T f.
+    void addJT(int k, const Eigen::Vector3d& f, Eigen::VectorXd& y) const
+    {
+        const NewtonRow& r = R[k];
+        for (int j = 0; j < r.ncol; ++j)
+        {
+            double s = 0;
+            for (int a = 0; a < m; ++a) s += r.J[a][j]*f(a);
+            y(r.col[j]) += s;
+        }
+    }
+
+    /// Impulse of row k on its bodies for the projection p: gamma - coh e_n.
+    Eigen::Vector3d impulse(int k, const newton::ConeProjection& p) const
+    {
+        Eigen::Vector3d f = p.gamma;
+        f(0) -= R[k].coh;
+        return f;
+    }
+
+    /// Cost, gradient and the SAP norms at v (vc filled).
+    void evaluate()
+    {
+        const Eigen::VectorXd dvStar = v - vStar;
+        cost = 0.5*dvStar.dot(mass.cwiseProduct(dvStar));
+        Eigen::VectorXd jc = Eigen::VectorXd::Zero(nv);
+        vc.resize(NC);
+        for (int k = 0; k < NC; ++k)
+        {
+            const NewtonRow& r = R[k];
+            vc[k] = contactVelocity(k, v, true);
+            if (r.skip) continue;
+            const newton::ConeProjection p = newton::project(vc[k], r.vhatN, r.Rn, r.Rt, r.mu, false);
+            cost += p.cost + r.coh*vc[k](0);
+            addJT(k, impulse(k, p), jc);
+        }
+        grad = mass.cwiseProduct(dvStar) - jc;
+        const Eigen::VectorXd D = mass.cwiseSqrt().cwiseInverse();
+        gNorm = grad.cwiseProduct(D).norm();
+        pNorm = mass.cwiseProduct(v).cwiseProduct(D).norm();
+        jNorm = jc.cwiseProduct(D).norm();
+    }
+
+    /// Hessian M + sum J^T G J (every block, zero or not: a fixed pattern).
+    void hessian(SpMat& H, std::vector<Eigen::Triplet<double>>& T) const
+    {
+        T.clear();
+        for (int i = 0; i < nv; ++i) T.emplace_back(i, i, mass(i));
+        for (int k = 0; k < NC; ++k)
+        {
+            const NewtonRow& r = R[k];
+            if (r.skip) continue;
+            const newton::ConeProjection p = newton::project(vc[k], r.vhatN, r.Rn, r.Rt, r.mu, true);
+            double GJ[3][12];  // G J_k
+            for (int a = 0; a < m; ++a)
+                for (int j = 0; j < r.ncol; ++j)
+                {
+                    double s = 0;
+                    for (int b = 0; b < m; ++b) s += p.G(a, b)*r.J[b][j];
+                    GJ[a][j] = s;
+                }
+            for (int i = 0; i < r.ncol; ++i)
+                for (int j = 0; j < r.ncol; ++j)
+                {
+                    double s = 0;
+                    for (int a = 0; a < m; ++a) s += r.J[a][i]*GJ[a][j];
+                    T.emplace_back(r.col[i], r.col[j], s);
+                }
+        }
+        H.resize(nv, nv);
+        H.setFromTriplets(T.begin(), T.end());
+    }
+
+    /// dl/dalpha and d2l/dalpha2 at v + alpha dv (wc = J dv, a = dv^T M dv,
+    /// b = dv^T M (v - v*)).
+    void lineDerivatives(double alpha, double a, double b, double& d1, double& d2) const
+    {
+        d1 = b + alpha*a;
+        d2 = a;
+        for (int k = 0; k < NC; ++k)
+        {
+            const NewtonRow& r = R[k];
+            if (r.skip) continue;
+            const Eigen::Vector3d u = vc[k] + alpha*wc[k];
+            const newton::ConeProjection p = newton::project(u, r.vhatN, r.Rn, r.Rt, r.mu, true);
+            d1 += -p.gamma.dot(wc[k]) + r.coh*wc[k](0);
+            d2 += wc[k].dot(p.G*wc[k]);
+        }
+    }
+
+    /// Exact line search: the root of dl/dalpha in (0, alphaMax] by Newton
+    /// steps kept in the bracket (bisection otherwise); alphaMax if l still
+    /// decreases there. @return alpha; evals counts the evaluations.
+    double lineSearch(int& evals)
+    {
+        constexpr double alphaMax = 1.5;
+        wc.resize(NC);
+        for (int k = 0; k < NC; ++k) wc[k] = contactVelocity(k, dv, false);
+        const double a = dv.dot(mass.cwiseProduct(dv));
+        const double b = dv.dot(mass.cwiseProduct(v - vStar));
+        double d1, d2;
+        lineDerivatives(0.0, a, b, d1, d2);
+        ++evals;
+        const double d10 = d1;
+        if (!(d10 < 0)) return 0.0;  // not a descent direction (round-off): stop
+        double lo = 0, hi = alphaMax;
+        lineDerivatives(hi, a, b, d1, d2);
+        ++evals;
+        if (d1 <= 0) return hi;
+        double alpha = 1.0;
+        for (int it = 0; it < 50; ++it)
+        {
+            lineDerivatives(alpha, a, b, d1, d2);
+            ++evals;
+            if (std::abs(d1) <= 1e-10*std::abs(d10)) break;
+            if (d1 < 0) lo = alpha; else hi = alpha;
+            if (hi - lo <= 1e-12*hi) break;
+            const double next = d2 > 0 ? alpha - d1/d2 : -1.0;
+            alpha = next > lo && next < hi ? next : 0.5*(lo + hi);
+        }
+        return alpha;
+    }
+};
+
+} // namespace
+
+void System::Impl::solveNewton(double dt, StepReport& rep)
+{
+    NewtonSolve S(*this, dt);
+    const int NC = S.NC;
+    const bool hist = settings.residualHistory;
+    const double dmin = 2*rMin();
+    rep.method = int(Settings::Method::Newton);
+    rep.contacts = NC;
+    Eigen::VectorXd x0;
+    S.numberUnknowns(x0);
+    S.buildRows(settings.tangentialRegularisation);
+    // free velocities: the warm-started bodies minus the rows' impulses
+    {
+        Eigen::VectorXd jr = Eigen::VectorXd::Zero(S.nv);
+        for (int k = 0; k < NC; ++k)
+        {
+            const SolverContact& c = rows[k];
+            const Vec3 P = c.rn*c.n + c.rt;
+            Eigen::Vector3d f;
+            for (int a = 0; a < S.m; ++a) f(a) = P.dot(S.R[k].e[a]);
+            if (S.m == 2) f(2) = 0;
+            S.addJT(k, f, jr);
+        }
+        S.vStar = x0 - jr.cwiseQuotient(S.mass);
+    }
+    S.v = x0;
+    const double tol = settings.newtonTolerance;
+    const int maxIt = std::min(settings.maxIterations, maxNewtonIterations);
+    SpMat H;
+    std::vector<Eigen::Triplet<double>> T;
+    Eigen::SimplicialLDLT<SpMat> ldlt;
+    Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> cg;
+    const bool useCg = settings.newtonLinearSolver == Settings::NewtonLinearSolver::ConjugateGradient;
+    bool analysed = false;
+    int it = 0, evals = 0;
+    bool converged = false;
+    long cgIterations = 0;
+    S.evaluate();
+    while (true)
+    {
+        const double ratio = S.gNorm/std::max(std::max(S.pNorm, S.jNorm), 1e-300);
+        if (hist) rep.residualHistory.push_back(ratio);
+        if (S.nv == 0 || S.gNorm <= tol*std::max(S.pNorm, S.jNorm)) { converged = true; break; }
+        if (it >= maxIt) break;
+        S.hessian(H, T);
+        if (useCg)
+        {
+            cg.setTolerance(cgTolerance);
+            cg.compute(H);
+            S.dv = cg.solve(-S.grad);
+            cgIterations += cg.iterations();
+        }
+        else
+        {
+            if (!analysed) { ldlt.analyzePattern(H); analysed = true; }
+            ldlt.factorize(H);
+            S.dv = ldlt.solve(-S.grad);
+        }
+        ++it;
+        const double alpha = S.lineSearch(evals);
+        if (!(alpha > 0)) break;  // no descent left (round-off): converged only by the test
+        const double before = S.cost;
+        S.v += alpha*S.dv;
+        S.evaluate();
+        if (std::abs(before - S.cost) <= costStall*std::abs(S.cost))
+        {
+            // round-off floor of the cost: stop; converged only by the test
+            const double ratio = S.gNorm/std::max(std::max(S.pNorm, S.jNorm), 1e-300);
+            if (hist) rep.residualHistory.push_back(ratio);
+            converged = S.gNorm <= tol*std::max(S.pNorm, S.jNorm);
+            break;
+        }
+    }
+    // the rows' impulses r(v) and the bodies' velocities v* + M^-1 J^T r
+    Eigen::VectorXd jr = Eigen::VectorXd::Zero(S.nv);
+    const bool twoD = dim == 2;
+    for (int k = 0; k < NC; ++k)
+    {
+        const NewtonRow& r = S.R[k];
+        SolverContact& c = rows[k];
+        if (r.skip) { c.rn = c.rts = 0; c.rt.setZero(); continue; }
+        const newton::ConeProjection p = newton::project(S.contactVelocity(k, S.v, true), r.vhatN, r.Rn, r.Rt,
+                                                         r.mu, false);
+        const Eigen::Vector3d f = S.impulse(k, p);
+        S.addJT(k, f, jr);
+        c.rn = f(0);
+        c.rt = f(1)*r.e[1] + (twoD ? Vec3::Zero() : Vec3(f(2)*r.e[2]));
+        if (twoD) c.rts = f(1);
+    }
+    const Eigen::VectorXd vEnd = S.vStar + jr.cwiseQuotient(S.mass);
+    const int NB = int(body.size());
+    for (int b = 0; b < NB; ++b)
+    {
+        Body& B = body[b];
+        if (S.tDof[b] >= 0)
+            for (int a = 0; a < S.nt(); ++a) B.v(a) = vEnd(S.tDof[b] + a);
+        if (S.rDof[b] >= 0)
+        {
+            if (twoD) B.w.z() = vEnd(S.rDof[b]);
+            else for (int a = 0; a < 3; ++a) B.w(a) = vEnd(S.rDof[b] + a);
+        }
+    }
+    // the common residual (ContactSolver.cpp), row by row into change
+    double res2 = 0;
+    for (SolverContact& c : rows)
+    {
+        const double r2 = localResidual2(c, c.rt, body[c.i], body[c.j], dt);
+        res2 = std::max(res2, r2);
+        c.change = std::sqrt(r2);
+    }
+    rep.sweeps = it;
+    rep.localSolves = long(evals + it + 1)*long(NC);
+    rep.linearIterations = cgIterations;
+    rep.residual = dmin > 0 ? std::sqrt(res2)/dmin : 0.0;
+    rep.converged = converged;
+}
+
+} // namespace nscd
