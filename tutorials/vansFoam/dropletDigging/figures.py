@@ -153,3 +153,21 @@ def plot_heat(data, outdir):
     ax.set_title("heat into the droplet (thesis Fig. 4.19)")
     ax.legend(fontsize=6)
     save_figure(fig, outdir, "dropletDigging_heat.png")
+
+
+def plot_cohesion_sweep(data, outdir):
+    """dropletDigging_cohesion.png (thesis section 4.3.4: "digging is
+    controlled by the cohesion"): depth h/D against t/t_ff, one curve per
+    cohesion, labelled by the granular Bond number F_c^0/(weight of the
+    mean disc per unit depth, at the reference grain of the similarity
+    scaling when there is one).  data: (Bond, info, results) per case."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for bond, info, r in sorted(data, key=lambda a: a[0]):
+        t, y = scaled_series("depth", info, r)
+        ax.plot(t, y, label=f"Bo {bond:.3g}")
+    ax.set_xlabel("t / t_ff")
+    ax.set_ylabel("depth h / D")
+    ax.set_title(f"T_bed {data[0][1]['bed_temperature_C']:g} C, cohesion sweep")
+    ax.legend(fontsize=8)
+    save_figure(fig, outdir, "dropletDigging_cohesion.png")

@@ -4,6 +4,8 @@
 Figures 4.13-4.19).
 
 usage: postProcess.py [-o OUTDIR] [--snap] CASE1 [CASE2 ...]   (cases made by setupCase.py)
+       postProcess.py [-o OUTDIR] --cohesion CASE1 [CASE2 ...]  (one T_bed, several
+                          COHESION_FACTOR: cohesion.json, dropletDigging_cohesion.png)
 
 Reads per case `case.json` (setupCase.py), the droplet history
 `postProcessing/droplet/<start>/droplet.dat` (src/dropletCoupling: time x y u v m
@@ -534,10 +536,45 @@ def main(cases, outdir=here, snap=False):
     return res
 
 
+def cohesion_bond(info):
+    """Granular Bond number of a case's cohesion: F_c^0 over the weight per
+    unit depth of a disc of the reference grain (the similarity scaling's
+    d_ref, else the bed's mean diameter) of density rho_s (Table 4.2's bed:
+    10.0 at F_c^0 = 7.5e-4 N/m)."""
+    d = info.get("similarity_reference_diameter") or info["grain_diameter"]
+    scale = info["grain_diameter"] / d if info.get("similarity_reference_diameter") else 1.0
+    return info["cohesion_force"] / scale / (info["grain_density"] * G * math.pi * d * d / 4)
+
+
+def cohesion_sweep(cases, outdir=here):
+    """`--cohesion`: cases at one bed temperature and different cohesion
+    (Allrun COHESION_FACTOR): outdir/cohesion.json (per case `bond`,
+    `cohesion_factor`, `time`, `depth`, `summary`) and
+    dropletDigging_cohesion.png.  Returns the dict."""
+    out, data = {"cases": []}, []
+    for c in cases:
+        info, r = case_results(c)
+        bond = cohesion_bond(info)
+        data.append((bond, info, r))
+        out["cases"].append({"case": os.path.relpath(c, outdir), "bond": bond,
+                             "cohesion_factor": info.get("cohesion_factor"),
+                             "bed_temperature_C": info["bed_temperature_C"],
+                             "time": r["time"][::10], "depth": r["depth"][::10],
+                             "summary": r["summary"], "support": r["forces"].get("support")})
+        print(f"{c}: Bo {bond:.3g}, final depth {r['depth'][-1] * 1e3:.3f} mm at {r['time'][-1]:.3g} s")
+    figures.plot_cohesion_sweep(data, outdir)
+    with open(os.path.join(outdir, "cohesion.json"), "w") as f:
+        json.dump(out, f, indent=1)
+    return out
+
+
 if __name__ == "__main__":
     args = sys.argv[1:]
     out = here
     if args[:1] == ["-o"]:
         out, args = args[1], args[2:]
+    if args[:1] == ["--cohesion"]:
+        cohesion_sweep(args[1:], out)
+        sys.exit(0)
     snap = "--snap" in args
     main([a for a in args if a != "--snap"], out, snap)
