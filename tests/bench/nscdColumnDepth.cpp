@@ -14,8 +14,11 @@
 //        compliance [m^2/N] (contact compliance; default 0, hard);
 //        NSCD_RELAX: Settings::relaxation; NSCD_CONVERGENCE=rms and
 //        NSCD_RMS_TOL: Settings::convergence, rmsTolerance
+//        NSCD_NEWTON_TOL, NSCD_SIGMA, NSCD_LINEAR=cg|cholesky: the Newton
+//        method's newtonTolerance, tangentialRegularisation, newtonLinearSolver
 //        METHOD: the Settings::Method number (0 NLGS, 1 overRelaxedNLGS,
-//        2 APGD, 3 NNCG), default 0
+//        2 APGD, 3 NNCG, 4 Newton), default 0. Newton: "sweeps" are Newton
+//        iterations; the last line adds the linear-solver (CG) iterations
 #include "nscd/System.H"
 
 #include <cmath>
@@ -53,6 +56,13 @@ int main(int argc, char** argv)
         s.settings().convergence = std::string(e) == "rms" ? System::Settings::Convergence::RMS
                                                             : System::Settings::Convergence::Max;
     if (const char* e = std::getenv("NSCD_RMS_TOL")) s.settings().rmsTolerance = std::atof(e);
+    // env NSCD_NEWTON_TOL, NSCD_SIGMA, NSCD_LINEAR=cg: Settings::newtonTolerance,
+    // tangentialRegularisation, newtonLinearSolver (METHOD 4, Newton)
+    if (const char* e = std::getenv("NSCD_NEWTON_TOL")) s.settings().newtonTolerance = std::atof(e);
+    if (const char* e = std::getenv("NSCD_SIGMA")) s.settings().tangentialRegularisation = std::atof(e);
+    if (const char* e = std::getenv("NSCD_LINEAR"))
+        s.settings().newtonLinearSolver = std::string(e) == "cg"
+            ? System::Settings::NewtonLinearSolver::ConjugateGradient : System::Settings::NewtonLinearSolver::Cholesky;
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(0, 1);
     const double sp = 1.3*d;
@@ -69,11 +79,33 @@ int main(int argc, char** argv)
     s.setGravity(Vec3(0, -9.81, 0));
     double weight = 0;
     for (double r : s.radii()) weight += rho*M_PI*r*r*9.81;
-    long sweeps = 0, unconverged = 0;
+    long sweeps = 0, unconverged = 0, linear = 0;
+    double solveSeconds = 0;
+    // env NSCD_HISTORY_STEP=k: the residual history of step k (StepReport::
+    // residualHistory: the Max residual per sweep; Newton: SAP's ratio per iteration)
+    const int histStep = std::getenv("NSCD_HISTORY_STEP") ? std::atoi(std::getenv("NSCD_HISTORY_STEP")) : -1;
+    // env NSCD_SWITCH_STEP=k, NSCD_SWITCH_METHOD=m: from step k on, Settings::Method m
+    // (e.g. land with NLGS, then time the column at rest with each method);
+    // the last line adds the sweeps and contact-solve seconds from step k on
+    const int switchStep = std::getenv("NSCD_SWITCH_STEP") ? std::atoi(std::getenv("NSCD_SWITCH_STEP")) : -1;
+    long restSweeps = 0;
+    double restSeconds = 0;
     for (int k = 0; k < nSteps; ++k)
     {
+        if (k == switchStep && std::getenv("NSCD_SWITCH_METHOD"))
+            s.settings().method = System::Settings::Method(std::atoi(std::getenv("NSCD_SWITCH_METHOD")));
+        s.settings().residualHistory = k + 1 == histStep;
         const StepReport r = s.advance(dt, 0.1);
+        if (k + 1 == histStep)
+        {
+            std::printf("history step %d:", k + 1);
+            for (double h : r.residualHistory) std::printf(" %.3e", h);
+            std::printf("\n");
+        }
         sweeps += r.sweeps;
+        if (switchStep >= 0 && k >= switchStep) { restSweeps += r.sweeps; restSeconds += r.solveSeconds; }
+        linear += r.linearIterations;
+        solveSeconds += r.solveSeconds;
         unconverged += r.converged ? 0 : 1;
         if (k % 10 != 9) continue;
         double vmax = 0, ke = 0, p = 0, M = 0;
@@ -92,6 +124,8 @@ int main(int argc, char** argv)
                     "res %.2e ov %.2e\n", k + 1, (k + 1)*dt, vmax, ke, p/M, lift/dt/weight, r.contacts,
                     r.sweeps, r.substeps, r.residual, r.maxOverlap);
     }
-    std::printf("total sweeps %ld steps %d unconverged %ld beta %g compliance %g\n", sweeps, nSteps, unconverged,
-                mat.relativeCompliance, mat.compliance);
+    std::printf("total sweeps %ld steps %d unconverged %ld beta %g compliance %g method %d linear %ld solve_s %.3f "
+                "after_switch_sweeps %ld after_switch_solve_s %.3f\n",
+                sweeps, nSteps, unconverged, mat.relativeCompliance, mat.compliance, int(s.settings().method), linear,
+                solveSeconds, restSweeps, restSeconds);
 }

@@ -248,6 +248,15 @@ int runReorderCase(int argc, char** argv)
         s.settings().convergence = std::string(cv) == "rms" ? System::Settings::Convergence::RMS
                                                               : System::Settings::Convergence::Max;
     if (const char* rt = std::getenv("NSCD_RMS_TOL")) s.settings().rmsTolerance = std::atof(rt);
+    // NSCD_METHOD: Settings::Method number (4: Newton, with NSCD_NEWTON_TOL,
+    // NSCD_SIGMA, NSCD_LINEAR=cg: newtonTolerance, tangentialRegularisation,
+    // newtonLinearSolver); "sweeps" are then Newton iterations
+    if (const char* me = std::getenv("NSCD_METHOD")) s.settings().method = System::Settings::Method(std::atoi(me));
+    if (const char* nt = std::getenv("NSCD_NEWTON_TOL")) s.settings().newtonTolerance = std::atof(nt);
+    if (const char* sg = std::getenv("NSCD_SIGMA")) s.settings().tangentialRegularisation = std::atof(sg);
+    if (const char* ls = std::getenv("NSCD_LINEAR"))
+        s.settings().newtonLinearSolver = std::string(ls) == "cg"
+            ? System::Settings::NewtonLinearSolver::ConjugateGradient : System::Settings::NewtonLinearSolver::Cholesky;
     for (int k = 0; k < 10; ++k) s.step(dt);
     // per step: thread CPU time, sweeps, relax stage (StepReport::relaxSolves),
     // max overlap; over the timed steps: max displacement (all in r_min)
