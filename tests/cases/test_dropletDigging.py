@@ -402,7 +402,8 @@ def test_minimum_fluidisation_velocity(sweep, env, tmp_path, monkeypatch):
     0.6 (measured 9.87 against 17.1 mm/s: the 2D porous discs on cells of
     d/3 are less permeable than Ergun's spheres; on the 0.2 mm bed 1.76 x
     more, docs/validation/dropletDigging.md).  Consistency check: the
-    velocity where dp first reaches W/A is the fitted U_mf within 10 %.
+    velocity where dp first reaches 0.95 W/A is 0.95 U_mf within 10 % (the
+    fixed-bed branch is linear).
     Contact compliance 2e-3 (6 sweeps a step).  ~20 s."""
     umf, = tutorial_modules("vansFoam", "dropletDigging", names=("umf",))
     monkeypatch.setenv("CONTACT_COMPLIANCE", "2e-3")
@@ -415,4 +416,4 @@ def test_minimum_fluidisation_velocity(sweep, env, tmp_path, monkeypatch):
     print({k: v for k, v in r.items() if k not in ("U", "dp")})
     assert abs(r["plateau"] - 1) < 0.05, r["plateau"]
     assert 0.5 < r["U_mf"] / r["U_mf_ergun"] < 2, (r["U_mf"], r["U_mf_ergun"])
-    assert abs(r["U_first_dp_at_weight"] / r["U_mf"] - 1) < 0.1
+    assert abs(r["U_first_dp_095_weight"] / (0.95 * r["U_mf"]) - 1) < 0.1
