@@ -417,3 +417,23 @@ def test_minimum_fluidisation_velocity(sweep, env, tmp_path, monkeypatch):
     assert abs(r["plateau"] - 1) < 0.05, r["plateau"]
     assert 0.5 < r["U_mf"] / r["U_mf_ergun"] < 2, (r["U_mf"], r["U_mf_ergun"])
     assert abs(r["U_first_dp_095_weight"] / (0.95 * r["U_mf"]) - 1) < 0.1
+
+
+def test_cohesion_settings(monkeypatch):
+    """setupCase's COHESION_MIN_AGE / COHESION_FACTOR: minAge 5 and factor 1
+    by default (the thesis, section 4.3.2: cohesive once a contact persists
+    for several steps); a negative minAge or a factor <= 0 is a ValueError
+    naming the variable.  Consistency check of the script only.  < 1 s."""
+    setup, _ = tutorial_modules("vansFoam", "dropletDigging")
+    monkeypatch.delenv("COHESION_MIN_AGE", raising=False)
+    monkeypatch.delenv("COHESION_FACTOR", raising=False)
+    assert setup.cohesion_settings() == (5, 1.0)
+    monkeypatch.setenv("COHESION_FACTOR", "100")
+    assert setup.cohesion_settings() == (5, 100.0)
+    monkeypatch.setenv("COHESION_FACTOR", "0")
+    with pytest.raises(ValueError, match="COHESION_FACTOR"):
+        setup.cohesion_settings()
+    monkeypatch.setenv("COHESION_FACTOR", "1")
+    monkeypatch.setenv("COHESION_MIN_AGE", "-1")
+    with pytest.raises(ValueError, match="COHESION_MIN_AGE"):
+        setup.cohesion_settings()

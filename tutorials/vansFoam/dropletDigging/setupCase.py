@@ -152,16 +152,17 @@ def contact_compliance():
 def cohesion_settings():
     """(minAge, factor) of the grains' vapour cohesion (couplingProperties
     cohesion): minAge, the NSCD steps a contact must persist before it is
-    cohesive (the thesis, section 4.3.1: cohesive once the contact "persists
+    cohesive (the thesis, section 4.3.2: cohesive once the contact "persists
     for several time steps"), env COHESION_MIN_AGE (default 5); factor, a
     multiplier of F_c^0 for the cohesion sweep (env COHESION_FACTOR, default
-    1).  Raises ValueError if minAge < 0 or factor < 0."""
+    1; F_c^0 must stay > 0, couplingProperties has no zero cohesion).  Raises
+    ValueError if minAge < 0 or factor <= 0."""
     min_age = int(os.environ.get("COHESION_MIN_AGE", "5"))
     factor = float(os.environ.get("COHESION_FACTOR", "1"))
     if min_age < 0:
         raise ValueError(f"COHESION_MIN_AGE={min_age}: must be a non-negative number of steps")
-    if not factor >= 0:
-        raise ValueError(f"COHESION_FACTOR={factor}: the cohesion multiplier must be >= 0")
+    if not factor > 0:
+        raise ValueError(f"COHESION_FACTOR={factor}: the cohesion multiplier must be > 0")
     return min_age, factor
 
 
