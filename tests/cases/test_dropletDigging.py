@@ -363,6 +363,15 @@ def test_similarity_scaling_keeps_umf(sweep, tmp_path):
     assert abs(entry(plain, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);") - 2.82e-4) < 1e-12
 
 
+def assert_env_error(monkeypatch, settings, env, name):
+    """settings() with the environment variables env set raises a ValueError
+    naming the variable `name`."""
+    for key, value in env.items():
+        monkeypatch.setenv(key, value)
+    with pytest.raises(ValueError, match=name):
+        settings()
+
+
 def test_contact_compliance_settings(tmp_path, monkeypatch):
     """setupCase's CONTACT_COMPLIANCE / CONTACT_RELAXATION (the settings that
     settle the 55 um bed, docs/validation/contactCompliance.md) reach
@@ -381,13 +390,10 @@ def test_contact_compliance_settings(tmp_path, monkeypatch):
     setup.mesh_and_grains(str(tmp_path / "soft"), 1e-3)
     txt = open(tmp_path / "soft" / "constant" / "grainProperties").read()
     assert "relativeCompliance 0.002;" in txt and "relaxation 1.5;" in txt
-    monkeypatch.setenv("CONTACT_COMPLIANCE", "-1")
-    with pytest.raises(ValueError, match="CONTACT_COMPLIANCE"):
-        setup.contact_compliance()
-    monkeypatch.setenv("CONTACT_COMPLIANCE", "0")
-    monkeypatch.setenv("CONTACT_RELAXATION", "2")
-    with pytest.raises(ValueError, match="CONTACT_RELAXATION"):
-        setup.contact_compliance()
+    assert_env_error(monkeypatch, setup.contact_compliance, {"CONTACT_COMPLIANCE": "-1"},
+                     "CONTACT_COMPLIANCE")
+    assert_env_error(monkeypatch, setup.contact_compliance,
+                     {"CONTACT_COMPLIANCE": "0", "CONTACT_RELAXATION": "2"}, "CONTACT_RELAXATION")
 
 
 def test_minimum_fluidisation_velocity(sweep, env, tmp_path, monkeypatch):
@@ -430,10 +436,7 @@ def test_cohesion_settings(monkeypatch):
     assert setup.cohesion_settings() == (5, 1.0)
     monkeypatch.setenv("COHESION_FACTOR", "100")
     assert setup.cohesion_settings() == (5, 100.0)
-    monkeypatch.setenv("COHESION_FACTOR", "0")
-    with pytest.raises(ValueError, match="COHESION_FACTOR"):
-        setup.cohesion_settings()
-    monkeypatch.setenv("COHESION_FACTOR", "1")
-    monkeypatch.setenv("COHESION_MIN_AGE", "-1")
-    with pytest.raises(ValueError, match="COHESION_MIN_AGE"):
-        setup.cohesion_settings()
+    assert_env_error(monkeypatch, setup.cohesion_settings, {"COHESION_FACTOR": "0"},
+                     "COHESION_FACTOR")
+    assert_env_error(monkeypatch, setup.cohesion_settings,
+                     {"COHESION_FACTOR": "1", "COHESION_MIN_AGE": "-1"}, "COHESION_MIN_AGE")
