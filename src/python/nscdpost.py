@@ -171,21 +171,29 @@ def read_droplet(case, time_name="0"):
                       ndmin=2)
 
 
-def read_droplet_history(case):
-    """The whole droplet.dat history of a case, restarts included: a run
-    restarted at t_r writes postProcessing/droplet/<t_r>/droplet.dat; the
-    parts are joined in time order, each cut at the next one's start time.
-    Same array as read_droplet(case) for a run that was not restarted."""
-    parts = numeric_dirs(os.path.join(case, "postProcessing", "droplet"))
-    if len(parts) <= 1:
-        return read_droplet(case, parts[0][1] if parts else "0")
+def read_dat_history(case, name, file_name):
+    """The whole history of a function object's file
+    postProcessing/<name>/<start time>/<file_name> (droplet.dat,
+    surfaceFieldValue.dat, ...), restarts included: a run restarted at t_r
+    writes postProcessing/<name>/<t_r>/; the parts are joined in time order,
+    each cut at the next one's start time.  Returns an (n, ncol) array (the
+    first column the time); raises FileNotFoundError."""
+    root = os.path.join(case, "postProcessing", name)
+    parts = numeric_dirs(root) or [(0.0, "0")]
     out = []
-    for k, (t0, name) in enumerate(parts):
-        a = read_droplet(case, name)
+    for k, (t0, time_name) in enumerate(parts):
+        a = np.loadtxt(os.path.join(root, time_name, file_name), ndmin=2)
         if k + 1 < len(parts):
             a = a[a[:, 0] <= parts[k + 1][0] * (1 + 1e-12)]
         out.append(a)
     return np.concatenate(out)
+
+
+def read_droplet_history(case):
+    """The whole droplet.dat history of a case, restarts included
+    (`read_dat_history`); the same array as read_droplet(case) for a run
+    that was not restarted."""
+    return read_dat_history(case, "droplet", "droplet.dat")
 
 
 def heat_log(log):

@@ -123,13 +123,8 @@ def setup(case, deposit_root, similarity=None, permeability_ratio=1.0, u_max=Non
 
 def read_dat(case, name):
     """(time, value) of postProcessing/<name>/<start>/surfaceFieldValue.dat,
-    every restart's file in time order, later files winning."""
-    root = os.path.join(case, "postProcessing", name)
-    rows = []
-    for t, sub in sorted(nscdpost.numeric_dirs(root)):
-        a = np.loadtxt(os.path.join(root, sub, "surfaceFieldValue.dat"), comments="#", ndmin=2)
-        rows = [r for r in rows if r[0] < t] + [r for r in a]
-    a = np.array(rows)
+    restarts joined (`nscdpost.read_dat_history`)."""
+    a = nscdpost.read_dat_history(case, name, "surfaceFieldValue.dat")
     return a[:, 0], a[:, 1]
 
 
