@@ -247,6 +247,12 @@ struct NewtonSolve
         jNorm = jc.cwiseProduct(D).norm();
     }
 
+    /// SAP's optimality ratio |D grad l| / max(|D p|, |D j_c|) at the last
+    /// evaluate() (the residual history's entry).
+    double optimality() const { return gNorm/std::max(std::max(pNorm, jNorm), 1e-300); }
+    /// SAP's relative optimality test |D grad l| <= tol max(|D p|, |D j_c|).
+    bool optimal(double tol) const { return gNorm <= tol*std::max(pNorm, jNorm); }
+
     /// Hessian M + sum J^T G J (every block, zero or not: a fixed pattern).
     void hessian(SpMat& H, std::vector<Eigen::Triplet<double>>& T) const
     {
@@ -370,9 +376,9 @@ void System::Impl::solveNewton(double dt, StepReport& rep)
     S.evaluate();
     while (true)
     {
-        const double ratio = S.gNorm/std::max(std::max(S.pNorm, S.jNorm), 1e-300);
+        const double ratio = S.optimality();
         if (hist) rep.residualHistory.push_back(ratio);
-        if (S.nv == 0 || S.gNorm <= tol*std::max(S.pNorm, S.jNorm)) { converged = true; break; }
+        if (S.nv == 0 || S.optimal(tol)) { converged = true; break; }
         if (it >= maxIt) break;
         S.hessian(H, T);
         if (useCg)
@@ -397,9 +403,9 @@ void System::Impl::solveNewton(double dt, StepReport& rep)
         if (std::abs(before - S.cost) <= costStall*std::abs(S.cost))
         {
             // round-off floor of the cost: stop; converged only by the test
-            const double ratio = S.gNorm/std::max(std::max(S.pNorm, S.jNorm), 1e-300);
+            const double ratio = S.optimality();
             if (hist) rep.residualHistory.push_back(ratio);
-            converged = S.gNorm <= tol*std::max(S.pNorm, S.jNorm);
+            converged = S.optimal(tol);
             break;
         }
     }
