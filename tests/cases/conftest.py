@@ -54,84 +54,58 @@ def env():
 
 
 # -- test tiers -----------------------------------------------------------------
-# `./Alltest fast` runs `-m fast`: every test not listed below (each < 5 s
-# here, the whole tier with ctest under 3 minutes).  `slow`: the tests
-# measured over that with the 2 vCPUs shared (pytest --durations,
-# 2026-11-23), and whole modules where a module fixture runs the tutorial
-# once for several tests.  `mpi`: the test runs mpirun (also fast
-# or slow by its own duration).  Update the lists when a test's cost moves.
-SLOW_MODULES = {"test_lituyaBay.py", "test_dropletDigging.py", "test_granularCollapse.py",
-                "test_tutorialAllruns.py", "test_grainFoam_decomposed.py",
-                "test_fluidisedBed3D.py"}
-SLOW_TESTS = {
-    "test_resolvedRegime.py::test_falling_cylinder_terminal_velocity",
-    "test_resolvedRegime.py::test_free_fixed_disc_galilean_consistency",
-    "test_resolvedRegime.py::test_dkt_kissing",
-    "test_resolvedRegime.py::test_fixed_disc_between_walls_faxen",
-    "test_resolvedRegime.py::test_released_disc_added_mass",
-    "test_resolvedRegime.py::test_free_disc_settling_faxen",
-    "test_grainFoam_physics.py::test_dense_pile_stays_at_rest",
-    "test_grainFoam_physics.py::test_restart_is_bit_identical",
-    "test_fluidisation.py::test_heave_under_rising_pressure",
-    "test_packedBedHeat.py::test_poured_bed_nusselt",
-    "test_drag.py::test_lone_sphere_lab_frame_velocity",
-    "test_columnCollapse.py::test_column_collapse_runout",
-    "test_meshIndependence.py::test_sedimentation_front_mesh_independent",
-    "test_droplet_grains.py::test_dense_suspension_settles_steadily",
-    # > 4.5 s each in the fast tier, measured under load (pytest --durations=0,
-    # 2026-11-23): moved so that `./Alltest fast` stays under 3 minutes
-    "test_grainDeposit_replicate.py::test_copies_keep_the_column_packing",
-    "test_grainDeposit_replicate.py::test_replicate_warm_start_converges_fast",
-    "test_grainDeposit_replicate.py::test_frictionless_side_walls_carry_no_weight",
-    "test_grainDeposit_replicate.py::test_copies_of_a_frictionless_column_stay_at_rest",
-    "test_grainDeposit_replicate.py::test_noisy_settle_names_the_contact_tolerance",
-    "test_drag.py::test_fluidised_bed_expansion",
-    "test_snapshots.py::test_sedimentation_allrun_renders_snapshots",
-    "test_droplet_heat.py::test_tutorial_skeleton_runs",
-    "test_droplet_grains.py::test_porous_grains_pressure_gradient",
-    "test_cohesion.py::test_parallel_same_decision",
-    "test_cohesion.py::test_parallel_contact_point_across_the_cut",
-    "test_boussinesq.py::test_heated_cavity_de_vahl_davis",
-    "test_vapour.py::test_front_against_ogata_banks",
-    "test_vansInterFoam.py::test_grain_falling_from_air_into_water",
-    "test_vansInterFoam.py::test_dam_break_martin_moyce",
-    "test_droplet_motion.py::test_falling_droplet_added_mass",
-}
-MPI_TESTS = {
-    "test_cohesion.py::test_parallel_same_decision",
-    "test_cohesion.py::test_dry_cohesion_decomposed",
-    "test_cohesion.py::test_parallel_contact_point_across_the_cut",
-    "test_droplet_restart.py::test_parallel_matches_serial",
-    "test_faults_state.py::test_reconstructPar_carries_grain_state",
-    "test_fluidisedBed3D.py::test_decomposed_bed_exchanges_momentum_and_keeps_its_grains",
-    "test_faults_state.py::test_sigusr1_to_mpirun_writes_and_stops",
-    "test_freeSurfaceFunctionObjects.py::test_wave_gauges_parallel_equals_serial",
-    "test_grainFoam_decomposed.py::test_decomposed_collapse_matches_serial",
-    "test_grainFoam_decomposed.py::test_pile_at_rest_across_ranks_and_restart",
-    "test_grainFoam_decomposed.py::test_decomposition_refused_with_heat",
-    "test_grainFoam_decomposed.py::test_grain_leaving_the_mesh_stops_a_decomposed_run",
-    "test_overlapAdapter.py::test_parallel_matches_serial",
-    "test_scotchDecomp.py::test_scotch_parallel_run_keeps_every_grain",
-    "test_vansFoam.py::test_parallel_matches_serial",
-    "test_vansFoam_decomposed.py::test_sedimentation_matches_serial",
-    "test_vansFoam_decomposed.py::test_restart_on_4_ranks_continues_a_2_rank_run",
-    "test_vansFoam_decomposed.py::test_rotation_coupling_keeps_every_grain_on_every_rank",
-    "test_vansFoam_decomposed.py::test_bed_at_rest_across_ranks_matches_serial",
-    "test_vansFoam_sources.py::test_parallel_heat_matches_serial",
-}
+# Every test carries its speed tier, exactly one of
+#   @pytest.mark.fast   each test < 5 s here; `./Alltest fast` (-m fast), the
+#                       whole tier with ctest under 3 minutes
+#   @pytest.mark.slow   measured over that with the 2 vCPUs shared (pytest
+#                       --durations=0), or in a module whose module fixture
+#                       runs a tutorial once for several tests
+# (`pytestmark = pytest.mark.fast` where a whole module is one tier), and in
+# addition @pytest.mark.mpi when it runs mpirun (run_parallel, runParallel in
+# an Allrun, ...).  Collection fails on a test without exactly one speed tier;
+# a test without `mpi` that calls mpirun fails (see no_mpirun_unless_marked).
+# Move a test between fast and slow when its cost moves.
+TIERS = ("fast", "slow")
 
 
 def pytest_configure(config):
-    config.addinivalue_line("markers", "fast: quick tier, each test < 30 s (./Alltest fast)")
-    config.addinivalue_line("markers", "slow: > 20 s on this machine")
-    config.addinivalue_line("markers", "mpi: runs mpirun")
+    config.addinivalue_line("markers", "fast: quick tier, each test < 5 s here (./Alltest fast)")
+    config.addinivalue_line("markers", "slow: over the fast tier's budget (./Alltest slow)")
+    config.addinivalue_line("markers", "mpi: runs mpirun (./Alltest mpi); also fast or slow")
 
 
+@pytest.hookimpl(tryfirst=True)     # before -m deselects: every collected test is checked
 def pytest_collection_modifyitems(config, items):
+    wrong = []
     for item in items:
-        module = os.path.basename(str(item.fspath))
-        name = f"{module}::{item.originalname}"
-        slow = module in SLOW_MODULES or name in SLOW_TESTS
-        item.add_marker(pytest.mark.slow if slow else pytest.mark.fast)
-        if name in MPI_TESTS:
-            item.add_marker(pytest.mark.mpi)
+        tiers = [m.name for m in item.iter_markers() if m.name in TIERS]
+        if len(tiers) != 1:
+            wrong.append(f"  {item.nodeid}: {', '.join(tiers) or 'no tier'}")
+    if wrong:
+        raise pytest.UsageError(
+            "each test needs exactly one tier marker, @pytest.mark.fast or @pytest.mark.slow "
+            "(tests/cases/conftest.py):\n" + "\n".join(wrong))
+
+
+@pytest.fixture(autouse=True)
+def no_mpirun_unless_marked(request, tmp_path_factory):
+    """For a test not marked mpi that uses the OpenFOAM environment, `mpirun`
+    on its PATH is a stub that fails saying so: a new parallel test cannot
+    land outside `./Alltest mpi` unnoticed."""
+    if "env" not in request.fixturenames or request.node.get_closest_marker("mpi"):
+        yield
+        return
+    stub_dir = tmp_path_factory.getbasetemp() / "mpirunStub"
+    stub = stub_dir / "mpirun"
+    if not stub.exists():
+        stub_dir.mkdir(exist_ok=True)
+        stub.write_text("#!/bin/sh\necho 'mpirun called by a test not marked @pytest.mark.mpi: "
+                        "mark it (tests/cases/conftest.py)' >&2\nexit 3\n")
+        stub.chmod(0o755)
+    env = request.getfixturevalue("env")
+    path = env["PATH"]
+    env["PATH"] = f"{stub_dir}:{path}"
+    try:
+        yield
+    finally:
+        env["PATH"] = path

@@ -76,6 +76,8 @@ import pytest
 
 from foamcase import add_fluid, make_box_case, run, write
 
+pytestmark = pytest.mark.slow
+
 PR = 0.71
 L = 1.0
 ALPHA = 1e-3                       # kappa/(rho Cp) [m^2/s]

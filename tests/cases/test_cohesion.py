@@ -87,6 +87,7 @@ def displacements(case, env, mesh=True, solve=True):
     return drop, log
 
 
+@pytest.mark.fast
 def test_vapour_switches_cohesion(tmp_path, env):
     case = str(tmp_path / "vapour")
     hanging_case(case, f"force {FC0}; vapourThreshold 0.5; minAge 0;", vapour=True)
@@ -102,6 +103,7 @@ def test_vapour_switches_cohesion(tmp_path, env):
     assert int(last[-1][2]) >= 1
 
 
+@pytest.mark.fast
 def test_dry_cohesion_everywhere(tmp_path, env):
     case = str(tmp_path / "dry")
     hanging_case(case, f"force {FC0};", vapour=False)
@@ -111,6 +113,7 @@ def test_dry_cohesion_everywhere(tmp_path, env):
     assert abs(left) < 1e-3 * D and abs(right) < 1e-3 * D
 
 
+@pytest.mark.fast
 def test_cohesion_none_is_off(tmp_path, env):
     """`cohesion none;` is the run-time selected "off": both discs fall
     freely (0.05 s of free fall is 12 mm, 12 diameters)."""
@@ -122,6 +125,7 @@ def test_cohesion_none_is_off(tmp_path, env):
     assert left > 0.1 * D and right > 0.1 * D
 
 
+@pytest.mark.fast
 def test_min_age_needs_a_persisting_contact(tmp_path, env):
     case = str(tmp_path / "minAge")
     hanging_case(case, f"force {FC0}; minAge 5;", vapour=False)
@@ -149,6 +153,8 @@ def serial_and_parallel(tmp_path, env, cohesion, vapour, y0=Y0, split=None):
     return drops, drops_par, log
 
 
+@pytest.mark.slow
+@pytest.mark.mpi
 def test_parallel_same_decision(tmp_path, env):
     """mpirun -np 2, the ranks split at x = W/2 between the dry and the wet
     pair, the grains decomposed: each rank looks psi up at the contact
@@ -164,6 +170,8 @@ def test_parallel_same_decision(tmp_path, env):
     assert abs(lp - ls) < 1e-9 and abs(rp - rs) < 1e-9
 
 
+@pytest.mark.slow
+@pytest.mark.mpi
 def test_parallel_contact_point_across_the_cut(tmp_path, env):
     """The ranks split at y = H/2 = 20 mm, the fixed row at 21.5 mm (rank 1)
     and the hanging discs at 19.5 mm (rank 0): each hanging pair's contact
@@ -181,6 +189,8 @@ def test_parallel_contact_point_across_the_cut(tmp_path, env):
     assert abs(lp - ls) < 1e-9 and abs(rp - rs) < 1e-9
 
 
+@pytest.mark.fast
+@pytest.mark.mpi
 def test_dry_cohesion_decomposed(tmp_path, env):
     """The same with dry cohesion, which needs no replication: the grains
     decomposed, both discs hang as in the serial run (displacements within
@@ -194,6 +204,7 @@ def test_dry_cohesion_decomposed(tmp_path, env):
     assert abs(lp - ls) < 1e-9 and abs(rp - rs) < 1e-9
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("what", ["noVapour", "unknownKeyword", "noForce", "negativeAge"])
 def test_cohesion_input_errors(tmp_path, env, what):
     case = str(tmp_path / what)

@@ -23,6 +23,8 @@ import pytest
 
 from foamcase import run
 
+pytestmark = pytest.mark.slow
+
 TUT = os.path.join(os.path.dirname(__file__), "..", "..", "tutorials", "grainFoam", "columnCollapse")
 
 

@@ -102,6 +102,7 @@ def settle_one(case, env, model, nu, hd=10, end=0.3, undisturbed="none"):
     return u[1] - v[1], -v[1], fall / (t - t0)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("Re", [0.1, 1, 10, 100, 1000])
 @pytest.mark.parametrize("model", ["Gidaspow", "DallavalleDiFelice"])
 def test_lone_sphere_terminal_slip(tmp_path, env, model, Re):
@@ -119,6 +120,7 @@ def test_lone_sphere_terminal_slip(tmp_path, env, model, Re):
         assert slip == pytest.approx(terminal_slip(cd_dallavalle, D, nu), rel=0.02)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("undisturbed", ["none", "steadyOseen"])
 def test_lone_sphere_lab_frame_velocity(tmp_path, env, undisturbed):
     """Lab-frame terminal speed vs h/d at Re_t = 10 (Gidaspow, whose lone-
@@ -147,6 +149,7 @@ def test_lone_sphere_lab_frame_velocity(tmp_path, env, undisturbed):
         assert 0.75 * ref <= lab[1] <= 0.90 * ref
 
 
+@pytest.mark.fast
 def test_lone_sphere_undisturbed_velocity_correction(tmp_path, env):
     """undisturbedVelocity steadyOseen (Balachandar, Liu & Lakhote 2019):
     the lab-frame terminal speed at h/d = 2, Re_t = 10, where the gathered
@@ -163,6 +166,7 @@ def test_lone_sphere_undisturbed_velocity_correction(tmp_path, env):
     assert mean == pytest.approx(ref, rel=0.05)
 
 
+@pytest.mark.fast
 def test_undisturbed_velocity_unknown_word(tmp_path, env):
     case = str(tmp_path / "bad")
     make_box_case(case, (0, 0, 0), (0.004, 0.008, 0.004), (2, 4, 2), (0, -G, 0),
@@ -178,6 +182,7 @@ def test_undisturbed_velocity_unknown_word(tmp_path, env):
     assert "none" in out and "steadyOseen" in out
 
 
+@pytest.mark.fast
 def test_undisturbed_velocity_is_3d_only(tmp_path, env):
     """steadyOseen is the disturbance of a point force in 3D: a 2D mesh is a
     FatalIOError saying so."""
@@ -210,6 +215,7 @@ def lattice_drag(case, env, model, Us, s, nu, layers=8):
     return eps, grad, eps * grad / (1 - eps)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("model", ["Gidaspow", "DallavalleDiFelice"])
 def test_fixed_bed_against_ergun(tmp_path, env, model):
     nu, Us, s = 1e-6, 1e-3, D * 1.0001
@@ -223,6 +229,7 @@ def test_fixed_bed_against_ergun(tmp_path, env, model):
         assert 0.75 * ref <= grad <= 0.90 * ref
 
 
+@pytest.mark.slow
 def test_fluidised_bed_expansion(tmp_path, env):
     """DallavalleDiFelice; glass spheres d = 1 mm in water (Re_t ~ 130)."""
     model, nu = "DallavalleDiFelice", 1e-6

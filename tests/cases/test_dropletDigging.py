@@ -68,6 +68,8 @@ import pytest
 import nscdpost
 from foamcase import run, tutorial_modules
 
+pytestmark = pytest.mark.slow
+
 TEMPS = (300.0, 400.0, 600.0)
 END = 0.1          # s (~300 steps each)
 

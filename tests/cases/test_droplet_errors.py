@@ -10,6 +10,8 @@ import pytest
 from dropletcase import droplet_case
 from foamcase import run
 
+pytestmark = pytest.mark.fast
+
 
 @pytest.mark.parametrize("edit, words", [
     (lambda s: s.replace("latentHeat", "latentHeet"), ["latentHeet", "dropletProperties"]),

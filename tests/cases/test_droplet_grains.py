@@ -32,6 +32,7 @@ def lens_area(R, r, d):
     return r * r * a1 + R * R * a2 - 0.5 * math.sqrt((-d + r + R) * (d + r - R) * (d - r + R) * (d + r + R))
 
 
+@pytest.mark.fast
 def test_absorbed_grains_volume(tmp_path, env):
     """Eq. 4.15, V = V_f + V_p: two fixed grains, one wholly inside the
     droplet (r = 0.3 R at 0.3 R from the centre), one straddling its surface
@@ -104,6 +105,7 @@ def porous_bed_pressure_gradient(tmp_path, env, n, ny=12, nx=3):
     return grad, eps_field, eps, law, p
 
 
+@pytest.mark.slow
 def test_porous_grains_pressure_gradient(tmp_path, env):
     """Porous grains (thesis 4.3.2, couplingProperties grainPorosity n): the
     fluid sees (1 - n) of each grain's volume, eps = 1 - (1 - n) phi_geom.
@@ -127,6 +129,7 @@ def test_porous_grains_pressure_gradient(tmp_path, env):
     assert np.array_equal(p, p0)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("porosity", [0.0, 0.5])
 def test_grain_relaxes_in_held_droplet(tmp_path, env, porosity):
     """A free grain (d = 100 um, rho_p = 2500) released at rest at the centre
@@ -185,6 +188,7 @@ def test_grain_relaxes_in_held_droplet(tmp_path, env, porosity):
         assert abs(v[0]) < 1e-9 * abs(v[1])
 
 
+@pytest.mark.fast
 def test_grain_droplet_momentum_exchange(tmp_path, env):
     """Newton's third law of F_p (eq. 4.17): a moving droplet (released with
     u_d = (5, -2) cm/s, gravity on, no heat) with four free grains (three
@@ -233,6 +237,7 @@ def test_grain_droplet_momentum_exchange(tmp_path, env):
         assert np.allclose(dP - ext, jump, rtol=0, atol=1e-8 * np.abs(jump).max())
 
 
+@pytest.mark.fast
 def test_supported_grain_gets_full_drag(tmp_path, env):
     """The contact network carries the droplet's push: a free grain (d = 50
     um) resting on a fixed grain (d = 0.4 mm, mostly outside) inside a held
@@ -310,6 +315,7 @@ def test_supported_grain_gets_full_drag(tmp_path, env):
     assert abs(d[-1, 14] / F_ref[1] - 1) < 0.01
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("nu_gas", [2e-5, 1e-9])
 def test_dense_suspension_settles_steadily(tmp_path, env, nu_gas):
     """Issue 8 (Table 4.2: 55 um grains at dt = 5e-4 s): a dense square

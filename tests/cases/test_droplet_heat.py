@@ -85,6 +85,7 @@ def conduction_error(tmp_path, env, n_per_d):
     return mdot / ref - 1
 
 
+@pytest.mark.fast
 def test_fixed_droplet_conduction(tmp_path, env):
     err = conduction_error(tmp_path, env, 16)
     print(f"D/dx = 16: mdot/(Q_ref/L) - 1 = {err:.4f}")
@@ -92,6 +93,7 @@ def test_fixed_droplet_conduction(tmp_path, env):
     assert abs(err) < 0.01      # the measured accuracy at 16 cells per D (-0.14 %)
 
 
+@pytest.mark.fast
 @pytest.mark.skipif(not os.environ.get("NSCD_SLOW"), reason="mesh convergence study: NSCD_SLOW=1")
 def test_fixed_droplet_mesh_convergence(tmp_path, env):
     errs = {n: conduction_error(tmp_path, env, n) for n in (8, 16, 32)}
@@ -111,6 +113,7 @@ def budget_lines(log):
     return h["budget"][:, :3], h["E"], np.array(cont)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("release", ["uniform", "heatFlux"])
 def test_energy_and_vapour_budget(tmp_path, env, release):
     """Budgets (b) of the module docstring, for both vapourRelease modes
@@ -166,6 +169,7 @@ def test_energy_and_vapour_budget(tmp_path, env, release):
     assert abs(outflow - Vdot[-1]) < 1e-6 * Vdot[-1]
 
 
+@pytest.mark.fast
 def test_bounded_vapour_fraction_with_blowing_droplet(tmp_path, env):
     """vapour { bounded yes; } (advective form of eq. 4.19, psiEqn.H) must
     keep the vapour fraction in [0, 1] next to a blowing droplet, whose
@@ -208,6 +212,7 @@ def sector_shares(values, xy, centre, edges):
     return np.array([values[k == i].sum() / tot for i in range(len(edges) - 1)])
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("release", ["uniform", "heatFlux"])
 def test_vapour_released_where_heat_enters(tmp_path, env, release):
     """vapourRelease heatFlux (vapourDroplet.H, "Blowing"): the vapour of
@@ -264,6 +269,7 @@ def test_vapour_released_where_heat_enters(tmp_path, env, release):
         assert abs(s_vap[0] - 0.25) < 0.02
 
 
+@pytest.mark.fast
 def test_grain_heat_to_droplet(tmp_path, env):
     """Q_p (eq. 4.16): two hot fixed grains (r = 0.3 R, T_p0 = T_d + 200 K)
     wholly inside the droplet, gas and walls at T_d.  The grains give their
@@ -313,6 +319,7 @@ def film_reference(r, F, dT, mu_v=1.227e-5, k=KAPPA, rho_v=RHO_V, L=LATENT):
     return delta, math.pi * k * math.sqrt(2 * r / delta)
 
 
+@pytest.mark.fast
 def test_leidenfrost_film_heat(tmp_path, env):
     """filmConduction yes (vapourDroplet.H, "Leidenfrost film conduction"):
     a hot grain (r = 0.1 mm, T_d + 300 K, glass 2500 kg/m^3, c = 800
@@ -395,6 +402,7 @@ def test_leidenfrost_film_heat(tmp_path, env):
     assert np.allclose(rest, d[10:], rtol=1e-9, atol=1e-15)
 
 
+@pytest.mark.slow
 def test_tutorial_skeleton_runs(tmp_path, env):
     """tutorials/vansFoam/dropletDigging (skeleton, Table 4.2) with its own
     setupCase.py on its reduced bed (1 mm grains, 10 steps): the droplet

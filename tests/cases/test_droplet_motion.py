@@ -15,6 +15,7 @@ from dropletcase import (D, DEPTH, MU_W, RHO, RHO_W, T_D, W, difelice_gamma, dro
 from foamcase import run
 
 
+@pytest.mark.slow
 def test_falling_droplet_added_mass(tmp_path, env):
     """Motion (eq. 4.17, moving yes): a droplet 10 times denser than the gas,
     released from rest in a box w = 8 D, nearly inviscid gas (nu = 1e-7,
@@ -94,6 +95,7 @@ def seepage_run(tmp_path, env, dg):
     return read_droplet(case)
 
 
+@pytest.mark.fast
 def test_droplet_seeps_through_fixed_bed(tmp_path, env):
     """A droplet has no capillary or contact force with the grains in the
     thesis (eq. 4.17: F_p is the force of the particles on the liquid, here
@@ -149,6 +151,7 @@ def test_droplet_seeps_through_fixed_bed(tmp_path, env):
     assert abs(ratio / ratio_law - 1) < 0.03
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("with_grain", [False, True])
 def test_droplet_lands_on_wall(tmp_path, env, with_grain):
     """Robustness (issue 8 brief: a droplet reaching a wall must not stop the
@@ -214,6 +217,7 @@ def test_droplet_lands_on_wall(tmp_path, env, with_grain):
         assert np.all(np.abs(Fw[-10:, 1] / (m[-10:] * G) - 1) > 0.015)
 
 
+@pytest.mark.fast
 def test_free_droplet_is_weightless_inside(tmp_path, env):
     """Liquid pressure on the grains inside a FREE droplet (src/dropletCoupling/
     README.md, "Liquid pressure on the grains"; mixture momentum balance of the

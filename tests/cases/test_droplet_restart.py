@@ -14,6 +14,8 @@ import nscdpost
 from dropletcase import D, W, droplet_case, held_suspension_case, read_droplet
 from foamcase import run
 
+pytestmark = pytest.mark.fast
+
 
 @pytest.mark.parametrize("release", ["uniform", "heatFlux"])
 def test_restart_continues_exactly(tmp_path, env, release):
@@ -119,6 +121,7 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     assert "grainHistory" in out and "Fix" in out and "FOAM FATAL IO ERROR" in out, out[-2000:]
 
 
+@pytest.mark.mpi
 @pytest.mark.parametrize("release", ["uniform", "heatFlux"])
 def test_parallel_matches_serial(tmp_path, env, release):
     """Two ranks (the droplet straddles the processor boundary x = w/2): the

@@ -13,6 +13,8 @@ import pytest
 from faultcase import G, MAT, box, set_control, times
 from foamcase import add_fluid, fails_with, make_box_case, run
 
+pytestmark = pytest.mark.fast
+
 
 # ---- rows 2-3: grains never vanish silently ---------------------------------
 
@@ -190,6 +192,7 @@ def test_outlet_patch_must_be_open(tmp_path, env):
                "matches no patch")
 
 
+@pytest.mark.mpi
 def test_grains_leave_through_outlet_in_parallel(tmp_path, env):
     """The outlet case on 2 ranks (x slabs: each grain crosses the bottom on
     one rank): every rank removes the same grains, the counts and times are

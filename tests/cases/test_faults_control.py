@@ -9,8 +9,12 @@ import re
 import subprocess
 import time
 
+import pytest
+
 from faultcase import G, MAT, box, digest, set_control, stack, times
 from foamcase import add_fluid, fails_with, make_box_case, run
+
+pytestmark = pytest.mark.fast
 
 
 # ---- row 1: never hang -------------------------------------------------------

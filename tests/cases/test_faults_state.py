@@ -17,6 +17,8 @@ import pytest
 from faultcase import G, MAT, box, set_control, stack, times
 from foamcase import fails_with, make_box_case, run, write
 
+pytestmark = pytest.mark.fast
+
 
 # ---- row 4: bad state files -------------------------------------------------
 
@@ -186,6 +188,7 @@ def test_disk_full_during_write(tmp_path, env):
 
 # ---- row 6: parallel state ---------------------------------------------------
 
+@pytest.mark.mpi
 @pytest.mark.parametrize("mode", ["decomposed", "replicated"])
 def test_reconstructPar_carries_grain_state(tmp_path, env, mode):
     """decomposePar, a parallel run, reconstructPar: the reconstructed time
@@ -220,6 +223,7 @@ def test_reconstructPar_carries_grain_state(tmp_path, env, mode):
     assert "Create time" in out and times(case)[-1] == "0.03"
 
 
+@pytest.mark.mpi
 def test_sigusr1_to_mpirun_writes_and_stops(tmp_path, env):
     """In parallel, SIGUSR1 sent to mpirun (Open MPI forwards it to every
     rank) writes the current step (the grain state gathered into the

@@ -85,6 +85,7 @@ def bed_case(case, env, U):
     return dg
 
 
+@pytest.mark.fast
 def test_minimum_fluidisation(tmp_path, env):
     dg = D * (1 - 1e-6)
     eps = 1 - math.pi * dg**3 / (6 * S * S * D)
@@ -125,6 +126,7 @@ def test_minimum_fluidisation(tmp_path, env):
 # from h/d = 0.5 to 8).  Measured when written: heave at 0.2298 / 0.2294 s,
 # heave head 7.09 / 7.36 mm = 1.26 / 1.31 dh_w for h/d = 1 / 4.
 # ---------------------------------------------------------------------------
+@pytest.mark.slow
 def test_heave_under_rising_pressure(tmp_path, env):
     """The reduced tutorial at its own maxDeltaT (1e-3 s) on h/d = 1 and 4,
     and on h/d = 1 at 1e-4 s. References: the force balance (the bed cannot

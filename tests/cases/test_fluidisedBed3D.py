@@ -23,6 +23,8 @@ import pytest
 import nscdpost
 from foamcase import run, run_parallel, tutorial_modules
 
+pytestmark = pytest.mark.slow
+
 setup, post = tutorial_modules("vansFoam", "fluidisedBed3D")
 
 
@@ -50,6 +52,7 @@ def _exchange_errors(res):
             for w in res["writes"] if w["time"] >= 0.2]
 
 
+@pytest.mark.mpi
 def test_decomposed_bed_exchanges_momentum_and_keeps_its_grains(tmp_path, env):
     """2 ranks (the default velocity correction, faceForces): every
     grain kept, the pressure drop equal to the grains' fluid force less

@@ -34,6 +34,8 @@ import pytest
 import nscdpost
 from foamcase import make_box_case, run, write
 
+pytestmark = pytest.mark.fast
+
 G = 9.81
 NX, NY = 20, 25
 LX, LY = 1.0, 0.5
@@ -129,6 +131,7 @@ def test_wave_gauges_sheared_mesh(tmp_path, env):
     assert np.allclose(eta, h - 0.2, rtol=0, atol=1e-12), eta
 
 
+@pytest.mark.mpi
 def test_wave_gauges_parallel_equals_serial(tmp_path, env):
     """2 ranks splitting every column (1 x 2 slabs): same elevations (1e-12)."""
     h = lambda x: 0.2307 + 0.1 * x + 0.02 * np.sin(6 * x)

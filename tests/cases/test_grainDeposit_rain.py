@@ -22,6 +22,8 @@ import nscdpost
 from foamcase import run, run_fatal_io, write
 from test_grainDeposit_replicate import box_case, weight, wall_lift, D, WIDTH
 
+pytestmark = pytest.mark.fast
+
 NUMBER = 300
 TOUCH = 1e-9 * D             # touching (positions written with 15 digits)
 

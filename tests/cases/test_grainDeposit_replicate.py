@@ -100,6 +100,7 @@ def settled_column(tmp_path_factory, env):
     return column(tmp_path_factory.mktemp("col"), env, "column")
 
 
+@pytest.mark.fast
 def test_column_rests_on_its_floor(settled_column):
     """Vertical force balance of the settled column (statics): the floor
     and the side walls' friction (Janssen's effect) hold the column's
@@ -125,6 +126,7 @@ def frictionless_column(tmp_path_factory, env):
                   tolerance=1e-6)
 
 
+@pytest.mark.slow
 def test_frictionless_side_walls_carry_no_weight(frictionless_column):
     """wallFriction 0 on the side walls (grainProperties): their contacts
     carry no tangential impulse, and the floor alone holds the column's
@@ -140,6 +142,7 @@ def test_frictionless_side_walls_carry_no_weight(frictionless_column):
     assert lift == pytest.approx(weight(case), rel=5e-3)
 
 
+@pytest.mark.slow
 def test_copies_of_a_frictionless_column_stay_at_rest(tmp_path, frictionless_column, env):
     """Copies of a column settled between frictionless side walls are a
     static equilibrium (a grain's mirror image carries the wall's normal
@@ -163,6 +166,7 @@ def test_copies_of_a_frictionless_column_stay_at_rest(tmp_path, frictionless_col
     assert moved.mean() < 0.01 * D and moved.max() < 0.05 * D
 
 
+@pytest.mark.slow
 def test_noisy_settle_names_the_contact_tolerance(tmp_path, env):
     """A settle that ends at maxTime without reaching speedTolerance says so
     (no 'Settled after') and, when the solver noise of the bed's depth,
@@ -187,6 +191,7 @@ def replicate(tmp_path, env, source, copies, settle=SETTLE):
     return case, run("grainDeposit", case, env)
 
 
+@pytest.mark.slow
 def test_copies_keep_the_column_packing(tmp_path, settled_column, env):
     """Four copies of the settled column side by side, settled again, keep
     the column's packing: top within one diameter, area fraction within
@@ -208,6 +213,7 @@ def test_copies_keep_the_column_packing(tmp_path, settled_column, env):
     assert phi == pytest.approx(phi0, rel=0.03)         # measured +2.4 %
 
 
+@pytest.mark.slow
 def test_replicate_warm_start_converges_fast(tmp_path, settled_column, env):
     """The copied impulses are the warm start: the wide bed's first three
     steps need fewer sweeps than the same grains listed without impulses
@@ -231,6 +237,7 @@ def test_replicate_warm_start_converges_fast(tmp_path, settled_column, env):
     assert sum(sweeps(log_w)[:3]) < 0.7 * sum(sweeps(log_c)[:3]), (sweeps(log_w), sweeps(log_c))
 
 
+@pytest.mark.fast
 def test_replicate_errors(tmp_path, settled_column, env):
     col, _ = settled_column
     # a mesh whose width / copies is not the column's

@@ -40,6 +40,8 @@ import nscdpost
 from foamcase import copy_tutorial, make_box_case, run, run_parallel, tutorial_modules
 from test_grainFoam_physics import G, _deposit_dict
 
+pytestmark = pytest.mark.slow
+
 N_GRAINS = 500
 
 
@@ -125,6 +127,7 @@ def _collapse_measures(case, end):
     return {"runout": runout, "height": height, "com_dx": float(moved[0]), "com_dy": float(moved[1])}
 
 
+@pytest.mark.mpi
 def test_decomposed_collapse_matches_serial(deposited, tmp_path, env):
     serial = []
     for k, scale in enumerate((1.0, 0.8, 0.9, 1.1, 1.2)):
@@ -168,6 +171,7 @@ def _wall_load(case, time_name, rho, g):
     return fy / (rho * np.pi * (r ** 2).sum() * g)
 
 
+@pytest.mark.mpi
 def test_pile_at_rest_across_ranks_and_restart(tmp_path, env):
     """300 discs at rest on y slabs (horizontal processor boundaries: the
     weight crosses them) on 2 ranks, then restarted on 4 ranks."""
@@ -208,6 +212,7 @@ def test_pile_at_rest_across_ranks_and_restart(tmp_path, env):
     assert sorted(ids) == list(range(300))
 
 
+@pytest.mark.mpi
 def test_heat_conduction_across_ranks_matches_serial(tmp_path, env):
     """Contact conduction (thesis eq. 4.1-4.3) with the grains decomposed:
     the static column of test_grainHeat.py (5 discs between a floor at
@@ -237,6 +242,7 @@ def test_heat_conduction_across_ranks_matches_serial(tmp_path, env):
     assert dT < 1e-6
 
 
+@pytest.mark.mpi
 def test_grain_leaving_the_mesh_stops_a_decomposed_run(tmp_path, env):
     """A grain falling through an open bottom patch on 2 ranks: no rank's
     cells claim it, and the run stops (no hang) naming the grain and the

@@ -6,6 +6,8 @@ import pytest
 
 from foamcase import fails_with, make_box_case, run
 
+pytestmark = pytest.mark.fast
+
 G = 9.81
 MAT = {"glass": {"density": 2500, "friction": 0.4}}
 

@@ -38,6 +38,7 @@ def incline_case(tmp_path, env, theta_deg, mu, two_d):
     return g["U"][0][0] / t, g["x"][0][1] - r
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("two_d", [True, False], ids=["disc", "sphere"])
 @pytest.mark.parametrize("theta,mu", [(30, 0.1), (30, 0.5), (20, 0.05)])
 def test_incline(tmp_path, env, two_d, theta, mu):
@@ -52,6 +53,7 @@ def test_incline(tmp_path, env, two_d, theta, mu):
     assert abs(lift) < 1e-3 * 0.005       # stays on the plane, no overlap
 
 
+@pytest.mark.fast
 def test_drop_no_rebound_no_overlap(tmp_path, env):
     """A disc dropped from 5 cm stops on the floor: zero normal velocity after
     impact (no restitution, eq. 2.33) and no overlap beyond 1e-3 r."""
@@ -82,6 +84,7 @@ def _deposit_dict(lo, hi, n, dmin=2e-3, lam=1.2):
             "settle { maxTime 2; deltaT 5e-4; speedTolerance 2e-3; }\n")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("two_d", [True, False], ids=["discs", "spheres"])
 def test_dense_pile_stays_at_rest(tmp_path, env, two_d):
     """A settled pile stays at rest: after 0.2 s of grainFoam (the deposit is
@@ -108,6 +111,7 @@ def test_dense_pile_stays_at_rest(tmp_path, env, two_d):
     assert overlaps and max(overlaps) < 1e-3
 
 
+@pytest.mark.slow
 def test_restart_is_bit_identical(tmp_path, env):
     """A collapsing pile run to 0.1 s in one go equals 0.05 s + restart from the
     written state + 0.05 s, to the last digit written (17 significant digits)."""

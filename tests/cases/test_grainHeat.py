@@ -29,9 +29,12 @@ import os
 import re
 
 import numpy as np
+import pytest
 
 import nscdpost
 from foamcase import make_box_case, run
+
+pytestmark = pytest.mark.fast
 
 N = 5
 D = 1e-3

@@ -27,6 +27,8 @@ from foamcase import run
 vtk = pytest.importorskip("vtk")
 from vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
 
+pytestmark = pytest.mark.fast
+
 
 def _blocks(path, time=None):
     """{grid name: vtkUnstructuredGrid} of an XDMF file read by VTK (at

@@ -30,6 +30,8 @@ import pytest
 import nscdpost
 from foamcase import make_box_case, run, tutorial_modules
 
+pytestmark = pytest.mark.slow
+
 G = 9.81
 D = 0.009
 GATE = 0.05

@@ -21,6 +21,8 @@ import pytest
 
 import keywordReference as kr
 
+pytestmark = pytest.mark.fast
+
 ROOT = kr.ROOT
 FIX = f"run `{kr.GENERATOR}` after editing {kr.DESCRIPTIONS}"
 

@@ -19,6 +19,10 @@ Consistency check of the source text, not a physics test: it reads the
 import os
 import re
 
+import pytest
+
+pytestmark = pytest.mark.fast
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 
 LOOKUP = re.compile(

@@ -38,6 +38,8 @@ import pytest
 
 from foamcase import copy_tutorial, tutorial_modules
 
+pytestmark = pytest.mark.slow
+
 (lituya,) = tutorial_modules("vansInterFoam", "lituyaBay", names=("postProcess",))
 
 G = 9.81

@@ -37,6 +37,8 @@ import pytest
 import nscdpost
 from foamcase import add_fluid, make_box_case, run
 
+pytestmark = pytest.mark.slow
+
 G = 9.81
 D, RHOP = 3e-3, 1500.0
 LX, LY = 0.192, 0.096

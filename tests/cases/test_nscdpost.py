@@ -14,6 +14,8 @@ import pytest
 
 import nscdpost
 
+pytestmark = pytest.mark.fast
+
 HEAD = ("FoamFile\n{\n    version     2.0;\n    format      ascii;\n    class       %s;\n"
         "    location    \"0.1/lagrangian/grains\";\n    object      %s;\n}\n")
 

@@ -27,6 +27,8 @@ import correlations
 
 from foamcase import fails_with, run
 
+pytestmark = pytest.mark.fast
+
 EPS, PR = 0.45, 0.71
 RES = [1.0, 10.0, 100.0, 1000.0]
 

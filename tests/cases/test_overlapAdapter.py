@@ -22,6 +22,8 @@ import pytest
 
 from foamcase import make_box_case, run, write, read_internal
 
+pytestmark = pytest.mark.fast
+
 MAT = {"glass": {"density": 2500, "friction": 0.4}}
 
 
@@ -150,6 +152,7 @@ def _mpirun_ok(env):
     return None
 
 
+@pytest.mark.mpi
 @pytest.mark.parametrize("two_d", [True, False], ids=["2d", "3d"])
 def test_parallel_matches_serial(tmp_path, env, two_d):
     reason = _mpirun_ok(env)

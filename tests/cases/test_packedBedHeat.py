@@ -180,6 +180,7 @@ def lattice_case(case, model, Re, velocity_correction=None):
     return Us, end
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("model,Re,vc", [("DiFeliceColburn", 100.0, None), ("DiFeliceColburn", 500.0, None),
                                          ("Gunn", 30.0, None),
                                          ("DiFeliceColburn", 100.0, "fluxReconstruction")])
@@ -261,6 +262,7 @@ def invert_chain(outlet, T_out):
     return 0.5 * (lo + hi)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("vc", [
     "fluxReconstruction",
     pytest.param(None, marks=pytest.mark.xfail(strict=True, reason=(
@@ -294,6 +296,7 @@ def test_bed_edge_velocity(tmp_path, env, vc):
 # ---------------------------------------------------------------------------
 # 2. the tutorial's poured bed, two velocities
 # ---------------------------------------------------------------------------
+@pytest.mark.slow
 def test_poured_bed_nusselt(tmp_path, env):
     setup, post = tutorial_modules("vansFoam", "packedBedHeat")
     root = str(tmp_path)

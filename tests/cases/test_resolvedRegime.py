@@ -99,6 +99,7 @@ def fixed_disc_drag(tmp_path, env, cells_per_d, D=0.01, H=0.05, L=0.12, U0=1e-3,
     return F[0, 0] / (rho * nu * U0)
 
 
+@pytest.mark.slow
 def test_fixed_disc_between_walls_faxen(tmp_path, env):
     ref = faxen_drag(0.2)                       # 16.53
     lam = [fixed_disc_drag(tmp_path, env, c) for c in (10, 14, 20)]
@@ -137,6 +138,7 @@ def released_disc_a0(tmp_path, env, rho_ratio, max_dt, cells_per_d=10, end=0.02,
     return a0, uu[-1] / tt[-1]
 
 
+@pytest.mark.slow
 def test_released_disc_added_mass(tmp_path, env):
     """Disc released from rest, D/h = 10: the initial acceleration
         a0 = (rho_p - rho_f) g / (rho_p + C_A rho_f),
@@ -192,6 +194,7 @@ def free_disc_settling(tmp_path, env, cells_per_d=10, nu_dt_h2=5.0, end=0.3, D=0
     return -u[0, -1, 1] / u_faxen
 
 
+@pytest.mark.slow
 def test_free_disc_settling_faxen(tmp_path, env):
     """Galilean consistency at low Re: the free resolved disc settling
     midway between two walls (k = D/H = 0.2, Re = 0.05, D/h = 10,
@@ -217,6 +220,7 @@ def test_free_disc_settling_faxen(tmp_path, env):
     assert soft > 1.10, soft
 
 
+@pytest.mark.fast
 def test_rigid_viscosity_ratio_checked(tmp_path, env):
     """couplingProperties rigidViscosityRatio < 0 is a FatalIOError naming
     the keyword and the fix (keyword checking, vansCloud)."""
@@ -232,6 +236,7 @@ def test_rigid_viscosity_ratio_checked(tmp_path, env):
     assert "rigidViscosityRatio -1" in out and "couplingProperties" in out and "Fix" in out, out[-2000:]
 
 
+@pytest.mark.fast
 @pytest.mark.xfail(strict=True, reason=(
     "default scheme (no resolvedCellsPerDiameter): no consistent added mass (grain weight in "
     "the cells, pressure force on the faces: rim force).  At rho_p/rho_f = 1.01, dt 1e-3: fitted "
@@ -260,6 +265,7 @@ def test_released_disc_added_mass_default_scheme(tmp_path, env):
     assert abs(a0 / ref - 1) < 0.10, a0
 
 
+@pytest.mark.fast
 def test_side_blocks_fill_the_width(tmp_path):
     """setupCase.side_blocks / write_case(side=...): the graded side blocks
     that move the walls out start with the box's cell size h, grow by at
@@ -284,6 +290,7 @@ def test_side_blocks_fill_the_width(tmp_path):
 PLATEAU_WINDOW = (2.75, 3.5)
 
 
+@pytest.mark.slow
 def test_falling_cylinder_terminal_velocity(tmp_path, env):
     """Terminal velocity of the falling cylinder (thesis 3.3.3) within 5 %
     of U_t = 2.501 cm/s, Re = 156, Namkoong, Yoo & Choi (2008, J. Fluid
@@ -334,6 +341,7 @@ def test_falling_cylinder_terminal_velocity(tmp_path, env):
     assert abs(ut / setupCase.UT_REF - 1) < 0.05, ut
 
 
+@pytest.mark.slow
 def test_dkt_kissing(tmp_path, env):
     """Drafting-kissing-tumbling, reduced copy of
     tutorials/vansFoam/draftingKissingTumbling: D/h = 6 instead of 12.5 and
@@ -364,6 +372,7 @@ def test_dkt_kissing(tmp_path, env):
     assert kiss > 0.3, kiss
 
 
+@pytest.mark.fast
 def test_shedding_frequency_extraction():
     """cylinderSedimentation's postProcess.shedding_analysis on synthetic
     signals sampled like the tutorial (every 0.02 s over 8 s): a lateral
@@ -429,6 +438,7 @@ def fixed_disc_comoving(case, env, t_u, u_fall, end, upstream=6, downstream=10,
     return np.array(t), np.array(F)
 
 
+@pytest.mark.slow
 def test_free_fixed_disc_galilean_consistency(tmp_path, env):
     """Galilean (frame) consistency of the resolved coupling at Re ~ 140:
     the free falling disc and the same disc held fixed in the frame that

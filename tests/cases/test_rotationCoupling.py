@@ -55,6 +55,8 @@ import pytest
 import nscdpost
 from foamcase import add_fluid, make_box_case, run, tutorial_modules
 
+pytestmark = pytest.mark.fast
+
 setupCase, = tutorial_modules("vansFoam", "cylinderSedimentation", names=("setupCase",))
 
 

@@ -27,6 +27,8 @@ from foamlib import FoamFile
 import nscdpost
 from foamcase import mpirun_could_not_start, run, write, read_internal
 
+pytestmark = pytest.mark.fast
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 BASE = os.path.join(ROOT, "tutorials", "vansFoam", "sedimentation", "base")
 LX, LY, NX, NY = 0.4, 0.6, 44, 67
@@ -131,6 +133,7 @@ def test_weights_balance_grains(tmp_path, env):
     assert np.abs(weighted - n / 2).max() <= 0.03 * n / 2
 
 
+@pytest.mark.mpi
 def test_scotch_parallel_run_keeps_every_grain(tmp_path, env):
     """The user's path: grainVoidFraction -cellWeight, decomposePar with
     method scotch and weightField, mpirun -np 2 vansFoam -parallel for 5

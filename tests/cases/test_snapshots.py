@@ -26,6 +26,7 @@ def _pixels(path):
     return (np.asarray(img)[..., :3] * 255).round().astype(np.uint8)
 
 
+@pytest.mark.slow
 def test_sedimentation_allrun_renders_snapshots(tmp_path, env):
     tut = os.path.join(ROOT, "tutorials", "vansFoam", "sedimentation")
     work = str(tmp_path / "sedimentation")
@@ -53,6 +54,7 @@ def test_sedimentation_allrun_renders_snapshots(tmp_path, env):
     assert (np.abs(px[..., 0] - px[..., 2]) > 80).sum() > 500
 
 
+@pytest.mark.fast
 def test_render_without_vtk_output_says_what_to_run(tmp_path, env):
     """Bad input: a case without VTK/ gives exit code 1 and names foamToVTK."""
     p = subprocess.run([sys.executable, "-m", "nscdrender", str(tmp_path)],

@@ -27,6 +27,8 @@ import pytest
 
 from foamcase import copy_tutorial
 
+pytestmark = pytest.mark.slow
+
 # tutorial -> (Allrun arguments, results.json path relative to the tutorial,
 #              PNG glob that must match at least once); smallest arguments
 # each Allrun's usage line accepts
@@ -54,7 +56,12 @@ SMOKE = {
 }
 
 
-@pytest.mark.parametrize("tutorial", sorted(SMOKE))
+# the Allruns above that run mpirun (runParallel)
+PARALLEL = {"vansFoam/fluidisedBed3D"}
+
+
+@pytest.mark.parametrize("tutorial", [pytest.param(t, marks=pytest.mark.mpi) if t in PARALLEL else t
+                                      for t in sorted(SMOKE)])
 def test_allrun_runs_to_its_end(tutorial, tmp_path, env):
     args, results, pngs = SMOKE[tutorial]
     solver, case = tutorial.split("/")

@@ -15,6 +15,8 @@ import nscdpost
 from foamcase import (add_fluid, make_box_case, run, run_fatal_io, run_parallel,
                       read_internal)
 
+pytestmark = pytest.mark.fast
+
 G = 9.81
 
 
@@ -80,6 +82,7 @@ def test_sedimentation_volume_conservation(tmp_path, env, method):
     assert np.sum(eps) * V == pytest.approx(expected, rel=1e-9)
 
 
+@pytest.mark.mpi
 def test_parallel_matches_serial(tmp_path, env):
     """mpirun -np 2 gives the serial result: after 0.03 s (~15 steps; few
     enough that the solver-tolerance differences between the serial and the

@@ -30,6 +30,8 @@ import nscdpost
 from foamcase import read_internal, run, run_parallel
 from test_vansFoam import small_sedimentation
 
+pytestmark = pytest.mark.fast
+
 NROW, NCOL = 6, 10
 N_GRAINS = NROW * NCOL
 D = 3e-3
@@ -75,6 +77,7 @@ def runs(tmp_path_factory, env):
     return out
 
 
+@pytest.mark.mpi
 @pytest.mark.parametrize("n", [2, 4])
 def test_sedimentation_matches_serial(runs, n):
     """The grains fall as in the serial run: after 0.05, 0.1 and 0.15 s
@@ -95,6 +98,7 @@ def test_sedimentation_matches_serial(runs, n):
         assert _volume_error(par, t) < 1e-9
 
 
+@pytest.mark.mpi
 def test_restart_on_4_ranks_continues_a_2_rank_run(runs, env, tmp_path):
     """The 2-rank run's state at 0.1 s (grainState.h5 and the coupling's
     restart lists, written whole into the case), reconstructed and
@@ -117,6 +121,7 @@ def test_restart_on_4_ranks_continues_a_2_rank_run(runs, env, tmp_path):
     assert dx < 1e-4 * D
 
 
+@pytest.mark.mpi
 def test_rotation_coupling_keeps_every_grain_on_every_rank(tmp_path, env):
     """A coupling sub-model whose per-grain sums are not yet completed over
     the grains' copies (here rotationCoupling): by default the run says so
@@ -144,6 +149,7 @@ def test_rotation_coupling_keeps_every_grain_on_every_rank(tmp_path, env):
             " rotationCoupling") in out, out[-2000:]
 
 
+@pytest.mark.mpi
 def test_bed_at_rest_across_ranks_matches_serial(tmp_path, env):
     """A bed of 40 discs settled by grainFoam (its contacts carry the
     weight) then immersed: vansFoam from that state on 2 ranks split across
@@ -192,6 +198,7 @@ def test_bed_at_rest_across_ranks_matches_serial(tmp_path, env):
     assert vmax < 1e-2   # (the pressure's start from 0 stirs the bed a little)
 
 
+@pytest.mark.mpi
 @pytest.mark.parametrize("n,split", [(2, (1, 2, 1)), (4, (2, 2, 1))])
 def test_heat_exchange_decomposed_matches_serial(tmp_path, env, n, split):
     """Fluid-grain heat exchange (heatTransferModel, thesis eq. 4.4-4.13)

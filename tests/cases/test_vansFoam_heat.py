@@ -29,12 +29,15 @@ import re
 
 
 import numpy as np
+import pytest
 
 import correlations
 import nscdpost
 
 from foamcase import (add_fluid, add_scalar_transport, make_box_case, read_internal, run,
                       uniform_inflow, write)
+
+pytestmark = pytest.mark.fast
 
 
 

@@ -49,6 +49,8 @@ import nscdpost
 from foamcase import add_fluid, make_box_case, run, write, run_parallel, read_internal
 from test_vansFoam_heat import add_heat, heat_lines, set_materials
 
+pytestmark = pytest.mark.fast
+
 FACES = {"bottom": "(1 5 4 0)", "left": "(0 4 7 3)", "right": "(2 6 5 1)", "top": "(3 7 6 2)"}
 
 
@@ -384,6 +386,7 @@ def test_heat_budget_closes(tmp_path, env):
     assert worst < 1e-6 * Qx
 
 
+@pytest.mark.mpi
 def test_parallel_heat_matches_serial(tmp_path, env):
     """The budget case (heat, convective wall, fvOptions, grains) on 2 ranks
     (decomposePar, mpirun -np 2 -parallel) gives the serial grain mean

@@ -79,6 +79,7 @@ def water_volumes(stdout):
     return [float(v) for v in re.findall(r"water volume sum\(eps alpha V\) = (\S+) m\^3", stdout)]
 
 
+@pytest.mark.slow
 def test_dam_break_martin_moyce(tmp_path, env):
     case = str(tmp_path / "damBreak")
     dam_break(case, env, n=16)
@@ -131,6 +132,7 @@ def zero_grains(case):
           "material glass;\nmethod list;\ngrains ();\n")
 
 
+@pytest.mark.fast
 def test_reduces_to_interfoam(tmp_path, env):
     """No grains / zero grains: the fields of interFoam after 0.05 s (58
     steps), to round-off (measured: alpha, U 2e-12, p_rgh 1e-10 relative,
@@ -229,6 +231,7 @@ def basin(case, env, grains, fixed, end, dt=None, write_interval=None, **kw):
     add_two_phase(case, env, 0.03, fixed=fixed, dt=dt, **kw)
 
 
+@pytest.mark.fast
 def test_hydrostatic_basin_fixed_grains(tmp_path, env):
     """Resting fixed grains in the water, across the surface and in the air:
     no spurious current, max |U| < 1e-8 m/s over 1,000 steps (measured
@@ -254,6 +257,7 @@ def test_hydrostatic_basin_fixed_grains(tmp_path, env):
     assert max(abs(v - vol[0]) for v in vol) < 1e-12 * vol[0]
 
 
+@pytest.mark.fast
 def test_sinking_grains_conserve_water(tmp_path, env):
     """Grains falling from the air through the free surface and settling in
     the water: sum(eps alpha V) is conserved to round-off (eps-weighted MULES,
@@ -273,6 +277,7 @@ def test_sinking_grains_conserve_water(tmp_path, env):
     assert np.all(g["x"][:, 1] < 0.03), g["x"]
 
 
+@pytest.mark.fast
 def test_unknown_alpha_control_keyword(tmp_path, env):
     case = str(tmp_path / "keyword")
     dam_break(case, env, n=8, end=0.001)
@@ -285,6 +290,7 @@ def test_unknown_alpha_control_keyword(tmp_path, env):
     assert "Unknown keyword" in out and "nAlphaCorrs" in out
 
 
+@pytest.mark.fast
 def test_unknown_transport_keyword(tmp_path, env):
     case = str(tmp_path / "transport")
     dam_break(case, env, n=8, end=0.001)
@@ -302,6 +308,7 @@ def closed_form_slip(drho, mu, rho, d):
     return correlations.terminal_velocity(correlations.cd_dallavalle, d, mu / rho, rho, rho + drho)
 
 
+@pytest.mark.fast
 def test_terminal_slip_velocity_in_water(tmp_path, env):
     """A single grain settling in the water of a full tank (vansFoam's test
     case, h/d = 10, 3D): the coupling terms of the dynamic, p_rgh form give
@@ -356,6 +363,7 @@ def grain_series(case):
     return np.array(ts), np.array(xs), np.array(vs), np.array(ss)
 
 
+@pytest.mark.slow
 def test_grain_falling_from_air_into_water(tmp_path, env):
     """Issue 6: one 1 mm glass disc (rho_p 2500, 2D, 4 mm cells) released
     at rest in the air (rho 1, nu 1.48e-5) 25 mm above a liquid layer

@@ -124,6 +124,7 @@ def make_channel(case, N, L, Us, dt, end_time, grains, psi_outlet):
            f" outlet {{ {psi_outlet} }} {side} }}\n"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("grains", [False, True], ids=["eps1", "fixedGrains"])
 def test_front_against_ogata_banks(tmp_path, env, grains):
     N, L, D, T, dt = 500, 0.5, 5e-4, 5.0, 2e-3
@@ -167,6 +168,7 @@ def test_front_against_ogata_banks(tmp_path, env, grains):
     assert psi[0] > 0.99 and psi[-1] < 1e-3
 
 
+@pytest.mark.fast
 def test_closed_box_conservation(tmp_path, env):
     r = 1.5e-3
     depth = 0.003
@@ -204,6 +206,7 @@ def test_closed_box_conservation(tmp_path, env):
     assert psi_max < 1 + 1e-6
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("bounded", [False, True], ids=["conservative", "bounded"])
 def test_uniform_psi_resolved_falling_disc(tmp_path, env, bounded):
     """One 2 mm disc falling through 2 mm cells (air), psi = 0.5 everywhere.
@@ -241,6 +244,7 @@ def test_uniform_psi_resolved_falling_disc(tmp_path, env, bounded):
         assert drift < 1e-10
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("what", ["noSolver", "noScheme", "noD", "unknownKeyword", "psiWithoutVapour"])
 def test_input_errors(tmp_path, env, what):
     case = str(tmp_path / what)
