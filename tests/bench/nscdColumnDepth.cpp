@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Benchmark driver (issue 26; src/nscd/README.md "Tolerance and bed depth"):
+// Benchmark driver (src/nscd/README.md "Tolerance and bed depth"):
 // a column of discs between frictionless side walls, poured from a loose
 // lattice and stepped with nscd::System::advance, to measure the velocity
 // noise the contact solver's stopping test leaves in a bed N layers deep.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Benchmark driver (issue 53; docs/validation/contactCompliance.md): a 2D silo
+// Benchmark driver (docs/validation/contactCompliance.md): a 2D silo
 // discharging through an orifice of 8 d, the textbook dense granular flow.
 // 2,000 glass discs of 2-2.4 mm (rho 2500, mu 0.5, walls the grains'
 // friction) in a flat-bottomed silo 0.1 m wide, poured from a loose lattice

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Shared helpers of the fault tests of issue 27 (test_faults_control.py,
+"""Shared helpers of the fault tests (test_faults_control.py,
 test_faults_state.py, test_faults_boundaries.py): a small 2D box case, edits
 of controlDict, digests of the earlier results (the failure check is
 foamcase.fails_with)."""

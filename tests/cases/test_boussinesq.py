@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vansFoam Boussinesq buoyancy (issue 5; thesis section 4.1.2) against the
+"""vansFoam Boussinesq buoyancy (thesis section 4.1.2) against the
 de Vahl Davis (1983) benchmark of natural convection in a differentially
 heated square cavity.
 

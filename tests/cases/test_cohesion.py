@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vansFoam cohesion switched by the vapour field (issue 5; thesis eq. 4.18).
+"""vansFoam cohesion switched by the vapour field (thesis eq. 4.18).
 
     F_c = F_c^0 if psi < psi^0 at the contact point, 0 otherwise,
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Immersed vaporising droplet (issue 8): bad input - constant/dropletProperties
+"""Immersed vaporising droplet: bad input - constant/dropletProperties
 and couplingProperties grainPorosity are keyword-checked (FatalIOErrors naming
 the file, the keyword and the fix).  Case set-up in dropletcase.py."""
 import os

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Immersed vaporising droplet (issue 8): the grains inside the droplet -
+"""Immersed vaporising droplet: the grains inside the droplet -
 absorbed volume (eq. 4.15), grain-droplet force F_p (eq. 4.17), liquid drag
 and pressure on the grains, porous grains (thesis 4.3.2).  Case set-up in
 dropletcase.py."""
@@ -18,7 +18,7 @@ from foamcase import run
 
 
 # ---------------------------------------------------------------------------
-# Second increment: grain-droplet force F_p (eq. 4.17), porous grains (4.3.2)
+# Grain-droplet force F_p (eq. 4.17), porous grains (4.3.2)
 # ---------------------------------------------------------------------------
 
 def lens_area(R, r, d):

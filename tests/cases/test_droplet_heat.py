@@ -1,6 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Immersed vaporising droplet (issue 8, first increment; thesis section 4.3.1,
-eq. 4.15-4.17): src/dropletCoupling, fvOption vapourDropletSource in vansFoam.
+"""Immersed vaporising droplet (thesis section 4.3.1, eq. 4.15-4.17): src/dropletCoupling, fvOption vapourDropletSource in vansFoam.
 
 (a) Droplet held fixed in a hot stagnant gas, no grains, blowing off: steady
     conduction from a cylinder of diameter D at T_d centred in a square box of

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Immersed vaporising droplet (issue 8): motion of the droplet (moving yes,
+"""Immersed vaporising droplet: motion of the droplet (moving yes,
 thesis eq. 4.17): added mass of the falling droplet, seepage through a fixed
 bed, landing on a wall, weightlessness inside a free droplet.  Case set-up
 in dropletcase.py."""

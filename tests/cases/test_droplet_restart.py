@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Immersed vaporising droplet (issue 8): a run stopped at a write time and
+"""Immersed vaporising droplet: a run stopped at a write time and
 restarted, and a run on two ranks, reproduce the uninterrupted serial run
 (droplet state in <time>/uniform/droplet, global sums over the ranks).
 Case set-up in dropletcase.py."""
@@ -147,7 +147,7 @@ def test_parallel_matches_serial(tmp_path, env, release):
     a, b = read_droplet(case), read_droplet(par)
     assert a.shape == b.shape
     assert np.allclose(a[:, :13], b[:, :13], rtol=1e-8, atol=1e-18)
-    # forces F_p, F_pen (second increment): the penalisation force is a sum
+    # forces F_p, F_pen (grain-droplet force): the penalisation force is a sum
     # of the end-of-step U, equal to the U solver tolerance (1e-6 relative)
     F = np.abs(a[:, 13:17]).max()
     assert np.allclose(a[:, 13:17], b[:, 13:17], rtol=1e-6, atol=1e-6 * F)

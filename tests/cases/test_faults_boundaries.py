@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Faults of issue 27, grains and the boundaries: grains never vanish silently
+"""Faults at the boundaries: grains never vanish silently
 (rows 2-3: wallPatches typos, open patches, a wall retyped after the
 deposit) and grains leaving through the open boundaries listed in
 outletPatches are removed and counted (item 4).  Small 2D cases (seconds

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Faults of issue 27, run control: never hang (sub-step cap, a blown-up
+"""Faults of run control: never hang (sub-step cap, a blown-up
 fluid), solver health and time control (rows 1, 8-10, 11, 13); every row
 fails loudly (exit status, the message's key words) or does what is
 documented; the earlier results of the case stay intact.  Small 2D cases

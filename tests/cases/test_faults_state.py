@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Faults of issue 27, the grain state and the writes: bad, truncated or
+"""Faults of the grain state and the writes: bad, truncated or
 missing state files, restarts, interrupted writes, stop signals, parallel
 state, lagrangian output on the case's own mesh (rows 4-7, 12, 14); every
 row fails loudly or does what is documented, never crashes on a signal; the

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Measurement function objects of libfreeSurfaceFunctionObjects (issue 6):
+"""Measurement function objects of libfreeSurfaceFunctionObjects:
 waveGauges, runUp, granularFront (src/freeSurfaceFunctionObjects).
 
 References (exact results, no fitted numbers):

@@ -170,8 +170,8 @@ def test_copies_of_a_frictionless_column_stay_at_rest(tmp_path, frictionless_col
 def test_noisy_settle_names_the_contact_tolerance(tmp_path, env):
     """A settle that ends at maxTime without reaching speedTolerance says so
     (no 'Settled after') and, when the solver noise of the bed's depth,
-    (N/2) tolerance d_min/dt (src/nscd/README.md: measured 3.3e-3 m/s on
-    this 30-layer column at 1e-4), exceeds the speed asked for, names
+    (N/2) tolerance d_min/dt (docs/validation/nscdPerformance.md: measured
+    3.3e-3 m/s on this 30-layer column at 1e-4), exceeds the speed asked for, names
     contactSolver.tolerance as the fix."""
     case, log = column(tmp_path, env, "noisy", frictionless_sides=True,
                        settle=f"settle {{ maxTime 0.3; deltaT {DT}; speedTolerance 1e-4; }}\n")

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""grainFoam contact conduction through the OpenFOAM path (issue 5; thesis
+"""grainFoam contact conduction through the OpenFOAM path (thesis
 section 4.1.1, eq. 4.1-4.3): grainProperties `wallTemperatures` -> the nscd
 walls of the named patches -> steady conduction through a static column.
 

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Mesh independence of a sedimentation front from the semi-resolved to the
-unresolved regime (issue 4; thesis chapter 3 claims one scheme for h/d from
+unresolved regime (thesis chapter 3 claims one scheme for h/d from
 below 1 to several grain diameters, section 3.3.2 shows it on a fluidised
 layer).
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Packed-bed heat transfer measured from the air side (issue 5; thesis
+"""Packed-bed heat transfer measured from the air side (thesis
 section 4.1.2, eq. 4.4-4.13): air at T_in flows up through a fixed bed of
 hot spheres held at T_p (very large heat capacity: no keyword holds a grain
 temperature fixed), the bed's Nusselt number is measured as an experiment

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vansFoam in the resolved regime (issue 7, thesis sections 3.2.2, 3.3.3):
+"""vansFoam in the resolved regime (thesis sections 3.2.2, 3.3.3):
 grains spanning many cells, eps -> epsMin inside them, the semi-implicit drag
 (eq. 3.46-3.50) acting as a Brinkman volume penalisation.
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""decomposePar `method scotch` (issue 29 item 5): OpenFOAM v1912's
+"""decomposePar `method scotch`: OpenFOAM v1912's
 scotchDecomp built by Allwmake (src/decompose) shadows Debian's dummy, and
 grainVoidFraction -cellWeight gives decomposePar cell weights that balance
 the grains between the ranks.

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Snapshot PNGs of a tutorial (issue 28, item 5): the sedimentation
+"""Snapshot PNGs of a tutorial: the sedimentation
 tutorial's own Allrun, on a copy with 2 rows of discs and 0.1 s, renders its
 pictures with src/python/nscdrender.py (PyVista offscreen) after foamToVTK.
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Every tutorial's own Allrun runs to its end (issue 27, item 2).
+"""Every tutorial's own Allrun runs to its end.
 
 Each tutorial is copied (its files under version control only, so no
 earlier output is reused) and its Allrun is run unchanged with the smallest

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vansFoam energy transport (issue 5; thesis section 4.1.2, eq. 4.4-4.13).
+"""vansFoam energy transport (thesis section 4.1.2, eq. 4.4-4.13).
 
 - Single fixed grain (d = 0.5 mm) in a uniform upward flow at T_in, grain at
   T0: the flow heat capacity rho Cp U A is ~2000 times the grain's exchange

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vansFoam fvOptions, wall heat flux and heat budget (issue 5; thesis
+"""vansFoam fvOptions, wall heat flux and heat budget (thesis
 section 4.2.1, eq. 4.14).
 
 - Hele-Shaw friction (fvOption heleShawFriction, f_l = -gamma u,

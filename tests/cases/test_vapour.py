@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vansFoam vapour passive scalar psi (issue 5; thesis eq. 4.19, psiEqn.H).
+"""vansFoam vapour passive scalar psi (thesis eq. 4.19, psiEqn.H).
 
     d(eps psi)/dt + div(phi psi) = div(eps D_v grad psi),  phi = (eps U)_f . S_f
 

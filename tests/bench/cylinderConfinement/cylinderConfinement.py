@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark: the side walls' effect on the falling cylinder's speed
-(issue 7; thesis 3.3.3).
+(thesis 3.3.3).
 
 The reference U_t = 2.501 cm/s (Re = 156) is that of a cylinder falling in
 an INFINITE fluid (Namkoong, Yoo & Choi 2008, J. Fluid Mech. 604:33-53,

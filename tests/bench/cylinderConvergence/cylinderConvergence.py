@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark: grid convergence of the terminal velocity of the falling
-cylinder (issue 7; thesis 3.3.3, Namkoong, Yoo & Choi 2008, J. Fluid Mech.
+cylinder (thesis 3.3.3, Namkoong, Yoo & Choi 2008, J. Fluid Mech.
 604:33-53, "... a freely falling circular cylinder in an infinite fluid":
 U_t = 2.501 cm/s, Re = 156).
 

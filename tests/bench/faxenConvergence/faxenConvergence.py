@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Benchmark: grid convergence of the drag on a fixed disc between plane walls
-in Stokes flow, vansFoam resolved regime (issue 7; thesis 3.2.2, 3.3.3).
+in Stokes flow, vansFoam resolved regime (thesis 3.2.2, 3.3.3).
 
 The case is the one of tests/cases/test_resolvedRegime.py
 (`fixed_disc_drag`: disc D = 0.01 m centred in a channel H = 0.05 m,

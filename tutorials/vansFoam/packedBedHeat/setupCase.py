@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Set up the packedBedHeat cases (issue 5; thesis section 4.1.2).
+"""Set up the packedBedHeat cases (thesis section 4.1.2).
 
 usage: setupCase.py deposit [NGRAINS]   pour the grains onto a temporary floor
                                          (deposit/, method box + settle)
