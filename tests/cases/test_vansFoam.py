@@ -13,7 +13,7 @@ import pytest
 
 import nscdpost
 from foamcase import (add_fluid, make_box_case, run, run_fatal_io, run_parallel,
-                      read_internal)
+                      read_internal, write)
 
 pytestmark = pytest.mark.fast
 
@@ -157,6 +157,20 @@ def test_pressure_diffusion_must_not_be_negative(tmp_path, env):
     out = p.stdout + p.stderr
     assert p.returncode != 0
     assert "pressureDiffusion -1" in out and "couplingProperties" in out and "Fix" in out, out[-2000:]
+
+
+@pytest.mark.parametrize("rho, nu, bad", [(1000.0, 0.0, "nu 0 in"), (-1.0, 1e-6, "rho -1 and")])
+def test_fluid_properties_must_be_positive(tmp_path, env, rho, nu, bad):
+    """Bad input: rho or nu <= 0 in constant/transportProperties
+    (constantFluidProperties) is a FatalIOError naming the file, the values
+    and the fix, before any step."""
+    case = str(tmp_path / "props")
+    small_sedimentation(case, env, end=0.01, write=0.01)
+    write(os.path.join(case, "constant", "transportProperties"), "dictionary",
+          "transportProperties", f"rho {rho};\nnu {nu};\n")
+    out = run_fatal_io("vansFoam", case, env)
+    assert bad in out and "transportProperties" in out, out[-2000:]
+    assert "Fix" in out and "Time = " not in out, out[-2000:]
 
 
 def shear_box(case, shear):

@@ -54,6 +54,7 @@ Usage
 \*---------------------------------------------------------------------------*/
 
 #include "vansCloud.H"
+#include "localMixtureFluidProperties.H"
 #include "couplingStepTools.H"
 #include "grainDictionaryTools.H"
 #include "fvCFD.H"

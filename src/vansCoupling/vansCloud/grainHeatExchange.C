@@ -140,9 +140,7 @@ void Foam::grainHeatExchange::read
 (
     const IOdictionary& dict,
     const dictionary& td,
-    const bool constantProperties,
-    const scalar rho,
-    const scalar nu
+    const fluidProperties& fluid
 )
 {
     // absent or `none`: no fluid-grain heat exchange (KT, KTTp stay zero)
@@ -150,7 +148,7 @@ void Foam::grainHeatExchange::read
     {
         return;
     }
-    if (!constantProperties)
+    if (!fluid.kinematic())
     {
         FatalIOErrorInFunction(dict)
             << "heatTransferModel in " << dict.name() << ": heat"
@@ -158,8 +156,8 @@ void Foam::grainHeatExchange::read
             << nl << "    Fix: remove heatTransferModel."
             << exit(FatalIOError);
     }
-    rho_ = rho;
-    nu_ = nu;
+    rho_ = fluid.rho();
+    nu_ = fluid.nu();
     model_ = heatTransferModel::New(dict);
     readProperties(dict, td);
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "resolvedGrains.H"
 #include "fvc.H"
+#include "fvMatrices.H"
 #include "zeroGradientFvPatchFields.H"
 #include "PstreamCombineReduceOps.H"
 
@@ -12,6 +13,7 @@ Foam::resolvedGrains::resolvedGrains
     const grainCloud& grains,
     const overlapMeshAdapter& adapter,
     const vansCloudSettings& settings,
+    const fluidProperties& fluid,
     const wordList& patchTypes
 )
 :
@@ -19,6 +21,7 @@ Foam::resolvedGrains::resolvedGrains
     grains_(grains),
     adapter_(adapter),
     settings_(settings),
+    fluid_(fluid),
     Bs_
     (
         IOobject("Bs", mesh.time().timeName(), mesh),
@@ -50,7 +53,7 @@ void Foam::resolvedGrains::mark()
     // the B part of the solid flux: keep every grain unresolved
     if
     (
-        !settings_.constantProperties || n == 0
+        !fluid_.kinematic() || n == 0
      || !(settings_.resolvedCellsPerDiameter < GREAT)
     )
     {
@@ -104,10 +107,43 @@ bool Foam::resolvedGrains::fixedResolved() const
 }
 
 
+Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::pressureRAU
+(
+    const fvMatrix<vector>& UEqn,
+    const volScalarField& rAU
+) const
+{
+    // SIMPLEC-consistent pressure coefficient rAtU = 1/(A - H1).
+    // Resolved free grains with the viscosity penalty: its large
+    // off-diagonal coefficients make 1/A inside the grain ~h^2/(lambda nu)
+    // instead of ~dt rho/rho_p, so that the pressure could no longer move
+    // the grain and PISO diverges (measured).  rAtU keeps the grain's
+    // inertia; the difference rAU - rAtU acts on the pressure of the
+    // previous corrector (deferred, exact at convergence, as pimpleFoam's
+    // `consistent`).
+    // Resolved FIXED grains: the same scheme.  With 1/A the pressure
+    // inside the fixed penalised grain is undetermined (eps rAU ~ eps/K ->
+    // 0, no solid flux term): |p| ~ 1.4e5 Pa inside against ~10 outside,
+    // and its gradient in the rim cells drove a tangential jet around a
+    // spinning fixed disc (2.0 x Couette at r = 1.06 R,
+    // tests/cases/test_rotationCoupling.py).  With rAtU the fluid's
+    // pressure coefficient is ~dt instead of ~h^2/(4 nu), so are the rim
+    // faces' (linear mean), and the field converges to the Couette profile
+    // (docs/validation/resolvedGrains.md).  Same fixed point as with 1/A
+    // (the deferred part vanishes when p = p_old); only the PISO iteration
+    // differs.
+    if (simplecPressure())
+    {
+        return 1.0/(1.0/rAU - UEqn.H1());
+    }
+    return tmp<volScalarField>(rAU);
+}
+
+
 Foam::tmp<Foam::surfaceScalarField>
 Foam::resolvedGrains::rigidViscosityf() const
 {
-    const dimensionedScalar nu("nu", dimViscosity, settings_.nu);
+    const dimensionedScalar nu("nu", dimViscosity, fluid_.nu());
     // chi = max(0, 2 Br - 1): 0 in cells at most half covered, 1 in fully
     // covered ones, continuous in Br (smooth in time as the grain moves)
     const volScalarField chi(max(2*Br_ - 1, dimensionedScalar(dimless, Zero)));

@@ -4,6 +4,8 @@
 #include "fvc.H"
 #include "fixedValueFvPatchFields.H"
 #include "zeroGradientFvPatchFields.H"
+#include "calculatedFvPatchFields.H"
+#include "constantFluidProperties.H"
 
 // * * * * * * * * * * * * * * * Local Functions  * * * * * * * * * * * * * //
 
@@ -46,12 +48,13 @@ namespace
     Foam::string replicatedReasons
     (
         const Foam::dictionary& dict,
-        const Foam::vansCloudSettings& s
+        const Foam::vansCloudSettings& s,
+        const Foam::fluidProperties& fluid
     )
     {
         using namespace Foam;
         DynamicList<word> why;
-        if (!s.constantProperties)
+        if (!fluid.kinematic())
         {
             why.append("vansInterFoam");
         }
@@ -88,15 +91,43 @@ namespace
         );
         return dictionary(d);
     }
+
+    //- The fluid properties handed to the constructor; FatalError if null
+    const Foam::fluidProperties& validFluid
+    (
+        const Foam::autoPtr<Foam::fluidProperties>& fluid
+    )
+    {
+        if (!fluid.valid())
+        {
+            FatalErrorInFunction
+                << "vansCloud constructed without fluid properties"
+                << Foam::exit(Foam::FatalError);
+        }
+        return *fluid;
+    }
 }
 
 
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
+Foam::vansCloud::vansCloud(const fvMesh& mesh)
+:
+    vansCloud
+    (
+        mesh,
+        autoPtr<fluidProperties>
+        (
+            new constantFluidProperties(transportDict(mesh))
+        )
+    )
+{}
+
+
 Foam::vansCloud::vansCloud
 (
     const fvMesh& mesh,
-    const bool constantProperties
+    autoPtr<fluidProperties> fluid
 )
 :
     mesh_(mesh),
@@ -108,8 +139,12 @@ Foam::vansCloud::vansCloud
             IOobject::MUST_READ, IOobject::NO_WRITE
         )
     ),
-    settings_(dict_, constantProperties),
-    grains_(mesh, true, replicatedReasons(dict_, settings_)),
+    settings_(dict_),
+    fluid_(std::move(fluid)),
+    grains_
+    (
+        mesh, true, replicatedReasons(dict_, settings_, validFluid(fluid_))
+    ),
     adapter_
     (
         mesh,
@@ -152,21 +187,31 @@ Foam::vansCloud::vansCloud
         fieldIO(mesh, "Kp"), mesh, dimensionedScalar(dimless, Zero),
         zeroGradientFvPatchScalarField::typeName
     ),
+    // the boundary values are assigned with the internal ones (pf + K_p on
+    // every patch): calculated patches
+    pressureCoefficient_
+    (
+        fieldIO(mesh, "pressureCoefficient"), mesh,
+        dimensionedScalar("one", dimless, 1.0),
+        calculatedFvPatchScalarField::typeName
+    ),
     solidPressureForce_
     (
         fieldIO(mesh, "solidPressureForce"), mesh,
         dimensionedVector(dimAcceleration, Zero),
         zeroGradientFvPatchVectorField::typeName
     ),
-    resolved_(mesh, grains_, adapter_, settings_, solidFluxPatchTypes(mesh)),
+    resolved_
+    (
+        mesh, grains_, adapter_, settings_, *fluid_, solidFluxPatchTypes(mesh)
+    ),
     heat_(mesh, grains_, adapter_),
     cohesion_(mesh, grains_, adapter_)
 {
     drag_ = dragModel::New(dict_);
 
     const dictionary td(transportDict(mesh));
-    settings_.readFluid(td);
-    if (!settings_.constantProperties)
+    if (!fluid_->kinematic())
     {
         // coupling fields per unit volume in dynamic units
         Kdrag_.dimensions().reset(dimDensity/dimTime);
@@ -176,10 +221,7 @@ Foam::vansCloud::vansCloud
     }
 
     grains_.checkState();
-    heat_.read
-    (
-        dict_, td, settings_.constantProperties, settings_.rho, settings_.nu
-    );
+    heat_.read(dict_, td, *fluid_);
     const vapourSettings& vap = settings_.vapour;
     settings_.vapour.read(td);
     if (vap.on)
@@ -295,7 +337,7 @@ void Foam::vansCloud::spreadDragFields(const scalar dt)
     const label n = s.size();
     const scalar depth = adapter_.depth();
     const std::vector<double>& W = adapter_.grainMappedVolume();
-    const scalar rhoK = settings_.rhoK;
+    const scalar rhoK = fluid_->rhoK();
 
     // Drag fields: K = sum (V_pc/V_c) gamma*/rho, K v**, and for model B
     // the solid part of the pressure force phi grad(p)
@@ -376,22 +418,6 @@ void Foam::vansCloud::spreadDragFields(const scalar dt)
 }
 
 
-void Foam::vansCloud::predictDragCore
-(
-    const volVectorField& U,
-    const volVectorField& gradp,
-    const scalar dt
-)
-{
-    predictGrains(U, gradp, dt);
-    if (settings_.rotation)
-    {
-        gatherAngularVelocities();
-    }
-    spreadDragFields(dt);
-}
-
-
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
 
 void Foam::vansCloud::mapGrains()
@@ -429,53 +455,46 @@ void Foam::vansCloud::predictDrag
     const scalar dt
 )
 {
-    if (!settings_.constantProperties)
+    fluid_->gather(adapter_, grains_.system().size(), rhog_, nug_);
+    predictGrains(U, fvc::grad(p)(), dt);
+    if (settings_.rotation)
     {
-        FatalErrorInFunction
-            << "vansCloud constructed without constant fluid properties:"
-            << " call predictDrag(U, p, rho, mu, dt)" << exit(FatalError);
+        gatherAngularVelocities();
     }
-    const label n = grains_.system().size();
-    rhog_.setSize(n);
-    nug_.setSize(n);
-    rhog_ = settings_.rho;
-    nug_ = settings_.nu;
-    predictDragCore(U, fvc::grad(p)(), dt);
+    spreadDragFields(dt);
+    // pf + K_p, pf = eps (model A) or 1 (model B)
+    if (modelA())
+    {
+        pressureCoefficient_ = voidFraction_ + Kp_;
+    }
+    else
+    {
+        pressureCoefficient_ = dimensionedScalar("one", dimless, 1.0) + Kp_;
+    }
 }
 
 
-void Foam::vansCloud::predictDrag
+Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::faceForces
 (
-    const volVectorField& U,
-    const volScalarField& p,
-    const volScalarField& rho,
-    const volScalarField& mu,
-    const scalar dt
-)
+    const surfaceScalarField& fluidWeightFlux,
+    const uniformDimensionedVectorField& g,
+    const surfaceScalarField& snGradpSf
+) const
 {
-    if (settings_.constantProperties)
-    {
-        FatalErrorInFunction
-            << "vansCloud constructed with constant fluid properties:"
-            << " call predictDrag(U, p, dt) with the kinematic pressure"
-            << exit(FatalError);
-    }
-    const label n = grains_.system().size();
-    List<scalar> mug;
-    adapter_.gather(rho, rhog_);
-    adapter_.gather(mu, mug);
-    nug_.setSize(n);
-    forAll(nug_, i)
-    {
-        // a grain outside the mesh (W = 0) has no drag: any positive value
-        if (!(rhog_[i] > 0) || !(mug[i] > 0))
-        {
-            rhog_[i] = 1;
-            mug[i] = 1;
-        }
-        nug_[i] = mug[i]/rhog_[i];
-    }
-    predictDragCore(U, fvc::grad(p)(), dt);
+    return
+        fluidWeightFlux
+      + fvc::interpolate(Kg())*(g & mesh_.Sf())
+      - fvc::interpolate(pressureCoefficient_)*snGradpSf;
+}
+
+
+Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::weightFlux
+(
+    const volScalarField& rAU,
+    const uniformDimensionedVectorField& g
+) const
+{
+    return fvc::interpolate(Kg()*rAU)*(g & mesh_.Sf());
 }
 
 

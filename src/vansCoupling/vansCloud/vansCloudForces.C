@@ -155,7 +155,7 @@ void Foam::vansCloud::addMomentumSources
 ) const
 {
     UEqn += fvm::Sp(Kdrag_, UEqn.psi());
-    if (settings_.constantProperties && settings_.resolvedCellsPerDiameter < GREAT)
+    if (fluid_->kinematic() && settings_.resolvedCellsPerDiameter < GREAT)
     {
         UEqn -= KUs_ - Kg()*g;
     }
@@ -179,7 +179,7 @@ void Foam::vansCloud::setFluidForces
     nscd::System& s = grains_.system();
     const scalar depth = adapter_.depth();
     const std::vector<double>& W = adapter_.grainMappedVolume();
-    const scalar rhoK = settings_.rhoK;
+    const scalar rhoK = fluid_->rhoK();
     adapter_.gather(U, Ug_);
     const volVectorField gradp(fvc::grad(p));
     adapter_.gather(gradp, gradpg_);

@@ -184,14 +184,7 @@ void Foam::vansCloud::logSettings() const
     {
         Info<< ", 2D drag convention " << drag_->discConventionName();
     }
-    if (settings_.constantProperties)
-    {
-        Info<< ", fluid rho " << settings_.rho << " nu " << settings_.nu;
-    }
-    else
-    {
-        Info<< ", local fluid rho and mu (mixture fields)";
-    }
+    fluid_->describe(Info);
     if (rigidViscosity())
     {
         Info<< ", rigid viscosity ratio " << settings_.rigidViscosityRatio

@@ -95,7 +95,7 @@ void Foam::vansCloud::addRotationalForces
     const nscd::System& s = grains_.system();
     const label n = s.size();
     const scalar depth = adapter_.depth();
-    const scalar rhoK = settings_.rhoK;
+    const scalar rhoK = fluid_->rhoK();
     const std::vector<double>& W = adapter_.grainMappedVolume();
     const auto& eg = adapter_.entryGrain();
     const auto& ec = adapter_.entryCell();
@@ -158,7 +158,7 @@ void Foam::vansCloud::logDragAngularMomentum
     // the grains gain sum_p x_p x F^drag_p + T^drag_p (dragTorqueGrains_,
     // summed per overlap entry by addRotationalForces), the fluid loses
     // sum_c V_c x_c x rho (K U - K v_s)_c
-    const scalar rhoK = settings_.rhoK;
+    const scalar rhoK = fluid_->rhoK();
     const vectorField& UI = U.primitiveField();
     const vectorField& gI = gradp.primitiveField();
     // fluid side from the fields (K U - K v**_0 + K_p rho grad p): the

@@ -22,13 +22,8 @@ const Foam::wordList Foam::vansCloudSettings::couplingKeywords
 
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
-Foam::vansCloudSettings::vansCloudSettings
-(
-    const IOdictionary& dict,
-    const bool constantProps
-)
+Foam::vansCloudSettings::vansCloudSettings(const IOdictionary& dict)
 :
-    constantProperties(constantProps),
     rotation(dict.getOrDefault<bool>("rotationCoupling", false)),
     forceModel(dict.getOrDefault<word>("forceModel", "A")),
     // default: off (no grain resolved; see vansCloud.H, Resolved grains)
@@ -97,23 +92,6 @@ Foam::vansCloudSettings::vansCloudSettings
 
 
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
-
-void Foam::vansCloudSettings::readFluid(const dictionary& td)
-{
-    if (constantProperties)
-    {
-        rho = dimensionedScalar("rho", dimDensity, td).value();
-        nu = dimensionedScalar("nu", dimViscosity, td).value();
-        if (!(rho > 0) || !(nu > 0))
-        {
-            FatalIOErrorInFunction(td)
-                << "rho and nu in constant/transportProperties must be > 0"
-                << exit(FatalIOError);
-        }
-        rhoK = rho;
-    }
-}
-
 
 void Foam::vapourSettings::read(const dictionary& td)
 {

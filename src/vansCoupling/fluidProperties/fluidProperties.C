@@ -1,0 +1,7 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "fluidProperties.H"
+
+namespace Foam
+{
+    defineTypeNameAndDebug(fluidProperties, 0);
+}
