@@ -57,7 +57,8 @@ spheres (2 pi R sigma = 1.0e-5 N), which no wet contact can carry."""
 # water (not in Table 4.2)
 RHO_L, LATENT, T_D = 958.0, 2.257e6, 373.15
 DEPTH = GAP                      # 2D mesh depth = the Hele-Shaw gap
-CELL = D_DROP / 8
+# uniform cells, D/8 (env CELLS_PER_DROPLET: D/n, the mesh-refinement study)
+CELL = D_DROP / int(os.environ.get("CELLS_PER_DROPLET", "8"))
 D_GRAIN_REDUCED = 1e-3
 PHI_BED = 0.4                    # solid fraction of the real bed (thesis 4.3.2)
 MU_L = 2.82e-4                   # liquid (water, 100 C) viscosity [Pa s]: dropletProperties default
