@@ -544,21 +544,49 @@ Foam::labelList Foam::grainCloud::exitPatches
         firstCrossing(paths[k].first(), paths[k].second(), tFirst[k], patch[k]);
     }
     // the rank whose face is crossed first names the patch (the indices of
-    // the non-processor patches are the same on every rank); two list
-    // reductions for all the grains
+    // the non-processor patches are the same on every rank); on a tie
+    // (crossing points within exitTieDistance(), e.g. a point on an edge
+    // shared by faces of two ranks) an outlet patch wins, as in
+    // firstCrossing.  Two list reductions for all the grains.
     scalarList tGlobal(tFirst);
     Pstream::listCombineGather(tGlobal, minEqOp<scalar>());
     Pstream::listCombineScatter(tGlobal);
+    const label nPatches = mesh_.boundaryMesh().size();
+    const scalar tie = exitTieDistance();
     forAll(paths, k)
     {
-        if (!(tGlobal[k] < GREAT && tFirst[k] == tGlobal[k]))
+        const scalar len = mag(paths[k].second() - paths[k].first());
+        if
+        (
+            !(tGlobal[k] < GREAT && (tFirst[k] - tGlobal[k])*len <= tie)
+         || patch[k] < 0
+        )
         {
             patch[k] = -1;
+        }
+        else if (outletPatches_.found(patch[k]))
+        {
+            patch[k] += nPatches;    // priority of the outlets on a tie
         }
     }
     Pstream::listCombineGather(patch, maxEqOp<label>());
     Pstream::listCombineScatter(patch);
+    for (label& p : patch)
+    {
+        if (p >= nPatches)
+        {
+            p -= nPatches;
+        }
+    }
     return patch;
+}
+
+
+Foam::scalar Foam::grainCloud::exitTieDistance() const
+{
+    // round-off of the crossing points is ~1e-16 of the coordinates; 1e-9
+    // of the (global) mesh span is far above it and far below any grain
+    return 1e-9*mag(mesh_.bounds().span());
 }
 
 
@@ -571,38 +599,67 @@ void Foam::grainCloud::firstCrossing
 ) const
 {
     const vector dx(x1 - x0);
+    const scalar len = mag(dx);
 
     // first boundary face crossed by the path x0 -> x1 on this rank
     tBest = GREAT;
     patchBest = -1;
+    if (len < VSMALL)
+    {
+        return;
+    }
+    // the path's crossing with a face: the exact point-in-polygon test of
+    // face::intersection (the face-centre triangle fan, barycentric bounds)
+    // widened by faceTol, relative to the face size (barycentric
+    // coordinates), so that a point on an edge shared by two faces is in
+    // both and no point between two faces is in none
+    const scalar faceTol = 1e-6;
+    // the path parameter t is in [0, 1] (x0 inside the mesh, x1 outside);
+    // tTol: exitTieDistance() in t, both the round-off allowed at x0 or x1
+    // and the tie of two crossings
+    const scalar tTol = exitTieDistance()/len;
+    const pointField& points = mesh_.points();
     const polyBoundaryMesh& pbm = mesh_.boundaryMesh();
+    bool bestIsOutlet = false;
     for (const polyPatch& pp : pbm)
     {
-        if (pp.coupled())
+        if (pp.coupled() || isA<emptyPolyPatch>(pp))
         {
             continue;
         }
+        const bool isOutlet = outletPatches_.found(pp.index());
         const vectorField::subField Cf(pp.faceCentres());
         const vectorField::subField Sf(pp.faceAreas());
         forAll(pp, facei)
         {
-            const scalar magS = mag(Sf[facei]);
-            if (magS < VSMALL) continue;
-            const vector nf(Sf[facei]/magS);
-            const scalar d0 = (x0 - Cf[facei]) & nf;
-            const scalar d1 = (x1 - Cf[facei]) & nf;
-            if (!(d0 <= 0 && d1 > 0)) continue;
-            const scalar t = d0/(d0 - d1);
-            const point c(x0 + t*dx);
-            scalar rFace = 0;
-            for (const label pi : pp[facei])
-            {
-                rFace = max(rFace, mag(mesh_.points()[pi] - Cf[facei]));
-            }
-            if (mag(c - Cf[facei]) <= 1.001*rFace && t < tBest)
+            // outwards only (Sf points out of the mesh)
+            if ((dx & Sf[facei]) <= 0) continue;
+            const pointHit hit
+            (
+                pp[facei].intersection
+                (
+                    x0, dx, Cf[facei], points, intersection::FULL_RAY, faceTol
+                )
+            );
+            if (!hit.hit()) continue;
+            const scalar t = hit.distance();
+            if (t < -tTol || t > 1 + tTol) continue;
+            // the first face along the path; on a tie (the same crossing
+            // point to within exitTieDistance: an edge shared by two faces,
+            // or faces of two patches in one plane) an outlet patch wins
+            // over a wall or an open patch, so that a grain whose centre
+            // crosses the boundary on the rim of an orifice leaves through
+            // it; between two faces of one kind the first found stays
+            const bool tie = mag(t - tBest) <= tTol;
+            if
+            (
+                (!tie && t < tBest)
+             || (tie && isOutlet && !bestIsOutlet)
+            )
             {
                 tBest = t;
                 patchBest = pp.index();
+                bestIsOutlet = isOutlet;
             }
         }
     }
