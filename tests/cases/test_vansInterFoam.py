@@ -24,6 +24,9 @@
   integration of the same drag law in air (bracketed), no kinetic-energy spike
   at water entry, terminal slip velocity in the liquid within 5 % of vansFoam
   (measured 2.0 %).
+- Grains leaving through an open top (outletPatches, issue 60): alpha
+  bounded, water volume + water out through the boundaries constant to
+  round-off; alpha out of [0, 1] stops the run with a FatalError.
 - Keyword checks.
 """
 import math
@@ -38,7 +41,7 @@ import pytest
 
 import correlations
 import nscdpost
-from foamcase import add_fluid, make_box_case, run, tutorial_modules, write
+from foamcase import add_fluid, fails_with, make_box_case, run, tutorial_modules, write
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 TUT = os.path.join(ROOT, "tutorials", "vansInterFoam", "damBreak")
@@ -161,23 +164,34 @@ def test_reduces_to_interfoam(tmp_path, env):
 
 
 def add_two_phase(case, env, level, fixed=False, dt=None, max_co=0.5,
-                  p_tol="tolerance 1e-10; relTol 0.01;", nu_water=1e-6):
+                  p_tol="tolerance 1e-10; relTol 0.01;", nu_water=1e-6, open_top=None):
     """Turn a make_box_case case (walls `walls`) into a vansInterFoam case:
     water below y = level, air above (the drag sees the local mixture
-    density and viscosity); blockMesh, setFields, grainDeposit."""
+    density and viscosity); blockMesh, setFields, grainDeposit.  open_top:
+    the alpha.water flowing in through the top, which becomes the open
+    patch `top` (p_rgh 0, pressureInletOutletVelocity); None: a wall."""
     if fixed:
         open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
-    two_d = "frontAndBack" in open(os.path.join(case, "system", "blockMeshDict")).read()
+    bm = os.path.join(case, "system", "blockMeshDict")
+    two_d = "frontAndBack" in open(bm).read()
     emp = "frontAndBack { type empty; }" if two_d else ""
+    if open_top is not None:
+        txt = open(bm).read().replace(" (3 7 6 2)", "")
+        open(bm, "w").write(txt.replace("boundary (\n", "boundary (\ntop { type patch; faces ((3 7 6 2)); }\n"))
+    top = {"U": "", "p_rgh": "", "alpha.water": ""} if open_top is None else {
+        "U": "top { type pressureInletOutletVelocity; value uniform (0 0 0); }",
+        "p_rgh": "top { type totalPressure; p0 uniform 0; value uniform 0; }",
+        "alpha.water": f"top {{ type inletOutlet; inletValue uniform {open_top}; "
+                       f"value uniform {open_top}; }}"}
     write(os.path.join(case, "0", "U"), "volVectorField", "U",
           "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
-          f"boundaryField {{ walls {{ type noSlip; }} {emp} }}\n")
+          f"boundaryField {{ walls {{ type noSlip; }} {emp} {top['U']} }}\n")
     write(os.path.join(case, "0", "p_rgh"), "volScalarField", "p_rgh",
           "dimensions [1 -1 -2 0 0 0 0];\ninternalField uniform 0;\n"
-          f"boundaryField {{ walls {{ type fixedFluxPressure; value uniform 0; }} {emp} }}\n")
+          f"boundaryField {{ walls {{ type fixedFluxPressure; value uniform 0; }} {emp} {top['p_rgh']} }}\n")
     write(os.path.join(case, "0", "alpha.water"), "volScalarField", "alpha.water",
           "dimensions [0 0 0 0 0 0 0];\ninternalField uniform 0;\n"
-          f"boundaryField {{ walls {{ type zeroGradient; }} {emp} }}\n")
+          f"boundaryField {{ walls {{ type zeroGradient; }} {emp} {top['alpha.water']} }}\n")
     write(os.path.join(case, "system", "setFieldsDict"), "dictionary", "setFieldsDict",
           "defaultFieldValues ( volScalarFieldValue alpha.water 0 );\n"
           f"regions ( boxToCell {{ box (-1 -1 -1) (1 {level} 1);\n"
@@ -275,6 +289,56 @@ def test_sinking_grains_conserve_water(tmp_path, env):
     assert min(amin) > -1e-3 and max(amax) < 1 + 1e-3
     g = nscdpost.read_grains(case, "0.3")
     assert np.all(g["x"][:, 1] < 0.03), g["x"]
+
+
+def water_through_boundaries(stdout):
+    """Water volume [m^3] out through the open boundaries since the start, per step."""
+    return [float(v) for v in re.findall(
+        r"water out through the open boundaries = (\S+) m\^3", stdout)]
+
+
+@pytest.mark.fast
+def test_grains_leaving_through_the_top_keep_alpha_bounded(tmp_path, env):
+    """Issue 60 item 2: light discs (400 kg/m^3) rise through a water-filled
+    column and leave through its open top listed in outletPatches (water
+    flows in there).  The solid volume a grain takes out of the domain
+    (removal, and the part beyond the boundary before it) is a fluid volume
+    source of the mixture continuity, so alpha stays 1 (it went to -18/23
+    when the vanished volume was not accounted for), and the water volume
+    sum(eps alpha V) plus the water out through the top is constant to
+    round-off.  With epsFluxCorrection no the grains' motion takes alpha out
+    of [0, 1]: a FatalError, not a silent corruption."""
+    case = str(tmp_path / "risers")
+    grains = [(0.005 + 0.0045 * i, 0.047 + 0.004 * (i % 2), 0, 2e-3) for i in range(8)]
+    make_box_case(case, (0, 0, 0), (0.04, 0.06, 0.0025), (16, 24, 1), (0, -G, 0),
+                  {"light": {"density": 400, "friction": 0.3}}, grains=grains,
+                  end_time=0.15, dt=1e-3, write_interval=0.05,
+                  extra_props="outletPatches (top);\n")
+    add_two_phase(case, env, 1.0, open_top=1)
+    p = run("vansInterFoam", case, env)
+    out = p.stdout
+    n_out = sum(int(n) for n in re.findall(r"grainOutlets: (\d+) grains", out))
+    assert n_out == len(grains), out[-3000:]
+    amin = [float(m) for m in re.findall(r"alpha min/max = (\S+) ", out)]
+    amax = [float(m) for m in re.findall(r"alpha min/max = \S+ (\S+)", out)]
+    assert min(amin) > 1 - 1e-9 and max(amax) < 1 + 1e-9, (min(amin), max(amax))
+    vol, gone = water_volumes(out), water_through_boundaries(out)
+    assert len(vol) == len(gone) > 100
+    v0 = vol[0] + gone[0]
+    assert max(abs(v + o - v0) for v, o in zip(vol, gone)) < 1e-12 * v0
+    # the water came in through the top: the grains' volume (discs, depth 2.5 mm)
+    assert -gone[-1] == pytest.approx(len(grains) * np.pi * 1e-6 * 0.0025, rel=1e-6)
+
+    # without the flux correction of the phase transport alpha leaves
+    # [0, 1] (by 1.5 % at t = 0.004 s, from the grains' motion): a clear
+    # error, not a silent corruption
+    for t in ("0.05", "0.1", "0.15"):
+        shutil.rmtree(os.path.join(case, t))
+    fs = os.path.join(case, "system", "fvSolution")
+    txt = open(fs).read().replace("nLimiterIter 3;", "nLimiterIter 3; epsFluxCorrection no;")
+    open(fs, "w").write(txt)
+    fails_with(run("vansInterFoam", case, env, check=False), "alpha.water left [0, 1]",
+               "epsFluxCorrection", "last good state")
 
 
 @pytest.mark.fast

@@ -67,8 +67,10 @@ Usage
 #include "pimpleControl.H"
 #include "fvOptions.H"
 #include "grainRunControl.H"
+#include "wallFvPatch.H"
 
 #include <sstream>
+#include <unordered_map>
 
 int main(int argc, char *argv[])
 {
