@@ -7,6 +7,8 @@ Zaki) are in test_drag.py.
 import math
 import os
 import re
+import shutil
+import subprocess
 
 import numpy as np
 import pytest
@@ -226,6 +228,121 @@ def test_fluid_at_rest_stays_at_rest(tmp_path, env, shear, correction, expect, l
     U = np.asarray(read_internal(os.path.join(case, "0.01", "U")))
     print(f"shear {shear}, {correction}: |U| max {np.abs(U).max():.3e} m/s")
     assert np.abs(U).max() < limit
+
+
+def tet_box(case, env, grains=(), gravity=(0, -G, 0)):
+    """A closed 20 x 40 x 20 mm box of water meshed by gmsh in tetrahedra
+    (max cell size 4 mm: 1,385 tets, non-orthogonality up to 55 deg, mean
+    21 deg), one wall patch `walls`, optional fixed grains (x, y, z, d)."""
+    make_box_case(case, (0, 0, 0), (0.02, 0.04, 0.02), (5, 10, 5), gravity,
+                  {"glass": {"density": 2500.0, "friction": 0.4}},
+                  grains=list(grains), end_time=0.02, dt=1e-3, write_interval=0.01,
+                  two_d=False)
+    open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
+    add_fluid(case, 1000.0, 1e-6)
+    with open(os.path.join(case, "box.geo"), "w") as f:
+        f.write('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 0.02, 0.04, 0.02};\n'
+                "Mesh.CharacteristicLengthMax = 0.004;\n"
+                'Physical Surface("walls") = {1, 2, 3, 4, 5, 6};\nPhysical Volume("fluid") = {1};\n')
+    subprocess.run(["gmsh", "-3", "-format", "msh2", "box.geo", "-o", "box.msh"], cwd=case,
+                   check=True, capture_output=True)
+    run("gmshToFoam", case, env, args=(os.path.join(case, "box.msh"),))
+    bnd = os.path.join(case, "constant", "polyMesh", "boundary")
+    txt = open(bnd).read()
+    open(bnd, "w").write(re.sub(r"(walls\s*\{\s*type\s+)patch", r"\1wall", txt))
+    run("grainDeposit", case, env)
+
+
+def test_closed_tet_box_flow_matches_pimpleFoam(tmp_path, env):
+    """A tetrahedral mesh (gmsh, non-orthogonality up to 55 deg): water
+    without gravity moving at (5, 2, 1) cm/s in a closed box slows down by
+    wall friction; after 20 steps of 1 ms vansFoam without grains agrees
+    with OpenFOAM's pimpleFoam on the same mesh and schemes (the reference:
+    an independent solver of the same equations with eps = 1) within 3 % in
+    the largest speed and the sum of U^2 (measured 1.1 % and 1.5 %).
+    Before the momentum predictor used the corrector's cell-centred forces
+    (UEqn.H, cellGradient) the run blew up at the second step (Courant
+    number 31)."""
+    case = str(tmp_path / "tet")
+    tet_box(case, env, gravity=(0, 0, 0))
+    u = os.path.join(case, "0", "U")
+    txt = open(u).read().replace("uniform (0 0 0)", "uniform (0.05 0.02 0.01)", 1)
+    open(u, "w").write(txt)
+    ref = str(tmp_path / "pimple")
+    os.makedirs(os.path.join(ref, "0"))
+    for d in ("constant", "system"):
+        shutil.copytree(os.path.join(case, d), os.path.join(ref, d))
+    for f in ("U", "p"):
+        shutil.copy(os.path.join(case, "0", f), os.path.join(ref, "0", f))
+    write(os.path.join(ref, "constant", "transportProperties"), "dictionary",
+          "transportProperties", "transportModel Newtonian;\nnu 1e-6;\n")
+    write(os.path.join(ref, "constant", "turbulenceProperties"), "dictionary",
+          "turbulenceProperties", "simulationType laminar;\n")
+    sch = os.path.join(ref, "system", "fvSchemes")
+    txt = open(sch).read().replace(
+        "div(phi,U) Gauss limitedLinearV 1;",
+        "div(phi,U) Gauss limitedLinearV 1; div((nuEff*dev2(T(grad(U))))) Gauss linear;")
+    open(sch, "w").write(txt)
+    cd = os.path.join(ref, "system", "controlDict")
+    txt = re.sub(r"functions.*", "", open(cd).read(), flags=re.S)
+    open(cd, "w").write(txt)
+    run("vansFoam", case, env)
+    run("pimpleFoam", ref, env)
+    U = np.asarray(read_internal(os.path.join(case, "0.02", "U")))
+    R = np.asarray(read_internal(os.path.join(ref, "0.02", "U")))
+    speed, speed_ref = np.linalg.norm(U, axis=1).max(), np.linalg.norm(R, axis=1).max()
+    print(f"tet box at 0.02 s: |U| max {speed:.5g} (pimpleFoam {speed_ref:.5g}), "
+          f"sum U^2 {np.sum(U**2):.5g} ({np.sum(R**2):.5g})")
+    assert 0.02 < speed_ref < 0.1
+    assert speed == pytest.approx(speed_ref, rel=0.03)
+    assert np.sum(U**2) == pytest.approx(np.sum(R**2), rel=0.03)
+
+
+@pytest.mark.xfail(strict=True, reason="the hydrostatic pressure of the kinematic p "
+                   "(p = g.x) is not balanced by the Gauss gradient on tetrahedra: "
+                   "0.07 m/s after 10 ms, 0.3-0.39 m/s after 0.1-0.3 s (bounded); "
+                   "needs the p_rgh form of interFoam (issue 60)")
+def test_water_at_rest_on_tets(tmp_path, env):
+    """Hydrostatics on a tetrahedral mesh: water at rest around one fixed
+    grain stays at rest, |U| < 1e-3 m/s after 10 ms."""
+    case = str(tmp_path / "tet")
+    tet_box(case, env, grains=[(0.01, 0.02, 0.01, 0.004)])
+    run("vansFoam", case, env)
+    U = np.asarray(read_internal(os.path.join(case, "0.01", "U")))
+    print(f"water at rest on tets: |U| max {np.abs(U).max():.3e} m/s")
+    assert np.abs(U).max() < 1e-3
+
+
+@pytest.mark.parametrize("degrees", [10, 30])
+def test_sedimentation_on_sheared_meshes(tmp_path, env, degrees):
+    """60 discs of 3 mm settling in water, in a 2D box whose cells are
+    sheared by 10 or 30 deg (faces non-orthogonal by as much), against the
+    same suspension in the orthogonal box: the mean fall of the grains over
+    0.3 s agrees within 5 % (measured -3.7 % at 10 deg, -0.1 % at 30 deg).
+    Before the non-orthogonal mesh took its face pressure gradient from the
+    solved equation and the predictor the corrector's forces (pEqn.H,
+    UEqn.H) the 10 deg box stopped at 0.014 s (time step collapsed)."""
+    def fall(deg):
+        case = str(tmp_path / f"shear{deg}")
+        sh = math.tan(math.radians(deg))
+        r = 1.5e-3
+        rows = [(0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001)
+                for j in range(6) for i in range(10)]
+        make_box_case(case, (0, 0, 0), (0.04, 0.06, 0.003), (9, 13, 1), (0, -G, 0),
+                      {"grains": {"density": 1500, "friction": 0.3}},
+                      grains=[(x + sh * y, y, 0, 2 * r) for x, y in rows],
+                      end_time=0.3, dt=1e-3, write_interval=0.3)
+        add_fluid(case, 1000.0, 1e-6, max_dt=2e-3)
+        shear_box(case, sh)
+        run("blockMesh", case, env)
+        run("grainDeposit", case, env)
+        run("vansFoam", case, env)
+        y0 = np.mean([y for _, y in rows])
+        return y0 - np.mean(nscdpost.read_grains(case, "0.3")["x"][:, 1])
+    ref, got = fall(0), fall(degrees)
+    print(f"mean fall over 0.3 s: {got:.5f} m at {degrees} deg, {ref:.5f} m orthogonal")
+    assert ref > 0.01
+    assert got == pytest.approx(ref, rel=0.05)
 
 
 @pytest.mark.parametrize("word, shear, expect", [

@@ -488,6 +488,17 @@ Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::faceForces
 }
 
 
+Foam::tmp<Foam::volVectorField> Foam::vansCloud::cellForces
+(
+    const volScalarField& w,
+    const uniformDimensionedVectorField& g,
+    const volVectorField& gradp
+) const
+{
+    return w*g + Kg()*g - pressureCoefficient_*gradp;
+}
+
+
 Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::weightFlux
 (
     const volScalarField& rAU,
