@@ -7,8 +7,12 @@
 #include "PstreamReduceOps.H"
 
 #include <csignal>
+#include <fstream>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <signal.h>
+#include <sys/types.h>
 
 // * * * * * * * * * * * * * * * Local Functions * * * * * * * * * * * * * * //
 
@@ -194,9 +198,127 @@ Foam::grainRunControl::grainRunControl(Time& runTime)
             << " startFrom/startTime (latestTime starts from the last time"
             << " directory)." << endl;
     }
+    checkLaterWrites();
+    lockCase();
     stopSignal = 0;
     std::signal(SIGTERM, onStopSignal);
     std::signal(SIGUSR1, onStopSignal);
+}
+
+
+Foam::grainRunControl::~grainRunControl()
+{
+    if (!lockFile_.empty())
+    {
+        std::remove(lockFile_.c_str());
+    }
+}
+
+
+void Foam::grainRunControl::checkLaterWrites() const
+{
+    if
+    (
+        !Pstream::parRun()
+     || runTime_.controlDict().getOrDefault<word>("startFrom", "latestTime")
+     != "latestTime"
+    )
+    {
+        return;
+    }
+    // the grain state of a decomposed run is written in the undecomposed
+    // case (grainCloudIO.C): the master looks there for a later one
+    const fileName root(runTime_.rootPath()/runTime_.globalCaseName());
+    scalar later = -GREAT;
+    if (Pstream::master())
+    {
+        const instantList times(Time::findTimes(root));
+        const scalar tol = 1e-9*max(scalar(1), mag(runTime_.endTime().value()));
+        for (const instant& t : times)
+        {
+            if
+            (
+                t.value() > startTime_ + tol
+             && isFile(root/t.name()/"grainState.h5")
+            )
+            {
+                later = max(later, t.value());
+            }
+        }
+    }
+    Pstream::scatter(later);
+    if (later > -GREAT)
+    {
+        FatalErrorInFunction
+            << "the case " << root << " holds the grain state of t = "
+            << later << ", later than this run's start time " << startTime_
+            << " (the latest time of the processor directories): the run"
+            << " would overwrite it." << nl
+            << "    Fix: to continue from t = " << later << ", run"
+            << " reconstructPar -latestTime in the earlier decomposition"
+            << " before decomposePar -latestTime -force; if the earlier"
+            << " processor directories are gone, the grain state is whole in "
+            << root/name(later) << ": create the time directory " << later
+            << " in every processor directory (grainFoam) or decompose the"
+            << " fields of that time.  To start again from " << startTime_
+            << ", remove the later time directories (or set startFrom"
+            << " startTime in system/controlDict)."
+            << exit(FatalError);
+    }
+}
+
+
+void Foam::grainRunControl::lockCase()
+{
+    if (!Pstream::master())
+    {
+        return;
+    }
+    const fileName lock
+    (
+        runTime_.rootPath()/runTime_.globalCaseName()/".nscdFoam.lock"
+    );
+    if (isFile(lock))
+    {
+        // plain text: "<pid> <host> <application>"
+        std::ifstream is(lock.c_str());
+        long pid = -1;
+        std::string host, app;
+        is >> pid >> host >> app;
+        const bool here = host == std::string(hostName());
+        // signal 0: does the process exist (EPERM: it does, not ours)
+        const bool alive =
+            pid > 0 && (::kill(pid_t(pid), 0) == 0 || errno == EPERM);
+        if (!here || alive)
+        {
+            FatalErrorInFunction
+                << app.c_str() << " (process " << pid << " on " << host.c_str()
+            << ") runs"
+                << " in this case (lock file " << lock << "): two solvers"
+                << " would overwrite each other's results." << nl
+                << "    Fix: wait for it to end, or run in a copy of the"
+                << " case; if no solver runs there any more, remove "
+                << lock << "."
+                << exit(FatalError);
+        }
+        WarningInFunction
+            << "taking over the lock file " << lock << " of " << app.c_str()
+            << " (process " << pid << "), which no longer runs (killed?)"
+            << endl;
+    }
+    {
+        std::ofstream os(lock.c_str());
+        os  << long(pid()) << ' ' << std::string(hostName()) << ' '
+            << std::string
+               (
+                   runTime_.controlDict().getOrDefault<word>
+                   (
+                       "application", "solver"
+                   )
+               )
+            << '\n';
+    }
+    lockFile_ = lock;
 }
 
 

@@ -6,13 +6,15 @@ documented; the earlier results of the case stay intact.  Small 2D cases
 (seconds each); helpers in faultcase.py."""
 import os
 import re
+import shutil
 import subprocess
 import time
 
 import pytest
 
 from faultcase import G, MAT, box, digest, set_control, stack, times
-from foamcase import add_fluid, fails_with, make_box_case, run
+import nscdpost
+from foamcase import add_fluid, fails_with, make_box_case, run, run_parallel, write
 
 pytestmark = pytest.mark.fast
 
@@ -142,6 +144,78 @@ def test_endTime_always_written(tmp_path, env):
         assert os.path.isfile(os.path.join(case, "0.015", f))
     assert "Progress: 100.0 % of the run" in out
     assert re.search(r"Progress: 66\.7 % of the run, about \d+ s of clock time left", out)
+
+
+# ---- never overwrite results: a second solver, a decomposed restart ---------
+def _host(out):
+    """The host name of an OpenFOAM banner (`Host   : vm`)."""
+    return re.search(r'^Host\s*:\s*"?([^\s"]+)', out, re.M).group(1)
+
+
+def test_second_solver_in_the_case_is_refused(tmp_path, env):
+    """The lock file <case>/.nscdFoam.lock (process id, host, application)
+    refuses a second solver in a case while the first runs, and a lock of
+    another host (it cannot be checked); a lock left by a process that no
+    longer runs (kill -9) is taken over with a warning; a run that ends
+    removes its lock.  The earlier results stay intact."""
+    case = box(tmp_path, "lock", [(0.05, 0.05, 0, 0.01)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    out = run("grainFoam", case, env).stdout
+    lock = os.path.join(case, ".nscdFoam.lock")
+    assert not os.path.exists(lock)
+    host = _host(out)
+    before = digest(case, "0.02")
+    set_control(case, endTime=0.03)
+    for holder in (f"{os.getpid()} {host} vansFoam", "1 otherhost vansFoam"):
+        with open(lock, "w") as f:
+            f.write(holder + "\n")
+        fails_with(run("grainFoam", case, env, check=False),
+                   "vansFoam (process", "runs in this case", ".nscdFoam.lock", "Fix")
+        assert times(case)[-1] == "0.02" and digest(case, "0.02") == before
+    gone = subprocess.Popen(["true"])
+    gone.wait()
+    with open(lock, "w") as f:
+        f.write(f"{gone.pid} {host} grainFoam\n")
+    p = run("grainFoam", case, env)
+    assert "taking over the lock file" in p.stdout + p.stderr
+    assert times(case)[-1] == "0.03" and not os.path.exists(lock)
+
+
+@pytest.mark.mpi
+def test_decomposed_restart_before_later_writes_is_refused(tmp_path, env):
+    """A 2-rank grainFoam run continued on 3 ranks after a fresh
+    decomposePar without reconstructPar (the new processor directories start at 0, the
+    case holds the grain states of 0.01 and 0.02) stops with the fix
+    instead of restarting from 0 over the earlier writes; with the fix
+    (the time directory 0.02 in each processor directory: the grain state
+    is whole in the case) it continues from 0.02 with every grain."""
+    case = box(tmp_path, "redecomp", [(0.03 + 0.012 * i, 0.05, 0, 0.01) for i in range(4)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    run_parallel("grainFoam", case, env, n=2)
+    before = digest(case, "0.02")
+    set_control(case, endTime=0.03)
+    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
+          "numberOfSubdomains 3;\nmethod simple;\nsimpleCoeffs { n (3 1 1); delta 0.001; }\n")
+    # a fresh decomposition: the time directories of the case hold only the
+    # grain state (no field), so the new processor directories start at 0
+    for d in os.listdir(case):
+        if d.startswith("processor"):
+            shutil.rmtree(os.path.join(case, d))
+    run("decomposePar", case, env, args=("-force",))
+    mpi = ["mpirun", "-np", "3", "grainFoam", "-parallel", "-case", case]
+    p = subprocess.run(mpi, env=env, capture_output=True, text=True)
+    out = fails_with(p, "holds the grain state of t = 0.02", "reconstructPar -latestTime")
+    assert "Time = 0.001" not in out
+    assert digest(case, "0.02") == before
+    for r in range(3):
+        os.makedirs(os.path.join(case, f"processor{r}", "0.02"))
+    p = subprocess.run(mpi, env=env, capture_output=True, text=True)
+    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    assert "Time = 0.021" in p.stdout and "Time = 0.001" not in p.stdout
+    ids = nscdpost.read_h5(os.path.join(case, "0.03", "grainState.h5"), "/grainIds")
+    assert sorted(int(i) for i in ids) == [0, 1, 2, 3]
 
 
 # ---- row 11: grainDeposit region against the mesh bounds --------------------
