@@ -27,10 +27,10 @@ std::vector<double>& System::temperatures() { return impl_->T; }
 void System::setDefaultTemperature(double T)
 {
     if (!std::isfinite(T)) throw InputError("nscd::System::setDefaultTemperature: non-finite temperature");
-    impl_->defaultT = T;
+    impl_->temperatureColumn().setDefault(T);
 }
 
-double System::defaultTemperature() const { return impl_->defaultT; }
+double System::defaultTemperature() const { return impl_->temperatureColumn().defaultValue(); }
 
 void System::setHeatSource(std::size_t i, double Q)
 {
