@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // HDF5 state I/O (C API) for bit-exact restarts.
-#include "SystemColumns.H"
+#include "ColumnsHDF5.H"
 #include "SystemImpl.H"
 
 #include <hdf5.h>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The System's own per-grain columns (SystemImpl.H: SystemColumns) and the
+// The System's own per-grain columns (SystemColumns.H) and the
 // HDF5 write/read of every ColumnRestart column of a registry.
-#include "SystemColumns.H"
+#include "ColumnsHDF5.H"
 #include "SystemImpl.H"
 
 #include <map>
