@@ -224,14 +224,18 @@ void checkGrain(Reader& r, const System::Impl& I, long k, long inFile)
     const std::pair<const char*, const std::vector<Vec3>*> vec3[] =
         {{"position", &I.x}, {"velocity", &I.v}, {"angular velocity", &I.w}, {"force", &I.force},
          {"torque", &I.torque}};
+    // (std::isfinite by component: Eigen's allFinite computes a - a, which
+    // raises FE_INVALID on an infinity)
+    auto finite = [](const auto& a)
+    { return std::all_of(a.data(), a.data() + a.size(), [](double c) { return std::isfinite(c); }); };
     for (const auto& e : vec3)
     {
         const Vec3& a = (*e.second)[k];
-        if (!a.allFinite())
+        if (!finite(a))
             r.fail(g + "non-finite " + e.first + " (" + std::to_string(a.x()) + ", " + std::to_string(a.y()) + ", "
                    + std::to_string(a.z()) + ")");
     }
-    if (!I.q[k].coeffs().allFinite()) r.fail(g + "non-finite orientation");
+    if (!finite(I.q[k].coeffs())) r.fail(g + "non-finite orientation");
     if (!std::isfinite(I.T[k]) || I.T[k] < 0)
         r.fail("grain " + std::to_string(inFile) + ": temperature " + std::to_string(I.T[k])
                + " K (must be finite and >= 0)");

@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cfenv>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <string>
@@ -241,4 +243,30 @@ TEST(Columns, ColumnsSharingADatasetReadBackTheirParts)
     EXPECT_TRUE(r.rotationLocked(4));
     EXPECT_FALSE(r.rotationLocked(3));
     std::remove(file.c_str());
+}
+
+// The values read are checked with floating-point traps on (OpenFOAM runs
+// with FE_INVALID trapped): an infinite velocity or orientation in a state
+// is an InputError naming the grain, not a SIGFPE.
+TEST(Columns, NonFiniteValuesReadAreErrorsUnderFloatingPointTraps)
+{
+    for (int which = 0; which < 2; ++which)
+    {
+        System s = shuffledBed(10);
+        if (which == 0) s.velocities()[2] = Vec3(std::numeric_limits<double>::infinity(), 0, 0);
+        else s.column<Eigen::Quaterniond>("orientations")[2].coeffs()[1] = -std::numeric_limits<double>::infinity();
+        const std::string file = tmpFile("nonFinite.h5");
+        s.writeHDF5(file);
+        std::string what;
+#if defined(__GLIBC__)
+        feenableexcept(FE_INVALID);
+#endif
+        try { System::readHDF5(file); }
+        catch (const InputError& e) { what = e.what(); }
+#if defined(__GLIBC__)
+        fedisableexcept(FE_INVALID);
+#endif
+        EXPECT_NE(what.find("grain 2: non-finite"), std::string::npos) << what;
+        std::remove(file.c_str());
+    }
 }
