@@ -1,6 +1,25 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Contact detection: uniform grid for grain pairs, walls (planes, segments,
 // triangulated surfaces) and droplets; gap of a contact after the step.
+//
+// Contacts and large displacements in System::step: a pair (i, j) is a
+// candidate when its gap is below its own alert distance (Settings::alertDistanceFactor);
+// the few grains much faster than the rest are paired in a separate pass
+// so that the detection stays O(N). Each candidate obeys the gap-based
+// Signorini law n.(x_ij + dt u_ij) >= r_i + r_j with a unit normal n such
+// that the start satisfies it: the end of the step cannot overlap
+// (|x| >= n.x) and the straight path from the start cannot cross the other
+// grain (both ends lie in the half-space n.x >= r_i + r_j, which the ball
+// does not meet), whatever the displacement. For pairs moving far in the
+// step, n is the normal at the first touch of the free relative path, or
+// the direction of its closest point if it misses (no spurious impact of
+// a grain passing beside another). Undetected pairs: after
+// the solve, a grain whose displacement |v_i^+| dt exceeds its reach
+// alertDistanceFactor dt s_i + alertMargin r_min/2 has its reach raised
+// to its solved speed and the step's contacts are detected and solved
+// again, at most 4 times (StepReport::redetections): then no undetected
+// pair (gap >= the sum of the reaches + alertMargin r_min) can overlap
+// at the end of the step.
 #include "ContactLaws.H"
 #include "DetectPair.H"
 

@@ -1,6 +1,21 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Grain temperatures (thesis section 4.1, eq. 4.1-4.3): state, contact
 // conductance and the backward-Euler heat step.
+//
+// The heat step of System::step: backward Euler over dt with this step's
+// contact impulses,
+//   (C/dt + h + L) T^{n+1} = C/dt T^n + Q + h Tf + (Dirichlet terms),
+// C = m c, L the graph Laplacian of the conductances H of the contacts
+// between integrated grains, Dirichlet terms from fixed-temperature walls
+// and grains. The matrix is SPD: unconditionally stable and free of
+// oscillations for any contact stiffness H dt / C. It is solved for the
+// increment T^{n+1} - T^n by Jacobi-preconditioned conjugate gradients
+// (Settings::heatTolerance, heatMaxIterations); the temperatures are then
+// updated in flux form, T_i += dt/C_i (Q_i + h_i (Tf_i - T_i*) + sum_j
+// H_ij (T_j* - T_i*)) with the solved T*: every contact flux enters two
+// grains with opposite signs, so the heat budget (StepReport::wallHeat,
+// fixedGrainHeat, sourceHeat) closes to round-off whatever the solver
+// residual.
 #include "SystemImpl.H"
 
 #include <algorithm>
@@ -27,10 +42,10 @@ std::vector<double>& System::temperatures() { return impl_->T; }
 void System::setDefaultTemperature(double T)
 {
     if (!std::isfinite(T)) throw InputError("nscd::System::setDefaultTemperature: non-finite temperature");
-    impl_->defaultT = T;
+    impl_->temperatureColumn().setDefault(T);
 }
 
-double System::defaultTemperature() const { return impl_->defaultT; }
+double System::defaultTemperature() const { return impl_->temperatureColumn().defaultValue(); }
 
 void System::setHeatSource(std::size_t i, double Q)
 {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // HDF5 state I/O (C API) for bit-exact restarts.
+#include "ColumnsHDF5.H"
 #include "SystemImpl.H"
 
 #include <hdf5.h>
@@ -8,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numeric>
 #include <utility>
 #include <string>
 
@@ -17,151 +19,9 @@ namespace nscd
 namespace
 {
 constexpr int formatVersion = 1;
-
-/// RAII file handle that also silences HDF5's automatic error printing.
-struct H5File
-{
-    hid_t id = -1;
-    H5E_auto2_t oldFunc = nullptr;
-    void* oldData = nullptr;
-    H5File() { H5Eget_auto2(H5E_DEFAULT, &oldFunc, &oldData); H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
-    ~H5File() { if (id >= 0) H5Fclose(id); H5Eset_auto2(H5E_DEFAULT, oldFunc, oldData); }
-};
-
-struct Writer
-{
-    hid_t f;
-    std::string file;
-    template<class T>
-    void write(const std::string& name, const T* data, hsize_t rows, hsize_t cols, hid_t type)
-    {
-        hsize_t dims[2] = {rows, cols};
-        const hid_t space = H5Screate_simple(cols > 0 ? 2 : 1, dims, nullptr);
-        // no modification times in the object headers: the same state gives
-        // the same bytes (restarts and reruns compare with cmp)
-        const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
-        H5Pset_obj_track_times(dcpl, 0);
-        const hid_t ds = H5Dcreate2(f, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
-        H5Pclose(dcpl);
-        herr_t st = ds >= 0 ? 0 : -1;
-        if (ds >= 0 && rows > 0) st = H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
-        if (ds >= 0) H5Dclose(ds);
-        H5Sclose(space);
-        if (st < 0) throw InputError("nscd::System::writeHDF5: cannot write dataset '" + name + "' in " + file);
-    }
-    void d(const std::string& name, const std::vector<double>& a, hsize_t cols)
-    { write(name, a.data(), cols ? a.size()/cols : a.size(), cols, H5T_NATIVE_DOUBLE); }
-    void i(const std::string& name, const std::vector<int>& a, hsize_t cols)
-    { write(name, a.data(), cols ? a.size()/cols : a.size(), cols, H5T_NATIVE_INT); }
-};
-
-/// Rows read at once by a picking read (Reader::read with pick): its peak
-/// memory is the rows kept plus one chunk.
-constexpr hsize_t chunkRows = 65536;
-
-struct Reader
-{
-    hid_t f;
-    std::string file;
-    [[noreturn]] void fail(const std::string& what) const
-    {
-        throw InputError("nscd::System::readHDF5: " + file + ": " + what);
-    }
-    /// Open dataset name and check its shape (rows x cols; cols 0: 1D;
-    /// expectRows >= 0: that many rows); returns its rows.
-    hsize_t open(const std::string& name, hsize_t cols, long expectRows, hid_t& ds, hid_t& space)
-    {
-        ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
-        if (ds < 0) fail("missing dataset '" + name + "'");
-        space = H5Dget_space(ds);
-        const int nd = H5Sget_simple_extent_ndims(space);
-        hsize_t dims[2] = {0, 0};
-        if (nd < 1 || nd > 2 || H5Sget_simple_extent_dims(space, dims, nullptr) < 0)
-        { H5Sclose(space); H5Dclose(ds); fail("bad shape of dataset '" + name + "'"); }
-        const hsize_t c = nd == 2 ? dims[1] : 0;
-        if (c != cols || (expectRows >= 0 && dims[0] != hsize_t(expectRows)))
-        { H5Sclose(space); H5Dclose(ds); fail("unexpected size of dataset '" + name + "'"); }
-        return dims[0];
-    }
-    /// Rows of dataset name (see open): all of them, or (pick) only the rows
-    /// listed, in ascending order, read by chunks of chunkRows rows.
-    template<class T>
-    std::vector<T> read(const std::string& name, hid_t type, hsize_t cols, long expectRows = -1,
-                        const std::vector<long>* pick = nullptr)
-    {
-        const std::size_t w = cols ? cols : 1;
-        std::vector<T> out;
-        if (!pick)
-        {
-            hid_t ds, space;
-            const hsize_t rows = open(name, cols, expectRows, ds, space);
-            out.resize(rows*w);
-            herr_t st = 0;
-            if (!out.empty()) st = H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
-            H5Sclose(space);
-            H5Dclose(ds);
-            if (st < 0) fail("cannot read dataset '" + name + "': the file is damaged or truncated");
-            return out;
-        }
-        out.resize(pick->size()*w);
-        std::size_t p = 0;
-        visit<T>(name, type, cols, expectRows, [&](long a, long n, const T* b)
-        {
-            for (; p < pick->size() && (*pick)[p] < a + n; ++p)
-                std::copy_n(b + ((*pick)[p] - a)*w, w, out.begin() + p*w);
-        }, pick);
-        return out;
-    }
-    /// Rows of dataset name (see open), chunk by chunk: visit(first row,
-    /// rows, data); pick (ascending rows): only the chunks that hold one.
-    template<class T, class Visit>
-    void visit(const std::string& name, hid_t type, hsize_t cols, long expectRows, Visit visit,
-               const std::vector<long>* pick = nullptr)
-    {
-        hid_t ds, space;
-        const hsize_t rows = open(name, cols, expectRows, ds, space);
-        const hsize_t w = cols ? cols : 1;
-        std::vector<T> buf;
-        herr_t st = 0;
-        std::size_t p = 0;
-        for (hsize_t a = 0; a < rows && st >= 0; a += chunkRows)
-        {
-            const hsize_t n = std::min(chunkRows, rows - a);
-            if (pick)
-            {
-                while (p < pick->size() && hsize_t((*pick)[p]) < a) ++p;
-                if (p == pick->size()) break;
-                if (hsize_t((*pick)[p]) >= a + n) continue;  // nothing picked in this chunk
-            }
-            const hsize_t start[2] = {a, 0}, count[2] = {n, w};
-            st = H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
-            const hsize_t all = n*w;
-            const hid_t mem = H5Screate_simple(1, &all, nullptr);
-            buf.resize(all);
-            if (st >= 0) st = H5Dread(ds, type, mem, space, H5P_DEFAULT, buf.data());
-            H5Sclose(mem);
-            if (st < 0) break;
-            try { visit(long(a), long(n), buf.data()); }
-            catch (...) { H5Sclose(space); H5Dclose(ds); throw; }  // (e.g. fail: a bad contact)
-        }
-        H5Sclose(space);
-        H5Dclose(ds);
-        if (st < 0) fail("cannot read dataset '" + name + "': the file is damaged or truncated");
-    }
-    /// Rows of dataset name (see open).
-    long rows(const std::string& name, hsize_t cols)
-    {
-        hid_t ds, space;
-        const hsize_t n = open(name, cols, -1, ds, space);
-        H5Sclose(space);
-        H5Dclose(ds);
-        return long(n);
-    }
-    std::vector<double> d(const std::string& n, hsize_t cols, long rows = -1, const std::vector<long>* pick = nullptr)
-    { return read<double>(n, H5T_NATIVE_DOUBLE, cols, rows, pick); }
-    std::vector<int> i(const std::string& n, hsize_t cols, long rows = -1, const std::vector<long>* pick = nullptr)
-    { return read<int>(n, H5T_NATIVE_INT, cols, rows, pick); }
-};
+using h5::H5File;
+using h5::Reader;
+using h5::Writer;
 
 void put3(std::vector<double>& a, const Vec3& v) { a.push_back(v.x()); a.push_back(v.y()); a.push_back(v.z()); }
 Vec3 get3(const std::vector<double>& a, std::size_t k) { return Vec3(a[k], a[k + 1], a[k + 2]); }
@@ -193,34 +53,13 @@ void writeHeader(Writer& w, const System::Impl& I)
     w.d("materialCompliance", cm, 2);
 }
 
-/// writeHDF5 stage: per grain (external order) position [m], velocity [m/s],
-/// angular velocity [rad/s], orientation (x y z w), force [N], torque [N m],
-/// radius [m], material, fixed/rotation-locked flags; persistent ids.
+/// writeHDF5 stage: every ColumnRestart grain column (external order;
+/// System's: positions [m], velocities [m/s], angular velocities [rad/s],
+/// orientations (x y z w), forces [N], torques [N m], radii [m], materials,
+/// fixed/rotation-locked flags, persistent ids, heat state) and the next id.
 void writeGrains(Writer& w, const System::Impl& I)
 {
-    const std::size_t N = I.x.size();
-    std::vector<double> x, v, om, q, f, t;
-    x.reserve(3*N); v.reserve(3*N); om.reserve(3*N); q.reserve(4*N); f.reserve(3*N); t.reserve(3*N);
-    for (std::size_t k = 0; k < N; ++k)
-    {
-        put3(x, I.x[k]); put3(v, I.v[k]); put3(om, I.w[k]); put3(f, I.force[k]); put3(t, I.torque[k]);
-        const auto& qq = I.q[k].coeffs();  // x y z w
-        for (int c = 0; c < 4; ++c) q.push_back(qq[c]);
-    }
-    w.d("positions", x, 3);
-    w.d("velocities", v, 3);
-    w.d("angularVelocities", om, 3);
-    w.d("orientations_xyzw", q, 4);
-    w.d("forces", f, 3);
-    w.d("torques", t, 3);
-    w.d("radii", I.rad, 0);
-    w.i("materialIds", I.mat, 0);
-    std::vector<int> fx(N);
-    for (std::size_t k = 0; k < N; ++k) fx[k] = (I.fix[k] ? 1 : 0) | (I.rotLock[k] ? 2 : 0);
-    w.i("fixed", fx, 0);
-    // persistent grain ids and the next one (optional datasets: files
-    // without them read with ids 0 ... N-1)
-    w.write("grainIds", I.ids.data(), N, 0, H5T_NATIVE_LONG);
+    writeColumns(w, I.columns, I.x.size());
     w.write("nextGrainId", &I.nextId, 1, 0, H5T_NATIVE_LONG);
 }
 
@@ -283,27 +122,16 @@ void writeContacts(Writer& w, const System::Impl& I)
     w.i("cohesionMinAge", {S.cohesionMinAge}, 0);
 }
 
-/// writeHDF5 stage: heat state: temperatures [K], sources [W], exchange
-/// coefficients [W/K] and fluid temperatures [K], fixed-temperature flags,
-/// wall temperatures [K] (NaN adiabatic), default temperature and heat
-/// solver settings.
+/// writeHDF5 stage: wall temperatures [K] (NaN adiabatic), default
+/// temperature [K] and heat solver settings (the grains' heat state is in
+/// their columns, writeGrains).
 void writeHeat(Writer& w, const System::Impl& I)
 {
-    const std::size_t N = I.x.size();
     const System::Settings& S = I.settings;
-    // heat (optional datasets: files without them read with the defaults)
-    w.d("temperatures", I.T, 0);
-    w.d("heatSources", I.heatQ, 0);
-    std::vector<double> hx;
-    hx.reserve(2*N);
-    for (std::size_t k = 0; k < N; ++k) { hx.push_back(I.heatH[k]); hx.push_back(I.heatTf[k]); }
-    w.d("heatExchange", hx, 2);
-    std::vector<int> ft(I.fixT.begin(), I.fixT.end());
-    w.i("fixedTemperature", ft, 0);
     std::vector<double> wT;
     for (const Wall& W : I.walls) wT.push_back(W.temperature);  // NaN: adiabatic
     w.d("wallTemperature", wT, 0);
-    w.d("heatSettings", {I.defaultT, S.heatTolerance, double(S.heatMaxIterations)}, 0);
+    w.d("heatSettings", {I.temperatureColumn().defaultValue(), S.heatTolerance, double(S.heatMaxIterations)}, 0);
 }
 } // namespace
 
@@ -381,52 +209,58 @@ void readMaterials(Reader& r, System& s)
     }
 }
 
-/// readHDF5 stage: the grains (positions [m], velocities [m/s], angular
-/// velocities [rad/s], orientations, forces [N], torques [N m], radii [m],
-/// materials, fixed/rotation-locked flags) and their persistent ids, into I
-/// (materials already read): the N grains of the file, or (pick) those
-/// listed (ascending grain numbers of the file; ids: the file's, else the
-/// grain numbers). Returns the number of grains of the file N.
+/// readHDF5 stage: the values of grain k of the file (k: the k-th read)
+/// checked: radius, material, finite vectors, temperature.
+void checkGrain(Reader& r, const System::Impl& I, long k, long inFile)
+{
+    const std::string g = "grain " + std::to_string(inFile) + ": ";
+    // std::isfinite first: an ordered comparison with a NaN raises
+    // FE_INVALID (SIGFPE under OpenFOAM's FPE trapping)
+    if (!std::isfinite(I.rad[k]) || !(I.rad[k] > 0))
+        r.fail(g + "radius " + std::to_string(I.rad[k]) + " (radii must be finite and > 0)");
+    if (I.mat[k] < 0 || I.mat[k] >= int(I.materials.size()))
+        r.fail(g + "material id " + std::to_string(I.mat[k]) + " (the file has "
+               + std::to_string(I.materials.size()) + " materials)");
+    const std::pair<const char*, const std::vector<Vec3>*> vec3[] =
+        {{"position", &I.x}, {"velocity", &I.v}, {"angular velocity", &I.w}, {"force", &I.force},
+         {"torque", &I.torque}};
+    // (std::isfinite by component: Eigen's allFinite computes a - a, which
+    // raises FE_INVALID on an infinity)
+    auto finite = [](const auto& a)
+    { return std::all_of(a.data(), a.data() + a.size(), [](double c) { return std::isfinite(c); }); };
+    for (const auto& e : vec3)
+    {
+        const Vec3& a = (*e.second)[k];
+        if (!finite(a))
+            r.fail(g + "non-finite " + e.first + " (" + std::to_string(a.x()) + ", " + std::to_string(a.y()) + ", "
+                   + std::to_string(a.z()) + ")");
+    }
+    if (!finite(I.q[k].coeffs())) r.fail(g + "non-finite orientation");
+    if (!std::isfinite(I.T[k]) || I.T[k] < 0)
+        r.fail("grain " + std::to_string(inFile) + ": temperature " + std::to_string(I.T[k])
+               + " K (must be finite and >= 0)");
+}
+
+/// readHDF5 stage: every ColumnRestart grain column (see writeGrains) into
+/// I (materials already read; a column's default where an optional dataset
+/// is absent): the N grains of the file, or (pick) those listed (ascending
+/// grain numbers of the file; ids: the file's, else the grain numbers);
+/// then masses and inertias, the order of addition. Returns N.
 long readGrains(Reader& r, System::Impl& I, const std::vector<long>* pick)
 {
     const long N = r.rows("radii", 0);
-    const auto rad = r.d("radii", 0, N, pick);
-    const auto x = r.d("positions", 3, N, pick), v = r.d("velocities", 3, N, pick),
-               om = r.d("angularVelocities", 3, N, pick), q = r.d("orientations_xyzw", 4, N, pick),
-               f = r.d("forces", 3, N, pick), t = r.d("torques", 3, N, pick);
-    const auto mid = r.i("materialIds", 0, N, pick), fx = r.i("fixed", 0, N, pick);
-    const long NK = long(rad.size());
+    const std::vector<std::string> missing = readColumns(r, I.columns, N, pick);
+    const long NK = long(I.x.size());
     for (long k = 0; k < NK; ++k)
     {
-        const std::string g = "grain " + std::to_string(pick ? (*pick)[k] : k) + ": ";
-        // std::isfinite first: an ordered comparison with a NaN raises
-        // FE_INVALID (SIGFPE under OpenFOAM's FPE trapping)
-        if (!std::isfinite(rad[k]) || !(rad[k] > 0))
-            r.fail(g + "radius " + std::to_string(rad[k]) + " (radii must be finite and > 0)");
-        if (mid[k] < 0 || mid[k] >= int(I.materials.size()))
-            r.fail(g + "material id " + std::to_string(mid[k]) + " (the file has "
-                   + std::to_string(I.materials.size()) + " materials)");
-        const std::pair<const char*, const std::vector<double>*> vec3[] =
-            {{"position", &x}, {"velocity", &v}, {"angular velocity", &om}, {"force", &f}, {"torque", &t}};
-        for (const auto& e : vec3)
-            if (!std::isfinite((*e.second)[3*k]) || !std::isfinite((*e.second)[3*k + 1])
-                || !std::isfinite((*e.second)[3*k + 2]))
-                r.fail(g + "non-finite " + e.first + " (" + std::to_string((*e.second)[3*k]) + ", "
-                       + std::to_string((*e.second)[3*k + 1]) + ", " + std::to_string((*e.second)[3*k + 2]) + ")");
-        for (int c = 0; c < 4; ++c)
-            if (!std::isfinite(q[4*k + c])) r.fail(g + "non-finite orientation");
-        I.addGrainRaw(get3(x, 3*k), rad[k], mid[k], (fx[k] & 1) != 0);
-        I.rotLock[k] = (fx[k] & 2) ? 1 : 0;
-        I.x[k] = get3(x, 3*k);
-        I.v[k] = get3(v, 3*k);
-        I.w[k] = get3(om, 3*k);
-        I.force[k] = get3(f, 3*k);
-        I.torque[k] = get3(t, 3*k);
-        I.q[k].coeffs() << q[4*k], q[4*k + 1], q[4*k + 2], q[4*k + 3];
+        checkGrain(r, I, k, pick ? (*pick)[k] : k);
+        I.setMassInertia(std::size_t(k));
     }
-    if (H5Lexists(r.f, "grainIds", H5P_DEFAULT) > 0)
+    I.order.resize(NK);
+    std::iota(I.order.begin(), I.order.end(), 0);
+    I.rebuildSlotOf();
+    if (std::find(missing.begin(), missing.end(), "grainIds") == missing.end())
     {
-        I.ids = r.read<long>("grainIds", H5T_NATIVE_LONG, 0, N, pick);
         I.nextId = r.read<long>("nextGrainId", H5T_NATIVE_LONG, 0, 1)[0];
         std::vector<long> sortedIds(I.ids);
         std::sort(sortedIds.begin(), sortedIds.end());
@@ -434,9 +268,11 @@ long readGrains(Reader& r, System::Impl& I, const std::vector<long>* pick)
             if (sortedIds[k] < 0 || sortedIds[k] >= I.nextId || (k > 0 && sortedIds[k] == sortedIds[k - 1]))
                 r.fail("grain ids are not unique values in [0, nextGrainId)");
     }
-    else if (pick)
+    else
     {
-        I.ids = *pick;  // (the ids a whole read gives)
+        // the grain numbers of the file (the ids a whole read gives)
+        if (pick) I.ids = *pick;
+        else std::iota(I.ids.begin(), I.ids.end(), 0L);
         I.nextId = N;
     }
     return N;
@@ -590,42 +426,19 @@ void readOrder(Reader& r, System::Impl& I, long N, bool part)
     I.keptContactsN = -1;  // written for the grains read
 }
 
-/// readHDF5 stage: heat state (optional datasets: default temperature [K],
-/// heat solver settings, temperatures [K], sources [W], exchange
-/// coefficients [W/K] and fluid temperatures [K], fixed-temperature flags,
-/// wall temperatures [K], NaN adiabatic) into I; N grains of the file, pick
-/// those read (readGrains).
-void readHeat(Reader& r, System::Impl& I, long N, const std::vector<long>* pick)
+/// readHDF5 stage: heat settings (optional datasets: default temperature
+/// [K], heat solver settings, wall temperatures [K], NaN adiabatic) into I;
+/// the grains' heat state is in their columns (readGrains). Files written
+/// before they existed keep the defaults (adiabatic walls).
+void readHeat(Reader& r, System::Impl& I)
 {
-    const long NK = long(I.x.size());
-    // heat (optional: files written before it existed keep the defaults:
-    // temperatures 0, no sources, no fixed temperatures, adiabatic walls)
     auto has = [&](const char* name) { return H5Lexists(r.f, name, H5P_DEFAULT) > 0; };
     if (has("heatSettings"))
     {
         const auto hs = r.d("heatSettings", 0, 3);
-        I.defaultT = hs[0];
+        I.temperatureColumn().setDefault(hs[0]);
         I.settings.heatTolerance = hs[1];
         I.settings.heatMaxIterations = int(hs[2]);
-    }
-    if (has("temperatures"))
-    {
-        I.T = r.d("temperatures", 0, N, pick);
-        for (long k = 0; k < NK; ++k)
-            if (!std::isfinite(I.T[k]) || I.T[k] < 0)
-                r.fail("grain " + std::to_string(pick ? (*pick)[k] : k) + ": temperature " + std::to_string(I.T[k])
-                       + " K (must be finite and >= 0)");
-    }
-    if (has("heatSources")) I.heatQ = r.d("heatSources", 0, N, pick);
-    if (has("heatExchange"))
-    {
-        const auto hx = r.d("heatExchange", 2, N, pick);
-        for (long k = 0; k < NK; ++k) { I.heatH[k] = hx[2*k]; I.heatTf[k] = hx[2*k + 1]; }
-    }
-    if (has("fixedTemperature"))
-    {
-        const auto ft = r.i("fixedTemperature", 0, N, pick);
-        for (long k = 0; k < NK; ++k) I.fixT[k] = ft[k] ? 1 : 0;
     }
     if (has("wallTemperature"))
     {
@@ -676,7 +489,8 @@ std::vector<double> System::grainRadiiHDF5(const std::string& file)
     return r.d("radii", 0);
 }
 
-System System::readHDF5(const std::string& file, const std::function<bool(const Vec3&, double)>& keep)
+System System::readHDF5(const std::string& file, const std::function<bool(const Vec3&, double)>& keep,
+                         const std::function<void(System&)>& declare)
 {
     H5File h;
     Reader r = openState(h, file);
@@ -686,6 +500,7 @@ System System::readHDF5(const std::string& file, const std::function<bool(const 
     Impl& I = *s.impl_;
     readHeader(r, I);
     readMaterials(r, s);
+    if (declare) declare(s);
     // keep: the grain numbers whose centre it accepts (a pass over the positions)
     std::vector<long> pick;
     if (keep)
@@ -707,7 +522,7 @@ System System::readHDF5(const std::string& file, const std::function<bool(const 
         I.settings.cohesionMinAge = r.i("cohesionMinAge", 0, 1)[0];
         if (I.settings.cohesionMinAge < 0) r.fail("negative cohesionMinAge");
     }
-    readHeat(r, I, N, part);
+    readHeat(r, I);
     return s;
 }
 

@@ -10,33 +10,6 @@
 namespace nscd
 {
 
-namespace
-{
-/// Give back the memory of a when less than 3/4 of it is used (a decomposed
-/// system keeps a part of the whole one it was cut from), keeping 1/4 of
-/// headroom so that grains arriving later do not reallocate at once.
-template<class T, class A>
-void releaseSpare(std::vector<T, A>& a)
-{
-    if (a.size() >= a.capacity()/4*3) return;
-    std::vector<T, A> b;
-    b.reserve(a.size() + a.size()/4);
-    b.assign(std::make_move_iterator(a.begin()), std::make_move_iterator(a.end()));
-    a.swap(b);
-}
-
-/// Keep a[k] for the k with keep[k] != 0, in order.
-template<class T, class A>
-void compact(std::vector<T, A>& a, const std::vector<char>& keep)
-{
-    std::size_t n = 0;
-    for (std::size_t k = 0; k < a.size(); ++k)
-        if (keep[k]) a[n++] = a[k];
-    a.resize(n);
-    releaseSpare(a);
-}
-}
-
 std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& indices)
 {
     Impl& I = *impl_;
@@ -66,15 +39,9 @@ std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& in
         if (keep[i]) newIndex[i] = n++;
     const int removed = int(N) - n;
 
-    compact(I.x, keep); compact(I.v, keep); compact(I.w, keep); compact(I.q, keep);
-    compact(I.rad, keep); compact(I.mat, keep); compact(I.fix, keep); compact(I.rotLock, keep);
-    compact(I.force, keep); compact(I.torque, keep); compact(I.mass, keep); compact(I.inertia, keep);
-    compact(I.ids, keep);
-    compact(I.dragCoefficient, keep); compact(I.dragVelocity, keep); compact(I.dragImpulse, keep);
-    compact(I.T, keep); compact(I.heatQ, keep); compact(I.heatH, keep); compact(I.heatTf, keep);
-    compact(I.fixT, keep);
+    I.columns.compact(keep);  // every per-grain column
     for (Droplet& d : I.droplets)   // per-grain output of the last step
-        if (d.grainImpulse.size() == N) compact(d.grainImpulse, keep);
+        if (d.grainImpulse.size() == N) compactRows(d.grainImpulse, keep);
 
     // internal order (slot -> grain): the slots of the remaining grains
     // keep their order; old slot -> new slot (-1: removed), increasing

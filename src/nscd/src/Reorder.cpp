@@ -142,9 +142,7 @@ std::vector<std::size_t> System::renumberAlongInternalOrder()
     // bodies, detection records, Verlet list and contact records (all by
     // slot) stay as they are
     const std::vector<std::size_t> oldOf(I.order.begin(), I.order.end());
-    permuteInPlace(oldOf, I.x, I.v, I.w, I.q, I.rad, I.mat, I.fix, I.rotLock, I.force, I.torque,
-                   I.mass, I.inertia, I.ids, I.dragCoefficient, I.dragVelocity, I.dragImpulse,
-                   I.T, I.heatQ, I.heatH, I.heatTf, I.fixT);
+    I.columns.permute(oldOf);  // every per-grain column
     for (Droplet& d : I.droplets)  // (per-grain output of the last step, when sized)
         if (d.grainImpulse.size() == oldOf.size()) permuteInPlace(oldOf, d.grainImpulse);
     std::iota(I.order.begin(), I.order.end(), 0);

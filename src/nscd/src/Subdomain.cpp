@@ -365,31 +365,30 @@ Subdomain::Subdomain(System& system, SubdomainCoupling& coupling)
 
 Subdomain::~Subdomain() = default;
 
-Subdomain::GrainState Subdomain::state(std::size_t i) const
+std::size_t Subdomain::rowBytes(unsigned flags) const { return sys_.impl_->columns.rowBytes(flags); }
+
+void Subdomain::packGrain(std::size_t i, unsigned flags, char* out) const
 {
-    const System::Impl& I = *sys_.impl_;
-    return {I.x[i], I.v[i], I.w[i], I.q[i], I.force[i], I.torque[i], I.T[i],
-            I.dragCoefficient[i], I.dragVelocity[i], I.dragImpulse[i],
-            bool(I.fixT[i]), I.heatQ[i], I.heatH[i], I.heatTf[i]};
+    sys_.impl_->columns.packRow(i, flags, out);
 }
 
-void Subdomain::setState(std::size_t i, const GrainState& s)
+void Subdomain::unpackGrain(std::size_t i, unsigned flags, const char* in)
 {
     System::Impl& I = *sys_.impl_;
-    I.x[i] = s.x;
-    I.v[i] = s.v;
-    I.w[i] = s.w;
-    I.q[i] = s.q;
-    I.force[i] = s.force;
-    I.torque[i] = s.torque;
-    I.T[i] = s.temperature;
-    I.dragCoefficient[i] = s.dragCoefficient;
-    I.dragVelocity[i] = s.fluidVelocity;
-    I.dragImpulse[i] = s.dragImpulse;
-    I.fixT[i] = s.fixedTemperature;
-    I.heatQ[i] = s.heatSource;
-    I.heatH[i] = s.heatExchange;
-    I.heatTf[i] = s.bathTemperature;
+    I.columns.unpackRow(i, flags, in);
+    if (!std::isfinite(I.rad[i]) || !(I.rad[i] > 0) || I.mat[i] < 0 || I.mat[i] >= int(I.materials.size()))
+        throw InputError("nscd::Subdomain::unpackGrain: grain " + std::to_string(i) + ": radius "
+                         + std::to_string(I.rad[i]) + ", material " + std::to_string(I.mat[i]) + " of "
+                         + std::to_string(I.materials.size()) + " (a row packed with other columns?)");
+    I.setMassInertia(i);
+}
+
+std::size_t Subdomain::addGrain(unsigned flags, const char* in)
+{
+    const std::size_t i = sys_.impl_->appendRow();
+    try { unpackGrain(i, flags, in); }
+    catch (const InputError&) { sys_.removeGrains({i}); throw; }
+    return i;
 }
 
 System Subdomain::withoutGrains(const System& s)

@@ -110,39 +110,30 @@ const Material& System::material(int id) const
     return impl_->materials[id];
 }
 
-void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
+std::size_t System::Impl::appendRow()
 {
-    Vec3 cc = c;
-    if (dim == 2) cc.z() = 0;
-    x.push_back(cc);
-    v.push_back(Vec3::Zero());
-    w.push_back(Vec3::Zero());
-    q.push_back(Eigen::Quaterniond::Identity());
-    rad.push_back(r);
-    mat.push_back(m);
-    fix.push_back(fixed ? 1 : 0);
-    rotLock.push_back(0);
-    force.push_back(Vec3::Zero());
-    torque.push_back(Vec3::Zero());
-    dragCoefficient.push_back(0);
-    dragVelocity.push_back(Vec3::Zero());
-    dragImpulse.push_back(Vec3::Zero());
-    T.push_back(defaultT);
-    heatQ.push_back(0);
-    heatH.push_back(0);
-    heatTf.push_back(0);
-    fixT.push_back(0);
-    mass.push_back(0);
-    inertia.push_back(0);
-    ids.push_back(nextId++);
-    order.push_back(int(x.size()) - 1);  // a new grain takes the last slot
-    slotOf.push_back(int(x.size()) - 1);
+    columns.grow(1);
+    const std::size_t i = x.size() - 1;
+    ids[i] = nextId++;
+    order.push_back(int(i));  // a new grain takes the last slot
+    slotOf.push_back(int(i));
     // the kept contacts name a wall or droplet as body N + k: one more grain
     // shifts them (as Remove.cpp's compaction does the other way), once,
     // when they are next used (keptContactsN)
-    if (keptContactsN < 0 && !contacts.empty()) keptContactsN = int(x.size()) - 1;
+    if (keptContactsN < 0 && !contacts.empty()) keptContactsN = int(i);
     verlet.invalidate();
-    setMassInertia(x.size() - 1);
+    return i;
+}
+
+void System::Impl::addGrainRaw(const Vec3& c, double r, int m, bool fixed)
+{
+    const std::size_t i = appendRow();
+    x[i] = c;
+    if (dim == 2) x[i].z() = 0;
+    rad[i] = r;
+    mat[i] = m;
+    fix[i] = fixed ? 1 : 0;
+    setMassInertia(i);
 }
 
 void System::Impl::setMassInertia(std::size_t i)

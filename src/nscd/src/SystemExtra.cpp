@@ -103,6 +103,21 @@ double System::subStep(double dt, double fraction) const
     return dt/subStepsOf(I, dt, fraction, fastest(I, dt));
 }
 
+// The sub-step rules of advance (System.H), and why. Contacts are detected
+// per pair from each body's own reach (Settings::alertDistanceFactor) and
+// the gap law keeps every grain out of the others and of the walls whatever
+// its displacement in the step (see step()), so a fast grain needs no
+// sub-steps and does not make the others sub-step (the former rule of thesis
+// section 5.1.3, |v_max| dt_sub <= fraction * d_min for all grains, is not
+// needed for contacts). The velocity-change rule keeps the accuracy of the
+// former rule for the first-order integration of a strongly forced grain
+// (e.g. a grain falling from rest over a long step). The tangential rule:
+// the gap law holds each contact on its tangent plane at the step start, so
+// grains moving around each other by a large part of a diameter in one step
+// would be held apart and a dense flow slowed, enough to change the regime
+// of a granular collapse into water (test_granularCollapse.py). The 100 d_min
+// rule: the detection of a fast grain scans the grid cells its alert sphere
+// covers.
 StepReport System::advance(double dt, double fraction)
 {
     if (!(dt > 0)) throw InputError("nscd::System::advance: dt must be > 0");

@@ -122,9 +122,11 @@ std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
     const Impl& I = *impl_;
     // this rank's owned grains, and the contacts it solves (a grain pair:
     // the owner of the smaller id; a wall: the grain's owner)
-    std::vector<GrainRecord> grains;
+    // grain records (Impl::appendRecord) of every migrating column
+    const std::size_t bytes = I.recordBytes(ColumnMigrate);
+    std::vector<char> grains;
     for (int i = 0; i < int(I.owned.size()); ++i)
-        if (I.owned[i]) grains.push_back(I.record(i));
+        if (I.owned[i]) I.appendRecord(i, ColumnMigrate, grains);
     std::vector<ContactRecord> contacts;
     for (const System::ContactView& c : I.sys.contacts())
     {
@@ -152,14 +154,15 @@ std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
         }
         MPI_Gatherv(mine.data(), n, MPI_BYTE, all.data(), bytes.data(), offs.data(), MPI_BYTE, root, I.comm);
     };
-    std::vector<GrainRecord> allGrains;
+    std::vector<char> allGrains;
     std::vector<ContactRecord> allContacts;
     gather(grains, allGrains);
     gather(contacts, allContacts);
     if (I.rank != root) return nullptr;
 
-    std::sort(allGrains.begin(), allGrains.end(),
-              [](const GrainRecord& a, const GrainRecord& b) { return a.id < b.id; });
+    std::vector<std::pair<long, std::size_t>> byId(allGrains.size()/bytes);  // (id, record)
+    for (std::size_t k = 0; k < byId.size(); ++k) byId[k] = {recordId(&allGrains[k*bytes]), k};
+    std::sort(byId.begin(), byId.end());
     auto whole = std::make_unique<System>(Subdomain::withoutGrains(I.sys));
     struct NoCoupling : SubdomainCoupling
     {
@@ -169,13 +172,11 @@ std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
     } none;
     Subdomain access(*whole, none);
     std::unordered_map<long, int> index;
-    for (const GrainRecord& g : allGrains)
+    for (const auto& [id, k] : byId)
     {
-        const std::size_t i = std::size_t(whole->addGrain(get(g.x), g.radius, g.material, g.flags & 1));
-        whole->setRotationLocked(i, g.flags & 2);
-        access.setState(i, stateOf(g));
-        access.setGrainId(i, g.id);
-        index[g.id] = int(i);
+        const std::size_t i = access.addGrain(ColumnMigrate, &allGrains[k*bytes] + sizeof(long));
+        access.setGrainId(i, id);
+        index[id] = int(i);
     }
     if (I.sys.lastStepDt() > 0 && !allContacts.empty())
     {

@@ -3,6 +3,8 @@
 // a whole system), grains added, the step and the sub-stepped advance.
 #include "DecomposedSystemImpl.H"
 
+#include <utility>
+
 #include <algorithm>
 #include <limits>
 #include <numeric>
@@ -116,12 +118,12 @@ StepReport DecomposedSystem::advance(double dt, double fraction)
     while (remaining > 0)
     {
         double speed = 0;
+        const std::vector<Vec3>& force = std::as_const(I.sys).column<Vec3>("forces");
         for (std::size_t i = 0; i < I.sys.size(); ++i)
         {
             if (I.sys.fixed(i)) continue;
-            const Subdomain::GrainState s = I.sub.state(i);
-            const Vec3 vFree = s.v + dt*(g + s.force/I.sys.mass(i));
-            speed = std::max(speed, vFree.norm() + I.sys.radii()[i]*s.w.norm());
+            const Vec3 vFree = I.sys.velocities()[i] + dt*(g + force[i]/I.sys.mass(i));
+            speed = std::max(speed, vFree.norm() + I.sys.radii()[i]*I.sys.angularVelocities()[i].norm());
         }
         // sub-steps: System::subStep's rule on each rank, and the halo's
         double need[4] = {bounds[0], bounds[1], speed, dt/I.sys.subStep(dt, fraction)};

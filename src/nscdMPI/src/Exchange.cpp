@@ -38,7 +38,9 @@ void DecomposedSystem::Impl::exchange()
     // deep bed restarted from zero costs the solve the sweeps that carry the
     // weight of the grains above it down again.
     const int N0 = int(owned.size());
-    std::vector<std::vector<GrainRecord>> send(P), recv;
+    // grain records (appendRecord): their columns ColumnMigrate, then ColumnGhost
+    std::size_t bytes = recordBytes(ColumnMigrate);
+    std::vector<std::vector<char>> send(P), recv;
     std::vector<std::vector<double>> sendD(P), recvD;
     std::vector<std::vector<ContactRecord>> sendC(P), recvC;
     std::vector<int> dest(N0, -1);
@@ -61,7 +63,7 @@ void DecomposedSystem::Impl::exchange()
     for (int i = 0; i < N0; ++i)
     {
         if (dest[i] < 0) continue;
-        send[dest[i]].push_back(record(i));
+        appendRecord(i, ColumnMigrate, send[dest[i]]);
         appendData(i, sendD[dest[i]]);
         owned[i] = 0;
         any = true;
@@ -88,17 +90,18 @@ void DecomposedSystem::Impl::exchange()
             }
         }
     counters.bytesSent += exchangeLists(comm, TagRecords, send, recv);
-    counters.bytesSent += exchangeData(sendD, recv, recvD);
+    counters.bytesSent += exchangeData(sendD, recv, bytes, recvD);
     counters.bytesSent += exchangeLists(comm, TagContacts, sendC, recvC);
     {
         std::unordered_map<long, int> local;  // the ghosts here (a migrant may be one)
         for (int i = 0; i < int(gid.size()); ++i) if (!owned[i]) local[gid[i]] = i;
         for (int r = 0; r < P; ++r)
-            for (std::size_t k = 0; k < recv[r].size(); ++k)
+            for (std::size_t k = 0; k < recv[r].size()/bytes; ++k)
             {
-                const GrainRecord& g = recv[r][k];
-                auto it = local.find(g.id);  // a ghost here becomes owned (keeps its contacts)
-                place(it == local.end() ? -1 : it->second, g, recvD[r].data() + k*std::size_t(travelWidth()), true);
+                const char* g = recv[r].data() + k*bytes;
+                auto it = local.find(recordId(g));  // a ghost here becomes owned (keeps its contacts)
+                place(it == local.end() ? -1 : it->second, g, ColumnMigrate,
+                      recvD[r].data() + k*std::size_t(travelWidth()), true);
             }
     }
 
@@ -122,6 +125,7 @@ void DecomposedSystem::Impl::exchange()
     MPI_Allgather(box, 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, comm);
     sendTo.assign(P, {});
     send.assign(P, {});
+    bytes = recordBytes(ColumnGhost);
     sendD.assign(P, {});
     const double h2 = halo*halo;
     for (int i = 0; i < N; ++i)
@@ -134,24 +138,24 @@ void DecomposedSystem::Impl::exchange()
             const double* b = &boxes[6*r];
             if (distance2(x, Vec3(b[0], b[1], b[2]), Vec3(b[3], b[4], b[5])) > h2) continue;
             sendTo[r].push_back(i);
-            send[r].push_back(record(i));
+            appendRecord(i, ColumnGhost, send[r]);
             appendData(i, sendD[r]);
             ++counters.ghostsSent;
         }
     }
     counters.bytesSent += exchangeLists(comm, TagRecords, send, recv);
-    counters.bytesSent += exchangeData(sendD, recv, recvD);
+    counters.bytesSent += exchangeData(sendD, recv, bytes, recvD);
     std::unordered_map<long, int> local;  // the ghosts here (refreshed in place)
     for (int i = 0; i < N; ++i) if (!owned[i]) local[gid[i]] = i;
     std::vector<char> keep(N, 0);
     for (int i = 0; i < N; ++i) keep[i] = owned[i];
     ghostFrom.assign(P, {});
     for (int r = 0; r < P; ++r)
-        for (std::size_t k = 0; k < recv[r].size(); ++k)
+        for (std::size_t k = 0; k < recv[r].size()/bytes; ++k)
         {
-            const GrainRecord& g = recv[r][k];
-            auto it = local.find(g.id);
-            const int i = place(it == local.end() ? -1 : it->second, g,
+            const char* g = recv[r].data() + k*bytes;
+            auto it = local.find(recordId(g));
+            const int i = place(it == local.end() ? -1 : it->second, g, ColumnGhost,
                                 recvD[r].data() + k*std::size_t(travelWidth()), false);
             if (i >= N) { keep.push_back(1); ++counters.ghostsAdded; } else keep[i] = 1;
             ghostFrom[r].push_back(i);
