@@ -300,12 +300,14 @@ def water_through_boundaries(stdout):
 def risers(tmp_path, env, level, inflow):
     """8 light discs (400 kg/m^3, 2 mm) near the open top `top` (outletPatches)
     of the basin's box, water below y = level, inflow the alpha.water that
-    flows in through the top; 0.15 s.  Returns the case."""
+    flows in through the top; 0.2 s (the last leaves at 0.15 s: the fluid
+    fills a grain's volume in the step after it left).  Returns the case."""
     case = str(tmp_path / "risers")
-    grains = [(0.005 + 0.0045 * i, 0.047 + 0.004 * (i % 2), 0, 2e-3) for i in range(8)]
+    # (the 4th straddles x = 0.02, the ranks' boundary of the parallel run)
+    grains = [(0.0065 + 0.0045 * i, 0.047 + 0.004 * (i % 2), 0, 2e-3) for i in range(8)]
     make_box_case(case, (0, 0, 0), (0.04, 0.06, 0.0025), (16, 24, 1), (0, -G, 0),
                   {"light": {"density": 400, "friction": 0.3}}, grains=grains,
-                  end_time=0.15, dt=1e-3, write_interval=0.05,
+                  end_time=0.2, dt=1e-3, write_interval=0.05,
                   extra_props="outletPatches (top);\n")
     add_two_phase(case, env, level, open_top=inflow)
     return case
@@ -330,7 +332,7 @@ def check_risers(out, inflow):
         # floating discs pushed out through the surface at the top (3 of 8
         # in 0.15 s; air flows in): alpha in [0, 1] to MULES's bounds
         assert n_out >= 2, out[-3000:]
-        assert min(amin) > -1e-6 and max(amax) < 1 + 1e-6, (min(amin), max(amax))
+        assert min(amin) > -1e-5 and max(amax) < 1 + 1e-5, (min(amin), max(amax))
 
 
 @pytest.mark.fast
@@ -353,7 +355,7 @@ def test_grains_leaving_through_the_top_keep_alpha_bounded(tmp_path, env, level,
     # without the flux correction of the phase transport alpha leaves
     # [0, 1] (by 2 % at t = 0.004 s, from the grains' motion, 28 % at
     # 0.012 s): a warning, then a clear error, not a silent corruption
-    for t in ("0.05", "0.1", "0.15"):
+    for t in ("0.05", "0.1", "0.15", "0.2"):
         shutil.rmtree(os.path.join(case, t))
     fs = os.path.join(case, "system", "fvSolution")
     txt = open(fs).read().replace("nLimiterIter 3;", "nLimiterIter 3; epsFluxCorrection no;")
