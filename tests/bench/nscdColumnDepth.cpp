@@ -45,6 +45,8 @@ int main(int argc, char** argv)
     Material mat{rho, 0.3};
     if (const char* e = std::getenv("NSCD_BETA")) mat.relativeCompliance = std::atof(e);
     if (const char* e = std::getenv("NSCD_COMPLIANCE")) mat.compliance = std::atof(e);
+    // env NSCD_MU: the grains' (and the floor's) friction coefficient (default 0.3)
+    if (const char* e = std::getenv("NSCD_MU")) mat.friction = std::atof(e);
     const int m = s.addMaterial(mat);
     s.settings().tolerance = std::atof(argv[3]);
     s.settings().maxIterations = std::atoi(argv[4]);
