@@ -18,12 +18,15 @@
 //        method's newtonTolerance, tangentialRegularisation, newtonLinearSolver
 //        METHOD: the Settings::Method number (0 NLGS, 1 overRelaxedNLGS,
 //        2 APGD, 3 NNCG, 4 Newton), default 0. Newton: "sweeps" are Newton
-//        iterations; the last line adds the linear-solver (CG) iterations
+//        iterations; the last line adds the linear-solver (CG) iterations and
+//        the most sweeps (iterations) of one step
 #include "nscd/System.H"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <random>
 #include <string>
 
@@ -45,6 +48,8 @@ int main(int argc, char** argv)
     Material mat{rho, 0.3};
     if (const char* e = std::getenv("NSCD_BETA")) mat.relativeCompliance = std::atof(e);
     if (const char* e = std::getenv("NSCD_COMPLIANCE")) mat.compliance = std::atof(e);
+    // env NSCD_MU: the grains' (and the floor's) friction coefficient (default 0.3)
+    if (const char* e = std::getenv("NSCD_MU")) mat.friction = std::atof(e);
     const int m = s.addMaterial(mat);
     s.settings().tolerance = std::atof(argv[3]);
     s.settings().maxIterations = std::atoi(argv[4]);
@@ -86,16 +91,29 @@ int main(int argc, char** argv)
     const int histStep = std::getenv("NSCD_HISTORY_STEP") ? std::atoi(std::getenv("NSCD_HISTORY_STEP")) : -1;
     // env NSCD_SWITCH_STEP=k, NSCD_SWITCH_METHOD=m: from step k on, Settings::Method m
     // (e.g. land with NLGS, then time the column at rest with each method);
-    // the last line adds the sweeps and contact-solve seconds from step k on
+    // the last line adds the sweeps, contact-solve seconds, most sweeps of a
+    // step and CPU seconds of advance() from step k on
     const int switchStep = std::getenv("NSCD_SWITCH_STEP") ? std::atoi(std::getenv("NSCD_SWITCH_STEP")) : -1;
     long restSweeps = 0;
     double restSeconds = 0;
+    int maxStepSweeps = 0, restMaxStepSweeps = 0;  // the most sweeps (Newton: iterations) of one step
+    // CPU seconds of this thread in advance() from the switch step on (the
+    // solver's solveSeconds is wall-clock time, which a shared core inflates)
+    double restCpu = 0;
+    auto threadCpu = []
+    {
+        timespec t;
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+        return double(t.tv_sec) + 1e-9*double(t.tv_nsec);
+    };
     for (int k = 0; k < nSteps; ++k)
     {
         if (k == switchStep && std::getenv("NSCD_SWITCH_METHOD"))
             s.settings().method = System::Settings::Method(std::atoi(std::getenv("NSCD_SWITCH_METHOD")));
         s.settings().residualHistory = k + 1 == histStep;
+        const double cpu0 = threadCpu();
         const StepReport r = s.advance(dt, 0.1);
+        if (switchStep >= 0 && k >= switchStep) restCpu += threadCpu() - cpu0;
         if (k + 1 == histStep)
         {
             std::printf("history step %d:", k + 1);
@@ -103,7 +121,13 @@ int main(int argc, char** argv)
             std::printf("\n");
         }
         sweeps += r.sweeps;
-        if (switchStep >= 0 && k >= switchStep) { restSweeps += r.sweeps; restSeconds += r.solveSeconds; }
+        maxStepSweeps = std::max(maxStepSweeps, r.sweeps);
+        if (switchStep >= 0 && k >= switchStep)
+        {
+            restSweeps += r.sweeps;
+            restSeconds += r.solveSeconds;
+            restMaxStepSweeps = std::max(restMaxStepSweeps, r.sweeps);
+        }
         linear += r.linearIterations;
         solveSeconds += r.solveSeconds;
         unconverged += r.converged ? 0 : 1;
@@ -125,7 +149,7 @@ int main(int argc, char** argv)
                     r.sweeps, r.substeps, r.residual, r.maxOverlap);
     }
     std::printf("total sweeps %ld steps %d unconverged %ld beta %g compliance %g method %d linear %ld solve_s %.3f "
-                "after_switch_sweeps %ld after_switch_solve_s %.3f\n",
+                "after_switch_sweeps %ld after_switch_solve_s %.3f max_step_sweeps %d after_switch_max_step_sweeps %d after_switch_cpu_s %.3f\n",
                 sweeps, nSteps, unconverged, mat.relativeCompliance, mat.compliance, int(s.settings().method), linear,
-                solveSeconds, restSweeps, restSeconds);
+                solveSeconds, restSweeps, restSeconds, maxStepSweeps, restMaxStepSweeps, restCpu);
 }

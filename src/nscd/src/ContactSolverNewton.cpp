@@ -21,15 +21,34 @@
 // grad l = M (v - v*) - sum_k J_k^T (gamma_k - coh_k e_n), so at the minimum
 // M (v - v*) = J^T r with r = gamma - coh e_n: momentum balance with the
 // compliant law's impulses (Castro et al., eq. 18-20 and Theorem 1).
-// Each iteration: Hessian H = M + sum_k J_k^T G_k J_k (Eigen SparseMatrix,
-// the same pattern for every iteration of a step), Newton direction
-// H dv = -grad l (SimplicialLDLT or incomplete-Cholesky CG,
-// Settings::newtonLinearSolver), exact line search on l along dv (a
-// safeguarded Newton-bisection on dl/dalpha, which is monotone: l is
-// convex; SAP's default Armijo backtracking from alpha = 1, rho 0.8,
-// c 1e-4, was tried: 197 iterations a step, every step at the cap, on the
-// 150-disc column at rest, against 10.9 with the exact search), stop on
-// SAP's relative optimality test (Settings::newtonTolerance).
+// Each iteration is one linear solve with a matrix M + sum_k J_k^T B_k J_k
+// (Eigen SparseMatrix, lower triangle, one pattern per step, filled in
+// place; kept with its LDLT ordering for the next step when the rows touch
+// the same unknowns), by SimplicialLDLT or incomplete-Cholesky CG
+// (Settings::newtonLinearSolver). Two stages:
+//  1. active-set steps (a primal-dual active-set method in the manner of
+//     Hintermueller, Ito & Kunisch, SIAM J. Optim. 13(3), 2002, and of
+//     Hueeber, Stadler & Wohlmuth, SIAM J. Sci. Comput. 30(2), 2008, for
+//     Coulomb friction): each row keeps a region (stiction, sliding along
+//     a direction, separation), first the warm start's (the previous
+//     step's impulse), then updated from the model's solution: the step
+//     goes to the minimiser of the quadratic model of l in which each row
+//     keeps its region (B_k its curvature there), the full step;
+//  2. when the regions settle without optimality, cycle or reach
+//     maxActiveSetSteps: Newton's steps on l from the best iterate (B_k =
+//     G_k at v, H dv = -grad l) with the exact line search on l along dv
+//     (a safeguarded Newton-bisection on dl/dalpha; l is convex).
+// Why not Newton on l alone, as the paper: a row's region at v is decided
+// within mu R_t gamma_n of tangential velocity (R_t = sigma R_n, 6e-9 m/s
+// a layer on the landing column with beta 2e-3, sigma 1e-3), far below
+// the error of any iterate, so most loaded rows start in the wrong region;
+// a wrong sliding row has no curvature along its slip (in 2D), Newton's
+// step overshoots its stiction band by ~1/(mu^2 sigma), and the exact line
+// search stops at the first such kink: a few rows corrected per iteration,
+// an iteration count that grows with the rows (docs/validation/
+// contactCompliance.md, "The Newton solver"). The regions carried by the
+// active-set steps do not depend on the iterate's tangential noise.
+// Stop on SAP's relative optimality test (Settings::newtonTolerance).
 // At the end the bodies get v* + M^-1 J^T r(v) (momentum exactly
 // consistent with the rows' impulses, as in the Gauss-Seidel methods) and
 // the rows r(v); StepReport::residual is the common residual of every
@@ -42,6 +61,7 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace nscd
@@ -54,11 +74,30 @@ using SpMat = Eigen::SparseMatrix<double>;
 
 /// Most Newton iterations, whatever Settings::maxIterations (SAP's default cap is 100).
 constexpr int maxNewtonIterations = 200;
+/// Most active-set steps of a solve before Newton's steps with the line search take over.
+constexpr int maxActiveSetSteps = 40;
 /// Relative residual of the conjugate-gradient linear solve (inexact Newton).
 constexpr double cgTolerance = 1e-3;
 /// Cost stall: a step that lowers l by less than this relative amount ends
 /// the solve (the round-off floor of l; converged only if the test holds).
 constexpr double costStall = 1e-14;
+
+/**
+ * The matrix pattern of the last solve on this thread, kept for the next:
+ * the contacts of a bed at rest change little from step to step, and when
+ * every row touches the same unknowns as before, the pattern of H, the
+ * positions of the rows' entries and the LDLT's ordering and symbolic
+ * analysis are reused. key lists nv and each row's unknowns.
+ */
+struct PatternCache
+{
+    std::vector<int> key;
+    SpMat H;
+    std::vector<int> diagSlot, slotStart, slots;
+    Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt;
+    bool analysed = false;  ///< ldlt's analyzePattern done for H's pattern
+};
+thread_local PatternCache patternCache;
 
 /// One contact of the Newton solve: its Jacobian (local rows x the
 /// unknowns it touches), the velocity of the bodies that are not unknowns,
@@ -88,9 +127,14 @@ struct NewtonSolve
     std::vector<Eigen::Vector3d> vc, wc;  ///< contact velocities at v, J_k dv
     double cost = 0;
     double pNorm = 0, jNorm = 0, gNorm = 0;  ///< |D p|, |D j_c|, |D grad l|
+    SpMat& H;                             ///< the Newton or region-model matrix (lower triangle)
+    std::vector<int>& diagSlot;           ///< position of M's entries in H's values
+    std::vector<int>& slotStart;          ///< per row: start of its entries' positions in slots
+    std::vector<int>& slots;              ///< positions of the rows' block entries in H's values (-1: upper)
 
     NewtonSolve(System::Impl& impl, double dtStep)
-    : I(impl), dt(dtStep), m(impl.dim == 2 ? 2 : 3), NC(int(impl.rows.size())) {}
+    : I(impl), dt(dtStep), m(impl.dim == 2 ? 2 : 3), NC(int(impl.rows.size())), H(patternCache.H),
+      diagSlot(patternCache.diagSlot), slotStart(patternCache.slotStart), slots(patternCache.slots) {}
 
     int nt() const { return I.dim == 2 ? 2 : 3; }  ///< translational unknowns per body
     int nr() const { return I.dim == 2 ? 1 : 3; }  ///< rotational unknowns per body
@@ -247,40 +291,235 @@ struct NewtonSolve
         jNorm = jc.cwiseProduct(D).norm();
     }
 
+    /// Regions of the rows' projections at v (ConeProjection::region; 2 for a skipped row); vc current.
+    void regions(std::vector<int>& reg) const
+    {
+        reg.assign(NC, 2);
+        for (int k = 0; k < NC; ++k)
+        {
+            const NewtonRow& r = R[k];
+            if (r.skip) continue;
+            reg[k] = newton::project(vc[k], r.vhatN, r.Rn, r.Rt, r.mu, false).region;
+        }
+    }
+
     /// SAP's optimality ratio |D grad l| / max(|D p|, |D j_c|) at the last
     /// evaluate() (the residual history's entry).
     double optimality() const { return gNorm/std::max(std::max(pNorm, jNorm), 1e-300); }
     /// SAP's relative optimality test |D grad l| <= tol max(|D p|, |D j_c|).
     bool optimal(double tol) const { return gNorm <= tol*std::max(pNorm, jNorm); }
 
-    /// Hessian M + sum J^T G J (every block, zero or not: a fixed pattern).
-    void hessian(SpMat& H, std::vector<Eigen::Triplet<double>>& T) const
+    /**
+     * The pattern of H (lower triangle: M and every row's block J_k^T J_k,
+     * whether its curvature is zero or not, so that one pattern serves the
+     * whole solve), and where each row's block entries sit in H's values.
+     */
+    void buildPattern()
     {
-        T.clear();
-        for (int i = 0; i < nv; ++i) T.emplace_back(i, i, mass(i));
+        std::vector<int> key{nv};
+        key.reserve(1 + 7*NC);
+        for (const NewtonRow& r : R)
+        {
+            key.push_back(r.skip ? -1 : r.ncol);
+            if (!r.skip) key.insert(key.end(), r.col, r.col + r.ncol);
+        }
+        if (key == patternCache.key) return;  // the last solve's pattern
+        patternCache.key.swap(key);
+        patternCache.analysed = false;
+        std::vector<Eigen::Triplet<double>> T;
+        for (int i = 0; i < nv; ++i) T.emplace_back(i, i, 0.0);
         for (int k = 0; k < NC; ++k)
         {
             const NewtonRow& r = R[k];
             if (r.skip) continue;
-            const newton::ConeProjection p = newton::project(vc[k], r.vhatN, r.Rn, r.Rt, r.mu, true);
-            double GJ[3][12];  // G J_k
-            for (int a = 0; a < m; ++a)
-                for (int j = 0; j < r.ncol; ++j)
-                {
-                    double s = 0;
-                    for (int b = 0; b < m; ++b) s += p.G(a, b)*r.J[b][j];
-                    GJ[a][j] = s;
-                }
             for (int i = 0; i < r.ncol; ++i)
                 for (int j = 0; j < r.ncol; ++j)
-                {
-                    double s = 0;
-                    for (int a = 0; a < m; ++a) s += r.J[a][i]*GJ[a][j];
-                    T.emplace_back(r.col[i], r.col[j], s);
-                }
+                    if (r.col[i] >= r.col[j]) T.emplace_back(r.col[i], r.col[j], 0.0);
         }
         H.resize(nv, nv);
         H.setFromTriplets(T.begin(), T.end());
+        H.makeCompressed();
+        const double* v0 = H.valuePtr();
+        diagSlot.resize(nv);
+        for (int i = 0; i < nv; ++i) diagSlot[i] = int(&H.coeffRef(i, i) - v0);
+        slotStart.assign(NC + 1, 0);
+        slots.clear();
+        for (int k = 0; k < NC; ++k)
+        {
+            slotStart[k] = int(slots.size());
+            const NewtonRow& r = R[k];
+            if (r.skip) continue;
+            for (int i = 0; i < r.ncol; ++i)
+                for (int j = 0; j < r.ncol; ++j)
+                    slots.push_back(r.col[i] >= r.col[j] ? int(&H.coeffRef(r.col[i], r.col[j]) - v0) : -1);
+        }
+        slotStart[NC] = int(slots.size());
+    }
+
+    /// H = M (the values of the fixed pattern reset).
+    void resetHessian()
+    {
+        std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
+        for (int i = 0; i < nv; ++i) H.valuePtr()[diagSlot[i]] = mass(i);
+    }
+
+    /// H += J_k^T B J_k (B symmetric 3x3 in the local frame; lower triangle).
+    void addBlock(int k, const Eigen::Matrix3d& B)
+    {
+        const NewtonRow& r = R[k];
+        double BJ[3][12];
+        for (int a = 0; a < m; ++a)
+            for (int j = 0; j < r.ncol; ++j)
+            {
+                double s = 0;
+                for (int b = 0; b < m; ++b) s += B(a, b)*r.J[b][j];
+                BJ[a][j] = s;
+            }
+        double* val = H.valuePtr();
+        const int* slot = slots.data() + slotStart[k];
+        for (int i = 0; i < r.ncol; ++i)
+            for (int j = 0; j < r.ncol; ++j)
+            {
+                const int at = slot[i*r.ncol + j];
+                if (at < 0) continue;
+                double s = 0;
+                for (int a = 0; a < m; ++a) s += r.J[a][i]*BJ[a][j];
+                val[at] += s;
+            }
+    }
+
+    /// Hessian of l at v, H = M + sum J^T G J (vc current).
+    void hessian()
+    {
+        resetHessian();
+        for (int k = 0; k < NC; ++k)
+        {
+            const NewtonRow& r = R[k];
+            if (r.skip) continue;
+            addBlock(k, newton::project(vc[k], r.vhatN, r.Rn, r.Rt, r.mu, true).G);
+        }
+    }
+
+    /// Gradient g and Hessian H at v of the quadratic model of l whose rows
+    /// keep given regions: reg[k] 0 stiction (gamma = y extended beyond the
+    /// cone), 1 sliding along the fixed direction slip[k] (unit, local
+    /// tangential components), 2 separation (no impulse). vc must be current.
+    void regionModel(const std::vector<int>& reg, const std::vector<Eigen::Vector3d>& slip, Eigen::VectorXd& g)
+    {
+        resetHessian();
+        g = mass.cwiseProduct(v - vStar);
+        for (int k = 0; k < NC; ++k)
+        {
+            const NewtonRow& r = R[k];
+            if (r.skip) continue;
+            const double yn = -(vc[k](0) - r.vhatN)/r.Rn;
+            Eigen::Vector3d f = Eigen::Vector3d::Zero();  // impulse gamma of the model
+            Eigen::Matrix3d B = Eigen::Matrix3d::Zero();  // -d gamma/d v_c
+            if (reg[k] == 0 || (reg[k] == 1 && r.mu == 0))
+            {
+                f(0) = yn;
+                B(0, 0) = 1.0/r.Rn;
+                if (r.mu > 0)
+                    for (int a = 1; a < m; ++a) { f(a) = -vc[k](a)/r.Rt; B(a, a) = 1.0/r.Rt; }
+            }
+            else if (reg[k] == 1)
+            {
+                const double muHat = r.mu*r.Rt/r.Rn, c = 1.0/(1.0 + r.mu*muHat);
+                double yts = 0;  // slip . y_t
+                for (int a = 1; a < m; ++a) yts += -slip[k](a)*vc[k](a)/r.Rt;
+                const double gn = c*(yn + muHat*yts);
+                Eigen::Vector3d e = slip[k]*r.mu;  // d gn/d(-v_c) direction: (1, mu t)/R_n c
+                e(0) = 1.0;
+                f = gn*e;
+                B = (c/r.Rn)*e*e.transpose();
+            }  // separation: no impulse, no curvature (the block kept: one pattern)
+            f(0) -= r.coh;
+            addJT(k, -f, g);
+            addBlock(k, B);
+        }
+    }
+
+    /**
+     * Regions of the region model at the start of a solve: a row that
+     * carried a load in the warm start (the previous step's impulse) keeps
+     * that impulse's region (stiction inside the cone, sliding on it, along
+     * its direction); any other row takes the region of its projection at
+     * v. vc must be current.
+     */
+    void initialRegions(std::vector<int>& reg, std::vector<Eigen::Vector3d>& slip) const
+    {
+        regions(reg);
+        slip.assign(NC, Eigen::Vector3d::Zero());
+        for (int k = 0; k < NC; ++k)
+        {
+            const NewtonRow& r = R[k];
+            if (r.skip) continue;
+            Eigen::Vector3d f = warmImpulse(k);
+            f(0) += r.coh;  // the cone's impulse gamma
+            const double ft = std::hypot(f(1), f(2));
+            if (f(0) > 0)
+            {
+                if (r.mu == 0 || ft < (1 - 1e-6)*r.mu*f(0)) { reg[k] = 0; continue; }
+                reg[k] = 1;
+                slip[k] = Eigen::Vector3d(0, f(1)/ft, f(2)/ft);
+            }
+            else if (reg[k] == 1)
+                slip[k] = Eigen::Vector3d(0, -vc[k](1), -vc[k](2)).normalized();
+        }
+    }
+
+    /// The warm start's impulse of row k (the rows' rn, rt) in its local frame.
+    Eigen::Vector3d warmImpulse(int k) const
+    {
+        const SolverContact& c = I.rows[k];
+        const Vec3 P = c.rn*c.n + c.rt;
+        Eigen::Vector3d f = Eigen::Vector3d::Zero();
+        for (int a = 0; a < m; ++a) f(a) = P.dot(R[k].e[a]);
+        return f;
+    }
+
+    /// Sliding directions of the rows in region 1 from their projection at v (vc current).
+    void initialSlip(const std::vector<int>& reg, std::vector<Eigen::Vector3d>& slip) const
+    {
+        slip.assign(NC, Eigen::Vector3d::Zero());
+        for (int k = 0; k < NC; ++k)
+            if (reg[k] == 1) slip[k] = Eigen::Vector3d(0, -vc[k](1), -vc[k](2)).normalized();
+    }
+
+    /**
+     * The region model's update at v (vc current), the active-set rule of a
+     * primal-dual active-set method: a sticking row whose impulse y has
+     * left the cone slides, along y_t; a sliding row whose slip along its
+     * direction has fallen into the stiction band (or reversed) sticks; a
+     * row whose impulse vanishes (y_n <= -mu^ |y_t|) separates, and a
+     * separated row that closes takes its projection's region.
+     * @return the number of rows whose region changed.
+     */
+    int updateRegions(std::vector<int>& reg, std::vector<Eigen::Vector3d>& slip) const
+    {
+        int changes = 0;
+        for (int k = 0; k < NC; ++k)
+        {
+            const NewtonRow& r = R[k];
+            if (r.skip) continue;
+            const double yn = -(vc[k](0) - r.vhatN)/r.Rn;
+            const Eigen::Vector3d yt(0, -vc[k](1)/r.Rt, -vc[k](2)/r.Rt);
+            const double yr = yt.norm();
+            const double muHat = r.mu*r.Rt/r.Rn;
+            int now = reg[k];
+            if (!(yn > -muHat*yr)) now = 2;
+            else if (reg[k] == 1)
+            {
+                const double yts = slip[k].dot(yt);
+                if (yts <= r.mu*yn) now = 0;
+                else if (m == 3) slip[k] = yt/yr;
+            }
+            else if (r.mu > 0 && yr > r.mu*yn) { now = 1; slip[k] = yt/yr; }
+            else now = 0;
+            changes += now != reg[k];
+            reg[k] = now;
+        }
+        return changes;
     }
 
     /// dl/dalpha and d2l/dalpha2 at v + alpha dv (wc = J dv, a = dv^T M dv,
@@ -350,61 +589,90 @@ void System::Impl::solveNewton(double dt, StepReport& rep)
     // free velocities: the warm-started bodies minus the rows' impulses
     {
         Eigen::VectorXd jr = Eigen::VectorXd::Zero(S.nv);
-        for (int k = 0; k < NC; ++k)
-        {
-            const SolverContact& c = rows[k];
-            const Vec3 P = c.rn*c.n + c.rt;
-            Eigen::Vector3d f;
-            for (int a = 0; a < S.m; ++a) f(a) = P.dot(S.R[k].e[a]);
-            if (S.m == 2) f(2) = 0;
-            S.addJT(k, f, jr);
-        }
+        for (int k = 0; k < NC; ++k) S.addJT(k, S.warmImpulse(k), jr);
         S.vStar = x0 - jr.cwiseQuotient(S.mass);
     }
     S.v = x0;
     const double tol = settings.newtonTolerance;
     const int maxIt = std::min(settings.maxIterations, maxNewtonIterations);
-    SpMat H;
-    std::vector<Eigen::Triplet<double>> T;
-    Eigen::SimplicialLDLT<SpMat> ldlt;
-    Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> cg;
+    S.buildPattern();
+    Eigen::SimplicialLDLT<SpMat, Eigen::Lower>& ldlt = patternCache.ldlt;
+    Eigen::ConjugateGradient<SpMat, Eigen::Lower, Eigen::IncompleteCholesky<double, Eigen::Lower>> cg;
     const bool useCg = settings.newtonLinearSolver == Settings::NewtonLinearSolver::ConjugateGradient;
-    bool analysed = false;
-    int it = 0, evals = 0;
-    bool converged = false;
+    bool& analysed = patternCache.analysed;
     long cgIterations = 0;
-    S.evaluate();
-    while (true)
+    // dv = -H^-1 g (the pattern of H is the same for every solve of the step)
+    auto linearSolve = [&](const Eigen::VectorXd& g)
     {
-        const double ratio = S.optimality();
-        if (hist) rep.residualHistory.push_back(ratio);
-        if (S.nv == 0 || S.optimal(tol)) { converged = true; break; }
-        if (it >= maxIt) break;
-        S.hessian(H, T);
         if (useCg)
         {
             cg.setTolerance(cgTolerance);
-            cg.compute(H);
-            S.dv = cg.solve(-S.grad);
+            cg.compute(S.H);
+            S.dv = cg.solve(-g);
             cgIterations += cg.iterations();
         }
         else
         {
-            if (!analysed) { ldlt.analyzePattern(H); analysed = true; }
-            ldlt.factorize(H);
-            S.dv = ldlt.solve(-S.grad);
+            if (!analysed) { ldlt.analyzePattern(S.H); analysed = true; }
+            ldlt.factorize(S.H);
+            S.dv = ldlt.solve(-g);
         }
+    };
+    int it = 0, evals = 0, activeSetSteps = 0;
+    bool converged = false;
+    S.evaluate();
+    // Stage 1, active-set steps: the rows' regions are carried from step to
+    // step (the warm start's) and from iteration to iteration (updateRegions),
+    // not read off the iterate (see the head of this file). Each step goes to the
+    // minimiser of the quadratic model with those regions (one linear solve),
+    // the full step whatever the cost does there (the best iterate is kept).
+    // Stage 2, when the regions settle without optimality, cycle or reach
+    // maxActiveSetSteps: Newton's steps on l from the best iterate, with the
+    // exact line search (convergent: l is convex and decreases at each step).
+    std::vector<int> reg;
+    std::vector<Eigen::Vector3d> slip;
+    S.initialRegions(reg, slip);
+    Eigen::VectorXd g;
+    bool activeSet = true;
+    Eigen::VectorXd bestV = S.v;
+    double bestCost = S.cost;
+    std::array<double, 8> recentCosts;  // the costs of the last active-set iterates (cycle detection)
+    recentCosts.fill(-1.0);
+    while (true)
+    {
+        if (hist) rep.residualHistory.push_back(S.optimality());
+        if (S.nv == 0 || S.optimal(tol)) { converged = true; break; }
+        if (it >= maxIt) break;
         ++it;
+        if (activeSet)
+        {
+            S.regionModel(reg, slip, g);
+            linearSolve(g);
+            ++activeSetSteps;
+            S.v += S.dv;
+            S.evaluate();
+            const int changes = S.updateRegions(reg, slip);
+            if (S.cost < bestCost) { bestCost = S.cost; bestV = S.v; }
+            bool cycle = false;  // the cost of one of the last iterates again: the regions cycle
+            for (double c : recentCosts) cycle = cycle || std::abs(c - S.cost) <= 1e-12*std::abs(S.cost);
+            recentCosts[activeSetSteps % recentCosts.size()] = S.cost;
+            if ((changes == 0 && S.optimal(tol)) || !(changes == 0 || cycle || activeSetSteps >= maxActiveSetSteps))
+                continue;
+            activeSet = false;
+            if (S.v != bestV) { S.v = bestV; S.evaluate(); }
+            continue;
+        }
+        const double before = S.cost;
+        S.hessian();
+        linearSolve(S.grad);
         const double alpha = S.lineSearch(evals);
         if (!(alpha > 0)) break;  // no descent left (round-off): converged only by the test
-        const double before = S.cost;
         S.v += alpha*S.dv;
         S.evaluate();
         if (std::abs(before - S.cost) <= costStall*std::abs(S.cost))
         {
             // round-off floor of the cost: stop; converged only by the test
-            const double ratio = S.optimality();
-            if (hist) rep.residualHistory.push_back(ratio);
+            if (hist) rep.residualHistory.push_back(S.optimality());
             converged = S.optimal(tol);
             break;
         }

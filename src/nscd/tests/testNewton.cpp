@@ -17,6 +17,7 @@
 //    sticking contact slips at R_t |r_t|, a sliding one floats by
 //    mu |v_t| dt;
 //  - the compliant NLGS of the library (another method, tight tolerance).
+#include "NewtonCone.H"
 #include "nscd/System.H"
 
 #include <gtest/gtest.h>
@@ -293,6 +294,54 @@ TEST(Newton, OneStickingContactMatchesTheExactLocalSolve)
                         - (rad*a.angularVelocities()[0] + rad*a.angularVelocities()[1]).cross(n);
         EXPECT_LE((du - du.dot(n)*n).norm(), 1e-9) << "dim " << dim;
     }
+}
+
+// The cost of one contact's regularised cone projection (NewtonCone.H) and
+// its derivatives, against central finite differences (the reference: the
+// definition of a derivative): dl/dv_c = -gamma and d gamma/d v_c = -G, in
+// each region (stiction, sliding, separation, frictionless), 2D (two
+// components) and 3D. Step h = 1e-7 of the velocity scale; points within
+// 1e-4 of a region boundary are skipped (the cost is C^1, G jumps there).
+// Bound 1e-6 relative to the largest entry (measured: ~1e-9).
+TEST(Newton, ConeCostGradientAndHessianMatchFiniteDifferences)
+{
+    std::mt19937 gen(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const double Rn = 2.0, Rt = 0.05, vhat = 0.3;
+    int seen[3] = {0, 0, 0};
+    for (int comps : {2, 3})
+        for (double mu : {0.0, 0.3, 1.0})
+            for (int trial = 0; trial < 200; ++trial)
+            {
+                Eigen::Vector3d vc(u(gen), 0.05*u(gen), comps == 3 ? 0.05*u(gen) : 0.0);
+                const newton::ConeProjection p = newton::project(vc, vhat, Rn, Rt, mu, true);
+                // distance to the region boundaries, relative (skip the kinks)
+                const double yn = -(vc(0) - vhat)/Rn, yr = std::hypot(vc(1), vc(2))/Rt;
+                if (std::abs(yn) < 1e-4 || (mu > 0 && (std::abs(yr - mu*yn) < 1e-4*(yr + 1)
+                                                       || std::abs(yn + mu*Rt/Rn*yr) < 1e-4*(yr + 1))))
+                    continue;
+                ++seen[p.region];
+                const double h = 1e-7;
+                for (int a = 0; a < comps; ++a)
+                {
+                    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+                    e(a) = h;
+                    const newton::ConeProjection pp = newton::project(vc + e, vhat, Rn, Rt, mu, false);
+                    const newton::ConeProjection pm = newton::project(vc - e, vhat, Rn, Rt, mu, false);
+                    const double scaleG = std::max(1.0, p.gamma.cwiseAbs().maxCoeff());
+                    EXPECT_NEAR((pp.cost - pm.cost)/(2*h), -p.gamma(a), 1e-6*scaleG)
+                        << "region " << p.region << " mu " << mu << " component " << a;
+                    const Eigen::Vector3d dg = (pp.gamma - pm.gamma)/(2*h);
+                    const double scaleH = std::max(1.0/Rt, p.G.cwiseAbs().maxCoeff());
+                    for (int b = 0; b < comps; ++b)
+                        EXPECT_NEAR(dg(b), -p.G(b, a), 1e-6*scaleH)
+                            << "region " << p.region << " mu " << mu << " entry " << b << a;
+                }
+            }
+    // every region was sampled
+    EXPECT_GT(seen[0], 50);
+    EXPECT_GT(seen[1], 50);
+    EXPECT_GT(seen[2], 50);
 }
 
 // Cohesion (thesis eq. 4.18) with Newton: a disc stuck under a ceiling
