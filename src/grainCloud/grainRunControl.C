@@ -11,6 +11,8 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <signal.h>
 #include <sys/types.h>
 
@@ -19,6 +21,18 @@
 namespace
 {
     volatile std::sig_atomic_t stopSignal = 0;
+
+    //- The lock file of this process's run, removed at exit() too (a
+    //  FatalError ends the process without unwinding the stack)
+    std::string lockAtExit;
+
+    extern "C" void removeLockAtExit()
+    {
+        if (!lockAtExit.empty())
+        {
+            std::remove(lockAtExit.c_str());
+        }
+    }
 
     extern "C" void onStopSignal(int sig)
     {
@@ -211,6 +225,7 @@ Foam::grainRunControl::~grainRunControl()
     if (!lockFile_.empty())
     {
         std::remove(lockFile_.c_str());
+        lockAtExit.clear();
     }
 }
 
@@ -319,6 +334,9 @@ void Foam::grainRunControl::lockCase()
             << '\n';
     }
     lockFile_ = lock;
+    static const bool registered = (std::atexit(removeLockAtExit) == 0);
+    (void)registered;
+    lockAtExit = lock;
 }
 
 
