@@ -285,15 +285,15 @@ void Foam::grainRunControl::checkLaterWrites() const
 
 void Foam::grainRunControl::lockCase()
 {
-    if (!Pstream::master())
-    {
-        return;
-    }
     const fileName lock
     (
         runTime_.rootPath()/runTime_.globalCaseName()/".nscdFoam.lock"
     );
-    if (isFile(lock))
+    // the master decides; every rank stops on a refusal (no rank left
+    // waiting in a collective)
+    label refused = 0;
+    std::string holder;
+    if (Pstream::master() && isFile(lock))
     {
         // plain text: "<pid> <host> <application>"
         std::ifstream is(lock.c_str());
@@ -304,22 +304,33 @@ void Foam::grainRunControl::lockCase()
         // signal 0: does the process exist (EPERM: it does, not ours)
         const bool alive =
             pid > 0 && (::kill(pid_t(pid), 0) == 0 || errno == EPERM);
+        holder = app + " (process " + std::to_string(pid) + " on " + host + ")";
         if (!here || alive)
         {
-            FatalErrorInFunction
-                << app.c_str() << " (process " << pid << " on " << host.c_str()
-            << ") runs"
-                << " in this case (lock file " << lock << "): two solvers"
-                << " would overwrite each other's results." << nl
-                << "    Fix: wait for it to end, or run in a copy of the"
-                << " case; if no solver runs there any more, remove "
-                << lock << "."
-                << exit(FatalError);
+            refused = 1;
         }
-        WarningInFunction
-            << "taking over the lock file " << lock << " of " << app.c_str()
-            << " (process " << pid << "), which no longer runs (killed?)"
-            << endl;
+        else
+        {
+            WarningInFunction
+                << "taking over the lock file " << lock << " of "
+                << holder.c_str() << ", which no longer runs (killed?)"
+                << endl;
+        }
+    }
+    Pstream::scatter(refused);
+    if (refused)
+    {
+        FatalErrorInFunction
+            << (Pstream::master() ? holder.c_str() : "another solver")
+            << " runs in this case (lock file " << lock << "): two solvers"
+            << " would overwrite each other's results." << nl
+            << "    Fix: wait for it to end, or run in a copy of the case; if"
+            << " no solver runs there any more, remove " << lock << "."
+            << exit(FatalError);
+    }
+    if (!Pstream::master())
+    {
+        return;
     }
     {
         std::ofstream os(lock.c_str());
