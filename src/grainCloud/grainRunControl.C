@@ -251,10 +251,13 @@ void Foam::grainRunControl::checkLaterWrites() const
         const scalar tol = 1e-9*max(scalar(1), mag(runTime_.endTime().value()));
         for (const instant& t : times)
         {
+            // a time moved aside as an interrupted write
+            // (skipIncompleteTimes) is not a result to keep: the run redoes it
             if
             (
                 t.value() > startTime_ + tol
              && isFile(root/t.name()/"grainState.h5")
+             && !isDir(runTime_.path()/(t.name() + ".incomplete"))
             )
             {
                 later = max(later, t.value());

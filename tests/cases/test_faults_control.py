@@ -218,6 +218,25 @@ def test_decomposed_restart_before_later_writes_is_refused(tmp_path, env):
     assert sorted(int(i) for i in ids) == [0, 1, 2, 3]
 
 
+@pytest.mark.mpi
+def test_decomposed_restart_after_an_interrupted_write(tmp_path, env):
+    """The check above leaves an interrupted write alone: a 2-rank run whose
+    latest write is incomplete on one rank (a *.tmp left in processor1/0.02,
+    the grain state of 0.02 complete in the case) restarts from 0.01 and
+    redoes 0.02, as skipIncompleteTimes documents."""
+    case = box(tmp_path, "interrupted", [(0.03 + 0.012 * i, 0.05, 0, 0.01) for i in range(4)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    run_parallel("grainFoam", case, env, n=2)
+    open(os.path.join(case, "processor1", "0.02", "junk.tmp"), "w").close()
+    set_control(case, endTime=0.03)
+    mpi = ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case]
+    p = subprocess.run(mpi, env=env, capture_output=True, text=True)
+    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    assert "moved to 0.02.incomplete" in p.stdout + p.stderr
+    assert "Time = 0.011" in p.stdout and "Time = 0.03" in p.stdout
+
+
 # ---- row 11: grainDeposit region against the mesh bounds --------------------
 
 def deposit_box(lo, hi, n=20, dmin=2e-3):
