@@ -90,21 +90,21 @@ def pytest_collection_modifyitems(config, items):
 @pytest.fixture(autouse=True)
 def no_mpirun_unless_marked(request, tmp_path_factory):
     """For a test not marked mpi that uses the OpenFOAM environment, `mpirun`
-    on its PATH is a stub that fails saying so: a new parallel test cannot
-    land outside `./Alltest mpi` unnoticed."""
+    on its PATH is a guard script that fails saying so: a new parallel test
+    cannot land outside `./Alltest mpi` unnoticed."""
     if "env" not in request.fixturenames or request.node.get_closest_marker("mpi"):
         yield
         return
-    stub_dir = tmp_path_factory.getbasetemp() / "mpirunStub"
-    stub = stub_dir / "mpirun"
-    if not stub.exists():
-        stub_dir.mkdir(exist_ok=True)
-        stub.write_text("#!/bin/sh\necho 'mpirun called by a test not marked @pytest.mark.mpi: "
+    guard_dir = tmp_path_factory.getbasetemp() / "mpirunGuard"
+    guard = guard_dir / "mpirun"
+    if not guard.exists():
+        guard_dir.mkdir(exist_ok=True)
+        guard.write_text("#!/bin/sh\necho 'mpirun called by a test not marked @pytest.mark.mpi: "
                         "mark it (tests/cases/conftest.py)' >&2\nexit 3\n")
-        stub.chmod(0o755)
+        guard.chmod(0o755)
     env = request.getfixturevalue("env")
     path = env["PATH"]
-    env["PATH"] = f"{stub_dir}:{path}"
+    env["PATH"] = f"{guard_dir}:{path}"
     try:
         yield
     finally:

@@ -319,6 +319,10 @@ def test_sedimentation_on_sheared_meshes(tmp_path, env, degrees):
     sheared by 10 or 30 deg (faces non-orthogonal by as much), against the
     same suspension in the orthogonal box: the mean fall of the grains over
     0.3 s agrees within 5 % (measured -3.7 % at 10 deg, -0.1 % at 30 deg).
+    A consistency check of the discretisation across meshes (its reference
+    is the same code on the orthogonal mesh); the independent reference of
+    the non-orthogonal scheme is pimpleFoam in
+    test_closed_tet_box_flow_matches_pimpleFoam.
     Before the non-orthogonal mesh took its face pressure gradient from the
     solved equation and the predictor the corrector's forces (pEqn.H,
     UEqn.H) the 10 deg box stopped at 0.014 s (time step collapsed)."""

@@ -107,7 +107,7 @@ bool Foam::resolvedGrains::fixedResolved() const
 }
 
 
-Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::pressureRAU
+Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::simplecRAU
 (
     const fvMatrix<vector>& UEqn,
     const volScalarField& rAU
@@ -132,11 +132,7 @@ Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::pressureRAU
     // (docs/validation/resolvedGrains.md).  Same fixed point as with 1/A
     // (the deferred part vanishes when p = p_old); only the PISO iteration
     // differs.
-    if (simplecPressure())
-    {
-        return 1.0/(1.0/rAU - UEqn.H1());
-    }
-    return tmp<volScalarField>(rAU);
+    return 1.0/(1.0/rAU - UEqn.H1());
 }
 
 
