@@ -13,6 +13,7 @@ All take the superficial Reynolds number Res = eps |u - v| d / nu
 (= eps Re, Re the interstitial one), the void fraction eps and the Prandtl
 number Pr, and return Nu = h d / k.
 """
+
 import math
 
 
@@ -21,15 +22,16 @@ def nusselt_difelice_colburn(eps, Res, Pr, delta=500.0, alpha=0.4):
     f of eq. 4.9 (delta = 500), g of eq. 4.10 (log base 10, as the drag of
     eq. 3.32); at Res = 0 the exponent of g is 1.8."""
     expo = 1.8 - math.exp(-0.5 * (1.5 - math.log10(Res)) ** 2) if Res > 0 else 1.8
-    f = (Res + delta) / (0.11 * Res ** 1.4 + Res + delta)
-    return eps ** (-expo) * f * (0.18 * math.sqrt(Res) + 1.39) ** 2 * Pr ** alpha
+    f = (Res + delta) / (0.11 * Res**1.4 + Res + delta)
+    return eps ** (-expo) * f * (0.18 * math.sqrt(Res) + 1.39) ** 2 * Pr**alpha
 
 
 def nusselt_gunn(eps, Res, Pr):
     """D.J. Gunn, Int. J. Heat Mass Transfer 21 (1978) 467-476."""
     p3 = Pr ** (1.0 / 3.0)
-    return ((7 - 10 * eps + 5 * eps ** 2) * (1 + 0.7 * Res ** 0.2 * p3)
-            + (1.33 - 2.4 * eps + 1.2 * eps ** 2) * Res ** 0.7 * p3)
+    return (7 - 10 * eps + 5 * eps**2) * (1 + 0.7 * Res**0.2 * p3) + (
+        1.33 - 2.4 * eps + 1.2 * eps**2
+    ) * Res**0.7 * p3
 
 
 def nusselt_ranz_marshall(eps, Res, Pr):
@@ -39,12 +41,12 @@ def nusselt_ranz_marshall(eps, Res, Pr):
 
 def nusselt_wakao_kaguei(Res, Pr):
     """Wakao & Kaguei (1982), packed beds, dispersion-corrected data."""
-    return 2 + 1.1 * Res ** 0.6 * Pr ** (1.0 / 3.0)
+    return 2 + 1.1 * Res**0.6 * Pr ** (1.0 / 3.0)
 
 
 # -- drag ---------------------------------------------------------------------
 G = 9.81
-DISC_PER_UNIT_DEPTH = 8.0 / (3.0 * math.pi)   # gamma_disc / gamma_sphere
+DISC_PER_UNIT_DEPTH = 8.0 / (3.0 * math.pi)  # gamma_disc / gamma_sphere
 
 
 def cd_dallavalle(Re):
@@ -55,7 +57,7 @@ def cd_dallavalle(Re):
 def cd_brown_lawler(Re):
     """Standard drag curve of a sphere, Brown & Lawler (2003, J. Environ. Eng.
     129, 222-231, eq. 19; a fit of 480 measurements, Re < 2e5)."""
-    return 24.0 / Re * (1 + 0.150 * Re ** 0.681) + 0.407 / (1 + 8710.0 / Re)
+    return 24.0 / Re * (1 + 0.150 * Re**0.681) + 0.407 / (1 + 8710.0 / Re)
 
 
 def gamma_dallavalle_difelice(eps, Re, d, mu):
@@ -64,7 +66,7 @@ def gamma_dallavalle_difelice(eps, Re, d, mu):
     chi = 3.7 - 0.65 exp(-(1.5 - log10 Res)^2/2), Res = eps Re."""
     Res = max(eps * Re, 1e-12)
     chi = 3.7 - 0.65 * math.exp(-0.5 * (1.5 - math.log10(Res)) ** 2)
-    return 0.75 * (0.63 * math.sqrt(Res) + 4.8) ** 2 * eps ** (1 - chi) * mu / d ** 2
+    return 0.75 * (0.63 * math.sqrt(Res) + 4.8) ** 2 * eps ** (1 - chi) * mu / d**2
 
 
 def gamma_thesis_eq332(eps, Re, d, mu):
@@ -72,7 +74,7 @@ def gamma_thesis_eq332(eps, Re, d, mu):
     twoDimensionalDrag thesisEq3.32 convention)."""
     er = max(eps * Re, 1e-12)
     x = 2.8 - math.exp(-0.5 * (1.5 - math.log10(er)) ** 2)
-    return eps ** -x * (0.77 * math.sqrt(er) + 5.88) ** 2 * mu / d ** 2
+    return eps**-x * (0.77 * math.sqrt(er) + 5.88) ** 2 * mu / d**2
 
 
 def gamma_gidaspow(eps, Re, d, mu, rho):
@@ -82,8 +84,8 @@ def gamma_gidaspow(eps, Re, d, mu, rho):
         return 150 * (1 - eps) * mu / (eps * d * d) + 1.75 * rho * slip / d
     er = eps * Re
     if er < 1000:
-        return 18 * mu / d ** 2 * (1 + 0.15 * er ** 0.687) * eps ** -2.65
-    return 0.75 * 0.44 * eps * rho * slip * eps ** -2.65 / d
+        return 18 * mu / d**2 * (1 + 0.15 * er**0.687) * eps**-2.65
+    return 0.75 * 0.44 * eps * rho * slip * eps**-2.65 / d
 
 
 def terminal_velocity(cd, d, nu, rho, rhop, g=G):
@@ -99,8 +101,9 @@ def terminal_velocity(cd, d, nu, rho, rhop, g=G):
 
 def ergun_gradient(eps, Us, d, mu, rho):
     """Ergun (1952) pressure gradient [Pa/m] at superficial velocity Us."""
-    return (150 * mu * (1 - eps) ** 2 * Us / (eps ** 3 * d ** 2)
-            + 1.75 * rho * (1 - eps) * Us ** 2 / (eps ** 3 * d))
+    return 150 * mu * (1 - eps) ** 2 * Us / (eps**3 * d**2) + 1.75 * rho * (1 - eps) * Us**2 / (
+        eps**3 * d
+    )
 
 
 def n_richardson_zaki(Ret):
@@ -109,13 +112,13 @@ def n_richardson_zaki(Ret):
     if Ret < 0.2:
         return 4.65
     if Ret < 1:
-        return 4.4 * Ret ** -0.03
+        return 4.4 * Ret**-0.03
     if Ret < 500:
-        return 4.4 * Ret ** -0.1
+        return 4.4 * Ret**-0.1
     return 2.39
 
 
 def n_garside_al_dibouni(Ret):
     """Garside & Al-Dibouni (1977, Ind. Eng. Chem. Process Des. Dev. 16,
     206-214) exponent of U/v_t = eps^n."""
-    return (5.1 + 0.27 * Ret ** 0.9) / (1 + 0.1 * Ret ** 0.9)
+    return (5.1 + 0.27 * Ret**0.9) / (1 + 0.1 * Ret**0.9)

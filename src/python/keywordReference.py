@@ -42,13 +42,15 @@ Description file, docs/keywords.toml: a list of [[dictionary]] tables, each
     name = { meaning = "...", default = "...", unit = "...", allowed = "..." }
 (meaning and default required; "required" as default for mandatory keywords).
 """
+
 import argparse
 import os
 import re
 import sys
+
 try:
-    import tomllib                  # Python >= 3.11 (Debian 12)
-except ImportError:                 # pragma: no cover
+    import tomllib  # Python >= 3.11 (Debian 12)
+except ImportError:  # pragma: no cover
     import tomli as tomllib
 from dataclasses import dataclass, field
 
@@ -61,8 +63,20 @@ CXX_EXTENSIONS = (".C", ".H", ".cpp", ".hpp", ".h", ".cxx")
 SKIP_DIRS = {"lnInclude", "Make", "build", "platforms", "__pycache__", ".git"}
 GENERATOR = "python3 src/python/keywordReference.py"
 
-_CONTROL_WORDS = {"if", "for", "while", "switch", "return", "catch", "sizeof",
-                  "defined", "namespace", "using", "typedef", "template"}
+_CONTROL_WORDS = {
+    "if",
+    "for",
+    "while",
+    "switch",
+    "return",
+    "catch",
+    "sizeof",
+    "defined",
+    "namespace",
+    "using",
+    "typedef",
+    "template",
+}
 
 
 class ExtractionError(RuntimeError):
@@ -84,6 +98,7 @@ class Site:
     dynamic:   C++ expressions that add keywords at run time
     tables:    where the keywords came from (for messages)
     """
+
     key: str
     path: str
     line: int
@@ -96,12 +111,14 @@ class Site:
 class Occurrence:
     """One occurrence of the word checkKeywords: kind is one of site,
     forward, declaration, definition, using, comment."""
+
     path: str
     line: int
     kind: str
 
 
 # ------------------------------------------------------------------ scanning
+
 
 def _mask(text):
     """Split C++ text into code and comments.
@@ -111,7 +128,7 @@ def _mask(text):
     for a character inside a comment.  String and character literals are
     kept in code (their content is not scanned for comments)."""
     out = list(text)
-    in_comment = [False]*len(text)
+    in_comment = [False] * len(text)
     i, n = 0, len(text)
     while i < n:
         c = text[i]
@@ -228,7 +245,7 @@ def _functions(code):
         except ExtractionError:
             continue
         params = []
-        for p in _split_top(code[open_paren + 1:close - 1]):
+        for p in _split_top(code[open_paren + 1 : close - 1]):
             w = re.findall(r"\w+", p.split("=")[0])
             if w:
                 params.append(w[-1])
@@ -264,7 +281,8 @@ def _elements(list_text, code, path, type_name):
             if not type_name:
                 raise ExtractionError(
                     f"{path}: `{_squash(e)}` needs typeName but the file has no"
-                    " defineTypeNameAndDebug")
+                    " defineTypeNameAndDebug"
+                )
             keywords.append(type_name + coeffs.group(1))
             continue
         dynamic.append(_squash(e))
@@ -278,9 +296,11 @@ def _literal_table(arg, code, path, type_name):
     m = re.fullmatch(r"(?:Foam::)?wordList\s*(?:\(\s*\)|\{\s*\})", a)
     if m:
         return [], []
-    m = re.fullmatch(r"(?:Foam::)?wordList\s*\(\s*(\{.*\})\s*\)", a, re.S) \
-        or re.fullmatch(r"(?:Foam::)?wordList\s*(\{.*\})", a, re.S) \
+    m = (
+        re.fullmatch(r"(?:Foam::)?wordList\s*\(\s*(\{.*\})\s*\)", a, re.S)
+        or re.fullmatch(r"(?:Foam::)?wordList\s*(\{.*\})", a, re.S)
         or re.fullmatch(r"(\{.*\})", a, re.S)
+    )
     if m:
         inner = m.group(1).strip()
         return _elements(inner[1:-1], code, path, type_name)
@@ -295,21 +315,22 @@ def _named_table(name, code, before, path, type_name):
     defs = [m for m in pat.finditer(code) if m.start() < before]
     if not defs:
         raise ExtractionError(
-            f"{path}: keyword table '{name}' is not a wordList defined earlier in"
-            " the same file")
+            f"{path}: keyword table '{name}' is not a wordList defined earlier in the same file"
+        )
     d = defs[-1]
     open_at = d.end() - 1
     close = _matching(code, open_at)
     body = code[open_at:close]
-    lit = _literal_table(("wordList" + body) if body.startswith("(") else body,
-                         code, path, type_name)
+    lit = _literal_table(
+        ("wordList" + body) if body.startswith("(") else body, code, path, type_name
+    )
     if lit is None:
         raise ExtractionError(f"{path}: cannot read the definition of '{name}'")
     keywords, dynamic = list(lit[0]), list(lit[1])
     app = re.compile(r"\b" + re.escape(name) + r"\s*\.\s*append\s*\(")
     for m in app.finditer(code, close, before):
         a_close = _matching(code, m.end() - 1)
-        arg = code[m.end():a_close - 1]
+        arg = code[m.end() : a_close - 1]
         sub = _literal_table(arg, code, path, type_name)
         if sub is None:
             dynamic.append(_squash(arg))
@@ -322,9 +343,13 @@ def _named_table(name, code, before, path, type_name):
 def _source_files(root):
     for top in SOURCE_DIRS:
         for dirpath, dirnames, filenames in os.walk(os.path.join(root, top)):
-            dirnames[:] = sorted(d for d in dirnames
-                                 if d not in SKIP_DIRS and not d.startswith("build")
-                                 and not os.path.islink(os.path.join(dirpath, d)))
+            dirnames[:] = sorted(
+                d
+                for d in dirnames
+                if d not in SKIP_DIRS
+                and not d.startswith("build")
+                and not os.path.islink(os.path.join(dirpath, d))
+            )
             for f in sorted(filenames):
                 p = os.path.join(dirpath, f)
                 if f.endswith(CXX_EXTENSIONS) and not os.path.islink(p):
@@ -359,7 +384,7 @@ def scan_sources(root=ROOT):
                 occurrences.append(Occurrence(rel, line, "comment"))
                 continue
             before = code[:at]
-            after = code[m.end():]
+            after = code[m.end() :]
             if re.search(r"\busing\s+(?:\w+::)*$", before):
                 occurrences.append(Occurrence(rel, line, "using"))
                 continue
@@ -372,14 +397,14 @@ def scan_sources(root=ROOT):
                 nxt = re.match(r"\s*([;{])", code[close:])
                 if not nxt:
                     raise ExtractionError(f"{where}: unreadable checkKeywords signature")
-                occurrences.append(Occurrence(
-                    rel, line, "declaration" if nxt.group(1) == ";" else "definition"))
+                occurrences.append(
+                    Occurrence(rel, line, "declaration" if nxt.group(1) == ";" else "definition")
+                )
                 continue
             qual = re.search(r"((?:\w+::)*)$", before).group(1)
-            args = _split_top(code[open_at + 1:close - 1])
+            args = _split_top(code[open_at + 1 : close - 1])
             if len(args) not in (2, 3):
-                raise ExtractionError(
-                    f"{where}: checkKeywords call with {len(args)} arguments")
+                raise ExtractionError(f"{where}: checkKeywords call with {len(args)} arguments")
             func = _enclosing(functions, at)
             forwarded = set(func[4]) if func and func[0] == "checkKeywords" else set()
             keywords, dynamic, tables = [], [], []
@@ -400,13 +425,20 @@ def scan_sources(root=ROOT):
                 else:
                     raise ExtractionError(
                         f"{where}: keyword table `{_squash(a)}` is neither a brace"
-                        " list nor the name of a wordList of this file")
+                        " list nor the name of a wordList of this file"
+                    )
             if forwarded and not keywords and not dynamic:
                 occurrences.append(Occurrence(rel, line, "forward"))
                 continue
-            if qual not in ("", "grainTools::", "Foam::grainTools::",
-                            "freeSurfaceTools::", "Foam::freeSurfaceTools::",
-                            "foamTools::", "Foam::foamTools::"):
+            if qual not in (
+                "",
+                "grainTools::",
+                "Foam::grainTools::",
+                "freeSurfaceTools::",
+                "Foam::freeSurfaceTools::",
+                "foamTools::",
+                "Foam::foamTools::",
+            ):
                 raise ExtractionError(f"{where}: unknown checkKeywords {qual}")
             key = f"{rel}:{func[0] if func else ''}:{_squash(args[0])}"
             sites.append(Site(key, rel, line, keywords, dynamic, tables))
@@ -417,7 +449,8 @@ def scan_sources(root=ROOT):
             raise ExtractionError(
                 f"{s.path}:{s.line} and line {seen[s.key]}: two call sites with"
                 f" the same key {s.key} (same file, function and dictionary"
-                " expression); give one of them its own dictionary variable")
+                " expression); give one of them its own dictionary variable"
+            )
         seen[s.key] = s.line
     return sites, occurrences
 
@@ -425,8 +458,17 @@ def scan_sources(root=ROOT):
 # ------------------------------------------------------------- descriptions
 
 _ENTRY_FIELDS = {"meaning", "default", "unit", "allowed"}
-_DICT_FIELDS = {"file", "path", "variant", "applications", "sites", "about", "dynamic",
-                "unchecked", "keywords"}
+_DICT_FIELDS = {
+    "file",
+    "path",
+    "variant",
+    "applications",
+    "sites",
+    "about",
+    "dynamic",
+    "unchecked",
+    "keywords",
+}
 
 
 def load_descriptions(root=ROOT):
@@ -456,7 +498,8 @@ def load_descriptions(root=ROOT):
                 raise DescriptionError(f"{DESCRIPTIONS}: [{name}] has no '{req}'")
         if not d["sites"] and not d.get("unchecked"):
             raise DescriptionError(
-                f"{DESCRIPTIONS}: [{name}] has no sites: say why in unchecked = \"...\"")
+                f'{DESCRIPTIONS}: [{name}] has no sites: say why in unchecked = "..."'
+            )
         d.setdefault("path", "")
         d.setdefault("keywords", {})
         d.setdefault("dynamic", {})
@@ -465,7 +508,9 @@ def load_descriptions(root=ROOT):
                 raise DescriptionError(f"{DESCRIPTIONS}: [{name}] {k} must be a table")
             bad = set(e) - _ENTRY_FIELDS
             if bad:
-                raise DescriptionError(f"{DESCRIPTIONS}: [{name}] {k}: unknown fields {sorted(bad)}")
+                raise DescriptionError(
+                    f"{DESCRIPTIONS}: [{name}] {k}: unknown fields {sorted(bad)}"
+                )
             for req in ("meaning", "default"):
                 if not str(e.get(req, "")).strip():
                     raise DescriptionError(f"{DESCRIPTIONS}: [{name}] {k} has no {req}")
@@ -498,13 +543,15 @@ def check(sites, dicts, root=ROOT):
             if key not in by_key:
                 problems.append(
                     f"[{name}] lists site {key}, which no checkKeywords call has"
-                    f" (stale: renamed or removed?); sites now: `{GENERATOR} --sites`; {fix}")
+                    f" (stale: renamed or removed?); sites now: `{GENERATOR} --sites`; {fix}"
+                )
     for s in sites:
         if s.key not in owner:
             problems.append(
                 f"{s.path}:{s.line}: checkKeywords site {s.key} (keywords"
                 f" {', '.join(s.keywords) or 'none'}) is in no [[dictionary]] of"
-                f" {DESCRIPTIONS}; add one with sites = [\"{s.key}\"]; {fix}")
+                f' {DESCRIPTIONS}; add one with sites = ["{s.key}"]; {fix}'
+            )
     for d in dicts:
         name = f"{d['file']} {d['path']}".strip()
         documented = d["keywords"]
@@ -514,7 +561,8 @@ def check(sites, dicts, root=ROOT):
                 if not k.startswith("<") and k not in literals:
                     problems.append(
                         f"[{name}] (unchecked) documents '{k}', which appears as a"
-                        f" string literal in no C++ source (stale); {fix}")
+                        f" string literal in no C++ source (stale); {fix}"
+                    )
             continue
         accepted = []
         for key in d["sites"]:
@@ -527,29 +575,35 @@ def check(sites, dicts, root=ROOT):
                 if k not in documented:
                     problems.append(
                         f"{s.path}:{s.line}: keyword '{k}' checked for {name} has no"
-                        f" entry in {DESCRIPTIONS} (and so none on {PAGE}); {fix}")
+                        f" entry in {DESCRIPTIONS} (and so none on {PAGE}); {fix}"
+                    )
             for expr in s.dynamic:
                 ph = d["dynamic"].get(expr)
                 if ph is None:
                     problems.append(
                         f"{s.path}:{s.line}: the keyword table of {name} grows at run"
                         f" time by `{expr}`; document it by hand: dynamic ="
-                        f" {{ \"{expr}\" = \"<placeholder>\" }} and a keyword"
-                        f" \"<placeholder>\"; {fix}")
+                        f' {{ "{expr}" = "<placeholder>" }} and a keyword'
+                        f' "<placeholder>"; {fix}'
+                    )
                 elif ph not in documented:
                     problems.append(
-                        f"[{name}] maps `{expr}` to '{ph}', which has no keyword entry; {fix}")
+                        f"[{name}] maps `{expr}` to '{ph}', which has no keyword entry; {fix}"
+                    )
                 elif ph not in accepted:
                     accepted.append(ph)
         for expr in d["dynamic"]:
             if not any(expr in by_key[k].dynamic for k in d["sites"] if k in by_key):
-                problems.append(f"[{name}] dynamic `{expr}`: no site of it has this"
-                                f" expression any more (stale); {fix}")
+                problems.append(
+                    f"[{name}] dynamic `{expr}`: no site of it has this"
+                    f" expression any more (stale); {fix}"
+                )
         for k in documented:
             if k not in accepted:
                 problems.append(
                     f"[{name}] documents '{k}', which no keyword check of"
-                    f" {', '.join(d['sites'])} accepts (stale); {fix}")
+                    f" {', '.join(d['sites'])} accepts (stale); {fix}"
+                )
     return problems
 
 
@@ -568,6 +622,7 @@ def _all_literals(root):
 
 
 # ----------------------------------------------------------------- the page
+
 
 def _cell(s):
     """A table cell: pipes escaped, `<word>` kept visible (not an HTML tag)."""
@@ -659,9 +714,11 @@ def render(sites, dicts):
             out.append("| keyword | unit | default | allowed | meaning |")
             out.append("|---|---|---|---|---|")
             for k, e in d["keywords"].items():
-                out.append(f"| `{k}` | {_cell(e.get('unit', '-'))} | "
-                           f"{_cell(e['default'])} | {_cell(e.get('allowed', '-'))} | "
-                           f"{_cell(' '.join(e['meaning'].split()))} |")
+                out.append(
+                    f"| `{k}` | {_cell(e.get('unit', '-'))} | "
+                    f"{_cell(e['default'])} | {_cell(e.get('allowed', '-'))} | "
+                    f"{_cell(' '.join(e['meaning'].split()))} |"
+                )
     return "\n".join(out) + "\n"
 
 
@@ -692,10 +749,14 @@ def main(argv=None):
     """Command line: write docs/keywords.md (default), --check (exit 1 if the
     page is out of date), --sites (print the call sites and their keywords)."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--check", action="store_true",
-                    help="do not write; exit 1 if docs/keywords.md is out of date")
-    ap.add_argument("--sites", action="store_true",
-                    help="print every checkKeywords site with its keywords")
+    ap.add_argument(
+        "--check",
+        action="store_true",
+        help="do not write; exit 1 if docs/keywords.md is out of date",
+    )
+    ap.add_argument(
+        "--sites", action="store_true", help="print every checkKeywords site with its keywords"
+    )
     ap.add_argument("--root", default=ROOT)
     a = ap.parse_args(argv)
     if a.sites:

@@ -20,6 +20,7 @@ with the other tools of src/python by `pip install -e src/python`
   read_droplet_history(case), heat_log_history(case) -> droplet.dat / vansFoam heat
                                 lines of a run continued from its writes, joined
 """
+
 import importlib.util
 import json
 import os
@@ -40,15 +41,16 @@ def _read_positions(path):
     grains) and rejects it from ~80 grains on (measured 2026-11-23)."""
     text = _read_file(path)
     i = text.find("FoamFile")
-    if i >= 0:                      # skip the header's braces
-        text = text[text.find("}", i) + 1:]
+    if i >= 0:  # skip the header's braces
+        text = text[text.find("}", i) + 1 :]
     start, end = text.find("("), text.rfind(")")
     if start < 0 or end < 0:
         raise ValueError(f"{path}: no list found")
     head = text[:start].strip().split()
     n = int(head[-1]) if head and head[-1].isdigit() else None
-    vals = re.findall(r"\(\s*(%s)\s+(%s)\s+(%s)\s*\)" % (_FLOAT, _FLOAT, _FLOAT),
-                      text[start + 1:end])
+    vals = re.findall(
+        r"\(\s*(%s)\s+(%s)\s+(%s)\s*\)" % (_FLOAT, _FLOAT, _FLOAT), text[start + 1 : end]
+    )
     arr = np.array(vals, dtype=float).reshape(-1, 3)
     if n is not None and len(arr) != n:
         raise ValueError(f"{path}: expected {n} positions, read {len(arr)}")
@@ -85,7 +87,7 @@ def read_vector_field(path):
     cls = _foam_class(path)
     if "Cloud<" in cls:
         return _read_positions(path)
-    if cls.startswith("vol"):   # a volVectorField: its internal field
+    if cls.startswith("vol"):  # a volVectorField: its internal field
         return np.asarray(read_internal_field(path), dtype=float).reshape(-1, 3)
     arr = np.asarray(_foam_file(path)[None], dtype=float)
     if arr.size == 0:
@@ -99,7 +101,7 @@ def read_scalar_field(path):
     """Values of a lagrangian scalarField / labelField file (ascii or binary,
     `N(...)` or uniform `N{v}` list) as an (n,) float array.  Raises
     FileNotFoundError, ValueError if the list is not of scalars."""
-    if _foam_class(path).startswith("vol"):   # a volScalarField: its internal field
+    if _foam_class(path).startswith("vol"):  # a volScalarField: its internal field
         return np.asarray(read_internal_field(path), dtype=float).reshape(-1)
     arr = np.asarray(_foam_file(path)[None], dtype=float)
     if arr.ndim != 1:
@@ -124,8 +126,11 @@ def numeric_dirs(path):
 
 def time_dirs(case):
     """Time directories of a case that hold a grains cloud, sorted by time."""
-    return [(t, name) for t, name in numeric_dirs(case)
-            if os.path.isfile(os.path.join(case, name, "lagrangian", "grains", "positions"))]
+    return [
+        (t, name)
+        for t, name in numeric_dirs(case)
+        if os.path.isfile(os.path.join(case, name, "lagrangian", "grains", "positions"))
+    ]
 
 
 #: optional per-grain fields written by the coupled solvers (vansCloud):
@@ -167,8 +172,9 @@ def read_droplet(case, time_name="0"):
     """postProcessing/droplet/<time_name>/droplet.dat of a vansFoam case with
     a vapourDroplet (src/dropletCoupling/README.md for the columns) as an
     (n, ncol) array; raises FileNotFoundError."""
-    return np.loadtxt(os.path.join(case, "postProcessing", "droplet", time_name, "droplet.dat"),
-                      ndmin=2)
+    return np.loadtxt(
+        os.path.join(case, "postProcessing", "droplet", time_name, "droplet.dat"), ndmin=2
+    )
 
 
 def read_dat_history(case, name, file_name):
@@ -181,7 +187,7 @@ def read_dat_history(case, name, file_name):
     root = os.path.join(case, "postProcessing", name)
     parts = numeric_dirs(root) or [(0.0, "0")]
     out = []
-    for k, (t0, time_name) in enumerate(parts):
+    for k, (_t0, time_name) in enumerate(parts):
         a = np.loadtxt(os.path.join(root, time_name, file_name), ndmin=2)
         if k + 1 < len(parts):
             a = a[a[:, 0] <= parts[k + 1][0] * (1 + 1e-12)]
@@ -215,28 +221,44 @@ def heat_log(log):
         if m:
             current[m.group(1)] = (float(m.group(2)), float(m.group(3)))
             continue
-        m = re.match(r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
-                     r"energy fluid \+ grains = (\S+) J", line)
+        m = re.match(
+            r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
+            r"energy fluid \+ grains = (\S+) J",
+            line,
+        )
         if m:
             heat.append((t,) + tuple(float(v) for v in m.groups()))
             continue
-        m = re.match(r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, "
-                     r"sources = (\S+) J, grain walls = (\S+) J, fixed grains = (\S+) J"
-                     r"(?:, continuity defect = (\S+) J)?", line)
+        m = re.match(
+            r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, "
+            r"sources = (\S+) J, grain walls = (\S+) J, fixed grains = (\S+) J"
+            r"(?:, continuity defect = (\S+) J)?",
+            line,
+        )
         if m:
             bud.append([float(v) if v is not None else 0.0 for v in m.groups()])
             patches.append(current)
             current = {}
     h = np.array(heat, dtype=float).reshape(-1, 5)
-    return {"time": h[:, 0], "grain_T": h[:, 1], "fluid_T": h[:, 2], "Q": h[:, 3], "E": h[:, 4],
-            "budget": np.array(bud, dtype=float).reshape(-1, 6), "patches": patches}
+    return {
+        "time": h[:, 0],
+        "grain_T": h[:, 1],
+        "fluid_T": h[:, 2],
+        "Q": h[:, 3],
+        "E": h[:, 4],
+        "budget": np.array(bud, dtype=float).reshape(-1, 6),
+        "patches": patches,
+    }
 
 
 def log_paths(case, app="vansFoam"):
     """Paths of `log.<app>` and of the logs `log.<app>.<anything>` of its
     continuations (e.g. log.vansFoam.ext) in `case`, in name order."""
-    return [os.path.join(case, n) for n in sorted(os.listdir(case))
-            if n == f"log.{app}" or n.startswith(f"log.{app}.")]
+    return [
+        os.path.join(case, n)
+        for n in sorted(os.listdir(case))
+        if n == f"log.{app}" or n.startswith(f"log.{app}.")
+    ]
 
 
 def heat_log_history(case, app="vansFoam"):
@@ -270,8 +292,8 @@ def heat_log_history(case, app="vansFoam"):
     keys = ("time", "grain_T", "fluid_T", "Q", "E")
     out = {k: [] for k in keys + ("budget",)}
     patches = []
-    for k, (start, dt, h) in enumerate(parts):
-        n = min(len(h["time"]), len(h["budget"]))       # steps with both lines
+    for k, (_start, _dt, h) in enumerate(parts):
+        n = min(len(h["time"]), len(h["budget"]))  # steps with both lines
         keep = np.arange(n)
         if k + 1 < len(parts):
             keep = keep[h["time"][:n] < parts[k + 1][0] + 0.5 * parts[k + 1][1]]
@@ -359,6 +381,7 @@ def read_h5(path, dataset, cols=None):
     exist, OSError naming path when it is not an HDF5 file, KeyError naming
     path when the dataset is missing."""
     import h5py
+
     if not os.path.isfile(path):
         raise FileNotFoundError(f"{path}: no such HDF5 file")
     try:
@@ -395,9 +418,15 @@ def read_state_contacts(path):
     cd = read_h5(path, "/contactData", 14).astype(float)
     j = ij[:, 1]
     wall = np.where(j >= n_grains, j - n_grains, -1)
-    return {"i": ij[:, 0], "j": np.where(j < n_grains, j, -1), "wall": wall,
-            "normal": cd[:, 0:3], "rt": cd[:, 3:6], "rn": cd[:, 6],
-            "dt": float(read_h5(path, "/time")[1])}
+    return {
+        "i": ij[:, 0],
+        "j": np.where(j < n_grains, j, -1),
+        "wall": wall,
+        "normal": cd[:, 0:3],
+        "rt": cd[:, 3:6],
+        "rn": cd[:, 6],
+        "dt": float(read_h5(path, "/time")[1]),
+    }
 
 
 def _xdmf_item(dims, text, number="Float", precision=8, fmt="XML"):
@@ -405,8 +434,10 @@ def _xdmf_item(dims, text, number="Float", precision=8, fmt="XML"):
     "HDF", data stay in the HDF5 file) or the values written inline (fmt
     "XML")."""
     d = " ".join(str(int(n)) for n in dims)
-    return (f'<DataItem Dimensions="{d}" NumberType="{number}" Precision="{precision}" '
-            f'Format="{fmt}">{text}</DataItem>')
+    return (
+        f'<DataItem Dimensions="{d}" NumberType="{number}" Precision="{precision}" '
+        f'Format="{fmt}">{text}</DataItem>'
+    )
 
 
 def _xdmf_values(a, integer=False):
@@ -446,29 +477,41 @@ def xdmf_grids(h5path, h5ref=None):
     h5ref = h5ref or os.path.basename(h5path)
     x = read_h5(h5path, "/positions", 3)
     n = len(x)
-    attrs = [("radius", "Scalar", "/radii", (n,), "Float", 8),
-             ("velocity", "Vector", "/velocities", (n, 3), "Float", 8),
-             ("angularVelocity", "Vector", "/angularVelocities", (n, 3), "Float", 8),
-             ("id", "Scalar", "/grainIds", (n,), "Int", 8)]
+    attrs = [
+        ("radius", "Scalar", "/radii", (n,), "Float", 8),
+        ("velocity", "Vector", "/velocities", (n, 3), "Float", 8),
+        ("angularVelocity", "Vector", "/angularVelocities", (n, 3), "Float", 8),
+        ("id", "Scalar", "/grainIds", (n,), "Int", 8),
+    ]
     import h5py
+
     with h5py.File(h5path, "r") as f:
         for a in attrs:
             if a[2] not in f:
                 raise KeyError(f"{h5path}: no dataset '{a[2]}' (not an nscd grain state?)")
             if f[a[2]].shape != a[3]:
-                raise ValueError(f"{h5path}: dataset '{a[2]}' has shape {f[a[2]].shape},"
-                                 f" expected {a[3]} for {n} grains")
+                raise ValueError(
+                    f"{h5path}: dataset '{a[2]}' has shape {f[a[2]].shape},"
+                    f" expected {a[3]} for {n} grains"
+                )
         if "temperatures" in f and f["temperatures"].shape == (n,):
             attrs.append(("temperature", "Scalar", "/temperatures", (n,), "Float", 8))
-    out = ['<Grid Name="grains" GridType="Uniform">',
-           f'<Topology TopologyType="Polyvertex" NumberOfElements="{n}" NodesPerElement="1">'
-           + _xdmf_item((n,), _xdmf_values(np.arange(n), True), "Int", 8) + '</Topology>',
-           '<Geometry GeometryType="XYZ">'
-           + _xdmf_item((n, 3), f"{h5ref}:/positions", fmt="HDF") + '</Geometry>']
+    out = [
+        '<Grid Name="grains" GridType="Uniform">',
+        f'<Topology TopologyType="Polyvertex" NumberOfElements="{n}" NodesPerElement="1">'
+        + _xdmf_item((n,), _xdmf_values(np.arange(n), True), "Int", 8)
+        + "</Topology>",
+        '<Geometry GeometryType="XYZ">'
+        + _xdmf_item((n, 3), f"{h5ref}:/positions", fmt="HDF")
+        + "</Geometry>",
+    ]
     for name, kind, ds, dims, number, prec in attrs:
-        out.append(f'<Attribute Name="{name}" AttributeType="{kind}" Center="Node">'
-                   + _xdmf_item(dims, f"{h5ref}:{ds}", number, prec, "HDF") + '</Attribute>')
-    out.append('</Grid>')
+        out.append(
+            f'<Attribute Name="{name}" AttributeType="{kind}" Center="Node">'
+            + _xdmf_item(dims, f"{h5ref}:{ds}", number, prec, "HDF")
+            + "</Attribute>"
+        )
+    out.append("</Grid>")
 
     c = read_state_contacts(h5path)
     keep = c["j"] >= 0
@@ -480,18 +523,28 @@ def xdmf_grids(h5path, h5ref=None):
     pairs = np.column_stack([c["i"][keep], c["j"][keep]])
     fn = c["rn"][keep, None] * c["normal"][keep] / per
     ft = c["rt"][keep] / per
-    if m == 0:          # no contacts grid: an empty grid crashes VTK's XDMF reader
+    if m == 0:  # no contacts grid: an empty grid crashes VTK's XDMF reader
         return "\n".join(out)
-    out += ['<Grid Name="contacts" GridType="Uniform">',
-            f'<Topology TopologyType="Polyline" NumberOfElements="{m}" NodesPerElement="2">'
-            + _xdmf_item((m, 2), _xdmf_values(pairs, True), "Int", 8) + '</Topology>',
-            '<Geometry GeometryType="XYZ">'
-            + _xdmf_item((n, 3), f"{h5ref}:/positions", fmt="HDF") + '</Geometry>']
-    for name, a in (("normal" + unit, fn), ("tangential" + unit, ft),
-                    ("contactNormal", c["normal"][keep])):
-        out.append(f'<Attribute Name="{name}" AttributeType="Vector" Center="Cell">'
-                   + _xdmf_item((m, 3), _xdmf_values(a)) + '</Attribute>')
-    out.append('</Grid>')
+    out += [
+        '<Grid Name="contacts" GridType="Uniform">',
+        f'<Topology TopologyType="Polyline" NumberOfElements="{m}" NodesPerElement="2">'
+        + _xdmf_item((m, 2), _xdmf_values(pairs, True), "Int", 8)
+        + "</Topology>",
+        '<Geometry GeometryType="XYZ">'
+        + _xdmf_item((n, 3), f"{h5ref}:/positions", fmt="HDF")
+        + "</Geometry>",
+    ]
+    for name, a in (
+        ("normal" + unit, fn),
+        ("tangential" + unit, ft),
+        ("contactNormal", c["normal"][keep]),
+    ):
+        out.append(
+            f'<Attribute Name="{name}" AttributeType="Vector" Center="Cell">'
+            + _xdmf_item((m, 3), _xdmf_values(a))
+            + "</Attribute>"
+        )
+    out.append("</Grid>")
     return "\n".join(out)
 
 
@@ -510,9 +563,12 @@ def write_xdmf(h5path, xmf_path=None):
     ref = os.path.relpath(os.path.abspath(h5path), os.path.dirname(os.path.abspath(xmf_path)))
     body = xdmf_grids(h5path, ref)
     with open(xmf_path, "w") as f:
-        f.write('<?xml version="1.0" ?>\n<Xdmf Version="3.0">\n<Domain>\n'
-                '<Grid Name="grainState" GridType="Collection" CollectionType="Spatial">\n'
-                + body + '\n</Grid>\n</Domain>\n</Xdmf>\n')
+        f.write(
+            '<?xml version="1.0" ?>\n<Xdmf Version="3.0">\n<Domain>\n'
+            '<Grid Name="grainState" GridType="Collection" CollectionType="Spatial">\n'
+            + body
+            + "\n</Grid>\n</Domain>\n</Xdmf>\n"
+        )
     return xmf_path
 
 
@@ -524,7 +580,7 @@ def power_law_fit(h, f, p_grid):
     f = np.asarray(f, float)
     best = None
     for p in p_grid:
-        A = np.column_stack([np.ones_like(h), h ** p])
+        A = np.column_stack([np.ones_like(h), h**p])
         coef, *_ = np.linalg.lstsq(A, f, rcond=None)
         r = float(np.sqrt(np.mean((A @ coef - f) ** 2)))
         if best is None or r < best[3]:

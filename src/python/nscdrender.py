@@ -15,6 +15,7 @@ DIR/<case name>_<field>_t<time>.png (DIR defaults to CASE), one per time.
 3D cases are cut by the plane z = mid-depth, on which the field is drawn
 with the grains that cut that plane, seen from +z too.
 """
+
 import argparse
 import json
 import os
@@ -25,8 +26,13 @@ import numpy as np
 #: cell fields tried in this order when none is asked for
 FIELD_ORDER = ("alpha.water", "T", "voidFraction")
 #: colour maps: fields and grain colourings (matplotlib names)
-CMAPS = {"alpha.water": "Blues", "voidFraction": "bone", "T": "inferno",
-         "speed": "turbo", "grainT": "coolwarm"}
+CMAPS = {
+    "alpha.water": "Blues",
+    "voidFraction": "bone",
+    "T": "inferno",
+    "speed": "turbo",
+    "grainT": "coolwarm",
+}
 
 
 def _series(path):
@@ -42,13 +48,15 @@ def vtk_series(case):
     grain series is [] for a case without grains.  Raises FileNotFoundError
     naming the file and the fix (run foamToVTK)."""
     vtk = os.path.join(case, "VTK")
-    mesh = [f for f in sorted(os.listdir(vtk)) if f.endswith(".vtm.series")] \
-        if os.path.isdir(vtk) else []
+    mesh = (
+        [f for f in sorted(os.listdir(vtk)) if f.endswith(".vtm.series")]
+        if os.path.isdir(vtk)
+        else []
+    )
     if not mesh:
         raise FileNotFoundError(f"{vtk}/*.vtm.series: not found; run foamToVTK in {case} first")
     grains = os.path.join(vtk, "lagrangian", "grains", "grains.vtp.series")
-    return (_series(os.path.join(vtk, mesh[0])),
-            _series(grains) if os.path.isfile(grains) else [])
+    return (_series(os.path.join(vtk, mesh[0])), _series(grains) if os.path.isfile(grains) else [])
 
 
 def pick_times(times, n=None, wanted=None):
@@ -83,7 +91,7 @@ def _grains_on_cut(pv, gfile, zmid, z_front, grains):
         return None, None, None
     d = np.asarray(g.point_data["d"])
     mask = np.abs(g.points[:, 2] - zmid) <= 0.5 * d
-    if np.ptp(g.points[:, 2]) <= 1e-9 * np.max(d):        # 2D: all in one plane
+    if np.ptp(g.points[:, 2]) <= 1e-9 * np.max(d):  # 2D: all in one plane
         mask[:] = True
     if not mask.any():
         return None, None, None
@@ -91,7 +99,7 @@ def _grains_on_cut(pv, gfile, zmid, z_front, grains):
     pts[:, 2] = z_front
     on = pv.PolyData(pts)
     if grains == "T":
-        if "T" not in g.point_data.keys():      # e.g. grainDeposit's write
+        if "T" not in g.point_data.keys():  # e.g. grainDeposit's write
             label, cmap = None, None
         else:
             on.point_data["colour"] = np.asarray(g.point_data["T"])[mask]
@@ -100,8 +108,11 @@ def _grains_on_cut(pv, gfile, zmid, z_front, grains):
         on.point_data["colour"] = np.linalg.norm(np.asarray(g.point_data["U"])[mask], axis=1)
         label, cmap = "grain speed [m/s]", CMAPS["speed"]
     on.point_data["diameter"] = d[mask]
-    balls = on.glyph(geom=pv.Sphere(radius=0.5, theta_resolution=16, phi_resolution=12),
-                     scale="diameter", orient=False)
+    balls = on.glyph(
+        geom=pv.Sphere(radius=0.5, theta_resolution=16, phi_resolution=12),
+        scale="diameter",
+        orient=False,
+    )
     return balls, label, cmap
 
 
@@ -112,7 +123,7 @@ def _frame(bounds, width):
     TITLE_PX above."""
     x0, x1, y0, y1, z0, z1 = bounds
     lx, ly = max(x1 - x0, 1e-30), max(y1 - y0, 1e-30)
-    s = min((width - 20) / lx, 1.6 * width / ly)        # pixels per metre
+    s = min((width - 20) / lx, 1.6 * width / ly)  # pixels per metre
     height = int(round(ly * s)) + BAR_PX + TITLE_PX
     focal = (0.5 * (x0 + x1), y0 + (0.5 * height - BAR_PX) / s, 0.5 * (z0 + z1))
     position = (focal[0], focal[1], z1 + 10 * max(lx, ly))
@@ -122,14 +133,22 @@ def _frame(bounds, width):
 def _bar(p, title, x):
     """Horizontal colour bar of the actor titled `title`, at x (fraction of
     the window) below the domain, its labels under it."""
-    return dict(title=title, color="black", n_labels=3, fmt="%.3g", vertical=False,
-                position_x=x, position_y=0.01, width=0.4,
-                height=BAR_PX / p.window_size[1] * 0.8,
-                title_font_size=14, label_font_size=12)
+    return dict(
+        title=title,
+        color="black",
+        n_labels=3,
+        fmt="%.3g",
+        vertical=False,
+        position_x=x,
+        position_y=0.01,
+        width=0.4,
+        height=BAR_PX / p.window_size[1] * 0.8,
+        title_font_size=14,
+        label_font_size=12,
+    )
 
 
-def render_case(case, field=None, grains="speed", n=3, times=None, out=None,
-                width=900):
+def render_case(case, field=None, grains="speed", n=3, times=None, out=None, width=900):
     """Write snapshot PNGs of CASE (see the module doc); returns their paths.
     field: cell field name (default: the first of FIELD_ORDER present);
     grains: "speed" (|U| [m/s]) or "T" [K] for the grains' colour; n: number
@@ -139,6 +158,7 @@ def render_case(case, field=None, grains="speed", n=3, times=None, out=None,
     is not written)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista as pv
+
     pv.OFF_SCREEN = True
     mesh_series, grain_series = vtk_series(case)
     out = out or case
@@ -150,8 +170,7 @@ def render_case(case, field=None, grains="speed", n=3, times=None, out=None,
     last = _internal(pv, mesh_series[-1][1]).cell_data.keys()
     f = field or next((k for k in FIELD_ORDER if k in last), None)
     if field and field not in last:
-        raise KeyError(f"{mesh_series[-1][1]}: no cell field {field}; "
-                       f"fields written: {list(last)}")
+        raise KeyError(f"{mesh_series[-1][1]}: no cell field {field}; fields written: {list(last)}")
     gtimes = np.array([g for g, _ in grain_series])
     written = []
     for i in pick_times([t for t, _ in mesh_series], n, times):
@@ -163,27 +182,37 @@ def render_case(case, field=None, grains="speed", n=3, times=None, out=None,
         p.set_background("white")
         cut = cells.slice(normal="z", origin=cells.center)
         if f and f in cut.cell_data.keys():
-            p.add_mesh(cut, scalars=f, preference="cell", lighting=False,
-                       cmap=CMAPS.get(f, "viridis"),
-                       clim=(0.0, 1.0) if f in ("alpha.water", "voidFraction") else None,
-                       scalar_bar_args=_bar(p, f, 0.05))
+            p.add_mesh(
+                cut,
+                scalars=f,
+                preference="cell",
+                lighting=False,
+                cmap=CMAPS.get(f, "viridis"),
+                clim=(0.0, 1.0) if f in ("alpha.water", "voidFraction") else None,
+                scalar_bar_args=_bar(p, f, 0.05),
+            )
         else:
             p.add_mesh(cut, color="lightgrey", lighting=False)
         p.add_mesh(cut.outline() if cut.n_points else cells.outline(), color="black")
-        if len(gtimes):                          # the nearest grain write
+        if len(gtimes):  # the nearest grain write
             gfile = grain_series[int(np.argmin(np.abs(gtimes - t)))][1]
-            balls, label, cmap = _grains_on_cut(pv, gfile, cells.center[2],
-                                                b[5] + 1e-3 * (b[1] - b[0]), grains)
+            balls, label, cmap = _grains_on_cut(
+                pv, gfile, cells.center[2], b[5] + 1e-3 * (b[1] - b[0]), grains
+            )
             if balls is not None and label is None:
                 p.add_mesh(balls, color="grey")
             elif balls is not None:
                 p.add_mesh(balls, scalars="colour", cmap=cmap, scalar_bar_args=_bar(p, label, 0.55))
-        p.add_text(f"{name}   t = {t:.4g} s", font_size=10, color="black",
-                   position=(8, size[1] - TITLE_PX + 8))
+        p.add_text(
+            f"{name}   t = {t:.4g} s",
+            font_size=10,
+            color="black",
+            position=(8, size[1] - TITLE_PX + 8),
+        )
         p.enable_parallel_projection()
         p.camera_position = camera
         p.camera.parallel_scale = scale
-        for bar in p.scalar_bars.values():      # labels under the bar, title above
+        for bar in p.scalar_bars.values():  # labels under the bar, title above
             bar.SetTextPositionToPrecedeScalarBar()
         png = os.path.join(out, f"{name}_{f or 'grains'}_t{t:.4g}.png")
         p.screenshot(png)
@@ -195,9 +224,16 @@ def render_case(case, field=None, grains="speed", n=3, times=None, out=None,
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m nscdrender", description=__doc__.split("\n\n")[0])
     ap.add_argument("cases", nargs="+", help="case directories holding VTK/ (foamToVTK)")
-    ap.add_argument("-f", "--field", help=f"cell field (default: first of {', '.join(FIELD_ORDER)})")
-    ap.add_argument("-g", "--grains", choices=("speed", "T"), default="speed",
-                    help="grain colour: speed |U| or temperature T (default speed)")
+    ap.add_argument(
+        "-f", "--field", help=f"cell field (default: first of {', '.join(FIELD_ORDER)})"
+    )
+    ap.add_argument(
+        "-g",
+        "--grains",
+        choices=("speed", "T"),
+        default="speed",
+        help="grain colour: speed |U| or temperature T (default speed)",
+    )
     ap.add_argument("-n", type=int, default=3, help="number of evenly spaced times (default 3)")
     ap.add_argument("-t", "--times", help="comma-separated times [s] (nearest written)")
     ap.add_argument("-o", "--out", help="output directory (default: each case)")
@@ -207,7 +243,7 @@ def main(argv=None):
         try:
             for png in render_case(case, a.field, a.grains, a.n, times, a.out):
                 print(png)
-        except (FileNotFoundError, KeyError) as e:   # bad input: say which and why
+        except (FileNotFoundError, KeyError) as e:  # bad input: say which and why
             print(f"nscdrender: {case}: {e}", file=sys.stderr)
             return 1
     return 0

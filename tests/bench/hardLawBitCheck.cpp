@@ -23,17 +23,22 @@ int main()
         const int m = s.addMaterial(mat);
         std::mt19937_64 rng(3);
         std::uniform_real_distribution<double> u(0, 1);
-        const double d = 1e-3, w = 10e-3, sp = 1.3*d;
+        const double d = 1e-3, w = 10e-3, sp = 1.3 * d;
         int n = 0;
         for (int j = 0; n < 300; ++j)
-            for (int i = 0; i < int(w/sp) && n < 300; ++i)
+            for (int i = 0; i < int(w / sp) && n < 300; ++i)
                 for (int kz = 0; kz < (dim == 3 ? 3 : 1) && n < 300; ++kz, ++n)
-                    s.addGrain(Vec3((i + 0.5)*sp + 0.1*d*(2*u(rng) - 1), (j + 0.5)*sp,
-                                    dim == 3 ? (kz + 0.5)*sp : 0.0), (0.9*d + 0.1*d*u(rng))/2, m);
+                    s.addGrain(Vec3((i + 0.5) * sp + 0.1 * d * (2 * u(rng) - 1), (j + 0.5) * sp,
+                                    dim == 3 ? (kz + 0.5) * sp : 0.0),
+                               (0.9 * d + 0.1 * d * u(rng)) / 2, m);
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
         s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
         s.addPlane(Vec3(w, 0, 0), Vec3(-1, 0, 0));
-        if (dim == 3) { s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1)); s.addPlane(Vec3(0, 0, 4e-3), Vec3(0, 0, -1)); }
+        if (dim == 3)
+        {
+            s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1));
+            s.addPlane(Vec3(0, 0, 4e-3), Vec3(0, 0, -1));
+        }
         s.setGravity(Vec3(0, -9.81, 0));
         for (int k = 0; k < 400; ++k) s.advance(5e-4, 0.1);
         for (std::size_t i = 0; i < s.size(); ++i)

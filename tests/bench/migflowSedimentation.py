@@ -32,27 +32,32 @@ Install MigFlow in a virtual environment (`python3 -m venv v; v/bin/pip
 install migflow gmsh scipy`): PyPI's gmsh puts its own `gmsh` executable on
 PATH ahead of Debian's, and the lituyaBay tutorial's mesh then changes.
 """
+
 import contextlib
 import json
 import os
 import sys
 import time
 
+import gmsh
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
-import gmsh
-from migflow import fluid, scontact, scipylsys, time_integration  # initialises gmsh
+from migflow import fluid, scipylsys, scontact, time_integration  # initialises gmsh
 
-W, H = 0.4, 0.6                         # box [m]
+W, H = 0.4, 0.6  # box [m]
 R, RHO_P, FRICTION = 1.5e-3, 1500.0, 0.3
 RHO, MU = 1000.0, 1e-3
 G = np.array([0.0, -9.81])
-MESH_SIZE = 9e-3                        # h/d = 3
-CONTACT_TOL = 1e-4 * 2 * R              # m, NSCD tolerance of vansFoam's bench
-SAMPLE = 0.05                           # s between front samples
-SIDES = {"Bottom": ((0, 0), (W, 0)), "Right": ((W, 0), (W, H)),
-         "Top": ((W, H), (0, H)), "Left": ((0, H), (0, 0))}
+MESH_SIZE = 9e-3  # h/d = 3
+CONTACT_TOL = 1e-4 * 2 * R  # m, NSCD tolerance of vansFoam's bench
+SAMPLE = 0.05  # s between front samples
+SIDES = {
+    "Bottom": ((0, 0), (W, 0)),
+    "Right": ((W, 0), (W, H)),
+    "Top": ((W, H), (0, H)),
+    "Left": ((0, H), (0, 0)),
+}
 
 
 class PinnedPressureSystem(scipylsys.LinearSystem):
@@ -87,8 +92,9 @@ def mesh_box():
     gmsh.model.occ.synchronize()
     e = 1e-6
     for name, ((x0, y0), (x1, y1)) in SIDES.items():
-        lines = gmsh.model.getEntitiesInBoundingBox(min(x0, x1) - e, min(y0, y1) - e, -e,
-                                                    max(x0, x1) + e, max(y0, y1) + e, e, 1)
+        lines = gmsh.model.getEntitiesInBoundingBox(
+            min(x0, x1) - e, min(y0, y1) - e, -e, max(x0, x1) + e, max(y0, y1) + e, e, 1
+        )
         gmsh.model.addPhysicalGroup(1, [t for _, t in lines], name=name)
     gmsh.model.addPhysicalGroup(2, [1], name="domain")
     gmsh.option.setNumber("Mesh.MeshSizeMin", MESH_SIZE)
@@ -98,11 +104,12 @@ def mesh_box():
 
 def lattice():
     """Grain centres of setupCase.py (row-major from the top), shape (6650, 2) [m]."""
-    ncol = int(W / (2 * R))                       # 133
+    ncol = int(W / (2 * R))  # 133
     x0 = 0.5 * (W - ncol * 2 * R)
     ytop = H - 2e-3
-    return np.array([(x0 + (2 * i + 1) * R, ytop - (2 * j + 1) * R)
-                     for j in range(50) for i in range(ncol)])
+    return np.array(
+        [(x0 + (2 * i + 1) * R, ytop - (2 * j + 1) * R) for j in range(50) for i in range(ncol)]
+    )
 
 
 def front_height(p):
@@ -114,23 +121,23 @@ def main():
     if len(sys.argv) not in (2, 3, 4):
         sys.exit(__doc__.split("\n\n")[-1])
     outdir, args = sys.argv[1], [float(a) for a in sys.argv[2:]]
-    end, dt = (args + [2.0, 5e-3][len(args):])[:2]
+    end, dt = (args + [2.0, 5e-3][len(args) :])[:2]
     os.makedirs(outdir, exist_ok=True)
 
     p = scontact.ParticleProblem(2)
     for x in lattice():
-        p.add_particle(x, R, RHO_P * np.pi * R ** 2)
+        p.add_particle(x, R, RHO_P * np.pi * R**2)
     for name, (a, b) in SIDES.items():
         p.add_boundary_segment(np.array(a, float), np.array(b, float), name)
-    p.set_friction_coefficient(FRICTION)          # grain-grain and grain-wall
+    p.set_friction_coefficient(FRICTION)  # grain-grain and grain-wall
 
     mesh_box()
     f = fluid.FluidProblem(2, G, [MU], [RHO], solver="scipy")  # default drag, stabilisation
     f.linear_system_package = PinnedPressureSystem
     f.load_msh(None)
-    f.set_wall_boundary(list(SIDES), velocity=[0.0, 0.0])   # no-slip walls
-    f.set_mean_pressure(0.0)                      # closed box: fix the pressure level
-    weight = p.volume() * RHO_P * G               # buoyancy comes from the fluid pressure
+    f.set_wall_boundary(list(SIDES), velocity=[0.0, 0.0])  # no-slip walls
+    f.set_mean_pressure(0.0)  # closed box: fix the pressure level
+    weight = p.volume() * RHO_P * G  # buoyancy comes from the fluid pressure
 
     every = int(round(SAMPLE / dt))
     nsteps = int(round(end / dt))
@@ -138,23 +145,36 @@ def main():
     tic, cpu = time.time(), time.process_time()
     with open(os.devnull, "w") as null:
         for step in range(1, nsteps + 1):
-            with contextlib.redirect_stdout(null):   # MigFlow prints per-step timings
-                time_integration.iterate(f, p, dt, contact_tol=CONTACT_TOL,
-                                         external_particles_forces=weight)
+            with contextlib.redirect_stdout(null):  # MigFlow prints per-step timings
+                time_integration.iterate(
+                    f, p, dt, contact_tol=CONTACT_TOL, external_particles_forces=weight
+                )
             if step % every == 0:
                 times.append(round(step * dt, 10))
                 front.append(front_height(p))
-                print(f"t {times[-1]:.2f} s  front {front[-1]:.4f} m  "
-                      f"wall {time.time() - tic:.1f} s", file=sys.stderr, flush=True)
+                print(
+                    f"t {times[-1]:.2f} s  front {front[-1]:.4f} m  wall {time.time() - tic:.1f} s",
+                    file=sys.stderr,
+                    flush=True,
+                )
     wall, cpu = time.time() - tic, time.process_time() - cpu
 
     fall = lambda t: front[0] - front[times.index(t)] if t in times else None  # noqa: E731
-    out = {"case": "tutorials/vansFoam/sedimentation (thesis section 3.2.2)",
-           "time": times, "front_height": front, "fall_1s": fall(1.0), "fall_2s": fall(2.0),
-           "wall_seconds": wall, "cpu_seconds": cpu, "dt": dt, "mesh_size": MESH_SIZE,
-           "grains": int(p.n_particles()), "triangles": int(f.n_elements()),
-           "migflow_version": "1.4.0",
-           "reference": "MigFlow 1.4 run in issue 25: fall 0.118 m at 1 s, 0.283 m at 2 s"}
+    out = {
+        "case": "tutorials/vansFoam/sedimentation (thesis section 3.2.2)",
+        "time": times,
+        "front_height": front,
+        "fall_1s": fall(1.0),
+        "fall_2s": fall(2.0),
+        "wall_seconds": wall,
+        "cpu_seconds": cpu,
+        "dt": dt,
+        "mesh_size": MESH_SIZE,
+        "grains": int(p.n_particles()),
+        "triangles": int(f.n_elements()),
+        "migflow_version": "1.4.0",
+        "reference": "MigFlow 1.4 run in issue 25: fall 0.118 m at 1 s, 0.283 m at 2 s",
+    }
     with open(os.path.join(outdir, "front.json"), "w") as fh:
         json.dump(out, fh, indent=1)
     print(f"fall_1s {out['fall_1s']}  fall_2s {out['fall_2s']}  wall {wall:.1f} s")

@@ -58,8 +58,8 @@ int main(int argc, char** argv)
     if (const char* e = std::getenv("NSCD_RELAX")) s.settings().relaxation = std::atof(e);
     // env NSCD_CONVERGENCE=rms, NSCD_RMS_TOL: Settings::convergence, rmsTolerance
     if (const char* e = std::getenv("NSCD_CONVERGENCE"))
-        s.settings().convergence = std::string(e) == "rms" ? System::Settings::Convergence::RMS
-                                                            : System::Settings::Convergence::Max;
+        s.settings().convergence =
+            std::string(e) == "rms" ? System::Settings::Convergence::RMS : System::Settings::Convergence::Max;
     if (const char* e = std::getenv("NSCD_RMS_TOL")) s.settings().rmsTolerance = std::atof(e);
     // env NSCD_NEWTON_TOL, NSCD_SIGMA, NSCD_LINEAR=cg: Settings::newtonTolerance,
     // tangentialRegularisation, newtonLinearSolver (METHOD 4, Newton)
@@ -67,23 +67,25 @@ int main(int argc, char** argv)
     if (const char* e = std::getenv("NSCD_SIGMA")) s.settings().tangentialRegularisation = std::atof(e);
     if (const char* e = std::getenv("NSCD_LINEAR"))
         s.settings().newtonLinearSolver = std::string(e) == "cg"
-            ? System::Settings::NewtonLinearSolver::ConjugateGradient : System::Settings::NewtonLinearSolver::Cholesky;
+                                              ? System::Settings::NewtonLinearSolver::ConjugateGradient
+                                              : System::Settings::NewtonLinearSolver::Cholesky;
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(0, 1);
-    const double sp = 1.3*d;
+    const double sp = 1.3 * d;
     for (int j = 0, n = 0; n < nGrains; ++j)
-        for (int i = 0; i < int(w/sp) && n < nGrains; ++i, ++n)
+        for (int i = 0; i < int(w / sp) && n < nGrains; ++i, ++n)
         {
-            const double dd = 0.9*d + 0.1*d*u(rng);
-            s.addGrain(Vec3((i + 0.5)*sp + 0.1*d*(2*u(rng) - 1), (j + 0.5)*sp + 0.1*d*(2*u(rng) - 1), 0),
-                       dd/2, m);
+            const double dd = 0.9 * d + 0.1 * d * u(rng);
+            s.addGrain(Vec3((i + 0.5) * sp + 0.1 * d * (2 * u(rng) - 1),
+                            (j + 0.5) * sp + 0.1 * d * (2 * u(rng) - 1), 0),
+                       dd / 2, m);
         }
     s.addSegment(Vec3(0, 0, 0), Vec3(w, 0, 0));
     s.setWallFriction(s.addSegment(Vec3(0, 0, 0), Vec3(0, H, 0)), 0.0);
     s.setWallFriction(s.addSegment(Vec3(w, 0, 0), Vec3(w, H, 0)), 0.0);
     s.setGravity(Vec3(0, -9.81, 0));
     double weight = 0;
-    for (double r : s.radii()) weight += rho*M_PI*r*r*9.81;
+    for (double r : s.radii()) weight += rho * M_PI * r * r * 9.81;
     long sweeps = 0, unconverged = 0, linear = 0;
     double solveSeconds = 0;
     // env NSCD_HISTORY_STEP=k: the residual history of step k (StepReport::
@@ -96,7 +98,7 @@ int main(int argc, char** argv)
     const int switchStep = std::getenv("NSCD_SWITCH_STEP") ? std::atoi(std::getenv("NSCD_SWITCH_STEP")) : -1;
     long restSweeps = 0;
     double restSeconds = 0;
-    int maxStepSweeps = 0, restMaxStepSweeps = 0;  // the most sweeps (Newton: iterations) of one step
+    int maxStepSweeps = 0, restMaxStepSweeps = 0; // the most sweeps (Newton: iterations) of one step
     // CPU seconds of this thread in advance() from the switch step on (the
     // solver's solveSeconds is wall-clock time, which a shared core inflates)
     double restCpu = 0;
@@ -104,7 +106,7 @@ int main(int argc, char** argv)
     {
         timespec t;
         clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-        return double(t.tv_sec) + 1e-9*double(t.tv_nsec);
+        return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
     };
     for (int k = 0; k < nSteps; ++k)
     {
@@ -135,21 +137,24 @@ int main(int argc, char** argv)
         double vmax = 0, ke = 0, p = 0, M = 0;
         for (std::size_t i = 0; i < s.size(); ++i)
         {
-            const double mi = rho*M_PI*s.radii()[i]*s.radii()[i], v = s.velocities()[i].norm();
+            const double mi = rho * M_PI * s.radii()[i] * s.radii()[i], v = s.velocities()[i].norm();
             vmax = std::max(vmax, v);
-            ke += 0.5*mi*v*v;
-            p += mi*s.velocities()[i].y();
+            ke += 0.5 * mi * v * v;
+            p += mi * s.velocities()[i].y();
             M += mi;
         }
         double lift = 0;
         for (const auto& c : s.contacts())
             if (c.j < 0) lift += c.impulse.y();
         std::printf("step %d t %.3f vmax %.2e KE %.3e vycm %.2e lift/W %.4f contacts %d sweeps %d sub %d "
-                    "res %.2e ov %.2e\n", k + 1, (k + 1)*dt, vmax, ke, p/M, lift/dt/weight, r.contacts,
-                    r.sweeps, r.substeps, r.residual, r.maxOverlap);
+                    "res %.2e ov %.2e\n",
+                    k + 1, (k + 1) * dt, vmax, ke, p / M, lift / dt / weight, r.contacts, r.sweeps,
+                    r.substeps, r.residual, r.maxOverlap);
     }
-    std::printf("total sweeps %ld steps %d unconverged %ld beta %g compliance %g method %d linear %ld solve_s %.3f "
-                "after_switch_sweeps %ld after_switch_solve_s %.3f max_step_sweeps %d after_switch_max_step_sweeps %d after_switch_cpu_s %.3f\n",
-                sweeps, nSteps, unconverged, mat.relativeCompliance, mat.compliance, int(s.settings().method), linear,
-                solveSeconds, restSweeps, restSeconds, maxStepSweeps, restMaxStepSweeps, restCpu);
+    std::printf(
+        "total sweeps %ld steps %d unconverged %ld beta %g compliance %g method %d linear %ld solve_s %.3f "
+        "after_switch_sweeps %ld after_switch_solve_s %.3f max_step_sweeps %d after_switch_max_step_sweeps "
+        "%d after_switch_cpu_s %.3f\n",
+        sweeps, nSteps, unconverged, mat.relativeCompliance, mat.compliance, int(s.settings().method), linear,
+        solveSeconds, restSweeps, restSeconds, maxStepSweeps, restMaxStepSweeps, restCpu);
 }

@@ -28,7 +28,8 @@
 using namespace overlapMapping;
 using Clock = std::chrono::steady_clock;
 
-namespace {
+namespace
+{
 
 double seconds(Clock::time_point a, Clock::time_point b)
 {
@@ -46,26 +47,28 @@ double peakRssMb()
 {
     rusage ru{};
     getrusage(RUSAGE_SELF, &ru);
-    return ru.ru_maxrss / 1024.0;  // Linux: kilobytes
+    return ru.ru_maxrss / 1024.0; // Linux: kilobytes
 }
 
 std::string machineNote()
 {
     std::ifstream f("/proc/cpuinfo");
     std::string line, model = "unknown CPU";
-    while (std::getline(f, line)) {
-        if (line.rfind("model name", 0) == 0) {
+    while (std::getline(f, line))
+    {
+        if (line.rfind("model name", 0) == 0)
+        {
             model = line.substr(line.find(':') + 2);
             break;
         }
     }
     std::ostringstream s;
-    s << model << ", 1 core (single-threaded), GCC " << __GNUC__ << "." << __GNUC_MINOR__
-      << " -O3";
+    s << model << ", 1 core (single-threaded), GCC " << __GNUC__ << "." << __GNUC_MINOR__ << " -O3";
     return s.str();
 }
 
-struct Result {
+struct Result
+{
     double msMedian = 0, msMin = 0, msMax = 0;
     double msPcm = 0;
     double entriesPerGrain = 0, evalsPerGrain = 0;
@@ -73,9 +76,8 @@ struct Result {
     double phiMax = 0;
 };
 
-Result run(const CellMesh& mesh, const std::vector<Vec3>& base, const std::vector<double>& rad,
-           double jitter, int reps, unsigned seed, const MappingSettings& settings = {},
-           bool withPcm = true)
+Result run(const CellMesh& mesh, const std::vector<Vec3>& base, const std::vector<double>& rad, double jitter,
+           int reps, unsigned seed, const MappingSettings& settings = {}, bool withPcm = true)
 {
     Result res;
     res.grains = label(base.size());
@@ -85,16 +87,19 @@ Result run(const CellMesh& mesh, const std::vector<Vec3>& base, const std::vecto
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> U(-jitter, jitter);
     const bool twoD = mesh.twoD();
-    auto move = [&]() {
-        for (size_t i = 0; i < x.size(); ++i) {
+    auto move = [&]()
+    {
+        for (size_t i = 0; i < x.size(); ++i)
+        {
             x[i][0] = base[i][0] + U(rng);
             x[i][1] = base[i][1] + U(rng);
             if (!twoD) x[i][2] = base[i][2] + U(rng);
         }
     };
-    om.map(x, rad);  // warm-up: first location through the bins
+    om.map(x, rad); // warm-up: first location through the bins
     std::vector<double> t;
-    for (int k = 0; k < reps; ++k) {
+    for (int k = 0; k < reps; ++k)
+    {
         move();
         const auto t0 = Clock::now();
         om.map(x, rad);
@@ -107,7 +112,8 @@ Result run(const CellMesh& mesh, const std::vector<Vec3>& base, const std::vecto
     res.entriesPerGrain = double(om.nEntries()) / x.size();
     res.evalsPerGrain = double(om.lastCellsEvaluated()) / x.size();
     for (double p : om.solidFraction()) res.phiMax = std::max(res.phiMax, p);
-    if (!withPcm) {
+    if (!withPcm)
+    {
         return res;
     }
     // PCM for comparison
@@ -116,7 +122,8 @@ Result run(const CellMesh& mesh, const std::vector<Vec3>& base, const std::vecto
     om.setSettings(s);
     om.map(x, rad);
     std::vector<double> tp;
-    for (int k = 0; k < std::max(3, reps / 2); ++k) {
+    for (int k = 0; k < std::max(3, reps / 2); ++k)
+    {
         move();
         const auto t0 = Clock::now();
         om.map(x, rad);
@@ -128,10 +135,10 @@ Result run(const CellMesh& mesh, const std::vector<Vec3>& base, const std::vecto
 
 // ---- the two cases ------------------------------------------------------------
 
-constexpr double kD = 230e-6;                            ///< grain diameter [m]
-constexpr double kW = 56e-3, kH = 68e-3, kDepth = 2.3e-3;  ///< 2D domain, thesis 3.3.1 [m]
-constexpr int kGrains2D = 70000;                         ///< discs of case 1
-constexpr int kGrains3D = 20000;                         ///< spheres of case 2
+constexpr double kD = 230e-6;                             ///< grain diameter [m]
+constexpr double kW = 56e-3, kH = 68e-3, kDepth = 2.3e-3; ///< 2D domain, thesis 3.3.1 [m]
+constexpr int kGrains2D = 70000;                          ///< discs of case 1
+constexpr int kGrains3D = 20000;                          ///< spheres of case 2
 
 /// Cells of the 2D mesh along a side of length @p L (edge h = 2d).
 int cells2D(double L)
@@ -141,15 +148,17 @@ int cells2D(double L)
 }
 
 /// A prepared mesh with its grains and the time its preparation took.
-struct BenchCase {
+struct BenchCase
+{
     CellMesh mesh;
     double meshSeconds;
-    std::vector<Vec3> x;      ///< grain centres [m]
-    std::vector<double> r;    ///< grain radii [m]
+    std::vector<Vec3> x;   ///< grain centres [m]
+    std::vector<double> r; ///< grain radii [m]
 };
 
 /// Timings of case 2 with and without the closed form for box cells.
-struct Result3D {
+struct Result3D
+{
     Result closedForm, general;
     label nBox = 0;
 };
@@ -160,18 +169,20 @@ BenchCase setup2D()
 {
     const double d = kD, r = d / 2;
     const auto t0 = Clock::now();
-    CellMesh mesh2(grid2DMesh(gradedSpacing(0, kW, cells2D(kW)), gradedSpacing(0, kH, cells2D(kH)),
-                              0, kDepth, true));
+    CellMesh mesh2(
+        grid2DMesh(gradedSpacing(0, kW, cells2D(kW)), gradedSpacing(0, kH, cells2D(kH)), 0, kDepth, true));
     const double tMesh2 = seconds(t0, Clock::now());
     const double s = 1.04 * d, jit0 = 0.01 * d;
     std::vector<Vec3> x2;
     std::vector<double> r2;
     std::mt19937_64 rng(2024);
     std::uniform_real_distribution<double> U(-jit0, jit0);
-    for (int j = 0; label(x2.size()) < kGrains2D; ++j) {
+    for (int j = 0; label(x2.size()) < kGrains2D; ++j)
+    {
         const double y = r + 0.02 * d + j * s * std::sqrt(3.0) / 2;
         if (y > kH - r - 0.02 * d) break;
-        for (int i = 0; label(x2.size()) < kGrains2D; ++i) {
+        for (int i = 0; label(x2.size()) < kGrains2D; ++i)
+        {
             const double xx = r + 0.02 * d + i * s + (j % 2) * 0.5 * s;
             if (xx > kW - r - 0.02 * d) break;
             x2.emplace_back(xx + U(rng), y + U(rng), 0.5 * kDepth);
@@ -188,8 +199,8 @@ Result run2D(const BenchCase& c, int reps)
     std::printf("2D: %d discs, %d cells (mesh build %.2f s): map median %.2f ms "
                 "(min %.2f, max %.2f), PCM %.2f ms, %.2f entries/grain, "
                 "%.2f evaluations/grain, max phi %.4f\n",
-                res2.grains, res2.cells, c.meshSeconds, res2.msMedian, res2.msMin, res2.msMax,
-                res2.msPcm, res2.entriesPerGrain, res2.evalsPerGrain, res2.phiMax);
+                res2.grains, res2.cells, c.meshSeconds, res2.msMedian, res2.msMin, res2.msMax, res2.msPcm,
+                res2.entriesPerGrain, res2.evalsPerGrain, res2.phiMax);
     return res2;
 }
 
@@ -213,9 +224,9 @@ BenchCase setup3D()
     const double off = 0.5 * (nc * d - L) + 0.5 * s3;
     for (int k = 0; k < nl && label(x3.size()) < kGrains3D; ++k)
         for (int j = 0; j < nl && label(x3.size()) < kGrains3D; ++j)
-            for (int i = 0; i < nl && label(x3.size()) < kGrains3D; ++i) {
-                x3.emplace_back(off + i * s3 + U(rng), off + j * s3 + U(rng),
-                                off + k * s3 + U(rng));
+            for (int i = 0; i < nl && label(x3.size()) < kGrains3D; ++i)
+            {
+                x3.emplace_back(off + i * s3 + U(rng), off + j * s3 + U(rng), off + k * s3 + U(rng));
                 r3.push_back(r);
             }
     return BenchCase{std::move(mesh3), tMesh3, std::move(x3), std::move(r3)};
@@ -232,8 +243,8 @@ Result3D run3D(const BenchCase& c, int reps)
     std::printf("3D: %d spheres, %d cells (%d boxes; mesh build %.2f s): map median %.2f ms "
                 "(min %.2f, max %.2f), PCM %.2f ms, %.2f entries/grain, "
                 "%.2f evaluations/grain, max phi %.4f\n",
-                res3.grains, res3.cells, out.nBox, c.meshSeconds, res3.msMedian, res3.msMin,
-                res3.msMax, res3.msPcm, res3.entriesPerGrain, res3.evalsPerGrain, res3.phiMax);
+                res3.grains, res3.cells, out.nBox, c.meshSeconds, res3.msMedian, res3.msMin, res3.msMax,
+                res3.msPcm, res3.entriesPerGrain, res3.evalsPerGrain, res3.phiMax);
     MappingSettings general;
     general.closedFormBoxes = false;
     out.general = run(c.mesh, c.x, c.r, 0.005 * kD, 5, 2, general, false);
@@ -245,11 +256,12 @@ Result3D run3D(const BenchCase& c, int reps)
 }
 
 /// Write the JSON result file @p out; false if it cannot be opened.
-bool writeJson(const std::string& out, int reps, const Result& res2, const Result3D& r3,
-               double wall, double rss)
+bool writeJson(const std::string& out, int reps, const Result& res2, const Result3D& r3, double wall,
+               double rss)
 {
     std::ofstream f(out);
-    if (!f) {
+    if (!f)
+    {
         std::cerr << "overlapMapBench: cannot write " << out << "\n";
         return false;
     }
@@ -300,29 +312,32 @@ bool writeJson(const std::string& out, int reps, const Result& res2, const Resul
     return true;
 }
 
-}  // namespace
+} // namespace
 
 int main(int argc, char** argv)
 {
     const std::string out = argc > 1 ? argv[1] : "tests/bench/results/overlapMap.json";
     const int reps = argc > 2 ? std::max(3, std::atoi(argv[2])) : 21;
     const auto tStart = Clock::now();
-    const std::string only = argc > 3 ? argv[3] : "";  // profiling aid: "2d" or "3d"
+    const std::string only = argc > 3 ? argv[3] : ""; // profiling aid: "2d" or "3d"
 
     const BenchCase case2 = setup2D();
-    if (label(case2.x.size()) != kGrains2D) {
+    if (label(case2.x.size()) != kGrains2D)
+    {
         std::cerr << "overlapMapBench: could only place " << case2.x.size() << " discs\n";
         return 1;
     }
     const Result res2 = only == "3d" ? Result() : run2D(case2, reps);
-    if (!only.empty() && only != "3d") {
-        return 0;  // profiling aid: 2D case only, no JSON
+    if (!only.empty() && only != "3d")
+    {
+        return 0; // profiling aid: 2D case only, no JSON
     }
 
     const BenchCase case3 = setup3D();
     const Result3D res3 = run3D(case3, reps);
-    if (only == "3d") {
-        return 0;  // profiling aid: 3D case only, no JSON
+    if (only == "3d")
+    {
+        return 0; // profiling aid: 3D case only, no JSON
     }
 
     const double wall = seconds(tStart, Clock::now());

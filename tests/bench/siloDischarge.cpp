@@ -39,14 +39,14 @@ using namespace nscd;
 namespace
 {
 constexpr double width = 0.1, height = 0.5, dt = 5e-4, rho = 2500, mu = 0.5;
-constexpr double dMean = 2.2e-3, orifice = 8*dMean;
+constexpr double dMean = 2.2e-3, orifice = 8 * dMean;
 constexpr int nGrains = 2000;
 
 double cpu()
 {
     timespec t;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return t.tv_sec + 1e-9*t.tv_nsec;
+    return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
 /// The silo with its grains poured and settled on the gate (wall 4).
@@ -56,30 +56,34 @@ System settledSilo()
     const int m = s.addMaterial({rho, mu});
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(0, 1);
-    const double sp = 1.15*2.4e-3;
-    const int perRow = int(width/sp);
+    const double sp = 1.15 * 2.4e-3;
+    const int perRow = int(width / sp);
     for (int n = 0; n < nGrains; ++n)
     {
-        const int i = n % perRow, j = n/perRow;
-        const double d = 2e-3 + 0.4e-3*u(rng);
-        s.addGrain(Vec3((i + 0.5)*sp + 0.05e-3*(2*u(rng) - 1), 0.004 + (j + 0.5)*sp, 0), d/2, m);
+        const int i = n % perRow, j = n / perRow;
+        const double d = 2e-3 + 0.4e-3 * u(rng);
+        s.addGrain(Vec3((i + 0.5) * sp + 0.05e-3 * (2 * u(rng) - 1), 0.004 + (j + 0.5) * sp, 0), d / 2, m);
     }
-    const double a = 0.5*(width - orifice), b = 0.5*(width + orifice);
+    const double a = 0.5 * (width - orifice), b = 0.5 * (width + orifice);
     s.addSegment(Vec3(0, 0, 0), Vec3(0, height, 0));
     s.addSegment(Vec3(width, 0, 0), Vec3(width, height, 0));
     s.addSegment(Vec3(0, 0, 0), Vec3(a, 0, 0));
     s.addSegment(Vec3(b, 0, 0), Vec3(width, 0, 0));
-    s.addSegment(Vec3(a, 0, 0), Vec3(b, 0, 0));  // the gate
+    s.addSegment(Vec3(a, 0, 0), Vec3(b, 0, 0)); // the gate
     s.setGravity(Vec3(0, -9.81, 0));
     s.settings().tolerance = 1e-5;
-    for (int k = 0; k < int(0.6/dt); ++k) s.advance(dt, 0.1);
+    for (int k = 0; k < int(0.6 / dt); ++k) s.advance(dt, 0.1);
     return s;
 }
 } // namespace
 
 int main(int argc, char** argv)
 {
-    if (argc < 2) { std::fprintf(stderr, "usage: %s DISCHARGE_TIME\n", argv[0]); return 2; }
+    if (argc < 2)
+    {
+        std::fprintf(stderr, "usage: %s DISCHARGE_TIME\n", argv[0]);
+        return 2;
+    }
     const double tEnd = std::atof(argv[1]);
     const char* state = std::getenv("NSCD_SILO_STATE");
     System s = [&]()
@@ -97,13 +101,13 @@ int main(int argc, char** argv)
     s.settings().tolerance = std::getenv("NSCD_TOL") ? std::atof(std::getenv("NSCD_TOL")) : 1e-5;
     s.settings().maxIterations = 10000;
     s.setWallFriction(4, 0.0);
-    s.setWallVelocity(4, Vec3(0, -2, 0));  // the gate drops away
+    s.setWallVelocity(4, Vec3(0, -2, 0)); // the gate drops away
     std::vector<int> sweeps;
-    std::vector<double> tOut;  // time at which each grain left
+    std::vector<double> tOut; // time at which each grain left
     int capped = 0;
     double maxOverlap = 0;
     const double c0 = cpu();
-    const int steps = int(tEnd/dt + 0.5);
+    const int steps = int(tEnd / dt + 0.5);
     for (int k = 0; k < steps; ++k)
     {
         const StepReport r = s.advance(dt, 0.1);
@@ -114,7 +118,7 @@ int main(int argc, char** argv)
         for (std::size_t i = 0; i < s.size(); ++i)
             if (s.positions()[i].y() < -0.05) gone.push_back(i);
         if (!gone.empty()) s.removeGrains(gone);
-        for (std::size_t n = 0; n < gone.size(); ++n) tOut.push_back((k + 1)*dt);
+        for (std::size_t n = 0; n < gone.size(); ++n) tOut.push_back((k + 1) * dt);
     }
     const double sec = cpu() - c0;
     std::vector<int> sorted = sweeps;
@@ -124,16 +128,18 @@ int main(int argc, char** argv)
     mean /= std::max<std::size_t>(1, sweeps.size());
     const double t0 = 0.15;
     const long steady = std::count_if(tOut.begin(), tOut.end(), [&](double t) { return t > t0; });
-    const double rate = tEnd > t0 ? steady/(tEnd - t0) : 0.0;  // grains/s
-    const double mGrain = rho*M_PI*dMean*dMean/4;                // mean disc mass per unit depth [kg/m]
-    const double beverloo = 0.58*0.82*rho*std::sqrt(9.81)*std::pow(orifice - 1.5*dMean, 1.5);  // [kg/(m s)]
-    std::printf("{\"discharge_time\": %g, \"steps\": %d, \"steps_at_cap\": %d, \"sweeps_median\": %d, "
-                "\"sweeps_mean\": %.1f, \"sweeps_max\": %d, \"cpu_seconds\": %.3f, \"cpu_seconds_per_step\": %.4f, "
-                "\"grains_out\": %zu, \"discharge_rate_grains_per_s\": %.1f, \"discharge_rate_kg_per_m_s\": %.3f, "
-                "\"beverloo_kg_per_m_s\": %.3f, \"max_overlap_over_d\": %.2e, \"relativeCompliance\": %g, "
-                "\"compliance\": %g, \"relaxation\": %g, \"tolerance\": %g}\n",
-                tEnd, steps, capped, sorted.empty() ? 0 : sorted[sorted.size()/2], mean,
-                sorted.empty() ? 0 : sorted.back(), sec, sec/std::max(1, steps), tOut.size(), rate, rate*mGrain,
-                beverloo, maxOverlap/dMean, mat.relativeCompliance, mat.compliance, s.settings().relaxation,
-                s.settings().tolerance);
+    const double rate = tEnd > t0 ? steady / (tEnd - t0) : 0.0; // grains/s
+    const double mGrain = rho * M_PI * dMean * dMean / 4;       // mean disc mass per unit depth [kg/m]
+    const double beverloo =
+        0.58 * 0.82 * rho * std::sqrt(9.81) * std::pow(orifice - 1.5 * dMean, 1.5); // [kg/(m s)]
+    std::printf(
+        "{\"discharge_time\": %g, \"steps\": %d, \"steps_at_cap\": %d, \"sweeps_median\": %d, "
+        "\"sweeps_mean\": %.1f, \"sweeps_max\": %d, \"cpu_seconds\": %.3f, \"cpu_seconds_per_step\": %.4f, "
+        "\"grains_out\": %zu, \"discharge_rate_grains_per_s\": %.1f, \"discharge_rate_kg_per_m_s\": %.3f, "
+        "\"beverloo_kg_per_m_s\": %.3f, \"max_overlap_over_d\": %.2e, \"relativeCompliance\": %g, "
+        "\"compliance\": %g, \"relaxation\": %g, \"tolerance\": %g}\n",
+        tEnd, steps, capped, sorted.empty() ? 0 : sorted[sorted.size() / 2], mean,
+        sorted.empty() ? 0 : sorted.back(), sec, sec / std::max(1, steps), tOut.size(), rate, rate * mGrain,
+        beverloo, maxOverlap / dMean, mat.relativeCompliance, mat.compliance, s.settings().relaxation,
+        s.settings().tolerance);
 }

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Shared fixtures for the case tests: build small OpenFOAM cases in a tmp dir
 and run the project's applications on them (environment from etc/bashrc)."""
+
 import os
 import subprocess
 import sys
@@ -21,19 +22,24 @@ try:
 except ImportError as e:
     raise pytest.UsageError(
         f"nscdpost is not installed ({e}): run `python3 -m pip install -e {ROOT}/src/python` "
-        "(or etc/installDependencies)")
+        "(or etc/installDependencies)"
+    ) from e
 if os.path.dirname(os.path.realpath(_nscdpost.__file__)) != os.path.realpath(
-        os.path.join(ROOT, "src", "python")):
+    os.path.join(ROOT, "src", "python")
+):
     raise pytest.UsageError(
         f"nscdpost is imported from {_nscdpost.__file__}, not from this checkout: run "
-        f"`python3 -m pip install -e {ROOT}/src/python` (or etc/installDependencies)")
+        f"`python3 -m pip install -e {ROOT}/src/python` (or etc/installDependencies)"
+    )
 
 
 def foam_env():
     """Environment of `source etc/bashrc`, computed once."""
     out = subprocess.run(
         ["bash", "-c", f"source {ROOT}/etc/bashrc >/dev/null 2>&1; env -0"],
-        check=True, capture_output=True).stdout
+        check=True,
+        capture_output=True,
+    ).stdout
     env = {}
     for item in out.split(b"\0"):
         if b"=" in item:
@@ -74,7 +80,7 @@ def pytest_configure(config):
     config.addinivalue_line("markers", "mpi: runs mpirun (./Alltest mpi); also fast or slow")
 
 
-@pytest.hookimpl(tryfirst=True)     # before -m deselects: every collected test is checked
+@pytest.hookimpl(tryfirst=True)  # before -m deselects: every collected test is checked
 def pytest_collection_modifyitems(config, items):
     wrong = []
     for item in items:
@@ -84,7 +90,8 @@ def pytest_collection_modifyitems(config, items):
     if wrong:
         raise pytest.UsageError(
             "each test needs exactly one tier marker, @pytest.mark.fast or @pytest.mark.slow "
-            "(tests/cases/conftest.py):\n" + "\n".join(wrong))
+            "(tests/cases/conftest.py):\n" + "\n".join(wrong)
+        )
 
 
 @pytest.fixture(autouse=True)
@@ -99,8 +106,10 @@ def no_mpirun_unless_marked(request, tmp_path_factory):
     guard = guard_dir / "mpirun"
     if not guard.exists():
         guard_dir.mkdir(exist_ok=True)
-        guard.write_text("#!/bin/sh\necho 'mpirun called by a test not marked @pytest.mark.mpi: "
-                        "mark it (tests/cases/conftest.py)' >&2\nexit 3\n")
+        guard.write_text(
+            "#!/bin/sh\necho 'mpirun called by a test not marked @pytest.mark.mpi: "
+            "mark it (tests/cases/conftest.py)' >&2\nexit 3\n"
+        )
         guard.chmod(0o755)
     env = request.getfixturevalue("env")
     path = env["PATH"]

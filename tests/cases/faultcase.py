@@ -3,12 +3,12 @@
 test_faults_state.py, test_faults_boundaries.py): a small 2D box case, edits
 of controlDict, digests of the earlier results (the failure check is
 foamcase.fails_with)."""
+
 import hashlib
 import os
 import re
 
 from foamcase import make_box_case
-
 
 G = 9.81
 MAT = {"glass": {"density": 2500, "friction": 0.4}}
@@ -16,8 +16,19 @@ MAT = {"glass": {"density": 2500, "friction": 0.4}}
 
 def box(tmp_path, name, grains, end=0.02, dt=1e-3, write_interval=0.01, **kw):
     case = str(tmp_path / name)
-    make_box_case(case, (0, 0, 0), (0.1, 0.1, 0.01), (4, 4, 1), (0, -G, 0), MAT,
-                  grains=grains, end_time=end, dt=dt, write_interval=write_interval, **kw)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.1, 0.1, 0.01),
+        (4, 4, 1),
+        (0, -G, 0),
+        MAT,
+        grains=grains,
+        end_time=end,
+        dt=dt,
+        write_interval=write_interval,
+        **kw,
+    )
     return case
 
 
@@ -50,5 +61,9 @@ def times(case):
 def stack(tmp_path, name, **kw):
     # a 2 x 3 stack of touching discs on the floor
     d = 0.01
-    grains = [(0.04 + d * 1.0001 * i, d / 2 * 1.0001 + d * j * 1.0001, 0, d) for i in range(2) for j in range(3)]
+    grains = [
+        (0.04 + d * 1.0001 * i, d / 2 * 1.0001 + d * j * 1.0001, 0, d)
+        for i in range(2)
+        for j in range(3)
+    ]
     return box(tmp_path, name, grains, **kw)

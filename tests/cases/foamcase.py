@@ -1,13 +1,13 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Write small grainFoam cases from Python (test helper); dictionaries are
 edited in place with foamlib."""
+
 import os
 import shutil
 import subprocess
 
-from foamlib import FoamFile
-
 import nscdpost
+from foamlib import FoamFile
 
 HEADER = "FoamFile { version 2.0; format ascii; class %s; object %s; }\n"
 
@@ -26,64 +26,118 @@ def vec(v):
 def write_grain_numerics(case):
     """fvSchemes and fvSolution of a case without fluid (grainFoam,
     grainDeposit)."""
-    write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
-          "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
-          "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
-          "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n")
+    write(
+        os.path.join(case, "system", "fvSchemes"),
+        "dictionary",
+        "fvSchemes",
+        "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
+        "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
+        "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n",
+    )
     write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution", "solvers {}\n")
 
 
-def make_box_case(case, lo, hi, cells, gravity, materials, grains=None,
-                  end_time=0.3, dt=1e-3, write_interval=0.1, two_d=True,
-                  extra_props="", deposit=None, wall_patches="walls",
-                  contact_tolerance=1e-8, max_iterations=5000):
+def make_box_case(
+    case,
+    lo,
+    hi,
+    cells,
+    gravity,
+    materials,
+    grains=None,
+    end_time=0.3,
+    dt=1e-3,
+    write_interval=0.1,
+    two_d=True,
+    extra_props="",
+    deposit=None,
+    wall_patches="walls",
+    contact_tolerance=1e-8,
+    max_iterations=5000,
+):
     """A box mesh whose six (2D: four) sides are one wall patch `walls`
     (2D: z faces `frontAndBack` empty), grainProperties, g, controlDict and,
     if grains is given, a grainDepositDict with method list."""
     x0, y0, z0 = lo
     x1, y1, z1 = hi
     nx, ny, nz = cells
-    verts = [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0),
-             (x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]
+    verts = [
+        (x0, y0, z0),
+        (x1, y0, z0),
+        (x1, y1, z0),
+        (x0, y1, z0),
+        (x0, y0, z1),
+        (x1, y0, z1),
+        (x1, y1, z1),
+        (x0, y1, z1),
+    ]
     side = "(1 5 4 0) (0 4 7 3) (2 6 5 1) (3 7 6 2)"
     ends = "(0 3 2 1) (4 5 6 7)"
     if two_d:
-        bnd = (f"walls {{ type wall; faces ({side}); }}\n"
-               f"frontAndBack {{ type empty; faces ({ends}); }}\n")
+        bnd = (
+            f"walls {{ type wall; faces ({side}); }}\n"
+            f"frontAndBack {{ type empty; faces ({ends}); }}\n"
+        )
         nz = 1
     else:
         bnd = f"walls {{ type wall; faces ({side} {ends}); }}\n"
-    write(os.path.join(case, "system", "blockMeshDict"), "dictionary", "blockMeshDict",
-          "scale 1;\nvertices (" + " ".join(vec(v) for v in verts) + ");\n"
-          f"blocks ( hex (0 1 2 3 4 5 6 7) ({nx} {ny} {nz}) simpleGrading (1 1 1) );\n"
-          f"boundary (\n{bnd});\n")
-    write(os.path.join(case, "system", "controlDict"), "dictionary", "controlDict",
-          f"application grainFoam; startFrom latestTime; startTime 0; stopAt endTime;\n"
-          f"endTime {end_time}; deltaT {dt}; writeControl adjustableRunTime;\n"
-          f"writeInterval {write_interval}; writeFormat ascii; writePrecision 17;\n"
-          f"timeFormat general; timePrecision 8; runTimeModifiable false;\n")
+    write(
+        os.path.join(case, "system", "blockMeshDict"),
+        "dictionary",
+        "blockMeshDict",
+        "scale 1;\nvertices (" + " ".join(vec(v) for v in verts) + ");\n"
+        f"blocks ( hex (0 1 2 3 4 5 6 7) ({nx} {ny} {nz}) simpleGrading (1 1 1) );\n"
+        f"boundary (\n{bnd});\n",
+    )
+    write(
+        os.path.join(case, "system", "controlDict"),
+        "dictionary",
+        "controlDict",
+        f"application grainFoam; startFrom latestTime; startTime 0; stopAt endTime;\n"
+        f"endTime {end_time}; deltaT {dt}; writeControl adjustableRunTime;\n"
+        f"writeInterval {write_interval}; writeFormat ascii; writePrecision 17;\n"
+        f"timeFormat general; timePrecision 8; runTimeModifiable false;\n",
+    )
     write_grain_numerics(case)
-    write(os.path.join(case, "constant", "g"), "uniformDimensionedVectorField", "g",
-          f"dimensions [0 1 -2 0 0 0 0];\nvalue {vec(gravity)};\n")
+    write(
+        os.path.join(case, "constant", "g"),
+        "uniformDimensionedVectorField",
+        "g",
+        f"dimensions [0 1 -2 0 0 0 0];\nvalue {vec(gravity)};\n",
+    )
     mats = "\n".join(
         f"{name} {{ density {m['density']}; friction {m['friction']}; }}"
-        for name, m in materials.items())
-    write(os.path.join(case, "constant", "grainProperties"), "dictionary", "grainProperties",
-          f"materials {{\n{mats}\n}}\n"
-          f"contactSolver {{ tolerance {contact_tolerance}; maxIterations {max_iterations}; }}\n"
-          + extra_props)
+        for name, m in materials.items()
+    )
+    write(
+        os.path.join(case, "constant", "grainProperties"),
+        "dictionary",
+        "grainProperties",
+        f"materials {{\n{mats}\n}}\n"
+        f"contactSolver {{ tolerance {contact_tolerance}; maxIterations {max_iterations}; }}\n"
+        + extra_props,
+    )
     if grains is not None:
         first = next(iter(materials))
-        body = deposit if deposit is not None else (
-            f"material {first};\nmethod list;\ngrains (\n" +
-            "\n".join("(" + " ".join(f"{v:.17g}" for v in g) + ")" for g in grains) + "\n);\n")
-        write(os.path.join(case, "system", "grainDepositDict"), "dictionary",
-              "grainDepositDict", body)
+        body = (
+            deposit
+            if deposit is not None
+            else (
+                f"material {first};\nmethod list;\ngrains (\n"
+                + "\n".join("(" + " ".join(f"{v:.17g}" for v in g) + ")" for g in grains)
+                + "\n);\n"
+            )
+        )
+        write(
+            os.path.join(case, "system", "grainDepositDict"), "dictionary", "grainDepositDict", body
+        )
 
 
 def run(app, case, env, args=(), check=True, cwd=None):
     """Run an application in a case; returns CompletedProcess (stdout+stderr)."""
-    p = subprocess.run([app, "-case", case, *args], env=env, capture_output=True, text=True, cwd=cwd)
+    p = subprocess.run(
+        [app, "-case", case, *args], env=env, capture_output=True, text=True, cwd=cwd
+    )
     with open(os.path.join(case, f"log.{app}"), "w") as f:
         f.write(p.stdout + p.stderr)
     if check and p.returncode != 0:
@@ -120,14 +174,23 @@ def run_parallel(app, case, env, n=2, delta=0.001, split=None):
     log.<app>, skips the test when mpirun cannot start here, fails on a
     non-zero exit.  Returns the CompletedProcess (stdout + stderr)."""
     import pytest
+
     nx, ny, nz = split or (n, 1, 1)
-    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
-          f"numberOfSubdomains {n};\nmethod simple;\nsimpleCoeffs {{ n ({nx} {ny} {nz}); delta {delta}; }}\n")
+    write(
+        os.path.join(case, "system", "decomposeParDict"),
+        "dictionary",
+        "decomposeParDict",
+        f"numberOfSubdomains {n};\nmethod simple;\nsimpleCoeffs {{ n ({nx} {ny} {nz}); delta {delta}; }}\n",
+    )
     # (in the case: decomposePar links a time's uniform/ into a rank without
     # that time directory relative to the working directory)
     run("decomposePar", case, env, args=("-force",), cwd=case)
-    p = subprocess.run(["mpirun", "-np", str(n), app, "-parallel", "-case", case],
-                       env=env, capture_output=True, text=True)
+    p = subprocess.run(
+        ["mpirun", "-np", str(n), app, "-parallel", "-case", case],
+        env=env,
+        capture_output=True,
+        text=True,
+    )
     with open(os.path.join(case, f"log.{app}"), "w") as f:
         f.write(p.stdout + p.stderr)
     if mpirun_could_not_start(p):
@@ -145,45 +208,88 @@ def mpirun_could_not_start(p):
     err = p.stderr.lower()
     if p.returncode == 0 or "mpi_abort" in err or "foam fatal" in (p.stdout + p.stderr).lower():
         return False
-    return any(m in err for m in ("not enough slots", "orte was unable", "unable to launch",
-                                  "daemon has unexpectedly failed", "could not find an allocated"))
+    return any(
+        m in err
+        for m in (
+            "not enough slots",
+            "orte was unable",
+            "unable to launch",
+            "daemon has unexpectedly failed",
+            "could not find an allocated",
+        )
+    )
 
 
-def add_fluid(case, rho, nu, drag="DallavalleDiFelice", force_model="A",
-              void_method="overlap", max_co=0.5, max_dt=1e-3, n_correctors=2,
-              n_outer=1, extra_coupling=""):
+def add_fluid(
+    case,
+    rho,
+    nu,
+    drag="DallavalleDiFelice",
+    force_model="A",
+    void_method="overlap",
+    max_co=0.5,
+    max_dt=1e-3,
+    n_correctors=2,
+    n_outer=1,
+    extra_coupling="",
+):
     """Add the fluid of a vansFoam case to a case made by make_box_case:
     0/U (no-slip walls), 0/p (fixedFluxPressure walls), transportProperties,
     couplingProperties, fvSchemes, fvSolution, and an adjustable time step."""
+
     def bc(wall, empty="frontAndBack"):
-        return (f"walls {{ {wall} }}\n    {empty} {{ type empty; }}\n")
+        return f"walls {{ {wall} }}\n    {empty} {{ type empty; }}\n"
+
     two_d = "frontAndBack" in open(os.path.join(case, "system", "blockMeshDict")).read()
     emp = "frontAndBack { type empty; }" if two_d else ""
-    write(os.path.join(case, "0", "U"), "volVectorField", "U",
-          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
-          f"boundaryField {{ walls {{ type noSlip; }} {emp} }}\n")
-    write(os.path.join(case, "0", "p"), "volScalarField", "p",
-          "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
-          f"boundaryField {{ walls {{ type fixedFluxPressure; value uniform 0; }} {emp} }}\n")
-    write(os.path.join(case, "constant", "transportProperties"), "dictionary",
-          "transportProperties", f"rho {rho};\nnu {nu};\n")
-    write(os.path.join(case, "constant", "couplingProperties"), "dictionary",
-          "couplingProperties",
-          f"dragModel {drag};\nforceModel {force_model};\n"
-          f"voidFraction {{ method {void_method}; epsMin 1e-8; }}\n" + extra_coupling)
-    write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
-          "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
-          "divSchemes { default none; div(phi,U) Gauss limitedLinearV 1; }\n"
-          "laplacianSchemes { default Gauss linear corrected; }\n"
-          "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n")
-    write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution",
-          "solvers {\n"
-          "  p { solver PCG; preconditioner DIC; tolerance 1e-9; relTol 0.01; }\n"
-          "  pFinal { $p; relTol 0; }\n"
-          "  \"(U|UFinal)\" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-9; relTol 0; }\n"
-          "}\n"
-          f"PIMPLE {{ momentumPredictor yes; nOuterCorrectors {n_outer}; nCorrectors {n_correctors};\n"
-          "  nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n")
+    write(
+        os.path.join(case, "0", "U"),
+        "volVectorField",
+        "U",
+        "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
+        f"boundaryField {{ walls {{ type noSlip; }} {emp} }}\n",
+    )
+    write(
+        os.path.join(case, "0", "p"),
+        "volScalarField",
+        "p",
+        "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+        f"boundaryField {{ walls {{ type fixedFluxPressure; value uniform 0; }} {emp} }}\n",
+    )
+    write(
+        os.path.join(case, "constant", "transportProperties"),
+        "dictionary",
+        "transportProperties",
+        f"rho {rho};\nnu {nu};\n",
+    )
+    write(
+        os.path.join(case, "constant", "couplingProperties"),
+        "dictionary",
+        "couplingProperties",
+        f"dragModel {drag};\nforceModel {force_model};\n"
+        f"voidFraction {{ method {void_method}; epsMin 1e-8; }}\n" + extra_coupling,
+    )
+    write(
+        os.path.join(case, "system", "fvSchemes"),
+        "dictionary",
+        "fvSchemes",
+        "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
+        "divSchemes { default none; div(phi,U) Gauss limitedLinearV 1; }\n"
+        "laplacianSchemes { default Gauss linear corrected; }\n"
+        "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n",
+    )
+    write(
+        os.path.join(case, "system", "fvSolution"),
+        "dictionary",
+        "fvSolution",
+        "solvers {\n"
+        "  p { solver PCG; preconditioner DIC; tolerance 1e-9; relTol 0.01; }\n"
+        "  pFinal { $p; relTol 0; }\n"
+        '  "(U|UFinal)" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-9; relTol 0; }\n'
+        "}\n"
+        f"PIMPLE {{ momentumPredictor yes; nOuterCorrectors {n_outer}; nCorrectors {n_correctors};\n"
+        "  nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n",
+    )
     with FoamFile(os.path.join(case, "system", "controlDict")) as f:
         f["application"] = "vansFoam"
         f["adjustTimeStep"] = True
@@ -199,8 +305,11 @@ def inlet_outlet_box(case):
         f["boundary"] = [
             ("inlet", {"type": "patch", "faces": [[1, 5, 4, 0]]}),
             ("outlet", {"type": "patch", "faces": [[3, 7, 6, 2]]}),
-            ("walls", {"type": "wall",
-                       "faces": [[0, 4, 7, 3], [2, 6, 5, 1], [0, 3, 2, 1], [4, 5, 6, 7]]})]
+            (
+                "walls",
+                {"type": "wall", "faces": [[0, 4, 7, 3], [2, 6, 5, 1], [0, 3, 2, 1], [4, 5, 6, 7]]},
+            ),
+        ]
     fs = os.path.join(case, "system", "fvSolution")
     if os.path.exists(fs):
         with FoamFile(fs) as f:
@@ -213,29 +322,52 @@ def uniform_inflow(case, Us):
     """inlet_outlet_box with a uniform upward flow Us [m/s] everywhere at the
     start: fixedValue inlet, zeroGradient outlet, slip side walls for U; p
     fixed (0) at the outlet, zeroGradient elsewhere."""
-    write(os.path.join(case, "0", "U"), "volVectorField", "U",
-          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 %g 0);\n"
-          "boundaryField { inlet { type fixedValue; value uniform (0 %g 0); }\n"
-          " outlet { type zeroGradient; } walls { type slip; } }\n" % (Us, Us))
-    write(os.path.join(case, "0", "p"), "volScalarField", "p",
-          "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
-          "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
-          " walls { type zeroGradient; } }\n")
+    write(
+        os.path.join(case, "0", "U"),
+        "volVectorField",
+        "U",
+        "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 %g 0);\n"
+        "boundaryField { inlet { type fixedValue; value uniform (0 %g 0); }\n"
+        " outlet { type zeroGradient; } walls { type slip; } }\n" % (Us, Us),
+    )
+    write(
+        os.path.join(case, "0", "p"),
+        "volScalarField",
+        "p",
+        "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+        "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
+        " walls { type zeroGradient; } }\n",
+    )
     inlet_outlet_box(case)
 
 
-def fixed_lattice_bed(case, env, spacing, d, nx, ny, rows, Us, rho, nu,
-                      drag="DallavalleDiFelice", extra_coupling=""):
+def fixed_lattice_bed(
+    case, env, spacing, d, nx, ny, rows, Us, rho, nu, drag="DallavalleDiFelice", extra_coupling=""
+):
     """A fixed simple cubic lattice of glass spheres (diameter d, one per
     cubic cell of size `spacing`) in the cell rows `rows` (y indices) of an
     nx x ny x nx box, water flowing up at the superficial velocity Us
     (uniform_inflow); runs blockMesh, grainDeposit and vansFoam.  Returns
     the pressure of the last write as an (nx, ny, nx) array [kinematic]."""
-    grains = [((i + 0.5) * spacing, (j + 0.5) * spacing, (k + 0.5) * spacing, d)
-              for j in rows for i in range(nx) for k in range(nx)]
-    make_box_case(case, (0, 0, 0), (nx * spacing, ny * spacing, nx * spacing), (nx, ny, nx),
-                  (0, 0, 0), {"glass": {"density": 2500, "friction": 0.4}}, grains=grains,
-                  end_time=0.2, dt=1e-3, write_interval=0.2, two_d=False)
+    grains = [
+        ((i + 0.5) * spacing, (j + 0.5) * spacing, (k + 0.5) * spacing, d)
+        for j in rows
+        for i in range(nx)
+        for k in range(nx)
+    ]
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (nx * spacing, ny * spacing, nx * spacing),
+        (nx, ny, nx),
+        (0, 0, 0),
+        {"glass": {"density": 2500, "friction": 0.4}},
+        grains=grains,
+        end_time=0.2,
+        dt=1e-3,
+        write_interval=0.2,
+        two_d=False,
+    )
     with FoamFile(os.path.join(case, "system", "grainDepositDict")) as f:
         f["fixed"] = True
     add_fluid(case, rho, nu, drag=drag, extra_coupling=extra_coupling)
@@ -247,8 +379,12 @@ def fixed_lattice_bed(case, env, spacing, d, nx, ny, rows, Us, rho, nu,
     return read_internal(os.path.join(case, name, "p")).reshape(nx, ny, nx, order="F")
 
 
-def add_scalar_transport(case, field, div_scheme, solver="solver PBiCGStab; preconditioner DILU; "
-                         "tolerance 1e-14; relTol 0;"):
+def add_scalar_transport(
+    case,
+    field,
+    div_scheme,
+    solver="solver PBiCGStab; preconditioner DILU; tolerance 1e-14; relTol 0;",
+):
     """Add the fvSolution solver and the fvSchemes div(phi,<field>) entry of
     a transported scalar (T, psi) to a case made by add_fluid; `solver` and
     `div_scheme` in OpenFOAM syntax (dictionary body, scheme words)."""
@@ -267,8 +403,9 @@ def tutorial_modules(solver, case, names=("setupCase", "postProcess")):
     set-up and measurement on a reduced case."""
     root = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
     tut = os.path.join(root, "tutorials", solver, case)
-    return tuple(nscdpost.load_module(f"{case}_{name}", os.path.join(tut, name + ".py"))
-                 for name in names)
+    return tuple(
+        nscdpost.load_module(f"{case}_{name}", os.path.join(tut, name + ".py")) for name in names
+    )
 
 
 def copy_tutorial(solver, case, dst):
@@ -276,8 +413,9 @@ def copy_tutorial(solver, case, dst):
     control (no output of an earlier run is reused); returns dst."""
     root = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
     src = os.path.join(root, "tutorials", solver, case)
-    files = subprocess.run(["git", "ls-files", "."], cwd=src, check=True,
-                           capture_output=True, text=True).stdout.split()
+    files = subprocess.run(
+        ["git", "ls-files", "."], cwd=src, check=True, capture_output=True, text=True
+    ).stdout.split()
     if not files:
         raise RuntimeError(f"{src}: no files under version control")
     for f in files:

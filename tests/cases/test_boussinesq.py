@@ -68,19 +68,19 @@ on the buoyancy) moves Nu by ~20 %, and without buoyancy Nu = 1.
 u_max and v_max (cell-centre maxima on the mid-lines, average of the two
 centre rows/columns) within 5 % (0.3-0.6 % measured).
 """
+
 import os
 import re
 
 import numpy as np
 import pytest
-
 from foamcase import add_fluid, make_box_case, run, write
 
 pytestmark = pytest.mark.slow
 
 PR = 0.71
 L = 1.0
-ALPHA = 1e-3                       # kappa/(rho Cp) [m^2/s]
+ALPHA = 1e-3  # kappa/(rho Cp) [m^2/s]
 RHO, CP, KAPPA = 1.0, 1000.0, 1.0
 G = 9.81
 TH, TC = 300.5, 299.5
@@ -100,8 +100,11 @@ def read_internal_scalar(path):
 
 def read_internal_vector(path):
     txt = open(path).read()
-    m = re.search(r"internalField\s+nonuniform\s+List<vector>\s*(\d+)\s*\((.*)\)\s*;\s*boundaryField",
-                  txt, re.S)
+    m = re.search(
+        r"internalField\s+nonuniform\s+List<vector>\s*(\d+)\s*\((.*)\)\s*;\s*boundaryField",
+        txt,
+        re.S,
+    )
     v = np.array(re.findall(r"\(\s*(\S+)\s+(\S+)\s+(\S+)\s*\)", m.group(2)), dtype=float)
     assert len(v) == int(m.group(1))
     return v
@@ -111,47 +114,81 @@ def cavity_case(case, Ra, n, end_time, write_interval, ratio=4.0):
     """Differentially heated cavity at Rayleigh number Ra on n x n cells."""
     nu = PR * ALPHA
     beta = Ra * nu * ALPHA / (G * (TH - TC) * L**3)
-    make_box_case(case, (0, 0, 0), (L, L, 0.1 * L), (n, n, 1), (0, -G, 0),
-                  {"none": {"density": 1000.0, "friction": 0.3}}, grains=[],
-                  end_time=end_time, dt=1.0, write_interval=write_interval)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (L, L, 0.1 * L),
+        (n, n, 1),
+        (0, -G, 0),
+        {"none": {"density": 1000.0, "friction": 0.3}},
+        grains=[],
+        end_time=end_time,
+        dt=1.0,
+        write_interval=write_interval,
+    )
     half = f"((0.5 0.5 {ratio:g}) (0.5 0.5 {1 / ratio:.12g}))"
-    write(os.path.join(case, "system", "blockMeshDict"), "dictionary", "blockMeshDict",
-          f"scale 1;\nvertices ((0 0 0) ({L} 0 0) ({L} {L} 0) (0 {L} 0)"
-          f" (0 0 {0.1 * L}) ({L} 0 {0.1 * L}) ({L} {L} {0.1 * L}) (0 {L} {0.1 * L}));\n"
-          f"blocks ( hex (0 1 2 3 4 5 6 7) ({n} {n} 1) simpleGrading ({half} {half} 1) );\n"
-          "boundary (\n"
-          " hot { type wall; faces ((0 4 7 3)); }\n"
-          " cold { type wall; faces ((2 6 5 1)); }\n"
-          " adiabatic { type wall; faces ((1 5 4 0) (3 7 6 2)); }\n"
-          " frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n")
+    write(
+        os.path.join(case, "system", "blockMeshDict"),
+        "dictionary",
+        "blockMeshDict",
+        f"scale 1;\nvertices ((0 0 0) ({L} 0 0) ({L} {L} 0) (0 {L} 0)"
+        f" (0 0 {0.1 * L}) ({L} 0 {0.1 * L}) ({L} {L} {0.1 * L}) (0 {L} {0.1 * L}));\n"
+        f"blocks ( hex (0 1 2 3 4 5 6 7) ({n} {n} 1) simpleGrading ({half} {half} 1) );\n"
+        "boundary (\n"
+        " hot { type wall; faces ((0 4 7 3)); }\n"
+        " cold { type wall; faces ((2 6 5 1)); }\n"
+        " adiabatic { type wall; faces ((1 5 4 0) (3 7 6 2)); }\n"
+        " frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n",
+    )
     add_fluid(case, RHO, nu, max_co=1.0, max_dt=0.5, n_correctors=2)
     walls = "hot|cold|adiabatic"
-    write(os.path.join(case, "0", "U"), "volVectorField", "U",
-          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
-          f"boundaryField {{ \"({walls})\" {{ type noSlip; }} frontAndBack {{ type empty; }} }}\n")
-    write(os.path.join(case, "0", "p"), "volScalarField", "p",
-          "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
-          f"boundaryField {{ \"({walls})\" {{ type fixedFluxPressure; value uniform 0; }}"
-          " frontAndBack { type empty; } }\n")
-    write(os.path.join(case, "0", "T"), "volScalarField", "T",
-          f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {TREF};\n"
-          f"boundaryField {{ hot {{ type fixedValue; value uniform {TH}; }}\n"
-          f" cold {{ type fixedValue; value uniform {TC}; }}\n"
-          " adiabatic { type zeroGradient; } frontAndBack { type empty; } }\n")
+    write(
+        os.path.join(case, "0", "U"),
+        "volVectorField",
+        "U",
+        "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
+        f'boundaryField {{ "({walls})" {{ type noSlip; }} frontAndBack {{ type empty; }} }}\n',
+    )
+    write(
+        os.path.join(case, "0", "p"),
+        "volScalarField",
+        "p",
+        "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+        f'boundaryField {{ "({walls})" {{ type fixedFluxPressure; value uniform 0; }}'
+        " frontAndBack { type empty; } }\n",
+    )
+    write(
+        os.path.join(case, "0", "T"),
+        "volScalarField",
+        "T",
+        f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {TREF};\n"
+        f"boundaryField {{ hot {{ type fixedValue; value uniform {TH}; }}\n"
+        f" cold {{ type fixedValue; value uniform {TC}; }}\n"
+        " adiabatic { type zeroGradient; } frontAndBack { type empty; } }\n",
+    )
     with open(os.path.join(case, "constant", "transportProperties"), "a") as f:
         f.write(f"Cp {CP};\nkappa {KAPPA};\nbeta {beta:.17g};\nTRef {TREF};\n")
     # heat on (no grains: the closure is never evaluated)
     with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
         f.write("heatTransferModel Gunn;\n")
-    write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
-          "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
-          "divSchemes { default none; div(phi,U) Gauss linear; div(phi,T) Gauss linear; }\n"
-          "laplacianSchemes { default Gauss linear corrected; }\n"
-          "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n")
+    write(
+        os.path.join(case, "system", "fvSchemes"),
+        "dictionary",
+        "fvSchemes",
+        "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
+        "divSchemes { default none; div(phi,U) Gauss linear; div(phi,T) Gauss linear; }\n"
+        "laplacianSchemes { default Gauss linear corrected; }\n"
+        "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n",
+    )
     fs = os.path.join(case, "system", "fvSolution")
-    txt = open(fs).read().replace(
-        "solvers {\n",
-        "solvers {\n  T { solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0; }\n")
+    txt = (
+        open(fs)
+        .read()
+        .replace(
+            "solvers {\n",
+            "solvers {\n  T { solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0; }\n",
+        )
+    )
     open(fs, "w").write(txt)
     return beta
 
@@ -166,8 +203,9 @@ def nusselt(case, time_name, n):
     y = C[:, 1].reshape(n, n)
     T = T.reshape(n, n)
     x1, x2 = x[:, 0], x[:, 1]
-    grad2 = (-TH * (1 / x1 + 1 / x2) + T[:, 0] * x2 / (x1 * (x2 - x1))
-             - T[:, 1] * x1 / (x2 * (x2 - x1)))
+    grad2 = (
+        -TH * (1 / x1 + 1 / x2) + T[:, 0] * x2 / (x1 * (x2 - x1)) - T[:, 1] * x1 / (x2 * (x2 - x1))
+    )
     grad1 = (T[:, 0] - TH) / x1
     # face heights of the hot wall: from the centres (symmetric grading)
     yc = y[:, 0]
@@ -193,9 +231,14 @@ def hydrostatic_p(case):
     C = read_internal_vector(os.path.join(case, "0", "C"))
     vals = "\n".join(f"{-G * y:.17g}" for y in C[:, 1])
     path = os.path.join(case, "0", "p")
-    txt = open(path).read().replace(
-        "internalField uniform 0;",
-        f"internalField nonuniform List<scalar> {len(C)}(\n{vals}\n);")
+    txt = (
+        open(path)
+        .read()
+        .replace(
+            "internalField uniform 0;",
+            f"internalField nonuniform List<scalar> {len(C)}(\n{vals}\n);",
+        )
+    )
     open(path, "w").write(txt)
 
 
@@ -208,8 +251,9 @@ def run_cavity(case, env, Ra, n=40):
     hydrostatic_p(case)
     log = run("vansFoam", case, env).stdout
     assert "heat: grain mean T" in log
-    times = sorted((float(t), t) for t in os.listdir(case)
-                   if re.fullmatch(r"[0-9.e+-]+", t) and float(t) > 0)
+    times = sorted(
+        (float(t), t) for t in os.listdir(case) if re.fullmatch(r"[0-9.e+-]+", t) and float(t) > 0
+    )
     hist = [(t, nusselt(case, name, n)) for t, name in times]
     return hist
 
@@ -222,9 +266,11 @@ def test_heated_cavity_de_vahl_davis(tmp_path, env, Ra):
     nu_ref, u_ref, v_ref = DVD[Ra]
     # steady: Nu over the last third of the run (two write intervals)
     nu_prev = hist[-3][1][0]
-    print(f"Ra {Ra:g}: Nu {nu2:.4f} (2-pt {nu1:.4f}) ref {nu_ref}, u_max {umax:.3f} ref {u_ref},"
-          f" v_max {vmax:.3f} ref {v_ref}; Nu history " +
-          " ".join(f"{t:g}:{h[0]:.5f}" for t, h in hist))
+    print(
+        f"Ra {Ra:g}: Nu {nu2:.4f} (2-pt {nu1:.4f}) ref {nu_ref}, u_max {umax:.3f} ref {u_ref},"
+        f" v_max {vmax:.3f} ref {v_ref}; Nu history "
+        + " ".join(f"{t:g}:{h[0]:.5f}" for t, h in hist)
+    )
     assert abs(nu2 - nu_prev) < 1e-3 * nu2
     assert nu2 == pytest.approx(nu_ref, rel=0.03)
     assert umax == pytest.approx(u_ref, rel=0.05)

@@ -28,44 +28,70 @@ the falling one > 0.1 d.
   first step, so it never gets old enough: a bond needs a persisting contact);
 - input errors: FatalIOError naming couplingProperties, the keyword and the fix.
 """
+
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
+from foamcase import add_fluid, add_scalar_transport, make_box_case, run, run_parallel, write
 
-import nscdpost
-from foamcase import add_fluid, make_box_case, run, write, run_parallel, add_scalar_transport
-
-D = 2e-3            # disc diameter [m]
+D = 2e-3  # disc diameter [m]
 RHO_P = 2500.0
-FC0 = 0.2           # cohesion force [N/m] per unit depth (2D)
+FC0 = 0.2  # cohesion force [N/m] per unit depth (2D)
 W, H, DEPTH = 0.02, 0.04, 0.002
 NX, NY = 10, 20
-XL, XR, Y0 = 0.005, 0.015, 0.031   # fixed row (5 discs) from (XL, Y0) to (XR, Y0)
+XL, XR, Y0 = 0.005, 0.015, 0.031  # fixed row (5 discs) from (XL, Y0) to (XR, Y0)
 
 
 def hanging_case(case, cohesion, vapour, y0=Y0):
-    make_box_case(case, (0, 0, 0), (W, H, DEPTH), (NX, NY, 1), (0, -9.81, 0),
-                  {"glass": {"density": RHO_P, "friction": 0.4}},
-                  grains=[(XL, y0 - D, 0, D), (XR, y0 - D, 0, D)],
-                  end_time=0.05, dt=1e-4, write_interval=0.05)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (W, H, DEPTH),
+        (NX, NY, 1),
+        (0, -9.81, 0),
+        {"glass": {"density": RHO_P, "friction": 0.4}},
+        grains=[(XL, y0 - D, 0, D), (XR, y0 - D, 0, D)],
+        end_time=0.05,
+        dt=1e-4,
+        write_interval=0.05,
+    )
     open(os.path.join(case, "system", "grainDepositDict"), "a").write(
-        f"fixedRow {{ from ({XL} {y0} 0); to ({XR} {y0} 0); diameter {D}; }}\n")
-    add_fluid(case, 1.2, 1.5e-5, max_dt=1e-4,
-              extra_coupling=f"cohesion {{ {cohesion} }}\n" if cohesion is not None else "")
+        f"fixedRow {{ from ({XL} {y0} 0); to ({XR} {y0} 0); diameter {D}; }}\n"
+    )
+    add_fluid(
+        case,
+        1.2,
+        1.5e-5,
+        max_dt=1e-4,
+        extra_coupling=f"cohesion {{ {cohesion} }}\n" if cohesion is not None else "",
+    )
     if vapour:
         open(os.path.join(case, "constant", "transportProperties"), "a").write(
-            "vapour { D 2.5e-5; rho 0.6; bounded yes; }\n")
+            "vapour { D 2.5e-5; rho 0.6; bounded yes; }\n"
+        )
         # psi = 0 (dry) for x < W/2, 1 (wet) for x > W/2 (cell order: x fastest)
-        values = [0.0 if (i + 0.5) * W / NX < 0.5 * W else 1.0 for j in range(NY) for i in range(NX)]
-        write(os.path.join(case, "0", "psi"), "volScalarField", "psi",
-              "dimensions [0 0 0 0 0 0 0];\n"
-              f"internalField nonuniform List<scalar> {len(values)} (\n"
-              + "\n".join(f"{v:g}" for v in values) + "\n);\n"
-              "boundaryField { walls { type zeroGradient; } frontAndBack { type empty; } }\n")
-        add_scalar_transport(case, "psi", "Gauss limitedLinear01 1",
-                             "solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0;")
+        values = [
+            0.0 if (i + 0.5) * W / NX < 0.5 * W else 1.0 for j in range(NY) for i in range(NX)
+        ]
+        write(
+            os.path.join(case, "0", "psi"),
+            "volScalarField",
+            "psi",
+            "dimensions [0 0 0 0 0 0 0];\n"
+            f"internalField nonuniform List<scalar> {len(values)} (\n"
+            + "\n".join(f"{v:g}" for v in values)
+            + "\n);\n"
+            "boundaryField { walls { type zeroGradient; } frontAndBack { type empty; } }\n",
+        )
+        add_scalar_transport(
+            case,
+            "psi",
+            "Gauss limitedLinear01 1",
+            "solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0;",
+        )
 
 
 def displacements(case, env, mesh=True, solve=True):
@@ -79,7 +105,7 @@ def displacements(case, env, mesh=True, solve=True):
         g = nscdpost.read_grains(case, name)
         ids = g["grainId"]
         order = np.argsort(ids)
-        assert list(ids[order]) == list(range(7))          # every grain written once
+        assert list(ids[order]) == list(range(7))  # every grain written once
         assert list(g["fixed"][order]) == [False, False] + [True] * 5
         x[name] = g["x"][order]
     # downward displacement of the left and right hanging discs (grains 0, 1)
@@ -93,12 +119,16 @@ def test_vapour_switches_cohesion(tmp_path, env):
     hanging_case(case, f"force {FC0}; vapourThreshold 0.5; minAge 0;", vapour=True)
     (left, right), log = displacements(case, env)
     weight = RHO_P * 3.141592653589793 * (D / 2) ** 2 * 9.81
-    print(f"weight {weight:.4g} N/m, F_c0 {FC0} N/m: dry disc moved {left:.3e} m, wet disc {right:.3e} m")
+    print(
+        f"weight {weight:.4g} N/m, F_c0 {FC0} N/m: dry disc moved {left:.3e} m, wet disc {right:.3e} m"
+    )
     assert weight < FC0
     assert abs(left) < 1e-3 * D
     assert right > 0.1 * D
     # the log: one cohesive contact (the dry pair), the wet pair looked up wet
-    last = re.findall(r"cohesion: cohesive contacts (\d+) of (\d+), pairs looked up dry (\d+) wet (\d+)", log)
+    last = re.findall(
+        r"cohesion: cohesive contacts (\d+) of (\d+), pairs looked up dry (\d+) wet (\d+)", log
+    )
     assert last and int(last[-1][0]) == 1
     assert int(last[-1][2]) >= 1
 
@@ -140,6 +170,7 @@ def serial_and_parallel(tmp_path, env, cohesion, vapour, y0=Y0, split=None):
     returns the serial and the parallel drops (left, right) and the
     parallel log."""
     import shutil
+
     serial = str(tmp_path / "serial")
     hanging_case(serial, cohesion, vapour=vapour, y0=y0)
     run("blockMesh", serial, env)
@@ -163,7 +194,8 @@ def test_parallel_same_decision(tmp_path, env):
     within 1e-9 m: solver tolerance) and every grain is written once (the
     fixed disc at x = W/2 lies on the processor boundary)."""
     (ls, rs), (lp, rp), log = serial_and_parallel(
-        tmp_path, env, f"force {FC0}; vapourThreshold 0.5;", vapour=True)
+        tmp_path, env, f"force {FC0}; vapourThreshold 0.5;", vapour=True
+    )
     print(f"serial drops {ls:.3e} {rs:.3e} m, parallel {lp:.3e} {rp:.3e} m")
     assert "grains decomposed over 2 ranks" in log, log[-3000:]
     assert abs(lp) < 1e-3 * D and rp > 0.1 * D
@@ -181,7 +213,8 @@ def test_parallel_contact_point_across_the_cut(tmp_path, env):
     would leave the dry pair without cohesion and its disc would fall; it
     hangs, as in the serial run (within 1e-9 m), and the wet one falls."""
     (ls, rs), (lp, rp), log = serial_and_parallel(
-        tmp_path, env, f"force {FC0}; vapourThreshold 0.5;", vapour=True, y0=0.0215, split=(1, 2, 1))
+        tmp_path, env, f"force {FC0}; vapourThreshold 0.5;", vapour=True, y0=0.0215, split=(1, 2, 1)
+    )
     print(f"cut at y = 20 mm: serial drops {ls:.3e} {rs:.3e} m, decomposed {lp:.3e} {rp:.3e} m")
     assert "grains decomposed over 2 ranks" in log, log[-3000:]
     assert abs(ls) < 1e-3 * D and rs > 0.1 * D
@@ -208,10 +241,12 @@ def test_dry_cohesion_decomposed(tmp_path, env):
 @pytest.mark.parametrize("what", ["noVapour", "unknownKeyword", "noForce", "negativeAge"])
 def test_cohesion_input_errors(tmp_path, env, what):
     case = str(tmp_path / what)
-    body = {"noVapour": f"force {FC0}; vapourThreshold 0.5;",
-            "unknownKeyword": f"force {FC0}; minage 2;",
-            "noForce": "minAge 2;",
-            "negativeAge": f"force {FC0}; minAge -1;"}[what]
+    body = {
+        "noVapour": f"force {FC0}; vapourThreshold 0.5;",
+        "unknownKeyword": f"force {FC0}; minage 2;",
+        "noForce": "minAge 2;",
+        "negativeAge": f"force {FC0}; minAge -1;",
+    }[what]
     hanging_case(case, body, vapour=False)
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read().replace("endTime 0.05;", "endTime 0.0002;")
@@ -222,8 +257,10 @@ def test_cohesion_input_errors(tmp_path, env, what):
     out = p.stdout + p.stderr
     assert p.returncode != 0
     assert "FOAM FATAL IO ERROR" in out and "couplingProperties.cohesion" in out, out[-2000:]
-    expect = {"noVapour": "Fix: add vapour { D <m^2/s>; rho <kg/m^3>; } to constant/transportProperties",
-              "unknownKeyword": "Unknown keyword 'minage'",
-              "noForce": "Missing keyword force",
-              "negativeAge": "minAge -1"}[what]
+    expect = {
+        "noVapour": "Fix: add vapour { D <m^2/s>; rho <kg/m^3>; } to constant/transportProperties",
+        "unknownKeyword": "Unknown keyword 'minage'",
+        "noForce": "Missing keyword force",
+        "negativeAge": "minAge -1",
+    }[what]
     assert expect in out, out[-2000:]

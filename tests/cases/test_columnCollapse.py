@@ -13,6 +13,7 @@ with a (ratio of the two runouts 0.9-1.7 x the law's: the measured spread
 under solver-tolerance perturbations, 1.24-1.52, with its margin) and for the
 prefactor within a band [0.7, 1.8] x the law.
 """
+
 import json
 import os
 import shutil
@@ -20,17 +21,20 @@ import subprocess
 import sys
 
 import pytest
-
 from foamcase import run
 
 pytestmark = pytest.mark.slow
 
-TUT = os.path.join(os.path.dirname(__file__), "..", "..", "tutorials", "grainFoam", "columnCollapse")
+TUT = os.path.join(
+    os.path.dirname(__file__), "..", "..", "tutorials", "grainFoam", "columnCollapse"
+)
 
 
 def _run(work, env, a, n):
     case = str(work / f"a{a}")
-    subprocess.run([sys.executable, str(work / "setupCase.py"), case, str(a), str(n)], check=True, env=env)
+    subprocess.run(
+        [sys.executable, str(work / "setupCase.py"), case, str(a), str(n)], check=True, env=env
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run("grainFoam", case, env)
@@ -39,9 +43,13 @@ def _run(work, env, a, n):
 
 def test_column_collapse_runout(tmp_path, env):
     work = tmp_path / "cc"
-    shutil.copytree(TUT, work, ignore=shutil.ignore_patterns("a[0-9]*", "results.json", "*.png", "log.*"))
+    shutil.copytree(
+        TUT, work, ignore=shutil.ignore_patterns("a[0-9]*", "results.json", "*.png", "log.*")
+    )
     cases = [_run(work, env, a, 500) for a in (0.5, 2)]
-    subprocess.run([sys.executable, str(work / "postProcess.py"), *cases], check=True, env=env, cwd=work)
+    subprocess.run(
+        [sys.executable, str(work / "postProcess.py"), *cases], check=True, env=env, cwd=work
+    )
     res = json.load(open(work / "results.json"))["cases"]
     for r in res:
         for key in ("aspect_ratio", "initial_width", "initial_height", "runout", "final_height"):

@@ -44,16 +44,21 @@ coding error from a deviation of the law).
   n = 4.7/2.35, so U is above Garside & Al-Dibouni's by 5-20 % at
   eps = 0.5-0.85 (known deviation, asserted within 25 %).
 """
+
 import math
 import os
 import re
 
-import pytest
-
 import correlations
 import nscdpost
-from correlations import (cd_brown_lawler, cd_dallavalle, ergun_gradient,
-                          n_garside_al_dibouni, n_richardson_zaki)
+import pytest
+from correlations import (
+    cd_brown_lawler,
+    cd_dallavalle,
+    ergun_gradient,
+    n_garside_al_dibouni,
+    n_richardson_zaki,
+)
 from foamcase import add_fluid, fixed_lattice_bed, make_box_case, run, run_fatal_io
 
 G = 9.81
@@ -80,12 +85,20 @@ def settle_one(case, env, model, nu, hd=10, end=0.3, undisturbed="none"):
     # at least 16 d wide and 60 d tall (4 x 20 cells at h/d = 10)
     nx, ny = max(4, int(round(16 / hd))), max(20, int(round(60 / hd)))
     lx, ly = nx * h, ny * h
-    make_box_case(case, (0, 0, 0), (lx, ly, lx), (nx, ny, nx), (0, -G, 0),
-                  {"glass": {"density": RHOP, "friction": 0.4}},
-                  grains=[(lx / 2 + 0.3 * h, ly - 15 * D, lx / 2 + 0.3 * h, D)],
-                  end_time=end, dt=1e-3, write_interval=end / 3, two_d=False)
-    add_fluid(case, RHO, nu, drag=model,
-              extra_coupling=f"undisturbedVelocity {undisturbed};\n")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (lx, ly, lx),
+        (nx, ny, nx),
+        (0, -G, 0),
+        {"glass": {"density": RHOP, "friction": 0.4}},
+        grains=[(lx / 2 + 0.3 * h, ly - 15 * D, lx / 2 + 0.3 * h, D)],
+        end_time=end,
+        dt=1e-3,
+        write_interval=end / 3,
+        two_d=False,
+    )
+    add_fluid(case, RHO, nu, drag=model, extra_coupling=f"undisturbedVelocity {undisturbed};\n")
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     p = run("vansFoam", case, env)
@@ -98,7 +111,9 @@ def settle_one(case, env, model, nu, hd=10, end=0.3, undisturbed="none"):
     u = nscdpost.read_vector_field(os.path.join(case, name, "lagrangian", "grains", "Ufluid"))[0]
     # lab-frame speed averaged over the last third: the instantaneous one
     # varies by a few % as the sphere crosses the cell faces at h/d ~ 2
-    fall = nscdpost.read_grains(case, name0)["x"][0][1] - nscdpost.read_grains(case, name)["x"][0][1]
+    fall = (
+        nscdpost.read_grains(case, name0)["x"][0][1] - nscdpost.read_grains(case, name)["x"][0][1]
+    )
     return u[1] - v[1], -v[1], fall / (t - t0)
 
 
@@ -109,8 +124,10 @@ def test_lone_sphere_terminal_slip(tmp_path, env, model, Re):
     nu = nu_for_reynolds(Re)
     slip, lab, _ = settle_one(str(tmp_path / "c"), env, model, nu)
     ref = terminal_slip(cd_brown_lawler, D, nu)
-    print(f"{model} Re_t {Re}: slip {slip:.5g} m/s, lab {lab:.5g} m/s, "
-          f"Brown & Lawler {ref:.5g} m/s, slip/ref {slip / ref:.4f}")
+    print(
+        f"{model} Re_t {Re}: slip {slip:.5g} m/s, lab {lab:.5g} m/s, "
+        f"Brown & Lawler {ref:.5g} m/s, slip/ref {slip / ref:.4f}"
+    )
     if model == "Gidaspow":
         assert slip == pytest.approx(ref, rel=0.05)
     else:
@@ -130,13 +147,16 @@ def test_lone_sphere_lab_frame_velocity(tmp_path, env, undisturbed):
     ref = terminal_slip(cd_brown_lawler, D, nu)
     lab, mean = {}, {}
     for hd in (1, 2, 4, 8):
-        _, lab[hd], mean[hd] = settle_one(str(tmp_path / f"hd{hd}"), env, "Gidaspow", nu,
-                                          hd=hd, undisturbed=undisturbed)
-    print(f"undisturbedVelocity {undisturbed}, "
-          "lab-frame terminal speed / Brown & Lawler: "
-          + ", ".join(f"h/d {hd}: {v / ref:.3f}" for hd, v in lab.items())
-          + "; mean over the last 0.1 s: "
-          + ", ".join(f"h/d {hd}: {v / ref:.3f}" for hd, v in mean.items()))
+        _, lab[hd], mean[hd] = settle_one(
+            str(tmp_path / f"hd{hd}"), env, "Gidaspow", nu, hd=hd, undisturbed=undisturbed
+        )
+    print(
+        f"undisturbedVelocity {undisturbed}, "
+        "lab-frame terminal speed / Brown & Lawler: "
+        + ", ".join(f"h/d {hd}: {v / ref:.3f}" for hd, v in lab.items())
+        + "; mean over the last 0.1 s: "
+        + ", ".join(f"h/d {hd}: {v / ref:.3f}" for hd, v in mean.items())
+    )
     if undisturbed == "none":
         for hd in (4, 8):
             assert lab[hd] == pytest.approx(ref, rel=0.05)
@@ -158,10 +178,13 @@ def test_lone_sphere_undisturbed_velocity_correction(tmp_path, env):
     lone-sphere law against Brown & Lawler, < 1 % at Re 10)."""
     nu = nu_for_reynolds(10)
     ref = terminal_slip(cd_brown_lawler, D, nu)
-    slip, lab, mean = settle_one(str(tmp_path / "c"), env, "Gidaspow", nu, hd=2,
-                                 undisturbed="steadyOseen")
-    print(f"steadyOseen h/d 2 Re_t 10: lab / Brown & Lawler {lab / ref:.4f} "
-          f"(mean over the last 0.1 s {mean / ref:.4f}), gathered slip / ref {slip / ref:.4f}")
+    slip, lab, mean = settle_one(
+        str(tmp_path / "c"), env, "Gidaspow", nu, hd=2, undisturbed="steadyOseen"
+    )
+    print(
+        f"steadyOseen h/d 2 Re_t 10: lab / Brown & Lawler {lab / ref:.4f} "
+        f"(mean over the last 0.1 s {mean / ref:.4f}), gathered slip / ref {slip / ref:.4f}"
+    )
     assert lab == pytest.approx(ref, rel=0.05)
     assert mean == pytest.approx(ref, rel=0.05)
 
@@ -169,12 +192,19 @@ def test_lone_sphere_undisturbed_velocity_correction(tmp_path, env):
 @pytest.mark.fast
 def test_undisturbed_velocity_unknown_word(tmp_path, env):
     case = str(tmp_path / "bad")
-    make_box_case(case, (0, 0, 0), (0.004, 0.008, 0.004), (2, 4, 2), (0, -G, 0),
-                  {"glass": {"density": RHOP, "friction": 0.4}},
-                  grains=[(0.002, 0.004, 0.002, D)], end_time=0.001, dt=1e-3,
-                  two_d=False)
-    add_fluid(case, RHO, 1e-6, drag="Gidaspow",
-              extra_coupling="undisturbedVelocity Balachandar;\n")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.004, 0.008, 0.004),
+        (2, 4, 2),
+        (0, -G, 0),
+        {"glass": {"density": RHOP, "friction": 0.4}},
+        grains=[(0.002, 0.004, 0.002, D)],
+        end_time=0.001,
+        dt=1e-3,
+        two_d=False,
+    )
+    add_fluid(case, RHO, 1e-6, drag="Gidaspow", extra_coupling="undisturbedVelocity Balachandar;\n")
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     out = run_fatal_io("vansFoam", case, env)
@@ -187,9 +217,17 @@ def test_undisturbed_velocity_is_3d_only(tmp_path, env):
     """steadyOseen is the disturbance of a point force in 3D: a 2D mesh is a
     FatalIOError saying so."""
     case = str(tmp_path / "twoD")
-    make_box_case(case, (0, 0, 0), (0.04, 0.08, 0.004), (4, 8, 1), (0, -G, 0),
-                  {"glass": {"density": RHOP, "friction": 0.4}},
-                  grains=[(0.02, 0.04, 0.002, 0.004)], end_time=0.001, dt=1e-3)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.08, 0.004),
+        (4, 8, 1),
+        (0, -G, 0),
+        {"glass": {"density": RHOP, "friction": 0.4}},
+        grains=[(0.02, 0.04, 0.002, 0.004)],
+        end_time=0.001,
+        dt=1e-3,
+    )
     add_fluid(case, RHO, 1e-6, extra_coupling="undisturbedVelocity steadyOseen;\n")
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
@@ -207,8 +245,9 @@ def lattice_drag(case, env, model, Us, s, nu, layers=8):
     away from the void-fraction jumps at the bed's faces (an homogeneous
     bed, as Ergun's and Richardson-Zaki's)."""
     nx, ny = 3, 3 * layers
-    p = fixed_lattice_bed(case, env, s, D, nx, ny, range(layers, 2 * layers), Us, RHO, nu,
-                          drag=model)
+    p = fixed_lattice_bed(
+        case, env, s, D, nx, ny, range(layers, 2 * layers), Us, RHO, nu, drag=model
+    )
     j0, j1 = layers + 1, 2 * layers - 2
     grad = RHO * (p[:, j0, :].mean() - p[:, j1, :].mean()) / ((j1 - j0) * s)  # kinematic p
     eps = 1 - math.pi * D**3 / (6 * s**3)
@@ -221,8 +260,10 @@ def test_fixed_bed_against_ergun(tmp_path, env, model):
     nu, Us, s = 1e-6, 1e-3, D * 1.0001
     eps, grad, _ = lattice_drag(str(tmp_path / model), env, model, Us, s, nu)
     ref = ergun_gradient(eps, Us, D, RHO * nu, RHO)
-    print(f"{model}: eps {eps:.4f}, Re_p {Us * D / nu:.3g}, dp/dy {grad:.6g} Pa/m, "
-          f"Ergun {ref:.6g} Pa/m, ratio {grad / ref:.4f}")
+    print(
+        f"{model}: eps {eps:.4f}, Re_p {Us * D / nu:.3g}, dp/dy {grad:.6g} Pa/m, "
+        f"Ergun {ref:.6g} Pa/m, ratio {grad / ref:.4f}"
+    )
     if model == "Gidaspow":
         assert grad == pytest.approx(ref, rel=0.05)
     else:
@@ -233,9 +274,9 @@ def test_fixed_bed_against_ergun(tmp_path, env, model):
 def test_fluidised_bed_expansion(tmp_path, env):
     """DallavalleDiFelice; glass spheres d = 1 mm in water (Re_t ~ 130)."""
     model, nu = "DallavalleDiFelice", 1e-6
-    vt = terminal_slip(cd_dallavalle, D, nu)   # the model's own v_t
+    vt = terminal_slip(cd_dallavalle, D, nu)  # the model's own v_t
     Ret = vt * D / nu
-    weight = (RHOP - RHO) * G                  # buoyant weight per grain volume
+    weight = (RHOP - RHO) * G  # buoyant weight per grain volume
     rows = []
     for s_over_d in (1.03, 1.12, 1.25, 1.45):
         s = s_over_d * D
@@ -243,15 +284,16 @@ def test_fluidised_bed_expansion(tmp_path, env):
         U1 = vt * eps ** n_richardson_zaki(Ret)
         f = {}
         for U in (U1, 1.15 * U1):
-            _, _, f[U] = lattice_drag(str(tmp_path / f"s{s_over_d}_{U:.4g}"), env, model,
-                                      U, s, nu)
+            _, _, f[U] = lattice_drag(str(tmp_path / f"s{s_over_d}_{U:.4g}"), env, model, U, s, nu)
         (Ua, fa), (Ub, fb) = sorted(f.items())
         a = math.log(fb / fa) / math.log(Ub / Ua)
-        U = Ua * (eps * weight / fa) ** (1 / a)   # drag = eps (rho_p - rho) g
+        U = Ua * (eps * weight / fa) ** (1 / a)  # drag = eps (rho_p - rho) g
         rows.append((eps, U / vt, eps ** n_richardson_zaki(Ret), eps ** n_garside_al_dibouni(Ret)))
-    print(f"Re_t {Ret:.4g}, v_t {vt:.5g} m/s;  eps, U/v_t: measured, Richardson-Zaki 1954, "
-          "Garside-Al-Dibouni 1977\n" + "\n".join(
-              f"  {e:.4f}  {u:.4f}  {rz:.4f}  {gad:.4f}" for e, u, rz, gad in rows))
-    for eps, u, rz, gad in rows:
+    print(
+        f"Re_t {Ret:.4g}, v_t {vt:.5g} m/s;  eps, U/v_t: measured, Richardson-Zaki 1954, "
+        "Garside-Al-Dibouni 1977\n"
+        + "\n".join(f"  {e:.4f}  {u:.4f}  {rz:.4f}  {gad:.4f}" for e, u, rz, gad in rows)
+    )
+    for _eps, u, rz, gad in rows:
         assert u == pytest.approx(rz, rel=0.10)
         assert gad <= u <= 1.25 * gad

@@ -58,20 +58,20 @@ section 4.3.3).
     src/dropletCoupling/README.md "Fifth increment") the droplet at T_d
     rests on the bed and the grains carry its weight (statics).
 """
+
 import json
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import run, tutorial_modules
 
 pytestmark = pytest.mark.slow
 
 TEMPS = (300.0, 400.0, 600.0)
-END = 0.1          # s (~300 steps each)
+END = 0.1  # s (~300 steps each)
 
 
 @pytest.fixture(scope="module")
@@ -96,10 +96,12 @@ def test_energy_budget_closes(sweep):
     setup, post, cases, root = sweep
     for T, case in cases.items():
         b = post.energy_budget(case)
-        print(f"T_bed {T:g} C: droplet heat {b['droplet_heat']:.4e} J, energy defect "
-              f"{b['relative']:.2e} relative, source mismatch {b['source_mismatch']:.2e}")
+        print(
+            f"T_bed {T:g} C: droplet heat {b['droplet_heat']:.4e} J, energy defect "
+            f"{b['relative']:.2e} relative, source mismatch {b['source_mismatch']:.2e}"
+        )
         assert b["droplet_heat"] > 0
-        assert b["relative"] < 1e-4                 # issue 8
+        assert b["relative"] < 1e-4  # issue 8
         assert b["source_mismatch"] < 1e-6
 
 
@@ -114,12 +116,13 @@ def test_energy_budget_through_restart(sweep, env):
     ~1e-10, the state written with 12 digits): the restart loses no energy
     and the post-processing reads all of the run."""
     import shutil
+
     setup, post, cases, root = sweep
     case = os.path.join(root, "T400_restart")
     shutil.copytree(cases[400.0], case)
     shutil.rmtree(os.path.join(case, "0.1"))
     os.rename(os.path.join(case, "log.vansFoam"), os.path.join(case, "log.vansFoam.first"))
-    run("vansFoam", case, env)                       # writes log.vansFoam: the continuation
+    run("vansFoam", case, env)  # writes log.vansFoam: the continuation
     h = nscdpost.heat_log_history(case)
     d = post.read_droplet(case)
     first = nscdpost.heat_log(open(os.path.join(case, "log.vansFoam.first")).read())
@@ -130,8 +133,10 @@ def test_energy_budget_through_restart(sweep, env):
     # the log prints times with timePrecision (6) digits
     assert len(h["time"]) == len(d) and np.allclose(h["time"], d[:, 0], rtol=1e-5)
     b = post.energy_budget(case)
-    print(f"restarted at 0.05 s: {len(h['time'])} joined steps, droplet heat "
-          f"{b['droplet_heat']:.4e} J, energy defect {b['relative']:.2e} relative")
+    print(
+        f"restarted at 0.05 s: {len(h['time'])} joined steps, droplet heat "
+        f"{b['droplet_heat']:.4e} J, energy defect {b['relative']:.2e} relative"
+    )
     assert b["relative"] < 1e-4
     assert b["source_mismatch"] < 1e-6
 
@@ -151,9 +156,11 @@ def test_forces_obey_eq_4_17(sweep):
     setup, post, cases, root = sweep
     for T, case in sorted(cases.items()):
         f = post.force_balance(post.read_droplet(case))
-        print(f"T_bed {T:g} C: eq. 4.17 rms residual {f['momentum_residual']:.2e} m_0 g, "
-              f"support at the end: gas {f['support']['fluid']:.2f}, grains "
-              f"{f['support']['grains']:.2f}")
+        print(
+            f"T_bed {T:g} C: eq. 4.17 rms residual {f['momentum_residual']:.2e} m_0 g, "
+            f"support at the end: gas {f['support']['fluid']:.2f}, grains "
+            f"{f['support']['grains']:.2f}"
+        )
         assert f["momentum_residual"] < 1e-2
         assert abs(f["support"]["fluid"] + f["support"]["grains"] - 1) < 0.2
 
@@ -183,9 +190,11 @@ def test_front_rear_walls_heat_the_bed(sweep, env):
     lg, ref = post.read_log(case), post.read_log(cases[400.0])
     walls = lg["budget"][:, 3].sum()
     T_end, T_ref = lg["grain_T"][-1], ref["grain_T"][-1]
-    print(f"front/rear walls: energy defect {b['relative']:.2e}, wall heat {walls:.3e} J "
-          f"(without: {ref['budget'][:, 3].sum():.3e} J), mean grain T {T_end:.3f} K "
-          f"(without: {T_ref:.3f} K)")
+    print(
+        f"front/rear walls: energy defect {b['relative']:.2e}, wall heat {walls:.3e} J "
+        f"(without: {ref['budget'][:, 3].sum():.3e} J), mean grain T {T_end:.3f} K "
+        f"(without: {T_ref:.3f} K)"
+    )
     assert b["relative"] < 1e-4 and b["source_mismatch"] < 1e-6
     assert walls > ref["budget"][:, 3].sum()
     assert T_end > T_ref
@@ -203,7 +212,7 @@ def test_mass_loss_grows_with_bed_temperature(sweep):
     first, early = np.array(first), np.array(early)
     print("mdot_1/(T_bed - T_d) [kg/(s K)]:", first, "mean mdot over 0.05 s [kg/s]:", early)
     assert np.all(first > 0)
-    assert np.ptp(first) < 1e-3 * first.mean()     # measured 1.3e-4
+    assert np.ptp(first) < 1e-3 * first.mean()  # measured 1.3e-4
     assert np.all(np.diff(early) > 0)
 
 
@@ -233,13 +242,16 @@ def test_droplet_without_evaporation(sweep, env):
         """Grain centres (x, y) [m] at a write time, ordered by grainId."""
         g = nscdpost.read_grains(case, time_name)
         return g["x"][np.argsort(g["grainId"]), :2]
+
     x0, x1 = positions("0.05"), positions("0.1")
     info = json.load(open(os.path.join(case, "case.json")))
     lower = (x0[:, 1] < 0.5 * info["bed_top"]) & (x1[:, 1] < 0.5 * info["bed_top"])
     move = np.median(np.linalg.norm(x1[lower] - x0[lower], axis=1)) / info["grain_diameter"]
     dn, dh = null[-1, post.COL["depth"]], hot[-1, post.COL["depth"]]
-    print(f"lower-half grains ({lower.sum()}): median displacement 0.05-0.1 s {move:.2e} d; "
-          f"depth at {END} s: T_d {1e3 * dn:.2f} mm, 300 C {1e3 * dh:.2f} mm")
+    print(
+        f"lower-half grains ({lower.sum()}): median displacement 0.05-0.1 s {move:.2e} d; "
+        f"depth at {END} s: T_d {1e3 * dn:.2f} mm, 300 C {1e3 * dh:.2f} mm"
+    )
     assert lower.sum() > 50 and move < 1e-2
     assert dn >= dh
 
@@ -261,8 +273,15 @@ def test_capillary_barrier_holds_droplet(sweep, env):
       the bed (setupCase.resting_height)."""
     setup, post, cases, root = sweep
     case = os.path.join(root, "T100_sigma")
-    setup.setup(case, 100.0, END, root=root, porosity="auto", write_interval=END / 2,
-                sigma=setup.SIGMA_WATER)
+    setup.setup(
+        case,
+        100.0,
+        END,
+        root=root,
+        porosity="auto",
+        write_interval=END / 2,
+        sigma=setup.SIGMA_WATER,
+    )
     run("blockMesh", case, env)
     run("vansFoam", case, env)
     d = post.read_droplet(case)
@@ -272,22 +291,29 @@ def test_capillary_barrier_holds_droplet(sweep, env):
     m = d[late, C["m"]]
     weight = np.mean((m - setup.RHO * m / setup.RHO_L) * 9.81)
     fc = np.mean(d[late, C["Fc_y"]])
-    total = np.mean(d[late, C["Fc_y"]] + d[late, C["Fpen_y"]] + d[late, C["Fp_y"]]
-                    + d[late, C["Fw_y"]])
+    total = np.mean(
+        d[late, C["Fc_y"]] + d[late, C["Fpen_y"]] + d[late, C["Fp_y"]] + d[late, C["Fw_y"]]
+    )
     depth = d[-1, C["depth"]]
-    print(f"depth at {END} s: {1e3 * depth:.3f} mm ({depth / info['grain_diameter']:.2f} d); "
-          f"F_c/W {fc / weight:.5f}, (F_c + F_pen + F_p + F_w)/W {total / weight:.5f}")
+    print(
+        f"depth at {END} s: {1e3 * depth:.3f} mm ({depth / info['grain_diameter']:.2f} d); "
+        f"F_c/W {fc / weight:.5f}, (F_c + F_pen + F_p + F_w)/W {total / weight:.5f}"
+    )
     assert depth < 0.5 * info["grain_diameter"]
     assert abs(total / weight - 1) < 1e-2
     assert abs(fc / weight - 1) < 2e-2
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "not reproduced (README.md, docs/validation/dropletDigging.md 'Findings'): "
-    "on the reduced 1 mm bed the droplet seeps in at every T_bed, less when "
-    "hotter (depth at 0.1 s 4.33, 3.97, 3.47 mm at 300/400/600 C, cohesion "
-    "minAge 5); on the similarity-scaled 0.2 mm bed with the measured U_mf it "
-    "sinks 2.4 / 2.0 mm in 3 s at 300 / 400 C, filling with grains, no chimney"))
+@pytest.mark.xfail(
+    strict=True,
+    reason=(
+        "not reproduced (README.md, docs/validation/dropletDigging.md 'Findings'): "
+        "on the reduced 1 mm bed the droplet seeps in at every T_bed, less when "
+        "hotter (depth at 0.1 s 4.33, 3.97, 3.47 mm at 300/400/600 C, cohesion "
+        "minAge 5); on the similarity-scaled 0.2 mm bed with the measured U_mf it "
+        "sinks 2.4 / 2.0 mm in 3 s at 300 / 400 C, filling with grains, no chimney"
+    ),
+)
 def test_three_regimes(sweep):
     """Thesis Figure 4.13 / section 4.3.3: the depth at 400 C exceeds the
     depths at 300 C and 600 C by more than a grain diameter."""
@@ -309,11 +335,13 @@ def test_cohesion_is_ten_grain_weights_per_unit_depth():
     setupCase writes F_c^0 as the per-unit-depth force (the slow
     test_similarity_scaling_keeps_umf checks the dictionary).  < 1 s."""
     setup, _ = tutorial_modules("vansFoam", "dropletDigging")
-    weight = setup.RHO_P * 9.81 * np.pi / 4 * setup.D_GRAIN_TABLE ** 2      # N/m
+    weight = setup.RHO_P * 9.81 * np.pi / 4 * setup.D_GRAIN_TABLE**2  # N/m
     bond = setup.F_C0 / weight
-    capillary = 2 * np.pi * setup.D_GRAIN_TABLE / 2 * setup.SIGMA_WATER      # N
-    print(f"F_c^0 = {setup.F_C0} N/m = {bond:.3f} disc weights; as a force on a grain: "
-          f"{setup.F_C0 / capillary:.1f} x 2 pi R sigma")
+    capillary = 2 * np.pi * setup.D_GRAIN_TABLE / 2 * setup.SIGMA_WATER  # N
+    print(
+        f"F_c^0 = {setup.F_C0} N/m = {bond:.3f} disc weights; as a force on a grain: "
+        f"{setup.F_C0 / capillary:.1f} x 2 pi R sigma"
+    )
     assert abs(bond - 10) < 0.1, bond
     assert setup.F_C0 / capillary > 10
 
@@ -350,19 +378,27 @@ def test_similarity_scaling_keeps_umf(sweep, tmp_path):
     plain, scaled = str(tmp_path / "plain"), str(tmp_path / "scaled")
     setup.setup(plain, 400.0, 0.01, root=root, porosity="auto")
     setup.setup(scaled, 400.0, 0.01, root=root, porosity="auto", similarity=dref)
-    ratio_nu = entry(scaled, "transportProperties", r"\bnu\s+([0-9.eE+-]+);") / \
-        entry(plain, "transportProperties", r"\bnu\s+([0-9.eE+-]+);")
-    ratio_mu = entry(scaled, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);") / \
-        entry(plain, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);")
-    ratio_fc = entry(scaled, "couplingProperties", r"force\s+([0-9.eE+-]+);") / \
-        entry(plain, "couplingProperties", r"force\s+([0-9.eE+-]+);")
-    print(f"1 mm bed scaled to 55 um: nu x {ratio_nu:.2f}, mu_l x {ratio_mu:.2f}, F_c x {ratio_fc:.3f}")
+    ratio_nu = entry(scaled, "transportProperties", r"\bnu\s+([0-9.eE+-]+);") / entry(
+        plain, "transportProperties", r"\bnu\s+([0-9.eE+-]+);"
+    )
+    ratio_mu = entry(scaled, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);") / entry(
+        plain, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);"
+    )
+    ratio_fc = entry(scaled, "couplingProperties", r"force\s+([0-9.eE+-]+);") / entry(
+        plain, "couplingProperties", r"force\s+([0-9.eE+-]+);"
+    )
+    print(
+        f"1 mm bed scaled to 55 um: nu x {ratio_nu:.2f}, mu_l x {ratio_mu:.2f}, F_c x {ratio_fc:.3f}"
+    )
     assert abs(ratio_nu - ratio_mu) < 1e-6 * ratio_nu
-    assert abs(ratio_fc ** 2 - ratio_nu) < 1e-5 * ratio_nu
+    assert abs(ratio_fc**2 - ratio_nu) < 1e-5 * ratio_nu
     # 2D cohesion per unit depth, unscaled: Table 4.2's F_c^0 itself [N/m]
     assert abs(entry(plain, "couplingProperties", r"force\s+([0-9.eE+-]+);") - setup.F_C0) < 1e-12
-    assert ratio_nu > 100          # 1 mm / 55 um: s ~ 330
-    assert abs(entry(plain, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);") - 2.82e-4) < 1e-12
+    assert ratio_nu > 100  # 1 mm / 55 um: s ~ 330
+    assert (
+        abs(entry(plain, "dropletProperties", r"liquidViscosity\s+([0-9.eE+-]+);") - 2.82e-4)
+        < 1e-12
+    )
 
 
 def assert_env_error(monkeypatch, settings, env, name):
@@ -392,10 +428,15 @@ def test_contact_compliance_settings(tmp_path, monkeypatch):
     setup.mesh_and_grains(str(tmp_path / "soft"), 1e-3)
     txt = open(tmp_path / "soft" / "constant" / "grainProperties").read()
     assert "relativeCompliance 0.002;" in txt and "relaxation 1.5;" in txt
-    assert_env_error(monkeypatch, setup.contact_compliance, {"CONTACT_COMPLIANCE": "-1"},
-                     "CONTACT_COMPLIANCE")
-    assert_env_error(monkeypatch, setup.contact_compliance,
-                     {"CONTACT_COMPLIANCE": "0", "CONTACT_RELAXATION": "2"}, "CONTACT_RELAXATION")
+    assert_env_error(
+        monkeypatch, setup.contact_compliance, {"CONTACT_COMPLIANCE": "-1"}, "CONTACT_COMPLIANCE"
+    )
+    assert_env_error(
+        monkeypatch,
+        setup.contact_compliance,
+        {"CONTACT_COMPLIANCE": "0", "CONTACT_RELAXATION": "2"},
+        "CONTACT_RELAXATION",
+    )
 
 
 def test_minimum_fluidisation_velocity(sweep, env, tmp_path, monkeypatch):
@@ -413,7 +454,7 @@ def test_minimum_fluidisation_velocity(sweep, env, tmp_path, monkeypatch):
     velocity where dp first reaches 0.95 W/A is 0.95 U_mf within 10 % (the
     fixed-bed branch is linear).
     Contact compliance 2e-3 (6 sweeps a step).  ~20 s."""
-    umf, = tutorial_modules("vansFoam", "dropletDigging", names=("umf",))
+    (umf,) = tutorial_modules("vansFoam", "dropletDigging", names=("umf",))
     monkeypatch.setenv("CONTACT_COMPLIANCE", "2e-3")
     monkeypatch.setenv("CONTACT_RELAXATION", "1.5")
     case = str(tmp_path / "umf")
@@ -438,7 +479,12 @@ def test_cohesion_settings(monkeypatch):
     assert setup.cohesion_settings() == (5, 1.0)
     monkeypatch.setenv("COHESION_FACTOR", "100")
     assert setup.cohesion_settings() == (5, 100.0)
-    assert_env_error(monkeypatch, setup.cohesion_settings, {"COHESION_FACTOR": "0"},
-                     "COHESION_FACTOR")
-    assert_env_error(monkeypatch, setup.cohesion_settings,
-                     {"COHESION_FACTOR": "1", "COHESION_MIN_AGE": "-1"}, "COHESION_MIN_AGE")
+    assert_env_error(
+        monkeypatch, setup.cohesion_settings, {"COHESION_FACTOR": "0"}, "COHESION_FACTOR"
+    )
+    assert_env_error(
+        monkeypatch,
+        setup.cohesion_settings,
+        {"COHESION_FACTOR": "1", "COHESION_MIN_AGE": "-1"},
+        "COHESION_MIN_AGE",
+    )

@@ -3,23 +3,32 @@
 absorbed volume (eq. 4.15), grain-droplet force F_p (eq. 4.17), liquid drag
 and pressure on the grains, porous grains (thesis 4.3.2).  Case set-up in
 dropletcase.py."""
+
 import math
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
-
-from dropletcase import (D, DEPTH, MU_W, RHO, RHO_W, T_D, difelice_gamma, droplet_case,
-                         held_suspension_case, read_droplet)
+from dropletcase import (
+    DEPTH,
+    MU_W,
+    RHO,
+    RHO_W,
+    T_D,
+    D,
+    difelice_gamma,
+    droplet_case,
+    held_suspension_case,
+    read_droplet,
+)
 from foamcase import run
-
 
 # ---------------------------------------------------------------------------
 # Grain-droplet force F_p (eq. 4.17), porous grains (4.3.2)
 # ---------------------------------------------------------------------------
+
 
 def lens_area(R, r, d):
     """Area of the intersection of two discs (radii R, r, centre distance d)."""
@@ -29,7 +38,11 @@ def lens_area(R, r, d):
         return math.pi * min(R, r) ** 2
     a1 = math.acos((d * d + r * r - R * R) / (2 * d * r))
     a2 = math.acos((d * d + R * R - r * r) / (2 * d * R))
-    return r * r * a1 + R * R * a2 - 0.5 * math.sqrt((-d + r + R) * (d + r - R) * (d - r + R) * (d + r + R))
+    return (
+        r * r * a1
+        + R * R * a2
+        - 0.5 * math.sqrt((-d + r + R) * (d + r - R) * (d - r + R) * (d + r + R))
+    )
 
 
 @pytest.mark.fast
@@ -46,16 +59,19 @@ def test_absorbed_grains_volume(tmp_path, env):
     c = 2 * D
     grains = [(c + 0.3 * R0, c, DEPTH / 2, 0.6 * R0), (c, c + R0, DEPTH / 2, 0.5 * R0)]
     case = str(tmp_path / "grains")
-    droplet_case(case, env, 8, end_time=0.2, dt=0.01, blowing=False, rho_l=1e8, T_w=T_D,
-                 grains=grains)
+    droplet_case(
+        case, env, 8, end_time=0.2, dt=0.01, blowing=False, rho_l=1e8, T_w=T_D, grains=grains
+    )
     run("vansFoam", case, env)
     d = read_droplet(case)
     Rf = math.sqrt(d[-1, 5] / (1e8 * math.pi * DEPTH))
     R = d[-1, 9]
-    A = math.pi * Rf ** 2 + math.pi * (0.3 * R0) ** 2 + lens_area(R, 0.25 * R0, R0)
-    print(f"R/R_f = {R / Rf:.9f}, fixed point R = {math.sqrt(A / math.pi):.12e}, V_p = {d[-1, 12]:.6e}")
+    A = math.pi * Rf**2 + math.pi * (0.3 * R0) ** 2 + lens_area(R, 0.25 * R0, R0)
+    print(
+        f"R/R_f = {R / Rf:.9f}, fixed point R = {math.sqrt(A / math.pi):.12e}, V_p = {d[-1, 12]:.6e}"
+    )
     assert abs(R - math.sqrt(A / math.pi)) < 1e-9 * R
-    assert abs(d[-1, 12] - (A - math.pi * Rf ** 2) * DEPTH) < 1e-6 * d[-1, 12]
+    assert abs(d[-1, 12] - (A - math.pi * Rf**2) * DEPTH) < 1e-6 * d[-1, 12]
     assert R > 1.04 * Rf
 
 
@@ -74,8 +90,10 @@ def rk4(rate, y, t_end, n):
 def grain_relaxation_reference(t_end, u_d, rho_p, d, eps, n=20000):
     """Slip u_d - v(t) of a grain released at rest in liquid moving at u_d:
     rho_p dv/dt = gamma(eps, Re(u_d - v)) (u_d - v), RK4 with n steps."""
+
     def rate(w):
         return -difelice_gamma(eps, RHO_W * abs(w) * d / MU_W, d, MU_W) * w / rho_p
+
     return rk4(rate, u_d, t_end, n)
 
 
@@ -88,11 +106,13 @@ def porous_bed_pressure_gradient(tmp_path, env, n, ny=12, nx=3):
     with the same DallavalleDiFelice law, eps dp/dy = (1 - eps) gamma u,
     u = U_s/eps, evaluated here at eps = 1 - (1 - n) pi d^3/(6 h^3)."""
     from foamcase import fixed_lattice_bed, read_internal
+
     d, h, Us, rho, mu = 0.999e-3, 1e-3, 2e-3, 1000.0, 1e-3
     case = str(tmp_path / f"bed{n}")
     extra = f"grainPorosity {n};\n" if n > 0 or "explicit0" in case else ""
-    p = fixed_lattice_bed(case, env, h, d, nx, ny, range(ny), Us, rho, mu / rho,
-                          extra_coupling=extra)
+    p = fixed_lattice_bed(
+        case, env, h, d, nx, ny, range(ny), Us, rho, mu / rho, extra_coupling=extra
+    )
     t, name = nscdpost.time_dirs(case)[-1]
     eps_field = read_internal(os.path.join(case, name, "voidFraction"))
     # even number of cell intervals: the solver's pressure has a weak odd-even
@@ -118,8 +138,10 @@ def test_porous_grains_pressure_gradient(tmp_path, env):
     bitwise the run without the keyword (the old code path)."""
     for n in (0.0, 0.5):
         grad, eps_field, eps, law, p = porous_bed_pressure_gradient(tmp_path, env, n)
-        print(f"n = {n}: eps = {eps:.6f}, grad p = {grad:.6g} Pa/m, law {law:.6g}, "
-              f"rel {grad / law - 1:+.4f}")
+        print(
+            f"n = {n}: eps = {eps:.6f}, grad p = {grad:.6g} Pa/m, law {law:.6g}, "
+            f"rel {grad / law - 1:+.4f}"
+        )
         assert np.allclose(eps_field, eps, rtol=1e-12)
         assert abs(grad / law - 1) < 0.01
         if n == 0.0:
@@ -158,18 +180,31 @@ def test_grain_relaxes_in_held_droplet(tmp_path, env, porosity):
     R0, c, dg, G = D / 2, 2 * D, 1e-4, 9.81
     dt, n = 5e-4, 24
     case = str(tmp_path / "relax")
-    droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
-                 grains=[(c, c, DEPTH / 2, dg)], fixed_grains=False, write_interval=dt * n / 6,
-                 nu=1e-9, gravity=G, extra=f"liquidViscosity {MU_W};\n",
-                 coupling=f"grainPorosity {porosity};\n")
+    droplet_case(
+        case,
+        env,
+        8,
+        end_time=dt * n,
+        dt=dt,
+        blowing=False,
+        rho_l=RHO_W,
+        T_w=T_D,
+        grains=[(c, c, DEPTH / 2, dg)],
+        fixed_grains=False,
+        write_interval=dt * n / 6,
+        nu=1e-9,
+        gravity=G,
+        extra=f"liquidViscosity {MU_W};\n",
+        coupling=f"grainPorosity {porosity};\n",
+    )
     if porosity > 0:
         gp = os.path.join(case, "constant", "grainProperties")
         txt = open(gp).read().replace("density 2500;", f"density {(1 - porosity) * 2500};")
         open(gp, "w").write(txt)
-        run("grainDeposit", case, env)      # the grain state holds the masses
+        run("grainDeposit", case, env)  # the grain state holds the masses
     run("vansFoam", case, env)
     # liquid fraction of the droplet, 1 - (1 - n) V_p/V (eq. 4.15)
-    vp = (dg / 2) ** 2 / (R0**2 + (dg / 2) ** 2)        # V_p/V
+    vp = (dg / 2) ** 2 / (R0**2 + (dg / 2) ** 2)  # V_p/V
     eps = 1 - (1 - porosity) * vp
     k = (1 - vp) / eps
 
@@ -177,13 +212,17 @@ def test_grain_relaxes_in_held_droplet(tmp_path, env, porosity):
         def rate(v):
             gam = difelice_gamma(eps, RHO_W * abs(v) * dg / MU_W, dg, MU_W)
             return ((2500 - k * RHO_W - RHO) * G - gam * v / eps) / 2500
+
         return rk4(rate, 0.0, t, N)
+
     times = nscdpost.time_dirs(case)[1:]
     assert len(times) == 6
     for t, name in times:
         v = nscdpost.read_grains(case, name)["U"][0]
         ref = reference(t)
-        print(f"t = {t:.4f} s: v = {-v[1]:.6e} m/s, reference {ref:.6e}, rel {-v[1] / ref - 1:+.4f}")
+        print(
+            f"t = {t:.4f} s: v = {-v[1]:.6e} m/s, reference {ref:.6e}, rel {-v[1] / ref - 1:+.4f}"
+        )
         assert abs(-v[1] / ref - 1) < 0.02
         assert abs(v[0]) < 1e-9 * abs(v[1])
 
@@ -202,22 +241,45 @@ def test_grain_droplet_momentum_exchange(tmp_path, env):
       17 digits), i.e. droplet + grains + gas exchange closes."""
     R0, c, G = D / 2, 2 * D, 9.81
     dgs = [1e-4, 1.5e-4, 2e-4, 2e-4]
-    grains = [(c + 0.3 * R0, c, DEPTH / 2, dgs[0]), (c - 0.4 * R0, c + 0.2 * R0, DEPTH / 2, dgs[1]),
-              (c, c - 0.5 * R0, DEPTH / 2, dgs[2]), (c + R0, c, DEPTH / 2, dgs[3])]
+    grains = [
+        (c + 0.3 * R0, c, DEPTH / 2, dgs[0]),
+        (c - 0.4 * R0, c + 0.2 * R0, DEPTH / 2, dgs[1]),
+        (c, c - 0.5 * R0, DEPTH / 2, dgs[2]),
+        (c + R0, c, DEPTH / 2, dgs[3]),
+    ]
     dt, n = 5e-4, 6
     case = str(tmp_path / "momentum")
-    droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
-                 grains=grains, fixed_grains=False, write_interval=dt, gravity=G,
-                 extra="velocity (0.05 -0.02 0);\n", moving=True)
+    droplet_case(
+        case,
+        env,
+        8,
+        end_time=dt * n,
+        dt=dt,
+        blowing=False,
+        rho_l=RHO_W,
+        T_w=T_D,
+        grains=grains,
+        fixed_grains=False,
+        write_interval=dt,
+        gravity=G,
+        extra="velocity (0.05 -0.02 0);\n",
+        moving=True,
+    )
     log = run("vansFoam", case, env).stdout
     d = read_droplet(case)
-    sums = [tuple(float(x) for x in m) for m in
-            re.findall(r"^droplet-grain force: sum over grains = \((\S+) (\S+) (\S+)\) N", log, re.M)]
+    sums = [
+        tuple(float(x) for x in m)
+        for m in re.findall(
+            r"^droplet-grain force: sum over grains = \((\S+) (\S+) (\S+)\) N", log, re.M
+        )
+    ]
     assert len(d) == n and len(sums) == n
     Fp = d[:, 13:15]
     assert np.all(d[:, 17] == 4) and np.all(np.abs(Fp[:, 1]) > 0)
     for k in range(n):
-        assert np.allclose(Fp[k], -np.array(sums[k][:2]), rtol=1e-12, atol=1e-12 * np.abs(Fp[k]).max())
+        assert np.allclose(
+            Fp[k], -np.array(sums[k][:2]), rtol=1e-12, atol=1e-12 * np.abs(Fp[k]).max()
+        )
     # droplet
     m = d[:, 5]
     mEff = m - RHO * m / RHO_W
@@ -263,11 +325,24 @@ def test_supported_grain_gets_full_drag(tmp_path, env):
     y_fix = y_free - (dg + df) / 2 * 1.0001
     dt, n = 1e-3, 30
     case = str(tmp_path / "support")
-    droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
-                 grains=[(c, y_free, DEPTH / 2, dg)], fixed_grains=False, gravity=G, nu=1e-9,
-                 extra=f"velocity (0 {-u} 0);\nliquidViscosity {MU_W};\n")
+    droplet_case(
+        case,
+        env,
+        8,
+        end_time=dt * n,
+        dt=dt,
+        blowing=False,
+        rho_l=RHO_W,
+        T_w=T_D,
+        grains=[(c, y_free, DEPTH / 2, dg)],
+        fixed_grains=False,
+        gravity=G,
+        nu=1e-9,
+        extra=f"velocity (0 {-u} 0);\nliquidViscosity {MU_W};\n",
+    )
     open(os.path.join(case, "system", "grainDepositDict"), "a").write(
-        f"fixedRow {{ from ({c} {y_fix} {DEPTH / 2}); to ({c} {y_fix} {DEPTH / 2}); diameter {df}; }}\n")
+        f"fixedRow {{ from ({c} {y_fix} {DEPTH / 2}); to ({c} {y_fix} {DEPTH / 2}); diameter {df}; }}\n"
+    )
     run("grainDeposit", case, env)
     run("vansFoam", case, env)
     d = read_droplet(case)
@@ -307,11 +382,13 @@ def test_supported_grain_gets_full_drag(tmp_path, env):
     F_ref = -F * DEPTH
     F_nopred = -F_nopred * DEPTH
     print(f"x = {x_i:.2f}, without the predictor F_p would be {F_nopred}")
-    assert abs(F_nopred[1] / F_ref[1] - 1) > 0.2          # the test discriminates
-    print(f"F_p = {d[-1, 13:15]}, reference {F_ref}, rel {d[-1, 14] / F_ref[1] - 1:+.2e}, "
-          f"grain shares {share}, v_free = {gr['U'][0]}")
+    assert abs(F_nopred[1] / F_ref[1] - 1) > 0.2  # the test discriminates
+    print(
+        f"F_p = {d[-1, 13:15]}, reference {F_ref}, rel {d[-1, 14] / F_ref[1] - 1:+.2e}, "
+        f"grain shares {share}, v_free = {gr['U'][0]}"
+    )
     assert gr["fixed"][1] and not gr["fixed"][0]
-    assert np.linalg.norm(gr["U"][0]) < 1e-3 * u                 # held by the contact
+    assert np.linalg.norm(gr["U"][0]) < 1e-3 * u  # held by the contact
     assert abs(d[-1, 14] / F_ref[1] - 1) < 0.01
 
 
@@ -365,16 +442,19 @@ def test_dense_suspension_settles_steadily(tmp_path, env, nu_gas):
     v = 1e-3
     for _ in range(50):
         v = (2500 - rho_mix) * G / difelice_gamma(eps, RHO_W * v * dg / MU_W, dg, MU_W)
-    lo, hi, mlo, mhi, xmax = ((-0.28, 0.15, -0.12, 0.0, 0.2) if nu_gas > 1e-6
-                              else (-0.08, 0.05, -0.03, 0.0, 0.05))
+    lo, hi, mlo, mhi, xmax = (
+        (-0.28, 0.15, -0.12, 0.0, 0.2) if nu_gas > 1e-6 else (-0.08, 0.05, -0.03, 0.0, 0.05)
+    )
     rows = []
     for tw, name in nscdpost.time_dirs(case)[1:]:
         gr = nscdpost.read_grains(case, name)
         rel = -gr["U"][:, 1] / v - 1
         vx = np.abs(gr["U"][:, 0]).max() / v
-        print(f"nu_gas {nu_gas:g}, t = {tw:g} s: {len(grains)} grains, v_ref = {v:.4e} m/s "
-              f"(eps_l {eps:.4f}, rho_mix {rho_mix:.1f}), v_y/v_ref - 1 mean {rel.mean():+.4f} "
-              f"in [{rel.min():+.4f}, {rel.max():+.4f}], max |v_x|/v_ref {vx:.3f}")
+        print(
+            f"nu_gas {nu_gas:g}, t = {tw:g} s: {len(grains)} grains, v_ref = {v:.4e} m/s "
+            f"(eps_l {eps:.4f}, rho_mix {rho_mix:.1f}), v_y/v_ref - 1 mean {rel.mean():+.4f} "
+            f"in [{rel.min():+.4f}, {rel.max():+.4f}], max |v_x|/v_ref {vx:.3f}"
+        )
         rows.append((rel, vx))
     for rel, vx in rows:
         assert np.all((rel > lo) & (rel < hi))

@@ -30,33 +30,52 @@
       solver tolerance 1e-12 absolute) and the outflow through the outlet
       (phi at the end) = Vdot of the last step to 1e-6 relative.
 """
+
 import math
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
-
-from dropletcase import (CP, D, DEPTH, KAPPA, LATENT, RHO, RHO_V, T_D, T_W, W, droplet_case,
-                         read_droplet)
+from dropletcase import (
+    CP,
+    DEPTH,
+    KAPPA,
+    LATENT,
+    RHO,
+    RHO_V,
+    T_D,
+    T_W,
+    D,
+    W,
+    droplet_case,
+    read_droplet,
+)
 from foamcase import run
-
 
 # Measured (w/D = 4, steady state): D/dx -> mdot/(Q_ref/L) - 1, for the
 # default penalisationFactor 100 (src/dropletCoupling/README.md has 10 and 1e4).
 # The +0.15 % left at 48-64 cells is of the order of the accuracy of the
 # 1.08 fit of the shape factor.
-MESH_CONVERGENCE = {4: -0.054, 6: -0.023, 8: -0.0099, 12: -0.0012, 16: -0.0014,
-                    24: -0.0004, 32: 0.0023, 48: 0.0015, 64: 0.0015}
+MESH_CONVERGENCE = {
+    4: -0.054,
+    6: -0.023,
+    8: -0.0099,
+    12: -0.0012,
+    16: -0.0014,
+    24: -0.0004,
+    32: 0.0023,
+    48: 0.0015,
+    64: 0.0015,
+}
 
 
 def patch_sum(path, patch):
     """Sum of the values of a surfaceScalarField (e.g. phi [m^3/s]) over a
     patch, from an ascii field file."""
     txt = open(path).read()
-    block = re.search(patch + r"\s*\{(.*?)\}", txt[txt.index("boundaryField"):], re.S).group(1)
+    block = re.search(patch + r"\s*\{(.*?)\}", txt[txt.index("boundaryField") :], re.S).group(1)
     m = re.search(r"value\s+uniform\s+(\S+);", block)
     if m:
         raise AssertionError(f"uniform {m.group(1)} on {patch}: expected a flux profile")
@@ -88,8 +107,8 @@ def conduction_error(tmp_path, env, n_per_d):
 def test_fixed_droplet_conduction(tmp_path, env):
     err = conduction_error(tmp_path, env, 16)
     print(f"D/dx = 16: mdot/(Q_ref/L) - 1 = {err:.4f}")
-    assert abs(err) < 0.05      # issue 8
-    assert abs(err) < 0.01      # the measured accuracy at 16 cells per D (-0.14 %)
+    assert abs(err) < 0.05  # issue 8
+    assert abs(err) < 0.01  # the measured accuracy at 16 cells per D (-0.14 %)
 
 
 @pytest.mark.fast
@@ -119,17 +138,26 @@ def test_energy_and_vapour_budget(tmp_path, env, release):
     (where the vapour leaves the surface must not change any budget)."""
     case = str(tmp_path / "budget")
     dt, n_steps = 0.01, 20
-    droplet_case(case, env, 8, end_time=dt * n_steps, dt=dt, blowing=True, rho_l=1000.0,
-                 outlet=True, extra=f"vapourRelease {release};\n")
+    droplet_case(
+        case,
+        env,
+        8,
+        end_time=dt * n_steps,
+        dt=dt,
+        blowing=True,
+        rho_l=1000.0,
+        outlet=True,
+        extra=f"vapourRelease {release};\n",
+    )
     log = run("vansFoam", case, env).stdout
     d = read_droplet(case)
     bud, E, cont = budget_lines(log)
-    n = len(d)                      # >= n_steps: the Courant limit may shorten dt
+    n = len(d)  # >= n_steps: the Courant limit may shorten dt
     assert n >= n_steps and len(bud) == n and len(E) == n
     t = d[:, 0]
     dts = np.diff(np.concatenate(([0.0], t)))
     m0 = 1000.0 * math.pi * (D / 2) ** 2 * DEPTH
-    m, Qf, Vdot = d[:, 5], d[:, 7] + d[:, 8], d[:, 11]     # Q = Q_f + Q_p (Q_p = 0: no grains)
+    m, Qf, Vdot = d[:, 5], d[:, 7] + d[:, 8], d[:, 11]  # Q = Q_f + Q_p (Q_p = 0: no grains)
     assert np.all(d[:, 8] == 0)
     rhoCp = RHO * CP
     E0 = rhoCp * T_W * W * W * DEPTH
@@ -161,7 +189,7 @@ def test_energy_and_vapour_budget(tmp_path, env, release):
     # pressure solver tolerance, and the outflow through the outlet at the
     # end equals the volume source of the last step
     Vtot = W * W * DEPTH
-    err = np.abs(cont.reshape(n, -1)[:, -1]) * Vtot / dts   # last corrector [m^3/s]
+    err = np.abs(cont.reshape(n, -1)[:, -1]) * Vtot / dts  # last corrector [m^3/s]
     assert np.all(err < 1e-6 * Vdot[1:].min())
     outflow = patch_sum(os.path.join(case, f"{dt * n_steps:g}", "phi"), "outlet")
     print(f"outflow {outflow:.9e} m^3/s, Vdot {Vdot[-1]:.9e} m^3/s")
@@ -185,17 +213,19 @@ def test_bounded_vapour_fraction_with_blowing_droplet(tmp_path, env):
     vapour is there)."""
     case = str(tmp_path / "bounded")
     dt, n_steps = 0.01, 20
-    droplet_case(case, env, 8, end_time=dt * n_steps, dt=dt, blowing=True, rho_l=1000.0,
-                 outlet=True)
+    droplet_case(
+        case, env, 8, end_time=dt * n_steps, dt=dt, blowing=True, rho_l=1000.0, outlet=True
+    )
     tp = os.path.join(case, "constant", "transportProperties")
     txt = open(tp).read()
     assert "vapour { D 2.5e-5;" in txt
     open(tp, "w").write(txt.replace("vapour { D 2.5e-5;", "vapour { bounded yes; D 2.5e-5;"))
     log = run("vansFoam", case, env).stdout
-    rng = np.array([[float(a), float(b)] for a, b in
-                    re.findall(r"psi min/max = (\S+) (\S+)", log)])
+    rng = np.array([[float(a), float(b)] for a, b in re.findall(r"psi min/max = (\S+) (\S+)", log)])
     assert len(rng) >= n_steps
-    print(f"bounded psi: min {rng[:, 0].min():.3e}, max {rng[:, 1].max():.6f} over {len(rng)} steps")
+    print(
+        f"bounded psi: min {rng[:, 0].min():.3e}, max {rng[:, 1].max():.6f} over {len(rng)} steps"
+    )
     assert rng[:, 0].min() >= -1e-9
     assert rng[:, 1].max() <= 1 + 1e-6
     assert rng[:, 1].max() > 0.5
@@ -234,9 +264,19 @@ def test_vapour_released_where_heat_enters(tmp_path, env, release):
     case = str(tmp_path / release)
     w = 4 * D
     centre = (w / 2, 0.7 * D)
-    droplet_case(case, env, n_per_d, end_time=dt * n_steps, dt=dt, blowing=True,
-                 rho_l=1e6, outlet=True, centre=centre, write_interval=dt,
-                 extra=f"vapourRelease {release};\n")
+    droplet_case(
+        case,
+        env,
+        n_per_d,
+        end_time=dt * n_steps,
+        dt=dt,
+        blowing=True,
+        rho_l=1e6,
+        outlet=True,
+        centre=centre,
+        write_interval=dt,
+        extra=f"vapourRelease {release};\n",
+    )
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read().replace("adjustTimeStep yes;", "adjustTimeStep no;")
     open(cd, "w").write(txt)
@@ -248,7 +288,7 @@ def test_vapour_released_where_heat_enters(tmp_path, env, release):
     n = 4 * n_per_d
     h = w / n
     xs = (np.arange(n) + 0.5) * h
-    xy = np.stack([np.tile(xs, n), np.repeat(xs, n)], axis=1)     # blockMesh order
+    xy = np.stack([np.tile(xs, n), np.repeat(xs, n)], axis=1)  # blockMesh order
     vol = h * h * DEPTH
     q = nscdpost.read_internal_field(os.path.join(case, last, "dropletVolumeSource"))
     sink = nscdpost.read_internal_field(os.path.join(case, prev, "dropletHeatSink"))
@@ -257,7 +297,7 @@ def test_vapour_released_where_heat_enters(tmp_path, env, release):
     assert Vdot > 0
     assert abs(q.sum() * vol - Vdot) < 1e-9 * Vdot
     assert q.min() >= 0
-    edges = np.array([-0.75, -0.25, 0.25, 0.75, 1.25]) * np.pi     # lower, right, upper, left
+    edges = np.array([-0.75, -0.25, 0.25, 0.75, 1.25]) * np.pi  # lower, right, upper, left
     s_vap = sector_shares(q * vol, xy, centre, edges)
     s_heat = sector_shares(np.maximum(sink, 0) * vol, xy, centre, edges)
     print(f"{release}: vapour shares {np.round(s_vap, 4)}, heat shares {np.round(s_heat, 4)}")
@@ -283,19 +323,31 @@ def test_grain_heat_to_droplet(tmp_path, env):
     case = str(tmp_path / "hotgrains")
     T0 = T_D + 200
     dt, n_steps = 0.01, 10
-    droplet_case(case, env, 8, end_time=dt * n_steps, dt=dt, blowing=False, rho_l=1000.0, T_w=T_D,
-                 grains=grains, T_grains=T0)
+    droplet_case(
+        case,
+        env,
+        8,
+        end_time=dt * n_steps,
+        dt=dt,
+        blowing=False,
+        rho_l=1000.0,
+        T_w=T_D,
+        grains=grains,
+        T_grains=T0,
+    )
     log = run("vansFoam", case, env).stdout
     d = read_droplet(case)
     Tg = [float(v) for v in re.findall(r"^heat: grain mean T = (\S+),", log, re.M)]
     assert len(d) == n_steps and len(Tg) == n_steps
     Qf, Qp = d[:, 7], d[:, 8]
-    mg = 2500 * math.pi * r * r * DEPTH                # 2D disc x mesh depth
+    mg = 2500 * math.pi * r * r * DEPTH  # 2D disc x mesh depth
     grain_loss = 2 * mg * 800 * (T0 - Tg[-1])
     heat_p = np.sum(Qp * dt)
-    m0 = 1000.0 * math.pi * R0 ** 2 * DEPTH
-    print(f"grain heat loss {grain_loss:.6e} J, sum Q_p dt {heat_p:.6e} J, sum Q_f dt "
-          f"{np.sum(Qf * dt):.3e} J, T_p {Tg[-1]:.3f} K")
+    m0 = 1000.0 * math.pi * R0**2 * DEPTH
+    print(
+        f"grain heat loss {grain_loss:.6e} J, sum Q_p dt {heat_p:.6e} J, sum Q_f dt "
+        f"{np.sum(Qf * dt):.3e} J, T_p {Tg[-1]:.3f} K"
+    )
     assert Tg[-1] < T0 - 1
     assert abs(heat_p - grain_loss) < 1e-6 * grain_loss
     assert abs(np.sum(Qf * dt)) < 0.01 * heat_p
@@ -313,7 +365,7 @@ def film_reference(r, F, dT, mu_v=1.227e-5, k=KAPPA, rho_v=RHO_V, L=LATENT):
     s = np.linspace(0.0, 400.0, 800001)
     f = s * np.arctan(s) / (1 + s * s) ** 3
     I = float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(s)))
-    assert abs(I - 0.147262) < 1e-5            # the constant of vapourDroplet.C
+    assert abs(I - 0.147262) < 1e-5  # the constant of vapourDroplet.C
     delta = (24 * I * mu_v * k * dT * (2 * r) ** 1.5 / (rho_v * L * F)) ** 0.4
     return delta, math.pi * k * math.sqrt(2 * r / delta)
 
@@ -341,6 +393,7 @@ def test_leidenfrost_film_heat(tmp_path, env):
       <time>/uniform/droplet) reproduces the uninterrupted droplet.dat to
       1e-9 relative."""
     import shutil
+
     R0 = D / 2
     c = 2 * D
     r = 1e-4
@@ -348,10 +401,22 @@ def test_leidenfrost_film_heat(tmp_path, env):
     case = str(tmp_path / "film")
     T0 = T_D + 300
     dt, n_steps = 1e-3, 20
-    droplet_case(case, env, 8, end_time=dt * n_steps, dt=dt, blowing=False, rho_l=1000.0,
-                 T_w=T_D, grains=[(c, c + R0 + r, DEPTH / 2, 2 * r)], T_grains=T0,
-                 fixed_grains=False, gravity=9.81, write_interval=10 * dt,
-                 extra="surfaceTension 0.05891;\nfilmConduction yes;\n")
+    droplet_case(
+        case,
+        env,
+        8,
+        end_time=dt * n_steps,
+        dt=dt,
+        blowing=False,
+        rho_l=1000.0,
+        T_w=T_D,
+        grains=[(c, c + R0 + r, DEPTH / 2, 2 * r)],
+        T_grains=T0,
+        fixed_grains=False,
+        gravity=9.81,
+        write_interval=10 * dt,
+        extra="surfaceTension 0.05891;\nfilmConduction yes;\n",
+    )
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read().replace("adjustTimeStep yes;", "adjustTimeStep no;")
     open(cd, "w").write(txt)
@@ -363,7 +428,7 @@ def test_leidenfrost_film_heat(tmp_path, env):
     Qfilm = d[:, 24]
     assert Qfilm[0] == 0
     assert np.all(Qfilm[1:] > 0)
-    m_g = rho_s * math.pi * r * r                     # kg/m (2D)
+    m_g = rho_s * math.pi * r * r  # kg/m (2D)
     F = m_g * 9.81 * (1 - RHO / rho_s)
     C = m_g * cp_s
     ratios = []
@@ -374,8 +439,10 @@ def test_leidenfrost_film_heat(tmp_path, env):
         ratios.append(Qfilm[k] / (Gs * dT * DEPTH))
     ratios = np.array(ratios)
     delta0, G0 = film_reference(r, F, T0 - T_D)
-    print(f"film: delta {delta0 * 1e6:.3f} um, Q_film {Qfilm[2]:.4e} W, ratio to the "
-          f"lubrication film {ratios.min():.6f}..{ratios.max():.6f}, grain T {Tg[-1]:.2f} K")
+    print(
+        f"film: delta {delta0 * 1e6:.3f} um, Q_film {Qfilm[2]:.4e} W, ratio to the "
+        f"lubrication film {ratios.min():.6f}..{ratios.max():.6f}, grain T {Tg[-1]:.2f} K"
+    )
     assert np.all(np.abs(ratios - 1) < 1e-3)
     assert Tg[-1] < T0 - 1
 
@@ -385,7 +452,7 @@ def test_leidenfrost_film_heat(tmp_path, env):
     defect = (E[-1] - E[0]) - np.sum(bud[1:].sum(axis=1) - Qfilm[1:] * dt)
     print(f"film heat {film_heat:.6e} J, energy defect {defect:.3e} J")
     assert abs(defect) < 1e-8 * film_heat
-    m0 = 1000.0 * math.pi * R0 ** 2 * DEPTH
+    m0 = 1000.0 * math.pi * R0**2 * DEPTH
     heat = np.sum((d[:, 7] + d[:, 8] + Qfilm) * dt)
     assert abs(LATENT * (m0 - d[-1, 5]) - heat) < 1e-10 * heat
 
@@ -395,8 +462,9 @@ def test_leidenfrost_film_heat(tmp_path, env):
     shutil.rmtree(os.path.join(half, "postProcessing"))
     assert "filmHeat" in open(os.path.join(half, f"{10 * dt:g}", "uniform", "droplet")).read()
     run("vansFoam", half, env)
-    rest = np.loadtxt(os.path.join(half, "postProcessing", "droplet", f"{10 * dt:g}",
-                                   "droplet.dat"), ndmin=2)
+    rest = np.loadtxt(
+        os.path.join(half, "postProcessing", "droplet", f"{10 * dt:g}", "droplet.dat"), ndmin=2
+    )
     assert len(rest) == n_steps - 10
     assert np.allclose(rest, d[10:], rtol=1e-9, atol=1e-15)
 
@@ -410,7 +478,8 @@ def test_tutorial_skeleton_runs(tmp_path, env):
     ~10 s; accepted 2-60 s, an order-of-magnitude check of eq. 4.16 with
     Table 4.2 properties at T_bed = 400 C)."""
     from foamcase import tutorial_modules
-    setup, = tutorial_modules("vansFoam", "dropletDigging", names=("setupCase",))
+
+    (setup,) = tutorial_modules("vansFoam", "dropletDigging", names=("setupCase",))
     root = str(tmp_path)
     setup.deposit(1e-3, root=root)
     dep = os.path.join(root, "deposit")

@@ -3,15 +3,24 @@
 thesis eq. 4.17): added mass of the falling droplet, seepage through a fixed
 bed, landing on a wall, weightlessness inside a free droplet.  Case set-up
 in dropletcase.py."""
+
 import math
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
-
-from dropletcase import (D, DEPTH, MU_W, RHO, RHO_W, T_D, W, difelice_gamma, droplet_case,
-                         read_droplet)
+from dropletcase import (
+    DEPTH,
+    MU_W,
+    RHO,
+    RHO_W,
+    T_D,
+    D,
+    W,
+    difelice_gamma,
+    droplet_case,
+    read_droplet,
+)
 from foamcase import run
 
 
@@ -30,18 +39,30 @@ def test_falling_droplet_added_mass(tmp_path, env):
     both > 5 % away."""
     case = str(tmp_path / "fall")
     rho_l, dt, n_steps = 10 * RHO, 5e-4, 10
-    droplet_case(case, env, 16, end_time=n_steps * dt, dt=dt, blowing=False, rho_l=rho_l,
-                 w_over_d=8, gravity=9.81, nu=1e-7, T_w=T_D, moving=True)
+    droplet_case(
+        case,
+        env,
+        16,
+        end_time=n_steps * dt,
+        dt=dt,
+        blowing=False,
+        rho_l=rho_l,
+        w_over_d=8,
+        gravity=9.81,
+        nu=1e-7,
+        T_w=T_D,
+        moving=True,
+    )
     run("vansFoam", case, env)
     d = read_droplet(case)
     assert len(d) == n_steps
     t, v = d[:, 0], d[:, 4]
-    a = -np.diff(v) / np.diff(t) / 9.81           # per-step accelerations / g
-    a_mean = float(np.mean(a[1:]))                # first step: explicit lag (a = g')
+    a = -np.diff(v) / np.diff(t) / 9.81  # per-step accelerations / g
+    a_mean = float(np.mean(a[1:]))  # first step: explicit lag (a = g')
     ref = (rho_l - RHO) / (rho_l + 1.0 * RHO)
     print(f"a/g = {a_mean:.4f} (reference {ref:.4f}), per step {np.round(a, 4)}")
     assert abs(a_mean / ref - 1) < 0.05
-    assert np.all(np.abs(d[:, 1] - 4 * D) < 1e-9)     # falls straight down
+    assert np.all(np.abs(d[:, 1] - 4 * D) < 1e-9)  # falls straight down
 
 
 def darcy_seepage_speed(phi, d, rho_f=RHO, n=0.0):
@@ -68,8 +89,12 @@ def darcy_seepage_speed(phi, d, rho_f=RHO, n=0.0):
     this at phi = 0.503."""
     u = 1e-3
     for _ in range(100):
-        u = 9.81 * (1 - phi) * (RHO_W - (1 - phi) * rho_f) / (
-            phi * difelice_gamma(1 - phi, RHO_W * u * d / MU_W, d, MU_W))
+        u = (
+            9.81
+            * (1 - phi)
+            * (RHO_W - (1 - phi) * rho_f)
+            / (phi * difelice_gamma(1 - phi, RHO_W * u * d / MU_W, d, MU_W))
+        )
     return u
 
 
@@ -84,13 +109,27 @@ def seepage_run(tmp_path, env, dg):
     a = 1.25 * dg
     half = R0 / math.sqrt(1 - math.pi / (4 * 1.25**2)) + 4 * a
     k = int(half / a)
-    grains = [(c + i * a, c + j * a, DEPTH / 2, dg)
-              for j in range(-k, k + 1) for i in range(-k, k + 1)]
+    grains = [
+        (c + i * a, c + j * a, DEPTH / 2, dg) for j in range(-k, k + 1) for i in range(-k, k + 1)
+    ]
     dt, n = 5e-4, 16
     case = str(tmp_path / f"seep{dg:g}")
-    droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
-                 grains=grains, fixed_grains=True, gravity=G, nu=1e-9,
-                 extra=f"liquidViscosity {MU_W};\n", moving=True)
+    droplet_case(
+        case,
+        env,
+        8,
+        end_time=dt * n,
+        dt=dt,
+        blowing=False,
+        rho_l=RHO_W,
+        T_w=T_D,
+        grains=grains,
+        fixed_grains=True,
+        gravity=G,
+        nu=1e-9,
+        extra=f"liquidViscosity {MU_W};\n",
+        moving=True,
+    )
     run("vansFoam", case, env)
     return read_droplet(case)
 
@@ -135,14 +174,16 @@ def test_droplet_seeps_through_fixed_bed(tmp_path, env):
         u_own = np.array([darcy_seepage_speed(p, dg) for p in phi])
         u_lat = darcy_seepage_speed(phi_lat, dg)
         Fpen, Fp = last[:, 16], last[:, 14]
-        print(f"d = {dg:g}: u = {u[-1]:.5e} m/s, Darcy (own phi {phi[-1]:.4f}) {u_own[-1]:.5e} "
-              f"({u[-1] / u_own[-1] - 1:+.2e}), lattice phi {phi_lat:.4f}: {u_lat:.5e} "
-              f"({u[-1] / u_lat - 1:+.2e}), F_pen/F_p {np.max(np.abs(Fpen / Fp)):.1e}, "
-              f"grains in {int(last[-1, 17])}")
+        print(
+            f"d = {dg:g}: u = {u[-1]:.5e} m/s, Darcy (own phi {phi[-1]:.4f}) {u_own[-1]:.5e} "
+            f"({u[-1] / u_own[-1] - 1:+.2e}), lattice phi {phi_lat:.4f}: {u_lat:.5e} "
+            f"({u[-1] / u_lat - 1:+.2e}), F_pen/F_p {np.max(np.abs(Fpen / Fp)):.1e}, "
+            f"grains in {int(last[-1, 17])}"
+        )
         assert np.all(np.abs(Fpen) < 0.01 * np.abs(Fp))
         assert np.all(np.abs(u / u_own - 1) < 0.02)
         assert abs(u[-1] / u_lat - 1) < 0.05
-        assert np.all(np.abs(last[:, 3]) < 1e-6 * u)      # straight down
+        assert np.all(np.abs(last[:, 3]) < 1e-6 * u)  # straight down
         speeds[dg] = (u[-1], u_lat)
     ratio = speeds[1e-4][0] / speeds[5e-5][0]
     ratio_law = speeds[1e-4][1] / speeds[5e-5][1]
@@ -186,9 +227,22 @@ def test_droplet_lands_on_wall(tmp_path, env, with_grain):
     case = str(tmp_path / "land")
     dg = 4e-4
     grains = [(W / 2, gap0 + dg / 2, DEPTH / 2, dg)] if with_grain else ()
-    droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
-                 gravity=G, extra=f"liquidViscosity {MU_W};\n", grains=grains,
-                 fixed_grains=False, moving=True, centre=(W / 2, R0 + gap0))
+    droplet_case(
+        case,
+        env,
+        8,
+        end_time=dt * n,
+        dt=dt,
+        blowing=False,
+        rho_l=RHO_W,
+        T_w=T_D,
+        gravity=G,
+        extra=f"liquidViscosity {MU_W};\n",
+        grains=grains,
+        fixed_grains=False,
+        moving=True,
+        centre=(W / 2, R0 + gap0),
+    )
     run("vansFoam", case, env)
     d = read_droplet(case)
     assert len(d) == n and d.shape[1] >= 20
@@ -200,14 +254,16 @@ def test_droplet_lands_on_wall(tmp_path, env, with_grain):
     lhs = mEff[:, None] * np.diff(u, axis=0) / dt
     rhs = d[:, 15:17] + d[:, 13:15] + Fw + mEff[:, None] * np.array([0, -G])
     landed = np.nonzero(Fw[:, 1] > 0)[0]
-    print(f"landing step {landed[0]} (t = {d[landed[0], 0]:.4f} s), final gap {gap[-1]:.3e} m, "
-          f"v {v[-1]:.3e} m/s, F_w/(m g) = {Fw[-1, 1] / (m[-1] * G):.6f}")
+    print(
+        f"landing step {landed[0]} (t = {d[landed[0], 0]:.4f} s), final gap {gap[-1]:.3e} m, "
+        f"v {v[-1]:.3e} m/s, F_w/(m g) = {Fw[-1, 1] / (m[-1] * G):.6f}"
+    )
     assert np.all(gap >= -1e-12)
     assert 0 <= gap[-1] < 1e-9
     assert abs(v[-1]) < 1e-9
     assert np.allclose(lhs, rhs, rtol=0, atol=1e-9 * np.abs(mEff * G).max())
     assert np.all(Fw[:, 1] >= 0) and np.all(Fw[:, 0] == 0)
-    assert landed[0] > 5 and np.all(Fw[:landed[0], 1] == 0)    # falls freely first
+    assert landed[0] > 5 and np.all(Fw[: landed[0], 1] == 0)  # falls freely first
     share = RHO_W * math.pi * (dg / 2) ** 2 * DEPTH if with_grain else 0.0
     late = Fw[-10:, 1] / ((m[-10:] + share) * G)
     print(f"at rest F_w/((m + rho_l V_i) g) = {late[-1]:.6f}, grains inside {d[-1, 17]:g}")
@@ -251,13 +307,30 @@ def test_free_droplet_is_weightless_inside(tmp_path, env):
     R0, c, G = D / 2, 2 * D, 9.81
     rho_f, rho_s = 1e-3, 2500.0
     dgs = [1e-4, 1.5e-4, 2e-4]
-    grains = [(c + 0.4 * R0, c, DEPTH / 2, dgs[0]), (c - 0.4 * R0, c + 0.2 * R0, DEPTH / 2, dgs[1]),
-              (c, c - 0.5 * R0, DEPTH / 2, dgs[2])]
+    grains = [
+        (c + 0.4 * R0, c, DEPTH / 2, dgs[0]),
+        (c - 0.4 * R0, c + 0.2 * R0, DEPTH / 2, dgs[1]),
+        (c, c - 0.5 * R0, DEPTH / 2, dgs[2]),
+    ]
     dt, n = 5e-4, 20
     case = str(tmp_path / "weightless")
-    droplet_case(case, env, 8, end_time=dt * n, dt=dt, blowing=False, rho_l=RHO_W, T_w=T_D,
-                 grains=grains, fixed_grains=False, write_interval=dt * n / 4, gravity=G,
-                 rho_f=rho_f, extra=f"liquidViscosity {MU_W};\n", moving=True)
+    droplet_case(
+        case,
+        env,
+        8,
+        end_time=dt * n,
+        dt=dt,
+        blowing=False,
+        rho_l=RHO_W,
+        T_w=T_D,
+        grains=grains,
+        fixed_grains=False,
+        write_interval=dt * n / 4,
+        gravity=G,
+        rho_f=rho_f,
+        extra=f"liquidViscosity {MU_W};\n",
+        moving=True,
+    )
     run("vansFoam", case, env)
     d = read_droplet(case)
     assert len(d) == n and np.all(d[:, 17] == 3)
@@ -265,8 +338,10 @@ def test_free_droplet_is_weightless_inside(tmp_path, env):
     fall = u[:, 1] / (-G * t) - 1
     S = d[:, 20:22]
     mg = d[:, 5] * G
-    print(f"droplet: max |v/(-g t) - 1| = {np.abs(fall).max():.2e}, max |u_x| = {np.abs(u[:, 0]).max():.1e}, "
-          f"max |S|/(m g) = {np.abs(S).max() / mg.min():.2e}")
+    print(
+        f"droplet: max |v/(-g t) - 1| = {np.abs(fall).max():.2e}, max |u_x| = {np.abs(u[:, 0]).max():.1e}, "
+        f"max |S|/(m g) = {np.abs(S).max() / mg.min():.2e}"
+    )
     assert np.all(np.abs(fall) < 1e-4)
     assert np.all(np.abs(S) < 1e-4 * mg[:, None])
     bound = 5e-5
@@ -276,8 +351,10 @@ def test_free_droplet_is_weightless_inside(tmp_path, env):
         gr = nscdpost.read_grains(case, name)
         rel = np.abs(gr["U"][:, :2] - u[k]).max()
         gas = np.abs(gr["Ffluid"][:, :2]).max(axis=1) / mass
-        print(f"t = {tw:g} s: max |v_i - u_d| = {rel:.2e} m/s, gas force / weight {np.round(gas / G, 6)}, "
-              f"v_i/(-g t) - 1 = {np.round(gr['U'][:, 1] / (-G * tw) - 1, 6)}")
+        print(
+            f"t = {tw:g} s: max |v_i - u_d| = {rel:.2e} m/s, gas force / weight {np.round(gas / G, 6)}, "
+            f"v_i/(-g t) - 1 = {np.round(gr['U'][:, 1] / (-G * tw) - 1, 6)}"
+        )
         assert rel < bound
         assert rel < gas.max() * tw + 1e-7
         assert np.all(np.abs(gr["U"][:, 1] / (-G * tw) - 1) < 1e-3)

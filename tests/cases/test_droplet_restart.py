@@ -3,14 +3,13 @@
 restarted, and a run on two ranks, reproduce the uninterrupted serial run
 (droplet state in <time>/uniform/droplet, global sums over the ranks).
 Case set-up in dropletcase.py."""
+
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
-
 from dropletcase import D, W, droplet_case, held_suspension_case, read_droplet
 from foamcase import run
 
@@ -27,27 +26,38 @@ def test_restart_continues_exactly(tmp_path, env, release):
     The droplet moves (moving yes, initial velocity) and blows, so the
     position, velocity, mass and lagged vapour all have to be restored."""
     import shutil
+
     dt = 0.01
     case = str(tmp_path / "full")
-    droplet_case(case, env, 6, end_time=10 * dt, dt=dt, blowing=True, rho_l=1000.0,
-                 outlet=True, extra=f"velocity (0.004 -0.01 0);\nvapourRelease {release};\n",
-                 moving=True)
+    droplet_case(
+        case,
+        env,
+        6,
+        end_time=10 * dt,
+        dt=dt,
+        blowing=True,
+        rho_l=1000.0,
+        outlet=True,
+        extra=f"velocity (0.004 -0.01 0);\nvapourRelease {release};\n",
+        moving=True,
+    )
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read().replace(f"writeInterval {10 * dt};", f"writeInterval {5 * dt};")
-    txt = txt.replace("adjustTimeStep yes;", "adjustTimeStep no;")   # same dt after restart
+    txt = txt.replace("adjustTimeStep yes;", "adjustTimeStep no;")  # same dt after restart
     open(cd, "w").write(txt)
     run("vansFoam", case, env)
     full = read_droplet(case)
     assert len(full) == 10
-    assert abs(full[-1, 2] - W / 2) > 1e-4          # it did move (m)
+    assert abs(full[-1, 2] - W / 2) > 1e-4  # it did move (m)
     half = str(tmp_path / "half")
     shutil.copytree(case, half)
     shutil.rmtree(os.path.join(half, "0.1"))
     shutil.rmtree(os.path.join(half, "postProcessing"))
     assert os.path.isfile(os.path.join(half, "0.05", "uniform", "droplet"))
     run("vansFoam", half, env)
-    rest = np.loadtxt(os.path.join(half, "postProcessing", "droplet", "0.05", "droplet.dat"),
-                      ndmin=2)
+    rest = np.loadtxt(
+        os.path.join(half, "postProcessing", "droplet", "0.05", "droplet.dat"), ndmin=2
+    )
     assert len(rest) == 5
     assert np.allclose(rest, full[5:], rtol=1e-9, atol=1e-15)
 
@@ -69,6 +79,7 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     that does not fit the case's grains (a label out of range) is a
     FatalIOError naming grainHistory and the fix."""
     import shutil
+
     n = 40
     case = str(tmp_path / "full")
     grains, dt = held_suspension_case(case, env, 0.25, n, n // 2, 2e-5)
@@ -97,25 +108,29 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
         p = run("vansFoam", half, env, check=check)
         if not check:
             return p
-        rest = np.loadtxt(os.path.join(half, "postProcessing", "droplet", mid, "droplet.dat"),
-                          ndmin=2)
+        rest = np.loadtxt(
+            os.path.join(half, "postProcessing", "droplet", mid, "droplet.dat"), ndmin=2
+        )
         return rest, nscdpost.read_grains(half, last)["U"]
 
     rest, u_rest = restart("half")
     scale = np.abs(u_full[:, :2]).max()
     err = np.abs(u_rest[:, :2] - u_full[:, :2]).max() / scale
-    print(f"{len(grains)} grains, restart with history: max grain velocity error {err:.2e} "
-          f"(relative to {scale:.3e} m/s)")
+    print(
+        f"{len(grains)} grains, restart with history: max grain velocity error {err:.2e} "
+        f"(relative to {scale:.3e} m/s)"
+    )
     assert len(rest) == n // 2
-    assert np.allclose(rest, full[n // 2:], rtol=1e-9, atol=1e-15)
+    assert np.allclose(rest, full[n // 2 :], rtol=1e-9, atol=1e-15)
     assert err < 1e-9
-    _, u_lost = restart("lost", lambda txt: txt[:txt.index("grainHistory")] + "\n")
+    _, u_lost = restart("lost", lambda txt: txt[: txt.index("grainHistory")] + "\n")
     err_lost = np.abs(u_lost[:, :2] - u_full[:, :2]).max() / scale
     print(f"restart without grainHistory: max grain velocity error {err_lost:.2e}")
     assert err_lost > 1e-6
     # a history that does not fit the grains of the case: a clear error
-    p = restart("bad", lambda txt: re.sub(r"\bgrains\b[^;]*;", "grains (99999);", txt, count=1),
-                check=False)
+    p = restart(
+        "bad", lambda txt: re.sub(r"\bgrains\b[^;]*;", "grains (99999);", txt, count=1), check=False
+    )
     out = p.stdout + p.stderr
     assert p.returncode != 0
     assert "grainHistory" in out and "Fix" in out and "FOAM FATAL IO ERROR" in out, out[-2000:]
@@ -131,11 +146,22 @@ def test_parallel_matches_serial(tmp_path, env, release):
     is gathered onto all ranks and the droplet sits low, 0.8 D above the
     hot bottom wall, so that the release is not symmetric)."""
     import shutil
+
     dt, n_steps = 0.01, 5
     case = str(tmp_path / "serial")
     centre = None if release == "uniform" else (2 * D, 0.8 * D)
-    droplet_case(case, env, 6, end_time=dt * n_steps, dt=dt, blowing=True, rho_l=1000.0,
-                 outlet=True, centre=centre, extra=f"vapourRelease {release};\n")
+    droplet_case(
+        case,
+        env,
+        6,
+        end_time=dt * n_steps,
+        dt=dt,
+        blowing=True,
+        rho_l=1000.0,
+        outlet=True,
+        centre=centre,
+        extra=f"vapourRelease {release};\n",
+    )
     par = str(tmp_path / "par")
     shutil.copytree(case, par)
     # the droplet needs every grain on every rank (vansFoam README, Parallel)
@@ -143,6 +169,7 @@ def test_parallel_matches_serial(tmp_path, env, release):
         f.write("grainDecomposition replicated;\n")
     run("vansFoam", case, env)
     from foamcase import run_parallel
+
     run_parallel("vansFoam", par, env, n=2)
     a, b = read_droplet(case), read_droplet(par)
     assert a.shape == b.shape

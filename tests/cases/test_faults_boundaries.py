@@ -4,13 +4,13 @@
 deposit) and grains leaving through the open boundaries listed in
 outletPatches are removed and counted (item 4).  Small 2D cases (seconds
 each) and two small 3D vansFoam cases; helpers in faultcase.py."""
+
 import os
 import re
 
 import numpy as np
 import pytest
-
-from faultcase import G, MAT, box, set_control, times
+from faultcase import MAT, G, box, set_control, times
 from foamcase import add_fluid, fails_with, make_box_case, run
 
 pytestmark = pytest.mark.fast
@@ -18,20 +18,28 @@ pytestmark = pytest.mark.fast
 
 # ---- rows 2-3: grains never vanish silently ---------------------------------
 
+
 def test_wallPatches_typo_is_an_error(tmp_path, env):
-    case = box(tmp_path, "typo", [(0.05, 0.05, 0, 0.01)],
-               extra_props="wallPatches (walls flor);\n")
+    case = box(tmp_path, "typo", [(0.05, 0.05, 0, 0.01)], extra_props="wallPatches (walls flor);\n")
     run("blockMesh", case, env)
-    fails_with(run("grainDeposit", case, env, check=False),
-               "wallPatches entry 'flor'", "grainProperties", "Patches", "walls", "frontAndBack")
+    fails_with(
+        run("grainDeposit", case, env, check=False),
+        "wallPatches entry 'flor'",
+        "grainProperties",
+        "Patches",
+        "walls",
+        "frontAndBack",
+    )
 
 
 def open_bottom(case):
     """Make the bottom (y = 0) of a 2D make_box_case box the open patch `bottom`."""
     bm = os.path.join(case, "system", "blockMeshDict")
     txt = open(bm).read()
-    txt = txt.replace("walls { type wall; faces ((1 5 4 0) ",
-                      "bottom { type patch; faces ((1 5 4 0)); }\nwalls { type wall; faces (")
+    txt = txt.replace(
+        "walls { type wall; faces ((1 5 4 0) ",
+        "bottom { type patch; faces ((1 5 4 0)); }\nwalls { type wall; faces (",
+    )
     open(bm, "w").write(txt)
 
 
@@ -44,7 +52,9 @@ def test_grainFoam_grain_through_open_patch(tmp_path, env):
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     p = run("grainFoam", case, env, check=False)
-    fails_with(p, "Grain 0 (grainId 0) left the mesh", "open patch bottom", "type patch", "wallPatches")
+    fails_with(
+        p, "Grain 0 (grainId 0) left the mesh", "open patch bottom", "type patch", "wallPatches"
+    )
     # it fell 0.025 m in ~0.07 s: the run stopped right after, the 0.05 write is intact
     assert "0.05" in times(case)
     assert os.path.isfile(os.path.join(case, "0.05", "grainState.h5"))
@@ -53,27 +63,48 @@ def test_grainFoam_grain_through_open_patch(tmp_path, env):
 
 def test_grain_through_open_patch_not_in_wallPatches(tmp_path, env):
     """A wall patch left out of wallPatches is open for the grains: named as such."""
-    case = box(tmp_path, "notlisted", [(0.05, 0.03, 0, 0.01)], end=0.5, write_interval=0.05,
-               extra_props="wallPatches (walls);\n")
+    case = box(
+        tmp_path,
+        "notlisted",
+        [(0.05, 0.03, 0, 0.01)],
+        end=0.5,
+        write_interval=0.05,
+        extra_props="wallPatches (walls);\n",
+    )
     bm = os.path.join(case, "system", "blockMeshDict")
-    txt = open(bm).read().replace("walls { type wall; faces ((1 5 4 0) ",
-                                  "floor { type wall; faces ((1 5 4 0)); }\n"
-                                  "walls { type wall; faces (")
+    txt = (
+        open(bm)
+        .read()
+        .replace(
+            "walls { type wall; faces ((1 5 4 0) ",
+            "floor { type wall; faces ((1 5 4 0)); }\nwalls { type wall; faces (",
+        )
+    )
     open(bm, "w").write(txt)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
-    fails_with(run("grainFoam", case, env, check=False), "open patch floor",
-               "not in wallPatches")
+    fails_with(run("grainFoam", case, env, check=False), "open patch floor", "not in wallPatches")
 
 
 def test_vansFoam_grain_through_open_patch(tmp_path, env):
     """vansFoam (3D): a grain sinking through the open bottom patch `inlet`
     is reported as such (it was 'move the grain inside the domain')."""
     from foamcase import uniform_inflow
+
     case = str(tmp_path / "vopen")
-    make_box_case(case, (0, 0, 0), (0.04, 0.04, 0.04), (4, 4, 4), (0, -G, 0), MAT,
-                  grains=[(0.02, 0.012, 0.02, 0.01)], end_time=0.5, dt=1e-3,
-                  write_interval=0.05, two_d=False)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.04, 0.04),
+        (4, 4, 4),
+        (0, -G, 0),
+        MAT,
+        grains=[(0.02, 0.012, 0.02, 0.01)],
+        end_time=0.5,
+        dt=1e-3,
+        write_interval=0.05,
+        two_d=False,
+    )
     add_fluid(case, 1000, 1e-6, max_dt=1e-3)
     uniform_inflow(case, 0.0)
     run("blockMesh", case, env)
@@ -92,8 +123,11 @@ def test_wall_patch_retyped_after_deposit(tmp_path, env):
     run("grainDeposit", case, env)
     open_bottom(case)
     run("blockMesh", case, env)
-    fails_with(run("grainFoam", case, env, check=False), "walls but the wall patches",
-               "re-run grainDeposit")
+    fails_with(
+        run("grainFoam", case, env, check=False),
+        "walls but the wall patches",
+        "re-run grainDeposit",
+    )
 
 
 # ---- row 3 / item 4: grains through open boundaries (outletPatches) ---------
@@ -101,15 +135,26 @@ def test_wall_patch_retyped_after_deposit(tmp_path, env):
 #: discs (x, y, z, d) falling freely in separate columns through the open
 #: bottom `bottom` (y = 0) of the 0.1 m box: each leaves when its centre
 #: crosses y = 0, at t = sqrt(2 y0/g) = 0.064 ... 0.132 s
-OUTLET_GRAINS = [(0.015, 0.020, 0, 0.008), (0.030, 0.035, 0, 0.010),
-                 (0.045, 0.045, 0, 0.006), (0.060, 0.060, 0, 0.010),
-                 (0.075, 0.070, 0, 0.008), (0.090, 0.085, 0, 0.006)]
-DEPTH = 0.01   # mesh depth [m] of box(): 2D masses are over it
+OUTLET_GRAINS = [
+    (0.015, 0.020, 0, 0.008),
+    (0.030, 0.035, 0, 0.010),
+    (0.045, 0.045, 0, 0.006),
+    (0.060, 0.060, 0, 0.010),
+    (0.075, 0.070, 0, 0.008),
+    (0.090, 0.085, 0, 0.006),
+]
+DEPTH = 0.01  # mesh depth [m] of box(): 2D masses are over it
 
 
 def outlet_case(tmp_path, name, env, end):
-    case = box(tmp_path, name, OUTLET_GRAINS, end=end, write_interval=0.05,
-               extra_props="outletPatches (bottom);\n")
+    case = box(
+        tmp_path,
+        name,
+        OUTLET_GRAINS,
+        end=end,
+        write_interval=0.05,
+        extra_props="outletPatches (bottom);\n",
+    )
     open_bottom(case)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
@@ -130,6 +175,7 @@ def outlet_rows(case, start):
 def remaining(case, t):
     """Grain ids and diameters of the lagrangian cloud of time t (none: empty)."""
     from nscdpost import read_grains
+
     d = os.path.join(case, t, "lagrangian", "grains")
     if not os.path.isfile(os.path.join(d, "grainId")):
         return [], []
@@ -148,11 +194,14 @@ def test_grains_leave_through_outlet_and_are_counted(tmp_path, env):
     case = outlet_case(tmp_path, "outlet", env, end=0.1)
     p = run("grainFoam", case, env)
     out = p.stdout
-    removed = re.findall(r"grainOutlets: (\d+) grains \(mass (\S+) kg\) left through bottom"
-                         r" at time (\S+), ids ([\d ]+);", out)
+    removed = re.findall(
+        r"grainOutlets: (\d+) grains \(mass (\S+) kg\) left through bottom"
+        r" at time (\S+), ids ([\d ]+);",
+        out,
+    )
     assert len(removed) == 3, out[-3000:]
     m0 = [disc_mass(g[3]) for g in OUTLET_GRAINS]
-    for n, mass, t, ids in removed:
+    for _n, mass, t, ids in removed:
         (i,) = [int(k) for k in ids.split()]
         y0 = OUTLET_GRAINS[i][1]
         # free fall: the centre crosses y = 0 at sqrt(2 y0/g) to within the
@@ -184,12 +233,16 @@ def test_outlet_patch_must_be_open(tmp_path, env):
     """outletPatches naming a wall patch of the grains, or no patch, is an error."""
     case = box(tmp_path, "wallout", [(0.05, 0.05, 0, 0.01)], extra_props="outletPatches (walls);\n")
     run("blockMesh", case, env)
-    fails_with(run("grainDeposit", case, env, check=False), "outletPatches",
-               "wall for the grains", "Fix")
+    fails_with(
+        run("grainDeposit", case, env, check=False), "outletPatches", "wall for the grains", "Fix"
+    )
     case = box(tmp_path, "typoout", [(0.05, 0.05, 0, 0.01)], extra_props="outletPatches (botom);\n")
     run("blockMesh", case, env)
-    fails_with(run("grainDeposit", case, env, check=False), "outletPatches entry 'botom'",
-               "matches no patch")
+    fails_with(
+        run("grainDeposit", case, env, check=False),
+        "outletPatches entry 'botom'",
+        "matches no patch",
+    )
 
 
 @pytest.mark.mpi
@@ -198,6 +251,7 @@ def test_grains_leave_through_outlet_in_parallel(tmp_path, env):
     one rank): every rank removes the same grains, the counts and times are
     those of the serial run."""
     from foamcase import run_parallel
+
     serial = outlet_case(tmp_path, "serial", env, end=0.15)
     run("grainFoam", serial, env)
     par = outlet_case(tmp_path, "par", env, end=0.15)
@@ -207,7 +261,9 @@ def test_grains_leave_through_outlet_in_parallel(tmp_path, env):
     for ra, rb in zip(a, b):
         assert ra[5] == pytest.approx(rb[5], rel=1e-12)
     for proc in ("processor0", "processor1"):
-        assert "grains 6;" in open(os.path.join(par, proc, "0.15", "uniform", "grainOutlets")).read()
+        assert (
+            "grains 6;" in open(os.path.join(par, proc, "0.15", "uniform", "grainOutlets")).read()
+        )
 
 
 def test_vansFoam_grain_leaves_through_outlet(tmp_path, env):
@@ -216,24 +272,37 @@ def test_vansFoam_grain_leaves_through_outlet(tmp_path, env):
     per-grain lists: the remaining grain's fluid force is written); exit 0,
     grains remaining + removed = initial."""
     from foamcase import uniform_inflow
+
     case = str(tmp_path / "voutlet")
-    make_box_case(case, (0, 0, 0), (0.04, 0.04, 0.04), (4, 4, 4), (0, -G, 0), MAT,
-                  grains=[(0.01, 0.012, 0.02, 0.01), (0.03, 0.033, 0.02, 0.01)],
-                  end_time=0.09, dt=1e-3, write_interval=0.03, two_d=False,
-                  extra_props="outletPatches (inlet);\n")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.04, 0.04),
+        (4, 4, 4),
+        (0, -G, 0),
+        MAT,
+        grains=[(0.01, 0.012, 0.02, 0.01), (0.03, 0.033, 0.02, 0.01)],
+        end_time=0.09,
+        dt=1e-3,
+        write_interval=0.03,
+        two_d=False,
+        extra_props="outletPatches (inlet);\n",
+    )
     add_fluid(case, 1000, 1e-6, max_dt=1e-3)
     uniform_inflow(case, 0.0)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     out = run("vansFoam", case, env).stdout
-    assert re.search(r"grainOutlets: 1 grains \(mass \S+ kg\) left through inlet at time \S+, ids 0;",
-                     out), out[-3000:]
+    assert re.search(
+        r"grainOutlets: 1 grains \(mass \S+ kg\) left through inlet at time \S+, ids 0;", out
+    ), out[-3000:]
     last = times(case)[-1]
     ids, ds = remaining(case, last)
     assert ids == [1]
     from nscdpost import read_grains
+
     assert read_grains(case, last)["Ffluid"].shape == (1, 3)
     rows = outlet_rows(case, "0")
     assert rows[-1][4] + len(ids) == 2
-    m = MAT["glass"]["density"] * np.pi / 6 * 0.01 ** 3
+    m = MAT["glass"]["density"] * np.pi / 6 * 0.01**3
     assert rows[-1][5] == pytest.approx(m, rel=1e-12)

@@ -4,22 +4,23 @@ fluid), solver health and time control (rows 1, 8-10, 11, 13); every row
 fails loudly (exit status, the message's key words) or does what is
 documented; the earlier results of the case stay intact.  Small 2D cases
 (seconds each); helpers in faultcase.py."""
+
 import os
 import re
 import shutil
 import subprocess
 import time
 
-import pytest
-
-from faultcase import G, MAT, box, digest, set_control, stack, times
 import nscdpost
+import pytest
+from faultcase import MAT, G, box, digest, set_control, stack, times
 from foamcase import add_fluid, fails_with, make_box_case, run, run_parallel, write
 
 pytestmark = pytest.mark.fast
 
 
 # ---- row 1: never hang -------------------------------------------------------
+
 
 def test_substep_cap_stops_with_cause_and_fix(tmp_path, env):
     """A step that needs more sub-steps than contactSolver maxSubSteps stops
@@ -38,8 +39,7 @@ def test_substep_cap_stops_with_cause_and_fix(tmp_path, env):
     t0 = time.time()
     p = run("grainFoam", case, env, check=False)
     assert time.time() - t0 < 60
-    fails_with(p, "maxSubSteps = 5", "sub-steps", "grain 0", "Fix", "deltaT",
-               "last written time")
+    fails_with(p, "maxSubSteps = 5", "sub-steps", "grain 0", "Fix", "deltaT", "last written time")
     assert times(case) == ["0", "0.01", "0.02"]
     assert digest(case, "0.02") == before
     # a bad value is a keyword error
@@ -55,8 +55,18 @@ def test_vansFoam_blown_up_fluid_stops(tmp_path, env):
     adjustTimeStep no, reached ~1e110 sub-steps and never returned)."""
     case = str(tmp_path / "blowup")
     grains = [(0.01 + 0.02 * i, 0.006, 0, 0.01) for i in range(5)]
-    make_box_case(case, (0, 0, 0), (0.1, 0.1, 0.01), (10, 10, 1), (0, -G, 0), MAT,
-                  grains=grains, end_time=5, dt=0.05, write_interval=0.05)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.1, 0.1, 0.01),
+        (10, 10, 1),
+        (0, -G, 0),
+        MAT,
+        grains=grains,
+        end_time=5,
+        dt=0.05,
+        write_interval=0.05,
+    )
     add_fluid(case, 1000, 1e-6, max_dt=0.05)
     open(os.path.join(case, "system", "controlDict"), "a").write("adjustTimeStep no;\n")
     run("blockMesh", case, env)
@@ -66,17 +76,26 @@ def test_vansFoam_blown_up_fluid_stops(tmp_path, env):
     open(u, "w").write(txt.replace("uniform (0 0 0)", "uniform (0 1e4 0)"))
     before = digest(case, "0")
     t0 = time.time()
-    p = subprocess.run(["vansFoam", "-case", case], env=env, capture_output=True,
-                       text=True, timeout=120)
+    p = subprocess.run(
+        ["vansFoam", "-case", case], env=env, capture_output=True, text=True, timeout=120
+    )
     open(os.path.join(case, "log.vansFoam"), "w").write(p.stdout + p.stderr)
     assert time.time() - t0 < 120
-    fails_with(p, "fluid solution blew up", "before the fluid solve", "Courant number",
-               "Fix", "adjustTimeStep yes", "last written time")
+    fails_with(
+        p,
+        "fluid solution blew up",
+        "before the fluid solve",
+        "Courant number",
+        "Fix",
+        "adjustTimeStep yes",
+        "last written time",
+    )
     assert times(case) == ["0"]
     assert digest(case, "0") == before
 
 
 # ---- rows 8-10, 13: solver health and time control --------------------------
+
 
 def test_non_converged_contact_steps_are_counted(tmp_path, env):
     case = stack(tmp_path, "notconv", max_iterations=1, contact_tolerance=1e-12)
@@ -86,17 +105,21 @@ def test_non_converged_contact_steps_are_counted(tmp_path, env):
     out = p.stdout + p.stderr
     assert out.count("The contact solver did NOT converge at time") == 1, out[-3000:]
     assert "maxIterations" in out
-    m = re.search(r"NOT converged in (\d+) of (\d+) grain steps.*worst overlap/d_min (\S+)",
-                  out, re.S)
+    m = re.search(
+        r"NOT converged in (\d+) of (\d+) grain steps.*worst overlap/d_min (\S+)", out, re.S
+    )
     assert m, out[-2000:]
     assert int(m.group(2)) == 20 and 1 <= int(m.group(1)) <= 20
     assert float(m.group(3)) >= 0
     # capped solves of this stack would have raised the kinetic energy; the
     # summary says so and by which factor the impulses were scaled (nscd
     # limitCappedEnergy: the step dissipates)
-    e = re.search(r"In (\d+) of them the impulses of the unconverged solve would have raised the"
-                  r" kinetic energy \(by up to (\S+) of the free-flight energy\); they were scaled"
-                  r" down \(factor >= (\S+)\)", out)
+    e = re.search(
+        r"In (\d+) of them the impulses of the unconverged solve would have raised the"
+        r" kinetic energy \(by up to (\S+) of the free-flight energy\); they were scaled"
+        r" down \(factor >= (\S+)\)",
+        out,
+    )
     assert e, out[-2000:]
     assert 1 <= int(e.group(1)) <= int(m.group(1))
     assert float(e.group(2)) > 0 and 0 <= float(e.group(3)) < 1
@@ -115,7 +138,7 @@ def test_endTime_before_startTime_warns(tmp_path, env):
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run("grainFoam", case, env)
-    set_control(case, endTime=0.01)   # latestTime = 0.02
+    set_control(case, endTime=0.01)  # latestTime = 0.02
     out = run("grainFoam", case, env).stdout
     assert "endTime 0.01 is not after the start time 0.02" in out
     assert "no time step will run" in out
@@ -170,8 +193,13 @@ def test_second_solver_in_the_case_is_refused(tmp_path, env):
     for holder in (f"{os.getpid()} {host} vansFoam", "1 otherhost vansFoam"):
         with open(lock, "w") as f:
             f.write(holder + "\n")
-        fails_with(run("grainFoam", case, env, check=False),
-                   "vansFoam (process", "runs in this case", ".nscdFoam.lock", "Fix")
+        fails_with(
+            run("grainFoam", case, env, check=False),
+            "vansFoam (process",
+            "runs in this case",
+            ".nscdFoam.lock",
+            "Fix",
+        )
         assert times(case)[-1] == "0.02" and digest(case, "0.02") == before
     gone = subprocess.Popen(["true"])
     gone.wait()
@@ -196,8 +224,12 @@ def test_decomposed_restart_before_later_writes_is_refused(tmp_path, env):
     run_parallel("grainFoam", case, env, n=2)
     before = digest(case, "0.02")
     set_control(case, endTime=0.03)
-    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
-          "numberOfSubdomains 3;\nmethod simple;\nsimpleCoeffs { n (3 1 1); delta 0.001; }\n")
+    write(
+        os.path.join(case, "system", "decomposeParDict"),
+        "dictionary",
+        "decomposeParDict",
+        "numberOfSubdomains 3;\nmethod simple;\nsimpleCoeffs { n (3 1 1); delta 0.001; }\n",
+    )
     # a fresh decomposition: the time directories of the case hold only the
     # grain state (no field), so the new processor directories start at 0
     for d in os.listdir(case):
@@ -239,10 +271,13 @@ def test_decomposed_restart_after_an_interrupted_write(tmp_path, env):
 
 # ---- row 11: grainDeposit region against the mesh bounds --------------------
 
+
 def deposit_box(lo, hi, n=20, dmin=2e-3):
-    return (f"material glass;\nmethod box;\nbox {{ min {lo}; max {hi}; }}\n"
-            f"number {n};\ndMin {dmin};\nseed 3;\n"
-            "settle { maxTime 0.5; deltaT 5e-4; speedTolerance 2e-3; }\n")
+    return (
+        f"material glass;\nmethod box;\nbox {{ min {lo}; max {hi}; }}\n"
+        f"number {n};\ndMin {dmin};\nseed 3;\n"
+        "settle { maxTime 0.5; deltaT 5e-4; speedTolerance 2e-3; }\n"
+    )
 
 
 def test_deposit_box_in_mm_on_mesh_in_m(tmp_path, env):
@@ -258,8 +293,12 @@ def test_deposit_box_in_mm_on_mesh_in_m(tmp_path, env):
     assert "extends beyond the mesh bounds" in p.stdout
     case = box(tmp_path, "away", [], deposit=deposit_box("(10 10 0)", "(20 20 0.01)"))
     run("blockMesh", case, env)
-    fails_with(run("grainDeposit", case, env, check=False), "does not intersect the mesh bounds",
-               "grainDepositDict", "in mm on a mesh in m")
+    fails_with(
+        run("grainDeposit", case, env, check=False),
+        "does not intersect the mesh bounds",
+        "grainDepositDict",
+        "in mm on a mesh in m",
+    )
 
 
 def test_deposit_few_small_grains_in_a_large_box(tmp_path, env):
@@ -268,7 +307,9 @@ def test_deposit_few_small_grains_in_a_large_box(tmp_path, env):
     (one 10 um sphere in a 3 cm box: 7 GB and no end); it now walks the
     lattice bottom first and stops at the grains asked for, so the cost
     follows the grain count.  The grains sit on the lowest lattice row."""
-    case = box(tmp_path, "tiny", [], deposit=deposit_box("(0 0 0)", "(0.1 0.1 0.01)", n=2, dmin=1e-6))
+    case = box(
+        tmp_path, "tiny", [], deposit=deposit_box("(0 0 0)", "(0.1 0.1 0.01)", n=2, dmin=1e-6)
+    )
     run("blockMesh", case, env)
     t0 = time.time()
     p = run("grainDeposit", case, env)

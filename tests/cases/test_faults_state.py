@@ -5,6 +5,7 @@ state, lagrangian output on the case's own mesh (rows 4-7, 12, 14); every
 row fails loudly or does what is documented, never crashes on a signal; the
 earlier results of the case stay intact.  Small 2D cases (seconds each);
 helpers in faultcase.py."""
+
 import os
 import re
 import shutil
@@ -13,8 +14,7 @@ import subprocess
 import time
 
 import pytest
-
-from faultcase import G, MAT, box, set_control, stack, times
+from faultcase import MAT, G, box, set_control, stack, times
 from foamcase import fails_with, make_box_case, run, write
 
 pytestmark = pytest.mark.fast
@@ -22,10 +22,12 @@ pytestmark = pytest.mark.fast
 
 # ---- row 4: bad state files -------------------------------------------------
 
+
 def poke(path, dataset, index, value):
     """Overwrite element `index` (flat, row-major) of a float64 dataset of an
     HDF5 file in place (h5py; the FoamFile user block is left as it is)."""
     import h5py
+
     with h5py.File(path, "r+") as f:
         ds = f[dataset]
         flat = ds[()].reshape(-1)
@@ -42,13 +44,19 @@ def deposited(tmp_path, name, env):
 
 def test_nan_and_negative_values_in_state(tmp_path, env):
     for dataset, index, value, words in [
-            ("/positions", 3 + 1, float("nan"), ("grain 1", "non-finite position")),
-            ("/velocities", 0, float("inf"), ("grain 0", "non-finite velocity")),
-            ("/radii", 1, -0.005, ("grain 1", "radius", "> 0"))]:
+        ("/positions", 3 + 1, float("nan"), ("grain 1", "non-finite position")),
+        ("/velocities", 0, float("inf"), ("grain 0", "non-finite velocity")),
+        ("/radii", 1, -0.005, ("grain 1", "radius", "> 0")),
+    ]:
         case = deposited(tmp_path, "bad" + dataset.strip("/"), env)
         poke(os.path.join(case, "0", "grainState.h5"), dataset, index, value)
-        fails_with(run("grainFoam", case, env, check=False), *words, "Cannot use the grain state",
-                   "Fix", "grainDeposit")
+        fails_with(
+            run("grainFoam", case, env, check=False),
+            *words,
+            "Cannot use the grain state",
+            "Fix",
+            "grainDeposit",
+        )
 
 
 def test_truncated_state_names_previous_write(tmp_path, env):
@@ -56,7 +64,7 @@ def test_truncated_state_names_previous_write(tmp_path, env):
     run("grainFoam", case, env)
     path = os.path.join(case, "0.02", "grainState.h5")
     data = open(path, "rb").read()
-    open(path, "wb").write(data[:len(data) // 2])
+    open(path, "wb").write(data[: len(data) // 2])
     p = run("grainFoam", case, env, check=False)
     fails_with(p, "damaged or truncated", "previous write 0.01", "startTime 0.01")
     assert os.path.getsize(os.path.join(case, "0.01", "grainState.h5")) > 0
@@ -64,15 +72,22 @@ def test_truncated_state_names_previous_write(tmp_path, env):
 
 # ---- row 14: lagrangian output on the case's own mesh -----------------------
 
+
 def positions_cells(case, time_name):
     """Cell index of each grain in lagrangian/grains: from `positions`
     ((x y z) celli) and `coordinates` ((a b c d) celli tetFacei tetPti),
     which must agree."""
     d = os.path.join(case, time_name, "lagrangian", "grains")
-    pos = [int(c) for c in re.findall(r"\)\s+(-?\d+)\s*$", open(os.path.join(d, "positions")).read(),
-                                      re.M)]
-    bary = [int(c) for c in re.findall(r"\)\s+(-?\d+)\s+-?\d+\s+-?\d+\s*$",
-                                       open(os.path.join(d, "coordinates")).read(), re.M)]
+    pos = [
+        int(c)
+        for c in re.findall(r"\)\s+(-?\d+)\s*$", open(os.path.join(d, "positions")).read(), re.M)
+    ]
+    bary = [
+        int(c)
+        for c in re.findall(
+            r"\)\s+(-?\d+)\s+-?\d+\s+-?\d+\s*$", open(os.path.join(d, "coordinates")).read(), re.M
+        )
+    ]
     assert pos == bary, (pos, bary)
     return pos
 
@@ -85,14 +100,33 @@ def test_state_from_another_mesh_is_located_on_this_one(tmp_path, env):
     holds it."""
     fine = str(tmp_path / "fine")
     grains = [(0.013, 0.006, 0, 0.01), (0.087, 0.006, 0, 0.01), (0.06, 0.07, 0, 0.01)]
-    make_box_case(fine, (0, 0, 0), (0.1, 0.1, 0.01), (20, 20, 1), (0, -G, 0), MAT,
-                  grains=grains, end_time=0.002, dt=1e-3, write_interval=0.002)
+    make_box_case(
+        fine,
+        (0, 0, 0),
+        (0.1, 0.1, 0.01),
+        (20, 20, 1),
+        (0, -G, 0),
+        MAT,
+        grains=grains,
+        end_time=0.002,
+        dt=1e-3,
+        write_interval=0.002,
+    )
     run("blockMesh", fine, env)
     run("grainDeposit", fine, env)
     assert max(positions_cells(fine, "0")) > 4
     coarse = str(tmp_path / "coarse")
-    make_box_case(coarse, (0, 0, 0), (0.1, 0.1, 0.01), (2, 2, 1), (0, -G, 0), MAT,
-                  end_time=0.002, dt=1e-3, write_interval=0.002)
+    make_box_case(
+        coarse,
+        (0, 0, 0),
+        (0.1, 0.1, 0.01),
+        (2, 2, 1),
+        (0, -G, 0),
+        MAT,
+        end_time=0.002,
+        dt=1e-3,
+        write_interval=0.002,
+    )
     run("blockMesh", coarse, env)
     os.makedirs(os.path.join(coarse, "0"), exist_ok=True)
     for item in ("grainState.h5", "lagrangian"):
@@ -112,6 +146,7 @@ def test_state_from_another_mesh_is_located_on_this_one(tmp_path, env):
 
 # ---- row 12: SIGTERM / SIGUSR1 write and stop -------------------------------
 
+
 def test_sigterm_writes_and_stops(tmp_path, env):
     # endTime far beyond the signal: the 3-grain run steps ~200,000 steps/s
     # on an idle machine, so an end of 100 s could finish before the first poll
@@ -119,8 +154,9 @@ def test_sigterm_writes_and_stops(tmp_path, env):
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     log = open(os.path.join(case, "log.grainFoam"), "w")
-    proc = subprocess.Popen(["grainFoam", "-case", case], env=env, stdout=log,
-                            stderr=subprocess.STDOUT, text=True)
+    proc = subprocess.Popen(
+        ["grainFoam", "-case", case], env=env, stdout=log, stderr=subprocess.STDOUT, text=True
+    )
     deadline = time.time() + 60
     while time.time() < deadline:
         time.sleep(0.01)
@@ -142,11 +178,13 @@ def test_sigterm_writes_and_stops(tmp_path, env):
 
 # ---- row 5: restart from a write that is not the first ----------------------
 
+
 def test_vansFoam_restart_from_second_write(tmp_path, env):
     """Writes at 0.03, 0.06, 0.09 s (adjustable time step, maxCo): a restart
     from 0.06 (not the first write) reaches 0.09 with the grains and the
     fluid of the uninterrupted run, to the 17 digits written."""
     from test_vansFoam import small_sedimentation
+
     case = str(tmp_path / "full")
     small_sedimentation(case, env, end=0.105, write=0.035)
     run("vansFoam", case, env)
@@ -155,14 +193,20 @@ def test_vansFoam_restart_from_second_write(tmp_path, env):
     shutil.copytree(case, restart)
     shutil.rmtree(os.path.join(restart, "0.105"))
     run("vansFoam", restart, env)
-    for f in ("U", "p", os.path.join("lagrangian", "grains", "positions"),
-              os.path.join("lagrangian", "grains", "U"), "uniform/time"):
+    for f in (
+        "U",
+        "p",
+        os.path.join("lagrangian", "grains", "positions"),
+        os.path.join("lagrangian", "grains", "U"),
+        "uniform/time",
+    ):
         a = open(os.path.join(case, "0.105", f)).read()
         b = open(os.path.join(restart, "0.105", f)).read()
         assert a == b, f
 
 
 # ---- row 7: writes that cannot half-fail -------------------------------------
+
 
 def test_disk_full_during_write(tmp_path, env):
     """The grain state is written to grainState.h5.tmp and renamed when
@@ -176,8 +220,12 @@ def test_disk_full_during_write(tmp_path, env):
     os.makedirs(os.path.join(case, "0.01"))
     os.symlink("/dev/full", os.path.join(case, "0.01", "grainState.h5.tmp"))
     p = run("grainFoam", case, env, check=False)
-    fails_with(p, "Writing the grain state", "no space left on device",
-               "the empty time directory was removed")
+    fails_with(
+        p,
+        "Writing the grain state",
+        "no space left on device",
+        "the empty time directory was removed",
+    )
     assert times(case) == ["0"]
     # and the run restarts as if nothing happened
     set_control(case, startFrom="latestTime")
@@ -188,6 +236,7 @@ def test_disk_full_during_write(tmp_path, env):
 
 # ---- row 6: parallel state ---------------------------------------------------
 
+
 @pytest.mark.mpi
 @pytest.mark.parametrize("mode", ["decomposed", "replicated"])
 def test_reconstructPar_carries_grain_state(tmp_path, env, mode):
@@ -197,6 +246,7 @@ def test_reconstructPar_carries_grain_state(tmp_path, env, mode):
     replicated, its own copy, the same as each rank's) and the lagrangian
     cloud, and a serial run continues from the last one."""
     from foamcase import run_parallel
+
     case = stack(tmp_path, "par", extra_props=f"grainDecomposition {mode};\n")
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
@@ -232,13 +282,22 @@ def test_sigusr1_to_mpirun_writes_and_stops(tmp_path, env):
     case = stack(tmp_path, "sigpar", end=100, write_interval=50)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
-    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
-          "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (2 1 1); delta 0.001; }\n")
+    write(
+        os.path.join(case, "system", "decomposeParDict"),
+        "dictionary",
+        "decomposeParDict",
+        "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (2 1 1); delta 0.001; }\n",
+    )
     run("decomposePar", case, env)
     logp = os.path.join(case, "log.grainFoam")
     with open(logp, "w") as log:
-        proc = subprocess.Popen(["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
-                                env=env, stdout=log, stderr=subprocess.STDOUT, text=True)
+        proc = subprocess.Popen(
+            ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+            env=env,
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
         deadline = time.time() + 60
         while time.time() < deadline and "Time = 0.05" not in open(logp).read():
             time.sleep(0.5)
@@ -265,8 +324,13 @@ def test_missing_state_names_previous_write(tmp_path, env):
     run("grainFoam", case, env)
     os.remove(os.path.join(case, "0.02", "grainState.h5"))
     set_control(case, startFrom="startTime", startTime="0.02")
-    fails_with(run("grainFoam", case, env, check=False), "Cannot find the grain state",
-               "interrupted", "previous write 0.01", "startTime 0.01")
+    fails_with(
+        run("grainFoam", case, env, check=False),
+        "Cannot find the grain state",
+        "interrupted",
+        "previous write 0.01",
+        "startTime 0.01",
+    )
 
 
 def test_latestTime_skips_incomplete_time_directory(tmp_path, env):
@@ -277,8 +341,9 @@ def test_latestTime_skips_incomplete_time_directory(tmp_path, env):
     case = deposited(tmp_path, "incomplete", env)
     run("grainFoam", case, env)
     good = open(os.path.join(case, "0.02", "lagrangian", "grains", "positions")).read()
-    os.rename(os.path.join(case, "0.02", "grainState.h5"),
-              os.path.join(case, "0.02", "grainState.h5.tmp"))
+    os.rename(
+        os.path.join(case, "0.02", "grainState.h5"), os.path.join(case, "0.02", "grainState.h5.tmp")
+    )
     p = run("grainFoam", case, env)
     out = p.stdout + p.stderr
     assert "0.02 is incomplete" in out and "grainState.h5" in out, out[-3000:]
@@ -293,6 +358,7 @@ def test_vansFoam_latestTime_skips_time_without_fluid_fields(tmp_path, env):
     disk filled up after the grains): vansFoam restarts from the previous
     time and reaches the end (the fields of the uninterrupted run)."""
     from test_vansFoam import small_sedimentation
+
     case = str(tmp_path / "vinc")
     small_sedimentation(case, env, end=0.07, write=0.035)
     run("vansFoam", case, env)

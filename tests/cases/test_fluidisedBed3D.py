@@ -15,12 +15,12 @@ References, independent of the drag closure:
   of the grains): the bound is 0.93, the tutorial's 100,000-sphere bed
   checks 2 %.
 """
+
 import os
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import run, run_parallel, tutorial_modules
 
 pytestmark = pytest.mark.slow
@@ -33,9 +33,14 @@ def _reduced(tmp_path, env, name, ranks, velocity_correction=None, end=0.5):
     setup.setup(case, across=12, grains=2000, u0=0.07, end=end, ranks=ranks, write=0.1)
     if velocity_correction:
         path = os.path.join(case, "system", "fvSolution")
-        txt = open(path).read().replace("nNonOrthogonalCorrectors 0;",
-                                        "nNonOrthogonalCorrectors 0;\n"
-                                        f"    velocityCorrection {velocity_correction};")
+        txt = (
+            open(path)
+            .read()
+            .replace(
+                "nNonOrthogonalCorrectors 0;",
+                f"nNonOrthogonalCorrectors 0;\n    velocityCorrection {velocity_correction};",
+            )
+        )
         open(path, "w").write(txt)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
@@ -48,8 +53,11 @@ def _reduced(tmp_path, env, name, ranks, velocity_correction=None, end=0.5):
 
 
 def _exchange_errors(res):
-    return [abs(w["pressure_drop_over_weight"] - w["fluid_force_minus_buoyancy_over_weight"])
-            for w in res["writes"] if w["time"] >= 0.2]
+    return [
+        abs(w["pressure_drop_over_weight"] - w["fluid_force_minus_buoyancy_over_weight"])
+        for w in res["writes"]
+        if w["time"] >= 0.2
+    ]
 
 
 @pytest.mark.mpi
@@ -67,10 +75,13 @@ def test_decomposed_bed_exchanges_momentum_and_keeps_its_grains(tmp_path, env):
     assert res["pressure_drop_over_weight_second_half"] < 1.02, res
 
 
-@pytest.mark.xfail(strict=True, reason="velocityCorrection fluxReconstruction gives the grains "
-                   "the drag of the reconstructed velocity while the pressure carries the face "
-                   "drag: the bed's pressure drop is ~0.80 of what the grains receive "
-                   "(applications/solvers/vansFoam/README.md)")
+@pytest.mark.xfail(
+    strict=True,
+    reason="velocityCorrection fluxReconstruction gives the grains "
+    "the drag of the reconstructed velocity while the pressure carries the face "
+    "drag: the bed's pressure drop is ~0.80 of what the grains receive "
+    "(applications/solvers/vansFoam/README.md)",
+)
 def test_flux_reconstruction_exchanges_momentum(tmp_path, env):
     """The same balance with velocityCorrection fluxReconstruction (serial)."""
     _, res = _reduced(tmp_path, env, "flux", 1, "fluxReconstruction", end=0.3)

@@ -23,15 +23,15 @@ References (exact results, no fitted numbers):
   grain at a height y = h0").
 The library must be built (Allwmake, src/freeSurfaceFunctionObjects).
 """
+
 import math
 import os
 import re
 import shutil
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import make_box_case, run, write
 
 pytestmark = pytest.mark.fast
@@ -54,17 +54,28 @@ def alpha_under(h):
 def write_alpha(case, time, a, field="alpha.water"):
     """Cell values a of the water fraction as <case>/<time>/<field>."""
     a = np.asarray(a).ravel()
-    write(os.path.join(case, time, field), "volScalarField", field,
-          "dimensions [0 0 0 0 0 0 0];\n"
-          f"internalField nonuniform List<scalar> {a.size} (\n"
-          + "\n".join(f"{v:.17g}" for v in a) + "\n);\n"
-          "boundaryField { walls { type zeroGradient; } frontAndBack { type empty; } }\n")
+    write(
+        os.path.join(case, time, field),
+        "volScalarField",
+        field,
+        "dimensions [0 0 0 0 0 0 0];\n"
+        f"internalField nonuniform List<scalar> {a.size} (\n"
+        + "\n".join(f"{v:.17g}" for v in a)
+        + "\n);\n"
+        "boundaryField { walls { type zeroGradient; } frontAndBack { type empty; } }\n",
+    )
 
 
 def box(tmp_path, name, functions):
     case = str(tmp_path / name)
-    make_box_case(case, (0, 0, 0), (LX, LY, 0.02), (NX, NY, 1), (0, -G, 0),
-                  {"glass": {"density": 2500, "friction": 0.5}})
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (LX, LY, 0.02),
+        (NX, NY, 1),
+        (0, -G, 0),
+        {"glass": {"density": 2500, "friction": 0.5}},
+    )
     with open(os.path.join(case, "system", "controlDict"), "a") as f:
         f.write("functions {\n" + functions + "\n}\n")
     return case
@@ -81,20 +92,25 @@ GAUGES = [0.1, 0.5, 0.52, 0.999]
 
 def gauges_fo(still=0.2):
     xs = " ".join(str(x) for x in GAUGES)
-    return ("gauges { type waveGauges; libs (freeSurfaceFunctionObjects);\n"
-            f"  x ({xs}); stillWaterLevel {still}; }}\n")
+    return (
+        "gauges { type waveGauges; libs (freeSurfaceFunctionObjects);\n"
+        f"  x ({xs}); stillWaterLevel {still}; }}\n"
+    )
 
 
 @pytest.mark.parametrize("slope", [0.0, 0.1], ids=["flat", "tilted"])
 def test_wave_gauges_exact(tmp_path, env, slope):
     """eta = h(x_c) - still water level to 1e-12; within |h'| dx/2 of h(x)."""
-    h = lambda x: 0.2307 + slope * x          # level not on a cell face
+
+    def h(x):
+        return 0.2307 + slope * x  # level not on a cell face
+
     case = box(tmp_path, f"gauges_{slope}", gauges_fo())
     write_alpha(case, "0", alpha_under(h))
     run("blockMesh", case, env)
     run("postProcess", case, env, ["-time", "0"])
     eta = read_dat(case, "gauges", "waveGauges.dat")[0, 1:]
-    col = [min(int(x / DX + 1e-9), NX - 1) for x in GAUGES]   # gauge on a face: the right column
+    col = [min(int(x / DX + 1e-9), NX - 1) for x in GAUGES]  # gauge on a face: the right column
     expected = [h(XC[c]) - 0.2 for c in col]
     assert np.allclose(eta, expected, rtol=0, atol=1e-12), (eta, expected)
     assert np.all(np.abs(eta - (h(np.array(GAUGES)) - 0.2)) <= slope * DX / 2 + 1e-12)
@@ -111,13 +127,25 @@ def test_wave_gauges_sheared_mesh(tmp_path, env):
     h = 0.2307
     case = box(tmp_path, "gauges_sheared", gauges_fo())
     shear = 2.5 * DX
-    verts = [(0, 0, 0), (LX, 0, 0), (LX + shear, LY, 0), (shear, LY, 0),
-             (0, 0, 0.02), (LX, 0, 0.02), (LX + shear, LY, 0.02), (shear, LY, 0.02)]
-    write(os.path.join(case, "system", "blockMeshDict"), "dictionary", "blockMeshDict",
-          "scale 1;\nvertices (" + " ".join("(%r %r %r)" % v for v in verts) + ");\n"
-          f"blocks ( hex (0 1 2 3 4 5 6 7) ({NX} {NY} 1) simpleGrading (1 1 1) );\n"
-          "boundary (\nwalls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1) (3 7 6 2)); }\n"
-          "frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n")
+    verts = [
+        (0, 0, 0),
+        (LX, 0, 0),
+        (LX + shear, LY, 0),
+        (shear, LY, 0),
+        (0, 0, 0.02),
+        (LX, 0, 0.02),
+        (LX + shear, LY, 0.02),
+        (shear, LY, 0.02),
+    ]
+    write(
+        os.path.join(case, "system", "blockMeshDict"),
+        "dictionary",
+        "blockMeshDict",
+        "scale 1;\nvertices (" + " ".join("(%r %r %r)" % v for v in verts) + ");\n"
+        f"blocks ( hex (0 1 2 3 4 5 6 7) ({NX} {NY} 1) simpleGrading (1 1 1) );\n"
+        "boundary (\nwalls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1) (3 7 6 2)); }\n"
+        "frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n",
+    )
     write_alpha(case, "0", alpha_under(lambda x: h + 0 * x))
     run("blockMesh", case, env)
     # gauges inside the sheared domain at every height: shear <= x <= LX
@@ -134,19 +162,31 @@ def test_wave_gauges_sheared_mesh(tmp_path, env):
 @pytest.mark.mpi
 def test_wave_gauges_parallel_equals_serial(tmp_path, env):
     """2 ranks splitting every column (1 x 2 slabs): same elevations (1e-12)."""
-    h = lambda x: 0.2307 + 0.1 * x + 0.02 * np.sin(6 * x)
+
+    def h(x):
+        return 0.2307 + 0.1 * x + 0.02 * np.sin(6 * x)
+
     case = box(tmp_path, "gauges_par", gauges_fo())
     write_alpha(case, "0", alpha_under(h))
     run("blockMesh", case, env)
     run("postProcess", case, env, ["-time", "0"])
     serial = read_dat(case, "gauges", "waveGauges.dat")[0, 1:]
     shutil.rmtree(os.path.join(case, "postProcessing"))
-    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
-          "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (1 2 1); delta 0.001; }\n")
+    write(
+        os.path.join(case, "system", "decomposeParDict"),
+        "dictionary",
+        "decomposeParDict",
+        "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (1 2 1); delta 0.001; }\n",
+    )
     run("decomposePar", case, env)
     import subprocess
-    p = subprocess.run(["mpirun", "-np", "2", "postProcess", "-parallel", "-case", case,
-                        "-time", "0"], env=env, capture_output=True, text=True)
+
+    p = subprocess.run(
+        ["mpirun", "-np", "2", "postProcess", "-parallel", "-case", case, "-time", "0"],
+        env=env,
+        capture_output=True,
+        text=True,
+    )
     if p.returncode != 0 and ("orte" in p.stderr.lower() or "slots" in p.stderr.lower()):
         pytest.skip("mpirun cannot start here")
     assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
@@ -157,9 +197,11 @@ def test_wave_gauges_parallel_equals_serial(tmp_path, env):
 def test_run_up_prescribed(tmp_path, env):
     """Run-up of wet cells and of a wetted wall patch at two times, and the
     maximum over the times, against the values computed here."""
-    fos = ("cells { type runUp; libs (freeSurfaceFunctionObjects); stillWaterLevel 0.2; }\n"
-           "shore { type runUp; libs (freeSurfaceFunctionObjects); patches (walls);\n"
-           "  xRange (0.9 2); stillWaterLevel 0.2; }\n")
+    fos = (
+        "cells { type runUp; libs (freeSurfaceFunctionObjects); stillWaterLevel 0.2; }\n"
+        "shore { type runUp; libs (freeSurfaceFunctionObjects); patches (walls);\n"
+        "  xRange (0.9 2); stillWaterLevel 0.2; }\n"
+    )
     case = box(tmp_path, "runup", fos)
     surfaces = {"0": lambda x: 0.2307 + 0.1 * x, "1": lambda x: 0.21 + 0.02 * x}
     expected_cells, expected_wall = [], []
@@ -178,7 +220,7 @@ def test_run_up_prescribed(tmp_path, env):
     assert np.allclose(wall[:, 1], expected_wall, atol=1e-12), wall
     assert cells[1, 2] == pytest.approx(max(expected_cells), abs=1e-12)
     assert wall[1, 2] == pytest.approx(max(expected_wall), abs=1e-12)
-    assert expected_cells[1] < expected_cells[0]      # the max is kept
+    assert expected_cells[1] < expected_cells[0]  # the max is kept
 
 
 def write_scalar_transport(case, time_s, a):
@@ -201,24 +243,40 @@ def test_run_up_maximum_restored_on_restart(tmp_path, env):
     text = re.sub(r"deltaT [^;]*;", "deltaT 0.1;", text, count=1)
     text = re.sub(r"writeInterval [^;]*;", "writeInterval 0.5;", text, count=1)
     open(ctrl, "w").write(text)
-    write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
-          "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
-          "divSchemes { default none; div(phi,T) Gauss upwind; }\n"
-          "laplacianSchemes { default Gauss linear corrected; }\n"
-          "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n")
-    write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution",
-          "solvers { T { solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0; } }\n"
-          "SIMPLE { nNonOrthogonalCorrectors 0; }\n")
-    write(os.path.join(case, "constant", "transportProperties"), "dictionary",
-          "transportProperties", "DT DT [0 2 -1 0 0 0 0] 0;\n")
-    write(os.path.join(case, "0", "U"), "volVectorField", "U",
-          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
-          "boundaryField { walls { type noSlip; } frontAndBack { type empty; } }\n")
+    write(
+        os.path.join(case, "system", "fvSchemes"),
+        "dictionary",
+        "fvSchemes",
+        "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
+        "divSchemes { default none; div(phi,T) Gauss upwind; }\n"
+        "laplacianSchemes { default Gauss linear corrected; }\n"
+        "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n",
+    )
+    write(
+        os.path.join(case, "system", "fvSolution"),
+        "dictionary",
+        "fvSolution",
+        "solvers { T { solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0; } }\n"
+        "SIMPLE { nNonOrthogonalCorrectors 0; }\n",
+    )
+    write(
+        os.path.join(case, "constant", "transportProperties"),
+        "dictionary",
+        "transportProperties",
+        "DT DT [0 2 -1 0 0 0 0] 0;\n",
+    )
+    write(
+        os.path.join(case, "0", "U"),
+        "volVectorField",
+        "U",
+        "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
+        "boundaryField { walls { type noSlip; } frontAndBack { type empty; } }\n",
+    )
     high, low = (lambda x: 0.2307 + 0.1 * x), (lambda x: 0.21 + 0.02 * x)
     a_high, a_low = alpha_under(high), alpha_under(low)
     r_high = np.max(np.where(a_high >= 0.5, YC[:, None], -1.0)) - 0.2
     r_low = np.max(np.where(a_low >= 0.5, YC[:, None], -1.0)) - 0.2
-    assert r_low < r_high - DY / 2           # the test can tell them apart
+    assert r_low < r_high - DY / 2  # the test can tell them apart
     write_scalar_transport(case, "0", a_high)
     run("blockMesh", case, env)
     run("scalarTransportFoam", case, env)
@@ -233,12 +291,17 @@ def test_run_up_maximum_restored_on_restart(tmp_path, env):
     assert np.allclose(after[:, 2], r_high, atol=1e-12), after
 
 
-@pytest.mark.parametrize("fo,key", [
-    ("gauges { type waveGauges; libs (freeSurfaceFunctionObjects); x (0.5); stilWaterLevel 0; }",
-     "stilWaterLevel"),
-    ("r { type runUp; libs (freeSurfaceFunctionObjects); patchs (walls); }", "patchs"),
-    ("g { type waveGauges; libs (freeSurfaceFunctionObjects); x (); }", "x"),
-])
+@pytest.mark.parametrize(
+    "fo,key",
+    [
+        (
+            "gauges { type waveGauges; libs (freeSurfaceFunctionObjects); x (0.5); stilWaterLevel 0; }",
+            "stilWaterLevel",
+        ),
+        ("r { type runUp; libs (freeSurfaceFunctionObjects); patchs (walls); }", "patchs"),
+        ("g { type waveGauges; libs (freeSurfaceFunctionObjects); x (); }", "x"),
+    ],
+)
 def test_keyword_checks(tmp_path, env, fo, key):
     case = box(tmp_path, "kw", fo)
     write_alpha(case, "0", alpha_under(lambda x: 0.2 + 0 * x))
@@ -254,16 +317,25 @@ def test_granular_front_sliding_disc(tmp_path, env):
     R, r, h0, T, dt = 0.01, 0.002, 0.015, 0.2, 1e-3
     case = str(tmp_path / "front")
     # big disc at x = 0.05 (reaches y = h0), small disc ahead (does not)
-    make_box_case(case, (0, 0, 0), (1.0, 0.05, 0.01), (20, 1, 1),
-                  (G * math.sin(theta), -G * math.cos(theta), 0),
-                  {"ice": {"density": 900, "friction": 0.0}},
-                  grains=[(0.05, R, 0, 2 * R), (0.08, r, 0, 2 * r)],
-                  end_time=T, dt=dt, write_interval=T)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (1.0, 0.05, 0.01),
+        (20, 1, 1),
+        (G * math.sin(theta), -G * math.cos(theta), 0),
+        {"ice": {"density": 900, "friction": 0.0}},
+        grains=[(0.05, R, 0, 2 * R), (0.08, r, 0, 2 * r)],
+        end_time=T,
+        dt=dt,
+        write_interval=T,
+    )
     with open(os.path.join(case, "system", "controlDict"), "a") as f:
-        f.write("functions {\n front { type granularFront; libs (freeSurfaceFunctionObjects);\n"
-                f"  h0 {h0}; frontDirection (1 0 0); }}\n"
-                f" smooth {{ type granularFront; libs (freeSurfaceFunctionObjects);\n"
-                f"  h0 {h0}; smoothingTime 0.02; }}\n}}\n")
+        f.write(
+            "functions {\n front { type granularFront; libs (freeSurfaceFunctionObjects);\n"
+            f"  h0 {h0}; frontDirection (1 0 0); }}\n"
+            f" smooth {{ type granularFront; libs (freeSurfaceFunctionObjects);\n"
+            f"  h0 {h0}; smoothingTime 0.02; }}\n}}\n"
+        )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run("grainFoam", case, env)
@@ -279,4 +351,4 @@ def test_granular_front_sliding_disc(tmp_path, env):
     s = read_dat(case, "smooth", "granularFront.dat")[-1]
     assert s[2] == pytest.approx(a * (T - 0.01), abs=a * dt)
     g = nscdpost.read_grains(case, nscdpost.time_dirs(case)[-1][1])
-    assert g["x"][1, 0] + r > xf        # the small disc is ahead, not counted
+    assert g["x"][1, 0] + r > xf  # the small disc is ahead, not counted

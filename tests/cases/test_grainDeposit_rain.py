@@ -12,33 +12,42 @@ the code:
   - statics: after the settle the floor and the side walls hold the bed's
     weight (vertical force balance from the written contact impulses).
 """
+
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import run, run_fatal_io, write
-from test_grainDeposit_replicate import box_case, weight, wall_lift, D, WIDTH
+from test_grainDeposit_replicate import WIDTH, D, box_case, wall_lift, weight
 
 pytestmark = pytest.mark.fast
 
 NUMBER = 300
-TOUCH = 1e-9 * D             # touching (positions written with 15 digits)
+TOUCH = 1e-9 * D  # touching (positions written with 15 digits)
 
 
 def rain_case(tmp_path, env, name, settle=True, number=NUMBER, height=0.06):
     case = str(tmp_path / name)
-    box_case(case, WIDTH, height, "wallPatches (walls);\n",
-             f"method rain;\nbox {{ min (0 0 0); max ({WIDTH} {height} 1); }}\nnumber {number};\n"
-             f"dMin {0.9 * D};\nsizeRatio {1 / 0.9:.6g};\nseed 3;\nwriteContactImpulses yes;\nstaticLoad yes;\n"
-             + ("settle { maxTime 0.05; deltaT 5e-4; speedTolerance 2e-3; }\n" if settle else ""),
-             tolerance=1e-6)
-    write(os.path.join(case, "system", "controlDict"), "dictionary", "controlDict",
-          "application grainDeposit; startFrom startTime; startTime 0; stopAt endTime;\n"
-          "endTime 1; deltaT 1e-3; writeControl timeStep; writeInterval 1;\n"
-          "writePrecision 15;\n")
+    box_case(
+        case,
+        WIDTH,
+        height,
+        "wallPatches (walls);\n",
+        f"method rain;\nbox {{ min (0 0 0); max ({WIDTH} {height} 1); }}\nnumber {number};\n"
+        f"dMin {0.9 * D};\nsizeRatio {1 / 0.9:.6g};\nseed 3;\nwriteContactImpulses yes;\nstaticLoad yes;\n"
+        + ("settle { maxTime 0.05; deltaT 5e-4; speedTolerance 2e-3; }\n" if settle else ""),
+        tolerance=1e-6,
+    )
+    write(
+        os.path.join(case, "system", "controlDict"),
+        "dictionary",
+        "controlDict",
+        "application grainDeposit; startFrom startTime; startTime 0; stopAt endTime;\n"
+        "endTime 1; deltaT 1e-3; writeControl timeStep; writeInterval 1;\n"
+        "writePrecision 15;\n",
+    )
     run("blockMesh", case, env)
     return case
 
@@ -64,14 +73,16 @@ def test_rain_deposit_is_the_rain_model(laid):
     assert gap.min() > -TOUCH
     for i in range(n):
         if y[i] - r[i] < TOUCH:
-            continue                        # on the floor
+            continue  # on the floor
         below = [x[j] for j in range(i) if gap[i, j] < TOUCH]
         if x[i] - r[i] < TOUCH:
-            below.append(0.0)               # the left wall
+            below.append(0.0)  # the left wall
         if WIDTH - x[i] - r[i] < TOUCH:
             below.append(WIDTH)
         assert len(below) >= 2, f"disc {i} at ({x[i]:.6g}, {y[i]:.6g}) rests on {len(below)} bodies"
-        assert min(below) - TOUCH <= x[i] <= max(below) + TOUCH, f"disc {i} is not between its supports"
+        assert min(below) - TOUCH <= x[i] <= max(below) + TOUCH, (
+            f"disc {i} is not between its supports"
+        )
 
 
 def test_rain_deposit_settles_on_its_walls(tmp_path, env):

@@ -13,17 +13,17 @@ again.  Checked against statics, not against the code:
   - with the copied impulses the wide bed's first steps converge in fewer
     sweeps than the same grains started without them (the warm start).
 """
+
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import run, write, write_grain_numerics
 
-D = 1e-3                     # largest grain diameter [m]
-WIDTH = 10 * D               # column width: ten grains
+D = 1e-3  # largest grain diameter [m]
+WIDTH = 10 * D  # column width: ten grains
 RHO, MU = 2500.0, 0.3
 G = 9.81
 DEPTH = 1e-3
@@ -34,48 +34,96 @@ def box_case(case, width, height, props, deposit, split_walls=False, tolerance=1
     patch `walls` (split_walls: patches left, floor, right, which give the
     same wall ids 0, 1, 2), open top, grainProperties with `props` appended,
     grainDepositDict `deposit`."""
-    v = [(0, 0, 0), (width, 0, 0), (width, height, 0), (0, height, 0),
-         (0, 0, DEPTH), (width, 0, DEPTH), (width, height, DEPTH), (0, height, DEPTH)]
+    v = [
+        (0, 0, 0),
+        (width, 0, 0),
+        (width, height, 0),
+        (0, height, 0),
+        (0, 0, DEPTH),
+        (width, 0, DEPTH),
+        (width, height, DEPTH),
+        (0, height, DEPTH),
+    ]
     walls = "walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1)); }\n"
     if split_walls:
-        walls = ("left { type wall; faces ((0 4 7 3)); }\nfloor { type wall; faces ((1 5 4 0)); }\n"
-                 "right { type wall; faces ((2 6 5 1)); }\n")
+        walls = (
+            "left { type wall; faces ((0 4 7 3)); }\nfloor { type wall; faces ((1 5 4 0)); }\n"
+            "right { type wall; faces ((2 6 5 1)); }\n"
+        )
     nx, ny = max(1, int(round(width / (4 * D)))), max(1, int(round(height / (4 * D))))
-    write(os.path.join(case, "system", "blockMeshDict"), "dictionary", "blockMeshDict",
-          "scale 1;\nvertices (" + " ".join("(%.12g %.12g %.12g)" % p for p in v) + ");\n"
-          f"blocks (hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1));\n"
-          "boundary (\n" + walls + "top { type patch; faces ((3 7 6 2)); }\n"
-          "frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n")
-    write(os.path.join(case, "system", "controlDict"), "dictionary", "controlDict",
-          "application grainDeposit; startFrom startTime; startTime 0; stopAt endTime;\n"
-          "endTime 1; deltaT 1e-3; writeControl timeStep; writeInterval 1;\n")
+    write(
+        os.path.join(case, "system", "blockMeshDict"),
+        "dictionary",
+        "blockMeshDict",
+        "scale 1;\nvertices (" + " ".join("(%.12g %.12g %.12g)" % p for p in v) + ");\n"
+        f"blocks (hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1));\n"
+        "boundary (\n" + walls + "top { type patch; faces ((3 7 6 2)); }\n"
+        "frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n",
+    )
+    write(
+        os.path.join(case, "system", "controlDict"),
+        "dictionary",
+        "controlDict",
+        "application grainDeposit; startFrom startTime; startTime 0; stopAt endTime;\n"
+        "endTime 1; deltaT 1e-3; writeControl timeStep; writeInterval 1;\n",
+    )
     write_grain_numerics(case)
-    write(os.path.join(case, "constant", "g"), "uniformDimensionedVectorField", "g",
-          "dimensions [0 1 -2 0 0 0 0];\nvalue (0 -9.81 0);\n")
-    write(os.path.join(case, "constant", "grainProperties"), "dictionary", "grainProperties",
-          f"materials {{ sand {{ density {RHO}; friction {MU}; }} }}\n"
-          f"contactSolver {{ tolerance {tolerance:g}; maxIterations {3000 if tolerance >= 1e-4 else 30000}; }}\n" + props)
-    write(os.path.join(case, "system", "grainDepositDict"), "dictionary", "grainDepositDict",
-          "material sand;\n" + deposit)
+    write(
+        os.path.join(case, "constant", "g"),
+        "uniformDimensionedVectorField",
+        "g",
+        "dimensions [0 1 -2 0 0 0 0];\nvalue (0 -9.81 0);\n",
+    )
+    write(
+        os.path.join(case, "constant", "grainProperties"),
+        "dictionary",
+        "grainProperties",
+        f"materials {{ sand {{ density {RHO}; friction {MU}; }} }}\n"
+        f"contactSolver {{ tolerance {tolerance:g}; maxIterations {3000 if tolerance >= 1e-4 else 30000}; }}\n"
+        + props,
+    )
+    write(
+        os.path.join(case, "system", "grainDepositDict"),
+        "dictionary",
+        "grainDepositDict",
+        "material sand;\n" + deposit,
+    )
 
 
 DT = 5e-4
 SETTLE = f"settle {{ maxTime 2; deltaT {DT}; speedTolerance 2e-3; }}\n"
 
 
-def column(tmp_path, env, name, number=300, impulses=True, frictionless_sides=False,
-           settle=SETTLE, tolerance=1e-4):
+def column(
+    tmp_path,
+    env,
+    name,
+    number=300,
+    impulses=True,
+    frictionless_sides=False,
+    settle=SETTLE,
+    tolerance=1e-4,
+):
     """A column settled in a mesh of width WIDTH; impulses: written with its
     contact impulses (writeContactImpulses, what a replicate source needs);
     frictionless_sides: side walls without friction (wallFriction)."""
     case = str(tmp_path / name)
-    props = ('wallPatches (left floor right);\nwallFriction { "left|right" 0; }\n'
-             if frictionless_sides else "wallPatches (walls);\n")
-    box_case(case, WIDTH, 0.06, props,
-             f"method box;\nbox {{ min (0 0 0); max ({WIDTH} 0.06 1); }}\nnumber {number};\n"
-             f"dMin {0.9 * D};\nsizeRatio {1 / 0.9:.6g};\nseed 3;\n"
-             f"writeContactImpulses {'yes' if impulses else 'no'};\n" + settle,
-             split_walls=frictionless_sides, tolerance=tolerance)
+    props = (
+        'wallPatches (left floor right);\nwallFriction { "left|right" 0; }\n'
+        if frictionless_sides
+        else "wallPatches (walls);\n"
+    )
+    box_case(
+        case,
+        WIDTH,
+        0.06,
+        props,
+        f"method box;\nbox {{ min (0 0 0); max ({WIDTH} 0.06 1); }}\nnumber {number};\n"
+        f"dMin {0.9 * D};\nsizeRatio {1 / 0.9:.6g};\nseed 3;\n"
+        f"writeContactImpulses {'yes' if impulses else 'no'};\n" + settle,
+        split_walls=frictionless_sides,
+        tolerance=tolerance,
+    )
     run("blockMesh", case, env)
     log = run("grainDeposit", case, env)
     return case, log
@@ -83,7 +131,7 @@ def column(tmp_path, env, name, number=300, impulses=True, frictionless_sides=Fa
 
 def weight(case):
     g = nscdpost.read_grains(case, "0")
-    return float(np.sum(RHO * np.pi / 4 * g["d"] ** 2) * G)   # N per unit depth
+    return float(np.sum(RHO * np.pi / 4 * g["d"] ** 2) * G)  # N per unit depth
 
 
 def wall_lift(case):
@@ -121,9 +169,14 @@ def frictionless_column(tmp_path_factory, env):
     of a converged solve adds up over the layers of a force chain (measured
     with nscd alone on this column: 1-6e-3 m/s at 1e-4, 2e-5 m/s at 1e-6),
     and without the walls' friction nothing damps it."""
-    return column(tmp_path_factory.mktemp("col0"), env, "column", frictionless_sides=True,
-                  settle=f"settle {{ maxTime 2; deltaT {DT}; speedTolerance 1e-4; }}\n",
-                  tolerance=1e-6)
+    return column(
+        tmp_path_factory.mktemp("col0"),
+        env,
+        "column",
+        frictionless_sides=True,
+        settle=f"settle {{ maxTime 2; deltaT {DT}; speedTolerance 1e-4; }}\n",
+        tolerance=1e-6,
+    )
 
 
 @pytest.mark.slow
@@ -159,7 +212,7 @@ def test_copies_of_a_frictionless_column_stay_at_rest(tmp_path, frictionless_col
     for c in range(4):
         xc = x0 + c * WIDTH if c % 2 == 0 else (c + 1) * WIDTH - x0
         copy = np.column_stack([xc, g0["x"][:, 1]])
-        moved.append(np.linalg.norm(g["x"][c * n:(c + 1) * n, :2] - copy, axis=1))
+        moved.append(np.linalg.norm(g["x"][c * n : (c + 1) * n, :2] - copy, axis=1))
     moved = np.concatenate(moved)
     steps = [int(s) for s in re.findall(r"sweeps (\d+)", log.stdout)]
     print("mean / max displacement over d:", moved.mean() / D, moved.max() / D, "sweeps", steps[:5])
@@ -173,8 +226,13 @@ def test_noisy_settle_names_the_contact_tolerance(tmp_path, env):
     (N/2) tolerance d_min/dt (docs/validation/nscdPerformance.md: measured
     3.3e-3 m/s on this 30-layer column at 1e-4), exceeds the speed asked for, names
     contactSolver.tolerance as the fix."""
-    case, log = column(tmp_path, env, "noisy", frictionless_sides=True,
-                       settle=f"settle {{ maxTime 0.3; deltaT {DT}; speedTolerance 1e-4; }}\n")
+    case, log = column(
+        tmp_path,
+        env,
+        "noisy",
+        frictionless_sides=True,
+        settle=f"settle {{ maxTime 0.3; deltaT {DT}; speedTolerance 1e-4; }}\n",
+    )
     out = log.stdout + log.stderr
     assert "Settled after" not in out and "Stopped settling at maxTime" in out
     assert "tighten contactSolver.tolerance" in out, out[-1500:]
@@ -184,9 +242,14 @@ def test_noisy_settle_names_the_contact_tolerance(tmp_path, env):
 
 def replicate(tmp_path, env, source, copies, settle=SETTLE):
     case = str(tmp_path / f"bed{copies}")
-    box_case(case, copies * WIDTH, 0.06, "wallPatches (walls);\n",
-             f'method replicate;\nreplicate {{ source "{source}/0/grainState.h5"; copies {copies}; }}\n'
-             + settle)
+    box_case(
+        case,
+        copies * WIDTH,
+        0.06,
+        "wallPatches (walls);\n",
+        f'method replicate;\nreplicate {{ source "{source}/0/grainState.h5"; copies {copies}; }}\n'
+        + settle,
+    )
     run("blockMesh", case, env)
     return case, run("grainDeposit", case, env)
 
@@ -210,7 +273,7 @@ def test_copies_keep_the_column_packing(tmp_path, settled_column, env):
     assert abs(top - top0) < D
     phi0 = np.sum(np.pi / 4 * g0["d"] ** 2) / (WIDTH * top0)
     phi = np.sum(np.pi / 4 * g["d"] ** 2) / (4 * WIDTH * top)
-    assert phi == pytest.approx(phi0, rel=0.03)         # measured +2.4 %
+    assert phi == pytest.approx(phi0, rel=0.03)  # measured +2.4 %
 
 
 @pytest.mark.slow
@@ -225,14 +288,24 @@ def test_replicate_warm_start_converges_fast(tmp_path, settled_column, env):
     # the same bed without impulses
     g = nscdpost.read_grains(warm, "0")
     cold = str(tmp_path / "cold")
-    box_case(cold, 4 * WIDTH, 0.06, "wallPatches (walls);\n",
-             "method list;\ngrains (\n" + "\n".join(
-                 "(%.17g %.17g %.17g %.17g)" % (x[0], x[1], x[2], d) for x, d in zip(g["x"], g["d"]))
-             + "\n);\n" + settle)
+    box_case(
+        cold,
+        4 * WIDTH,
+        0.06,
+        "wallPatches (walls);\n",
+        "method list;\ngrains (\n"
+        + "\n".join(
+            "(%.17g %.17g %.17g %.17g)" % (x[0], x[1], x[2], d) for x, d in zip(g["x"], g["d"])
+        )
+        + "\n);\n"
+        + settle,
+    )
     run("blockMesh", cold, env)
     log_c = run("grainDeposit", cold, env)
+
     def sweeps(log):
         return [int(s) for s in re.findall(r"sweeps (\d+)", log.stdout)]
+
     assert sweeps(log_w) and sweeps(log_c)
     assert sum(sweeps(log_w)[:3]) < 0.7 * sum(sweeps(log_c)[:3]), (sweeps(log_w), sweeps(log_c))
 
@@ -242,23 +315,38 @@ def test_replicate_errors(tmp_path, settled_column, env):
     col, _ = settled_column
     # a mesh whose width / copies is not the column's
     case = str(tmp_path / "wide")
-    box_case(case, 1.5 * WIDTH, 0.06, "wallPatches (walls);\n",
-             f'method replicate;\nreplicate {{ source "{col}/0/grainState.h5"; copies 2; }}\n')
+    box_case(
+        case,
+        1.5 * WIDTH,
+        0.06,
+        "wallPatches (walls);\n",
+        f'method replicate;\nreplicate {{ source "{col}/0/grainState.h5"; copies 2; }}\n',
+    )
     run("blockMesh", case, env)
     r = run("grainDeposit", case, env, check=False)
     assert r.returncode != 0 and "outside the column" in r.stdout + r.stderr
     # no source
     case = str(tmp_path / "nosource")
-    box_case(case, 2 * WIDTH, 0.06, "wallPatches (walls);\n",
-             'method replicate;\nreplicate { source "nowhere/0/grainState.h5"; copies 2; }\n')
+    box_case(
+        case,
+        2 * WIDTH,
+        0.06,
+        "wallPatches (walls);\n",
+        'method replicate;\nreplicate { source "nowhere/0/grainState.h5"; copies 2; }\n',
+    )
     run("blockMesh", case, env)
     r = run("grainDeposit", case, env, check=False)
     assert r.returncode != 0 and "replicate.source" in r.stdout + r.stderr
     # a source written without its contact impulses (the default)
     bare, _ = column(tmp_path, env, "bare", number=40, impulses=False)
     case = str(tmp_path / "bare_copies")
-    box_case(case, 2 * WIDTH, 0.06, "wallPatches (walls);\n",
-             f'method replicate;\nreplicate {{ source "{bare}/0/grainState.h5"; copies 2; }}\n')
+    box_case(
+        case,
+        2 * WIDTH,
+        0.06,
+        "wallPatches (walls);\n",
+        f'method replicate;\nreplicate {{ source "{bare}/0/grainState.h5"; copies 2; }}\n',
+    )
     run("blockMesh", case, env)
     r = run("grainDeposit", case, env, check=False)
     out = r.stdout + r.stderr

@@ -27,16 +27,16 @@ References, independent of the decomposition:
     of a conducting column in closed form, and the serial run to 1e-8 of
     the temperature span.
 """
+
 import os
 import re
 import shutil
 import subprocess
 import sys
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import copy_tutorial, make_box_case, run, run_parallel, tutorial_modules
 from test_grainFoam_physics import G, _deposit_dict
 
@@ -65,7 +65,9 @@ def _runout_height(case, time_name):
     x, r = x[~fixed], r[~fixed]
     idx = post.deposit_cluster(x, r, 0.05 * np.mean(2 * r))
     params = dict(line.split() for line in open(os.path.join(case, "caseParameters")))
-    return float(np.max(x[idx, 0] + r[idx])) - float(params["gateX"]), float(np.max(x[idx, 1] + r[idx])) - y0
+    return float(np.max(x[idx, 0] + r[idx])) - float(params["gateX"]), float(
+        np.max(x[idx, 1] + r[idx])
+    ) - y0
 
 
 def _last_time(case):
@@ -100,8 +102,11 @@ def deposited(tmp_path_factory, env):
     work = tmp_path_factory.mktemp("decomposedCollapse")
     tut = copy_tutorial("grainFoam", "columnCollapse", str(work / "tutorial"))
     case = str(work / "deposit")
-    subprocess.run([sys.executable, os.path.join(tut, "setupCase.py"), case, "0.5", str(N_GRAINS)],
-                   check=True, env=env)
+    subprocess.run(
+        [sys.executable, os.path.join(tut, "setupCase.py"), case, "0.5", str(N_GRAINS)],
+        check=True,
+        env=env,
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     return case
@@ -115,7 +120,9 @@ def _copy(src, dst):
 def _owned_per_rank(log, n):
     """The grains each rank owns at the start, from the solver log (an
     OpenFOAM list: n(a b ...), or n{a} when all are equal)."""
-    m = re.search(rf"grains decomposed over {n} ranks \(owned per rank {n}(?:\(([\d ]+)\)|\{{(\d+)\}})", log)
+    m = re.search(
+        rf"grains decomposed over {n} ranks \(owned per rank {n}(?:\(([\d ]+)\)|\{{(\d+)\}})", log
+    )
     assert m, log[-3000:]
     return [int(v) for v in m.group(1).split()] if m.group(1) else [int(m.group(2))] * n
 
@@ -124,7 +131,12 @@ def _collapse_measures(case, end):
     """Run-out, height, centre-of-mass displacement (x, y) at end."""
     runout, height = _runout_height(case, end)
     moved = _centre_of_mass(case, end) - _centre_of_mass(case, nscdpost.numeric_dirs(case)[0][1])
-    return {"runout": runout, "height": height, "com_dx": float(moved[0]), "com_dy": float(moved[1])}
+    return {
+        "runout": runout,
+        "height": height,
+        "com_dx": float(moved[0]),
+        "com_dy": float(moved[1]),
+    }
 
 
 @pytest.mark.mpi
@@ -168,7 +180,7 @@ def _wall_load(case, time_name, rho, g):
     x, r, _, _ = _state(case, time_name)
     w = c["wall"] >= 0
     fy = (c["rn"][w] * c["normal"][w, 1] + c["rt"][w, 1]).sum() / c["dt"]
-    return fy / (rho * np.pi * (r ** 2).sum() * g)
+    return fy / (rho * np.pi * (r**2).sum() * g)
 
 
 @pytest.mark.mpi
@@ -177,10 +189,19 @@ def test_pile_at_rest_across_ranks_and_restart(tmp_path, env):
     weight crosses them) on 2 ranks, then restarted on 4 ranks."""
     case = str(tmp_path / "pile")
     hi = (0.04, 0.06, 0.004)
-    make_box_case(case, (0, 0, 0), hi, (4, 6, 1), (0, -G, 0),
-                  {"glass": {"density": 2500, "friction": 0.4}}, grains=[],
-                  end_time=0.2, dt=5e-4, write_interval=0.1,
-                  deposit=_deposit_dict((0, 0, 0), hi, 300))
+    make_box_case(
+        case,
+        (0, 0, 0),
+        hi,
+        (4, 6, 1),
+        (0, -G, 0),
+        {"glass": {"density": 2500, "friction": 0.4}},
+        grains=[],
+        end_time=0.2,
+        dt=5e-4,
+        write_interval=0.1,
+        deposit=_deposit_dict((0, 0, 0), hi, 300),
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run_parallel("grainFoam", case, env, n=2, split=(1, 2, 1))
@@ -223,12 +244,13 @@ def test_heat_conduction_across_ranks_matches_serial(tmp_path, env):
     wall heat rates to 1 %, summed over the ranks), and the serial run:
     grain temperatures within 1e-6 K (1e-8 of the 100 K span) at 0.6 s."""
     from test_grainHeat import check_column, column_case
+
     serial, _ = column_case(tmp_path, env, "serial")
     par = str(tmp_path / "par")
     _copy(serial, par)
     p = run_parallel("grainFoam", par, env, n=2, split=(1, 2, 1))
     assert "grains decomposed over 2 ranks" in p.stdout
-    assert min(_owned_per_rank(p.stdout, 2)) > 0   # the column crosses the boundary
+    assert min(_owned_per_rank(p.stdout, 2)) > 0  # the column crosses the boundary
     run("reconstructPar", par, env, args=("-latestTime",))
     check_column(par, p.stdout)
     check_column(serial, run("grainFoam", serial, env).stdout)
@@ -250,15 +272,25 @@ def test_grain_leaving_the_mesh_stops_a_decomposed_run(tmp_path, env):
     from faultcase import box
     from foamcase import mpirun_could_not_start, write
     from test_faults_boundaries import open_bottom
+
     case = box(tmp_path, "open", [(0.03, 0.03, 0, 0.01)], end=0.5, write_interval=0.05)
     open_bottom(case)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
-    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
-          "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (2 1 1); delta 0.001; }\n")
+    write(
+        os.path.join(case, "system", "decomposeParDict"),
+        "dictionary",
+        "decomposeParDict",
+        "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (2 1 1); delta 0.001; }\n",
+    )
     run("decomposePar", case, env, cwd=case)
-    p = subprocess.run(["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
-                       env=env, capture_output=True, text=True, timeout=300)
+    p = subprocess.run(
+        ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     if mpirun_could_not_start(p):
         pytest.skip("mpirun cannot start here")
     out = p.stdout + p.stderr

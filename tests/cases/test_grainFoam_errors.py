@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Bad input gives a clear FatalError naming the cause (and no crash/NaN run)."""
+
 import os
 
 import pytest
-
 from foamcase import fails_with, make_box_case, run
 
 pytestmark = pytest.mark.fast
@@ -14,8 +14,19 @@ MAT = {"glass": {"density": 2500, "friction": 0.4}}
 
 def base(tmp_path, name, grains, **kw):
     case = str(tmp_path / name)
-    make_box_case(case, (0, 0, 0), (0.1, 0.1, 0.01), (4, 4, 1), (0, -G, 0), MAT,
-                  grains=grains, end_time=0.01, dt=1e-3, write_interval=0.01, **kw)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.1, 0.1, 0.01),
+        (4, 4, 1),
+        (0, -G, 0),
+        MAT,
+        grains=grains,
+        end_time=0.01,
+        dt=1e-3,
+        write_interval=0.01,
+        **kw,
+    )
     return case
 
 
@@ -48,8 +59,12 @@ def test_negative_diameter(tmp_path, env):
 def test_unknown_keyword(tmp_path, env):
     case = base(tmp_path, "keyword", [(0.05, 0.01, 0, 0.01)], extra_props="frictoin 0.3;\n")
     run("blockMesh", case, env)
-    fails_with(run("grainDeposit", case, env, check=False), "Unknown keyword", "frictoin",
-               "grainProperties")
+    fails_with(
+        run("grainDeposit", case, env, check=False),
+        "Unknown keyword",
+        "frictoin",
+        "grainProperties",
+    )
 
 
 def test_unknown_material_keyword(tmp_path, env):
@@ -59,10 +74,13 @@ def test_unknown_material_keyword(tmp_path, env):
     fails_with(run("grainDeposit", case, env, check=False), "Unknown keyword", "densty")
 
 
-@pytest.mark.parametrize("entry, words", [
-    ("compliance -1e-7;", ("compliance of material glass", ">= 0", "allowed overlap")),
-    ("compliance 1e-7; relativeCompliance 1e-3;", ("both compliance and relativeCompliance",)),
-])
+@pytest.mark.parametrize(
+    "entry, words",
+    [
+        ("compliance -1e-7;", ("compliance of material glass", ">= 0", "allowed overlap")),
+        ("compliance 1e-7; relativeCompliance 1e-3;", ("both compliance and relativeCompliance",)),
+    ],
+)
 def test_bad_contact_compliance(tmp_path, env, entry, words):
     """A negative or doubly given contact compliance (nscd::Material) is a
     FatalIOError naming the keyword, the material and the allowed values."""
@@ -94,10 +112,16 @@ def test_unknown_material_name(tmp_path, env):
     fails_with(run("grainDeposit", case, env, check=False), "Unknown material", "sand")
 
 
-@pytest.mark.parametrize("entry, words", [
-    ("method Jacobi", ("unknown contactSolver method", "Jacobi", "NLGS, overRelaxedNLGS, APGD, NNCG")),
-    ("ordering random", ("unknown contactSolver ordering", "random", "fifo, symmetric")),
-])
+@pytest.mark.parametrize(
+    "entry, words",
+    [
+        (
+            "method Jacobi",
+            ("unknown contactSolver method", "Jacobi", "NLGS, overRelaxedNLGS, APGD, NNCG"),
+        ),
+        ("ordering random", ("unknown contactSolver ordering", "random", "fifo, symmetric")),
+    ],
+)
 def test_unknown_contact_solver_choice(tmp_path, env, entry, words):
     case = base(tmp_path, "choice", [(0.05, 0.01, 0, 0.01)])
     replace_in(case, "constant/grainProperties", "maxIterations", entry + "; maxIterations")
@@ -112,14 +136,21 @@ def test_newton_needs_compliant_materials(tmp_path, env):
     case = base(tmp_path, "newton", [(0.05, 0.01, 0, 0.01)])
     replace_in(case, "constant/grainProperties", "maxIterations", "method newton; maxIterations")
     run("blockMesh", case, env)
-    fails_with(run("grainDeposit", case, env, check=False), "contactSolver method newton",
-               "relativeCompliance", "or use method NLGS")
+    fails_with(
+        run("grainDeposit", case, env, check=False),
+        "contactSolver method newton",
+        "relativeCompliance",
+        "or use method NLGS",
+    )
 
 
-@pytest.mark.parametrize("entry, words", [
-    ("reorderInterval -1;", ("reorderInterval must be >= 0", "got -1")),
-    ("verletSkin -0.1;", ("verletSkin must be finite and >= 0", "got -0.1")),
-])
+@pytest.mark.parametrize(
+    "entry, words",
+    [
+        ("reorderInterval -1;", ("reorderInterval must be >= 0", "got -1")),
+        ("verletSkin -0.1;", ("verletSkin must be finite and >= 0", "got -0.1")),
+    ],
+)
 def test_negative_contact_solver_entry(tmp_path, env, entry, words):
     """contactSolver reorderInterval and verletSkin (nscd Settings) below 0: a FatalIOError naming the value."""
     case = base(tmp_path, "negative", [(0.05, 0.01, 0, 0.01)])
@@ -128,11 +159,14 @@ def test_negative_contact_solver_entry(tmp_path, env, entry, words):
     fails_with(run("grainDeposit", case, env, check=False), *words)
 
 
-@pytest.mark.parametrize("entry, words", [
-    ("wallFriction { nowhere 0; }", ("wallFriction entry 'nowhere'", "matches no wall patch")),
-    ("wallFriction { \".*\" -0.1; }", ("friction coefficient must be a finite value >= 0",)),
-    ("wallFriction { walls (0 1); }", ("wallFriction",)),
-])
+@pytest.mark.parametrize(
+    "entry, words",
+    [
+        ("wallFriction { nowhere 0; }", ("wallFriction entry 'nowhere'", "matches no wall patch")),
+        ('wallFriction { ".*" -0.1; }', ("friction coefficient must be a finite value >= 0",)),
+        ("wallFriction { walls (0 1); }", ("wallFriction",)),
+    ],
+)
 def test_wall_friction_errors(tmp_path, env, entry, words):
     """grainProperties wallFriction: an entry that matches no wall patch, a
     negative coefficient or a value that is not a number is a FatalIOError
@@ -145,8 +179,16 @@ def test_wall_friction_errors(tmp_path, env, entry, words):
 def test_unknown_grain_decomposition(tmp_path, env):
     """grainProperties grainDecomposition takes decomposed or replicated:
     another word is a FatalIOError naming both (also in a serial run)."""
-    case = base(tmp_path, "decomposition", [(0.05, 0.01, 0, 0.01)],
-                extra_props="grainDecomposition mixed;\n")
+    case = base(
+        tmp_path,
+        "decomposition",
+        [(0.05, 0.01, 0, 0.01)],
+        extra_props="grainDecomposition mixed;\n",
+    )
     run("blockMesh", case, env)
-    fails_with(run("grainDeposit", case, env, check=False), "grainDecomposition mixed: unknown",
-               "decomposed", "replicated")
+    fails_with(
+        run("grainDeposit", case, env, check=False),
+        "grainDecomposition mixed: unknown",
+        "decomposed",
+        "replicated",
+    )

@@ -8,14 +8,14 @@ References (rigid-body mechanics, e.g. Goldstein, Classical Mechanics):
   sphere (I = 2/5 m r^2) the limits are 5/7 g sin(theta) and tan(theta) < 7/2 mu.
   A hard grain without restitution stops on impact (normal velocity 0).
 """
+
 import math
 import os
 import shutil
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import make_box_case, run
 
 G = 9.81
@@ -25,11 +25,19 @@ def incline_case(tmp_path, env, theta_deg, mu, two_d):
     th = math.radians(theta_deg)
     r = 0.005
     case = str(tmp_path / f"incline_{theta_deg}_{mu}_{'2d' if two_d else '3d'}")
-    make_box_case(case, (0, 0, 0), (1.0, 0.05, 0.05 if not two_d else 0.01),
-                  (20, 2, 2), (G * math.sin(th), -G * math.cos(th), 0),
-                  {"steel": {"density": 7800, "friction": mu}},
-                  grains=[(0.05, r, 0.025 if not two_d else 0.0, 2 * r)],
-                  end_time=0.3, dt=1e-3, write_interval=0.1, two_d=two_d)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (1.0, 0.05, 0.05 if not two_d else 0.01),
+        (20, 2, 2),
+        (G * math.sin(th), -G * math.cos(th), 0),
+        {"steel": {"density": 7800, "friction": mu}},
+        grains=[(0.05, r, 0.025 if not two_d else 0.0, 2 * r)],
+        end_time=0.3,
+        dt=1e-3,
+        write_interval=0.1,
+        two_d=two_d,
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run("grainFoam", case, env)
@@ -43,14 +51,14 @@ def incline_case(tmp_path, env, theta_deg, mu, two_d):
 @pytest.mark.parametrize("theta,mu", [(30, 0.1), (30, 0.5), (20, 0.05)])
 def test_incline(tmp_path, env, two_d, theta, mu):
     th = math.radians(theta)
-    k = 3.0 if two_d else 3.5            # rolling limit tan(theta) < k mu
+    k = 3.0 if two_d else 3.5  # rolling limit tan(theta) < k mu
     if math.tan(th) < k * mu:
         expected = (2.0 / 3.0 if two_d else 5.0 / 7.0) * G * math.sin(th)
     else:
         expected = G * (math.sin(th) - mu * math.cos(th))
     a, lift = incline_case(tmp_path, env, theta, mu, two_d)
     assert a == pytest.approx(expected, rel=0.01)
-    assert abs(lift) < 1e-3 * 0.005       # stays on the plane, no overlap
+    assert abs(lift) < 1e-3 * 0.005  # stays on the plane, no overlap
 
 
 @pytest.mark.fast
@@ -59,10 +67,18 @@ def test_drop_no_rebound_no_overlap(tmp_path, env):
     impact (no restitution, eq. 2.33) and no overlap beyond 1e-3 r."""
     r = 0.005
     case = str(tmp_path / "drop")
-    make_box_case(case, (0, 0, 0), (0.1, 0.1, 0.01), (4, 4, 1), (0, -G, 0),
-                  {"glass": {"density": 2500, "friction": 0.4}},
-                  grains=[(0.05, 0.055, 0, 2 * r)], end_time=0.25, dt=1e-3,
-                  write_interval=0.01)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.1, 0.1, 0.01),
+        (4, 4, 1),
+        (0, -G, 0),
+        {"glass": {"density": 2500, "friction": 0.4}},
+        grains=[(0.05, 0.055, 0, 2 * r)],
+        end_time=0.25,
+        dt=1e-3,
+        write_interval=0.01,
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run("grainFoam", case, env)
@@ -79,9 +95,11 @@ def test_drop_no_rebound_no_overlap(tmp_path, env):
 
 
 def _deposit_dict(lo, hi, n, dmin=2e-3, lam=1.2):
-    return (f"material glass;\nmethod box;\nbox {{ min ({lo[0]} {lo[1]} {lo[2]}); max ({hi[0]} {hi[1]} {hi[2]}); }}\n"
-            f"number {n};\ndMin {dmin};\nsizeRatio {lam};\nseed 3;\n"
-            "settle { maxTime 2; deltaT 5e-4; speedTolerance 2e-3; }\n")
+    return (
+        f"material glass;\nmethod box;\nbox {{ min ({lo[0]} {lo[1]} {lo[2]}); max ({hi[0]} {hi[1]} {hi[2]}); }}\n"
+        f"number {n};\ndMin {dmin};\nsizeRatio {lam};\nseed 3;\n"
+        "settle { maxTime 2; deltaT 5e-4; speedTolerance 2e-3; }\n"
+    )
 
 
 @pytest.mark.slow
@@ -94,10 +112,20 @@ def test_dense_pile_stays_at_rest(tmp_path, env, two_d):
     case = str(tmp_path / ("pile2d" if two_d else "pile3d"))
     hi = (0.04, 0.06, 0.004 if two_d else 0.02)
     n = 300 if two_d else 250
-    make_box_case(case, (0, 0, 0), hi, (4, 6, 2), (0, -G, 0),
-                  {"glass": {"density": 2500, "friction": 0.4}}, grains=[],
-                  end_time=0.4, dt=5e-4, write_interval=0.2, two_d=two_d,
-                  deposit=_deposit_dict((0, 0, 0), hi, n))
+    make_box_case(
+        case,
+        (0, 0, 0),
+        hi,
+        (4, 6, 2),
+        (0, -G, 0),
+        {"glass": {"density": 2500, "friction": 0.4}},
+        grains=[],
+        end_time=0.4,
+        dt=5e-4,
+        write_interval=0.2,
+        two_d=two_d,
+        deposit=_deposit_dict((0, 0, 0), hi, n),
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     p = run("grainFoam", case, env)
@@ -106,8 +134,11 @@ def test_dense_pile_stays_at_rest(tmp_path, env, two_d):
     g1 = nscdpost.read_grains(case, times[-1][1])
     drift = np.max(np.linalg.norm(g1["x"] - g0["x"], axis=1))
     assert drift < 0.01 * 2e-3, f"creep {drift} m"
-    overlaps = [float(l.split("max overlap/d_min")[1]) for l in p.stdout.splitlines()
-                if "max overlap/d_min" in l]
+    overlaps = [
+        float(l.split("max overlap/d_min")[1])
+        for l in p.stdout.splitlines()
+        if "max overlap/d_min" in l
+    ]
     assert overlaps and max(overlaps) < 1e-3
 
 
@@ -117,18 +148,28 @@ def test_restart_is_bit_identical(tmp_path, env):
     written state + 0.05 s, to the last digit written (17 significant digits)."""
     case = str(tmp_path / "full")
     hi = (0.08, 0.06, 0.004)
-    make_box_case(case, (0, 0, 0), hi, (8, 6, 1), (0, -G, 0),
-                  {"glass": {"density": 2500, "friction": 0.4}}, grains=[],
-                  end_time=0.1, dt=5e-4, write_interval=0.05,
-                  deposit=_deposit_dict((0, 0, 0), (0.02, 0.06, 0.004), 150)
-                  .replace("settle {", "settle { temporaryWalls ( { point (0.02 0 0); normal (-1 0 0); } );"))
+    make_box_case(
+        case,
+        (0, 0, 0),
+        hi,
+        (8, 6, 1),
+        (0, -G, 0),
+        {"glass": {"density": 2500, "friction": 0.4}},
+        grains=[],
+        end_time=0.1,
+        dt=5e-4,
+        write_interval=0.05,
+        deposit=_deposit_dict((0, 0, 0), (0.02, 0.06, 0.004), 150).replace(
+            "settle {", "settle { temporaryWalls ( { point (0.02 0 0); normal (-1 0 0); } );"
+        ),
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run("grainFoam", case, env)
     restart = str(tmp_path / "restart")
     shutil.copytree(case, restart)
     shutil.rmtree(os.path.join(restart, "0.1"))
-    run("grainFoam", restart, env)       # startFrom latestTime = 0.05
+    run("grainFoam", restart, env)  # startFrom latestTime = 0.05
     a = open(os.path.join(case, "0.1", "lagrangian", "grains", "positions")).read()
     b = open(os.path.join(restart, "0.1", "lagrangian", "grains", "positions")).read()
     ga = nscdpost.read_grains(case, "0.1")

@@ -24,21 +24,21 @@ Steady state: the ladder network  H_f (T_hot - T_1) + sum_j H_kj (T_j - T_k)
     within 1 %, equal and opposite to the rate through the right wall (1 %),
   - total wall heat of the step ~ 0 (steady) and the mean grain T in the log.
 """
+
 import math
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import make_box_case, run
 
 pytestmark = pytest.mark.fast
 
 N = 5
 D = 1e-3
-RHO, E, NU, K, C = 2500.0, 6e10, 0.22, 1.4, 0.01   # small c: fast transient
+RHO, E, NU, K, C = 2500.0, 6e10, 0.22, 1.4, 0.01  # small c: fast transient
 GX, GY = 3.0, 9.81
 T_HOT, T_COLD, T0 = 400.0, 300.0, 300.0
 DT = 1e-3
@@ -46,7 +46,7 @@ DT = 1e-3
 
 def conductance(rn, dt, wall):
     dstar = D if wall else D / 2
-    estar = E / (1 - NU ** 2) if wall else E / (2 * (1 - NU ** 2))
+    estar = E / (1 - NU**2) if wall else E / (2 * (1 - NU**2))
     return 4 * K * (rn * dstar / (2 * math.pi * estar * dt)) ** 0.25
 
 
@@ -55,7 +55,7 @@ def steady_profile(bath=None):
     through the floor and the right wall [W/m]; bath = (G, T_w): every grain
     also exchanges G (T_w - T_k) with the front and rear walls
     (grainProperties frontRearWalls, G = m c/tau)."""
-    m = RHO * math.pi * D ** 2 / 4
+    m = RHO * math.pi * D**2 / 4
     Hf = conductance(N * m * GY * DT, DT, True)
     Hw = conductance(m * GX * DT, DT, True)
     Hg = [conductance((N - k) * m * GY * DT, DT, False) for k in range(1, N)]
@@ -87,24 +87,40 @@ def column_case(tmp_path, env, name, deposit_material=None, extra_props=""):
     r = D / 2
     case = str(tmp_path / name)
     grains = [(W - r, r + k * D, 0.0, D) for k in range(N)]
-    make_box_case(case, (0, 0, 0), (W, Hbox, D), (4, N + 2, 1), (GX, -GY, 0),
-                  {"glass": {"density": RHO, "friction": 0.0}}, grains=grains,
-                  end_time=0.6, dt=DT, write_interval=0.6, two_d=True,
-                  contact_tolerance=1e-10)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (W, Hbox, D),
+        (4, N + 2, 1),
+        (GX, -GY, 0),
+        {"glass": {"density": RHO, "friction": 0.0}},
+        grains=grains,
+        end_time=0.6,
+        dt=DT,
+        write_interval=0.6,
+        two_d=True,
+        contact_tolerance=1e-10,
+    )
     bm = os.path.join(case, "system", "blockMeshDict")
-    txt = open(bm).read().replace(
-        "walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1) (3 7 6 2)); }",
-        "bottom { type wall; faces ((1 5 4 0)); }\n"
-        "right { type wall; faces ((2 6 5 1)); }\n"
-        "walls { type wall; faces ((0 4 7 3) (3 7 6 2)); }")
+    txt = (
+        open(bm)
+        .read()
+        .replace(
+            "walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1) (3 7 6 2)); }",
+            "bottom { type wall; faces ((1 5 4 0)); }\n"
+            "right { type wall; faces ((2 6 5 1)); }\n"
+            "walls { type wall; faces ((0 4 7 3) (3 7 6 2)); }",
+        )
+    )
     open(bm, "w").write(txt)
     gp = os.path.join(case, "constant", "grainProperties")
     base = open(gp).read()
-    own = (f"density {RHO}; friction 0.0; youngModulus {E}; poissonRatio {NU};"
-           f" conductivity {K}; heatCapacity {C}; }}")
+    own = (
+        f"density {RHO}; friction 0.0; youngModulus {E}; poissonRatio {NU};"
+        f" conductivity {K}; heatCapacity {C}; }}"
+    )
     # a regex entry for the floor, a plain name for the right wall
-    extra = (f"initialTemperature {T0};\n"
-             f"wallTemperatures {{ \"bot.*\" {T_HOT}; right {T_COLD}; }}\n")
+    extra = f'initialTemperature {T0};\nwallTemperatures {{ "bot.*" {T_HOT}; right {T_COLD}; }}\n'
     mat = f"density {RHO}; friction 0.0; }}"
     assert mat in base
     open(gp, "w").write(base.replace(mat, deposit_material or own) + extra)
@@ -117,8 +133,12 @@ def column_case(tmp_path, env, name, deposit_material=None, extra_props=""):
 def check_column(case, log):
     assert "wall patch bottom at 400 K (1 walls)" in log
     assert "wall patch right at 300 K (1 walls)" in log
-    heat = re.findall(r"^heat: grain mean T = (\S+) K, wall heat = (\S+) J, "
-                      r"bottom (\S+) W, right (\S+) W", log, flags=re.M)
+    heat = re.findall(
+        r"^heat: grain mean T = (\S+) K, wall heat = (\S+) J, "
+        r"bottom (\S+) W, right (\S+) W",
+        log,
+        flags=re.M,
+    )
     assert len(heat) == 600
     Tm, Qstep, qb, qr = (float(v) for v in heat[-1])
 
@@ -126,8 +146,9 @@ def check_column(case, log):
     assert q_hot > 0 and abs(q_hot + q_cold) < 1e-9 * q_hot
     g = nscdpost.read_grains(case, "0.6")
     order = np.argsort([x[1] for x in g["x"]])
-    T_sim = nscdpost.read_scalar_field(
-        os.path.join(case, "0.6", "lagrangian", "grains", "T"))[order]
+    T_sim = nscdpost.read_scalar_field(os.path.join(case, "0.6", "lagrangian", "grains", "T"))[
+        order
+    ]
     assert np.abs(T_sim - T_exp).max() < 1e-3 * (T_HOT - T_COLD)
     assert abs(qb - q_hot) < 0.01 * q_hot
     assert abs(qr - q_cold) < 0.01 * q_hot
@@ -153,13 +174,16 @@ def test_state_takes_edited_materials(tmp_path, env):
     conductances and the steady heat rate are those of density 2500 (the
     rate scales as rho^(1/4): density 1000 would be 20 % low, the state's
     materials unchanged would give no conduction at all)."""
-    case, dep = column_case(tmp_path, env, "edited",
-                            deposit_material="density 1000; friction 0.0; conductivity 1.4; }")
+    case, dep = column_case(
+        tmp_path, env, "edited", deposit_material="density 1000; friction 0.0; conductivity 1.4; }"
+    )
     assert "no youngModulus: contact conduction" in dep
     log = run("grainFoam", case, env).stdout
-    assert ("grainCloud: material glass (id 0) of constant/grainProperties replaces the one"
-            " in 0/grainState.h5: density 1000 -> 2500, youngModulus 0 -> 60000000000, poissonRatio"
-            " 0 -> 0.22, heatCapacity 0 -> 0.01 (grain masses recomputed)") in log, log[-3000:]
+    assert (
+        "grainCloud: material glass (id 0) of constant/grainProperties replaces the one"
+        " in 0/grainState.h5: density 1000 -> 2500, youngModulus 0 -> 60000000000, poissonRatio"
+        " 0 -> 0.22, heatCapacity 0 -> 0.01 (grain masses recomputed)"
+    ) in log, log[-3000:]
     check_column(case, log)
     # the state written by the run holds the new materials: a restart is exact
     assert "replaces" not in run("grainFoam", case, env).stdout
@@ -193,29 +217,36 @@ def test_column_front_rear_walls(tmp_path, env):
       StepReport::exchangeHeat) equals dt sum G (T_w - T_k) within 1 % of
       the floor's rate, and floor + right wall + bath ~ 0 (steady);
     - a relaxationTime <= 0 is a FatalIOError naming the keyword."""
-    m = RHO * math.pi * D ** 2 / 4
+    m = RHO * math.pi * D**2 / 4
     G = conductance(N * m * GY * DT, DT, True)
     tau, Tw = m * C / G, 350.0
     props = f"frontRearWalls {{ temperature {Tw}; relaxationTime {tau:.17g}; }}\n"
     case, _ = column_case(tmp_path, env, "bath", extra_props=props)
     log = run("grainFoam", case, env).stdout
     assert f"front and rear walls (Hele-Shaw cell) at {Tw:g} K" in log
-    heat = re.findall(r"^heat: grain mean T = \S+ K, wall heat = (\S+) J, front/rear walls = "
-                      r"(\S+) J, bottom (\S+) W, right (\S+) W", log, flags=re.M)
+    heat = re.findall(
+        r"^heat: grain mean T = \S+ K, wall heat = (\S+) J, front/rear walls = "
+        r"(\S+) J, bottom (\S+) W, right (\S+) W",
+        log,
+        flags=re.M,
+    )
     assert len(heat) == 600
     Qwall, Qbath, qb, qr = (float(v) for v in heat[-1])
     T_exp, q_hot, q_cold = steady_profile((G, Tw))
     q_bath = G * (Tw - T_exp).sum()
     g = nscdpost.read_grains(case, "0.6")
     order = np.argsort([x[1] for x in g["x"]])
-    T_sim = nscdpost.read_scalar_field(
-        os.path.join(case, "0.6", "lagrangian", "grains", "T"))[order]
-    print(f"tau {tau:.3e} s; T sim {T_sim}, network {T_exp}; bath {Qbath / DT:.4e} W/m "
-          f"(network {q_bath:.4e}), floor {qb:.4e}, right {qr:.4e}")
+    T_sim = nscdpost.read_scalar_field(os.path.join(case, "0.6", "lagrangian", "grains", "T"))[
+        order
+    ]
+    print(
+        f"tau {tau:.3e} s; T sim {T_sim}, network {T_exp}; bath {Qbath / DT:.4e} W/m "
+        f"(network {q_bath:.4e}), floor {qb:.4e}, right {qr:.4e}"
+    )
     assert np.abs(T_sim - T_exp).max() < 1e-3 * (T_HOT - T_COLD)
     assert abs(Qbath / DT - q_bath) < 0.01 * q_hot
-    assert abs(q_hot + q_cold + q_bath) < 1e-9 * q_hot      # the network itself
-    assert abs(qb + qr + Qbath / DT) < 0.01 * q_hot          # the run: steady
+    assert abs(q_hot + q_cold + q_bath) < 1e-9 * q_hot  # the network itself
+    assert abs(qb + qr + Qbath / DT) < 0.01 * q_hot  # the run: steady
     # bad input
     gp = os.path.join(case, "constant", "grainProperties")
     txt = open(gp).read()

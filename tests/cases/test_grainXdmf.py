@@ -13,14 +13,14 @@ velocities, ids; the grain-grain rows of /contactBodies and the contact
 forces rn n / dt, rt / dt from /contactData and /time.  Case: the 2 x 3
 stack of discs of the fault tests on the floor of a 4 x 4 box,
 grainDeposit then grainFoam to 0.02 s (a few s)."""
+
 import os
 import shutil
 
 import h5py
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from faultcase import set_control, stack
 from foamcase import run
 
@@ -61,7 +61,7 @@ def _check_grains(g, h5):
         x, r, v = f["positions"][()], f["radii"][()], f["velocities"][()]
         w, ids = f["angularVelocities"][()], f["grainIds"][()]
     assert g.GetNumberOfPoints() == len(r) == 6
-    assert g.GetNumberOfCells() == len(r)          # one vertex per grain
+    assert g.GetNumberOfCells() == len(r)  # one vertex per grain
     np.testing.assert_array_equal(vtk_to_numpy(g.GetPoints().GetData()), x)
     pd = g.GetPointData()
     np.testing.assert_array_equal(_arr(pd, "radius"), r)
@@ -85,13 +85,13 @@ def _contacts_reference(h5):
     with h5py.File(h5, "r") as f:
         n = len(f["radii"])
         ij, cd, dt = f["contactBodies"][()], f["contactData"][()], f["time"][1]
-    gg = ij[:, 1] < n                                # grain-grain rows
+    gg = ij[:, 1] < n  # grain-grain rows
     return gg, ij[gg], cd[gg, 6:7] * cd[gg, 0:3] / dt, cd[gg, 3:6] / dt
 
 
 def _check_contacts(c, h5):
     gg, pairs, fn, ft = _contacts_reference(h5)
-    assert 0 < gg.sum() < len(gg)                    # the stack has both kinds
+    assert 0 < gg.sum() < len(gg)  # the stack has both kinds
     assert c.GetNumberOfCells() == gg.sum()
     cells = vtk_to_numpy(c.GetCells().GetConnectivityArray()).reshape(-1, 2)
     np.testing.assert_array_equal(cells, pairs)

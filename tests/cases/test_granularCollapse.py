@@ -19,15 +19,15 @@ References:
   land in their regimes, with Fr_f = v_f / sqrt(g h0) from the granularFront
   function object.
 """
+
 import json
 import math
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import make_box_case, run, tutorial_modules
 
 pytestmark = pytest.mark.slow
@@ -38,20 +38,35 @@ GATE = 0.05
 
 
 def gate_case(tmp_path, gates):
-    grains = [(0.0055 + 0.0097 * i + (0.0024 if j % 2 else 0), 0.0047 + 0.0095 * j, 0, D)
-              for j in range(6) for i in range(5 if j % 2 == 0 else 4)]
+    grains = [
+        (0.0055 + 0.0097 * i + (0.0024 if j % 2 else 0), 0.0047 + 0.0095 * j, 0, D)
+        for j in range(6)
+        for i in range(5 if j % 2 == 0 else 4)
+    ]
     case = str(tmp_path / "gate")
-    make_box_case(case, (0, 0, 0), (0.2, 0.1, 0.01), (8, 4, 1), (0, -G, 0),
-                  {"glass": {"density": 2500, "friction": 0.5}}, grains=grains,
-                  end_time=0.4, dt=1e-3, write_interval=0.05,
-                  extra_props="gates {\n" + gates + "\n}\n")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.2, 0.1, 0.01),
+        (8, 4, 1),
+        (0, -G, 0),
+        {"glass": {"density": 2500, "friction": 0.5}},
+        grains=grains,
+        end_time=0.4,
+        dt=1e-3,
+        write_interval=0.05,
+        extra_props="gates {\n" + gates + "\n}\n",
+    )
     return case
 
 
 def test_gate_holds_then_lifts_exactly(tmp_path, env):
-    t0, t1, v = 0.2005, 0.2705, 1.0      # start not on a step (dt = 1e-3)
-    case = gate_case(tmp_path, f"gate {{ start ({GATE} 0 0); end ({GATE} 0.1 0); "
-                               f"velocity (0 {v} 0); startTime {t0}; endTime {t1}; }}")
+    t0, t1, v = 0.2005, 0.2705, 1.0  # start not on a step (dt = 1e-3)
+    case = gate_case(
+        tmp_path,
+        f"gate {{ start ({GATE} 0 0); end ({GATE} 0.1 0); "
+        f"velocity (0 {v} 0); startTime {t0}; endTime {t1}; }}",
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     p = run("grainFoam", case, env)
@@ -68,8 +83,12 @@ def test_gate_holds_then_lifts_exactly(tmp_path, env):
     # kinematics: displacement after every step
     # (a solver warning, e.g. a non-converged contact step, may come
     # between the step's time line and its gate line)
-    steps = re.findall(r"^Time = (\S+)\n(?:(?!Time = ).*\n)*?gate gate displacement "
-                       r"\((\S+) (\S+) (\S+)\)", p.stdout, re.M)
+    steps = re.findall(
+        r"^Time = (\S+)\n(?:(?!Time = ).*\n)*?gate gate displacement "
+        r"\((\S+) (\S+) (\S+)\)",
+        p.stdout,
+        re.M,
+    )
     assert len(steps) == 400
     for t, dx, dy, dz in steps:
         t = float(t)
@@ -83,8 +102,11 @@ def test_gate_holds_then_lifts_exactly(tmp_path, env):
 def test_gate_state_restart(tmp_path, env):
     """The gate's displacement is part of the state: a restart from a time
     after the lift continues from the moved gate (no second gate added)."""
-    case = gate_case(tmp_path, f"gate {{ start ({GATE} 0 0); end ({GATE} 0.1 0); "
-                               "velocity (0 1 0); startTime 0.05; endTime 0.1; }")
+    case = gate_case(
+        tmp_path,
+        f"gate {{ start ({GATE} 0 0); end ({GATE} 0.1 0); "
+        "velocity (0 1 0); startTime 0.05; endTime 0.1; }",
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     cd = os.path.join(case, "system", "controlDict")
@@ -97,11 +119,14 @@ def test_gate_state_restart(tmp_path, env):
     assert float(last[1]) == pytest.approx(0.05, abs=1e-12)
 
 
-@pytest.mark.parametrize("gates,key", [
-    ("gate { start (0.05 0 0); end (0.05 0.1 0); velocity (0 1 0); startTme 0; }", "startTme"),
-    ("gate { start (0.05 0 0); end (0.05 0 0); velocity (0 1 0); }", "coincide"),
-    ("gate { start (0.05 0 0); end (0.05 0.1 0); velocity (0 1 1); }", "z component"),
-])
+@pytest.mark.parametrize(
+    "gates,key",
+    [
+        ("gate { start (0.05 0 0); end (0.05 0.1 0); velocity (0 1 0); startTme 0; }", "startTme"),
+        ("gate { start (0.05 0 0); end (0.05 0 0); velocity (0 1 0); }", "coincide"),
+        ("gate { start (0.05 0 0); end (0.05 0.1 0); velocity (0 1 1); }", "z component"),
+    ],
+)
 def test_gate_keyword_checks(tmp_path, env, gates, key):
     case = gate_case(tmp_path, gates)
     run("blockMesh", case, env)
@@ -161,18 +186,27 @@ def test_gate_3d_rectangle(tmp_path, env):
     beyond 1e-6 d) until the lift, then rolls past (x beyond the gate)."""
     case = str(tmp_path / "gate3d")
     r = 0.005
-    make_box_case(case, (0, 0, 0), (0.1, 0.05, 0.04), (4, 2, 2), (2.0, -G, 0),
-                  {"glass": {"density": 2500, "friction": 0.5}},
-                  grains=[(0.04, r, 0.02, 2 * r)], end_time=0.3, dt=1e-3,
-                  write_interval=0.1, two_d=False,
-                  extra_props="gates { gate { start (0.05 0 0); end (0.05 0.05 0);"
-                              " velocity (0 1 0); startTime 0.1; endTime 0.2; } }\n")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.1, 0.05, 0.04),
+        (4, 2, 2),
+        (2.0, -G, 0),
+        {"glass": {"density": 2500, "friction": 0.5}},
+        grains=[(0.04, r, 0.02, 2 * r)],
+        end_time=0.3,
+        dt=1e-3,
+        write_interval=0.1,
+        two_d=False,
+        extra_props="gates { gate { start (0.05 0 0); end (0.05 0.05 0);"
+        " velocity (0 1 0); startTime 0.1; endTime 0.2; } }\n",
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     p = run("grainFoam", case, env)
     g = nscdpost.read_grains(case, "0.1")
     assert g["x"][0, 0] + r < 0.05 + 1e-6 * 2 * r
-    assert g["x"][0, 0] + r > 0.05 - 1e-6            # it reached the gate
+    assert g["x"][0, 0] + r > 0.05 - 1e-6  # it reached the gate
     last = re.findall(r"gate gate displacement \((\S+) (\S+) (\S+)\)", p.stdout)[-1]
     assert float(last[1]) == pytest.approx(0.1, abs=1e-12)
     g = nscdpost.read_grains(case, "0.3")

@@ -12,13 +12,13 @@ fail, naming the keyword and the fix, when
     extractor (it must never be skipped).
 Pure Python, no OpenFOAM run (fast tier).
 """
+
 import os
 import re
 import subprocess
 
-import pytest
-
 import keywordReference as kr
+import pytest
 
 pytestmark = pytest.mark.fast
 
@@ -44,12 +44,21 @@ def _git_cxx_files():
     """C++ files of src/ and applications/ as git sees them (tracked and
     untracked, not ignored): an enumeration independent of the extractor's."""
     out = subprocess.run(
-        ["git", "ls-files", "--cached", "--others", "--exclude-standard", "--",
-         *kr.SOURCE_DIRS],
-        cwd=ROOT, check=True, capture_output=True, text=True).stdout.split("\n")
-    return sorted({p for p in out if p.endswith(kr.CXX_EXTENSIONS)
-                   and os.path.isfile(os.path.join(ROOT, p))
-                   and not os.path.islink(os.path.join(ROOT, p))})
+        ["git", "ls-files", "--cached", "--others", "--exclude-standard", "--", *kr.SOURCE_DIRS],
+        cwd=ROOT,
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.split("\n")
+    return sorted(
+        {
+            p
+            for p in out
+            if p.endswith(kr.CXX_EXTENSIONS)
+            and os.path.isfile(os.path.join(ROOT, p))
+            and not os.path.islink(os.path.join(ROOT, p))
+        }
+    )
 
 
 def test_every_checkKeywords_occurrence_is_read(scanned):
@@ -70,16 +79,22 @@ def test_every_checkKeywords_occurrence_is_read(scanned):
     assert found == independent, (
         "the extractor and a plain search disagree on the checkKeywords occurrences"
         f" per file:\n  extractor {found}\n  search    {independent}\n"
-        "(a C++ file in a directory that keywordReference.SKIP_DIRS skips?)")
+        "(a C++ file in a directory that keywordReference.SKIP_DIRS skips?)"
+    )
     assert sum(independent.values()) >= 43, "fewer checkKeywords than in 2026: sources moved?"
-    wrappers = {"src/grainCloud/grainDictionaryTools.H", "src/grainCloud/grainDictionaryTools.C",
-                "src/grainCloud/foamTools.H", "src/freeSurfaceFunctionObjects/freeSurfaceTools.H",
-                "src/freeSurfaceFunctionObjects/freeSurfaceTools.C"}
+    wrappers = {
+        "src/grainCloud/grainDictionaryTools.H",
+        "src/grainCloud/grainDictionaryTools.C",
+        "src/grainCloud/foamTools.H",
+        "src/freeSurfaceFunctionObjects/freeSurfaceTools.H",
+        "src/freeSurfaceFunctionObjects/freeSurfaceTools.C",
+    }
     for o in occurrences:
         if o.kind in ("declaration", "definition", "using", "forward"):
             assert o.path in wrappers, (
                 f"{o.path}:{o.line}: a checkKeywords {o.kind} outside the keyword-check"
-                " helpers: teach src/python/keywordReference.py what it is")
+                " helpers: teach src/python/keywordReference.py what it is"
+            )
     assert len(sites) == sum(o.kind == "site" for o in occurrences)
     assert len(sites) >= 33
 
@@ -110,10 +125,12 @@ def test_every_checked_keyword_is_on_the_page(scanned, dicts):
             continue
         for key in d["sites"]:
             s = by_key.get(key)
-            for k in (s.keywords if s else []):
+            for k in s.keywords if s else []:
                 if k not in rows:
-                    missing.append(f"{s.path}:{s.line}: checked keyword '{k}' is not"
-                                   f" on {kr.PAGE} under '{title}'")
+                    missing.append(
+                        f"{s.path}:{s.line}: checked keyword '{k}' is not"
+                        f" on {kr.PAGE} under '{title}'"
+                    )
     assert not missing, "\n".join(missing) + f"\n{FIX}"
 
 
@@ -142,22 +159,23 @@ def test_run_time_tables_are_documented_by_hand(scanned, dicts):
         owner = [d for d in dicts if key in d["sites"]]
         assert owner and expr in owner[0]["dynamic"], (
             f"{key}: the run-time keyword `{expr}` has no hand entry (dynamic = ...)"
-            f" in {kr.DESCRIPTIONS}; {FIX}")
+            f" in {kr.DESCRIPTIONS}; {FIX}"
+        )
         assert owner[0]["dynamic"][expr] in owner[0]["keywords"]
 
 
 def test_drift_is_caught(scanned, dicts):
     """The comparison itself: a keyword added to a C++ table, a keyword removed
     from one and a new call site are each reported with the fix."""
-    sites = [kr.Site(s.key, s.path, s.line, list(s.keywords), list(s.dynamic))
-             for s in scanned[0]]
+    sites = [kr.Site(s.key, s.path, s.line, list(s.keywords), list(s.dynamic)) for s in scanned[0]]
     cs = next(s for s in sites if s.key.endswith(":applySolverSettings:cs"))
     cs.keywords.append("brandNewKeyword")
     removed = cs.keywords.pop(0)
     sites.append(kr.Site("src/x/y.C:read:dict", "src/x/y.C", 1, ["alpha"]))
     problems = kr.check(sites, dicts, ROOT)
-    assert any("'brandNewKeyword'" in p and "has no entry" in p and kr.GENERATOR in p
-               for p in problems)
+    assert any(
+        "'brandNewKeyword'" in p and "has no entry" in p and kr.GENERATOR in p for p in problems
+    )
     assert any(f"documents '{removed}'" in p and "stale" in p for p in problems)
     assert any("src/x/y.C:read:dict" in p and "in no [[dictionary]]" in p for p in problems)
 
@@ -167,7 +185,7 @@ def test_extractor_reads_tables_and_refuses_what_it_cannot(tmp_path):
     with appends, typeName Coeffs; an unreadable table is an error, not a skip."""
     src = tmp_path / "src" / "m"
     src.mkdir(parents=True)
-    (src / "a.C").write_text(r'''
+    (src / "a.C").write_text(r"""
 namespace Foam { defineTypeNameAndDebug(myOption, 0); }
 // grainTools::checkKeywords(dict, {"inComment"});
 const Foam::wordList Foam::myOption::keywords
@@ -187,7 +205,7 @@ void Foam::myOption::read(const dictionary& dict)
     );
     grainTools::checkKeywords(e, wordList());
 }
-''')
+""")
     sites, occ = kr.scan_sources(str(tmp_path))
     got = {s.key: (s.keywords, s.dynamic) for s in sites}
     assert got == {
@@ -196,12 +214,14 @@ void Foam::myOption::read(const dictionary& dict)
         "src/m/a.C:read:coeffs_": (["x", "myOptionCoeffs"], []),
         "src/m/a.C:read:e": ([], []),
     }
-    assert sorted(o.kind for o in occ) == ["comment"] + ["site"]*4
+    assert sorted(o.kind for o in occ) == ["comment"] + ["site"] * 4
     (src / "b.C").write_text(
-        "void f(const dictionary& d)\n{\n    grainTools::checkKeywords(d, makeTable());\n}\n")
+        "void f(const dictionary& d)\n{\n    grainTools::checkKeywords(d, makeTable());\n}\n"
+    )
     with pytest.raises(kr.ExtractionError, match="b.C:3"):
         kr.scan_sources(str(tmp_path))
     (src / "b.C").write_text(
-        "void f(const dictionary& d)\n{\n    grainTools::checkKeywords(d, table);\n}\n")
+        "void f(const dictionary& d)\n{\n    grainTools::checkKeywords(d, table);\n}\n"
+    )
     with pytest.raises(kr.ExtractionError, match="'table' is not a wordList"):
         kr.scan_sources(str(tmp_path))

@@ -16,6 +16,7 @@ Consistency check of the source text, not a physics test: it reads the
   one: grainCloud nothing of vansCoupling/dropletCoupling, vansCoupling
   nothing of dropletCoupling.
 """
+
 import os
 import re
 
@@ -26,27 +27,45 @@ pytestmark = pytest.mark.fast
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 
 LOOKUP = re.compile(
-    r"\b(lookupObject|lookupObjectRef|findObject|foundObject|getObjectPtr)\s*<[^;{]*?>\s*\(([^)]*)\)")
+    r"\b(lookupObject|lookupObjectRef|findObject|foundObject|getObjectPtr)\s*<[^;{]*?>\s*\(([^)]*)\)"
+)
 
 # (file, argument): why it stays
 ALLOWED = {
-    ("src/grainCloud/grainCloud.C", "registryName"):
-        "grainCloud registers its own reference once",
-    ("src/freeSurfaceFunctionObjects/granularFront/granularFront.C", "grainCloud::registryName"):
-        "a function object gets only the registry (OpenFOAM idiom)",
-    ("src/freeSurfaceFunctionObjects/freeSurfaceTools.C", "name"):
-        "function objects read the field named in their dictionary",
-    ("src/vansCoupling/derivedFvPatchFields/convectiveHeatFlux/"
-     "convectiveHeatFluxFvPatchScalarField.C", "epsName_"):
-        "boundary condition keyword voidFraction (OpenFOAM idiom)",
+    ("src/grainCloud/grainCloud.C", "registryName"): "grainCloud registers its own reference once",
+    (
+        "src/freeSurfaceFunctionObjects/granularFront/granularFront.C",
+        "grainCloud::registryName",
+    ): "a function object gets only the registry (OpenFOAM idiom)",
+    (
+        "src/freeSurfaceFunctionObjects/freeSurfaceTools.C",
+        "name",
+    ): "function objects read the field named in their dictionary",
+    (
+        "src/vansCoupling/derivedFvPatchFields/convectiveHeatFlux/"
+        "convectiveHeatFluxFvPatchScalarField.C",
+        "epsName_",
+    ): "boundary condition keyword voidFraction (OpenFOAM idiom)",
 }
 
 # names owned by each library that a lower library must not use
 HIGHER_NAMES = {
-    "src/grainCloud": ["vansCloud", "overlapMeshAdapter", "grainCouplingSource",
-                       "vapourDroplet", "dropletGrain", "dropletVolumeSource"],
-    "src/vansCoupling": ["vapourDroplet", "dropletGrain", "dropletVolumeSource",
-                         "dropletHeatSink", "granularFront", "waveGauges"],
+    "src/grainCloud": [
+        "vansCloud",
+        "overlapMeshAdapter",
+        "grainCouplingSource",
+        "vapourDroplet",
+        "dropletGrain",
+        "dropletVolumeSource",
+    ],
+    "src/vansCoupling": [
+        "vapourDroplet",
+        "dropletGrain",
+        "dropletVolumeSource",
+        "dropletHeatSink",
+        "granularFront",
+        "waveGauges",
+    ],
 }
 
 
@@ -68,14 +87,20 @@ def strip_comments(text):
 
 def test_registry_lookups_are_the_listed_idioms():
     found = set()
-    for rel, text in sources("src/grainCloud", "src/vansCoupling", "src/dropletCoupling",
-                             "src/freeSurfaceFunctionObjects", "applications"):
+    for rel, text in sources(
+        "src/grainCloud",
+        "src/vansCoupling",
+        "src/dropletCoupling",
+        "src/freeSurfaceFunctionObjects",
+        "applications",
+    ):
         for m in LOOKUP.finditer(strip_comments(text)):
             found.add((rel, m.group(2).strip()))
     unexpected = sorted(found - set(ALLOWED))
     assert not unexpected, (
         "objectRegistry lookups by name outside the listed idioms (use a typed "
-        f"interface, e.g. grainCouplingSource, or list them with the reason): {unexpected}")
+        f"interface, e.g. grainCouplingSource, or list them with the reason): {unexpected}"
+    )
 
 
 def test_lower_libraries_do_not_name_higher_ones():

@@ -28,6 +28,7 @@ Checks (each against a conservation law or a stated reference):
   (the slide's whole potential-energy drop to the bay bottom per unit weight
   of water: 484 m here; measured 255 m).
 """
+
 import json
 import math
 import os
@@ -35,7 +36,6 @@ import subprocess
 
 import numpy as np
 import pytest
-
 from foamcase import copy_tutorial, tutorial_modules
 
 pytestmark = pytest.mark.slow
@@ -51,7 +51,9 @@ def reduced(tmp_path_factory, env):
     changeDictionary, checkMesh, setAlphaField, grainDeposit, vansInterFoam,
     foamToVTK, postProcess.py, snapshot PNGs) on a copy; returns (case,
     results dict)."""
-    work = copy_tutorial("vansInterFoam", "lituyaBay", str(tmp_path_factory.mktemp("lituya") / "lituyaBay"))
+    work = copy_tutorial(
+        "vansInterFoam", "lituyaBay", str(tmp_path_factory.mktemp("lituya") / "lituyaBay")
+    )
     p = subprocess.run(["./Allrun", "reduced"], cwd=work, env=env, capture_output=True, text=True)
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
     case = os.path.join(work, "reduced")
@@ -81,7 +83,7 @@ def test_bore_front_and_gauge(reduced):
     t, eta = np.array(res["gauge_time"]), np.array(res["gauge_elevation"])
     a = eta.max()
     assert a > 0.1 * H, a
-    assert abs(eta[0]) < 0.01 * H, eta[0]      # still water at the gauge at t = 0
+    assert abs(eta[0]) < 0.01 * H, eta[0]  # still water at the gauge at t = 0
     t_arr = t[np.argmax(eta > 0.1 * H)]
     speed = res["gauge_x"] / (t_arr - res["front_impact_time"])
     h2 = H + a
@@ -96,4 +98,6 @@ def test_energy_bounds_and_runup(reduced):
     assert np.all(rise <= 1.02 * bound + 1e-6), np.max(rise - bound)
     assert rise.max() > 1.0, "the slide must lift the water"
     assert 0 < res["max_runup"] < res["runup_energy_bound"], (
-        res["max_runup"], res["runup_energy_bound"])
+        res["max_runup"],
+        res["runup_energy_bound"],
+    )

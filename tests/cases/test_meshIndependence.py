@@ -31,10 +31,10 @@ unresolved meshes cannot show; the spread is that physics, not noise.
 A closed-form check of the same run: the cloud cannot fall faster than a lone
 grain in free fall with buoyancy, (1 - rho/rho_p) g t^2/2.
 """
-import numpy as np
-import pytest
 
 import nscdpost
+import numpy as np
+import pytest
 from foamcase import add_fluid, make_box_case, run
 
 pytestmark = pytest.mark.slow
@@ -48,12 +48,25 @@ T_END = 0.25
 def cloud_case(case, env, hd):
     h = hd * D
     nx, ny = round(LX / h), round(LY / h)
-    grains = [(0.006 + (2 * i + 1) * D, LY - 0.006 - (2 * j + 1) * D, 0, D)
-              for j in range(4) for i in range(30)]
-    make_box_case(case, (0, 0, 0), (LX, LY, h), (nx, ny, 1), (0, -G, 0),
-                  {"grains": {"density": RHOP, "friction": 0.3}}, grains=grains,
-                  end_time=T_END, dt=1e-3, write_interval=T_END,
-                  contact_tolerance=1e-6, max_iterations=1000)
+    grains = [
+        (0.006 + (2 * i + 1) * D, LY - 0.006 - (2 * j + 1) * D, 0, D)
+        for j in range(4)
+        for i in range(30)
+    ]
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (LX, LY, h),
+        (nx, ny, 1),
+        (0, -G, 0),
+        {"grains": {"density": RHOP, "friction": 0.3}},
+        grains=grains,
+        end_time=T_END,
+        dt=1e-3,
+        write_interval=T_END,
+        contact_tolerance=1e-6,
+        max_iterations=1000,
+    )
     add_fluid(case, 1000.0, 1e-6, max_dt=2e-3)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
@@ -70,11 +83,13 @@ def test_sedimentation_front_mesh_independent(tmp_path, env):
     res = {hd: cloud_case(str(tmp_path / f"hd{hd}"), env, hd) for hd in (0.5, 1, 2, 4)}
     com_ref = np.mean([c for c, _ in res.values()])
     edge_ref = np.mean([e for _, e in res.values()])
-    msg = "; ".join(f"h/d {hd}: centre-of-mass drop {c * 1e3:.2f} mm, leading edge {e * 1e3:.2f} mm"
-                    for hd, (c, e) in res.items())
+    msg = "; ".join(
+        f"h/d {hd}: centre-of-mass drop {c * 1e3:.2f} mm, leading edge {e * 1e3:.2f} mm"
+        for hd, (c, e) in res.items()
+    )
     print(msg)
     free_fall = 0.5 * (1 - 1000.0 / RHOP) * G * T_END**2
-    for hd, (com, edge) in res.items():
+    for _hd, (com, edge) in res.items():
         assert 0 < com < free_fall, msg
         assert com == pytest.approx(com_ref, rel=0.15), msg
         assert edge == pytest.approx(edge_ref, rel=0.30), msg

@@ -18,22 +18,18 @@ nusseltTable utility, against closed forms written here independently:
 The thesis gives no number read off Figure 4.3 (only the curve at eps = 0.45
 against the packed-bed data of its ref. [115]), so there is no figure check.
 """
+
 import json
 import os
 
-import pytest
-
 import correlations
-
+import pytest
 from foamcase import fails_with, run
 
 pytestmark = pytest.mark.fast
 
 EPS, PR = 0.45, 0.71
 RES = [1.0, 10.0, 100.0, 1000.0]
-
-
-
 
 
 def nu_difelice_colburn(eps, Re, Pr, **coeffs):
@@ -48,8 +44,11 @@ def nu_ranz_marshall(eps, Re, Pr):
     return correlations.nusselt_ranz_marshall(eps, eps * Re, Pr)
 
 
-REFERENCE = {"DiFeliceColburn": nu_difelice_colburn, "Gunn": nu_gunn,
-             "RanzMarshall": nu_ranz_marshall}
+REFERENCE = {
+    "DiFeliceColburn": nu_difelice_colburn,
+    "Gunn": nu_gunn,
+    "RanzMarshall": nu_ranz_marshall,
+}
 
 
 def make_case(tmp_path, name, body):
@@ -57,16 +56,30 @@ def make_case(tmp_path, name, body):
     case = str(tmp_path / name)
     os.makedirs(os.path.join(case, "constant"))
     with open(os.path.join(case, "constant", "couplingProperties"), "w") as f:
-        f.write("FoamFile { version 2.0; format ascii; class dictionary;"
-                " object couplingProperties; }\n" + body)
+        f.write(
+            "FoamFile { version 2.0; format ascii; class dictionary;"
+            " object couplingProperties; }\n" + body
+        )
     return case
 
 
 def table(case, env, eps, Pr, Re, extra=()):
     """Run nusseltTable -json; returns (Re list, Nu list)."""
-    p = run("nusseltTable", case, env,
-            ["-eps", repr(eps), "-Pr", repr(Pr),
-             "-Re", "(" + " ".join(repr(r) for r in Re) + ")", "-json", *extra])
+    p = run(
+        "nusseltTable",
+        case,
+        env,
+        [
+            "-eps",
+            repr(eps),
+            "-Pr",
+            repr(Pr),
+            "-Re",
+            "(" + " ".join(repr(r) for r in Re) + ")",
+            "-json",
+            *extra,
+        ],
+    )
     line = [l for l in p.stdout.splitlines() if l.startswith("{")][-1]
     data = json.loads(line)
     return data["Re"], data["Nu"]
@@ -74,8 +87,9 @@ def table(case, env, eps, Pr, Re, extra=()):
 
 @pytest.mark.parametrize("model", ["DiFeliceColburn", "Gunn", "RanzMarshall"])
 def test_closed_form(tmp_path, env, model):
-    case = make_case(tmp_path, model, f"dragModel DallavalleDiFelice;\n"
-                                      f"heatTransferModel {model};\n")
+    case = make_case(
+        tmp_path, model, f"dragModel DallavalleDiFelice;\nheatTransferModel {model};\n"
+    )
     Re, Nu = table(case, env, EPS, PR, RES)
     assert Re == RES
     for r, nu in zip(Re, Nu):
@@ -88,7 +102,7 @@ def test_plain_columns(tmp_path, env):
     p = run("nusseltTable", case, env, ["-eps", "0.45", "-Pr", "0.71", "-Re", "(1 10)"])
     out = p.stdout.splitlines()
     i = out.index("# Re Nu")
-    rows = [tuple(map(float, l.split())) for l in out[i + 1:i + 3]]
+    rows = [tuple(map(float, l.split())) for l in out[i + 1 : i + 3]]
     assert [r for r, _ in rows] == [1.0, 10.0]
     for r, nu in rows:
         assert nu == pytest.approx(nu_gunn(0.45, r, 0.71), rel=1e-6)
@@ -114,8 +128,10 @@ def test_coeffs_and_dict_option(tmp_path, env):
     case = make_case(tmp_path, "coeffs", "heatTransferModel Gunn;\n")
     d = str(tmp_path / "htDict")
     with open(d, "w") as f:
-        f.write("heatTransferModel DiFeliceColburn;\n"
-                "DiFeliceColburnCoeffs { delta 5000; alpha 0.33; }\n")
+        f.write(
+            "heatTransferModel DiFeliceColburn;\n"
+            "DiFeliceColburnCoeffs { delta 5000; alpha 0.33; }\n"
+        )
     Re, Nu = table(case, env, EPS, PR, RES, ["-dict", d])
     for r, nu in zip(Re, Nu):
         ref = nu_difelice_colburn(EPS, r, PR, delta=5000.0, alpha=0.33)
@@ -128,8 +144,15 @@ FATAL_IO = "FOAM FATAL IO ERROR"
 def test_unknown_model(tmp_path, env):
     case = make_case(tmp_path, "unknown", "heatTransferModel Gun;\n")
     p = run("nusseltTable", case, env, check=False)
-    fails_with(p, "Unknown heatTransferModel type Gun", "DiFeliceColburn", "Gunn",
-               "RanzMarshall", "or none (no fluid-grain heat exchange)", banner=FATAL_IO)
+    fails_with(
+        p,
+        "Unknown heatTransferModel type Gun",
+        "DiFeliceColburn",
+        "Gunn",
+        "RanzMarshall",
+        "or none (no fluid-grain heat exchange)",
+        banner=FATAL_IO,
+    )
 
 
 def test_none_has_no_nusselt_number(tmp_path, env):
@@ -138,12 +161,16 @@ def test_none_has_no_nusselt_number(tmp_path, env):
     table it is a clear error, not a table of zeros."""
     case = make_case(tmp_path, "none", "heatTransferModel none;\n")
     p = run("nusseltTable", case, env, check=False)
-    fails_with(p, "heatTransferModel none", "switches the fluid-grain heat exchange off",
-               banner=FATAL_IO)
+    fails_with(
+        p, "heatTransferModel none", "switches the fluid-grain heat exchange off", banner=FATAL_IO
+    )
 
 
 def test_unknown_coeff_keyword(tmp_path, env):
-    case = make_case(tmp_path, "badCoeff", "heatTransferModel DiFeliceColburn;\n"
-                     "DiFeliceColburnCoeffs { delta 500; alfa 0.4; }\n")
+    case = make_case(
+        tmp_path,
+        "badCoeff",
+        "heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alfa 0.4; }\n",
+    )
     p = run("nusseltTable", case, env, check=False)
     fails_with(p, "Unknown keyword", "alfa", "alpha", banner=FATAL_IO)

@@ -6,13 +6,13 @@ hair from its edge leaves through the orifice, not through the floor face
 next to it (issue 60 item 2; the circumscribed-circle test gave the floor and
 stopped the run).  2D and 3D grains grazing the rim, and a small silo
 discharge run to its end."""
+
 import os
 import re
 
 import numpy as np
 import pytest
-
-from faultcase import G, MAT, times
+from faultcase import MAT, G, times
 from foamcase import make_box_case, run, write
 from test_faults_boundaries import outlet_rows, remaining
 
@@ -26,12 +26,20 @@ def carve_orifice(case, env, lo, hi):
     """Move the faces of `walls` whose centres lie in the box lo-hi into a new
     open patch `orifice` (topoSet + createPatch; the patch comes after
     `walls`, so a tie taken by patch order would name the wall)."""
-    write(os.path.join(case, "system", "topoSetDict"), "dictionary", "topoSetDict",
-          "actions ( { name orifice; type faceSet; action new; source boxToFace;\n"
-          f"  box ({lo[0]} {lo[1]} {lo[2]}) ({hi[0]} {hi[1]} {hi[2]}); }} );\n")
-    write(os.path.join(case, "system", "createPatchDict"), "dictionary", "createPatchDict",
-          "pointSync false;\npatches ( { name orifice; patchInfo { type patch; }\n"
-          "  constructFrom set; set orifice; } );\n")
+    write(
+        os.path.join(case, "system", "topoSetDict"),
+        "dictionary",
+        "topoSetDict",
+        "actions ( { name orifice; type faceSet; action new; source boxToFace;\n"
+        f"  box ({lo[0]} {lo[1]} {lo[2]}) ({hi[0]} {hi[1]} {hi[2]}); }} );\n",
+    )
+    write(
+        os.path.join(case, "system", "createPatchDict"),
+        "dictionary",
+        "createPatchDict",
+        "pointSync false;\npatches ( { name orifice; patchInfo { type patch; }\n"
+        "  constructFrom set; set orifice; } );\n",
+    )
     run("blockMesh", case, env)
     run("topoSet", case, env)
     run("createPatch", case, env, args=("-overwrite",))
@@ -42,9 +50,20 @@ def run_rim(case, env, grains, hi, cells, end, orifice, two_d=True):
     """A box (0, hi) of cells with an orifice carved from the floor (the
     box orifice), the grains falling through it until end; checks that
     every grain left through the orifice and the run reached end."""
-    make_box_case(case, (0, 0, 0), hi, cells, (0, -G, 0), MAT, grains=grains,
-                  end_time=end, dt=1e-3, write_interval=end / 3, two_d=two_d,
-                  extra_props="outletPatches (orifice);\n")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        hi,
+        cells,
+        (0, -G, 0),
+        MAT,
+        grains=grains,
+        end_time=end,
+        dt=1e-3,
+        write_interval=end / 3,
+        two_d=two_d,
+        extra_props="outletPatches (orifice);\n",
+    )
     carve_orifice(case, env, *orifice)
     run("grainDeposit", case, env)
     out = run("grainFoam", case, env).stdout
@@ -71,8 +90,9 @@ def test_grains_grazing_the_orifice_rim_2d(tmp_path, env):
     case = str(tmp_path / "rim2d")
     xs = [0.04 + OFF, 0.06 - OFF, 0.04 + 0.5e-3, 0.06 - 0.5e-3, 0.05]
     grains = [(x, 0.02 + 0.01 * k, 0, 2 * R) for k, x in enumerate(xs)]
-    run_rim(case, env, grains, (0.1, 0.1, 0.01), (10, 10, 1), 0.15,
-            ((0.04, -1, -1), (0.06, 1e-6, 1)))
+    run_rim(
+        case, env, grains, (0.1, 0.1, 0.01), (10, 10, 1), 0.15, ((0.04, -1, -1), (0.06, 1e-6, 1))
+    )
 
 
 @pytest.mark.fast
@@ -82,11 +102,25 @@ def test_grains_grazing_the_orifice_rim_3d(tmp_path, env):
     corner of it (where three floor faces' circumscribed circles reach in)
     touch the rim and leave through the orifice."""
     case = str(tmp_path / "rim3d")
-    pts = [(0.02 + OFF, 0.03), (0.04 - OFF, 0.025), (0.035, 0.02 + OFF),
-           (0.02 + OFF, 0.02 + OFF), (0.04 - OFF, 0.04 - OFF), (0.03, 0.03)]
+    pts = [
+        (0.02 + OFF, 0.03),
+        (0.04 - OFF, 0.025),
+        (0.035, 0.02 + OFF),
+        (0.02 + OFF, 0.02 + OFF),
+        (0.04 - OFF, 0.04 - OFF),
+        (0.03, 0.03),
+    ]
     grains = [(x, 0.012 + 0.008 * k, z, 2 * R) for k, (x, z) in enumerate(pts)]
-    run_rim(case, env, grains, (0.06, 0.06, 0.06), (6, 6, 6), 0.12,
-            ((0.02, -1, 0.02), (0.04, 1e-6, 0.04)), two_d=False)
+    run_rim(
+        case,
+        env,
+        grains,
+        (0.06, 0.06, 0.06),
+        (6, 6, 6),
+        0.12,
+        ((0.02, -1, 0.02), (0.04, 1e-6, 0.04)),
+        two_d=False,
+    )
 
 
 @pytest.mark.fast
@@ -105,9 +139,19 @@ def test_small_silo_discharge_runs_to_its_end(tmp_path, env):
             if x > 0.058:
                 continue
             grains.append((x, 0.003 + 0.0036 * j, 0, 0.003 * (1 + 0.1 * (2 * rng.random() - 1))))
-    make_box_case(case, (0, 0, 0), (0.06, 0.1, 0.005), (12, 20, 1), (0, -G, 0), MAT,
-                  grains=grains, end_time=0.25, dt=5e-4, write_interval=0.05,
-                  extra_props="outletPatches (orifice);\n")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.06, 0.1, 0.005),
+        (12, 20, 1),
+        (0, -G, 0),
+        MAT,
+        grains=grains,
+        end_time=0.25,
+        dt=5e-4,
+        write_interval=0.05,
+        extra_props="outletPatches (orifice);\n",
+    )
     carve_orifice(case, env, (0.02, -1, -1), (0.04, 1e-6, 1))
     run("grainDeposit", case, env)
     out = run("grainFoam", case, env).stdout
@@ -117,9 +161,10 @@ def test_small_silo_discharge_runs_to_its_end(tmp_path, env):
     assert all(r[1] == "orifice" for r in rows)
     n_out, m_out = rows[-1][4], rows[-1][5]
     ids, ds = remaining(case, "0.25")
-    assert n_out > 20, n_out             # it discharges
+    assert n_out > 20, n_out  # it discharges
     assert n_out + len(ids) == len(grains)
     mass = [MAT["glass"]["density"] * np.pi * (g[3] / 2) ** 2 * 0.005 for g in grains]
-    assert m_out + sum(MAT["glass"]["density"] * np.pi * (d / 2) ** 2 * 0.005 for d in ds) \
-        == pytest.approx(sum(mass), rel=1e-9)
+    assert m_out + sum(
+        MAT["glass"]["density"] * np.pi * (d / 2) ** 2 * 0.005 for d in ds
+    ) == pytest.approx(sum(mass), rel=1e-9)
     assert re.search(r"grainOutlets summary \(since the case started\): orifice \d+ grains", out)

@@ -11,6 +11,7 @@ Checks, in 2D (discs, volume pi r^2 x mesh depth) and 3D (spheres):
   - parallel (decomposePar, mpirun -np 2, reconstructPar) == serial to 1e-12,
     with grains straddling the processor boundary.
 """
+
 import math
 import os
 import re
@@ -19,8 +20,7 @@ import subprocess
 
 import numpy as np
 import pytest
-
-from foamcase import make_box_case, run, write, read_internal
+from foamcase import make_box_case, read_internal, run, write
 
 pytestmark = pytest.mark.fast
 
@@ -42,11 +42,14 @@ def grain_case(tmp_path, env, name, size, cells, grains, two_d, mapping_dict=Non
     grainDeposit method list, then grainVoidFraction. Returns (case, phi,
     eps, V_cell)."""
     case = str(tmp_path / name)
-    make_box_case(case, (0, 0, 0), size, cells, (0, -9.81, 0), MAT,
-                  grains=grains, two_d=two_d)
+    make_box_case(case, (0, 0, 0), size, cells, (0, -9.81, 0), MAT, grains=grains, two_d=two_d)
     if mapping_dict is not None:
-        write(os.path.join(case, "system", "overlapMappingDict"), "dictionary",
-              "overlapMappingDict", mapping_dict)
+        write(
+            os.path.join(case, "system", "overlapMappingDict"),
+            "dictionary",
+            "overlapMappingDict",
+            mapping_dict,
+        )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     p = run("grainVoidFraction", case, env, args=["-checkCoupling"])
@@ -76,35 +79,65 @@ def lattice(n_per_side, size, d_of, two_d, jitter=0.37):
                 d = d_of(i, j, k)
                 x = (i + 0.5 + jitter * (rng.random() - 0.5) * (1 - d / sp[0])) * sp[0]
                 y = (j + 0.5 + jitter * (rng.random() - 0.5) * (1 - d / sp[1])) * sp[1]
-                z = 0.0 if two_d else (k + 0.5 + jitter * (rng.random() - 0.5) * (1 - d / sp[2])) * sp[2]
+                z = (
+                    0.0
+                    if two_d
+                    else (k + 0.5 + jitter * (rng.random() - 0.5) * (1 - d / sp[2])) * sp[2]
+                )
                 out.append((x, y, z, d))
     return out
 
 
 # (name, two_d, size, cells, grains)
-L2, D2 = 0.1, 0.01         # 2D box and depth
+L2, D2 = 0.1, 0.01  # 2D box and depth
 L3 = 0.05
 CASES = [
-    ("2d_semi", True, (L2, L2, D2), (20, 20, 1),
-     lattice(6, (L2, L2, D2), lambda i, j, k: 4e-3 + 1e-3 * ((i + j) % 3), True)),
-    ("2d_unresolved", True, (L2, L2, D2), (2, 2, 1),
-     lattice(8, (L2, L2, D2), lambda i, j, k: 2e-3 + 5e-4 * (i % 2), True)),
-    ("2d_resolved", True, (L2, L2, D2), (40, 40, 1),
-     [(0.0512, 0.0493, 0.0, 0.06)]),
-    ("3d_semi", False, (L3, L3, L3), (8, 8, 8),
-     lattice(4, (L3, L3, L3), lambda i, j, k: 5e-3 + 1e-3 * ((i + j + k) % 3), False)),
-    ("3d_unresolved", False, (L3, L3, L3), (2, 2, 2),
-     lattice(3, (L3, L3, L3), lambda i, j, k: 2e-3, False)),
-    ("3d_resolved", False, (L3, L3, L3), (12, 12, 12),
-     [(0.0252, 0.0246, 0.0249, 0.036)]),
+    (
+        "2d_semi",
+        True,
+        (L2, L2, D2),
+        (20, 20, 1),
+        lattice(6, (L2, L2, D2), lambda i, j, k: 4e-3 + 1e-3 * ((i + j) % 3), True),
+    ),
+    (
+        "2d_unresolved",
+        True,
+        (L2, L2, D2),
+        (2, 2, 1),
+        lattice(8, (L2, L2, D2), lambda i, j, k: 2e-3 + 5e-4 * (i % 2), True),
+    ),
+    ("2d_resolved", True, (L2, L2, D2), (40, 40, 1), [(0.0512, 0.0493, 0.0, 0.06)]),
+    (
+        "3d_semi",
+        False,
+        (L3, L3, L3),
+        (8, 8, 8),
+        lattice(4, (L3, L3, L3), lambda i, j, k: 5e-3 + 1e-3 * ((i + j + k) % 3), False),
+    ),
+    (
+        "3d_unresolved",
+        False,
+        (L3, L3, L3),
+        (2, 2, 2),
+        lattice(3, (L3, L3, L3), lambda i, j, k: 2e-3, False),
+    ),
+    ("3d_resolved", False, (L3, L3, L3), (12, 12, 12), [(0.0252, 0.0246, 0.0249, 0.036)]),
 ]
 
 
 @pytest.mark.parametrize("name,two_d,size,cells,grains", CASES, ids=[c[0] for c in CASES])
 def test_conservation_and_bounds(tmp_path, env, name, two_d, size, cells, grains):
     eps_min = 1e-6
-    _, phi, eps, vcell = grain_case(tmp_path, env, name, size, cells, grains, two_d,
-                                    mapping_dict=f"method overlap;\nepsMin {eps_min};\n")
+    _, phi, eps, vcell = grain_case(
+        tmp_path,
+        env,
+        name,
+        size,
+        cells,
+        grains,
+        two_d,
+        mapping_dict=f"method overlap;\nepsMin {eps_min};\n",
+    )
     vg = grain_volume(grains, two_d, size[2])
     assert abs(phi.sum() * vcell - vg) <= 1e-10 * vg
     assert phi.min() >= 0
@@ -119,9 +152,14 @@ def test_conservation_and_bounds(tmp_path, env, name, two_d, size, cells, grains
         inside = []
         for c in range(phi.size):
             i, j, k = c % nx, (c // nx) % ny, c // (nx * ny)
-            corners = [((i + a) * hx - x) ** 2 + ((j + b) * hy - y) ** 2
-                       + (0 if two_d else ((k + e) * hz - z) ** 2)
-                       for a in (0, 1) for b in (0, 1) for e in (0, 1)]
+            corners = [
+                ((i + a) * hx - x) ** 2
+                + ((j + b) * hy - y) ** 2
+                + (0 if two_d else ((k + e) * hz - z) ** 2)
+                for a in (0, 1)
+                for b in (0, 1)
+                for e in (0, 1)
+            ]
             if max(corners) < r * r:
                 inside.append(c)
         assert len(inside) > 50
@@ -134,14 +172,26 @@ def test_centroid_method_and_keyword_check(tmp_path, env):
     """PCM (method centroid): each grain volume lands in one cell; an unknown
     keyword is a fatal error naming it."""
     grains = CASES[0][4]
-    _, phi, _, vcell = grain_case(tmp_path, env, "pcm", (L2, L2, D2), (20, 20, 1), grains,
-                                  True, mapping_dict="method centroid;\n")
+    _, phi, _, vcell = grain_case(
+        tmp_path,
+        env,
+        "pcm",
+        (L2, L2, D2),
+        (20, 20, 1),
+        grains,
+        True,
+        mapping_dict="method centroid;\n",
+    )
     vg = grain_volume(grains, True, D2)
     assert abs(phi.sum() * vcell - vg) <= 1e-10 * vg
     assert np.count_nonzero(phi) <= len(grains)
     case = str(tmp_path / "pcm")
-    write(os.path.join(case, "system", "overlapMappingDict"), "dictionary",
-          "overlapMappingDict", "method overlap;\nepsMn 1e-6;\n")
+    write(
+        os.path.join(case, "system", "overlapMappingDict"),
+        "dictionary",
+        "overlapMappingDict",
+        "method overlap;\nepsMn 1e-6;\n",
+    )
     p = run("grainVoidFraction", case, env, check=False)
     assert p.returncode != 0 and "epsMn" in p.stdout + p.stderr
 
@@ -161,27 +211,46 @@ def test_parallel_matches_serial(tmp_path, env, two_d):
     if two_d:
         size, cells = (L2, L2, D2), (20, 20, 1)
         # grains straddling the processor boundary x = 0.05 (simple 2 1 1)
-        grains = [(0.05, 0.03, 0.0, 0.012), (0.0513, 0.07, 0.0, 0.02),
-                  (0.0471, 0.05, 0.0, 0.004), (0.02, 0.02, 0.0, 0.005),
-                  (0.08, 0.081, 0.0, 0.006)]
+        grains = [
+            (0.05, 0.03, 0.0, 0.012),
+            (0.0513, 0.07, 0.0, 0.02),
+            (0.0471, 0.05, 0.0, 0.004),
+            (0.02, 0.02, 0.0, 0.005),
+            (0.08, 0.081, 0.0, 0.006),
+        ]
     else:
         size, cells = (L3, L3, L3), (8, 8, 8)
-        grains = [(0.025, 0.0125, 0.0251, 0.012), (0.0261, 0.035, 0.023, 0.011),
-                  (0.01, 0.01, 0.01, 0.005), (0.04, 0.04, 0.04, 0.006)]
+        grains = [
+            (0.025, 0.0125, 0.0251, 0.012),
+            (0.0261, 0.035, 0.023, 0.011),
+            (0.01, 0.01, 0.01, 0.005),
+            (0.04, 0.04, 0.04, 0.006),
+        ]
     case, phi_s, eps_s, vcell = grain_case(tmp_path, env, "par", size, cells, grains, two_d)
-    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
-          "numberOfSubdomains 2;\nmethod simple;\ncoeffs { n (2 1 1); }\n"
-          "simpleCoeffs { n (2 1 1); delta 0.001; }\n")
+    write(
+        os.path.join(case, "system", "decomposeParDict"),
+        "dictionary",
+        "decomposeParDict",
+        "numberOfSubdomains 2;\nmethod simple;\ncoeffs { n (2 1 1); }\n"
+        "simpleCoeffs { n (2 1 1); delta 0.001; }\n",
+    )
     for f in ("solidFraction", "voidFraction"):
         os.remove(os.path.join(case, "0", f))
     run("decomposePar", case, env, args=["-force"])
-    p = subprocess.run(["mpirun", "-np", "2", "grainVoidFraction", "-case", case, "-parallel",
-                        "-checkCoupling"],
-                       env=env, capture_output=True, text=True, timeout=120)
+    p = subprocess.run(
+        ["mpirun", "-np", "2", "grainVoidFraction", "-case", case, "-parallel", "-checkCoupling"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     with open(os.path.join(case, "log.grainVoidFraction.parallel"), "w") as f:
         f.write(p.stdout + p.stderr)
-    if p.returncode != 0 and ("orte" in p.stderr.lower() or "not enough slots" in p.stderr.lower()
-                              or "mpi_init" in p.stderr.lower()):
+    if p.returncode != 0 and (
+        "orte" in p.stderr.lower()
+        or "not enough slots" in p.stderr.lower()
+        or "mpi_init" in p.stderr.lower()
+    ):
         pytest.skip(f"mpirun unusable here: {p.stderr[-500:]}")
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
     check_coupling_log(p.stdout)
@@ -201,8 +270,16 @@ def test_2d_mesh_off_origin_in_z(tmp_path, env):
     the adapter maps on the mesh mid-plane; V_g = pi r^2 x depth."""
     case = str(tmp_path / "offz")
     grains = [(0.03, 0.04, 0.0, 0.01), (0.07, 0.05, 0.0, 0.012)]
-    make_box_case(case, (0, 0, 0.1), (0.1, 0.1, 0.125), (10, 10, 1), (0, -9.81, 0), MAT,
-                  grains=grains, two_d=True)
+    make_box_case(
+        case,
+        (0, 0, 0.1),
+        (0.1, 0.1, 0.125),
+        (10, 10, 1),
+        (0, -9.81, 0),
+        MAT,
+        grains=grains,
+        two_d=True,
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     run("grainVoidFraction", case, env)
@@ -217,12 +294,19 @@ def test_grain_outside_mesh_is_fatal(tmp_path, env):
     (here the mesh is shrunk after the grains were made)."""
     case = str(tmp_path / "outside")
     grains = [(0.02, 0.02, 0.0, 0.004), (0.09, 0.05, 0.0, 0.004)]
-    make_box_case(case, (0, 0, 0), (0.1, 0.1, 0.01), (10, 10, 1), (0, -9.81, 0), MAT,
-                  grains=grains, two_d=True)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.1, 0.1, 0.01),
+        (10, 10, 1),
+        (0, -9.81, 0),
+        MAT,
+        grains=grains,
+        two_d=True,
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
-    make_box_case(case, (0, 0, 0), (0.08, 0.1, 0.01), (10, 10, 1), (0, -9.81, 0), MAT,
-                  two_d=True)
+    make_box_case(case, (0, 0, 0), (0.08, 0.1, 0.01), (10, 10, 1), (0, -9.81, 0), MAT, two_d=True)
     run("blockMesh", case, env)
     p = run("grainVoidFraction", case, env, check=False)
     out = p.stdout + p.stderr

@@ -63,26 +63,31 @@ and compared with the closure the run selected, written here independently
    heat picked up by the air equal to the heat the grains gave (1e-4), and
    the steady state.  ~25 s.
 """
+
 import json
 import math
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
-
-from correlations import nusselt_difelice_colburn as nu_difelice_colburn, nusselt_gunn as nu_gunn
-
-import nscdpost
-from foamcase import add_fluid, make_box_case, read_internal, run, tutorial_modules, uniform_inflow, write
-
+from correlations import nusselt_difelice_colburn as nu_difelice_colburn
+from correlations import nusselt_gunn as nu_gunn
+from foamcase import (
+    add_fluid,
+    make_box_case,
+    read_internal,
+    run,
+    tutorial_modules,
+    uniform_inflow,
+    write,
+)
 
 RHO, MU, CP, KAPPA = 1.204, 2e-5, 1010.0, 0.025
 NU = MU / RHO
 PR = CP * MU / KAPPA
 T_IN, T_P = 300.0, 350.0
-
-
 
 
 MODELS = {"DiFeliceColburn": nu_difelice_colburn, "Gunn": nu_gunn}
@@ -112,18 +117,18 @@ def chain_outlet(Nu, eps, Us):
     (distance s/2), zeroGradient outlet.  Returns the outlet (last cell)
     temperature."""
     e = np.ones(NY)
-    e[BED0:BED0 + LAYERS] = eps
-    F = RHO * CP * Us * S * S                     # advective conductance [W/K]
-    Df = KAPPA * 0.5 * (e[1:] + e[:-1]) * S       # k eps_f A/s on internal faces
+    e[BED0 : BED0 + LAYERS] = eps
+    F = RHO * CP * Us * S * S  # advective conductance [W/K]
+    Df = KAPPA * 0.5 * (e[1:] + e[:-1]) * S  # k eps_f A/s on internal faces
     H = np.zeros(NY)
-    H[BED0:BED0 + LAYERS] = math.pi * D * KAPPA * np.asarray(Nu)
+    H[BED0 : BED0 + LAYERS] = math.pi * D * KAPPA * np.asarray(Nu)
     A = np.zeros((NY, NY))
     b = np.zeros(NY)
     for c in range(NY):
         A[c, c] += F + H[c]
         b[c] += H[c] * T_P
         if c == 0:
-            A[c, c] += 2 * KAPPA * S          # inlet face: eps = 1, distance s/2
+            A[c, c] += 2 * KAPPA * S  # inlet face: eps = 1, distance s/2
             b[c] += (F + 2 * KAPPA * S) * T_IN
         else:
             A[c, c - 1] -= F
@@ -142,68 +147,109 @@ def lattice_case(case, model, Re, velocity_correction=None):
     fluxReconstruction, vansFoam's createVelocityCorrection.H)."""
     Us = Re * NU / D
     H = NY * S
-    end = 8 * H / Us                  # 8 flow-through times
-    grains = [((i + 0.5) * S, (j + 0.5) * S, (k + 0.5) * S, D)
-              for j in range(BED0, BED0 + LAYERS) for i in range(NX) for k in range(NX)]
-    make_box_case(case, (0, 0, 0), (NX * S, H, NX * S), (NX, NY, NX), (0, 0, 0),
-                  {"glass": {"density": 2500, "friction": 0.1}}, grains=grains,
-                  end_time=end, dt=0.1 * S / Us, write_interval=end / 4, two_d=False)
+    end = 8 * H / Us  # 8 flow-through times
+    grains = [
+        ((i + 0.5) * S, (j + 0.5) * S, (k + 0.5) * S, D)
+        for j in range(BED0, BED0 + LAYERS)
+        for i in range(NX)
+        for k in range(NX)
+    ]
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (NX * S, H, NX * S),
+        (NX, NY, NX),
+        (0, 0, 0),
+        {"glass": {"density": 2500, "friction": 0.1}},
+        grains=grains,
+        end_time=end,
+        dt=0.1 * S / Us,
+        write_interval=end / 4,
+        two_d=False,
+    )
     gp = os.path.join(case, "constant", "grainProperties")
-    txt = open(gp).read().replace(
-        "glass { density 2500; friction 0.1; }",
-        "glass { density 2500; friction 0.1; youngModulus 6e10; poissonRatio 0.22;"
-        " conductivity 1.4; heatCapacity 8.4e8; }")
+    txt = (
+        open(gp)
+        .read()
+        .replace(
+            "glass { density 2500; friction 0.1; }",
+            "glass { density 2500; friction 0.1; youngModulus 6e10; poissonRatio 0.22;"
+            " conductivity 1.4; heatCapacity 8.4e8; }",
+        )
+    )
     open(gp, "w").write(txt + f"initialTemperature {T_P};\n")
     open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
-    add_fluid(case, RHO, NU, max_co=1.0, max_dt=1.0,
-              extra_coupling=f"heatTransferModel {model};\n")
+    add_fluid(case, RHO, NU, max_co=1.0, max_dt=1.0, extra_coupling=f"heatTransferModel {model};\n")
     uniform_inflow(case, Us)
     with open(os.path.join(case, "constant", "transportProperties"), "a") as f:
         f.write(f"Cp {CP};\nkappa {KAPPA};\n")
-    write(os.path.join(case, "0", "T"), "volScalarField", "T",
-          f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {T_IN};\n"
-          f"boundaryField {{ inlet {{ type fixedValue; value uniform {T_IN}; }}\n"
-          " outlet { type zeroGradient; } walls { type zeroGradient; } }\n")
+    write(
+        os.path.join(case, "0", "T"),
+        "volScalarField",
+        "T",
+        f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {T_IN};\n"
+        f"boundaryField {{ inlet {{ type fixedValue; value uniform {T_IN}; }}\n"
+        " outlet { type zeroGradient; } walls { type zeroGradient; } }\n",
+    )
     fs = os.path.join(case, "system", "fvSolution")
-    txt = open(fs).read().replace(
-        "solvers {\n", "solvers {\n  T { solver PBiCGStab; preconditioner DILU; tolerance 1e-13; relTol 0; }\n")
+    txt = (
+        open(fs)
+        .read()
+        .replace(
+            "solvers {\n",
+            "solvers {\n  T { solver PBiCGStab; preconditioner DILU; tolerance 1e-13; relTol 0; }\n",
+        )
+    )
     open(fs, "w").write(txt.replace("tolerance 1e-9", "tolerance 1e-11"))
     sc = os.path.join(case, "system", "fvSchemes")
     txt = open(sc).read().replace("div(phi,U)", "div(phi,T) Gauss upwind; div(phi,U)")
     if velocity_correction:
-        txt = txt.replace("div(phi,U) Gauss limitedLinearV 1", "div(phi,U) Gauss linearUpwind grad(U)")
+        txt = txt.replace(
+            "div(phi,U) Gauss limitedLinearV 1", "div(phi,U) Gauss linearUpwind grad(U)"
+        )
         assert "linearUpwind" in txt
         fs_txt = open(fs).read()
-        open(fs, "w").write(fs_txt.replace("PIMPLE {", f"PIMPLE {{ velocityCorrection {velocity_correction};", 1))
+        open(fs, "w").write(
+            fs_txt.replace("PIMPLE {", f"PIMPLE {{ velocityCorrection {velocity_correction};", 1)
+        )
         assert "velocityCorrection" in open(fs).read()
     open(sc, "w").write(txt)
     return Us, end
 
 
 @pytest.mark.fast
-@pytest.mark.parametrize("model,Re,vc", [("DiFeliceColburn", 100.0, None), ("DiFeliceColburn", 500.0, None),
-                                         ("Gunn", 30.0, None),
-                                         ("DiFeliceColburn", 100.0, "fluxReconstruction")])
+@pytest.mark.parametrize(
+    "model,Re,vc",
+    [
+        ("DiFeliceColburn", 100.0, None),
+        ("DiFeliceColburn", 500.0, None),
+        ("Gunn", 30.0, None),
+        ("DiFeliceColburn", 100.0, "fluxReconstruction"),
+    ],
+)
 def test_lattice_bed_nusselt(tmp_path, env, model, Re, vc):
     case = str(tmp_path / f"{model}{Re:g}")
     Us, end = lattice_case(case, model, Re, vc)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     log = run("vansFoam", case, env).stdout
-    times = sorted((float(t), t) for t in os.listdir(case)
-                   if re.fullmatch(r"[0-9.e+-]+", t) and float(t) > 0)
+    times = sorted(
+        (float(t), t) for t in os.listdir(case) if re.fullmatch(r"[0-9.e+-]+", t) and float(t) > 0
+    )
     T = read_internal(os.path.join(case, times[-1][1], "T")).reshape(NX, NY, NX, order="F")
     Tprev = read_internal(os.path.join(case, times[-2][1], "T")).reshape(NX, NY, NX, order="F")
-    eps_f = read_internal(os.path.join(case, times[-1][1], "voidFraction")).reshape(NX, NY, NX, order="F")
-    eps = 1 - math.pi * D ** 3 / (6 * S ** 3)
-    assert eps_f[:, BED0:BED0 + LAYERS, :] == pytest.approx(eps, rel=1e-9)
-    T_out = T[:, -1, :].mean()                  # uniform flux: the mixed-cup value
-    assert np.ptp(T[:, -1, :]) < 1e-4 * (T_P - T_IN)       # one-dimensional (2e-5)
+    eps_f = read_internal(os.path.join(case, times[-1][1], "voidFraction")).reshape(
+        NX, NY, NX, order="F"
+    )
+    eps = 1 - math.pi * D**3 / (6 * S**3)
+    assert eps_f[:, BED0 : BED0 + LAYERS, :] == pytest.approx(eps, rel=1e-9)
+    T_out = T[:, -1, :].mean()  # uniform flux: the mixed-cup value
+    assert np.ptp(T[:, -1, :]) < 1e-4 * (T_P - T_IN)  # one-dimensional (2e-5)
     Tg = heat_lines(log)[-1]
     dT_in, dT_out = Tg - T_IN, Tg - T_out
-    assert abs(Tg - T_P) < 1e-6 * dT_in                    # the grains are a heat bath
+    assert abs(Tg - T_P) < 1e-6 * dT_in  # the grains are a heat bath
     drift = abs(T_out - Tprev[:, -1, :].mean()) / dT_out
-    assert drift < 1e-5                 # steady (two flow-through times)
+    assert drift < 1e-5  # steady (two flow-through times)
     # log-mean measure
     A = NX * NX * S * S
     Q = RHO * CP * Us * A * (T_out - T_IN)
@@ -216,19 +262,24 @@ def test_lattice_bed_nusselt(tmp_path, env, model, Re, vc):
     # the closure at each grain's own Reynolds number (Ufluid: the fluid
     # velocity gathered at the grain, what vansFoam put into the closure)
     g = nscdpost.read_grains(case, times[-1][1])
-    uf = nscdpost.read_vector_field(os.path.join(case, times[-1][1], "lagrangian", "grains", "Ufluid"))
+    uf = nscdpost.read_vector_field(
+        os.path.join(case, times[-1][1], "lagrangian", "grains", "Ufluid")
+    )
     layer = np.rint(g["x"][:, 1] / S - 0.5).astype(int) - BED0
-    Re_p = np.linalg.norm(uf, axis=1) * D / NU * eps           # superficial
-    Nu_layers = np.array([np.mean([MODELS[model](eps, r, PR) for r in Re_p[layer == j]])
-                          for j in range(LAYERS)])
+    Re_p = np.linalg.norm(uf, axis=1) * D / NU * eps  # superficial
+    Nu_layers = np.array(
+        [np.mean([MODELS[model](eps, r, PR) for r in Re_p[layer == j]]) for j in range(LAYERS)]
+    )
     factor = invert_chain(lambda f: chain_outlet(f * Nu_layers, eps, Us), T_out)
     u_layers = np.array([np.mean(Re_p[layer == j]) for j in range(LAYERS)]) / Re
-    print(f"{model} Re {Re:g}: eps {eps:.4f}, T_out {T_out:.8f} K, NTU {math.log(dT_in / dT_out):.4f}, "
-          f"Nu log-mean {Nu_meas:.4f}, correlation {Nu_corr:.4f} (ratio {Nu_meas / Nu_corr:.4f}, "
-          f"cell mixing ln(1+n)/n {math.log(1 + n) / n:.4f}, n {n:.4f}), Nu from the 1D chain "
-          f"{Nu_chain:.5f} ({Nu_chain / Nu_corr - 1:+.2e}); T_out drift {drift:.1e}; "
-          f"grain velocity / (U_s/eps) per layer {np.round(u_layers, 4)}, chain with the "
-          f"closure at the grains' own Re: factor {factor:.6f}")
+    print(
+        f"{model} Re {Re:g}: eps {eps:.4f}, T_out {T_out:.8f} K, NTU {math.log(dT_in / dT_out):.4f}, "
+        f"Nu log-mean {Nu_meas:.4f}, correlation {Nu_corr:.4f} (ratio {Nu_meas / Nu_corr:.4f}, "
+        f"cell mixing ln(1+n)/n {math.log(1 + n) / n:.4f}, n {n:.4f}), Nu from the 1D chain "
+        f"{Nu_chain:.5f} ({Nu_chain / Nu_corr - 1:+.2e}); T_out drift {drift:.1e}; "
+        f"grain velocity / (U_s/eps) per layer {np.round(u_layers, 4)}, chain with the "
+        f"closure at the grains' own Re: factor {factor:.6f}"
+    )
     # the heat coupling: the closure at the grains' own eps and Re, spread
     # onto the cells, reproduces the outlet temperature
     assert factor == pytest.approx(1.0, abs=5e-3)
@@ -263,14 +314,25 @@ def invert_chain(outlet, T_out):
 
 
 @pytest.mark.fast
-@pytest.mark.parametrize("vc", [
-    "fluxReconstruction",
-    pytest.param(None, marks=pytest.mark.xfail(strict=True, reason=(
-        "vansFoam's default velocity correction (faceForces): the cell-centred "
-        "interstitial velocity U in the cells on both sides of a void-fraction "
-        "jump (the first/last layer of a packed bed) is ~30 % off U_s/eps (the "
-        "face fluxes phi are right): the cell's 1/A multiplies the mean of its "
-        "face forces")))])
+@pytest.mark.parametrize(
+    "vc",
+    [
+        "fluxReconstruction",
+        pytest.param(
+            None,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason=(
+                    "vansFoam's default velocity correction (faceForces): the cell-centred "
+                    "interstitial velocity U in the cells on both sides of a void-fraction "
+                    "jump (the first/last layer of a packed bed) is ~30 % off U_s/eps (the "
+                    "face fluxes phi are right): the cell's 1/A multiplies the mean of its "
+                    "face forces"
+                ),
+            ),
+        ),
+    ],
+)
 def test_bed_edge_velocity(tmp_path, env, vc):
     """Lattice bed, Re 100: every grain, edge layers included, sees the
     interstitial velocity U_s/eps within 2 % (Ufluid); the empty cells
@@ -284,11 +346,15 @@ def test_bed_edge_velocity(tmp_path, env, vc):
     run("grainDeposit", case, env)
     run("vansFoam", case, env)
     t = max((float(x), x) for x in os.listdir(case) if re.fullmatch(r"[0-9.e+-]+", x))[1]
-    eps = 1 - math.pi * D ** 3 / (6 * S ** 3)
+    eps = 1 - math.pi * D**3 / (6 * S**3)
     uf = nscdpost.read_vector_field(os.path.join(case, t, "lagrangian", "grains", "Ufluid"))
     U = nscdpost.read_vector_field(os.path.join(case, t, "U"))[:, 1].reshape(NX, NY, NX, order="F")
-    print("grain velocity / (U_s/eps):", np.round(np.sort(uf[:, 1]) / (Us / eps), 4)[::9],
-          "cell U / U_s per layer:", np.round(U.mean(axis=(0, 2)) / Us, 4))
+    print(
+        "grain velocity / (U_s/eps):",
+        np.round(np.sort(uf[:, 1]) / (Us / eps), 4)[::9],
+        "cell U / U_s per layer:",
+        np.round(U.mean(axis=(0, 2)) / Us, 4),
+    )
     assert uf[:, 1] == pytest.approx(Us / eps, rel=0.02)
     assert U[:, [0, BED0 - 1, BED0 + LAYERS, NY - 1], :] == pytest.approx(Us, rel=0.02)
 
@@ -319,7 +385,9 @@ def test_poured_bed_nusselt(tmp_path, env):
         msg = json.dumps({k: v for k, v in r.items() if k != "eps_layers"}, indent=1)
         assert 0.35 < r["void_fraction"] < 0.48, msg
         assert 0.85 <= ratio <= 1.02, msg
-        assert r["nusselt_closure_grain_mean"] == pytest.approx(r["nusselt_correlation"], rel=0.03), msg
+        assert r["nusselt_closure_grain_mean"] == pytest.approx(
+            r["nusselt_correlation"], rel=0.03
+        ), msg
         assert abs(r["Q"] - r["Q_grains"]) < 1e-4 * r["Q"], msg
         assert r["steady_drift"] < 1e-3, msg
         assert r["grain_T_drift"] < 1e-6, msg

@@ -56,13 +56,13 @@ grains spanning many cells, eps -> epsMin inside them, the semi-implicit drag
   the free disc's net weight (rho_p - rho_f) V (g - dU/dt), within 10 %:
   0.956 over 2-2.5 s (the frame transformation is exact; see the test).
 """
+
 import math
 import os
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import run, tutorial_modules
 
 setupCase, postProcess = tutorial_modules("vansFoam", "cylinderSedimentation")
@@ -74,12 +74,16 @@ def faxen_drag(k):
     """Faxen (1946) drag per unit length / (mu U) of a cylinder of diameter
     D translating midway between plane walls H apart, k = D/H < 0.5, Stokes
     flow (Happel & Brenner 1965; Ben Richou et al. 2004 eq. 1)."""
-    return 4 * math.pi / (-math.log(k) - 0.9157 + 1.7244 * k**2 - 1.7302 * k**4
-                          + 2.4056 * k**6 - 4.5913 * k**8)
+    return (
+        4
+        * math.pi
+        / (-math.log(k) - 0.9157 + 1.7244 * k**2 - 1.7302 * k**4 + 2.4056 * k**6 - 4.5913 * k**8)
+    )
 
 
-def fixed_disc_drag(tmp_path, env, cells_per_d, D=0.01, H=0.05, L=0.12, U0=1e-3,
-                    nu=1e-3, rho=1000.0, end=0.12):
+def fixed_disc_drag(
+    tmp_path, env, cells_per_d, D=0.01, H=0.05, L=0.12, U0=1e-3, nu=1e-3, rho=1000.0, end=0.12
+):
     """Drag per unit length [N/m] on a fixed disc of diameter D centred in a
     channel H wide, L long (uniform inflow U0, walls moving at U0).  Steady
     after ~0.1 s (diffusion time (H/2)^2/nu = 0.6 s, but the flow starts
@@ -88,9 +92,23 @@ def fixed_disc_drag(tmp_path, env, cells_per_d, D=0.01, H=0.05, L=0.12, U0=1e-3,
     h = D / cells_per_d
     case = str(tmp_path / f"disc{cells_per_d}")
     dt = 5 * h * h / nu
-    setupCase.write_case(case, (-L / 2, -H / 2), (L / 2, H / 2), (round(L / h), round(H / h)),
-                         [(0.0, 0.0, D)], 2 * rho, rho, nu, gravity=(0, 0, 0), end_time=end,
-                         write_interval=end / 2, max_co=100, max_dt=dt, fixed=True, inflow=U0)
+    setupCase.write_case(
+        case,
+        (-L / 2, -H / 2),
+        (L / 2, H / 2),
+        (round(L / h), round(H / h)),
+        [(0.0, 0.0, D)],
+        2 * rho,
+        rho,
+        nu,
+        gravity=(0, 0, 0),
+        end_time=end,
+        write_interval=end / 2,
+        max_co=100,
+        max_dt=dt,
+        fixed=True,
+        inflow=U0,
+    )
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
         run(app, case, env)
     t, name = nscdpost.time_dirs(case)[-1]
@@ -101,14 +119,16 @@ def fixed_disc_drag(tmp_path, env, cells_per_d, D=0.01, H=0.05, L=0.12, U0=1e-3,
 
 @pytest.mark.slow
 def test_fixed_disc_between_walls_faxen(tmp_path, env):
-    ref = faxen_drag(0.2)                       # 16.53
+    ref = faxen_drag(0.2)  # 16.53
     lam = [fixed_disc_drag(tmp_path, env, c) for c in (10, 14, 20)]
     print("F/(mu U) =", lam, "Faxen", ref)
     for v in lam:
         assert abs(v / ref - 1) < 0.10, (lam, ref)
     d1, d2 = abs(lam[1] - lam[0]), abs(lam[2] - lam[1])
     assert d2 < d1, (lam, "refinement does not converge")
-    print("observed order (three levels, ratio sqrt 2):", math.log(d1 / d2) / math.log(math.sqrt(2)))
+    print(
+        "observed order (three levels, ratio sqrt 2):", math.log(d1 / d2) / math.log(math.sqrt(2))
+    )
 
 
 def released_disc_a0(tmp_path, env, rho_ratio, max_dt, cells_per_d=10, end=0.02, resolved=True):
@@ -124,9 +144,16 @@ def released_disc_a0(tmp_path, env, rho_ratio, max_dt, cells_per_d=10, end=0.02,
     -11 % after 0.01 s at rho_p/rho_f = 1.01, sqrt(nu t)/R = 0.11).
     Returns (a0, mean acceleration over the window)."""
     case = str(tmp_path / f"released_{rho_ratio:g}_{max_dt:g}_{cells_per_d:g}_{resolved}")
-    setupCase.cylinder_case(case, end_time=end, cells_per_d=cells_per_d, height=0.08,
-                            write_interval=max(max_dt, 1e-3), max_dt=max_dt, y0=0.0,
-                            rho_s=rho_ratio * setupCase.RHO_F)
+    setupCase.cylinder_case(
+        case,
+        end_time=end,
+        cells_per_d=cells_per_d,
+        height=0.08,
+        write_interval=max(max_dt, 1e-3),
+        max_dt=max_dt,
+        y0=0.0,
+        rho_s=rho_ratio * setupCase.RHO_F,
+    )
     if resolved:
         opt_in_resolved(case)
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
@@ -164,15 +191,28 @@ def test_released_disc_added_mass(tmp_path, env):
         a0, amean = released_disc_a0(tmp_path, env, rr, dt)
         ref = (rr - 1) * g / (rr + 1)
         res[(rr, dt)] = a0
-        print(f"rho_p/rho_f {rr}, dt {dt}: a0 {a0:.5f} m/s^2 (mean over 0.02 s {amean:.5f}), "
-              f"added-mass reference {ref:.5f}, without added mass {(rr - 1) * g / rr:.5f}")
+        print(
+            f"rho_p/rho_f {rr}, dt {dt}: a0 {a0:.5f} m/s^2 (mean over 0.02 s {amean:.5f}), "
+            f"added-mass reference {ref:.5f}, without added mass {(rr - 1) * g / rr:.5f}"
+        )
         assert amean < (rr - 1) * g / rr
         assert abs(a0 / ref - 1) < 0.10, (rr, dt, a0, ref)
     assert abs(res[(1.01, 2e-4)] / res[(1.01, 1e-3)] - 1) < 0.10, res
 
 
-def free_disc_settling(tmp_path, env, cells_per_d=10, nu_dt_h2=5.0, end=0.3, D=0.01, H=0.05,
-                       nu=1e-3, rho=1000.0, u_faxen=0.005, extra=""):
+def free_disc_settling(
+    tmp_path,
+    env,
+    cells_per_d=10,
+    nu_dt_h2=5.0,
+    end=0.3,
+    D=0.01,
+    H=0.05,
+    nu=1e-3,
+    rho=1000.0,
+    u_faxen=0.005,
+    extra="",
+):
     """Settling velocity / Faxen's of a free disc (diameter D) released at
     the centre of a closed box H = 5 D wide, 4 H high (k = D/H = 0.2),
     resolved scheme.  rho_p is chosen so that Faxen's drag (faxen_drag)
@@ -183,9 +223,21 @@ def free_disc_settling(tmp_path, env, cells_per_d=10, nu_dt_h2=5.0, end=0.3, D=0
     h = D / cells_per_d
     L = 4 * H
     case = str(tmp_path / f"settle{cells_per_d}")
-    setupCase.write_case(case, (-H / 2, -L / 2), (H / 2, L / 2), (round(H / h), round(L / h)),
-                         [(0.0, 0.0, D)], rho_p, rho, nu, gravity=(0, -9.81, 0), end_time=end,
-                         write_interval=end / 3, max_co=100, max_dt=nu_dt_h2 * h * h / nu)
+    setupCase.write_case(
+        case,
+        (-H / 2, -L / 2),
+        (H / 2, L / 2),
+        (round(H / h), round(L / h)),
+        [(0.0, 0.0, D)],
+        rho_p,
+        rho,
+        nu,
+        gravity=(0, -9.81, 0),
+        end_time=end,
+        write_interval=end / 3,
+        max_co=100,
+        max_dt=nu_dt_h2 * h * h / nu,
+    )
     opt_in_resolved(case, extra)
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
         run(app, case, env)
@@ -225,26 +277,42 @@ def test_rigid_viscosity_ratio_checked(tmp_path, env):
     """couplingProperties rigidViscosityRatio < 0 is a FatalIOError naming
     the keyword and the fix (keyword checking, vansCloud)."""
     case = str(tmp_path / "badLambda")
-    setupCase.write_case(case, (-0.025, -0.05), (0.025, 0.05), (10, 20), [(0.0, 0.0, 0.01)],
-                         1100.0, 1000.0, 1e-3, end_time=1e-3, max_dt=1e-3)
+    setupCase.write_case(
+        case,
+        (-0.025, -0.05),
+        (0.025, 0.05),
+        (10, 20),
+        [(0.0, 0.0, 0.01)],
+        1100.0,
+        1000.0,
+        1e-3,
+        end_time=1e-3,
+        max_dt=1e-3,
+    )
     opt_in_resolved(case, "rigidViscosityRatio -1;\n")
     for app in ("blockMesh", "grainDeposit"):
         run(app, case, env)
     p = run("vansFoam", case, env, check=False)
     out = p.stdout + p.stderr
     assert p.returncode != 0
-    assert "rigidViscosityRatio -1" in out and "couplingProperties" in out and "Fix" in out, out[-2000:]
+    assert "rigidViscosityRatio -1" in out and "couplingProperties" in out and "Fix" in out, out[
+        -2000:
+    ]
 
 
 @pytest.mark.fast
-@pytest.mark.xfail(strict=True, reason=(
-    "default scheme (no resolvedCellsPerDiameter): no consistent added mass (grain weight in "
-    "the cells, pressure force on the faces: rim force).  At rho_p/rho_f = 1.01, dt 1e-3: fitted "
-    "a0 = 4.85 x (rho_p - rho_f) g/(rho_p + rho_f) (0.2368 m/s^2), of which 3.40 x is the "
-    "scheme (from a hydrostatic initial p), the rest a first-step spike from p = 0; 1.79 x at "
-    "dt 2e-4.  The earlier '2.02 x' was the mean acceleration u(0.02 s)/0.02 s of the "
-    "pre-0145616 test on the same trajectory (traced 2026-11-22).  The resolved-regime scheme "
-    "fixes it (test above)"))
+@pytest.mark.xfail(
+    strict=True,
+    reason=(
+        "default scheme (no resolvedCellsPerDiameter): no consistent added mass (grain weight in "
+        "the cells, pressure force on the faces: rim force).  At rho_p/rho_f = 1.01, dt 1e-3: fitted "
+        "a0 = 4.85 x (rho_p - rho_f) g/(rho_p + rho_f) (0.2368 m/s^2), of which 3.40 x is the "
+        "scheme (from a hydrostatic initial p), the rest a first-step spike from p = 0; 1.79 x at "
+        "dt 2e-4.  The earlier '2.02 x' was the mean acceleration u(0.02 s)/0.02 s of the "
+        "pre-0145616 test on the same trajectory (traced 2026-11-22).  The resolved-regime scheme "
+        "fixes it (test above)"
+    ),
+)
 def test_released_disc_added_mass_default_scheme(tmp_path, env):
     """The same released disc (rho_p/rho_f = 1.01, dt = 1e-3 s, D/h = 10)
     with the default coupling (grains' weight in the cells, pressure force
@@ -278,7 +346,7 @@ def test_side_blocks_fill_the_width(tmp_path):
     q = ratio ** (1.0 / (n - 1))
     assert 1.0 < q <= 1.1 + 1e-12
     assert abs(h * (q**n - 1) / (q - 1) / width - 1) < 1e-9
-    assert h * (1.1**(n - 1) - 1) / 0.1 < width         # n is the fewest cells
+    assert h * (1.1 ** (n - 1) - 1) / 0.1 < width  # n is the fewest cells
     case = str(tmp_path / "wide")
     cells = setupCase.cylinder_case(case, cells_per_d=12, height=0.16, wall_distance=12 * D)
     nx, total, walls, height = setupCase.mesh_layout(case)
@@ -322,9 +390,16 @@ def test_falling_cylinder_terminal_velocity(tmp_path, env):
     test_released_disc_added_mass_default_scheme)."""
     case = str(tmp_path / "cyl")
     D = setupCase.D
-    setupCase.cylinder_case(case, end_time=PLATEAU_WINDOW[1], cells_per_d=12, height=0.16,
-                            write_interval=0.05, max_dt=1e-3, rotation=True,
-                            wall_distance=12 * D)
+    setupCase.cylinder_case(
+        case,
+        end_time=PLATEAU_WINDOW[1],
+        cells_per_d=12,
+        height=0.16,
+        write_interval=0.05,
+        max_dt=1e-3,
+        rotation=True,
+        wall_distance=12 * D,
+    )
     opt_in_resolved(case)
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
         run(app, case, env)
@@ -332,8 +407,10 @@ def test_falling_cylinder_terminal_velocity(tmp_path, env):
     ustr = -u[0, :, 1]
     sel = (t >= PLATEAU_WINDOW[0] - 1e-9) & (t <= PLATEAU_WINDOW[1] + 1e-9)
     ut = float(np.mean(ustr[sel]))
-    print(f"plateau {PLATEAU_WINDOW} s: {100 * ut:.4f} cm/s over {sel.sum()} samples "
-          f"({ut / setupCase.UT_REF - 1:+.2%} of 2.501), max |x| {1e3 * np.abs(x[0, :, 0]).max():.2f} mm")
+    print(
+        f"plateau {PLATEAU_WINDOW} s: {100 * ut:.4f} cm/s over {sel.sum()} samples "
+        f"({ut / setupCase.UT_REF - 1:+.2%} of 2.501), max |x| {1e3 * np.abs(x[0, :, 0]).max():.2f} mm"
+    )
     assert t[-1] >= PLATEAU_WINDOW[1] - 1e-9 and sel.sum() >= 15, t[-1]
     # the cylinder stays in the uniform block and > 10 D above the bottom
     assert np.abs(x[0, :, 0]).max() < setupCase.WIDTH / 2 - D
@@ -360,9 +437,20 @@ def test_dkt_kissing(tmp_path, env):
     dkt, dktPost = tutorial_modules("vansFoam", "draftingKissingTumbling")
     case = str(tmp_path / "dkt")
     h = dkt.D / 6
-    dkt.cyl.write_case(case, (0.0, 0.02), (dkt.W, dkt.H), (round(dkt.W / h), round(0.06 / h)),
-                       [(x, y, dkt.D) for x, y in dkt.START], dkt.RHO_P, dkt.RHO_F, dkt.NU,
-                       end_time=1.75, write_interval=0.05, max_co=0.5, max_dt=1e-3)
+    dkt.cyl.write_case(
+        case,
+        (0.0, 0.02),
+        (dkt.W, dkt.H),
+        (round(dkt.W / h), round(0.06 / h)),
+        [(x, y, dkt.D) for x, y in dkt.START],
+        dkt.RHO_P,
+        dkt.RHO_F,
+        dkt.NU,
+        end_time=1.75,
+        write_interval=0.05,
+        max_co=0.5,
+        max_dt=1e-3,
+    )
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
         run(app, case, env)
     t, x, u = postProcess.grain_history(case)
@@ -389,8 +477,7 @@ def test_shedding_frequency_extraction():
     print(out["shedding_frequency"], out["periods"], out["fft_frequency"])
     assert out["periods"] >= 4
     assert abs(out["shedding_frequency"] / f0 - 1) < 0.02
-    drift = postProcess.shedding_analysis(t, -0.5 * 0.025 * growth, ustr * 0 + 0.025,
-                                          f_guess=0.925)
+    drift = postProcess.shedding_analysis(t, -0.5 * 0.025 * growth, ustr * 0 + 0.025, f_guess=0.925)
     assert drift["shedding_frequency"] == 0.0 and drift["periods"] == 0
 
 
@@ -400,8 +487,15 @@ def free_disc_on_centreline(case, env, end, write_interval=0.05, cells_per_d=8, 
     centreline (x0 = 0: symmetric mesh and wake), opt-in resolved scheme,
     maxDeltaT 2e-3 s.  Returns (t [s], fall speed [m/s], lateral speed
     [m/s]) at the write times (every `write_interval`)."""
-    setupCase.cylinder_case(case, end_time=end, cells_per_d=cells_per_d, height=height,
-                            write_interval=write_interval, max_dt=2e-3, x0=0.0)
+    setupCase.cylinder_case(
+        case,
+        end_time=end,
+        cells_per_d=cells_per_d,
+        height=height,
+        write_interval=write_interval,
+        max_dt=2e-3,
+        x0=0.0,
+    )
     opt_in_resolved(case)
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
         run(app, case, env)
@@ -410,8 +504,9 @@ def free_disc_on_centreline(case, env, end, write_interval=0.05, cells_per_d=8, 
     return t, -u[0, :, 1], u[0, :, 0]
 
 
-def fixed_disc_comoving(case, env, t_u, u_fall, end, upstream=6, downstream=10,
-                        write_interval=0.05, cells_per_d=8):
+def fixed_disc_comoving(
+    case, env, t_u, u_fall, end, upstream=6, downstream=10, write_interval=0.05, cells_per_d=8
+):
     """The same disc FIXED in the frame that moves with the free disc:
     channel of the box width (setupCase.WIDTH, disc on its axis), `upstream`
     and `downstream` diameters of inlet and outlet length, inflow and walls
@@ -421,20 +516,35 @@ def fixed_disc_comoving(case, env, t_u, u_fall, end, upstream=6, downstream=10,
     (t [s], Ffluid along the flow [N/m]) at the write times > 0."""
     D, W = setupCase.D, setupCase.WIDTH
     h = D / cells_per_d
-    setupCase.write_case(case, (-upstream * D, -W / 2), (downstream * D, W / 2),
-                         (round((upstream + downstream) * D / h), round(W / h)), [(0.0, 0.0, D)],
-                         setupCase.RHO_S, setupCase.RHO_F, setupCase.NU, gravity=(0, 0, 0),
-                         end_time=end, write_interval=write_interval, max_co=0.5, max_dt=2e-3,
-                         fixed=True, inflow=list(zip(t_u, u_fall)),
-                         inlet_pressure="fixedFluxPressure")
+    setupCase.write_case(
+        case,
+        (-upstream * D, -W / 2),
+        (downstream * D, W / 2),
+        (round((upstream + downstream) * D / h), round(W / h)),
+        [(0.0, 0.0, D)],
+        setupCase.RHO_S,
+        setupCase.RHO_F,
+        setupCase.NU,
+        gravity=(0, 0, 0),
+        end_time=end,
+        write_interval=write_interval,
+        max_co=0.5,
+        max_dt=2e-3,
+        fixed=True,
+        inflow=list(zip(t_u, u_fall)),
+        inlet_pressure="fixedFluxPressure",
+    )
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
         run(app, case, env)
     t, F = [], []
     for time, name in nscdpost.time_dirs(case):
         if time > 0:
             t.append(time)
-            F.append(nscdpost.read_vector_field(
-                os.path.join(case, name, "lagrangian", "grains", "Ffluid"))[0, 0])
+            F.append(
+                nscdpost.read_vector_field(
+                    os.path.join(case, name, "lagrangian", "grains", "Ffluid")
+                )[0, 0]
+            )
     return np.array(t), np.array(F)
 
 
@@ -503,10 +613,14 @@ def test_free_fixed_disc_galilean_consistency(tmp_path, env):
     assert abs(tf[-1] - end) < 1e-9, tf
     sf = (tf > t1 - 1e-9) & (tf < t2 + 1e-9)
     F_mean = nscdpost.trapezoid(F[sf], tf[sf]) / (t2 - t1)
-    V = math.pi * setupCase.D ** 2 / 4
+    V = math.pi * setupCase.D**2 / 4
     W = (setupCase.RHO_S - setupCase.RHO_F) * V * (9.81 - abar)
-    print(f"free disc: mean fall speed {u_mean * 100:.4f} cm/s over {t1}-{t2} s "
-          f"(Re {u_mean * setupCase.D / setupCase.NU:.0f}), mean acceleration {abar * 1e3:.3f} mm/s^2")
-    print(f"fixed disc in its frame: mean Ffluid {F_mean:.6e} N/m, net weight (rho_p - rho_f) V (g - a) "
-          f"{W:.6e} N/m, ratio {F_mean / W:.4f}")
+    print(
+        f"free disc: mean fall speed {u_mean * 100:.4f} cm/s over {t1}-{t2} s "
+        f"(Re {u_mean * setupCase.D / setupCase.NU:.0f}), mean acceleration {abar * 1e3:.3f} mm/s^2"
+    )
+    print(
+        f"fixed disc in its frame: mean Ffluid {F_mean:.6e} N/m, net weight (rho_p - rho_f) V (g - a) "
+        f"{W:.6e} N/m, ratio {F_mean / W:.4f}"
+    )
     assert abs(F_mean / W - 1) < 0.10, F_mean / W

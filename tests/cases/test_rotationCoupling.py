@@ -45,19 +45,19 @@ overlap-distributed force is handed to NSCD as an external torque.
   (rigidViscosityRatio 1000 and rotationCoupling) it does not: strict
   xfail (0.003, vansCloud.H "Resolved grains", rigid interior limit).
 """
+
 import math
 import os
 import re
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import add_fluid, make_box_case, run, tutorial_modules
 
 pytestmark = pytest.mark.fast
 
-setupCase, = tutorial_modules("vansFoam", "cylinderSedimentation", names=("setupCase",))
+(setupCase,) = tutorial_modules("vansFoam", "cylinderSedimentation", names=("setupCase",))
 
 
 def set_angular_velocity(case, omega_z, time="0"):
@@ -65,6 +65,7 @@ def set_angular_velocity(case, omega_z, time="0"):
     <case>/<time>/grainState.h5 in place (h5py; the FoamFile user block is
     left as it is)."""
     import h5py
+
     path = os.path.join(case, time, "grainState.h5")
     with h5py.File(path, "r+") as f:
         ds = f["/angularVelocities"]
@@ -74,16 +75,32 @@ def set_angular_velocity(case, omega_z, time="0"):
     assert np.all(nscdpost.read_h5(path, "/angularVelocities")[:, 2] == omega_z)
 
 
-def disc_case(case, env, rho_s, fixed, omega, end, dt, L, d, cells, nu, write_interval=None,
-              eps_min=None):
-    make_box_case(case, (0, 0, 0), (L, L, L / cells), (cells, cells, 1), (0, 0, 0),
-                  {"disc": {"density": rho_s, "friction": 0.3}},
-                  grains=[(L / 2, L / 2, 0, d)], end_time=end, dt=dt,
-                  write_interval=write_interval or end)
+def disc_case(
+    case, env, rho_s, fixed, omega, end, dt, L, d, cells, nu, write_interval=None, eps_min=None
+):
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (L, L, L / cells),
+        (cells, cells, 1),
+        (0, 0, 0),
+        {"disc": {"density": rho_s, "friction": 0.3}},
+        grains=[(L / 2, L / 2, 0, d)],
+        end_time=end,
+        dt=dt,
+        write_interval=write_interval or end,
+    )
     if fixed:
         open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
-    add_fluid(case, 1000.0, nu, max_dt=dt, max_co=0.5, n_correctors=2,
-              extra_coupling="rotationCoupling yes;\nresolvedCellsPerDiameter 4;\n")
+    add_fluid(
+        case,
+        1000.0,
+        nu,
+        max_dt=dt,
+        max_co=0.5,
+        n_correctors=2,
+        extra_coupling="rotationCoupling yes;\nresolvedCellsPerDiameter 4;\n",
+    )
     if eps_min is not None:
         cp = os.path.join(case, "constant", "couplingProperties")
         txt = open(cp).read()
@@ -106,11 +123,10 @@ def spinning_disc(tmp_path, env):
     """The fixed spinning disc case, run once per session directory."""
     R, omega, mu = 0.005, 1.0, 10.0
     d = 2 * R
-    L, cells = 5 * d, 80                    # 16 cells per diameter
+    L, cells = 5 * d, 80  # 16 cells per diameter
     case = str(tmp_path / "spin")
     # viscous time (L/2)^2/nu = 0.0625 s: steady after 0.4 s
-    disc_case(case, env, 1010.0, True, omega, end=0.4, dt=0.05, L=L, d=d, cells=cells,
-              nu=mu / 1000)
+    disc_case(case, env, 1010.0, True, omega, end=0.4, dt=0.05, L=L, d=d, cells=cells, nu=mu / 1000)
     p = run("vansFoam", case, env)
     return case, p.stdout, R, omega, mu, L, cells
 
@@ -130,11 +146,12 @@ def test_spinning_fixed_disc_torque(spin):
     # rAtU of resolved fixed grains, pEqn.H: 208 Courant-limited steps,
     # +-15 % step-to-step noise, mean -3.36e-3, +3 to +5 % of Couette.)
     tq = [float(v) for v in re.findall(r"max \|fluid torque\| (\S+),", out)]
-    assert len(tq) >= 8                    # dt 0.05 s to 0.4 s
+    assert len(tq) >= 8  # dt 0.05 s to 0.4 s
     assert tq[-1] == pytest.approx(tq[-2], rel=1e-3), tq[-5:]
     T = -tq[-1]
     Tlast = nscdpost.read_vector_field(
-        os.path.join(case, "0.4", "lagrangian", "grains", "torqueFluid"))[0][2]
+        os.path.join(case, "0.4", "lagrangian", "grains", "torqueFluid")
+    )[0][2]
     assert Tlast < 0 and abs(Tlast) == pytest.approx(tq[-1], rel=1e-12)
     # 2D: the torque is per unit depth, as the analytical one per unit length
     lo = couette_torque(mu, omega, R, L / 2)
@@ -154,12 +171,12 @@ def test_spinning_fixed_disc_velocity(spin):
     # azimuthal velocity on the x axis through the centre, r ~ 1.06 R, 1.5 R, 2 R
     U = nscdpost.read_vector_field(os.path.join(case, "0.4", "U"))
     dx = L / cells
-    j = cells // 2                         # rows j - 1, j straddle the axis
+    j = cells // 2  # rows j - 1, j straddle the axis
     for r in (1.06 * R, 1.5 * R, 2 * R):
         i = int((L / 2 + r) / dx)
         uy = 0.5 * (U[j * cells + i][1] + U[(j - 1) * cells + i][1])
         rc = math.hypot((i + 0.5) * dx - L / 2, 0.5 * dx)
-        uy *= rc / ((i + 0.5) * dx - L / 2)          # azimuthal component
+        uy *= rc / ((i + 0.5) * dx - L / 2)  # azimuthal component
         ua, ub = couette_u(omega, R, L / 2, rc), couette_u(omega, R, L / math.sqrt(2), rc)
         print("r/R", rc / R, "u", uy, "Couette", ua, ub, "rotlet", omega * R**2 / rc)
         assert min(ua, ub) * 0.90 <= uy <= max(ua, ub) * 1.10, (rc, uy, ua, ub)
@@ -170,11 +187,23 @@ def spin_down(tmp_path_factory, env):
     """A free disc, rho_s/rho_f = 1.01, released spinning at 2 rad/s."""
     R, omega = 0.005, 2.0
     d = 2 * R
-    L, cells = 3 * d, 48                    # 16 cells per diameter
+    L, cells = 3 * d, 48  # 16 cells per diameter
     case = str(tmp_path_factory.mktemp("spinDown") / "spinDown")
     # spin-down time I/(4 pi mu R^2) = rho_s R^2/(8 mu) = 3 ms ~ dt: stiff
-    disc_case(case, env, 1010.0, False, omega, end=0.05, dt=0.02, L=L, d=d, cells=cells,
-              nu=1e-3, write_interval=0.01)
+    disc_case(
+        case,
+        env,
+        1010.0,
+        False,
+        omega,
+        end=0.05,
+        dt=0.02,
+        L=L,
+        d=d,
+        cells=cells,
+        nu=1e-3,
+        write_interval=0.01,
+    )
     p = run("vansFoam", case, env)
     return case, p.stdout, omega
 
@@ -194,9 +223,12 @@ def test_free_disc_newton_third_law(spin_down):
 
 
 def grain_series(case, name, n):
-    return [nscdpost.read_vector_field(
-        os.path.join(case, f"{0.01 * k:g}", "lagrangian", "grains", name))[0]
-        for k in range(1, n + 1)]
+    return [
+        nscdpost.read_vector_field(
+            os.path.join(case, f"{0.01 * k:g}", "lagrangian", "grains", name)
+        )[0]
+        for k in range(1, n + 1)
+    ]
 
 
 def test_free_disc_spin_down_decays(spin_down):
@@ -226,7 +258,7 @@ def _patch_values(text, patch, n):
     OpenFOAM field file (as written by writeCellCentres)."""
     m = re.search(patch + r"\s*\{[^}]*?value\s+nonuniform\s+List<vector>\s*(\d+)\s*\(", text, re.S)
     assert m is not None and int(m.group(1)) == n, patch
-    vecs = re.findall(r"\(([^()]+)\)", text[m.end():])[:n]
+    vecs = re.findall(r"\(([^()]+)\)", text[m.end() :])[:n]
     return np.array([[float(x) for x in v.split()] for v in vecs])
 
 
@@ -250,9 +282,22 @@ def test_free_disc_spins_in_shear(tmp_path, env):
     H, h = 5 * D, D / 10
     n = round(H / h)
     case = str(tmp_path / "shear")
-    setupCase.write_case(case, (-H / 2, -H / 2), (H / 2, H / 2), (n, n), [(0.0, 0.0, D)],
-                         1000.0, 1000.0, nu, gravity=(0, 0, 0), end_time=0.3,
-                         write_interval=0.1, max_co=100, max_dt=5 * h * h / nu, rotation=True)
+    setupCase.write_case(
+        case,
+        (-H / 2, -H / 2),
+        (H / 2, H / 2),
+        (n, n),
+        [(0.0, 0.0, D)],
+        1000.0,
+        1000.0,
+        nu,
+        gravity=(0, 0, 0),
+        end_time=0.3,
+        write_interval=0.1,
+        max_co=100,
+        max_dt=5 * h * h / nu,
+        rotation=True,
+    )
     setupCase.opt_in_resolved(case, "rigidViscosityRatio 1000;\n")
     run("blockMesh", case, env)
     run("postProcess", case, env, args=("-func", "writeCellCentres", "-time", "0"))
@@ -261,13 +306,18 @@ def test_free_disc_spins_in_shear(tmp_path, env):
     cw = _patch_values(ctxt, "walls", 4 * n)
 
     def shear_list(c):
-        return (f"nonuniform List<vector> {len(c)} ("
-                + " ".join(f"({G * y:.12g} 0 0)" for y in c[:, 1]) + ")")
+        return (
+            f"nonuniform List<vector> {len(c)} ("
+            + " ".join(f"({G * y:.12g} 0 0)" for y in c[:, 1])
+            + ")"
+        )
 
     upath = os.path.join(case, "0", "U")
     ut = open(upath).read()
     ut, k1 = re.subn(r"internalField\s+[^;]+;", f"internalField {shear_list(cin)};", ut)
-    ut, k2 = re.subn(r"walls\s*\{[^}]*\}", f"walls {{ type fixedValue; value {shear_list(cw)}; }}", ut)
+    ut, k2 = re.subn(
+        r"walls\s*\{[^}]*\}", f"walls {{ type fixedValue; value {shear_list(cw)}; }}", ut
+    )
     assert k1 == 1 and k2 == 1
     open(upath, "w").write(ut)
     run("grainDeposit", case, env)
@@ -286,14 +336,25 @@ def test_free_disc_spins_in_shear(tmp_path, env):
         assert np.hypot(x[0], x[1]) < 1e-3 * D, (t, x)
 
 
-@pytest.mark.parametrize("penalty", [
-    0,
-    pytest.param(1000, marks=pytest.mark.xfail(strict=True, reason=(
-        "rigid interior (rigidViscosityRatio 1000) with rotationCoupling: the explicit "
-        "transpose part of the viscosity penalty is not torque free when the blob's spin "
-        "changes within a step; total angular momentum 0.0027 of its initial value after "
-        "0.01 s in the 6 d box (measured 2026-11-22; a grain-based transpose part gave 3.05 in a 3 d box, vansCloud.H)"))),
-], ids=["noPenalty", "rigidInterior"])
+@pytest.mark.parametrize(
+    "penalty",
+    [
+        0,
+        pytest.param(
+            1000,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason=(
+                    "rigid interior (rigidViscosityRatio 1000) with rotationCoupling: the explicit "
+                    "transpose part of the viscosity penalty is not torque free when the blob's spin "
+                    "changes within a step; total angular momentum 0.0027 of its initial value after "
+                    "0.01 s in the 6 d box (measured 2026-11-22; a grain-based transpose part gave 3.05 in a 3 d box, vansCloud.H)"
+                ),
+            ),
+        ),
+    ],
+    ids=["noPenalty", "rigidInterior"],
+)
 def test_free_disc_spin_conserves_angular_momentum(tmp_path, env, penalty):
     """Conservation of angular momentum, grain + fluid, about the disc
     centre: I omega + rho_f sum_c eps_c ((x_c - x_p) x U_c)_z V_c, with
@@ -312,18 +373,31 @@ def test_free_disc_spin_conserves_angular_momentum(tmp_path, env, penalty):
     rad/s), so the test also fails if the grain's spin is lost.  ~10 s."""
     R, omega, rho_s, rho_f = 0.005, 2.0, 1010.0, 1000.0
     d = 2 * R
-    L, cells = 6 * d, 96                    # 16 cells per diameter
+    L, cells = 6 * d, 96  # 16 cells per diameter
     case = str(tmp_path / "amSpin")
-    disc_case(case, env, rho_s, False, omega, end=0.02, dt=0.01, L=L, d=d, cells=cells,
-              nu=1e-3, write_interval=0.01)
+    disc_case(
+        case,
+        env,
+        rho_s,
+        False,
+        omega,
+        end=0.02,
+        dt=0.01,
+        L=L,
+        d=d,
+        cells=cells,
+        nu=1e-3,
+        write_interval=0.01,
+    )
     open(os.path.join(case, "constant", "couplingProperties"), "a").write(
-        f"rigidViscosityRatio {penalty};\n")
+        f"rigidViscosityRatio {penalty};\n"
+    )
     run("vansFoam", case, env)
     run("postProcess", case, env, args=("-func", "writeCellCentres", "-time", "0"))
     C = nscdpost.read_internal_field(os.path.join(case, "0", "C"))
     h = L / cells
-    V = h ** 3                               # one cell deep, depth l = h
-    inertia = rho_s * math.pi * R ** 4 * h / 2     # disc of depth h
+    V = h**3  # one cell deep, depth l = h
+    inertia = rho_s * math.pi * R**4 * h / 2  # disc of depth h
     I0 = inertia * omega
     r = C[:, :2] - L / 2
     ratios = []
@@ -339,8 +413,10 @@ def test_free_disc_spin_conserves_angular_momentum(tmp_path, env, penalty):
         Lf = rho_f * np.sum(eps * (r[:, 0] * U[:, 1] - r[:, 1] * U[:, 0])) * V
         Lg = inertia * w
         ratios.append((Lg + Lf) / I0)
-        print(f"t {t:g} s: omega {w:.5f} rad/s, (L_grain + L_fluid)/L_0 = {ratios[-1]:.4f} "
-              f"(grain {Lg / I0:.4f})")
+        print(
+            f"t {t:g} s: omega {w:.5f} rad/s, (L_grain + L_fluid)/L_0 = {ratios[-1]:.4f} "
+            f"(grain {Lg / I0:.4f})"
+        )
         if abs(t - 0.01) < 1e-9:
             assert Lg / I0 > 0.05, w
     assert len(ratios) == 2, ratios
@@ -357,7 +433,7 @@ def test_closed_pore_warning_only_for_fine_grains(tmp_path, env):
     (the resolved disc of test_free_disc_spins_in_shear, eps ~1e-8 inside
     by design).  < 5 s."""
     h, nx = 0.004, 6
-    d = h / 2 * 1.0005                       # touching within 0.05 %
+    d = h / 2 * 1.0005  # touching within 0.05 %
     grains = []
     for j in range(int(nx * h / (d * math.sqrt(3) / 2)) - 1):
         y = d / 2 + j * d * math.sqrt(3) / 2
@@ -365,9 +441,18 @@ def test_closed_pore_warning_only_for_fine_grains(tmp_path, env):
         for i in range(int((nx * h - x0 - d / 2) / d) + 1):
             grains.append((x0 + i * d, y, h / 2, d))
     case = str(tmp_path / "finePack")
-    make_box_case(case, (0, 0, 0), (nx * h, nx * h, h), (nx, nx, 1), (0, 0, 0),
-                  {"s": {"density": 2500.0, "friction": 0.3}}, grains=grains,
-                  end_time=1e-3, dt=1e-3, write_interval=1e-3)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (nx * h, nx * h, h),
+        (nx, nx, 1),
+        (0, 0, 0),
+        {"s": {"density": 2500.0, "friction": 0.3}},
+        grains=grains,
+        end_time=1e-3,
+        dt=1e-3,
+        write_interval=1e-3,
+    )
     add_fluid(case, 1000.0, 1e-6, max_dt=1e-3)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)

@@ -15,17 +15,17 @@ decomposePar writes (-cellDist), with the cell of a centre found from the
 uniform blockMesh grid.  A rank owns the grains whose centre lies in its cells
 (issue 29 item 1).
 """
+
 import os
 import re
 import shutil
 import subprocess
 
+import nscdpost
 import numpy as np
 import pytest
+from foamcase import mpirun_could_not_start, read_internal, run, write
 from foamlib import FoamFile
-
-import nscdpost
-from foamcase import mpirun_could_not_start, run, write, read_internal
 
 pytestmark = pytest.mark.fast
 
@@ -39,16 +39,33 @@ def bed_case(case, env, rows, end=0.005):
     """The sedimentation tutorial with `rows` rows of 133 discs resting on the
     floor (lower part of the box); blockMesh and grainDeposit run.  Returns
     the grain centres (n, 2)."""
-    nscdpost.instantiate_case(BASE, case, {"@METHOD@": "overlap", "@ENDTIME@": str(end),
-                                           "@EPSMIN@": "1e-8", "@PRESSUREDIFFUSION@": "0"})
+    nscdpost.instantiate_case(
+        BASE,
+        case,
+        {
+            "@METHOD@": "overlap",
+            "@ENDTIME@": str(end),
+            "@EPSMIN@": "1e-8",
+            "@PRESSUREDIFFUSION@": "0",
+        },
+    )
     ncol = int(LX / (2 * R))
     x0 = 0.5 * (LX - ncol * 2 * R)
-    xy = np.array([(x0 + (2 * i + 1) * R, (2 * j + 1) * R * (1 + 1e-9))
-                   for j in range(rows) for i in range(ncol)])
-    write(os.path.join(case, "system", "grainDepositDict"), "dictionary", "grainDepositDict",
-          "material grains;\nmethod list;\ngrains\n(\n"
-          + "\n".join(f"({x:.12g} {y:.12g} 0 {2 * R * (1 - 1e-9):.12g})" for x, y in xy)
-          + "\n);\n")
+    xy = np.array(
+        [
+            (x0 + (2 * i + 1) * R, (2 * j + 1) * R * (1 + 1e-9))
+            for j in range(rows)
+            for i in range(ncol)
+        ]
+    )
+    write(
+        os.path.join(case, "system", "grainDepositDict"),
+        "dictionary",
+        "grainDepositDict",
+        "material grains;\nmethod list;\ngrains\n(\n"
+        + "\n".join(f"({x:.12g} {y:.12g} 0 {2 * R * (1 - 1e-9):.12g})" for x, y in xy)
+        + "\n);\n",
+    )
     with FoamFile(os.path.join(case, "system", "controlDict")) as f:
         f["writeInterval"] = end
         f["writePrecision"] = 17
@@ -60,9 +77,13 @@ def bed_case(case, env, rows, end=0.005):
 def decompose(case, env, weighted, n=2):
     """decomposePar -cellDist with method scotch on n ranks (weightField
     cellWeight if weighted); returns the cell -> rank map."""
-    write(os.path.join(case, "system", "decomposeParDict"), "dictionary", "decomposeParDict",
-          f"numberOfSubdomains {n};\nmethod scotch;\n"
-          + ("weightField cellWeight;\n" if weighted else ""))
+    write(
+        os.path.join(case, "system", "decomposeParDict"),
+        "dictionary",
+        "decomposeParDict",
+        f"numberOfSubdomains {n};\nmethod scotch;\n"
+        + ("weightField cellWeight;\n" if weighted else ""),
+    )
     p = run("decomposePar", case, env, args=["-force", "-cellDist"])
     assert "scotch" in p.stdout
     return read_internal(os.path.join(case, "0", "cellDist")).astype(int)
@@ -79,11 +100,17 @@ def test_real_scotch_library_is_loaded(env):
     """decomposePar resolves libscotchDecomp.so to the project's platforms/
     (built from the v1912 source against Debian's libscotch), not Debian's
     dummy in /usr/lib (etc/bashrc puts platforms/ first)."""
-    out = subprocess.run(["ldd", shutil.which("decomposePar", path=env["PATH"])], env=env,
-                         capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        ["ldd", shutil.which("decomposePar", path=env["PATH"])],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     line = next(l for l in out.splitlines() if "libscotchDecomp.so" in l)
     assert os.path.realpath(line.split("=>")[1].split()[0]) == os.path.realpath(
-        os.path.join(env["FOAM_USER_LIBBIN"], "libscotchDecomp.so")), line
+        os.path.join(env["FOAM_USER_LIBBIN"], "libscotchDecomp.so")
+    ), line
     assert "libscotch-" in out, "the real scotchDecomp links Debian's libscotch"
 
 
@@ -125,8 +152,10 @@ def test_weights_balance_grains(tmp_path, env):
     cells_plain = np.bincount(read_internal(os.path.join(case, "0", "cellDist")).astype(int))
     run("grainVoidFraction", case, env, args=["-cellWeight"])
     weighted = grains_per_rank(xy, decompose(case, env, weighted=True))
-    print(f"grains per rank: unweighted {plain.tolist()} (cells {cells_plain.tolist()}), "
-          f"weighted {weighted.tolist()}")
+    print(
+        f"grains per rank: unweighted {plain.tolist()} (cells {cells_plain.tolist()}), "
+        f"weighted {weighted.tolist()}"
+    )
     assert plain.sum() == weighted.sum() == n
     assert abs(cells_plain[0] - cells_plain[1]) <= 0.02 * NX * NY
     assert plain.max() >= 0.9 * n, "unweighted scotch should put (nearly) all grains on one rank"
@@ -145,8 +174,13 @@ def test_scotch_parallel_run_keeps_every_grain(tmp_path, env):
     run("grainVoidFraction", case, env, args=["-cellWeight"])
     owned = grains_per_rank(xy, decompose(case, env, weighted=True))
     assert owned.min() > 0
-    p = subprocess.run(["mpirun", "-np", "2", "vansFoam", "-parallel", "-case", case],
-                       env=env, capture_output=True, text=True, timeout=300)
+    p = subprocess.run(
+        ["mpirun", "-np", "2", "vansFoam", "-parallel", "-case", case],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     with open(os.path.join(case, "log.vansFoam"), "w") as f:
         f.write(p.stdout + p.stderr)
     if mpirun_could_not_start(p):
@@ -155,7 +189,7 @@ def test_scotch_parallel_run_keeps_every_grain(tmp_path, env):
     # load balance logged at each write: the grains of each rank's mesh part
     logged = re.findall(r"grains per rank 2\((\d+) (\d+)\)", p.stdout)
     assert logged, "no 'grains per rank' line in the log"
-    assert [sum(map(int, x)) for x in logged] == [len(xy)]*len(logged)
+    assert [sum(map(int, x)) for x in logged] == [len(xy)] * len(logged)
     assert min(map(int, logged[-1])) > 0
     run("reconstructPar", case, env, args=("-latestTime",))
     t, name = nscdpost.time_dirs(case)[-1]

@@ -6,6 +6,7 @@ pictures with src/python/nscdrender.py (PyVista offscreen) after foamToVTK.
 A smoke test of the pipeline, not of physics: the images exist, have the
 requested size, and are not blank (several hundred distinct colours, pixel
 spread well above zero, the grains' colour bar drawn)."""
+
 import os
 import shutil
 import subprocess
@@ -13,7 +14,6 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import ROOT
 
 pytest.importorskip("pyvista")
@@ -22,6 +22,7 @@ pytest.importorskip("pyvista")
 def _pixels(path):
     """(h, w, 3) uint8 pixels of a PNG (matplotlib's reader, 0..1 floats)."""
     import matplotlib.image as mpimg
+
     img = mpimg.imread(path)
     return (np.asarray(img)[..., :3] * 255).round().astype(np.uint8)
 
@@ -30,8 +31,11 @@ def _pixels(path):
 def test_sedimentation_allrun_renders_snapshots(tmp_path, env):
     tut = os.path.join(ROOT, "tutorials", "vansFoam", "sedimentation")
     work = str(tmp_path / "sedimentation")
-    shutil.copytree(tut, work, ignore=shutil.ignore_patterns(
-        "overlap", "centroid", "results.json", "*.png", "log.*"))
+    shutil.copytree(
+        tut,
+        work,
+        ignore=shutil.ignore_patterns("overlap", "centroid", "results.json", "*.png", "log.*"),
+    )
     p = subprocess.run(["./Allrun", "0.1", "2"], cwd=work, env=env, capture_output=True, text=True)
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
     # both methods run to the end: the centroid (PCM) case with the thesis'
@@ -57,7 +61,8 @@ def test_sedimentation_allrun_renders_snapshots(tmp_path, env):
 @pytest.mark.fast
 def test_render_without_vtk_output_says_what_to_run(tmp_path, env):
     """Bad input: a case without VTK/ gives exit code 1 and names foamToVTK."""
-    p = subprocess.run([sys.executable, "-m", "nscdrender", str(tmp_path)],
-                       capture_output=True, text=True, env=env)
+    p = subprocess.run(
+        [sys.executable, "-m", "nscdrender", str(tmp_path)], capture_output=True, text=True, env=env
+    )
     assert p.returncode == 1
     assert "foamToVTK" in p.stderr and str(tmp_path) in p.stderr, p.stderr

@@ -16,6 +16,7 @@ reduced`) in test_lituyaBay.py, whose tests check its results.
 tests/bench/tutorialAllruns runs this module and records each Allrun's time
 (4.3 min for the twelve on this machine, 2026-11-23).
 """
+
 import glob
 import json
 import os
@@ -24,7 +25,6 @@ import subprocess
 import matplotlib.image as mpimg
 import numpy as np
 import pytest
-
 from foamcase import copy_tutorial
 
 pytestmark = pytest.mark.slow
@@ -35,24 +35,40 @@ pytestmark = pytest.mark.slow
 SMOKE = {
     "grainFoam/heatConduction": (["100"], "results.json", "case/case_grains_t*.png"),
     # builds its case with ../cylinderSedimentation/setupCase.py (copied beside it)
-    "vansFoam/draftingKissingTumbling": (["0.02", "4"], "results.json",
-                                         "case/case_voidFraction_t*.png"),
+    "vansFoam/draftingKissingTumbling": (
+        ["0.02", "4"],
+        "results.json",
+        "case/case_voidFraction_t*.png",
+    ),
     "vansFoam/packedBedHeat": (["DiFeliceColburn", "1", "100"], "results.json", "Re*/Re*_T_t*.png"),
     "vansFoam/rayleighTaylor": (["0.1", "0.005"], "results.json", "case/case_voidFraction_t*.png"),
     "vansFoam/settling3D": (["0.02"], "results.json", "settling3D_voidFraction_t*.png"),
     # 100,000 spheres on 2 ranks for 20 steps
-    "vansFoam/fluidisedBed3D": (["0.02", "2"], "case/results.json", "case/case_voidFraction_t*.png"),
+    "vansFoam/fluidisedBed3D": (
+        ["0.02", "2"],
+        "case/results.json",
+        "case/case_voidFraction_t*.png",
+    ),
     "vansInterFoam/damBreak": (["4"], "results.json", "case/case_alpha.water_t*.png"),
     # the six below pour a bed even at their smallest run (12-60 s each here)
     "grainFoam/columnCollapse": (["100"], "results.json", "a*/a*_grains_t*.png"),
     "vansFoam/bubblingBed": (["0.02", "5", "1.54"], "results.json", "v*/v*_voidFraction_t*.png"),
-    "vansFoam/cylinderSedimentation": (["0.02", "4", "yes", "1e-3", "0.02", "resolved", "4"],
-                                       "results.json", "case/case_voidFraction_t*.png"),
-    "vansFoam/dropletDigging": (["reduced", "0.01"], "reduced/results.json",
-                                "reduced/T*/T*_T_t*.png"),
+    "vansFoam/cylinderSedimentation": (
+        ["0.02", "4", "yes", "1e-3", "0.02", "resolved", "4"],
+        "results.json",
+        "case/case_voidFraction_t*.png",
+    ),
+    "vansFoam/dropletDigging": (
+        ["reduced", "0.01"],
+        "reduced/results.json",
+        "reduced/T*/T*_T_t*.png",
+    ),
     "vansFoam/fluidisation": (["0.02", "1"], "results.json", "hd*/hd*_voidFraction_t*.png"),
-    "vansInterFoam/granularCollapse": (["0.04", "0.5", "0.02"], "results.json",
-                                       "*/*_alpha.water_t*.png"),
+    "vansInterFoam/granularCollapse": (
+        ["0.04", "0.5", "0.02"],
+        "results.json",
+        "*/*_alpha.water_t*.png",
+    ),
 }
 
 
@@ -60,16 +76,19 @@ SMOKE = {
 PARALLEL = {"vansFoam/fluidisedBed3D"}
 
 
-@pytest.mark.parametrize("tutorial", [pytest.param(t, marks=pytest.mark.mpi) if t in PARALLEL else t
-                                      for t in sorted(SMOKE)])
+@pytest.mark.parametrize(
+    "tutorial",
+    [pytest.param(t, marks=pytest.mark.mpi) if t in PARALLEL else t for t in sorted(SMOKE)],
+)
 def test_allrun_runs_to_its_end(tutorial, tmp_path, env):
     args, results, pngs = SMOKE[tutorial]
     solver, case = tutorial.split("/")
     work = copy_tutorial(solver, case, str(tmp_path / case))
     if case == "draftingKissingTumbling":
         copy_tutorial(solver, "cylinderSedimentation", str(tmp_path / "cylinderSedimentation"))
-    p = subprocess.run(["./Allrun", *args], cwd=work, env=env, capture_output=True,
-                       text=True, timeout=900)
+    p = subprocess.run(
+        ["./Allrun", *args], cwd=work, env=env, capture_output=True, text=True, timeout=900
+    )
     assert p.returncode == 0, f"./Allrun {' '.join(args)}:\n" + p.stdout[-3000:] + p.stderr[-3000:]
     for log in glob.glob(os.path.join(work, "**", "log.*"), recursive=True):
         text = open(log, errors="replace").read()
@@ -80,6 +99,6 @@ def test_allrun_runs_to_its_end(tutorial, tmp_path, env):
     assert res, results
     found = glob.glob(os.path.join(work, pngs))
     assert found, f"no {pngs} in {work}: {sorted(os.listdir(work))}"
-    for f in found:     # not blank: the field and its colour bar drawn
+    for f in found:  # not blank: the field and its colour bar drawn
         px = np.asarray(mpimg.imread(f))[..., :3]
         assert px.std() > 0.05 and len(np.unique(px.reshape(-1, 3), axis=0)) > 20, f

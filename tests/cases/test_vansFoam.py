@@ -4,18 +4,17 @@
 The drag laws against independent references (lone sphere, Ergun, Richardson-
 Zaki) are in test_drag.py.
 """
+
 import math
 import os
 import re
 import shutil
 import subprocess
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
-from foamcase import (add_fluid, make_box_case, run, run_fatal_io, run_parallel,
-                      read_internal, write)
+from foamcase import add_fluid, make_box_case, read_internal, run, run_fatal_io, run_parallel, write
 
 pytestmark = pytest.mark.fast
 
@@ -24,11 +23,23 @@ G = 9.81
 
 def small_sedimentation(case, env, method="overlap", end=0.1, write=0.05, nrow=3, ncol=10):
     r = 1.5e-3
-    grains = [(0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001, 0, 2 * r)
-              for j in range(nrow) for i in range(ncol)]
-    make_box_case(case, (0, 0, 0), (0.04, 0.06, 0.003), (9, 13, 1), (0, -G, 0),
-                  {"grains": {"density": 1500, "friction": 0.3}}, grains=grains,
-                  end_time=end, dt=1e-3, write_interval=write)
+    grains = [
+        (0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001, 0, 2 * r)
+        for j in range(nrow)
+        for i in range(ncol)
+    ]
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.06, 0.003),
+        (9, 13, 1),
+        (0, -G, 0),
+        {"grains": {"density": 1500, "friction": 0.3}},
+        grains=grains,
+        end_time=end,
+        dt=1e-3,
+        write_interval=write,
+    )
     add_fluid(case, 1000.0, 1e-6, void_method=method, max_dt=2e-3)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
@@ -42,11 +53,17 @@ def test_restart_is_exact(tmp_path, env):
     run("vansFoam", case, env)
     restart = str(tmp_path / "restart")
     import shutil
+
     shutil.copytree(case, restart)
     shutil.rmtree(os.path.join(restart, "0.1"))
     run("vansFoam", restart, env)
-    for f in ("U", "p", "voidFraction", os.path.join("lagrangian", "grains", "positions"),
-              os.path.join("lagrangian", "grains", "U")):
+    for f in (
+        "U",
+        "p",
+        "voidFraction",
+        os.path.join("lagrangian", "grains", "positions"),
+        os.path.join("lagrangian", "grains", "U"),
+    ):
         a = open(os.path.join(case, "0.1", f)).read()
         b = open(os.path.join(restart, "0.1", f)).read()
         assert a == b, f
@@ -95,6 +112,7 @@ def test_parallel_matches_serial(tmp_path, env):
     small_sedimentation(serial, env, end=0.03, write=0.03, nrow=3, ncol=10)
     par = str(tmp_path / "parallel")
     import shutil
+
     shutil.copytree(serial, par)
     run("vansFoam", serial, env)
     run_parallel("vansFoam", par, env)
@@ -131,19 +149,27 @@ def test_pressure_diffusion_moves_volume_but_creates_none(tmp_path, env):
     small_sedimentation(case, env, method="centroid", end=0.2, write=0.1)
     _with_pressure_diffusion(case, 1)
     p = run("vansFoam", case, env)
-    pd = re.findall(r"pressure diffusion: volume source sum local = (\S+), global = (\S+)", p.stdout)
+    pd = re.findall(
+        r"pressure diffusion: volume source sum local = (\S+), global = (\S+)", p.stdout
+    )
     assert len(pd) > 100, p.stdout[-2000:]
     local = [float(a) for a, _ in pd]
     glob = [float(b) for _, b in pd]
-    assert max(local) > 1e-9                      # the term acts
-    assert max(abs(g) for g in glob) < 1e-14      # and creates no volume
+    assert max(local) > 1e-9  # the term acts
+    assert max(abs(g) for g in glob) < 1e-14  # and creates no volume
     errs = [float(m) for m in re.findall(r"continuity errors : sum local = (\S+),", p.stdout)]
     assert errs and max(errs[1::2]) < 1e-7
     g = nscdpost.read_grains(case, "0.2")
     V = 0.04 * 0.06 * 0.003 / (9 * 13)
     n = np.zeros((13, 9))
-    np.add.at(n, (np.floor(g["x"][:, 1] / (0.06 / 13)).astype(int),
-                  np.floor(g["x"][:, 0] / (0.04 / 9)).astype(int)), 1)
+    np.add.at(
+        n,
+        (
+            np.floor(g["x"][:, 1] / (0.06 / 13)).astype(int),
+            np.floor(g["x"][:, 0] / (0.04 / 9)).astype(int),
+        ),
+        1,
+    )
     expected = V * np.sum(np.maximum(1 - n * math.pi * 1.5e-3**2 * 0.003 / V, 1e-8))
     eps = read_internal(os.path.join(case, "0.2", "voidFraction"))
     assert np.sum(eps) * V == pytest.approx(expected, rel=1e-9)
@@ -158,7 +184,9 @@ def test_pressure_diffusion_must_not_be_negative(tmp_path, env):
     p = run("vansFoam", case, env, check=False)
     out = p.stdout + p.stderr
     assert p.returncode != 0
-    assert "pressureDiffusion -1" in out and "couplingProperties" in out and "Fix" in out, out[-2000:]
+    assert "pressureDiffusion -1" in out and "couplingProperties" in out and "Fix" in out, out[
+        -2000:
+    ]
 
 
 @pytest.mark.parametrize("rho, nu, bad", [(1000.0, 0.0, "nu 0 in"), (-1.0, 1e-6, "rho -1 and")])
@@ -168,8 +196,12 @@ def test_fluid_properties_must_be_positive(tmp_path, env, rho, nu, bad):
     and the fix, before any step."""
     case = str(tmp_path / "props")
     small_sedimentation(case, env, end=0.01, write=0.01)
-    write(os.path.join(case, "constant", "transportProperties"), "dictionary",
-          "transportProperties", f"rho {rho};\nnu {nu};\n")
+    write(
+        os.path.join(case, "constant", "transportProperties"),
+        "dictionary",
+        "transportProperties",
+        f"rho {rho};\nnu {nu};\n",
+    )
     out = run_fatal_io("vansFoam", case, env)
     assert bad in out and "transportProperties" in out, out[-2000:]
     assert "Fix" in out and "Time = " not in out, out[-2000:]
@@ -184,17 +216,30 @@ def shear_box(case, shear):
     pts = [[float(c) for c in v.split()] for v in re.findall(r"\(([^()]*)\)", verts)]
     for v in pts:
         v[0] += shear * v[1]
-    open(bm, "w").write(txt.replace(verts, " ".join(f"({v[0]:.17g} {v[1]:.17g} {v[2]:.17g})" for v in pts)))
+    open(bm, "w").write(
+        txt.replace(verts, " ".join(f"({v[0]:.17g} {v[1]:.17g} {v[2]:.17g})" for v in pts))
+    )
 
 
-@pytest.mark.parametrize("shear, correction, expect, limit", [
-    (0.0, "auto", "faceForces", 1e-6),
-    (0.0375, "auto", "cellGradient", 2e-3),
-    (0.0, "fluxReconstruction", "fluxReconstruction", 1e-6),
-    pytest.param(0.0375, "faceForces", "faceForces", 2e-3, marks=pytest.mark.xfail(
-        strict=True, reason="the reconstructed face forces are unstable on "
-        "non-orthogonal meshes (x100 per step, any dt); auto avoids them there")),
-])
+@pytest.mark.parametrize(
+    "shear, correction, expect, limit",
+    [
+        (0.0, "auto", "faceForces", 1e-6),
+        (0.0375, "auto", "cellGradient", 2e-3),
+        (0.0, "fluxReconstruction", "fluxReconstruction", 1e-6),
+        pytest.param(
+            0.0375,
+            "faceForces",
+            "faceForces",
+            2e-3,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="the reconstructed face forces are unstable on "
+                "non-orthogonal meshes (x100 per step, any dt); auto avoids them there",
+            ),
+        ),
+    ],
+)
 def test_fluid_at_rest_stays_at_rest(tmp_path, env, shear, correction, expect, limit):
     """Hydrostatics (analytical solution U = 0, p = g.x): water at rest in a
     closed box around one fixed grain stays at rest, |U| < limit after 10
@@ -210,10 +255,18 @@ def test_fluid_at_rest_stays_at_rest(tmp_path, env, shear, correction, expect, l
     face's centre offset: a known limit of a p that holds the hydrostatic
     part)."""
     case = str(tmp_path / f"shear{shear}{correction}")
-    make_box_case(case, (0, 0, 0), (0.04, 0.08, 0.004), (10, 20, 1), (0, -9.81, 0),
-                  {"glass": {"density": 2500.0, "friction": 0.4}},
-                  grains=[(0.02, 0.04, 0.002, 0.004)], end_time=0.01, dt=1e-3,
-                  write_interval=0.01)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.08, 0.004),
+        (10, 20, 1),
+        (0, -9.81, 0),
+        {"glass": {"density": 2500.0, "friction": 0.4}},
+        grains=[(0.02, 0.04, 0.002, 0.004)],
+        end_time=0.01,
+        dt=1e-3,
+        write_interval=0.01,
+    )
     open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     shear_box(case, shear)
     add_fluid(case, 1000.0, 1e-6)
@@ -234,18 +287,33 @@ def tet_box(case, env, grains=(), gravity=(0, -G, 0)):
     """A closed 20 x 40 x 20 mm box of water meshed by gmsh in tetrahedra
     (max cell size 4 mm: 1,385 tets, non-orthogonality up to 55 deg, mean
     21 deg), one wall patch `walls`, optional fixed grains (x, y, z, d)."""
-    make_box_case(case, (0, 0, 0), (0.02, 0.04, 0.02), (5, 10, 5), gravity,
-                  {"glass": {"density": 2500.0, "friction": 0.4}},
-                  grains=list(grains), end_time=0.02, dt=1e-3, write_interval=0.01,
-                  two_d=False)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.02, 0.04, 0.02),
+        (5, 10, 5),
+        gravity,
+        {"glass": {"density": 2500.0, "friction": 0.4}},
+        grains=list(grains),
+        end_time=0.02,
+        dt=1e-3,
+        write_interval=0.01,
+        two_d=False,
+    )
     open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     add_fluid(case, 1000.0, 1e-6)
     with open(os.path.join(case, "box.geo"), "w") as f:
-        f.write('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 0.02, 0.04, 0.02};\n'
-                "Mesh.CharacteristicLengthMax = 0.004;\n"
-                'Physical Surface("walls") = {1, 2, 3, 4, 5, 6};\nPhysical Volume("fluid") = {1};\n')
-    subprocess.run(["gmsh", "-3", "-format", "msh2", "box.geo", "-o", "box.msh"], cwd=case,
-                   check=True, capture_output=True)
+        f.write(
+            'SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 0.02, 0.04, 0.02};\n'
+            "Mesh.CharacteristicLengthMax = 0.004;\n"
+            'Physical Surface("walls") = {1, 2, 3, 4, 5, 6};\nPhysical Volume("fluid") = {1};\n'
+        )
+    subprocess.run(
+        ["gmsh", "-3", "-format", "msh2", "box.geo", "-o", "box.msh"],
+        cwd=case,
+        check=True,
+        capture_output=True,
+    )
     run("gmshToFoam", case, env, args=(os.path.join(case, "box.msh"),))
     bnd = os.path.join(case, "constant", "polyMesh", "boundary")
     txt = open(bnd).read()
@@ -274,14 +342,27 @@ def test_closed_tet_box_flow_matches_pimpleFoam(tmp_path, env):
         shutil.copytree(os.path.join(case, d), os.path.join(ref, d))
     for f in ("U", "p"):
         shutil.copy(os.path.join(case, "0", f), os.path.join(ref, "0", f))
-    write(os.path.join(ref, "constant", "transportProperties"), "dictionary",
-          "transportProperties", "transportModel Newtonian;\nnu 1e-6;\n")
-    write(os.path.join(ref, "constant", "turbulenceProperties"), "dictionary",
-          "turbulenceProperties", "simulationType laminar;\n")
+    write(
+        os.path.join(ref, "constant", "transportProperties"),
+        "dictionary",
+        "transportProperties",
+        "transportModel Newtonian;\nnu 1e-6;\n",
+    )
+    write(
+        os.path.join(ref, "constant", "turbulenceProperties"),
+        "dictionary",
+        "turbulenceProperties",
+        "simulationType laminar;\n",
+    )
     sch = os.path.join(ref, "system", "fvSchemes")
-    txt = open(sch).read().replace(
-        "div(phi,U) Gauss limitedLinearV 1;",
-        "div(phi,U) Gauss limitedLinearV 1; div((nuEff*dev2(T(grad(U))))) Gauss linear;")
+    txt = (
+        open(sch)
+        .read()
+        .replace(
+            "div(phi,U) Gauss limitedLinearV 1;",
+            "div(phi,U) Gauss limitedLinearV 1; div((nuEff*dev2(T(grad(U))))) Gauss linear;",
+        )
+    )
     open(sch, "w").write(txt)
     cd = os.path.join(ref, "system", "controlDict")
     txt = re.sub(r"functions.*", "", open(cd).read(), flags=re.S)
@@ -291,17 +372,22 @@ def test_closed_tet_box_flow_matches_pimpleFoam(tmp_path, env):
     U = np.asarray(read_internal(os.path.join(case, "0.02", "U")))
     R = np.asarray(read_internal(os.path.join(ref, "0.02", "U")))
     speed, speed_ref = np.linalg.norm(U, axis=1).max(), np.linalg.norm(R, axis=1).max()
-    print(f"tet box at 0.02 s: |U| max {speed:.5g} (pimpleFoam {speed_ref:.5g}), "
-          f"sum U^2 {np.sum(U**2):.5g} ({np.sum(R**2):.5g})")
+    print(
+        f"tet box at 0.02 s: |U| max {speed:.5g} (pimpleFoam {speed_ref:.5g}), "
+        f"sum U^2 {np.sum(U**2):.5g} ({np.sum(R**2):.5g})"
+    )
     assert 0.02 < speed_ref < 0.1
     assert speed == pytest.approx(speed_ref, rel=0.03)
     assert np.sum(U**2) == pytest.approx(np.sum(R**2), rel=0.03)
 
 
-@pytest.mark.xfail(strict=True, reason="the hydrostatic pressure of the kinematic p "
-                   "(p = g.x) is not balanced by the Gauss gradient on tetrahedra: "
-                   "0.07 m/s after 10 ms, 0.3-0.39 m/s after 0.1-0.3 s (bounded); "
-                   "needs the p_rgh form of interFoam (issue 60)")
+@pytest.mark.xfail(
+    strict=True,
+    reason="the hydrostatic pressure of the kinematic p "
+    "(p = g.x) is not balanced by the Gauss gradient on tetrahedra: "
+    "0.07 m/s after 10 ms, 0.3-0.39 m/s after 0.1-0.3 s (bounded); "
+    "needs the p_rgh form of interFoam (issue 60)",
+)
 def test_water_at_rest_on_tets(tmp_path, env):
     """Hydrostatics on a tetrahedral mesh: water at rest around one fixed
     grain stays at rest, |U| < 1e-3 m/s after 10 ms."""
@@ -326,16 +412,28 @@ def test_sedimentation_on_sheared_meshes(tmp_path, env, degrees):
     Before the non-orthogonal mesh took its face pressure gradient from the
     solved equation and the predictor the corrector's forces (pEqn.H,
     UEqn.H) the 10 deg box stopped at 0.014 s (time step collapsed)."""
+
     def fall(deg):
         case = str(tmp_path / f"shear{deg}")
         sh = math.tan(math.radians(deg))
         r = 1.5e-3
-        rows = [(0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001)
-                for j in range(6) for i in range(10)]
-        make_box_case(case, (0, 0, 0), (0.04, 0.06, 0.003), (9, 13, 1), (0, -G, 0),
-                      {"grains": {"density": 1500, "friction": 0.3}},
-                      grains=[(x + sh * y, y, 0, 2 * r) for x, y in rows],
-                      end_time=0.3, dt=1e-3, write_interval=0.3)
+        rows = [
+            (0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001)
+            for j in range(6)
+            for i in range(10)
+        ]
+        make_box_case(
+            case,
+            (0, 0, 0),
+            (0.04, 0.06, 0.003),
+            (9, 13, 1),
+            (0, -G, 0),
+            {"grains": {"density": 1500, "friction": 0.3}},
+            grains=[(x + sh * y, y, 0, 2 * r) for x, y in rows],
+            end_time=0.3,
+            dt=1e-3,
+            write_interval=0.3,
+        )
         add_fluid(case, 1000.0, 1e-6, max_dt=2e-3)
         shear_box(case, sh)
         run("blockMesh", case, env)
@@ -343,26 +441,45 @@ def test_sedimentation_on_sheared_meshes(tmp_path, env, degrees):
         run("vansFoam", case, env)
         y0 = np.mean([y for _, y in rows])
         return y0 - np.mean(nscdpost.read_grains(case, "0.3")["x"][:, 1])
+
     ref, got = fall(0), fall(degrees)
     print(f"mean fall over 0.3 s: {got:.5f} m at {degrees} deg, {ref:.5f} m orthogonal")
     assert ref > 0.01
     assert got == pytest.approx(ref, rel=0.05)
 
 
-@pytest.mark.parametrize("word, shear, expect", [
-    # an unknown word: the message lists the modes
-    ("reconstruct", 0.0, ["velocityCorrection reconstruct", "cellGradient", "fluxReconstruction"]),
-    # fluxReconstruction starts from the faceForces velocity, unstable on
-    # non-orthogonal meshes: an error naming the keyword and the fix, not a
-    # blown-up run
-    ("fluxReconstruction", 0.0375, ["velocityCorrection fluxReconstruction", "not orthogonal",
-                                    "use cellGradient or auto"]),
-])
+@pytest.mark.parametrize(
+    "word, shear, expect",
+    [
+        # an unknown word: the message lists the modes
+        (
+            "reconstruct",
+            0.0,
+            ["velocityCorrection reconstruct", "cellGradient", "fluxReconstruction"],
+        ),
+        # fluxReconstruction starts from the faceForces velocity, unstable on
+        # non-orthogonal meshes: an error naming the keyword and the fix, not a
+        # blown-up run
+        (
+            "fluxReconstruction",
+            0.0375,
+            ["velocityCorrection fluxReconstruction", "not orthogonal", "use cellGradient or auto"],
+        ),
+    ],
+)
 def test_velocity_correction_errors(tmp_path, env, word, shear, expect):
     case = str(tmp_path / "bad")
-    make_box_case(case, (0, 0, 0), (0.04, 0.08, 0.004), (4, 8, 1), (0, -9.81, 0),
-                  {"glass": {"density": 2500.0, "friction": 0.4}},
-                  grains=[(0.02, 0.04, 0.002, 0.004)], end_time=0.001, dt=1e-3)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.08, 0.004),
+        (4, 8, 1),
+        (0, -9.81, 0),
+        {"glass": {"density": 2500.0, "friction": 0.4}},
+        grains=[(0.02, 0.04, 0.002, 0.004)],
+        end_time=0.001,
+        dt=1e-3,
+    )
     if shear:
         shear_box(case, shear)
     add_fluid(case, 1000.0, 1e-6)

@@ -18,15 +18,15 @@ References, independent of the decomposition:
   - restart: a run stopped on 2 ranks continues on 4 from the gathered
     state and the coupling's per-grain restart lists written whole.
 """
+
 import math
 import os
 import re
 import shutil
 
+import nscdpost
 import numpy as np
 import pytest
-
-import nscdpost
 from foamcase import read_internal, run, run_parallel
 from test_vansFoam import small_sedimentation
 
@@ -53,7 +53,7 @@ def _grains(case, time_name):
 def _volume_error(case, time_name):
     eps = read_internal(os.path.join(case, time_name, "voidFraction"))
     V = 0.04 * 0.06 * 0.003 / (9 * 13)
-    expected = 0.04 * 0.06 * 0.003 - N_GRAINS * math.pi * (D / 2)**2 * 0.003
+    expected = 0.04 * 0.06 * 0.003 - N_GRAINS * math.pi * (D / 2) ** 2 * 0.003
     return abs(np.sum(eps) * V - expected) / expected
 
 
@@ -90,8 +90,10 @@ def test_sedimentation_matches_serial(runs, n):
         xs, us = _grains(serial, t)
         xp, up = _grains(par, t)
         dx = np.max(np.abs(xs - xp))
-        print(f"[ np{n} t={t} ] max |x - x_serial| = {dx:.3e} m = {dx / D:.2e} d, "
-              f"mean v_y {np.mean(up[:, 1]):.6f} (serial {np.mean(us[:, 1]):.6f}) m/s")
+        print(
+            f"[ np{n} t={t} ] max |x - x_serial| = {dx:.3e} m = {dx / D:.2e} d, "
+            f"mean v_y {np.mean(up[:, 1]):.6f} (serial {np.mean(us[:, 1]):.6f}) m/s"
+        )
         assert dx < 1e-4 * D
         assert np.mean(up[:, 1]) == pytest.approx(np.mean(us[:, 1]), rel=1e-3)
         assert np.min(us[:, 1]) < -1e-2, "grains should be falling"
@@ -128,25 +130,34 @@ def test_rotation_coupling_keeps_every_grain_on_every_rank(tmp_path, env):
     and replicates the grains; an explicit grainDecomposition decomposed
     stops with the reason and the fix."""
     import subprocess
+
     from foamcase import mpirun_could_not_start
+
     case = str(tmp_path / "rotation")
     _case(case, env, 0.002)
     path = os.path.join(case, "constant", "couplingProperties")
     text = open(path).read()
     open(path, "w").write(text.replace("forceModel", "rotationCoupling yes;\nforceModel", 1))
     p = run_parallel("vansFoam", case, env, n=2)
-    assert ("every rank holds every grain (grainDecomposition replicated:"
-            " couplingProperties rotationCoupling)") in p.stdout
+    assert (
+        "every rank holds every grain (grainDecomposition replicated:"
+        " couplingProperties rotationCoupling)"
+    ) in p.stdout
     with open(os.path.join(case, "constant", "grainProperties"), "a") as f:
         f.write("grainDecomposition decomposed;\n")
-    p = subprocess.run(["mpirun", "-np", "2", "vansFoam", "-parallel", "-case", case],
-                       env=env, capture_output=True, text=True)
+    p = subprocess.run(
+        ["mpirun", "-np", "2", "vansFoam", "-parallel", "-case", case],
+        env=env,
+        capture_output=True,
+        text=True,
+    )
     if mpirun_could_not_start(p):
         pytest.skip("mpirun cannot start here")
     out = p.stdout + p.stderr
     assert p.returncode != 0
-    assert ("grainDecomposition decomposed: not available with couplingProperties"
-            " rotationCoupling") in out, out[-2000:]
+    assert (
+        "grainDecomposition decomposed: not available with couplingProperties rotationCoupling"
+    ) in out, out[-2000:]
 
 
 @pytest.mark.mpi
@@ -160,19 +171,32 @@ def test_bed_at_rest_across_ranks_matches_serial(tmp_path, env):
     the held fractions of the state's contacts: a grain held by contacts
     solved on another rank is held on every rank that holds a copy."""
     r = 1.5e-3
-    grains = [(0.005 + (2 * i + 1 + (j % 2) * 0.5) * r * 1.05, (2 * j + 1) * r * 1.02, 0, 2 * r)
-              for j in range(4) for i in range(10)]
+    grains = [
+        (0.005 + (2 * i + 1 + (j % 2) * 0.5) * r * 1.05, (2 * j + 1) * r * 1.02, 0, 2 * r)
+        for j in range(4)
+        for i in range(10)
+    ]
     serial = str(tmp_path / "serial")
     from foamcase import add_fluid, make_box_case
     from foamlib import FoamFile
-    make_box_case(serial, (0, 0, 0), (0.04, 0.06, 0.003), (9, 13, 1), (0, -9.81, 0),
-                  {"grains": {"density": 1500, "friction": 0.3}}, grains=grains,
-                  end_time=0.2, dt=1e-3, write_interval=0.2)
+
+    make_box_case(
+        serial,
+        (0, 0, 0),
+        (0.04, 0.06, 0.003),
+        (9, 13, 1),
+        (0, -9.81, 0),
+        {"grains": {"density": 1500, "friction": 0.3}},
+        grains=grains,
+        end_time=0.2,
+        dt=1e-3,
+        write_interval=0.2,
+    )
     run("blockMesh", serial, env)
     run("grainDeposit", serial, env)
     run("grainFoam", serial, env)
     add_fluid(serial, 1000.0, 1e-6, max_dt=1e-3)
-    for f in ("U", "p"):   # the fluid at rest from the settled state on
+    for f in ("U", "p"):  # the fluid at rest from the settled state on
         shutil.move(os.path.join(serial, "0", f), os.path.join(serial, "0.2", f))
     with FoamFile(os.path.join(serial, "system", "controlDict")) as f:
         f["endTime"] = 0.22
@@ -190,12 +214,14 @@ def test_bed_at_rest_across_ranks_matches_serial(tmp_path, env):
     dx = np.max(np.abs(xs - xp))
     vmax = np.max(np.linalg.norm(gp["U"], axis=1))
     vmax_serial = np.max(np.linalg.norm(gs["U"], axis=1))
-    print(f"[ bed at rest, 2 ranks ] max |x - x_serial| = {dx / D:.2e} d, |v| max {vmax:.2e} m/s"
-          f" (serial {vmax_serial:.2e})")
+    print(
+        f"[ bed at rest, 2 ranks ] max |x - x_serial| = {dx / D:.2e} d, |v| max {vmax:.2e} m/s"
+        f" (serial {vmax_serial:.2e})"
+    )
     assert sorted(gp["grainId"]) == list(range(40))
     assert dx < 1e-4 * D
     assert vmax == pytest.approx(vmax_serial, rel=1e-3)
-    assert vmax < 1e-2   # (the pressure's start from 0 stirs the bed a little)
+    assert vmax < 1e-2  # (the pressure's start from 0 stirs the bed a little)
 
 
 @pytest.mark.mpi
@@ -217,6 +243,7 @@ def test_heat_exchange_decomposed_matches_serial(tmp_path, env, n, split):
     differ by 2e-6 K at 0.03 s (measured 2026-11-24), 1.8e-11 K here."""
     from foamlib import FoamFile
     from test_vansFoam_heat import check_energy, closed_box_case
+
     serial = str(tmp_path / "serial")
     E0 = closed_box_case(serial, env, end_time=0.06, top=0.035)
     with FoamFile(os.path.join(serial, "system", "fvSolution")) as f:
@@ -224,8 +251,9 @@ def test_heat_exchange_decomposed_matches_serial(tmp_path, env, n, split):
             f["solvers", k, "tolerance"] = 1e-13
             f["solvers", k, "relTol"] = 0
     gp = os.path.join(serial, "constant", "grainProperties")
-    text, count = re.subn(r"contactSolver \{ tolerance \S+;", "contactSolver { tolerance 1e-12;",
-                          open(gp).read())
+    text, count = re.subn(
+        r"contactSolver \{ tolerance \S+;", "contactSolver { tolerance 1e-12;", open(gp).read()
+    )
     assert count == 1
     open(gp, "w").write(text)
     par = str(tmp_path / f"np{n}")
@@ -240,15 +268,19 @@ def test_heat_exchange_decomposed_matches_serial(tmp_path, env, n, split):
         g = nscdpost.read_grains(case, "0.06")
         order = np.argsort(g["grainId"])
         d = os.path.join(case, "0.06", "lagrangian", "grains")
-        fields[name] = (g["x"][order],
-                        nscdpost.read_scalar_field(os.path.join(d, "T"))[order],
-                        nscdpost.read_scalar_field(os.path.join(d, "Tfluid"))[order])
+        fields[name] = (
+            g["x"][order],
+            nscdpost.read_scalar_field(os.path.join(d, "T"))[order],
+            nscdpost.read_scalar_field(os.path.join(d, "Tfluid"))[order],
+        )
         assert sorted(g["grainId"]) == list(range(16))
     (xs, Ts, Tfs), (xp, Tp, Tfp) = fields["serial"], fields["par"]
     dx, dT, dTf = (np.max(np.abs(a - b)) for a, b in ((xs, xp), (Ts, Tp), (Tfs, Tfp)))
-    print(f"[ heat np{n} ] max |x - x_serial| = {dx / D:.2e} d, |T - T_serial| {dT:.2e} K,"
-          f" |Tfluid - serial| {dTf:.2e} K, grain T {Ts.min():.3f}-{Ts.max():.3f} K")
-    assert np.max(Ts) < 350 - 1        # the grains cooled
+    print(
+        f"[ heat np{n} ] max |x - x_serial| = {dx / D:.2e} d, |T - T_serial| {dT:.2e} K,"
+        f" |Tfluid - serial| {dTf:.2e} K, grain T {Ts.min():.3f}-{Ts.max():.3f} K"
+    )
+    assert np.max(Ts) < 350 - 1  # the grains cooled
     assert dx < 1e-4 * D
     assert dT < 1e-8
     assert dTf < 1e-8

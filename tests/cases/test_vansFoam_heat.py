@@ -23,22 +23,26 @@
   size move (the fluid reached 201-706 K, the grains 378 K, in this box
   with the grains 2 cm lower: measured 2026-11-24).
 """
+
 import math
 import os
 import re
 
-
-import numpy as np
-import pytest
-
 import correlations
 import nscdpost
-
-from foamcase import (add_fluid, add_scalar_transport, make_box_case, read_internal, run,
-                      uniform_inflow, write)
+import numpy as np
+import pytest
+from foamcase import (
+    add_fluid,
+    add_scalar_transport,
+    make_box_case,
+    read_internal,
+    run,
+    uniform_inflow,
+    write,
+)
 
 pytestmark = pytest.mark.fast
-
 
 
 def nusselt_difelice_colburn_re(eps, Re, Pr):
@@ -49,8 +53,10 @@ def nusselt_difelice_colburn_re(eps, Re, Pr):
 def heat_lines(log):
     """(time, grain mean T, fluid mean T, Q, E) per step from the vansFoam log."""
     h = nscdpost.heat_log(log)
-    return [tuple(float(v) for v in r)
-            for r in zip(h["time"], h["grain_T"], h["fluid_T"], h["Q"], h["E"])]
+    return [
+        tuple(float(v) for v in r)
+        for r in zip(h["time"], h["grain_T"], h["fluid_T"], h["Q"], h["E"])
+    ]
 
 
 def set_materials(case, body, extra=""):
@@ -64,9 +70,15 @@ def add_heat(case, Cp, kappa, T_bc, T_init, extra_transport=""):
     tp = os.path.join(case, "constant", "transportProperties")
     open(tp, "a").write(f"Cp {Cp};\nkappa {kappa};\n" + extra_transport)
     cp = os.path.join(case, "constant", "couplingProperties")
-    open(cp, "a").write("heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n")
-    write(os.path.join(case, "0", "T"), "volScalarField", "T",
-          f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {T_init};\nboundaryField {{ {T_bc} }}\n")
+    open(cp, "a").write(
+        "heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n"
+    )
+    write(
+        os.path.join(case, "0", "T"),
+        "volScalarField",
+        "T",
+        f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {T_init};\nboundaryField {{ {T_bc} }}\n",
+    )
     add_scalar_transport(case, "T", "Gauss upwind")
 
 
@@ -77,18 +89,35 @@ def test_single_grain_lumped_exponential(tmp_path, env):
     T_in, T0 = 300.0, 350.0
     case = str(tmp_path / "grain")
     nx, ny = 4, 10
-    make_box_case(case, (0, 0, 0), (nx * h, ny * h, nx * h), (nx, ny, nx), (0, 0, 0),
-                  {"glass": {"density": rhop, "friction": 0.4}},
-                  grains=[(1.5 * h, 5.5 * h, 1.5 * h, d)], end_time=0.3, dt=1e-3,
-                  write_interval=0.3, two_d=False)
-    set_materials(case, f"glass {{ density {rhop}; friction 0.4; conductivity 1; heatCapacity {cp}; }}",
-                  f"initialTemperature {T0};\n")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (nx * h, ny * h, nx * h),
+        (nx, ny, nx),
+        (0, 0, 0),
+        {"glass": {"density": rhop, "friction": 0.4}},
+        grains=[(1.5 * h, 5.5 * h, 1.5 * h, d)],
+        end_time=0.3,
+        dt=1e-3,
+        write_interval=0.3,
+        two_d=False,
+    )
+    set_materials(
+        case,
+        f"glass {{ density {rhop}; friction 0.4; conductivity 1; heatCapacity {cp}; }}",
+        f"initialTemperature {T0};\n",
+    )
     open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     add_fluid(case, rho, nu)
     uniform_inflow(case, Us)
-    add_heat(case, Cp, kappa,
-             f"inlet {{ type fixedValue; value uniform {T_in}; }} outlet {{ type zeroGradient; }}"
-             " walls { type zeroGradient; }", T_in)
+    add_heat(
+        case,
+        Cp,
+        kappa,
+        f"inlet {{ type fixedValue; value uniform {T_in}; }} outlet {{ type zeroGradient; }}"
+        " walls { type zeroGradient; }",
+        T_in,
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     log = run("vansFoam", case, env).stdout
@@ -102,7 +131,7 @@ def test_single_grain_lumped_exponential(tmp_path, env):
     eps = 1 - math.pi / 6 * d**3 / h**3
     Pr = Cp * rho * nu / kappa
     Nu = nusselt_difelice_colburn_re(eps, Re, Pr)
-    H = kappa * Nu / d * 6 / d * math.pi / 6 * d**3      # eq. 4.13: k Nu/d S/V x V
+    H = kappa * Nu / d * 6 / d * math.pi / 6 * d**3  # eq. 4.13: k Nu/d S/V x V
     mc = rhop * math.pi / 6 * d**3 * cp
     tau = mc / H
     # fluid temperature seen by the grain (gathered, output Tfluid) ~ T_in
@@ -111,13 +140,15 @@ def test_single_grain_lumped_exponential(tmp_path, env):
     worst_fluid = max(abs(Tf_p - T_in), max(abs(s[2] - T_in) for s in steps)) / (T0 - T_in)
     assert worst_fluid < 1e-3
     errs = []
-    for t, Tg, Tf, Q, E in steps[9::10]:
+    for t, Tg, _Tf, _Q, _E in steps[9::10]:
         ref = math.exp(-t / tau)
         errs.append(abs((Tg - T_in) / (T0 - T_in) - ref) / ref)
-    print(f"Re {Re:.4g} Nu {Nu:.5g} tau {tau:.5g} s, t_end/tau {steps[-1][0]/tau:.3g}, "
-          f"max rel. error {max(errs):.3e}, fluid dev {worst_fluid:.2e}")
+    print(
+        f"Re {Re:.4g} Nu {Nu:.5g} tau {tau:.5g} s, t_end/tau {steps[-1][0] / tau:.3g}, "
+        f"max rel. error {max(errs):.3e}, fluid dev {worst_fluid:.2e}"
+    )
     assert max(errs) < 0.02
-    assert steps[-1][0] / tau > 0.5          # a real decay was tested
+    assert steps[-1][0] / tau > 0.5  # a real decay was tested
 
 
 def closed_box_case(case, env, end_time=0.05, top=0.055):
@@ -130,16 +161,37 @@ def closed_box_case(case, env, end_time=0.05, top=0.055):
     rhop, cp = 1500.0, 800.0
     Tf0, T0 = 300.0, 350.0
     depth = 0.003
-    grains = [(0.005 + (2 * i + 1) * r * 1.0001, top - (2 * j + 1) * r * 1.0001, 0, 2 * r)
-              for j in range(2) for i in range(8)]
-    make_box_case(case, (0, 0, 0), (0.04, 0.06, depth), (9, 13, 1), (0, -9.81, 0),
-                  {"grains": {"density": rhop, "friction": 0.3}}, grains=grains,
-                  end_time=end_time, dt=1e-3, write_interval=end_time)
-    set_materials(case, f"grains {{ density {rhop}; friction 0.3; conductivity 1; heatCapacity {cp}; }}",
-                  f"initialTemperature {T0};\n")
+    grains = [
+        (0.005 + (2 * i + 1) * r * 1.0001, top - (2 * j + 1) * r * 1.0001, 0, 2 * r)
+        for j in range(2)
+        for i in range(8)
+    ]
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.06, depth),
+        (9, 13, 1),
+        (0, -9.81, 0),
+        {"grains": {"density": rhop, "friction": 0.3}},
+        grains=grains,
+        end_time=end_time,
+        dt=1e-3,
+        write_interval=end_time,
+    )
+    set_materials(
+        case,
+        f"grains {{ density {rhop}; friction 0.3; conductivity 1; heatCapacity {cp}; }}",
+        f"initialTemperature {T0};\n",
+    )
     add_fluid(case, rho, nu)
-    add_heat(case, Cp, kappa, "walls { type zeroGradient; } frontAndBack { type empty; }", Tf0,
-             "beta 2e-4;\nTRef 300;\n")
+    add_heat(
+        case,
+        Cp,
+        kappa,
+        "walls { type zeroGradient; } frontAndBack { type empty; }",
+        Tf0,
+        "beta 2e-4;\nTRef 300;\n",
+    )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     n = len(grains)
@@ -157,12 +209,14 @@ def check_energy(log, E0):
     steps = heat_lines(log)
     assert len(h["budget"]) == len(steps)
     budget = np.cumsum(h["budget"].sum(axis=1))
-    assert np.all(np.abs(h["budget"][:, :5]) < 1e-12 * E0)   # closed, adiabatic
+    assert np.all(np.abs(h["budget"][:, :5]) < 1e-12 * E0)  # closed, adiabatic
     Qsum = sum(s[3] for s in steps)
     drift = max(abs(s[4] - E0 - b) for s, b in zip(steps, budget))
-    print(f"E0 {E0:.10g} J, heat exchanged {Qsum:.4g} J, continuity defect {h['budget'][:, 5].sum():.4g} J, "
-          f"max |E - E0 - budget| {drift:.3e} J ({drift / E0:.2e} of E0, {drift / abs(Qsum):.2e} of Q)")
-    assert Qsum < 0                     # the hot grains heat the fluid
+    print(
+        f"E0 {E0:.10g} J, heat exchanged {Qsum:.4g} J, continuity defect {h['budget'][:, 5].sum():.4g} J, "
+        f"max |E - E0 - budget| {drift:.3e} J ({drift / E0:.2e} of E0, {drift / abs(Qsum):.2e} of Q)"
+    )
+    assert Qsum < 0  # the hot grains heat the fluid
     assert drift < 1e-6 * E0
     assert drift < 1e-6 * abs(Qsum)
     return steps, float(h["budget"][:, 5].sum())
@@ -191,7 +245,9 @@ def test_closed_box_energy_conservation(tmp_path, env):
 
     cons = str(tmp_path / "conservative")
     E0 = closed_box_case(cons, env)
-    open(os.path.join(cons, "constant", "transportProperties"), "a").write("energyForm conservative;\n")
+    open(os.path.join(cons, "constant", "transportProperties"), "a").write(
+        "energyForm conservative;\n"
+    )
     log = run("vansFoam", cons, env).stdout
     assert "energy equation in conservative form" in log
     steps, defect = check_energy(log, E0)
@@ -220,14 +276,26 @@ def test_heat_transfer_model_none(tmp_path, env):
     keyword (grain positions and velocities bit for bit). Consistency check
     of the selection, not of physics."""
     r = 1.5e-3
-    grains = [(0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001, 0, 2 * r)
-              for j in range(2) for i in range(8)]
+    grains = [
+        (0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001, 0, 2 * r)
+        for j in range(2)
+        for i in range(8)
+    ]
     states = {}
     for name, extra in (("absent", ""), ("none", "heatTransferModel none;\n")):
         case = str(tmp_path / name)
-        make_box_case(case, (0, 0, 0), (0.04, 0.06, 0.003), (9, 13, 1), (0, -9.81, 0),
-                      {"grains": {"density": 1500.0, "friction": 0.3}}, grains=grains,
-                      end_time=0.02, dt=1e-3, write_interval=0.02)
+        make_box_case(
+            case,
+            (0, 0, 0),
+            (0.04, 0.06, 0.003),
+            (9, 13, 1),
+            (0, -9.81, 0),
+            {"grains": {"density": 1500.0, "friction": 0.3}},
+            grains=grains,
+            end_time=0.02,
+            dt=1e-3,
+            write_interval=0.02,
+        )
         add_fluid(case, 1000.0, 1e-6)
         open(os.path.join(case, "constant", "couplingProperties"), "a").write(extra)
         run("blockMesh", case, env)

@@ -38,15 +38,15 @@ section 4.2.1, eq. 4.14).
 - Keyword errors: missing / non-positive gap, missing / negative h: the
   run stops with a FatalIOError naming the file, the keyword and the fix.
 """
+
 import math
 import os
 import re
 import shutil
 
-import pytest
 import nscdpost
-
-from foamcase import add_fluid, make_box_case, run, write, run_parallel, read_internal
+import pytest
+from foamcase import add_fluid, make_box_case, read_internal, run, run_parallel, write
 from test_vansFoam_heat import add_heat, heat_lines, set_materials
 
 pytestmark = pytest.mark.fast
@@ -68,9 +68,13 @@ def set_patches(case, kinds):
 def field(case, name, dims, internal, patches):
     cls = "volVectorField" if internal.startswith("(") else "volScalarField"
     body = "".join(f"    {n} {{ {v} }}\n" for n, v in patches.items())
-    write(os.path.join(case, "0", name), cls, name,
-          f"dimensions {dims};\ninternalField uniform {internal};\n"
-          f"boundaryField {{\n{body}    frontAndBack {{ type empty; }}\n}}\n")
+    write(
+        os.path.join(case, "0", name),
+        cls,
+        name,
+        f"dimensions {dims};\ninternalField uniform {internal};\n"
+        f"boundaryField {{\n{body}    frontAndBack {{ type empty; }}\n}}\n",
+    )
 
 
 def set_control(case, **kw):
@@ -85,8 +89,12 @@ def set_control(case, **kw):
 
 
 def no_grains(case):
-    write(os.path.join(case, "system", "grainDepositDict"), "dictionary", "grainDepositDict",
-          "material grains;\nmethod list;\ngrains ();\n")
+    write(
+        os.path.join(case, "system", "grainDepositDict"),
+        "dictionary",
+        "grainDepositDict",
+        "material grains;\nmethod list;\ngrains ();\n",
+    )
 
 
 def read_patch_value(path, patch):
@@ -103,8 +111,10 @@ def budget_lines(log):
     (parsed by nscdpost.heat_log)."""
     h = nscdpost.heat_log(log)
     keys = ("boundary", "advected", "sources", "grainWalls", "fixedGrains")
-    return [dict(zip(keys, v), total=float(sum(v)), patches=p)
-            for v, p in zip(h["budget"].tolist(), h["patches"])]
+    return [
+        dict(zip(keys, v), total=float(sum(v)), patches=p)
+        for v, p in zip(h["budget"].tolist(), h["patches"])
+    ]
 
 
 def fv_options(case, body):
@@ -113,11 +123,21 @@ def fv_options(case, body):
 
 # --------------------------------------------------------------------------- Hele-Shaw
 
+
 def hele_shaw_channel(case, env, gap="gap 1e-3;"):
     L, H, depth = 0.1, 0.02, 0.001
-    make_box_case(case, (0, 0, 0), (L, H, depth), (20, 4, 1), (0, 0, 0),
-                  {"grains": {"density": 2500, "friction": 0.3}}, grains=[],
-                  end_time=2.0, dt=0.02, write_interval=2.0)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (L, H, depth),
+        (20, 4, 1),
+        (0, 0, 0),
+        {"grains": {"density": 2500, "friction": 0.3}},
+        grains=[],
+        end_time=2.0,
+        dt=0.02,
+        write_interval=2.0,
+    )
     no_grains(case)
     add_fluid(case, 1000.0, 1e-6, max_co=0.5, max_dt=0.02)
     set_patches(case, {"left": "patch", "right": "patch", "bottom": "wall", "top": "wall"})
@@ -126,12 +146,30 @@ def hele_shaw_channel(case, env, gap="gap 1e-3;"):
     txt = txt.replace("tolerance 1e-9; relTol 0.01;", "tolerance 1e-13; relTol 0;")
     txt = txt.replace("tolerance 1e-9; relTol 0; }", "tolerance 1e-13; relTol 0; }")
     open(fs, "w").write(txt)
-    field(case, "U", "[0 1 -1 0 0 0 0]", "(0 0 0)",
-          {"left": "type zeroGradient;", "right": "type zeroGradient;",
-           "bottom": "type slip;", "top": "type slip;"})
-    field(case, "p", "[0 2 -2 0 0 0 0]", "0",
-          {"left": "type fixedValue; value uniform 0.012;", "right": "type fixedValue; value uniform 0;",
-           "bottom": "type zeroGradient;", "top": "type zeroGradient;"})
+    field(
+        case,
+        "U",
+        "[0 1 -1 0 0 0 0]",
+        "(0 0 0)",
+        {
+            "left": "type zeroGradient;",
+            "right": "type zeroGradient;",
+            "bottom": "type slip;",
+            "top": "type slip;",
+        },
+    )
+    field(
+        case,
+        "p",
+        "[0 2 -2 0 0 0 0]",
+        "0",
+        {
+            "left": "type fixedValue; value uniform 0.012;",
+            "right": "type fixedValue; value uniform 0;",
+            "bottom": "type zeroGradient;",
+            "top": "type zeroGradient;",
+        },
+    )
     fv_options(case, f"friction {{ type heleShawFriction; selectionMode all; {gap} }}\n")
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
@@ -154,15 +192,22 @@ def test_hele_shaw_darcy_velocity(tmp_path, env):
     ux = [float(v[0]) for v in re.findall(r"\(\s*(\S+)\s+(\S+)\s+(\S+)\s*\)", m.group(1))]
     u_ref = 0.012 / L * 1e-3**2 / (12 * 1e-6)
     err = max(abs(u - u_ref) / u_ref for u in ux)
-    print(f"u_ref {u_ref:.6g} m/s, cells {len(ux)}, u {min(ux):.12g}..{max(ux):.12g}, "
-          f"max rel. error {err:.2e}")
+    print(
+        f"u_ref {u_ref:.6g} m/s, cells {len(ux)}, u {min(ux):.12g}..{max(ux):.12g}, "
+        f"max rel. error {err:.2e}"
+    )
     assert len(ux) == 80
     assert err < 1e-6
 
 
-@pytest.mark.parametrize("gap,expect", [("", "Missing keyword 'gap'"),
-                                        ("gap -0.01;", "Keyword 'gap'"),
-                                        ("gap 1e-3; gapp 2;", "Unknown keyword 'gapp'")])
+@pytest.mark.parametrize(
+    "gap,expect",
+    [
+        ("", "Missing keyword 'gap'"),
+        ("gap -0.01;", "Keyword 'gap'"),
+        ("gap 1e-3; gapp 2;", "Unknown keyword 'gapp'"),
+    ],
+)
 def test_hele_shaw_keyword_errors(tmp_path, env, gap, expect):
     """Bad heleShawFriction input stops vansFoam with a FatalIOError naming
     constant/fvOptions, the keyword and the fix."""
@@ -185,19 +230,36 @@ RHO, NU, CP, KAPPA = 1000.0, 1e-6, 4186.0, 0.6
 
 def resting_fluid_box(case, env, L, H, nx, ny, end, dt, T_bc, T0, kinds):
     depth = 0.001
-    make_box_case(case, (0, 0, 0), (L, H, depth), (nx, ny, 1), (0, 0, 0),
-                  {"grains": {"density": 2500, "friction": 0.3}}, grains=[],
-                  end_time=end, dt=dt, write_interval=end)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (L, H, depth),
+        (nx, ny, 1),
+        (0, 0, 0),
+        {"grains": {"density": 2500, "friction": 0.3}},
+        grains=[],
+        end_time=end,
+        dt=dt,
+        write_interval=end,
+    )
     no_grains(case)
-    set_materials(case, "grains { density 2500; friction 0.3; conductivity 1; heatCapacity 800; }",
-                  "initialTemperature 300;\n")
+    set_materials(
+        case,
+        "grains { density 2500; friction 0.3; conductivity 1; heatCapacity 800; }",
+        "initialTemperature 300;\n",
+    )
     add_fluid(case, RHO, NU)
     set_patches(case, kinds)
     set_control(case, adjustTimeStep="no")
     noslip = {n: "type noSlip;" for n in kinds}
     field(case, "U", "[0 1 -1 0 0 0 0]", "(0 0 0)", noslip)
-    field(case, "p", "[0 2 -2 0 0 0 0]", "0",
-          {n: "type fixedFluxPressure; value uniform 0;" for n in kinds})
+    field(
+        case,
+        "p",
+        "[0 2 -2 0 0 0 0]",
+        "0",
+        {n: "type fixedFluxPressure; value uniform 0;" for n in kinds},
+    )
     add_heat(case, CP, KAPPA, "", T0)
     field(case, "T", "[0 0 0 1 0 0 0]", str(T0), T_bc)
     run("blockMesh", case, env)
@@ -218,12 +280,25 @@ def test_semi_implicit_source_relaxation(tmp_path, env):
     case = str(tmp_path / "relax")
     T0, Tw, k, dt = 350.0, 290.0, 1.0, 0.01
     lam = k * RHO * CP
-    depth = resting_fluid_box(case, env, 0.02, 0.02, 2, 2, 1.0, dt,
-                              {n: "type zeroGradient;" for n in ("left", "right", "bottom", "top")},
-                              T0, {n: "wall" for n in ("left", "right", "bottom", "top")})
-    fv_options(case, "frontRearWallHeat\n{\n type scalarSemiImplicitSource; selectionMode all;\n"
-               " volumeMode specific;\n"
-               f" injectionRateSuSp {{ T ({lam * Tw / (RHO * CP):.17g} {-lam / (RHO * CP):.17g}); }}\n}}\n")
+    depth = resting_fluid_box(
+        case,
+        env,
+        0.02,
+        0.02,
+        2,
+        2,
+        1.0,
+        dt,
+        {n: "type zeroGradient;" for n in ("left", "right", "bottom", "top")},
+        T0,
+        {n: "wall" for n in ("left", "right", "bottom", "top")},
+    )
+    fv_options(
+        case,
+        "frontRearWallHeat\n{\n type scalarSemiImplicitSource; selectionMode all;\n"
+        " volumeMode specific;\n"
+        f" injectionRateSuSp {{ T ({lam * Tw / (RHO * CP):.17g} {-lam / (RHO * CP):.17g}); }}\n}}\n",
+    )
     log = run("vansFoam", case, env).stdout
     steps = heat_lines(log)
     budget = budget_lines(log)
@@ -231,7 +306,7 @@ def test_semi_implicit_source_relaxation(tmp_path, env):
     V = 0.02 * 0.02 * depth
     worst_discrete = worst_exact = worst_src = 0
     T_prev = T0
-    for n, ((t, Tg, Tf, Q, E), b) in enumerate(zip(steps, budget), start=1):
+    for n, ((t, _Tg, Tf, _Q, _E), b) in enumerate(zip(steps, budget), start=1):
         discrete = Tw + (T0 - Tw) * (1 - k * dt) ** n
         exact = Tw + (T0 - Tw) * math.exp(-k * t)
         worst_discrete = max(worst_discrete, abs(Tf - discrete) / (T0 - Tw))
@@ -239,8 +314,10 @@ def test_semi_implicit_source_relaxation(tmp_path, env):
         dE = RHO * CP * V * (Tf - T_prev)
         worst_src = max(worst_src, abs(b["sources"] - dE) / abs(dE))
         T_prev = Tf
-    print(f"T(1 s) = {steps[-1][2]:.10g} K, discrete recursion error {worst_discrete:.2e}, "
-          f"vs exp(-kt) {worst_exact:.2e} of T - T_w, source heat vs rho Cp V dT {worst_src:.2e}")
+    print(
+        f"T(1 s) = {steps[-1][2]:.10g} K, discrete recursion error {worst_discrete:.2e}, "
+        f"vs exp(-kt) {worst_exact:.2e} of T - T_w, source heat vs rho Cp V dT {worst_src:.2e}"
+    )
     assert worst_discrete < 1e-9
     assert worst_exact < 0.01
     assert worst_src < 1e-9
@@ -261,11 +338,23 @@ def test_convective_wall_slab(tmp_path, env):
     L, H, nx = 0.01, 0.002, 10
     T1, Tinf, h = 350.0, 290.0, 350.0
     depth = resting_fluid_box(
-        case, env, L, H, nx, 1, 40000, 1000,
-        {"left": f"type fixedValue; value uniform {T1};",
-         "right": f"type convectiveHeatFlux; h {h}; Tinf {Tinf}; value uniform {Tinf};",
-         "bottom": "type zeroGradient;", "top": "type zeroGradient;"},
-        Tinf, {"left": "wall", "right": "wall", "bottom": "wall", "top": "wall"})
+        case,
+        env,
+        L,
+        H,
+        nx,
+        1,
+        40000,
+        1000,
+        {
+            "left": f"type fixedValue; value uniform {T1};",
+            "right": f"type convectiveHeatFlux; h {h}; Tinf {Tinf}; value uniform {Tinf};",
+            "bottom": "type zeroGradient;",
+            "top": "type zeroGradient;",
+        },
+        Tinf,
+        {"left": "wall", "right": "wall", "bottom": "wall", "top": "wall"},
+    )
     log = run("vansFoam", case, env).stdout
     Bi = h * L / KAPPA
     q = (T1 - Tinf) / (L / KAPPA + 1 / h)
@@ -274,31 +363,53 @@ def test_convective_wall_slab(tmp_path, env):
     T = read_internal(os.path.join(case, "40000", "T"))
     assert len(T) == nx
     dx = L / nx
-    err_cells = max(abs(Tc - (T1 - q * (i + 0.5) * dx / KAPPA)) for i, Tc in enumerate(T)) / (T1 - Tinf)
+    err_cells = max(abs(Tc - (T1 - q * (i + 0.5) * dx / KAPPA)) for i, Tc in enumerate(T)) / (
+        T1 - Tinf
+    )
     Tb = read_patch_value(os.path.join(case, "40000", "T"), "right")
     err_face = max(abs(v - Ti) for v in Tb) / (T1 - Tinf)
     b = budget_lines(log)[-1]
     A = H * depth
     err_hot = abs(b["patches"]["left"][0] - q * A) / (q * A)
     err_cold = abs(b["patches"]["right"][0] + q * A) / (q * A)
-    print(f"Bi {Bi:.4g}, T(L) {Ti:.10g} K (face {Tb[0]:.10g}), q {q:.6g} W/m^2; errors: cells {err_cells:.2e},"
-          f" face {err_face:.2e}, heat in at x=0 {err_hot:.2e}, out at x=L {err_cold:.2e}")
+    print(
+        f"Bi {Bi:.4g}, T(L) {Ti:.10g} K (face {Tb[0]:.10g}), q {q:.6g} W/m^2; errors: cells {err_cells:.2e},"
+        f" face {err_face:.2e}, heat in at x=0 {err_hot:.2e}, out at x=L {err_cold:.2e}"
+    )
     assert err_cells < 1e-6
     assert err_face < 1e-6
     assert err_hot < 1e-6 and err_cold < 1e-6
 
 
-@pytest.mark.parametrize("bc,expect", [("Tinf 290;", "Missing keyword 'h'"),
-                                       ("h -1; Tinf 290;", "Keyword 'h'"),
-                                       ("h 10; Tinf 290; kappa 1;", "Unknown keyword 'kappa'")])
+@pytest.mark.parametrize(
+    "bc,expect",
+    [
+        ("Tinf 290;", "Missing keyword 'h'"),
+        ("h -1; Tinf 290;", "Keyword 'h'"),
+        ("h 10; Tinf 290; kappa 1;", "Unknown keyword 'kappa'"),
+    ],
+)
 def test_convective_wall_keyword_errors(tmp_path, env, bc, expect):
     """Bad convectiveHeatFlux input: FatalIOError naming 0/T, the keyword and the fix."""
     case = str(tmp_path / "slab")
-    resting_fluid_box(case, env, 0.01, 0.002, 4, 1, 2, 1,
-                      {"left": "type fixedValue; value uniform 300;",
-                       "right": f"type convectiveHeatFlux; {bc} value uniform 300;",
-                       "bottom": "type zeroGradient;", "top": "type zeroGradient;"},
-                      300, {"left": "wall", "right": "wall", "bottom": "wall", "top": "wall"})
+    resting_fluid_box(
+        case,
+        env,
+        0.01,
+        0.002,
+        4,
+        1,
+        2,
+        1,
+        {
+            "left": "type fixedValue; value uniform 300;",
+            "right": f"type convectiveHeatFlux; {bc} value uniform 300;",
+            "bottom": "type zeroGradient;",
+            "top": "type zeroGradient;",
+        },
+        300,
+        {"left": "wall", "right": "wall", "bottom": "wall", "top": "wall"},
+    )
     p = run("vansFoam", case, env, check=False)
     out = p.stdout + p.stderr
     assert p.returncode != 0
@@ -309,6 +420,7 @@ def test_convective_wall_keyword_errors(tmp_path, env, bc, expect):
 
 
 # --------------------------------------------------------------------------- budget
+
 
 def budget_box(case, env, end=0.05):
     """Closed 2D box (0.04 x 0.06 m, 9 x 13 cells): 16 hot grains (350 K), 8
@@ -321,29 +433,61 @@ def budget_box(case, env, end=0.05):
     rhop, cp = 1500.0, 800.0
     Tf0, T0 = 300.0, 350.0
     depth = 0.003
-    grains = [(0.005 + (2 * i + 1) * r * 1.0001, (2 * j + 1) * r * 1.0001 + (0.02 if j else 0), 0, 2 * r)
-              for j in range(2) for i in range(8)]
-    make_box_case(case, (0, 0, 0), (0.04, 0.06, depth), (9, 13, 1), (0, -9.81, 0),
-                  {"grains": {"density": rhop, "friction": 0.3}}, grains=grains,
-                  end_time=end, dt=1e-3, write_interval=end)
-    set_materials(case, f"grains {{ density {rhop}; friction 0.3; conductivity 1; heatCapacity {cp};"
-                        " youngModulus 1e8; poissonRatio 0.3; }",
-                  f"initialTemperature {T0};\nwallTemperatures {{ bottom 330; }}\n")
+    grains = [
+        (0.005 + (2 * i + 1) * r * 1.0001, (2 * j + 1) * r * 1.0001 + (0.02 if j else 0), 0, 2 * r)
+        for j in range(2)
+        for i in range(8)
+    ]
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.06, depth),
+        (9, 13, 1),
+        (0, -9.81, 0),
+        {"grains": {"density": rhop, "friction": 0.3}},
+        grains=grains,
+        end_time=end,
+        dt=1e-3,
+        write_interval=end,
+    )
+    set_materials(
+        case,
+        f"grains {{ density {rhop}; friction 0.3; conductivity 1; heatCapacity {cp};"
+        " youngModulus 1e8; poissonRatio 0.3; }",
+        f"initialTemperature {T0};\nwallTemperatures {{ bottom 330; }}\n",
+    )
     kinds = {n: "wall" for n in ("left", "right", "bottom", "top")}
     add_fluid(case, RHO, NU)
     set_patches(case, kinds)
     field(case, "U", "[0 1 -1 0 0 0 0]", "(0 0 0)", {n: "type noSlip;" for n in kinds})
-    field(case, "p", "[0 2 -2 0 0 0 0]", "0", {n: "type fixedFluxPressure; value uniform 0;" for n in kinds})
+    field(
+        case,
+        "p",
+        "[0 2 -2 0 0 0 0]",
+        "0",
+        {n: "type fixedFluxPressure; value uniform 0;" for n in kinds},
+    )
     add_heat(case, CP, KAPPA, "", Tf0, "beta 2e-4;\nTRef 300;\n")
-    field(case, "T", "[0 0 0 1 0 0 0]", str(Tf0),
-          {"left": "type convectiveHeatFlux; h 350; Tinf 290; value uniform 300;",
-           "right": "type fixedValue; value uniform 320;",
-           "bottom": "type zeroGradient;", "top": "type zeroGradient;"})
+    field(
+        case,
+        "T",
+        "[0 0 0 1 0 0 0]",
+        str(Tf0),
+        {
+            "left": "type convectiveHeatFlux; h 350; Tinf 290; value uniform 300;",
+            "right": "type fixedValue; value uniform 320;",
+            "bottom": "type zeroGradient;",
+            "top": "type zeroGradient;",
+        },
+    )
     lam, Tw = 4e5, 290.0
-    fv_options(case, "friction { type heleShawFriction; selectionMode all; gap 0.003; }\n"
-               "frontRearWallHeat\n{\n type scalarSemiImplicitSource; selectionMode all;\n"
-               " volumeMode specific;\n"
-               f" injectionRateSuSp {{ T ({lam * Tw / (RHO * CP):.17g} {-lam / (RHO * CP):.17g}); }}\n}}\n")
+    fv_options(
+        case,
+        "friction { type heleShawFriction; selectionMode all; gap 0.003; }\n"
+        "frontRearWallHeat\n{\n type scalarSemiImplicitSource; selectionMode all;\n"
+        " volumeMode specific;\n"
+        f" injectionRateSuSp {{ T ({lam * Tw / (RHO * CP):.17g} {-lam / (RHO * CP):.17g}); }}\n}}\n",
+    )
     # utilities (decomposePar) need the library of convectiveHeatFlux
     set_control(case, libs='("libvansCoupling.so")')
     run("blockMesh", case, env)
@@ -370,19 +514,21 @@ def test_heat_budget_closes(tmp_path, env):
     assert len(steps) == len(budget) >= 20
     cum = 0.0
     worst = 0.0
-    for (t, Tg, Tf, Q, E), b in zip(steps, budget):
+    for (_t, _Tg, _Tf, _Q, E), b in zip(steps, budget):
         cum += b["total"]
         worst = max(worst, abs(E - E0 - cum))
     Qx = sum(abs(s[3]) for s in steps)
     tot = {k: sum(b[k] for b in budget) for k in ("boundary", "advected", "sources", "grainWalls")}
     left = sum(b["patches"]["left"][0] for b in budget) * 1e-3
     right = sum(b["patches"]["right"][0] for b in budget) * 1e-3
-    print(f"E0 {E0:.10g} J, E_end - E0 {steps[-1][4] - E0:.6g} J, exchanged sum|Q| {Qx:.6g} J; "
-          f"boundary {tot['boundary']:.6g} J (left/convective {left:.6g}, right/fixed {right:.6g}), "
-          f"advected {tot['advected']:.3g} J, sources {tot['sources']:.6g} J, grain walls "
-          f"{tot['grainWalls']:.6g} J; max |E - E0 - sum B| {worst:.3e} J = {worst / Qx:.2e} of sum|Q|")
+    print(
+        f"E0 {E0:.10g} J, E_end - E0 {steps[-1][4] - E0:.6g} J, exchanged sum|Q| {Qx:.6g} J; "
+        f"boundary {tot['boundary']:.6g} J (left/convective {left:.6g}, right/fixed {right:.6g}), "
+        f"advected {tot['advected']:.3g} J, sources {tot['sources']:.6g} J, grain walls "
+        f"{tot['grainWalls']:.6g} J; max |E - E0 - sum B| {worst:.3e} J = {worst / Qx:.2e} of sum|Q|"
+    )
     assert tot["sources"] < 0 and left < 0 and right > 0 and tot["grainWalls"] < 0
-    assert abs(tot["advected"]) < 1e-9 * Qx          # closed box: no flux through walls
+    assert abs(tot["advected"]) < 1e-9 * Qx  # closed box: no flux through walls
     assert worst < 1e-6 * Qx
 
 
@@ -415,8 +561,10 @@ def test_parallel_heat_matches_serial(tmp_path, env):
         cum += b["total"]
         worst = max(worst, abs(s[4] - E0 - cum))
     Qx = sum(abs(s[3]) for s in hp)
-    print(f"grain mean T serial {hs[-1][1]:.12g} parallel {hp[-1][1]:.12g} K: max rel. difference "
-          f"{rel:.2e} (of T), {relchg:.2e} of the grain temperature change; parallel budget "
-          f"{worst / Qx:.2e} of sum|Q|")
+    print(
+        f"grain mean T serial {hs[-1][1]:.12g} parallel {hp[-1][1]:.12g} K: max rel. difference "
+        f"{rel:.2e} (of T), {relchg:.2e} of the grain temperature change; parallel budget "
+        f"{worst / Qx:.2e} of sum|Q|"
+    )
     assert rel < 1e-8
     assert worst < 1e-6 * Qx

@@ -29,6 +29,7 @@
   round-off; alpha out of [0, 1] by 0.25 stops the run with a FatalError.
 - Keyword checks.
 """
+
 import math
 import os
 import re
@@ -36,11 +37,10 @@ import shutil
 import subprocess
 import sys
 
-import numpy as np
-import pytest
-
 import correlations
 import nscdpost
+import numpy as np
+import pytest
 from foamcase import add_fluid, fails_with, make_box_case, run, tutorial_modules, write
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -53,8 +53,9 @@ G = 9.81
 def read_internal(path):
     """internalField of a volScalarField/volVectorField file (ascii)."""
     txt = open(path).read()
-    m = re.search(r"internalField\s+nonuniform\s+List<(scalar|vector)>\s*(\d+)\s*\((.*?)\n\)\s*;",
-                  txt, re.S)
+    m = re.search(
+        r"internalField\s+nonuniform\s+List<(scalar|vector)>\s*(\d+)\s*\((.*?)\n\)\s*;", txt, re.S
+    )
     if m:
         body = m.group(3).replace("(", " ").replace(")", " ")
         a = np.array(body.split(), dtype=float)
@@ -64,8 +65,12 @@ def read_internal(path):
 
 
 def dam_break(case, env, n=16, end=None, precision=None):
-    subprocess.run([sys.executable, os.path.join(TUT, "setupCase.py"), case, str(n)],
-                   capture_output=True, text=True, check=True)
+    subprocess.run(
+        [sys.executable, os.path.join(TUT, "setupCase.py"), case, str(n)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read()
     if end is not None:
@@ -108,31 +113,58 @@ def test_dam_break_martin_moyce(tmp_path, env):
 def interfoam_case(case):
     """The extra files interFoam needs (laminar model, pcorr solver, its name
     of the viscous transpose term)."""
-    write(os.path.join(case, "constant", "turbulenceProperties"), "dictionary",
-          "turbulenceProperties", "simulationType laminar;\n")
+    write(
+        os.path.join(case, "constant", "turbulenceProperties"),
+        "dictionary",
+        "turbulenceProperties",
+        "simulationType laminar;\n",
+    )
     fs = os.path.join(case, "system", "fvSolution")
-    txt = open(fs).read().replace(
-        "    p_rgh\n", "    \"pcorr.*\" { solver PCG; preconditioner DIC; tolerance 1e-8; relTol 0; }\n"
-        "    p_rgh\n", 1)
+    txt = (
+        open(fs)
+        .read()
+        .replace(
+            "    p_rgh\n",
+            '    "pcorr.*" { solver PCG; preconditioner DIC; tolerance 1e-8; relTol 0; }\n'
+            "    p_rgh\n",
+            1,
+        )
+    )
     open(fs, "w").write(txt)
     sc = os.path.join(case, "system", "fvSchemes")
-    txt = open(sc).read().replace(
-        "div((muEff*dev2(T(grad(U))))) Gauss linear;",
-        "div((muEff*dev2(T(grad(U))))) Gauss linear;\n"
-        "    div(((rho*nuEff)*dev2(T(grad(U))))) Gauss linear;")
+    txt = (
+        open(sc)
+        .read()
+        .replace(
+            "div((muEff*dev2(T(grad(U))))) Gauss linear;",
+            "div((muEff*dev2(T(grad(U))))) Gauss linear;\n"
+            "    div(((rho*nuEff)*dev2(T(grad(U))))) Gauss linear;",
+        )
+    )
     open(sc, "w").write(txt)
 
 
 def zero_grains(case):
     """grainProperties + couplingProperties + a state with no grain."""
-    write(os.path.join(case, "constant", "grainProperties"), "dictionary", "grainProperties",
-          "materials { glass { density 2500; friction 0.3; } }\n")
-    write(os.path.join(case, "constant", "couplingProperties"), "dictionary",
-          "couplingProperties",
-          "dragModel DallavalleDiFelice;\nforceModel A;\n"
-          "voidFraction { method overlap; epsMin 1e-8; }\n")
-    write(os.path.join(case, "system", "grainDepositDict"), "dictionary", "grainDepositDict",
-          "material glass;\nmethod list;\ngrains ();\n")
+    write(
+        os.path.join(case, "constant", "grainProperties"),
+        "dictionary",
+        "grainProperties",
+        "materials { glass { density 2500; friction 0.3; } }\n",
+    )
+    write(
+        os.path.join(case, "constant", "couplingProperties"),
+        "dictionary",
+        "couplingProperties",
+        "dragModel DallavalleDiFelice;\nforceModel A;\n"
+        "voidFraction { method overlap; epsMin 1e-8; }\n",
+    )
+    write(
+        os.path.join(case, "system", "grainDepositDict"),
+        "dictionary",
+        "grainDepositDict",
+        "material glass;\nmethod list;\ngrains ();\n",
+    )
 
 
 @pytest.mark.fast
@@ -163,8 +195,17 @@ def test_reduces_to_interfoam(tmp_path, env):
         assert np.array_equal(a, c), f
 
 
-def add_two_phase(case, env, level, fixed=False, dt=None, max_co=0.5,
-                  p_tol="tolerance 1e-10; relTol 0.01;", nu_water=1e-6, open_top=None):
+def add_two_phase(
+    case,
+    env,
+    level,
+    fixed=False,
+    dt=None,
+    max_co=0.5,
+    p_tol="tolerance 1e-10; relTol 0.01;",
+    nu_water=1e-6,
+    open_top=None,
+):
     """Turn a make_box_case case (walls `walls`) into a vansInterFoam case:
     water below y = level, air above (the drag sees the local mixture
     density and viscosity); blockMesh, setFields, grainDeposit.  open_top:
@@ -177,53 +218,90 @@ def add_two_phase(case, env, level, fixed=False, dt=None, max_co=0.5,
     emp = "frontAndBack { type empty; }" if two_d else ""
     if open_top is not None:
         txt = open(bm).read().replace(" (3 7 6 2)", "")
-        open(bm, "w").write(txt.replace("boundary (\n", "boundary (\ntop { type patch; faces ((3 7 6 2)); }\n"))
-    top = {"U": "", "p_rgh": "", "alpha.water": ""} if open_top is None else {
-        "U": "top { type pressureInletOutletVelocity; value uniform (0 0 0); }",
-        "p_rgh": "top { type totalPressure; p0 uniform 0; value uniform 0; }",
-        "alpha.water": f"top {{ type inletOutlet; inletValue uniform {open_top}; "
-                       f"value uniform {open_top}; }}"}
-    write(os.path.join(case, "0", "U"), "volVectorField", "U",
-          "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
-          f"boundaryField {{ walls {{ type noSlip; }} {emp} {top['U']} }}\n")
-    write(os.path.join(case, "0", "p_rgh"), "volScalarField", "p_rgh",
-          "dimensions [1 -1 -2 0 0 0 0];\ninternalField uniform 0;\n"
-          f"boundaryField {{ walls {{ type fixedFluxPressure; value uniform 0; }} {emp} {top['p_rgh']} }}\n")
-    write(os.path.join(case, "0", "alpha.water"), "volScalarField", "alpha.water",
-          "dimensions [0 0 0 0 0 0 0];\ninternalField uniform 0;\n"
-          f"boundaryField {{ walls {{ type zeroGradient; }} {emp} {top['alpha.water']} }}\n")
-    write(os.path.join(case, "system", "setFieldsDict"), "dictionary", "setFieldsDict",
-          "defaultFieldValues ( volScalarFieldValue alpha.water 0 );\n"
-          f"regions ( boxToCell {{ box (-1 -1 -1) (1 {level} 1);\n"
-          "  fieldValues ( volScalarFieldValue alpha.water 1 ); } );\n")
-    write(os.path.join(case, "constant", "transportProperties"), "dictionary",
-          "transportProperties",
-          "phases (water air);\n"
-          f"water {{ transportModel Newtonian; nu {nu_water}; rho 1000; }}\n"
-          "air { transportModel Newtonian; nu 1.48e-5; rho 1; }\n"
-          "sigma 0.072;\n")
-    write(os.path.join(case, "constant", "couplingProperties"), "dictionary",
-          "couplingProperties",
-          "dragModel DallavalleDiFelice;\nforceModel A;\n"
-          "voidFraction { method overlap; epsMin 1e-8; }\n")
-    write(os.path.join(case, "system", "fvSchemes"), "dictionary", "fvSchemes",
-          "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
-          "divSchemes { default none; div(rhoPhi,U) Gauss linearUpwind grad(U);\n"
-          "  div(phi,alpha) Gauss vanLeer; div(phirb,alpha) Gauss linear;\n"
-          "  div((muEff*dev2(T(grad(U))))) Gauss linear; }\n"
-          "laplacianSchemes { default Gauss linear corrected; }\n"
-          "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n")
-    write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution",
-          "solvers {\n"
-          "  \"alpha.water.*\" { nAlphaCorr 2; nAlphaSubCycles 1; cAlpha 1; MULESCorr no;\n"
-          "    nLimiterIter 3; }\n"
-          f"  p_rgh {{ solver PCG; preconditioner DIC; {p_tol} }}\n"
-          "  psiEps { solver PCG; preconditioner DIC; tolerance 1e-12; relTol 0; }\n"
-          "  p_rghFinal { $p_rgh; relTol 0; }\n"
-          "  \"(U|UFinal)\" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-10; relTol 0; }\n"
-          "}\n"
-          "PIMPLE { momentumPredictor no; nOuterCorrectors 1; nCorrectors 3;\n"
-          "  nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n")
+        open(bm, "w").write(
+            txt.replace("boundary (\n", "boundary (\ntop { type patch; faces ((3 7 6 2)); }\n")
+        )
+    top = (
+        {"U": "", "p_rgh": "", "alpha.water": ""}
+        if open_top is None
+        else {
+            "U": "top { type pressureInletOutletVelocity; value uniform (0 0 0); }",
+            "p_rgh": "top { type totalPressure; p0 uniform 0; value uniform 0; }",
+            "alpha.water": f"top {{ type inletOutlet; inletValue uniform {open_top}; "
+            f"value uniform {open_top}; }}",
+        }
+    )
+    write(
+        os.path.join(case, "0", "U"),
+        "volVectorField",
+        "U",
+        "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
+        f"boundaryField {{ walls {{ type noSlip; }} {emp} {top['U']} }}\n",
+    )
+    write(
+        os.path.join(case, "0", "p_rgh"),
+        "volScalarField",
+        "p_rgh",
+        "dimensions [1 -1 -2 0 0 0 0];\ninternalField uniform 0;\n"
+        f"boundaryField {{ walls {{ type fixedFluxPressure; value uniform 0; }} {emp} {top['p_rgh']} }}\n",
+    )
+    write(
+        os.path.join(case, "0", "alpha.water"),
+        "volScalarField",
+        "alpha.water",
+        "dimensions [0 0 0 0 0 0 0];\ninternalField uniform 0;\n"
+        f"boundaryField {{ walls {{ type zeroGradient; }} {emp} {top['alpha.water']} }}\n",
+    )
+    write(
+        os.path.join(case, "system", "setFieldsDict"),
+        "dictionary",
+        "setFieldsDict",
+        "defaultFieldValues ( volScalarFieldValue alpha.water 0 );\n"
+        f"regions ( boxToCell {{ box (-1 -1 -1) (1 {level} 1);\n"
+        "  fieldValues ( volScalarFieldValue alpha.water 1 ); } );\n",
+    )
+    write(
+        os.path.join(case, "constant", "transportProperties"),
+        "dictionary",
+        "transportProperties",
+        "phases (water air);\n"
+        f"water {{ transportModel Newtonian; nu {nu_water}; rho 1000; }}\n"
+        "air { transportModel Newtonian; nu 1.48e-5; rho 1; }\n"
+        "sigma 0.072;\n",
+    )
+    write(
+        os.path.join(case, "constant", "couplingProperties"),
+        "dictionary",
+        "couplingProperties",
+        "dragModel DallavalleDiFelice;\nforceModel A;\n"
+        "voidFraction { method overlap; epsMin 1e-8; }\n",
+    )
+    write(
+        os.path.join(case, "system", "fvSchemes"),
+        "dictionary",
+        "fvSchemes",
+        "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
+        "divSchemes { default none; div(rhoPhi,U) Gauss linearUpwind grad(U);\n"
+        "  div(phi,alpha) Gauss vanLeer; div(phirb,alpha) Gauss linear;\n"
+        "  div((muEff*dev2(T(grad(U))))) Gauss linear; }\n"
+        "laplacianSchemes { default Gauss linear corrected; }\n"
+        "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n",
+    )
+    write(
+        os.path.join(case, "system", "fvSolution"),
+        "dictionary",
+        "fvSolution",
+        "solvers {\n"
+        '  "alpha.water.*" { nAlphaCorr 2; nAlphaSubCycles 1; cAlpha 1; MULESCorr no;\n'
+        "    nLimiterIter 3; }\n"
+        f"  p_rgh {{ solver PCG; preconditioner DIC; {p_tol} }}\n"
+        "  psiEps { solver PCG; preconditioner DIC; tolerance 1e-12; relTol 0; }\n"
+        "  p_rghFinal { $p_rgh; relTol 0; }\n"
+        '  "(U|UFinal)" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-10; relTol 0; }\n'
+        "}\n"
+        "PIMPLE { momentumPredictor no; nOuterCorrectors 1; nCorrectors 3;\n"
+        "  nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n",
+    )
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read().replace("application grainFoam;", "application vansInterFoam;")
     if dt is None:
@@ -239,9 +317,18 @@ def add_two_phase(case, env, level, fixed=False, dt=None, max_co=0.5,
 def basin(case, env, grains, fixed, end, dt=None, write_interval=None, **kw):
     """Closed 2D box 0.04 x 0.06 m, 16 x 24 cells (2.5 mm), water below
     y = 0.03 m, air above, grains from a list (2 mm glass discs)."""
-    make_box_case(case, (0, 0, 0), (0.04, 0.06, 0.0025), (16, 24, 1), (0, -G, 0),
-                  {"glass": {"density": 2500, "friction": 0.3}}, grains=grains,
-                  end_time=end, dt=dt or 1e-3, write_interval=write_interval or end)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.06, 0.0025),
+        (16, 24, 1),
+        (0, -G, 0),
+        {"glass": {"density": 2500, "friction": 0.3}},
+        grains=grains,
+        end_time=end,
+        dt=dt or 1e-3,
+        write_interval=write_interval or end,
+    )
     add_two_phase(case, env, 0.03, fixed=fixed, dt=dt, **kw)
 
 
@@ -251,13 +338,27 @@ def test_hydrostatic_basin_fixed_grains(tmp_path, env):
     no spurious current, max |U| < 1e-8 m/s over 1,000 steps (measured
     1.1e-9 m/s; 2.5e-10 m/s without the grains)."""
     case = str(tmp_path / "basin")
-    grains = [(0.0071, 0.0103, 0, 2e-3), (0.0202, 0.0155, 0, 2e-3), (0.0297, 0.0049, 0, 2e-3),
-              (0.0143, 0.0301, 0, 2e-3), (0.0252, 0.0296, 0, 2e-3), (0.0311, 0.0452, 0, 2e-3)]
+    grains = [
+        (0.0071, 0.0103, 0, 2e-3),
+        (0.0202, 0.0155, 0, 2e-3),
+        (0.0297, 0.0049, 0, 2e-3),
+        (0.0143, 0.0301, 0, 2e-3),
+        (0.0252, 0.0296, 0, 2e-3),
+        (0.0311, 0.0452, 0, 2e-3),
+    ]
     # p_rgh solved to 1e-13: with 1e-10 (relTol 0.01) the air above the
     # surface drifts at ~2e-6 m/s, with or without the grains (solver
     # tolerance, interFoam does the same)
-    basin(case, env, grains, fixed=True, end=1.0, dt=1e-3, write_interval=0.25,
-          p_tol="tolerance 1e-13; relTol 0;")
+    basin(
+        case,
+        env,
+        grains,
+        fixed=True,
+        end=1.0,
+        dt=1e-3,
+        write_interval=0.25,
+        p_tol="tolerance 1e-13; relTol 0;",
+    )
     p = run("vansInterFoam", case, env)
     assert len(re.findall(r"^Time = ", p.stdout, re.M)) == 1000
     eps = read_internal(os.path.join(case, "1", "voidFraction"))
@@ -293,8 +394,9 @@ def test_sinking_grains_conserve_water(tmp_path, env):
 
 def water_through_boundaries(stdout):
     """Water volume [m^3] out through the open boundaries since the start, per step."""
-    return [float(v) for v in re.findall(
-        r"water out through the open boundaries = (\S+) m\^3", stdout)]
+    return [
+        float(v) for v in re.findall(r"water out through the open boundaries = (\S+) m\^3", stdout)
+    ]
 
 
 def risers(tmp_path, env, level, inflow):
@@ -305,10 +407,19 @@ def risers(tmp_path, env, level, inflow):
     case = str(tmp_path / "risers")
     # (the 4th straddles x = 0.02, the ranks' boundary of the parallel run)
     grains = [(0.0065 + 0.0045 * i, 0.047 + 0.004 * (i % 2), 0, 2e-3) for i in range(8)]
-    make_box_case(case, (0, 0, 0), (0.04, 0.06, 0.0025), (16, 24, 1), (0, -G, 0),
-                  {"light": {"density": 400, "friction": 0.3}}, grains=grains,
-                  end_time=0.2, dt=1e-3, write_interval=0.05,
-                  extra_props="outletPatches (top);\n")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.06, 0.0025),
+        (16, 24, 1),
+        (0, -G, 0),
+        {"light": {"density": 400, "friction": 0.3}},
+        grains=grains,
+        end_time=0.2,
+        dt=1e-3,
+        write_interval=0.05,
+        extra_props="outletPatches (top);\n",
+    )
     add_two_phase(case, env, level, open_top=inflow)
     return case
 
@@ -360,8 +471,14 @@ def test_grains_leaving_through_the_top_keep_alpha_bounded(tmp_path, env, level,
     fs = os.path.join(case, "system", "fvSolution")
     txt = open(fs).read().replace("nLimiterIter 3;", "nLimiterIter 3; epsFluxCorrection no;")
     open(fs, "w").write(txt)
-    fails_with(run("vansInterFoam", case, env, check=False), "alpha.water left [0, 1]",
-               "warned once", "beyond 0.25", "epsFluxCorrection", "last good state")
+    fails_with(
+        run("vansInterFoam", case, env, check=False),
+        "alpha.water left [0, 1]",
+        "warned once",
+        "beyond 0.25",
+        "epsFluxCorrection",
+        "last good state",
+    )
 
 
 @pytest.mark.fast
@@ -371,6 +488,7 @@ def test_grains_leaving_through_the_top_in_parallel(tmp_path, env):
     with outletPatches): every grain leaves, alpha stays 1, the water
     balance closes to round-off, the water in is the grains' volume."""
     from foamcase import run_parallel
+
     case = risers(tmp_path, env, 1.0, 1)
     check_risers(run_parallel("vansInterFoam", case, env, n=2).stdout, 1)
 
@@ -413,10 +531,19 @@ def test_terminal_slip_velocity_in_water(tmp_path, env):
     the closed-form slip velocity within 2 %, as in vansFoam."""
     d, rho, nu, rhop = 1e-3, 1000.0, 1e-4, 2500.0
     case = str(tmp_path / "terminal")
-    make_box_case(case, (0, 0, 0), (0.04, 0.2, 0.04), (4, 20, 4), (0, -G, 0),
-                  {"glass": {"density": rhop, "friction": 0.4}},
-                  grains=[(0.02, 0.185, 0.02, d)], end_time=0.3, dt=1e-3,
-                  write_interval=0.1, two_d=False)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.2, 0.04),
+        (4, 20, 4),
+        (0, -G, 0),
+        {"glass": {"density": rhop, "friction": 0.4}},
+        grains=[(0.02, 0.185, 0.02, d)],
+        end_time=0.3,
+        dt=1e-3,
+        write_interval=0.1,
+        two_d=False,
+    )
     add_two_phase(case, env, 1.0, nu_water=nu, p_tol="tolerance 1e-9; relTol 0.01;")
     run("vansInterFoam", case, env)
     v = nscdpost.read_grains(case, "0.3")["U"][0]
@@ -436,11 +563,16 @@ def ode_fall(t_end, rhop, d, rho, mu, eps, n=4000):
     """Downward velocity [m/s] at t_end of a grain released at rest in a
     quiescent fluid, m dv/dt = (m - rho V) g - V gamma(eps, Re) v with
     Re = rho v d/mu (RK4, n steps)."""
+
     def acc(v):
         return G * (1 - rho / rhop) - dallavalle_gamma(eps, rho * v * d / mu, d, mu) * v / rhop
+
     v, h = 0.0, t_end / n
     for _ in range(n):
-        k1 = acc(v); k2 = acc(v + 0.5 * h * k1); k3 = acc(v + 0.5 * h * k2); k4 = acc(v + h * k3)
+        k1 = acc(v)
+        k2 = acc(v + 0.5 * h * k1)
+        k3 = acc(v + 0.5 * h * k2)
+        k4 = acc(v + h * k3)
         v += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
     return v
 
@@ -485,9 +617,18 @@ def test_grain_falling_from_air_into_water(tmp_path, env):
     y0, level, dx = 0.075, 0.05, 0.004
     lo, hi, cells = (0, 0, 0), (0.02, 0.1, dx), (5, 25, 1)
     case = str(tmp_path / "airWater")
-    make_box_case(case, lo, hi, cells, (0, -G, 0),
-                  {"glass": {"density": rhop, "friction": 0.3}},
-                  grains=[(0.01, y0, 0, d)], end_time=0.4, dt=2.5e-4, write_interval=0.005)
+    make_box_case(
+        case,
+        lo,
+        hi,
+        cells,
+        (0, -G, 0),
+        {"glass": {"density": rhop, "friction": 0.3}},
+        grains=[(0.01, y0, 0, d)],
+        end_time=0.4,
+        dt=2.5e-4,
+        write_interval=0.005,
+    )
     add_two_phase(case, env, level, dt=2.5e-4, nu_water=nu_w)
     p = run("vansInterFoam", case, env)
     assert "local fluid rho and mu" in p.stdout
@@ -505,8 +646,9 @@ def test_grain_falling_from_air_into_water(tmp_path, env):
     # the liquid's drag would have stopped it (discriminates the old drag)
     assert ode_fall(t[air][-1], rhop, d, 1000.0, 1000.0 * nu_w, 1.0) < 0.2 * vy[air][-1]
     # (b) energy bound from the release height
-    assert np.all(0.5 * vy**2 <= G * (y0 - y) * (1 + 1e-6) + 1e-12), \
-        np.max(0.5 * vy**2 - G * (y0 - y))
+    assert np.all(0.5 * vy**2 <= G * (y0 - y) * (1 + 1e-6) + 1e-12), np.max(
+        0.5 * vy**2 - G * (y0 - y)
+    )
     # (c) terminal (slip) velocity: t in [0.25, 0.4] s, fully in the
     # liquid, mean of the written slip velocities.  The slip, not the lab
     # velocity: the momentum the grain gives the liquid at entry leaves a
@@ -518,9 +660,18 @@ def test_grain_falling_from_air_into_water(tmp_path, env):
     assert v_term > 0
 
     ref = str(tmp_path / "liquidOnly")
-    make_box_case(ref, lo, hi, cells, (0, -G, 0),
-                  {"glass": {"density": rhop, "friction": 0.3}},
-                  grains=[(0.01, 0.045, 0, d)], end_time=0.2, dt=2.5e-4, write_interval=0.01)
+    make_box_case(
+        ref,
+        lo,
+        hi,
+        cells,
+        (0, -G, 0),
+        {"glass": {"density": rhop, "friction": 0.3}},
+        grains=[(0.01, 0.045, 0, d)],
+        end_time=0.2,
+        dt=2.5e-4,
+        write_interval=0.01,
+    )
     add_fluid(ref, 1000.0, nu_w, max_dt=2.5e-4)
     run("blockMesh", ref, env)
     run("grainDeposit", ref, env)

@@ -39,16 +39,19 @@
   transportProperties, the keyword and the fix; 0/psi without vapour {} is
   ignored with a warning.
 """
+
 import math
 import os
 import re
 
 import pytest
+from foamcase import add_fluid, make_box_case, read_internal, run, write
 
-from foamcase import add_fluid, make_box_case, run, write, read_internal
-
-VAPOUR_RE = re.compile(r"^vapour: sum\(eps psi V\) = (\S+) m\^3, mass = (\S+) kg, "
-                       r"psi min/max = (\S+) (\S+)$", re.M)
+VAPOUR_RE = re.compile(
+    r"^vapour: sum\(eps psi V\) = (\S+) m\^3, mass = (\S+) kg, "
+    r"psi min/max = (\S+) (\S+)$",
+    re.M,
+)
 VAPOUR0_RE = re.compile(r"^vapour: initial sum\(eps psi V\) = (\S+) m\^3$", re.M)
 
 
@@ -67,14 +70,22 @@ def ogata_banks(x, t, u, D):
 def add_vapour(case, D, rho_v, psi_body, scheme="Gauss linear", solver=True, scheme_entry=True):
     """vapour {} in transportProperties, 0/psi, fvSolution psi, fvSchemes div(phi,psi)."""
     open(os.path.join(case, "constant", "transportProperties"), "a").write(
-        f"vapour {{ D {D}; rho {rho_v}; }}\n")
-    write(os.path.join(case, "0", "psi"), "volScalarField", "psi",
-          "dimensions [0 0 0 0 0 0 0];\n" + psi_body)
+        f"vapour {{ D {D}; rho {rho_v}; }}\n"
+    )
+    write(
+        os.path.join(case, "0", "psi"),
+        "volScalarField",
+        "psi",
+        "dimensions [0 0 0 0 0 0 0];\n" + psi_body,
+    )
     fs = os.path.join(case, "system", "fvSolution")
     txt = open(fs).read()
     if solver:
-        txt = txt.replace("solvers {\n", "solvers {\n  psi { solver PBiCGStab; preconditioner DILU; "
-                          "tolerance 1e-16; relTol 0; maxIter 200; }\n")
+        txt = txt.replace(
+            "solvers {\n",
+            "solvers {\n  psi { solver PBiCGStab; preconditioner DILU; "
+            "tolerance 1e-16; relTol 0; maxIter 200; }\n",
+        )
     open(fs, "w").write(txt)
     if scheme_entry:
         sc = os.path.join(case, "system", "fvSchemes")
@@ -87,30 +98,51 @@ def make_channel(case, N, L, Us, dt, end_time, grains, psi_outlet):
     (fixedValue U_s, psi = 1), outlet (p = 0), symmetryPlane top/bottom."""
     h = L / N
     glist = [((i + 0.5) * h, 0.5 * h, 0.5 * h, 0.8 * h) for i in range(N)] if grains else []
-    make_box_case(case, (0, 0, 0), (L, h, h), (N, 1, 1), (0, 0, 0),
-                  {"glass": {"density": 2500, "friction": 0.4}}, grains=glist,
-                  end_time=end_time, dt=dt, write_interval=end_time)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (L, h, h),
+        (N, 1, 1),
+        (0, 0, 0),
+        {"glass": {"density": 2500, "friction": 0.4}},
+        grains=glist,
+        end_time=end_time,
+        dt=dt,
+        write_interval=end_time,
+    )
     if grains:
         open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     add_fluid(case, 1000.0, 1e-6)
     bm = os.path.join(case, "system", "blockMeshDict")
-    txt = re.sub(r"boundary \(.*\);", "boundary (\n"
-                 "inlet { type patch; faces ((0 4 7 3)); }\n"
-                 "outlet { type patch; faces ((2 6 5 1)); }\n"
-                 "bottom { type symmetryPlane; faces ((1 5 4 0)); }\n"
-                 "top { type symmetryPlane; faces ((3 7 6 2)); }\n"
-                 "frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);",
-                 open(bm).read(), flags=re.S)
+    txt = re.sub(
+        r"boundary \(.*\);",
+        "boundary (\n"
+        "inlet { type patch; faces ((0 4 7 3)); }\n"
+        "outlet { type patch; faces ((2 6 5 1)); }\n"
+        "bottom { type symmetryPlane; faces ((1 5 4 0)); }\n"
+        "top { type symmetryPlane; faces ((3 7 6 2)); }\n"
+        "frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);",
+        open(bm).read(),
+        flags=re.S,
+    )
     open(bm, "w").write(txt)
     side = '"(top|bottom)" { type symmetryPlane; } frontAndBack { type empty; }'
-    write(os.path.join(case, "0", "U"), "volVectorField", "U",
-          f"dimensions [0 1 -1 0 0 0 0];\ninternalField uniform ({Us} 0 0);\n"
-          f"boundaryField {{ inlet {{ type fixedValue; value uniform ({Us} 0 0); }}\n"
-          f" outlet {{ type zeroGradient; }} {side} }}\n")
-    write(os.path.join(case, "0", "p"), "volScalarField", "p",
-          "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
-          "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
-          f" {side} }}\n")
+    write(
+        os.path.join(case, "0", "U"),
+        "volVectorField",
+        "U",
+        f"dimensions [0 1 -1 0 0 0 0];\ninternalField uniform ({Us} 0 0);\n"
+        f"boundaryField {{ inlet {{ type fixedValue; value uniform ({Us} 0 0); }}\n"
+        f" outlet {{ type zeroGradient; }} {side} }}\n",
+    )
+    write(
+        os.path.join(case, "0", "p"),
+        "volScalarField",
+        "p",
+        "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+        "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
+        f" {side} }}\n",
+    )
     fs = os.path.join(case, "system", "fvSolution")
     txt = open(fs).read().replace("pRefCell 0; pRefValue 0;", "")
     # U is uniform (the residual normalisation of a uniform field is
@@ -120,20 +152,25 @@ def make_channel(case, N, L, Us, dt, end_time, grains, psi_outlet):
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read().replace("adjustTimeStep yes", "adjustTimeStep no")
     open(cd, "w").write(txt)
-    return f"internalField uniform 0;\nboundaryField {{ inlet {{ type fixedValue; value uniform 1; }}\n" \
-           f" outlet {{ {psi_outlet} }} {side} }}\n"
+    return (
+        f"internalField uniform 0;\nboundaryField {{ inlet {{ type fixedValue; value uniform 1; }}\n"
+        f" outlet {{ {psi_outlet} }} {side} }}\n"
+    )
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("grains", [False, True], ids=["eps1", "fixedGrains"])
 def test_front_against_ogata_banks(tmp_path, env, grains):
     N, L, D, T, dt = 500, 0.5, 5e-4, 5.0, 2e-3
-    Us = 0.025 if grains else 0.05            # superficial inlet velocity [m/s]
+    Us = 0.025 if grains else 0.05  # superficial inlet velocity [m/s]
     eps = 1 - math.pi * 0.4**2 if grains else 1.0
-    u = Us / eps                              # interstitial velocity
+    u = Us / eps  # interstitial velocity
     case = str(tmp_path / "channel")
-    outlet = "type inletOutlet; inletValue uniform 0; value uniform 0;" if grains \
+    outlet = (
+        "type inletOutlet; inletValue uniform 0; value uniform 0;"
+        if grains
         else "type zeroGradient;"
+    )
     psi_body = make_channel(case, N, L, Us, dt, T, grains, outlet)
     add_vapour(case, D, 0.6, psi_body)
     run("blockMesh", case, env)
@@ -154,11 +191,15 @@ def test_front_against_ogata_banks(tmp_path, env, grains):
         return max(abs(v) for v in e), math.sqrt(sum(v * v for v in e) / len(e))
 
     linf, l2 = errors(u, D)
-    wrong = {"D x 1.1": errors(u, 1.1 * D)[0],
-             "eps missing in diffusion": errors(u, D / eps)[0] if grains else None,
-             "eps missing in ddt": errors(Us, eps * D)[0] if grains else None}
-    print(f"eps {eps:.4f} u {u:.5g} m/s Pe_cell {u * L / N / D:.3g} Co {u * dt * N / L:.3g}: "
-          f"Linf {linf:.3e} RMS {l2:.3e}; wrong models Linf {wrong}")
+    wrong = {
+        "D x 1.1": errors(u, 1.1 * D)[0],
+        "eps missing in diffusion": errors(u, D / eps)[0] if grains else None,
+        "eps missing in ddt": errors(Us, eps * D)[0] if grains else None,
+    }
+    print(
+        f"eps {eps:.4f} u {u:.5g} m/s Pe_cell {u * L / N / D:.3g} Co {u * dt * N / L:.3g}: "
+        f"Linf {linf:.3e} RMS {l2:.3e}; wrong models Linf {wrong}"
+    )
     assert linf < 2.5e-3
     assert l2 < 1.2e-3
     for name, w in wrong.items():
@@ -172,19 +213,34 @@ def test_front_against_ogata_banks(tmp_path, env, grains):
 def test_closed_box_conservation(tmp_path, env):
     r = 1.5e-3
     depth = 0.003
-    grains = [(0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001, 0, 2 * r)
-              for j in range(2) for i in range(8)]
+    grains = [
+        (0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001, 0, 2 * r)
+        for j in range(2)
+        for i in range(8)
+    ]
     nx, ny, W, H = 9, 13, 0.04, 0.06
     case = str(tmp_path / "box")
-    make_box_case(case, (0, 0, 0), (W, H, depth), (nx, ny, 1), (0, -9.81, 0),
-                  {"grains": {"density": 1500, "friction": 0.3}}, grains=grains,
-                  end_time=0.05, dt=1e-3, write_interval=0.05)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (W, H, depth),
+        (nx, ny, 1),
+        (0, -9.81, 0),
+        {"grains": {"density": 1500, "friction": 0.3}},
+        grains=grains,
+        end_time=0.05,
+        dt=1e-3,
+        write_interval=0.05,
+    )
     add_fluid(case, 1000.0, 1e-6)
     # psi = 1 in the lower half (blockMesh cell order: x fastest, then y)
     values = [1.0 if (j + 0.5) * H / ny < 0.5 * H else 0.0 for j in range(ny) for i in range(nx)]
-    body = (f"internalField nonuniform List<scalar> {len(values)} (\n"
-            + "\n".join(f"{v:g}" for v in values) + "\n);\n"
-            "boundaryField { walls { type zeroGradient; } frontAndBack { type empty; } }\n")
+    body = (
+        f"internalField nonuniform List<scalar> {len(values)} (\n"
+        + "\n".join(f"{v:g}" for v in values)
+        + "\n);\n"
+        "boundaryField { walls { type zeroGradient; } frontAndBack { type empty; } }\n"
+    )
     add_vapour(case, 2.5e-5, 0.6, body, scheme="Gauss limitedLinear01 1")
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
@@ -197,11 +253,13 @@ def test_closed_box_conservation(tmp_path, env):
     psi_max = max(s[3] for s in steps)
     # the grains moved (the void fraction changed under psi)
     vmax = max(float(v) for v in re.findall(r"max grain Reynolds number = (\S+)", log))
-    print(f"S0 {S0:.12g} m^3, max relative drift {drift:.2e}, psi in [{psi_min:.3g}, {psi_max:.6g}],"
-          f" max grain Re {vmax:.3g}")
+    print(
+        f"S0 {S0:.12g} m^3, max relative drift {drift:.2e}, psi in [{psi_min:.3g}, {psi_max:.6g}],"
+        f" max grain Re {vmax:.3g}"
+    )
     assert vmax > 1
     assert drift < 1e-10
-    assert steps[-1][1] == pytest.approx(0.6 * steps[-1][0], rel=1e-12)   # mass = rho_v sum
+    assert steps[-1][1] == pytest.approx(0.6 * steps[-1][0], rel=1e-12)  # mass = rho_v sum
     assert psi_min > -1e-6
     assert psi_max < 1 + 1e-6
 
@@ -215,12 +273,27 @@ def test_uniform_psi_resolved_falling_disc(tmp_path, env, bounded):
     (printed).  vapour { bounded yes; }: psi stays 0.5 to 1e-9 (the advective
     form keeps a uniform field exactly uniform)."""
     case = str(tmp_path / "disc")
-    make_box_case(case, (0, 0, 0), (0.02, 0.04, 0.002), (10, 20, 1), (0, -9.81, 0),
-                  {"glass": {"density": 2500, "friction": 0.4}}, grains=[(0.011, 0.03, 0, 2e-3)],
-                  end_time=0.05, dt=1e-4, write_interval=0.05)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.02, 0.04, 0.002),
+        (10, 20, 1),
+        (0, -9.81, 0),
+        {"glass": {"density": 2500, "friction": 0.4}},
+        grains=[(0.011, 0.03, 0, 2e-3)],
+        end_time=0.05,
+        dt=1e-4,
+        write_interval=0.05,
+    )
     add_fluid(case, 1.2, 1.5e-5, max_dt=1e-4)
-    add_vapour(case, 2.5e-5, 0.6, "internalField uniform 0.5;\nboundaryField { walls { type zeroGradient; }"
-               " frontAndBack { type empty; } }\n", scheme="Gauss limitedLinear01 1")
+    add_vapour(
+        case,
+        2.5e-5,
+        0.6,
+        "internalField uniform 0.5;\nboundaryField { walls { type zeroGradient; }"
+        " frontAndBack { type empty; } }\n",
+        scheme="Gauss limitedLinear01 1",
+    )
     if bounded:
         tp = os.path.join(case, "constant", "transportProperties")
         txt = open(tp).read().replace("rho 0.6; }", "rho 0.6; bounded yes; }")
@@ -235,9 +308,11 @@ def test_uniform_psi_resolved_falling_disc(tmp_path, env, bounded):
     drift = max(abs(s[0] - S0) for s in steps) / S0
     dev = max(max(abs(s[2] - 0.5), abs(s[3] - 0.5)) for s in steps)
     g = re.findall(r"max grain Reynolds number = (\S+)", log)
-    print(f"{'bounded' if bounded else 'conservative'}: max |psi - 0.5| {dev:.3e}, "
-          f"relative drift of sum(eps psi V) {drift:.3e}, final grain Re {float(g[-1]):.3g}")
-    assert float(g[-1]) > 10          # the disc fell through the cells
+    print(
+        f"{'bounded' if bounded else 'conservative'}: max |psi - 0.5| {dev:.3e}, "
+        f"relative drift of sum(eps psi V) {drift:.3e}, final grain Re {float(g[-1]):.3g}"
+    )
+    assert float(g[-1]) > 10  # the disc fell through the cells
     if bounded:
         assert dev < 1e-9
     else:
@@ -245,16 +320,33 @@ def test_uniform_psi_resolved_falling_disc(tmp_path, env, bounded):
 
 
 @pytest.mark.fast
-@pytest.mark.parametrize("what", ["noSolver", "noScheme", "noD", "unknownKeyword", "psiWithoutVapour"])
+@pytest.mark.parametrize(
+    "what", ["noSolver", "noScheme", "noD", "unknownKeyword", "psiWithoutVapour"]
+)
 def test_input_errors(tmp_path, env, what):
     case = str(tmp_path / what)
-    make_box_case(case, (0, 0, 0), (0.01, 0.01, 0.001), (4, 4, 1), (0, -9.81, 0),
-                  {"glass": {"density": 2500, "friction": 0.4}}, grains=[],
-                  end_time=0.002, dt=1e-3, write_interval=0.002)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.01, 0.01, 0.001),
+        (4, 4, 1),
+        (0, -9.81, 0),
+        {"glass": {"density": 2500, "friction": 0.4}},
+        grains=[],
+        end_time=0.002,
+        dt=1e-3,
+        write_interval=0.002,
+    )
     add_fluid(case, 1000.0, 1e-6)
-    add_vapour(case, 2.5e-5, 0.6, "internalField uniform 0;\nboundaryField { walls { type zeroGradient; }"
-               " frontAndBack { type empty; } }\n",
-               solver=what != "noSolver", scheme_entry=what != "noScheme")
+    add_vapour(
+        case,
+        2.5e-5,
+        0.6,
+        "internalField uniform 0;\nboundaryField { walls { type zeroGradient; }"
+        " frontAndBack { type empty; } }\n",
+        solver=what != "noSolver",
+        scheme_entry=what != "noScheme",
+    )
     tp = os.path.join(case, "constant", "transportProperties")
     txt = open(tp).read()
     if what == "noD":
@@ -275,10 +367,13 @@ def test_input_errors(tmp_path, env, what):
         return
     assert p.returncode != 0
     if what == "noSolver":
-        assert re.search(r"Entry 'psi' not found in dictionary .*fvSolution\.solvers", out), out[-2000:]
+        assert re.search(r"Entry 'psi' not found in dictionary .*fvSolution\.solvers", out), out[
+            -2000:
+        ]
     elif what == "noScheme":
-        assert re.search(r"Entry 'div\(phi,psi\)' not found in dictionary .*fvSchemes\.divSchemes",
-                         out), out[-2000:]
+        assert re.search(
+            r"Entry 'div\(phi,psi\)' not found in dictionary .*fvSchemes\.divSchemes", out
+        ), out[-2000:]
     elif what == "noD":
         assert "Missing keyword D in" in out and "transportProperties" in out
         assert "Fix: give the vapour diffusion coefficient D_v [m^2/s]" in out

@@ -35,7 +35,7 @@ inline Vec3 relative(const SolverContact& c, const Body* B, const Velocity* V)
 {
     const Velocity& a = V[c.i];
     const Velocity& b = V[c.j];
-    return a.v - b.v - (B[c.i].r*a.w + B[c.j].r*b.w).cross(c.n);
+    return a.v - b.v - (B[c.i].r * a.w + B[c.j].r * b.w).cross(c.n);
 }
 
 /// Euclidean projection onto the contact's admissible set.
@@ -49,20 +49,31 @@ inline void project(const SolverContact& c, Impulse& r)
     }
     const double a = r.n + c.coh;
     const double s = r.t.norm();
-    if (s <= c.mu*a) { /* inside the cone */ }
-    else if (c.mu*s <= -a) { r.n = -c.coh; r.t.setZero(); }
+    if (s <= c.mu * a)
+    { /* inside the cone */
+    }
+    else if (c.mu * s <= -a)
+    {
+        r.n = -c.coh;
+        r.t.setZero();
+    }
     else
     {
-        const double an = (a + c.mu*s)/(1 + c.mu*c.mu);
+        const double an = (a + c.mu * s) / (1 + c.mu * c.mu);
         r.n = an - c.coh;
-        r.t *= c.mu*an/s;
+        r.t *= c.mu * an / s;
     }
-    if (r.n > c.cap) { r.n = c.cap; r.t.setZero(); }
+    if (r.n > c.cap)
+    {
+        r.n = c.cap;
+        r.t.setZero();
+    }
 }
-}
+} // namespace
 
 // APGD: residual (localResidual2) of impulses R at body velocities V.
-double System::Impl::apgdResidual(const std::vector<Impulse>& R, const std::vector<Velocity>& V, double dt) const
+double System::Impl::apgdResidual(const std::vector<Impulse>& R, const std::vector<Velocity>& V,
+                                  double dt) const
 {
     const Body* B = body.data();
     double res = 0;
@@ -80,8 +91,16 @@ double System::Impl::apgdResidual(const std::vector<Impulse>& R, const std::vect
 void System::Impl::apgdStart()
 {
     const std::size_t NC = rows.size(), NB = body.size();
-    apgdX.resize(NC); apgdXn.resize(NC); apgdY.resize(NC); apgdG.resize(NC); apgdBest.resize(NC);
-    apgdVX.resize(NB); apgdVXn.resize(NB); apgdVY.resize(NB); apgdVD.resize(NB); apgdVBest.resize(NB);
+    apgdX.resize(NC);
+    apgdXn.resize(NC);
+    apgdY.resize(NC);
+    apgdG.resize(NC);
+    apgdBest.resize(NC);
+    apgdVX.resize(NB);
+    apgdVXn.resize(NB);
+    apgdVY.resize(NB);
+    apgdVD.resize(NB);
+    apgdVBest.resize(NB);
     for (std::size_t k = 0; k < NC; ++k) apgdX[k] = {rows[k].rn, rows[k].rt};
     for (std::size_t b = 0; b < NB; ++b) apgdVX[b] = {body[b].v, body[b].w};
 }
@@ -95,8 +114,8 @@ void System::Impl::apgdGradient()
         const SolverContact& c = rows[k];
         const Vec3 du = relative(c, B, apgdVY.data());
         const double un = du.dot(c.n);
-        const Vec3 ut = du - un*c.n;
-        apgdG[k] = {un + c.bias + c.mu*ut.norm(), ut};
+        const Vec3 ut = du - un * c.n;
+        apgdG[k] = {un + c.bias + c.mu * ut.norm(), ut};
     }
 }
 
@@ -108,53 +127,56 @@ void System::Impl::apgdProjectedStep(double& L)
     const Body* B = body.data();
     for (int tries = 0; tries < 60; ++tries)
     {
-        const double t = 1.0/L;
+        const double t = 1.0 / L;
         for (int k = 0; k < NC; ++k)
         {
             const SolverContact& c = rows[k];
-            Impulse r{apgdY[k].n - t*c.iwnn*apgdG[k].n, apgdY[k].t - t*c.iwnn*apgdG[k].t};
+            Impulse r{apgdY[k].n - t * c.iwnn * apgdG[k].n, apgdY[k].t - t * c.iwnn * apgdG[k].t};
             project(c, r);
             apgdXn[k] = r;
         }
         // velocity change of d = xn - y: M^-1 H^T d
-        for (int b = 0; b < NB; ++b) { apgdVD[b].v.setZero(); apgdVD[b].w.setZero(); }
+        for (int b = 0; b < NB; ++b)
+        {
+            apgdVD[b].v.setZero();
+            apgdVD[b].w.setZero();
+        }
         double dDd = 0;
         for (int k = 0; k < NC; ++k)
         {
             const SolverContact& c = rows[k];
             const double dn = apgdXn[k].n - apgdY[k].n;
             const Vec3 dtv = apgdXn[k].t - apgdY[k].t;
-            dDd += c.wnn*(dn*dn + dtv.squaredNorm());
-            const Vec3 P = dn*c.n + dtv;
+            dDd += c.wnn * (dn * dn + dtv.squaredNorm());
+            const Vec3 P = dn * c.n + dtv;
             const Vec3 nxt = c.n.cross(dtv);
-            apgdVD[c.i].v += B[c.i].im*P;
-            apgdVD[c.i].w -= B[c.i].ii*B[c.i].r*nxt;
-            apgdVD[c.j].v -= B[c.j].im*P;
-            apgdVD[c.j].w -= B[c.j].ii*B[c.j].r*nxt;
+            apgdVD[c.i].v += B[c.i].im * P;
+            apgdVD[c.i].w -= B[c.i].ii * B[c.i].r * nxt;
+            apgdVD[c.j].v -= B[c.j].im * P;
+            apgdVD[c.j].w -= B[c.j].ii * B[c.j].r * nxt;
         }
         double dWd = 0;
         for (int k = 0; k < NC; ++k)
         {
             const SolverContact& c = rows[k];
             const Vec3 du = relative(c, B, apgdVD.data());
-            dWd += (apgdXn[k].n - apgdY[k].n)*du.dot(c.n) + (apgdXn[k].t - apgdY[k].t).dot(du);
+            dWd += (apgdXn[k].n - apgdY[k].n) * du.dot(c.n) + (apgdXn[k].t - apgdY[k].t).dot(du);
         }
-        if (dWd <= L*dDd*(1 + 1e-12) || dDd == 0) break;
+        if (dWd <= L * dDd * (1 + 1e-12) || dDd == 0) break;
         L *= 2;
     }
-    for (int b = 0; b < NB; ++b)
-        apgdVXn[b] = {apgdVY[b].v + apgdVD[b].v, apgdVY[b].w + apgdVD[b].w};
+    for (int b = 0; b < NB; ++b) apgdVXn[b] = {apgdVY[b].v + apgdVD[b].v, apgdVY[b].w + apgdVD[b].w};
 }
 
 // APGD: Nesterov momentum, restart when the step goes against the gradient.
 void System::Impl::apgdMomentum(double& theta)
 {
     const std::size_t NC = rows.size(), NB = body.size();
-    const double thetaN = 0.5*(-theta*theta + theta*std::sqrt(theta*theta + 4));
-    const double beta = theta*(1 - theta)/(theta*theta + thetaN);
+    const double thetaN = 0.5 * (-theta * theta + theta * std::sqrt(theta * theta + 4));
+    const double beta = theta * (1 - theta) / (theta * theta + thetaN);
     double gdx = 0;
     for (std::size_t k = 0; k < NC; ++k)
-        gdx += apgdG[k].n*(apgdXn[k].n - apgdX[k].n) + apgdG[k].t.dot(apgdXn[k].t - apgdX[k].t);
+        gdx += apgdG[k].n * (apgdXn[k].n - apgdX[k].n) + apgdG[k].t.dot(apgdXn[k].t - apgdX[k].t);
     if (gdx > 0)
     {
         apgdY = apgdXn;
@@ -164,9 +186,11 @@ void System::Impl::apgdMomentum(double& theta)
     else
     {
         for (std::size_t k = 0; k < NC; ++k)
-            apgdY[k] = {apgdXn[k].n + beta*(apgdXn[k].n - apgdX[k].n), apgdXn[k].t + beta*(apgdXn[k].t - apgdX[k].t)};
+            apgdY[k] = {apgdXn[k].n + beta * (apgdXn[k].n - apgdX[k].n),
+                        apgdXn[k].t + beta * (apgdXn[k].t - apgdX[k].t)};
         for (std::size_t b = 0; b < NB; ++b)
-            apgdVY[b] = {apgdVXn[b].v + beta*(apgdVXn[b].v - apgdVX[b].v), apgdVXn[b].w + beta*(apgdVXn[b].w - apgdVX[b].w)};
+            apgdVY[b] = {apgdVXn[b].v + beta * (apgdVXn[b].v - apgdVX[b].v),
+                         apgdVXn[b].w + beta * (apgdVXn[b].w - apgdVX[b].w)};
         theta = thetaN;
     }
     std::swap(apgdX, apgdXn);
@@ -185,18 +209,22 @@ void System::Impl::apgdKeepBest(double dt)
         c.change = std::sqrt(localResidual2(c, c.rt, Body{apgdVBest[c.i].v, apgdVBest[c.i].w, 0, 0, B[c.i].r},
                                             Body{apgdVBest[c.j].v, apgdVBest[c.j].w, 0, 0, B[c.j].r}, dt));
     }
-    for (std::size_t b = 0; b < body.size(); ++b) { body[b].v = apgdVBest[b].v; body[b].w = apgdVBest[b].w; }
+    for (std::size_t b = 0; b < body.size(); ++b)
+    {
+        body[b].v = apgdVBest[b].v;
+        body[b].w = apgdVBest[b].w;
+    }
 }
 
 void System::Impl::solveAPGD(double dt, StepReport& rep)
 {
     const int NC = int(rows.size());
-    const double dmin = 2*rMin();
-    const double tol2 = std::pow(settings.tolerance*dmin, 2);
+    const double dmin = 2 * rMin();
+    const double tol2 = std::pow(settings.tolerance * dmin, 2);
     const bool hist = settings.residualHistory;
     rep.contacts = NC;
     apgdStart();
-    auto toDmin = [&](double r2) { return dmin > 0 ? std::sqrt(r2)/dmin : 0.0; };
+    auto toDmin = [&](double r2) { return dmin > 0 ? std::sqrt(r2) / dmin : 0.0; };
     double res = apgdResidual(apgdX, apgdVX, dt);
     if (hist) rep.residualHistory.push_back(toDmin(res));
     apgdBest = apgdX;
@@ -225,7 +253,7 @@ void System::Impl::solveAPGD(double dt, StepReport& rep)
         L *= 0.9;
     }
     apgdKeepBest(dt);
-    rep.localSolves = long(it)*NC;
+    rep.localSolves = long(it) * NC;
     rep.sweeps = it;
     rep.residual = toDmin(resBest);
     rep.converged = resBest <= tol2;

@@ -29,17 +29,16 @@ namespace nscd
 void System::Impl::solveNNCG(double dt, StepReport& rep)
 {
     const bool twoD = dim == 2;
-    const double dmin = 2*rMin();
+    const double dmin = 2 * rMin();
     const int NC = int(rows.size());
     const bool hist = settings.residualHistory;
-    auto toDmin = [&](double r2) { return dmin > 0 ? std::sqrt(r2)/dmin : 0.0; };
+    auto toDmin = [&](double r2) { return dmin > 0 ? std::sqrt(r2) / dmin : 0.0; };
     SolverContact* cs = rows.data();
     Body* const B = body.data();
-    const double dt2 = dt*dt;
-    const double xi = settings.tolerance*dmin, xi2 = xi*xi;
+    const double dt2 = dt * dt;
+    const double xi = settings.tolerance * dmin, xi2 = xi * xi;
     if (twoD)
-        for (int k = 0; k < NC; ++k)
-            cs[k].rts = cs[k].rt.dot(Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0));
+        for (int k = 0; k < NC; ++k) cs[k].rts = cs[k].rt.dot(Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0));
     // impulses of the previous iterate and the conjugate direction p, per
     // contact (2D: the tangential component in t.x())
     nncgPrevious.resize(NC);
@@ -63,8 +62,10 @@ void System::Impl::solveNNCG(double dt, StepReport& rep)
             SolverContact& c = cs[k];
             prev[k].n = c.rn;
             prev[k].t = tangent(c);
-            if (twoD) local::update2D(c, B[c.i], B[c.j], dt2, 0.0, 1.0);
-            else local::update3D(c, B[c.i], B[c.j], dt2, 0.0, 1.0);
+            if (twoD)
+                local::update2D(c, B[c.i], B[c.j], dt2, 0.0, 1.0);
+            else
+                local::update3D(c, B[c.i], B[c.j], dt2, 0.0, 1.0);
             maxChange = std::max(maxChange, c.change);
         }
         forward = !forward;
@@ -73,7 +74,11 @@ void System::Impl::solveNNCG(double dt, StepReport& rep)
         {
             res2 = residualPass(dt, twoD);
             if (hist) rep.residualHistory.push_back(toDmin(res2));
-            if (res2 < xi2) { converged = true; break; }
+            if (res2 < xi2)
+            {
+                converged = true;
+                break;
+            }
         }
         // d_{k+1} = x_{k+1} - x_k and its norm in the residual metric
         double d2 = 0;
@@ -82,11 +87,11 @@ void System::Impl::solveNNCG(double dt, StepReport& rep)
             const SolverContact& c = cs[k];
             const double dn = c.rn - prev[k].n;
             const Vec3 dtv = tangent(c) - prev[k].t;
-            d2 += (c.wnn*c.wnn*dn*dn + c.wtt*c.wtt*dtv.squaredNorm())*c.residualWeight2;
-            prev[k].n = dn;  // prev now holds d_{k+1}
+            d2 += (c.wnn * c.wnn * dn * dn + c.wtt * c.wtt * dtv.squaredNorm()) * c.residualWeight2;
+            prev[k].n = dn; // prev now holds d_{k+1}
             prev[k].t = dtv;
         }
-        const double beta = it > 1 && d2Previous > 0 ? d2/d2Previous : 0.0;
+        const double beta = it > 1 && d2Previous > 0 ? d2 / d2Previous : 0.0;
         d2Previous = d2;
         // no momentum after the last sweep: the impulses returned are projected
         if (it == settings.maxIterations) break;
@@ -101,8 +106,8 @@ void System::Impl::solveNNCG(double dt, StepReport& rep)
             for (int k = 0; k < NC; ++k)
             {
                 SolverContact& c = cs[k];
-                const double dn = beta*p[k].n;
-                const Vec3 dtv = beta*p[k].t;
+                const double dn = beta * p[k].n;
+                const Vec3 dtv = beta * p[k].t;
                 c.rn += dn;
                 if (twoD)
                 {
@@ -126,12 +131,11 @@ void System::Impl::solveNNCG(double dt, StepReport& rep)
         if (hist) rep.residualHistory.push_back(toDmin(res2));
     }
     if (twoD)
-        for (int k = 0; k < NC; ++k)
-            cs[k].rt = cs[k].rts*Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0);
+        for (int k = 0; k < NC; ++k) cs[k].rt = cs[k].rts * Vec3(-cs[k].n.y(), cs[k].n.x(), 0.0);
     for (int k = 0; k < NC; ++k) cs[k].change = std::sqrt(cs[k].change);
     rep.method = int(Settings::Method::NNCG);
     rep.contacts = NC;
-    rep.localSolves = long(it)*long(NC);
+    rep.localSolves = long(it) * long(NC);
     rep.sweeps = it;
     rep.residual = toDmin(res2);
     rep.converged = converged;

@@ -76,8 +76,13 @@ void NewtonSolve::numberUnknowns(Eigen::VectorXd& x0)
     for (int b = 0; b < NB; ++b)
     {
         if (!(I.body[b].im > 0)) continue;
-        tDof[b] = nv; nv += nt();
-        if (I.body[b].ii > 0) { rDof[b] = nv; nv += nr(); }
+        tDof[b] = nv;
+        nv += nt();
+        if (I.body[b].ii > 0)
+        {
+            rDof[b] = nv;
+            nv += nr();
+        }
     }
     mass.resize(nv);
     x0.resize(nv);
@@ -85,11 +90,24 @@ void NewtonSolve::numberUnknowns(Eigen::VectorXd& x0)
     {
         const Body& B = I.body[b];
         if (tDof[b] >= 0)
-            for (int a = 0; a < nt(); ++a) { mass(tDof[b] + a) = 1.0/B.im; x0(tDof[b] + a) = B.v(a); }
+            for (int a = 0; a < nt(); ++a)
+            {
+                mass(tDof[b] + a) = 1.0 / B.im;
+                x0(tDof[b] + a) = B.v(a);
+            }
         if (rDof[b] >= 0)
         {
-            if (I.dim == 2) { mass(rDof[b]) = 1.0/B.ii; x0(rDof[b]) = B.w.z(); }
-            else for (int a = 0; a < 3; ++a) { mass(rDof[b] + a) = 1.0/B.ii; x0(rDof[b] + a) = B.w(a); }
+            if (I.dim == 2)
+            {
+                mass(rDof[b]) = 1.0 / B.ii;
+                x0(rDof[b]) = B.w.z();
+            }
+            else
+                for (int a = 0; a < 3; ++a)
+                {
+                    mass(rDof[b] + a) = 1.0 / B.ii;
+                    x0(rDof[b] + a) = B.w(a);
+                }
         }
     }
 }
@@ -105,13 +123,13 @@ void NewtonSolve::addSide(NewtonRow& r, int b, double sign, const Vec3& n)
     for (int a = 0; a < m; ++a) nxe[a] = n.cross(r.e[a]);
     const Vec3 vFix = tDof[b] >= 0 ? Vec3::Zero() : B.v;
     const Vec3 wFix = rDof[b] >= 0 ? Vec3::Zero() : B.w;
-    for (int a = 0; a < m; ++a) r.c0(a) += sign*vFix.dot(r.e[a]) - B.r*wFix.dot(nxe[a]);
+    for (int a = 0; a < m; ++a) r.c0(a) += sign * vFix.dot(r.e[a]) - B.r * wFix.dot(nxe[a]);
     if (tDof[b] >= 0)
         for (int d = 0; d < nt(); ++d)
         {
             const int k = r.ncol++;
             r.col[k] = tDof[b] + d;
-            for (int a = 0; a < m; ++a) r.J[a][k] = sign*r.e[a](d);
+            for (int a = 0; a < m; ++a) r.J[a][k] = sign * r.e[a](d);
         }
     if (rDof[b] >= 0)
         for (int d = 0; d < nr(); ++d)
@@ -119,7 +137,7 @@ void NewtonSolve::addSide(NewtonRow& r, int b, double sign, const Vec3& n)
             const int k = r.ncol++;
             const int comp = I.dim == 2 ? 2 : d;
             r.col[k] = rDof[b] + d;
-            for (int a = 0; a < m; ++a) r.J[a][k] = -B.r*nxe[a](comp);
+            for (int a = 0; a < m; ++a) r.J[a][k] = -B.r * nxe[a](comp);
         }
 }
 
@@ -132,12 +150,16 @@ void NewtonSolve::buildRows(double sigma)
         NewtonRow& r = R[k];
         const Vec3& n = s.n;
         r.e[0] = n;
-        if (I.dim == 2) { r.e[1] = Vec3(-n.y(), n.x(), 0.0); r.e[2].setZero(); }
+        if (I.dim == 2)
+        {
+            r.e[1] = Vec3(-n.y(), n.x(), 0.0);
+            r.e[2].setZero();
+        }
         else
         {
             // tangents: t1 orthogonal to n and to its smallest component's axis
             const Vec3 a = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
-            r.e[1] = (a - a.dot(n)*n).normalized();
+            r.e[1] = (a - a.dot(n) * n).normalized();
             r.e[2] = n.cross(r.e[1]);
         }
         r.ncol = 0;
@@ -145,25 +167,26 @@ void NewtonSolve::buildRows(double sigma)
         addSide(r, s.i, 1.0, n);
         addSide(r, s.j, -1.0, n);
         // the compliant law's eps: iwnn = 1/(W_nn + eps) (prepareContacts)
-        const double eps = s.iwnn > 0 ? 1.0/s.iwnn - s.wnn : 0.0;
-        r.skip = r.ncol == 0;  // no movable body (e.g. a fixed grain on a wall): no impulse
+        const double eps = s.iwnn > 0 ? 1.0 / s.iwnn - s.wnn : 0.0;
+        r.skip = r.ncol == 0; // no movable body (e.g. a fixed grain on a wall): no impulse
         if (r.skip) continue;
-        if (!(eps > 1e-12*s.wnn) || std::isfinite(s.cap))
+        if (!(eps > 1e-12 * s.wnn) || std::isfinite(s.cap))
             throw InputError("nscd::System::step: the Newton contact solver met a hard (zero-compliance) "
-                             "or capped contact (bodies " + std::to_string(s.i) + ", "
-                             + std::to_string(s.j) + "); every contact needs a compliance");
+                             "or capped contact (bodies "
+                             + std::to_string(s.i) + ", " + std::to_string(s.j)
+                             + "); every contact needs a compliance");
         r.Rn = eps;
-        r.Rt = sigma*eps;
+        r.Rt = sigma * eps;
         r.mu = s.mu;
         r.coh = s.coh;
-        r.vhatN = -(s.bias - eps*s.coh);
+        r.vhatN = -(s.bias - eps * s.coh);
     }
 }
 
 void NewtonSolve::evaluate()
 {
     const Eigen::VectorXd dvStar = v - vStar;
-    cost = 0.5*dvStar.dot(mass.cwiseProduct(dvStar));
+    cost = 0.5 * dvStar.dot(mass.cwiseProduct(dvStar));
     Eigen::VectorXd jc = Eigen::VectorXd::Zero(nv);
     vc.resize(NC);
     for (int k = 0; k < NC; ++k)
@@ -172,7 +195,7 @@ void NewtonSolve::evaluate()
         vc[k] = contactVelocity(k, v, true);
         if (r.skip) continue;
         const ConeProjection p = project(vc[k], r.vhatN, r.Rn, r.Rt, r.mu, false);
-        cost += p.cost + r.coh*vc[k](0);
+        cost += p.cost + r.coh * vc[k](0);
         addJT(k, impulse(k, p), jc);
     }
     grad = mass.cwiseProduct(dvStar) - jc;
@@ -184,16 +207,16 @@ void NewtonSolve::evaluate()
 
 void NewtonSolve::lineDerivatives(double alpha, double a, double b, double& d1, double& d2) const
 {
-    d1 = b + alpha*a;
+    d1 = b + alpha * a;
     d2 = a;
     for (int k = 0; k < NC; ++k)
     {
         const NewtonRow& r = R[k];
         if (r.skip) continue;
-        const Eigen::Vector3d u = vc[k] + alpha*wc[k];
+        const Eigen::Vector3d u = vc[k] + alpha * wc[k];
         const ConeProjection p = project(u, r.vhatN, r.Rn, r.Rt, r.mu, true);
-        d1 += -p.gamma.dot(wc[k]) + r.coh*wc[k](0);
-        d2 += wc[k].dot(p.G*wc[k]);
+        d1 += -p.gamma.dot(wc[k]) + r.coh * wc[k](0);
+        d2 += wc[k].dot(p.G * wc[k]);
     }
 }
 
@@ -208,7 +231,7 @@ double NewtonSolve::lineSearch(int& evals)
     lineDerivatives(0.0, a, b, d1, d2);
     ++evals;
     const double d10 = d1;
-    if (!(d10 < 0)) return 0.0;  // not a descent direction (round-off): stop
+    if (!(d10 < 0)) return 0.0; // not a descent direction (round-off): stop
     double lo = 0, hi = alphaMax;
     lineDerivatives(hi, a, b, d1, d2);
     ++evals;
@@ -218,11 +241,14 @@ double NewtonSolve::lineSearch(int& evals)
     {
         lineDerivatives(alpha, a, b, d1, d2);
         ++evals;
-        if (std::abs(d1) <= 1e-10*std::abs(d10)) break;
-        if (d1 < 0) lo = alpha; else hi = alpha;
-        if (hi - lo <= 1e-12*hi) break;
-        const double next = d2 > 0 ? alpha - d1/d2 : -1.0;
-        alpha = next > lo && next < hi ? next : 0.5*(lo + hi);
+        if (std::abs(d1) <= 1e-10 * std::abs(d10)) break;
+        if (d1 < 0)
+            lo = alpha;
+        else
+            hi = alpha;
+        if (hi - lo <= 1e-12 * hi) break;
+        const double next = d2 > 0 ? alpha - d1 / d2 : -1.0;
+        alpha = next > lo && next < hi ? next : 0.5 * (lo + hi);
     }
     return alpha;
 }
@@ -249,11 +275,11 @@ bool NewtonSolve::newtonStep(int& evals, bool& stalled)
     hessian();
     linearSolve(grad);
     const double alpha = lineSearch(evals);
-    if (!(alpha > 0)) return false;  // no descent left (round-off): converged only by the test
-    v += alpha*dv;
+    if (!(alpha > 0)) return false; // no descent left (round-off): converged only by the test
+    v += alpha * dv;
     evaluate();
     // round-off floor of the cost: stop; converged only by the test
-    stalled = std::abs(before - cost) <= costStall*std::abs(cost);
+    stalled = std::abs(before - cost) <= costStall * std::abs(cost);
     return !stalled;
 }
 
@@ -266,12 +292,17 @@ void NewtonSolve::finish(bool converged)
     {
         const NewtonRow& r = R[k];
         SolverContact& c = I.rows[k];
-        if (r.skip) { c.rn = c.rts = 0; c.rt.setZero(); continue; }
+        if (r.skip)
+        {
+            c.rn = c.rts = 0;
+            c.rt.setZero();
+            continue;
+        }
         const ConeProjection p = project(contactVelocity(k, v, true), r.vhatN, r.Rn, r.Rt, r.mu, false);
         const Eigen::Vector3d f = impulse(k, p);
         addJT(k, f, jr);
         c.rn = f(0);
-        c.rt = f(1)*r.e[1] + (twoD ? Vec3::Zero() : Vec3(f(2)*r.e[2]));
+        c.rt = f(1) * r.e[1] + (twoD ? Vec3::Zero() : Vec3(f(2) * r.e[2]));
         if (twoD) c.rts = f(1);
     }
     // converged: v* + M^-1 J^T r, momentum exactly consistent with the rows
@@ -289,8 +320,10 @@ void NewtonSolve::finish(bool converged)
             for (int a = 0; a < nt(); ++a) B.v(a) = vEnd(tDof[b] + a);
         if (rDof[b] >= 0)
         {
-            if (twoD) B.w.z() = vEnd(rDof[b]);
-            else for (int a = 0; a < 3; ++a) B.w(a) = vEnd(rDof[b] + a);
+            if (twoD)
+                B.w.z() = vEnd(rDof[b]);
+            else
+                for (int a = 0; a < 3; ++a) B.w(a) = vEnd(rDof[b] + a);
         }
     }
 }
@@ -302,7 +335,7 @@ void System::Impl::solveNewton(double dt, StepReport& rep)
     newton::NewtonSolve S(*this, dt);
     const int NC = S.NC;
     const bool hist = settings.residualHistory;
-    const double dmin = 2*rMin();
+    const double dmin = 2 * rMin();
     rep.method = int(Settings::Method::Newton);
     rep.contacts = NC;
     S.start(settings);
@@ -325,10 +358,18 @@ void System::Impl::solveNewton(double dt, StepReport& rep)
     while (true)
     {
         if (hist) rep.residualHistory.push_back(S.optimality());
-        if (S.nv == 0 || S.optimal(tol)) { converged = true; break; }
+        if (S.nv == 0 || S.optimal(tol))
+        {
+            converged = true;
+            break;
+        }
         if (it >= maxIt) break;
         ++it;
-        if (activeSet) { activeSet = S.activeSetStep(A, tol); continue; }
+        if (activeSet)
+        {
+            activeSet = S.activeSetStep(A, tol);
+            continue;
+        }
         bool stalled = false;
         if (S.newtonStep(evals, stalled)) continue;
         if (stalled)
@@ -348,9 +389,9 @@ void System::Impl::solveNewton(double dt, StepReport& rep)
         c.change = std::sqrt(r2);
     }
     rep.sweeps = it;
-    rep.localSolves = long(evals + it + 1)*long(NC);
+    rep.localSolves = long(evals + it + 1) * long(NC);
     rep.linearIterations = S.cgIterations;
-    rep.residual = dmin > 0 ? std::sqrt(res2)/dmin : 0.0;
+    rep.residual = dmin > 0 ? std::sqrt(res2) / dmin : 0.0;
     rep.converged = converged;
 }
 

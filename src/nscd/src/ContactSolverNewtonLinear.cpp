@@ -24,11 +24,11 @@ namespace newton
  */
 struct PatternCache
 {
-    std::vector<int> key;  ///< nv, then per row: -1 (skipped) or ncol and its col[0..ncol)
-    SpMat H;               ///< the pattern of key (values: the last solve's, reset before use)
-    std::vector<int> diagSlot, slotStart, slots;  ///< NewtonSolve's positions in H's values
-    Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt;  ///< the LDLT's ordering and analysis (and last factor)
-    bool analysed = false;  ///< ldlt's analyzePattern done for H's pattern
+    std::vector<int> key; ///< nv, then per row: -1 (skipped) or ncol and its col[0..ncol)
+    SpMat H;              ///< the pattern of key (values: the last solve's, reset before use)
+    std::vector<int> diagSlot, slotStart, slots;     ///< NewtonSolve's positions in H's values
+    Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt; ///< the LDLT's ordering and analysis (and last factor)
+    bool analysed = false;                           ///< ldlt's analyzePattern done for H's pattern
 };
 
 /**
@@ -74,21 +74,23 @@ struct PatternCache
 thread_local PatternCache patternCache;
 
 NewtonSolve::NewtonSolve(System::Impl& impl, double dtStep)
-: I(impl), dt(dtStep), m(impl.dim == 2 ? 2 : 3), NC(int(impl.rows.size())), cache(patternCache),
-  H(patternCache.H), diagSlot(patternCache.diagSlot), slotStart(patternCache.slotStart),
-  slots(patternCache.slots) {}
+    : I(impl), dt(dtStep), m(impl.dim == 2 ? 2 : 3), NC(int(impl.rows.size())), cache(patternCache),
+      H(patternCache.H), diagSlot(patternCache.diagSlot), slotStart(patternCache.slotStart),
+      slots(patternCache.slots)
+{
+}
 
 void NewtonSolve::buildPattern()
 {
     std::vector<int> key{nv};
-    key.reserve(1 + 7*NC);
+    key.reserve(1 + 7 * NC);
     for (const NewtonRow& r : R)
     {
         key.push_back(r.skip ? -1 : r.ncol);
         if (!r.skip) key.insert(key.end(), r.col, r.col + r.ncol);
     }
-    if (key == cache.key) return;  // the last solve's pattern
-    cache.key.clear();  // no key while the pattern is rebuilt (see patternCache)
+    if (key == cache.key) return; // the last solve's pattern
+    cache.key.clear();            // no key while the pattern is rebuilt (see patternCache)
     cache.analysed = false;
     std::vector<Eigen::Triplet<double>> T;
     for (int i = 0; i < nv; ++i) T.emplace_back(i, i, 0.0);
@@ -135,7 +137,7 @@ void NewtonSolve::addBlock(int k, const Eigen::Matrix3d& B)
         for (int j = 0; j < r.ncol; ++j)
         {
             double s = 0;
-            for (int b = 0; b < m; ++b) s += B(a, b)*r.J[b][j];
+            for (int b = 0; b < m; ++b) s += B(a, b) * r.J[b][j];
             BJ[a][j] = s;
         }
     double* val = H.valuePtr();
@@ -143,10 +145,10 @@ void NewtonSolve::addBlock(int k, const Eigen::Matrix3d& B)
     for (int i = 0; i < r.ncol; ++i)
         for (int j = 0; j < r.ncol; ++j)
         {
-            const int at = slot[i*r.ncol + j];
+            const int at = slot[i * r.ncol + j];
             if (at < 0) continue;
             double s = 0;
-            for (int a = 0; a < m; ++a) s += r.J[a][i]*BJ[a][j];
+            for (int a = 0; a < m; ++a) s += r.J[a][i] * BJ[a][j];
             val[at] += s;
         }
 }
@@ -174,7 +176,11 @@ void NewtonSolve::linearSolve(const Eigen::VectorXd& g)
     }
     else
     {
-        if (!cache.analysed) { cache.ldlt.analyzePattern(H); cache.analysed = true; }
+        if (!cache.analysed)
+        {
+            cache.ldlt.analyzePattern(H);
+            cache.analysed = true;
+        }
         cache.ldlt.factorize(H);
         dv = cache.ldlt.solve(-g);
     }

@@ -37,9 +37,9 @@ namespace
 inline Vec3 closestSegment(const Vec3& p, const Vec3& a, const Vec3& b)
 {
     const Vec3 ab = b - a;
-    double t = (p - a).dot(ab)/ab.squaredNorm();
+    double t = (p - a).dot(ab) / ab.squaredNorm();
     t = std::min(1.0, std::max(0.0, t));
-    return a + t*ab;
+    return a + t * ab;
 }
 
 /// detectWalls stage: append to I.newContacts the contact of slot i with
@@ -57,7 +57,7 @@ inline void pushWallContact(System::Impl& I, int i, int wi, const Vec3& n, doubl
     I.newContacts.push_back(c);
 }
 
-}
+} // namespace
 
 void System::Impl::detectSegment(int i, int wi, double alert)
 {
@@ -66,7 +66,7 @@ void System::Impl::detectSegment(int i, int wi, double alert)
     const double ri = packed[i].r;
     const Vec3 a = W.p + W.displacement, b = W.b + W.displacement;
     const Vec3 ab = b - a;
-    const double t = (xi - a).dot(ab)/ab.squaredNorm();
+    const double t = (xi - a).dot(ab) / ab.squaredNorm();
     const int end = t <= 0 ? 0 : (t >= 1 ? 1 : -1);
     const int nb = end >= 0 ? W.segNb[end] : -1;
     if (nb >= 0 && walls[nb].displacement == W.displacement)
@@ -80,7 +80,11 @@ void System::Impl::detectSegment(int i, int wi, double alert)
             Vec3 n(-ab.y(), ab.x(), 0.0);
             n.normalize();
             double s = (xi - a).dot(n);
-            if (s < 0) { s = -s; n = -n; }
+            if (s < 0)
+            {
+                s = -s;
+                n = -n;
+            }
             if (s - ri < alert && s > 0) pushWallContact(*this, i, wi, n, s - ri);
             return;
         }
@@ -91,20 +95,20 @@ void System::Impl::detectSegment(int i, int wi, double alert)
             const Wall& T = walls[nb];
             const Vec3 corner = end == 0 ? a : b;
             const Vec3 ct = closestSegment(xi, T.p + T.displacement, T.b + T.displacement);
-            if ((ct - corner).norm() <= 1e-9*ab.norm()) return;
+            if ((ct - corner).norm() <= 1e-9 * ab.norm()) return;
         }
     }
-    const Vec3 cp = a + std::min(1.0, std::max(0.0, t))*ab;
+    const Vec3 cp = a + std::min(1.0, std::max(0.0, t)) * ab;
     const Vec3 d = xi - cp;
     const double dn = d.norm();
-    if (dn - ri < alert && dn > 0) pushWallContact(*this, i, wi, d/dn, dn - ri);
+    if (dn - ri < alert && dn > 0) pushWallContact(*this, i, wi, d / dn, dn - ri);
 }
 
 void System::Impl::triangleCandidates(int i, int wi, double alert)
 {
     const Wall& W = walls[wi];
     const double ri = packed[i].r;
-    const Vec3 xl = packed[i].x - W.displacement;  // tree coordinates
+    const Vec3 xl = packed[i].x - W.displacement; // tree coordinates
     trianglesNear(*W.tree, xl, ri + alert, triCandidates);
     // candidate closest points (filtered below, after all walls). A
     // closest point on a flat edge or vertex (shared by coplanar
@@ -122,7 +126,7 @@ void System::Impl::triangleCandidates(int i, int wi, double alert)
             const Vec3& fn = W.triNormal[t];
             const double sd = (xl - W.vertices[f[0]]).dot(fn);
             dn = std::abs(sd);
-            cp = xl - sd*fn;
+            cp = xl - sd * fn;
         }
         if (!(dn > 0) || dn - ri >= alert) continue;
         triPoints.push_back({dn, cp + W.displacement, wi});
@@ -141,15 +145,16 @@ void System::Impl::keepTrianglePoints(int i, std::size_t first)
     const double ri = packed[i].r;
     std::sort(triPoints.begin(), triPoints.end(),
               [](const TriPoint& a, const TriPoint& b) { return a.d < b.d; });
-    const double eps = 1e-9*ri;
+    const double eps = 1e-9 * ri;
     for (const TriPoint& tp : triPoints)
     {
-        const Vec3 n = (xi - tp.c)/tp.d;
+        const Vec3 n = (xi - tp.c) / tp.d;
         bool keep = true;
         for (std::size_t k = first; k < newContacts.size() && keep; ++k)
         {
-            const Vec3 ck = xi - (newContacts[k].gap + ri)*newContacts[k].n;
-            if ((tp.c - ck).dot(newContacts[k].n) <= eps || newContacts[k].n.dot(n) > 1.0 - 1e-6) keep = false;
+            const Vec3 ck = xi - (newContacts[k].gap + ri) * newContacts[k].n;
+            if ((tp.c - ck).dot(newContacts[k].n) <= eps || newContacts[k].n.dot(n) > 1.0 - 1e-6)
+                keep = false;
         }
         if (keep) pushWallContact(*this, i, tp.wall, n, tp.d - ri);
     }
@@ -159,19 +164,21 @@ void System::Impl::detectWalls(int i, double dt, double margin, double alertFact
 {
     const Vec3& xi = packed[i].x;
     const double ri = packed[i].r;
-    const std::size_t first = newContacts.size();  // wall contacts of grain i start here
+    const std::size_t first = newContacts.size(); // wall contacts of grain i start here
     triPoints.clear();
     for (int wi = 0; wi < int(walls.size()); ++wi)
     {
         const Wall& W = walls[wi];
-        const double alert = alertFactor*dt*(speed[i] + W.velocity.norm()) + margin;
+        const double alert = alertFactor * dt * (speed[i] + W.velocity.norm()) + margin;
         if (W.type == PlaneWall)
         {
             const double gap = (xi - (W.p + W.displacement)).dot(W.n) - ri;
             if (gap < alert) pushWallContact(*this, i, wi, W.n, gap);
         }
-        else if (W.type == SegmentWall) detectSegment(i, wi, alert);
-        else triangleCandidates(i, wi, alert);
+        else if (W.type == SegmentWall)
+            detectSegment(i, wi, alert);
+        else
+            triangleCandidates(i, wi, alert);
     }
     keepTrianglePoints(i, first);
 }
@@ -182,7 +189,7 @@ bool System::Impl::nearWalls(int i, double dt, double margin, double alertFactor
     const double ri = packed[i].r;
     for (const Wall& W : walls)
     {
-        const double alert = alertFactor*dt*(speed[i] + W.velocity.norm()) + margin;
+        const double alert = alertFactor * dt * (speed[i] + W.velocity.norm()) + margin;
         if (W.type == PlaneWall)
         {
             if ((xi - (W.p + W.displacement)).dot(W.n) - ri < alert) return true;
@@ -192,7 +199,7 @@ bool System::Impl::nearWalls(int i, double dt, double margin, double alertFactor
             // the distance to the segment, less the parameter tolerance of
             // a flat joint (detectSegment tests the line there)
             const Vec3 a = W.p + W.displacement, b = W.b + W.displacement;
-            const double dn = (xi - closestSegment(xi, a, b)).norm() - 1e-9*(b - a).norm();
+            const double dn = (xi - closestSegment(xi, a, b)).norm() - 1e-9 * (b - a).norm();
             if (dn - ri < alert) return true;
         }
         else
@@ -211,21 +218,24 @@ void System::Impl::selectFastGrains(DetectGrid& g)
     const int N = int(x.size());
     const double af = g.af, dt = g.dt;
     const int maxFast = std::max(32, int(std::sqrt(double(N))));
-    double sCut = af*dt > 0 ? 0.25*g.rmax/(af*dt) : std::numeric_limits<double>::infinity();
+    double sCut = af * dt > 0 ? 0.25 * g.rmax / (af * dt) : std::numeric_limits<double>::infinity();
     int nFast = 0;
     for (int i = 0; i < N; ++i) nFast += speed[i] > sCut;
     if (nFast > maxFast)
     {
         fastScratch.assign(speed.begin(), speed.end());
-        std::nth_element(fastScratch.begin(), fastScratch.begin() + maxFast, fastScratch.end(), std::greater<double>());
-        sCut = fastScratch[maxFast];  // the (maxFast+1)-th largest: at most maxFast are above
+        std::nth_element(fastScratch.begin(), fastScratch.begin() + maxFast, fastScratch.end(),
+                         std::greater<double>());
+        sCut = fastScratch[maxFast]; // the (maxFast+1)-th largest: at most maxFast are above
     }
     fastGrains.clear();
-    double sSlow = 0;  // largest speed of a slow grain
+    double sSlow = 0; // largest speed of a slow grain
     for (int i = 0; i < N; ++i)
     {
-        if (speed[i] > sCut) fastGrains.push_back(i);
-        else sSlow = std::max(sSlow, speed[i]);
+        if (speed[i] > sCut)
+            fastGrains.push_back(i);
+        else
+            sSlow = std::max(sSlow, speed[i]);
     }
     if (int(fastGrains.size()) == N)
     {
@@ -243,30 +253,38 @@ void System::Impl::detectGridGeometry(DetectGrid& g) const
     const int N = int(x.size());
     const GrainSlot* const P = packed.data();
     const double sCut = g.sCut;
-    double h = 2*g.rmax + g.af*g.dt*2*g.sSlow + g.margin;
+    double h = 2 * g.rmax + g.af * g.dt * 2 * g.sSlow + g.margin;
 
     // bounding box of the slow grains
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
     for (int i = 0; i < N; ++i)
-        if (speed[i] <= sCut) { lo = lo.cwiseMin(P[i].x); hi = hi.cwiseMax(P[i].x); }
+        if (speed[i] <= sCut)
+        {
+            lo = lo.cwiseMin(P[i].x);
+            hi = hi.cwiseMax(P[i].x);
+        }
     const int D = dim;
     auto ncells = [&](double hh, long dims[3])
     {
         long tot = 1;
         for (int d = 0; d < 3; ++d)
         {
-            dims[d] = (d < D) ? long((hi[d] - lo[d])/hh) + 1 : 1;
+            dims[d] = (d < D) ? long((hi[d] - lo[d]) / hh) + 1 : 1;
             tot *= dims[d];
         }
         return tot;
     };
     long* const dims = g.dims;
     long tot = ncells(h, dims);
-    const long cap = std::max<long>(4L*N, 64);
-    while (tot > cap) { h *= 1.5; tot = ncells(h, dims); }
+    const long cap = std::max<long>(4L * N, 64);
+    while (tot > cap)
+    {
+        h *= 1.5;
+        tot = ncells(h, dims);
+    }
     g.lo = lo;
     g.tot = tot;
-    g.ih = 1.0/h;
+    g.ih = 1.0 / h;
 }
 
 void System::Impl::buildDetectGrid(DetectGrid& g)
@@ -280,7 +298,11 @@ void System::Impl::buildDetectGrid(DetectGrid& g)
     cellStart.assign(tot + 1, 0);
     for (int i = 0; i < N; ++i)
     {
-        if (speed[i] > sCut) { cellOf[i] = -1; continue; }
+        if (speed[i] > sCut)
+        {
+            cellOf[i] = -1;
+            continue;
+        }
         const int cell = int(detectCell(g, packed[i].x, dim));
         cellOf[i] = cell;
         ++cellStart[cell + 1];
@@ -290,7 +312,8 @@ void System::Impl::buildDetectGrid(DetectGrid& g)
     {
         // use adjStart as a temporary cursor array
         adjStart.assign(cellStart.begin(), cellStart.end() - 1);
-        for (int i = 0; i < N; ++i) if (cellOf[i] >= 0) cellItems[adjStart[cellOf[i]]++] = i;
+        for (int i = 0; i < N; ++i)
+            if (cellOf[i] >= 0) cellItems[adjStart[cellOf[i]]++] = i;
     }
 }
 
@@ -303,7 +326,11 @@ template <bool Candidates>
 inline void testPair(const System::Impl& I, int i, int j, const System::Impl::DetectGrid& g,
                      std::vector<Contact>& out)
 {
-    if (!Candidates) { detectPair(I, i, j, g, out); return; }
+    if (!Candidates)
+    {
+        detectPair(I, i, j, g, out);
+        return;
+    }
     if (!pairInReach(I, i, j, g)) return;
     Contact c;
     c.i = i;
@@ -330,30 +357,37 @@ void detectFastPairs(System::Impl& I, const System::Impl::DetectGrid& g)
     {
         const int f = fast[a];
         for (std::size_t b = a + 1; b < fast.size(); ++b)
-            testPair<Candidates>(I, f, fast[b], g, out);  // fastGrains is sorted: f < fast[b]
+            testPair<Candidates>(I, f, fast[b], g, out); // fastGrains is sorted: f < fast[b]
         // every slow j with a gap below af dt (s_f + s_j) + margin lies within R of x_f
-        const double R = P[f].r + g.rmax + af*dt*(I.speed[f] + g.sSlow) + margin;
+        const double R = P[f].r + g.rmax + af * dt * (I.speed[f] + g.sSlow) + margin;
         long c0[3] = {0, 0, 0}, c1[3] = {0, 0, 0};
         bool outside = false;
         for (int d = 0; d < D; ++d)
         {
-            const double a0 = std::floor((P[f].x[d] - R - lo[d])*ih), a1 = std::floor((P[f].x[d] + R - lo[d])*ih);
-            if (a1 < 0 || a0 > double(dims[d] - 1)) { outside = true; break; }
+            const double a0 = std::floor((P[f].x[d] - R - lo[d]) * ih),
+                         a1 = std::floor((P[f].x[d] + R - lo[d]) * ih);
+            if (a1 < 0 || a0 > double(dims[d] - 1))
+            {
+                outside = true;
+                break;
+            }
             c0[d] = long(std::max(0.0, a0));
             c1[d] = long(std::min(double(dims[d] - 1), a1));
         }
         if (outside) continue;
         for (long zz = c0[2]; zz <= c1[2]; ++zz)
-        for (long yy = c0[1]; yy <= c1[1]; ++yy)
-        {
-            const long row = dims[0]*(yy + dims[1]*zz);
-            for (int k = I.cellStart[row + c0[0]], e = I.cellStart[row + c1[0] + 1]; k < e; ++k)
+            for (long yy = c0[1]; yy <= c1[1]; ++yy)
             {
-                const int j = I.cellItems[k];
-                if (j < f) testPair<Candidates>(I, j, f, g, out);
-                else testPair<Candidates>(I, f, j, g, out);
+                const long row = dims[0] * (yy + dims[1] * zz);
+                for (int k = I.cellStart[row + c0[0]], e = I.cellStart[row + c1[0] + 1]; k < e; ++k)
+                {
+                    const int j = I.cellItems[k];
+                    if (j < f)
+                        testPair<Candidates>(I, j, f, g, out);
+                    else
+                        testPair<Candidates>(I, f, j, g, out);
+                }
             }
-        }
     }
     std::sort(out.begin(), out.end(),
               [](const Contact& p, const Contact& q) { return p.i < q.i || (p.i == q.i && p.j < q.j); });
@@ -381,22 +415,22 @@ void scanGridPairs(System::Impl& I, System::Impl::DetectGrid& g)
         if (cell >= 0)
         {
             const long cx = cell % dims[0];
-            const long cy = (cell/dims[0]) % dims[1];
-            const long cz = cell/(dims[0]*dims[1]);
+            const long cy = (cell / dims[0]) % dims[1];
+            const long cz = cell / (dims[0] * dims[1]);
             const long z0 = std::max(0L, cz - 1), z1 = std::min(dims[2] - 1, cz + 1);
             const long y0 = std::max(0L, cy - 1), y1 = std::min(dims[1] - 1, cy + 1);
             const long x0 = std::max(0L, cx - 1), x1 = std::min(dims[0] - 1, cx + 1);
             for (long zz = z0; zz <= z1; ++zz)
-            for (long yy = y0; yy <= y1; ++yy)
-            {
-                const long row = dims[0]*(yy + dims[1]*zz);
-                const int b = cellStart[row + x0], e = cellStart[row + x1 + 1];
-                for (int k = b; k < e; ++k)
+                for (long yy = y0; yy <= y1; ++yy)
                 {
-                    const int j = cellItems[k];
-                    if (j > i) testPair<Candidates>(I, i, j, g, out);
+                    const long row = dims[0] * (yy + dims[1] * zz);
+                    const int b = cellStart[row + x0], e = cellStart[row + x1 + 1];
+                    for (int k = b; k < e; ++k)
+                    {
+                        const int j = cellItems[k];
+                        if (j > i) testPair<Candidates>(I, i, j, g, out);
+                    }
                 }
-            }
         }
         // pairs of i with fast grains (or of fast grain i), already sorted
         while (nextFast < I.fastContacts.size() && I.fastContacts[nextFast].i == i)
@@ -404,12 +438,14 @@ void scanGridPairs(System::Impl& I, System::Impl::DetectGrid& g)
         if (hasWalls && !I.packed[i].fix) I.detectWalls(i, g.dt, g.margin, g.af);
     }
 }
-}
+} // namespace
 
 void System::Impl::scanGrid(DetectGrid& g, bool candidates)
 {
-    if (candidates) scanGridPairs<true>(*this, g);
-    else scanGridPairs<false>(*this, g);
+    if (candidates)
+        scanGridPairs<true>(*this, g);
+    else
+        scanGridPairs<false>(*this, g);
 }
 
 void System::Impl::detect(double dt)
@@ -434,11 +470,13 @@ void System::Impl::detect(double dt)
     DetectGrid g;
     g.dt = dt;
     g.af = S.alertDistanceFactor;
-    g.margin = S.alertMargin*rMin();
+    g.margin = S.alertMargin * rMin();
     g.rmax = rMax();
     selectFastGrains(g);
-    if (S.verletSkin > 0) detectListed(g);
-    else scanGrid(g, false);
+    if (S.verletSkin > 0)
+        detectListed(g);
+    else
+        scanGrid(g, false);
 }
 
 void System::Impl::detectDroplets(double dt)
@@ -446,7 +484,7 @@ void System::Impl::detectDroplets(double dt)
     const int N = int(x.size());
     const int NW = int(walls.size());
     const Settings& S = settings;
-    const double margin = S.alertMargin*rMin();
+    const double margin = S.alertMargin * rMin();
     for (int k = 0; k < int(droplets.size()); ++k)
     {
         const System::Droplet& D = droplets[k];
@@ -459,13 +497,13 @@ void System::Impl::detectDroplets(double dt)
             const double dn = d.norm();
             const double ri = packed[i].r;
             const double gap = dn - D.radius - ri;
-            const double alert = S.alertDistanceFactor*dt*(speed[i] + sd) + margin;
-            if (!(gap > -2*ri) || gap >= alert || !(dn > 0)) continue;
-            if (packed[i].fix && B.im == 0) continue;   // neither body can move
+            const double alert = S.alertDistanceFactor * dt * (speed[i] + sd) + margin;
+            if (!(gap > -2 * ri) || gap >= alert || !(dn > 0)) continue;
+            if (packed[i].fix && B.im == 0) continue; // neither body can move
             Contact c;
             c.i = i;
             c.j = N + NW + k;
-            c.n = d/dn;
+            c.n = d / dn;
             c.gap = gap;
             c.mu = law::CapillaryCap::friction;
             c.cap = law::CapillaryCap::cap(System::capillaryEntryForce(dim, D.surfaceTension, ri, -gap), dt);
@@ -491,8 +529,8 @@ double System::Impl::contactGapNow(const Contact& c) const
     if (W.type == SegmentWall)
         return (x[i] - closestSegment(x[i], W.p + W.displacement, W.b + W.displacement)).norm() - rad[i];
     // triangles: linearised with the contact normal
-    const Vec3 du = v[i] - W.velocity - rad[i]*w[i].cross(c.n);
-    return c.gap + du.dot(c.n)*lastDt;
+    const Vec3 du = v[i] - W.velocity - rad[i] * w[i].cross(c.n);
+    return c.gap + du.dot(c.n) * lastDt;
 }
 
 } // namespace nscd

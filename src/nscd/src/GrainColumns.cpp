@@ -9,12 +9,18 @@ const char* columnTypeName(ColumnType t)
 {
     switch (t)
     {
-        case ColumnType::Double: return "double";
-        case ColumnType::Vec3: return "Vec3";
-        case ColumnType::Quaternion: return "quaternion";
-        case ColumnType::Int: return "int";
-        case ColumnType::Long: return "long";
-        case ColumnType::Char: return "char";
+    case ColumnType::Double:
+        return "double";
+    case ColumnType::Vec3:
+        return "Vec3";
+    case ColumnType::Quaternion:
+        return "quaternion";
+    case ColumnType::Int:
+        return "int";
+    case ColumnType::Long:
+        return "long";
+    case ColumnType::Char:
+        return "char";
     }
     return "?";
 }
@@ -25,8 +31,10 @@ GrainColumns& GrainColumns::operator=(const GrainColumns& o)
     for (int k = 0; k < o.count(); ++k)
     {
         const int mine = find(o[k].name());
-        if (mine >= 0) columns_[mine]->assign(o[k]);
-        else columns_.push_back(o[k].clone());
+        if (mine >= 0)
+            columns_[mine]->assign(o[k]);
+        else
+            columns_.push_back(o[k].clone());
     }
     return *this;
 }
@@ -49,13 +57,21 @@ std::size_t GrainColumns::rowBytes(unsigned flags) const
 void GrainColumns::packRow(std::size_t i, unsigned flags, char* out) const
 {
     for (const auto& c : columns_)
-        if (c->has(flags)) { c->pack(i, out); out += c->elementBytes(); }
+        if (c->has(flags))
+        {
+            c->pack(i, out);
+            out += c->elementBytes();
+        }
 }
 
 void GrainColumns::unpackRow(std::size_t i, unsigned flags, const char* in)
 {
     for (auto& c : columns_)
-        if (c->has(flags)) { c->unpack(i, in); in += c->elementBytes(); }
+        if (c->has(flags))
+        {
+            c->unpack(i, in);
+            in += c->elementBytes();
+        }
 }
 
 } // namespace nscd

@@ -30,7 +30,7 @@ namespace
 constexpr double pi = 3.14159265358979323846;
 
 std::string grainText(std::size_t i) { return "grain " + std::to_string(i); }
-}
+} // namespace
 
 // ============================================================================
 // state
@@ -50,7 +50,8 @@ double System::defaultTemperature() const { return impl_->temperatureColumn().de
 void System::setHeatSource(std::size_t i, double Q)
 {
     if (i >= impl_->x.size()) throw InputError("nscd::System::setHeatSource: unknown " + grainText(i));
-    if (!std::isfinite(Q)) throw InputError("nscd::System::setHeatSource: non-finite heat rate for " + grainText(i));
+    if (!std::isfinite(Q))
+        throw InputError("nscd::System::setHeatSource: non-finite heat rate for " + grainText(i));
     impl_->heatQ[i] = Q;
 }
 
@@ -96,13 +97,13 @@ double System::heatContent(const std::vector<char>* counted) const
 {
     const Impl& I = *impl_;
     if (counted && counted->size() != I.x.size())
-        throw InputError("nscd::System::heatContent: " + std::to_string(counted->size())
-                         + " flags for " + std::to_string(I.x.size()) + " grains");
+        throw InputError("nscd::System::heatContent: " + std::to_string(counted->size()) + " flags for "
+                         + std::to_string(I.x.size()) + " grains");
     double e = 0;
     for (std::size_t i = 0; i < I.x.size(); ++i)
     {
         const double c = I.materials[I.mat[i]].heatCapacity;
-        if (!I.fixT[i] && c > 0 && (!counted || (*counted)[i])) e += I.mass[i]*c*I.T[i];
+        if (!I.fixT[i] && c > 0 && (!counted || (*counted)[i])) e += I.mass[i] * c * I.T[i];
     }
     return e;
 }
@@ -112,8 +113,8 @@ void System::setWallTemperature(int wall, double T)
     if (wall < 0 || wall >= int(impl_->walls.size()))
         throw InputError("nscd::System::setWallTemperature: unknown wall " + std::to_string(wall));
     if (!std::isfinite(T))
-        throw InputError("nscd::System::setWallTemperature: non-finite temperature for wall " + std::to_string(wall)
-                         + " (use setWallAdiabatic)");
+        throw InputError("nscd::System::setWallTemperature: non-finite temperature for wall "
+                         + std::to_string(wall) + " (use setWallAdiabatic)");
     impl_->walls[wall].temperature = T;
 }
 
@@ -151,19 +152,19 @@ double System::Impl::conductance(int i, int j, double rn, double dt) const
     if (!(rn > 0) || !(dt > 0)) return 0;
     const Material& mi = materials[mat[i]];
     if (!(mi.youngModulus > 0) || !(mi.conductivity > 0)) return 0;
-    double invE = (1 - mi.poissonRatio*mi.poissonRatio)/mi.youngModulus;
-    double invD = 1.0/(2*rad[i]);
+    double invE = (1 - mi.poissonRatio * mi.poissonRatio) / mi.youngModulus;
+    double invD = 1.0 / (2 * rad[i]);
     double ks = mi.conductivity;
     if (j >= 0)
     {
         const Material& mj = materials[mat[j]];
         if (!(mj.youngModulus > 0) || !(mj.conductivity > 0)) return 0;
-        invE += (1 - mj.poissonRatio*mj.poissonRatio)/mj.youngModulus;
-        invD += 1.0/(2*rad[j]);
-        ks = 2.0/(1.0/mi.conductivity + 1.0/mj.conductivity);
+        invE += (1 - mj.poissonRatio * mj.poissonRatio) / mj.youngModulus;
+        invD += 1.0 / (2 * rad[j]);
+        ks = 2.0 / (1.0 / mi.conductivity + 1.0 / mj.conductivity);
     }
-    const double dstar = 1.0/invD, Estar = 1.0/invE;
-    return 4*ks*std::pow(rn*dstar/(2*pi*1.0*Estar*dt), 0.25);
+    const double dstar = 1.0 / invD, Estar = 1.0 / invE;
+    return 4 * ks * std::pow(rn * dstar / (2 * pi * 1.0 * Estar * dt), 0.25);
 }
 
 // ============================================================================
@@ -215,14 +216,20 @@ int System::Impl::heatUnknowns(double dt)
             heatGrain.push_back(i);
         }
     const int n = int(heatGrain.size());
-    hCap.resize(n); hDiag.resize(n); hR.resize(n); hZ.resize(n); hP.resize(n); hAp.resize(n); hX.assign(n, 0.0);
+    hCap.resize(n);
+    hDiag.resize(n);
+    hR.resize(n);
+    hZ.resize(n);
+    hP.resize(n);
+    hAp.resize(n);
+    hX.assign(n, 0.0);
     // A = C/dt + h + L (+ bath conductances), r0 = explicit rates = b - A T^n
     for (int a = 0; a < n; ++a)
     {
         const int i = heatGrain[a];
-        hCap[a] = mass[i]*materials[mat[i]].heatCapacity;
-        hDiag[a] = hCap[a]/dt + heatH[i];
-        hR[a] = heatQ[i] + heatH[i]*(heatTf[i] - T[i]);
+        hCap[a] = mass[i] * materials[mat[i]].heatCapacity;
+        hDiag[a] = hCap[a] / dt + heatH[i];
+        hR[a] = heatQ[i] + heatH[i] * (heatTf[i] - T[i]);
     }
     return n;
 }
@@ -237,17 +244,23 @@ void System::Impl::heatGraph(double dt)
     {
         if (!(c.rn > 0)) continue;
         const bool wall = c.j >= N;
-        const int ci = order[c.i], cj = wall ? c.j : order[c.j];  // contacts by slot, heat by grain
+        const int ci = order[c.i], cj = wall ? c.j : order[c.j]; // contacts by slot, heat by grain
         const int a = heatNode[ci];
         const int b = wall ? -1 : heatNode[cj];
-        if (a < 0 && b < 0) continue;  // nothing integrated
+        if (a < 0 && b < 0) continue; // nothing integrated
         // the other side: an unknown, a bath (fixed-temperature grain or wall), or inert
         double Tb = 0;
         if (a >= 0 && b < 0)
         {
-            if (wall) { Tb = walls[c.j - N].temperature; if (std::isnan(Tb)) continue; }
-            else if (fixT[cj]) Tb = T[cj];
-            else continue;
+            if (wall)
+            {
+                Tb = walls[c.j - N].temperature;
+                if (std::isnan(Tb)) continue;
+            }
+            else if (fixT[cj])
+                Tb = T[cj];
+            else
+                continue;
         }
         else if (a < 0)
         {
@@ -261,7 +274,7 @@ void System::Impl::heatGraph(double dt)
             heatEdges.push_back({a, b, H});
             hDiag[a] += H;
             hDiag[b] += H;
-            const double F = H*(T[cj] - T[ci]);
+            const double F = H * (T[cj] - T[ci]);
             hR[a] += F;
             hR[b] -= F;
         }
@@ -270,7 +283,7 @@ void System::Impl::heatGraph(double dt)
             const int u = a >= 0 ? a : b;
             heatBounds.push_back({u, H, Tb, wall});
             hDiag[u] += H;
-            hR[u] += H*(Tb - T[heatGrain[u]]);
+            hR[u] += H * (Tb - T[heatGrain[u]]);
         }
     }
 }
@@ -278,11 +291,11 @@ void System::Impl::heatGraph(double dt)
 void System::Impl::heatProduct(const std::vector<double>& p, std::vector<double>& y) const
 {
     const int n = int(heatGrain.size());
-    for (int a = 0; a < n; ++a) y[a] = hDiag[a]*p[a];
+    for (int a = 0; a < n; ++a) y[a] = hDiag[a] * p[a];
     for (const HeatEdge& e : heatEdges)
     {
-        y[e.a] -= e.H*p[e.b];
-        y[e.b] -= e.H*p[e.a];
+        y[e.a] -= e.H * p[e.b];
+        y[e.b] -= e.H * p[e.a];
     }
 }
 
@@ -295,7 +308,7 @@ void System::Impl::heatSolve(StepReport& rep, const HeatProduct& applyA, const H
     const HeatDot wholeDot = [n](const std::vector<double>& u, const std::vector<double>& v)
     {
         double s = 0;
-        for (int a = 0; a < n; ++a) s += u[a]*v[a];
+        for (int a = 0; a < n; ++a) s += u[a] * v[a];
         return s;
     };
     const HeatProduct& A = applyA ? applyA : wholeA;
@@ -306,9 +319,13 @@ void System::Impl::heatSolve(StepReport& rep, const HeatProduct& applyA, const H
     double res = 0;
     if (r0 > 0)
     {
-        for (int a = 0; a < n; ++a) { hZ[a] = row(a) ? hR[a]/hDiag[a] : 0.0; hP[a] = hZ[a]; }
+        for (int a = 0; a < n; ++a)
+        {
+            hZ[a] = row(a) ? hR[a] / hDiag[a] : 0.0;
+            hP[a] = hZ[a];
+        }
         double rz = inner(hR, hZ);
-        const double tol = settings.heatTolerance*r0;
+        const double tol = settings.heatTolerance * r0;
         double rn = r0;
         while (it < settings.heatMaxIterations)
         {
@@ -316,18 +333,22 @@ void System::Impl::heatSolve(StepReport& rep, const HeatProduct& applyA, const H
             A(hP, hAp);
             const double pAp = inner(hP, hAp);
             if (!(pAp > 0)) break;
-            const double alpha = rz/pAp;
+            const double alpha = rz / pAp;
             for (int a = 0; a < n; ++a)
-                if (row(a)) { hX[a] += alpha*hP[a]; hR[a] -= alpha*hAp[a]; }
+                if (row(a))
+                {
+                    hX[a] += alpha * hP[a];
+                    hR[a] -= alpha * hAp[a];
+                }
             rn = std::sqrt(inner(hR, hR));
             if (rn <= tol) break;
-            for (int a = 0; a < n; ++a) hZ[a] = row(a) ? hR[a]/hDiag[a] : 0.0;
+            for (int a = 0; a < n; ++a) hZ[a] = row(a) ? hR[a] / hDiag[a] : 0.0;
             const double rzNew = inner(hR, hZ);
-            const double beta = rzNew/rz;
+            const double beta = rzNew / rz;
             rz = rzNew;
-            for (int a = 0; a < n; ++a) hP[a] = hZ[a] + beta*hP[a];
+            for (int a = 0; a < n; ++a) hP[a] = hZ[a] + beta * hP[a];
         }
-        res = rn/r0;
+        res = rn / r0;
     }
     rep.heatIterations = it;
     rep.heatResidual = res;
@@ -346,26 +367,26 @@ void System::Impl::heatUpdate(double dt, StepReport& rep, const std::vector<char
         hX[a] += T[i];
         hR[a] = 0;
         if (!row(a)) continue;
-        const double exchange = heatH[i]*(heatTf[i] - hX[a]);
+        const double exchange = heatH[i] * (heatTf[i] - hX[a]);
         hR[a] = heatQ[i] + exchange;
-        rep.sourceHeat += dt*hR[a];
-        rep.exchangeHeat += dt*exchange;
+        rep.sourceHeat += dt * hR[a];
+        rep.exchangeHeat += dt * exchange;
     }
     for (const HeatEdge& e : heatEdges)
     {
-        const double F = e.H*(hX[e.b] - hX[e.a]);
+        const double F = e.H * (hX[e.b] - hX[e.a]);
         hR[e.a] += F;
         hR[e.b] -= F;
     }
     for (const HeatBoundary& bd : heatBounds)
     {
-        const double F = bd.H*(bd.T - hX[bd.a]);
+        const double F = bd.H * (bd.T - hX[bd.a]);
         hR[bd.a] += F;
-        (bd.wall ? rep.wallHeat : rep.fixedGrainHeat) += dt*F;
+        (bd.wall ? rep.wallHeat : rep.fixedGrainHeat) += dt * F;
     }
     if (toOwners) toOwners(hR);
     for (int a = 0; a < n; ++a)
-        if (row(a)) T[heatGrain[a]] += dt*hR[a]/hCap[a];
+        if (row(a)) T[heatGrain[a]] += dt * hR[a] / hCap[a];
 }
 
 void System::Impl::heatStep(double dt, StepReport& rep)

@@ -10,8 +10,8 @@
 #include <cstdio>
 #include <limits>
 #include <numeric>
-#include <utility>
 #include <string>
+#include <utility>
 
 namespace nscd
 {
@@ -23,7 +23,12 @@ using h5::H5File;
 using h5::Reader;
 using h5::Writer;
 
-void put3(std::vector<double>& a, const Vec3& v) { a.push_back(v.x()); a.push_back(v.y()); a.push_back(v.z()); }
+void put3(std::vector<double>& a, const Vec3& v)
+{
+    a.push_back(v.x());
+    a.push_back(v.y());
+    a.push_back(v.z());
+}
 Vec3 get3(const std::vector<double>& a, std::size_t k) { return Vec3(a[k], a[k + 1], a[k + 2]); }
 
 /// writeHDF5 stage: format version, dimension, time, last dt, cohesion force
@@ -37,12 +42,14 @@ void writeHeader(Writer& w, const System::Impl& I)
     put3(g, I.g);
     w.d("gravity", g, 0);
     const System::Settings& S = I.settings;
-    w.d("settings", {S.tolerance, double(S.maxIterations), S.overlapTolerance, S.alertDistanceFactor,
-                     S.alertMargin, S.cohesionDistance, S.warmStart ? 1.0 : 0.0, double(int(S.ordering)),
-                     S.overlapSlop, S.relaxation}, 0);
+    w.d("settings",
+        {S.tolerance, double(S.maxIterations), S.overlapTolerance, S.alertDistanceFactor, S.alertMargin,
+         S.cohesionDistance, S.warmStart ? 1.0 : 0.0, double(int(S.ordering)), S.overlapSlop, S.relaxation},
+        0);
     std::vector<double> m;
     for (const Material& a : I.materials)
-        for (double v : {a.density, a.friction, a.youngModulus, a.poissonRatio, a.conductivity, a.heatCapacity})
+        for (double v :
+             {a.density, a.friction, a.youngModulus, a.poissonRatio, a.conductivity, a.heatCapacity})
             m.push_back(v);
     w.d("materials", m, 6);
     // contact compliance [m/N] and relative compliance [-] per material
@@ -74,13 +81,18 @@ void writeWalls(Writer& w, const System::Impl& I)
     {
         const Wall& W = I.walls[k];
         wt.push_back(W.type);
-        put3(wd, W.p); put3(wd, W.n); put3(wd, W.b); put3(wd, W.velocity); put3(wd, W.displacement);
+        put3(wd, W.p);
+        put3(wd, W.n);
+        put3(wd, W.b);
+        put3(wd, W.velocity);
+        put3(wd, W.displacement);
         if (W.type == TriangleWall)
         {
             std::vector<double> vv;
             for (const Vec3& a : W.vertices) put3(vv, a);
             std::vector<int> tt;
-            for (const auto& a : W.triangles) for (int c : a) tt.push_back(c);
+            for (const auto& a : W.triangles)
+                for (int c : a) tt.push_back(c);
             w.d("wallVertices_" + std::to_string(k), vv, 3);
             w.i("wallTriangles_" + std::to_string(k), tt, 3);
         }
@@ -100,10 +112,12 @@ void writeContacts(Writer& w, const System::Impl& I)
     const System::Settings& S = I.settings;
     std::vector<int> ij;
     std::vector<double> cd;
-    for (const Contact& c : I.contacts)  // slots to grains (external order)
+    for (const Contact& c : I.contacts) // slots to grains (external order)
     {
-        ij.push_back(I.grainOf(c.i)); ij.push_back(I.grainOf(I.keptBody(c)));
-        put3(cd, c.n); put3(cd, c.rt);
+        ij.push_back(I.grainOf(c.i));
+        ij.push_back(I.grainOf(I.keptBody(c)));
+        put3(cd, c.n);
+        put3(cd, c.rt);
         for (double a : {c.rn, c.wnn, c.wtt, c.bias, c.mu, c.coh, c.gap, c.change}) cd.push_back(a);
     }
     w.i("contactBodies", ij, 2);
@@ -111,7 +125,8 @@ void writeContacts(Writer& w, const System::Impl& I)
     // without them read with the order of the grains, never reordered):
     // slot -> grain, and {reorderInterval, steps since the last reorder}
     w.i("grainOrder", I.order, 0);
-    w.write("reorder", std::vector<long>{S.reorderInterval, I.stepsSinceReorder}.data(), 2, 0, H5T_NATIVE_LONG);
+    w.write("reorder", std::vector<long>{S.reorderInterval, I.stepsSinceReorder}.data(), 2, 0,
+            H5T_NATIVE_LONG);
     w.d("contactData", cd, 14);
     // contact ages and the cohesion age threshold (optional datasets: files
     // without them read with age 0 and cohesionMinAge 0)
@@ -129,9 +144,10 @@ void writeHeat(Writer& w, const System::Impl& I)
 {
     const System::Settings& S = I.settings;
     std::vector<double> wT;
-    for (const Wall& W : I.walls) wT.push_back(W.temperature);  // NaN: adiabatic
+    for (const Wall& W : I.walls) wT.push_back(W.temperature); // NaN: adiabatic
     w.d("wallTemperature", wT, 0);
-    w.d("heatSettings", {I.temperatureColumn().defaultValue(), S.heatTolerance, double(S.heatMaxIterations)}, 0);
+    w.d("heatSettings", {I.temperatureColumn().defaultValue(), S.heatTolerance, double(S.heatMaxIterations)},
+        0);
 }
 } // namespace
 
@@ -142,7 +158,7 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
     hid_t fcpl = H5P_DEFAULT;
     if (!preamble.empty())
     {
-        hsize_t block = 512;   // HDF5 user blocks: 0 or a power of 2 >= 512
+        hsize_t block = 512; // HDF5 user blocks: 0 or a power of 2 >= 512
         while (block < preamble.size()) block *= 2;
         fcpl = H5Pcreate(H5P_FILE_CREATE);
         H5Pset_userblock(fcpl, block);
@@ -156,7 +172,8 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
     writeWalls(w, I);
     writeContacts(w, I);
     writeHeat(w, I);
-    if (H5Fflush(h.id, H5F_SCOPE_LOCAL) < 0) throw InputError("nscd::System::writeHDF5: cannot flush " + file);
+    if (H5Fflush(h.id, H5F_SCOPE_LOCAL) < 0)
+        throw InputError("nscd::System::writeHDF5: cannot flush " + file);
     if (preamble.empty()) return;
     // the user block, after HDF5 has closed the file
     const herr_t closed = H5Fclose(h.id);
@@ -186,7 +203,8 @@ void readHeader(Reader& r, System::Impl& I)
     I.settings.alertMargin = st[4];
     I.settings.cohesionDistance = st[5];
     I.settings.warmStart = st[6] != 0;
-    I.settings.ordering = st[7] == 1.0 ? System::Settings::Ordering::Fifo : System::Settings::Ordering::Symmetric;
+    I.settings.ordering =
+        st[7] == 1.0 ? System::Settings::Ordering::Fifo : System::Settings::Ordering::Symmetric;
     I.settings.overlapSlop = st[8];
     I.settings.relaxation = st[9];
 }
@@ -199,13 +217,23 @@ void readMaterials(Reader& r, System& s)
     // contact compliance (optional: files written before it existed are hard)
     std::vector<double> cm;
     if (H5Lexists(r.f, "materialCompliance", H5P_DEFAULT) > 0)
-        cm = r.d("materialCompliance", 2, long(m.size()/6));
-    for (std::size_t k = 0; k < m.size()/6; ++k)
+        cm = r.d("materialCompliance", 2, long(m.size() / 6));
+    for (std::size_t k = 0; k < m.size() / 6; ++k)
     {
-        Material a{m[6*k], m[6*k + 1], m[6*k + 2], m[6*k + 3], m[6*k + 4], m[6*k + 5]};
-        if (!cm.empty()) { a.compliance = cm[2*k]; a.relativeCompliance = cm[2*k + 1]; }
-        try { s.addMaterial(a); }
-        catch (const InputError& e) { r.fail(std::string("bad material: ") + e.what()); }
+        Material a{m[6 * k], m[6 * k + 1], m[6 * k + 2], m[6 * k + 3], m[6 * k + 4], m[6 * k + 5]};
+        if (!cm.empty())
+        {
+            a.compliance = cm[2 * k];
+            a.relativeCompliance = cm[2 * k + 1];
+        }
+        try
+        {
+            s.addMaterial(a);
+        }
+        catch (const InputError& e)
+        {
+            r.fail(std::string("bad material: ") + e.what());
+        }
     }
 }
 
@@ -221,9 +249,11 @@ void checkGrain(Reader& r, const System::Impl& I, long k, long inFile)
     if (I.mat[k] < 0 || I.mat[k] >= int(I.materials.size()))
         r.fail(g + "material id " + std::to_string(I.mat[k]) + " (the file has "
                + std::to_string(I.materials.size()) + " materials)");
-    const std::pair<const char*, const std::vector<Vec3>*> vec3[] =
-        {{"position", &I.x}, {"velocity", &I.v}, {"angular velocity", &I.w}, {"force", &I.force},
-         {"torque", &I.torque}};
+    const std::pair<const char*, const std::vector<Vec3>*> vec3[] = {{"position", &I.x},
+                                                                     {"velocity", &I.v},
+                                                                     {"angular velocity", &I.w},
+                                                                     {"force", &I.force},
+                                                                     {"torque", &I.torque}};
     // (std::isfinite by component: Eigen's allFinite computes a - a, which
     // raises FE_INVALID on an infinity)
     auto finite = [](const auto& a)
@@ -232,8 +262,8 @@ void checkGrain(Reader& r, const System::Impl& I, long k, long inFile)
     {
         const Vec3& a = (*e.second)[k];
         if (!finite(a))
-            r.fail(g + "non-finite " + e.first + " (" + std::to_string(a.x()) + ", " + std::to_string(a.y()) + ", "
-                   + std::to_string(a.z()) + ")");
+            r.fail(g + "non-finite " + e.first + " (" + std::to_string(a.x()) + ", " + std::to_string(a.y())
+                   + ", " + std::to_string(a.z()) + ")");
     }
     if (!finite(I.q[k].coeffs())) r.fail(g + "non-finite orientation");
     if (!std::isfinite(I.T[k]) || I.T[k] < 0)
@@ -271,8 +301,10 @@ long readGrains(Reader& r, System::Impl& I, const std::vector<long>* pick)
     else
     {
         // the grain numbers of the file (the ids a whole read gives)
-        if (pick) I.ids = *pick;
-        else std::iota(I.ids.begin(), I.ids.end(), 0L);
+        if (pick)
+            I.ids = *pick;
+        else
+            std::iota(I.ids.begin(), I.ids.end(), 0L);
         I.nextId = N;
     }
     return N;
@@ -289,18 +321,22 @@ void readWalls(Reader& r, System::Impl& I)
         Wall W;
         W.type = wt[k];
         if (W.type < PlaneWall || W.type > TriangleWall) r.fail("bad wall type");
-        W.p = get3(wd, 15*k); W.n = get3(wd, 15*k + 3); W.b = get3(wd, 15*k + 6);
-        W.velocity = get3(wd, 15*k + 9); W.displacement = get3(wd, 15*k + 12);
+        W.p = get3(wd, 15 * k);
+        W.n = get3(wd, 15 * k + 3);
+        W.b = get3(wd, 15 * k + 6);
+        W.velocity = get3(wd, 15 * k + 9);
+        W.displacement = get3(wd, 15 * k + 12);
         if (W.type == TriangleWall)
         {
             const auto vv = r.d("wallVertices_" + std::to_string(k), 3);
             const auto tt = r.i("wallTriangles_" + std::to_string(k), 3);
-            for (std::size_t a = 0; a < vv.size()/3; ++a) W.vertices.push_back(get3(vv, 3*a));
-            for (std::size_t a = 0; a < tt.size()/3; ++a)
+            for (std::size_t a = 0; a < vv.size() / 3; ++a) W.vertices.push_back(get3(vv, 3 * a));
+            for (std::size_t a = 0; a < tt.size() / 3; ++a)
             {
-                W.triangles.push_back({tt[3*a], tt[3*a + 1], tt[3*a + 2]});
+                W.triangles.push_back({tt[3 * a], tt[3 * a + 1], tt[3 * a + 2]});
                 for (int c = 0; c < 3; ++c)
-                    if (tt[3*a + c] < 0 || tt[3*a + c] >= int(W.vertices.size())) r.fail("bad triangle index");
+                    if (tt[3 * a + c] < 0 || tt[3 * a + c] >= int(W.vertices.size()))
+                        r.fail("bad triangle index");
             }
             if (W.triangles.empty()) r.fail("empty triangulated wall");
             W.tree = buildTriangleTree(W.vertices, W.triangles);
@@ -326,7 +362,7 @@ void readContacts(Reader& r, System::Impl& I, long N, const std::vector<long>* p
 {
     const long NB = N + long(I.walls.size());
     std::vector<int> ij;
-    std::vector<long> cpick;  // pick: the contacts kept (numbers in the file)
+    std::vector<long> cpick; // pick: the contacts kept (numbers in the file)
     long NC = 0;
     auto check = [&](long k, int i, int j)
     {
@@ -336,8 +372,8 @@ void readContacts(Reader& r, System::Impl& I, long N, const std::vector<long>* p
     if (!pick)
     {
         ij = r.i("contactBodies", 2);
-        NC = long(ij.size()/2);
-        for (long k = 0; k < NC; ++k) check(k, ij[2*k], ij[2*k + 1]);
+        NC = long(ij.size() / 2);
+        for (long k = 0; k < NC; ++k) check(k, ij[2 * k], ij[2 * k + 1]);
     }
     else
     {
@@ -345,31 +381,41 @@ void readContacts(Reader& r, System::Impl& I, long N, const std::vector<long>* p
         std::vector<int> readAs(N, -1);
         const long NK = long(pick->size());
         for (long k = 0; k < NK; ++k) readAs[(*pick)[k]] = int(k);
-        r.visit<int>("contactBodies", H5T_NATIVE_INT, 2, -1, [&](long a, long n, const int* b)
-        {
-            for (long k = 0; k < n; ++k)
-            {
-                const int i = b[2*k], j = b[2*k + 1];
-                check(a + k, i, j);
-                const int jr = j >= N ? int(NK + (j - N)) : readAs[j];
-                if (readAs[i] < 0 || jr < 0) continue;
-                cpick.push_back(a + k);
-                ij.push_back(readAs[i]);
-                ij.push_back(jr);
-            }
-            NC = a + n;
-        });
+        r.visit<int>("contactBodies", H5T_NATIVE_INT, 2, -1,
+                     [&](long a, long n, const int* b)
+                     {
+                         for (long k = 0; k < n; ++k)
+                         {
+                             const int i = b[2 * k], j = b[2 * k + 1];
+                             check(a + k, i, j);
+                             const int jr = j >= N ? int(NK + (j - N)) : readAs[j];
+                             if (readAs[i] < 0 || jr < 0) continue;
+                             cpick.push_back(a + k);
+                             ij.push_back(readAs[i]);
+                             ij.push_back(jr);
+                         }
+                         NC = a + n;
+                     });
     }
     const auto cd = r.d("contactData", 14, NC, pick ? &cpick : nullptr);
-    const long NCK = long(ij.size()/2);
+    const long NCK = long(ij.size() / 2);
     I.contacts.resize(NCK);
     for (long k = 0; k < NCK; ++k)
     {
         Contact& c = I.contacts[k];
-        c.i = ij[2*k]; c.j = ij[2*k + 1];
-        c.n = get3(cd, 14*k); c.rt = get3(cd, 14*k + 3);
-        const double* p = &cd[14*k + 6];
-        c.rn = p[0]; c.wnn = p[1]; c.wtt = p[2]; c.bias = p[3]; c.mu = p[4]; c.coh = p[5]; c.gap = p[6]; c.change = p[7];
+        c.i = ij[2 * k];
+        c.j = ij[2 * k + 1];
+        c.n = get3(cd, 14 * k);
+        c.rt = get3(cd, 14 * k + 3);
+        const double* p = &cd[14 * k + 6];
+        c.rn = p[0];
+        c.wnn = p[1];
+        c.wtt = p[2];
+        c.bias = p[3];
+        c.mu = p[4];
+        c.coh = p[5];
+        c.gap = p[6];
+        c.change = p[7];
     }
     // contact ages (optional: files written before they existed read with age 0)
     if (H5Lexists(r.f, "contactAge", H5P_DEFAULT) > 0)
@@ -410,7 +456,8 @@ void readOrder(Reader& r, System::Impl& I, long N, bool part)
         I.rebuildSlotOf();
         const auto ro = r.read<long>("reorder", H5T_NATIVE_LONG, 0, 2);
         if (ro[0] < 0 || ro[0] > std::numeric_limits<int>::max() || ro[1] < -1)
-            r.fail("bad reorder dataset (interval " + std::to_string(ro[0]) + ", steps " + std::to_string(ro[1]) + ")");
+            r.fail("bad reorder dataset (interval " + std::to_string(ro[0]) + ", steps "
+                   + std::to_string(ro[1]) + ")");
         I.settings.reorderInterval = int(ro[0]);
         I.stepsSinceReorder = ro[1];
     }
@@ -420,10 +467,16 @@ void readOrder(Reader& r, System::Impl& I, long N, bool part)
         c.i = I.slotOf[c.i];
         if (c.j >= N) continue;
         c.j = I.slotOf[c.j];
-        if (c.j < c.i) { std::swap(c.i, c.j); c.n = -c.n; c.rt = -c.rt; }
+        if (c.j < c.i)
+        {
+            std::swap(c.i, c.j);
+            c.n = -c.n;
+            c.rt = -c.rt;
+        }
     }
-    std::stable_sort(I.contacts.begin(), I.contacts.end(), [](const Contact& a, const Contact& b) { return a.i < b.i; });
-    I.keptContactsN = -1;  // written for the grains read
+    std::stable_sort(I.contacts.begin(), I.contacts.end(),
+                     [](const Contact& a, const Contact& b) { return a.i < b.i; });
+    I.keptContactsN = -1; // written for the grains read
 }
 
 /// readHDF5 stage: heat settings (optional datasets: default temperature
@@ -448,10 +501,7 @@ void readHeat(Reader& r, System::Impl& I)
 }
 } // namespace
 
-System System::readHDF5(const std::string& file)
-{
-    return readHDF5(file, nullptr);
-}
+System System::readHDF5(const std::string& file) { return readHDF5(file, nullptr); }
 
 namespace
 {
@@ -459,12 +509,14 @@ namespace
 Reader openState(H5File& h, const std::string& file)
 {
     if (H5Fis_hdf5(file.c_str()) <= 0)
-        throw InputError("nscd::System::readHDF5: " + file + " is missing or not an HDF5 file"
-                         " (damaged or truncated?)");
+        throw InputError("nscd::System::readHDF5: " + file
+                         + " is missing or not an HDF5 file"
+                           " (damaged or truncated?)");
     h.id = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
     if (h.id < 0)
-        throw InputError("nscd::System::readHDF5: cannot open " + file + ": the file is damaged or truncated"
-                         " (e.g. a write cut by a full disk or a kill)");
+        throw InputError("nscd::System::readHDF5: cannot open " + file
+                         + ": the file is damaged or truncated"
+                           " (e.g. a write cut by a full disk or a kill)");
     Reader r{h.id, file};
     if (r.i("format", 0, 1)[0] != formatVersion) r.fail("unsupported format version");
     return r;
@@ -490,7 +542,7 @@ std::vector<double> System::grainRadiiHDF5(const std::string& file)
 }
 
 System System::readHDF5(const std::string& file, const std::function<bool(const Vec3&, double)>& keep,
-                         const std::function<void(System&)>& declare)
+                        const std::function<void(System&)>& declare)
 {
     H5File h;
     Reader r = openState(h, file);
@@ -506,11 +558,14 @@ System System::readHDF5(const std::string& file, const std::function<bool(const 
     if (keep)
     {
         const auto rad = r.d("radii", 0);
-        r.visit<double>("positions", H5T_NATIVE_DOUBLE, 3, long(rad.size()), [&](long a, long n, const double* x)
-        {
-            for (long k = 0; k < n; ++k)
-                if (keep(Vec3(x[3*k], x[3*k + 1], dim == 2 ? 0.0 : x[3*k + 2]), rad[a + k])) pick.push_back(a + k);
-        });
+        r.visit<double>(
+            "positions", H5T_NATIVE_DOUBLE, 3, long(rad.size()),
+            [&](long a, long n, const double* x)
+            {
+                for (long k = 0; k < n; ++k)
+                    if (keep(Vec3(x[3 * k], x[3 * k + 1], dim == 2 ? 0.0 : x[3 * k + 2]), rad[a + k]))
+                        pick.push_back(a + k);
+            });
     }
     const std::vector<long>* part = keep ? &pick : nullptr;
     const long N = readGrains(r, I, part);

@@ -25,7 +25,8 @@ std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& in
             throw InputError(os.str());
         }
         if (k > 0 && sorted[k] == sorted[k - 1])
-            throw InputError("nscd::System::removeGrains: grain " + std::to_string(sorted[k]) + " given twice");
+            throw InputError("nscd::System::removeGrains: grain " + std::to_string(sorted[k])
+                             + " given twice");
     }
     if (sorted.empty()) return sorted;
 
@@ -39,8 +40,8 @@ std::vector<std::size_t> System::removeGrains(const std::vector<std::size_t>& in
         if (keep[i]) newIndex[i] = n++;
     const int removed = int(N) - n;
 
-    I.columns.compact(keep);  // every per-grain column
-    for (Droplet& d : I.droplets)   // per-grain output of the last step
+    I.columns.compact(keep);      // every per-grain column
+    for (Droplet& d : I.droplets) // per-grain output of the last step
         if (d.grainImpulse.size() == N) compactRows(d.grainImpulse, keep);
 
     // internal order (slot -> grain): the slots of the remaining grains

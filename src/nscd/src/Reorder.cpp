@@ -7,8 +7,8 @@
 // unless a caller that owns the grain indices renumbers them along the
 // internal one (System::renumberAlongInternalOrder).
 #include "Reorder.H"
-#include "nscd/Permutation.H"
 #include "SystemImpl.H"
+#include "nscd/Permutation.H"
 
 #include <algorithm>
 #include <cmath>
@@ -45,12 +45,9 @@ std::uint64_t spread2(std::uint64_t a)
     a = (a | a << 1) & 0x5555555555555555ULL;
     return a;
 }
-}
+} // namespace
 
-std::uint64_t mortonKey2(std::uint32_t i, std::uint32_t j)
-{
-    return spread2(i) | spread2(j) << 1;
-}
+std::uint64_t mortonKey2(std::uint32_t i, std::uint32_t j) { return spread2(i) | spread2(j) << 1; }
 
 std::uint64_t mortonKey3(std::uint32_t i, std::uint32_t j, std::uint32_t k)
 {
@@ -64,22 +61,26 @@ std::vector<int> mortonOrder(const std::vector<Vec3>& x, int dim, double cell)
     std::iota(out.begin(), out.end(), 0);
     if (N < 2) return out;
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
-    for (const Vec3& p : x) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); }
+    for (const Vec3& p : x)
+    {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
     // cells per axis below 2^21 (3D) / 2^32 (2D): coarser cells for huge extents
     const double maxCells = dim == 3 ? double((1u << 21) - 1) : 4294967295.0;
     double h = cell > 0 && std::isfinite(cell) ? cell : 0.0;
-    for (int d = 0; d < dim; ++d) h = std::max(h, (hi[d] - lo[d])/maxCells);
-    if (!(h > 0)) return out;  // all centres at one point
-    const double ih = 1.0/h;
+    for (int d = 0; d < dim; ++d) h = std::max(h, (hi[d] - lo[d]) / maxCells);
+    if (!(h > 0)) return out; // all centres at one point
+    const double ih = 1.0 / h;
     std::vector<std::pair<std::uint64_t, int>> key(N);
     for (int i = 0; i < N; ++i)
     {
         std::uint32_t c[3] = {0, 0, 0};
         for (int d = 0; d < dim; ++d)
-            c[d] = std::uint32_t(std::min(maxCells, std::max(0.0, std::floor((x[i][d] - lo[d])*ih))));
+            c[d] = std::uint32_t(std::min(maxCells, std::max(0.0, std::floor((x[i][d] - lo[d]) * ih))));
         key[i] = {dim == 3 ? mortonKey3(c[0], c[1], c[2]) : mortonKey2(c[0], c[1]), i};
     }
-    std::sort(key.begin(), key.end());  // ties (one cell): by grain index
+    std::sort(key.begin(), key.end()); // ties (one cell): by grain index
     for (int s = 0; s < N; ++s) out[s] = key[s].second;
     return out;
 }
@@ -96,7 +97,7 @@ void System::Impl::applyOrder(std::vector<int> newOrder)
     const std::vector<int> oldOrder = std::move(order);
     order = std::move(newOrder);
     rebuildSlotOf();
-    verlet.invalidate();  // the list is by slot
+    verlet.invalidate(); // the list is by slot
     // persistent contacts: old slot -> grain -> new slot; grain pairs kept
     // with i < j (as detect() makes them), so that the next step matches them
     for (Contact& c : contacts)
@@ -106,23 +107,24 @@ void System::Impl::applyOrder(std::vector<int> newOrder)
         c.j = slotOf[oldOrder[c.j]];
         if (c.j < c.i)
         {
-            std::swap(c.i, c.j);  // B becomes A: same normal impulse, opposite n and tangential impulse
+            std::swap(c.i, c.j); // B becomes A: same normal impulse, opposite n and tangential impulse
             c.n = -c.n;
             c.rt = -c.rt;
         }
     }
-    std::stable_sort(contacts.begin(), contacts.end(), [](const Contact& a, const Contact& b) { return a.i < b.i; });
+    std::stable_sort(contacts.begin(), contacts.end(),
+                     [](const Contact& a, const Contact& b) { return a.i < b.i; });
 }
 
 bool orderIsScattered(const std::vector<int>& curve, const std::vector<int>& slotOf)
 {
     const int N = int(curve.size());
     if (N < 2) return false;
-    const int window = std::min(reorderWindow, std::max(1, N/8));
+    const int window = std::min(reorderWindow, std::max(1, N / 8));
     long far = 0;
     for (int k = 0; k + 1 < N; ++k)
         if (std::abs(slotOf[curve[k]] - slotOf[curve[k + 1]]) > window) ++far;
-    return double(far) > reorderFarFraction*(N - 1);
+    return double(far) > reorderFarFraction * (N - 1);
 }
 
 std::vector<std::size_t> System::renumberAlongInternalOrder()
@@ -132,18 +134,18 @@ std::vector<std::size_t> System::renumberAlongInternalOrder()
     if (N < 2 || int(I.order.size()) != N) return {};
     // scattered: consecutive slots whose grains are far apart in index (the
     // test of orderIsScattered with the grain index in place of the slot)
-    const int window = std::min(reorderWindow, std::max(1, N/8));
+    const int window = std::min(reorderWindow, std::max(1, N / 8));
     long far = 0;
     for (int s = 0; s + 1 < N; ++s)
         if (std::abs(I.order[s + 1] - I.order[s]) > window) ++far;
-    if (double(far) <= reorderFarFraction*(N - 1)) return {};
+    if (double(far) <= reorderFarFraction * (N - 1)) return {};
 
     // new grain s is the grain of slot s: the slots keep their order, so the
     // bodies, detection records, Verlet list and contact records (all by
     // slot) stay as they are
     const std::vector<std::size_t> oldOf(I.order.begin(), I.order.end());
-    I.columns.permute(oldOf);  // every per-grain column
-    for (Droplet& d : I.droplets)  // (per-grain output of the last step, when sized)
+    I.columns.permute(oldOf);     // every per-grain column
+    for (Droplet& d : I.droplets) // (per-grain output of the last step, when sized)
         if (d.grainImpulse.size() == oldOf.size()) permuteInPlace(oldOf, d.grainImpulse);
     std::iota(I.order.begin(), I.order.end(), 0);
     I.rebuildSlotOf();
@@ -157,7 +159,7 @@ void System::Impl::maybeReorder()
     if (K <= 0 || N < 2) return;
     if (stepsSinceReorder < 0 || stepsSinceReorder >= K)
     {
-        std::vector<int> curve = mortonOrder(x, dim, 2*rMax());
+        std::vector<int> curve = mortonOrder(x, dim, 2 * rMax());
         if (orderIsScattered(curve, slotOf)) applyOrder(std::move(curve));
         stepsSinceReorder = 0;
     }

@@ -41,23 +41,23 @@ constexpr int bodiesAhead = 8;
 Eigen::Quaterniond rotate(const Eigen::Quaterniond& q, const Vec3& w, double dt)
 {
     const double wn = w.norm();
-    const double h = 0.5*wn*dt;
+    const double h = 0.5 * wn * dt;
     if (h == 0.0) return q;
     double s, c;
     if (h < 5e-3)
     {
-        const double h2 = h*h;
-        s = h*(1 - h2/6*(1 - h2/20));
-        c = 1 - h2/2*(1 - h2/12*(1 - h2/30));
+        const double h2 = h * h;
+        s = h * (1 - h2 / 6 * (1 - h2 / 20));
+        c = 1 - h2 / 2 * (1 - h2 / 12 * (1 - h2 / 30));
     }
     else
     {
         s = std::sin(h);
         c = std::cos(h);
     }
-    const Vec3 u = (s/wn)*w;
+    const Vec3 u = (s / wn) * w;
     const Eigen::Quaterniond dq(c, u.x(), u.y(), u.z());
-    Eigen::Quaterniond r = dq*q;
+    Eigen::Quaterniond r = dq * q;
     r.normalize();
     return r;
 }
@@ -68,19 +68,23 @@ void System::Impl::checkSettings(const System::Settings& S, const char* where)
     if (!(S.tolerance > 0) || S.maxIterations < 1 || !(S.relaxation > 0 && S.relaxation < 2)
         || !(S.overlapSlop >= 0) || !(S.alertDistanceFactor >= 0) || !(S.alertMargin >= 0)
         || !(S.verletSkin >= 0 && std::isfinite(S.verletSkin)))
-        throw InputError(std::string(where) + ": invalid settings (need tolerance > 0, maxIterations >= 1, "
-                         "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0, finite verletSkin >= 0)");
+        throw InputError(
+            std::string(where)
+            + ": invalid settings (need tolerance > 0, maxIterations >= 1, "
+              "0 < relaxation < 2, overlapSlop >= 0, alert factors >= 0, finite verletSkin >= 0)");
     const int m = int(S.method);
     if (m < 0 || m > int(System::Settings::Method::Newton))
         throw InputError(std::string(where) + ": invalid settings (unknown contact solver method "
                          + std::to_string(m) + "; methods: NLGS, OverRelaxedNLGS, APGD, NNCG, Newton)");
     if (S.method == System::Settings::Method::Newton)
     {
-        if (!(S.newtonTolerance > 0) || !std::isfinite(S.newtonTolerance)
-            || !(S.tangentialRegularisation > 0) || !std::isfinite(S.tangentialRegularisation))
-            throw InputError(std::string(where) + ": invalid settings (Newton needs newtonTolerance > 0 and "
-                             "tangentialRegularisation > 0, both finite; got " + std::to_string(S.newtonTolerance)
-                             + " and " + std::to_string(S.tangentialRegularisation) + ")");
+        if (!(S.newtonTolerance > 0) || !std::isfinite(S.newtonTolerance) || !(S.tangentialRegularisation > 0)
+            || !std::isfinite(S.tangentialRegularisation))
+            throw InputError(std::string(where)
+                             + ": invalid settings (Newton needs newtonTolerance > 0 and "
+                               "tangentialRegularisation > 0, both finite; got "
+                             + std::to_string(S.newtonTolerance) + " and "
+                             + std::to_string(S.tangentialRegularisation) + ")");
         const int ls = int(S.newtonLinearSolver);
         if (ls < 0 || ls > int(System::Settings::NewtonLinearSolver::ConjugateGradient))
             throw InputError(std::string(where) + ": invalid settings (unknown newtonLinearSolver "
@@ -97,11 +101,13 @@ void System::Impl::checkSettings(const System::Settings& S, const char* where)
     if (S.convergence == System::Settings::Convergence::RMS
         && (S.method == System::Settings::Method::APGD || S.method == System::Settings::Method::NNCG
             || S.method == System::Settings::Method::Newton))
-        throw InputError(std::string(where) + ": invalid settings (the RMS convergence test is that of the "
-                         "Gauss-Seidel methods NLGS and OverRelaxedNLGS; APGD and NNCG use Max, Newton "
-                         "its own (newtonTolerance))");
+        throw InputError(std::string(where)
+                         + ": invalid settings (the RMS convergence test is that of the "
+                           "Gauss-Seidel methods NLGS and OverRelaxedNLGS; APGD and NNCG use Max, Newton "
+                           "its own (newtonTolerance))");
     if (!(S.heatTolerance > 0) || S.heatMaxIterations < 1)
-        throw InputError(std::string(where) + ": invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
+        throw InputError(std::string(where)
+                         + ": invalid settings (need heatTolerance > 0, heatMaxIterations >= 1)");
     if (S.reorderInterval < 0)
         throw InputError(std::string(where) + ": invalid settings (need reorderInterval >= 0, got "
                          + std::to_string(S.reorderInterval) + "; 0 switches the reordering off)");
@@ -113,9 +119,10 @@ void System::Impl::checkSettings(const System::Settings& S, const char* where)
 void System::Impl::checkComplianceMethod(const char* where) const
 {
     if (settings.method == System::Settings::Method::APGD && anyCompliance())
-        throw InputError(std::string(where) + ": a material has a contact compliance (compliance or "
-                         "relativeCompliance > 0), which the APGD method does not solve; use NLGS, "
-                         "OverRelaxedNLGS or NNCG, or set both to 0");
+        throw InputError(std::string(where)
+                         + ": a material has a contact compliance (compliance or "
+                           "relativeCompliance > 0), which the APGD method does not solve; use NLGS, "
+                           "OverRelaxedNLGS or NNCG, or set both to 0");
     if (settings.method != System::Settings::Method::Newton) return;
     // Newton solves the regularised (compliant) problem only: every
     // contact needs a compliance, i.e. every grain's material
@@ -124,14 +131,18 @@ void System::Impl::checkComplianceMethod(const char* where) const
     {
         const Material& m = materials[mat[i]];
         if (!(m.compliance > 0 || m.relativeCompliance > 0))
-            throw InputError(std::string(where) + ": the Newton contact solver needs a contact compliance on "
-                             "every contact, but grain " + std::to_string(i) + " has material "
-                             + std::to_string(mat[i]) + " with compliance = relativeCompliance = 0 (the hard "
-                             "law); give that material a compliance or relativeCompliance > 0, or use NLGS");
+            throw InputError(
+                std::string(where)
+                + ": the Newton contact solver needs a contact compliance on "
+                  "every contact, but grain "
+                + std::to_string(i) + " has material " + std::to_string(mat[i])
+                + " with compliance = relativeCompliance = 0 (the hard "
+                  "law); give that material a compliance or relativeCompliance > 0, or use NLGS");
     }
     if (!droplets.empty())
-        throw InputError(std::string(where) + ": the Newton contact solver does not solve droplet contacts "
-                         "(hard, capped by the capillary entry force); remove the droplets or use NLGS");
+        throw InputError(std::string(where)
+                         + ": the Newton contact solver does not solve droplet contacts "
+                           "(hard, capped by the capillary entry force); remove the droplets or use NLGS");
 }
 
 StepReport System::step(double dt)
@@ -144,19 +155,19 @@ StepReport System::step(double dt)
     for (const Droplet& d : I.droplets) checkDroplet(d, "nscd::System::step");
     for (Droplet& d : I.droplets)
         if (d.grainImpulse.size() != I.x.size()) d.grainImpulse.assign(I.x.size(), 0.0);
-    const bool heat = I.heatCheck();  // throws before anything is changed
+    const bool heat = I.heatCheck(); // throws before anything is changed
     StepReport rep;
     rep.substeps = 1;
-    const Impl::StepRMin stepRMin(I, I.rMin());  // one scan of the radii for the step
+    const Impl::StepRMin stepRMin(I, I.rMin()); // one scan of the radii for the step
 
-    I.syncKeptContacts();  // after grains were added
-    I.maybeReorder();  // internal slot order along the Morton curve (Reorder.cpp)
+    I.syncKeptContacts(); // after grains were added
+    I.maybeReorder();     // internal slot order along the Morton curve (Reorder.cpp)
     I.freeVelocities(dt);
     // detect, prepareContacts (+ warm start), buildAdjacency, solveContacts;
     // again with larger reaches if a grain leaves its reach (SystemExtra.cpp)
     const int NC0 = I.detectAndSolve(dt, rep);
-    I.relaxPushOut(dt, rep);  // overlap correction without velocity
-    I.limitCappedEnergy(dt, rep);  // a capped solve may not raise the kinetic energy
+    I.relaxPushOut(dt, rep);      // overlap correction without velocity
+    I.limitCappedEnergy(dt, rep); // a capped solve may not raise the kinetic energy
 
     I.integrate(dt, NC0);
     I.storeImpulses(dt, NC0, rep);
@@ -200,16 +211,16 @@ void System::Impl::freeVelocities(double dt)
         }
         else
         {
-            B.im = 1.0/effectiveMass(i, dt);
-            B.im0 = 1.0/mass[i];
-            B.ii = rotLock[i] ? 0.0 : 1.0/inertia[i];
+            B.im = 1.0 / effectiveMass(i, dt);
+            B.im0 = 1.0 / mass[i];
+            B.ii = rotLock[i] ? 0.0 : 1.0 / inertia[i];
         }
         Vec3 vi, wi;
         freeBodyVelocity(i, dt, B.ii, vi, wi);
         B.v = vi;
         B.w = wi;
         B.r = rad[i];
-        speed[s] = vi.norm() + B.r*wi.norm();
+        speed[s] = vi.norm() + B.r * wi.norm();
     }
     for (int k = 0; k < NW; ++k)
     {
@@ -223,8 +234,8 @@ void System::Impl::freeVelocities(double dt)
         // droplet: translation only, its own forces (no System gravity)
         const Droplet& D = droplets[k];
         Body& B = body[N + NW + k];
-        B.im = B.im0 = D.mass > 0 ? 1.0/D.mass : 0.0;
-        B.v = D.velocity + dt*B.im*D.force;
+        B.im = B.im0 = D.mass > 0 ? 1.0 / D.mass : 0.0;
+        B.v = D.velocity + dt * B.im * D.force;
         if (twoD) B.v.z() = 0;
         B.w.setZero();
         B.ii = B.r = 0;
@@ -234,16 +245,21 @@ void System::Impl::freeVelocities(double dt)
 void System::Impl::freeBodyVelocity(int i, double dt, double ii, Vec3& vf, Vec3& wf) const
 {
     vf = fix[i] ? v[i] : freeVelocity(i, dt);
-    wf = fix[i] ? w[i] : Vec3(w[i] + dt*ii*torque[i]);
-    if (dim == 2) { vf.z() = 0; wf.x() = 0; wf.y() = 0; }
+    wf = fix[i] ? w[i] : Vec3(w[i] + dt * ii * torque[i]);
+    if (dim == 2)
+    {
+        vf.z() = 0;
+        wf.x() = 0;
+        wf.y() = 0;
+    }
 }
 
 Vec3 System::Impl::freeVelocity(int i, double dt) const
 {
-    const Vec3 vf = v[i] + dt*(g + force[i]/mass[i]);
+    const Vec3 vf = v[i] + dt * (g + force[i] / mass[i]);
     const double c = dragCoefficient[i];
     if (c == 0) return vf;
-    return (mass[i]*vf + dt*c*dragVelocity[i])/effectiveMass(i, dt);
+    return (mass[i] * vf + dt * c * dragVelocity[i]) / effectiveMass(i, dt);
 }
 
 // ---- contact constants, age, cohesion, warm-start impulses ----
@@ -254,8 +270,8 @@ bool System::Impl::prepareContacts(double dt, int NC0)
     const int NC = int(C.size());
     rows.resize(NC);
     const double rmin = rMin();
-    const double cohDist = settings.cohesionDistance*rmin;
-    const double slop = settings.overlapSlop*rmin;
+    const double cohDist = settings.cohesionDistance * rmin;
+    const double slop = settings.overlapSlop * rmin;
     const bool cohesion = cohesionForce > 0 && bool(cohesionPredicate);
     const int minAge = settings.cohesionMinAge;
     // previous contacts indexed by i: matched for the warm start and the
@@ -269,7 +285,7 @@ bool System::Impl::prepareContacts(double dt, int NC0)
     // search when i decreases
     const int NP = int(P.size());
     int pLo = 0, lastI = -1;
-    const double scale = warm ? dt/lastDt : 0.0;
+    const double scale = warm ? dt / lastDt : 0.0;
     const bool twoD = dim == 2;
     const int NB = int(body.size());
     adjStart.assign(NB + 1, 0);
@@ -287,10 +303,10 @@ bool System::Impl::prepareContacts(double dt, int NC0)
             slotCompliance[sl] = {m.compliance, m.relativeCompliance};
         }
     }
-    const double idt2 = 1.0/(dt*dt);
+    const double idt2 = 1.0 / (dt * dt);
     for (int k = 0; k < NC; ++k)
     {
-        if (k + bodiesAhead < NC)  // the bodies of a later row (random access: a hint)
+        if (k + bodiesAhead < NC) // the bodies of a later row (random access: a hint)
         {
             prefetch(&body[C[k + bodiesAhead].i], sizeof(Body));
             prefetch(&body[C[k + bodiesAhead].j], sizeof(Body));
@@ -305,15 +321,15 @@ bool System::Impl::prepareContacts(double dt, int NC0)
         s.mu = c.mu;
         s.cap = c.cap;
         s.wnn = A.im + B.im;
-        s.wtt = A.im + B.im + A.r*A.r*A.ii + B.r*B.r*B.ii;
-        s.iwnn = s.wnn > 0 ? 1.0/s.wnn : 0.0;
-        s.iwtt = s.wtt > 0 ? 1.0/s.wtt : 0.0;
+        s.wtt = A.im + B.im + A.r * A.r * A.ii + B.r * B.r * B.ii;
+        s.iwnn = s.wnn > 0 ? 1.0 / s.wnn : 0.0;
+        s.iwtt = s.wtt > 0 ? 1.0 / s.wtt : 0.0;
         {
             // capped: a grain with c dt/m beyond the cap is locked to its
             // fluid velocity (e.g. eps clipped at epsMin), its velocity, not
             // its drag, is what matters, and round-off would stall the test
-            const double k = s.wnn > 0 ? std::min((A.im0 + B.im0)/s.wnn, maxResidualWeight) : 1.0;
-            s.residualWeight2 = k*k;
+            const double k = s.wnn > 0 ? std::min((A.im0 + B.im0) / s.wnn, maxResidualWeight) : 1.0;
+            s.residualWeight2 = k * k;
         }
         // the contact's law (ContactLaws.H): compliant if its materials
         // have a compliance (the normal diagonal W_nn + eps; its gap term
@@ -331,11 +347,12 @@ bool System::Impl::prepareContacts(double dt, int NC0)
             }
             eps = law::CompliantSignorini::regularisation(cc, beta, s.wnn, idt2);
         }
-        if (eps > 0) s.iwnn = 1.0/(s.wnn + eps);
+        if (eps > 0)
+            s.iwnn = 1.0 / (s.wnn + eps);
         else
         {
             s.bias = law::HardSignorini::bias(c.gap, dt, slop, k < NC0);
-            if (k < NC0 && law::HardSignorini::pushesOut(s.bias)) relaxSeed.push_back(k);  // relaxPushOut
+            if (k < NC0 && law::HardSignorini::pushesOut(s.bias)) relaxSeed.push_back(k); // relaxPushOut
         }
         s.rn = 0;
         s.rt.setZero();
@@ -347,8 +364,9 @@ bool System::Impl::prepareContacts(double dt, int NC0)
         if (match)
         {
             if (c.i < lastI)
-                pLo = int(std::lower_bound(P.begin(), P.end(), c.i,
-                                           [](const Contact& a, int i) { return a.i < i; }) - P.begin());
+                pLo = int(
+                    std::lower_bound(P.begin(), P.end(), c.i, [](const Contact& a, int i) { return a.i < i; })
+                    - P.begin());
             else
                 while (pLo < NP && P[pLo].i < c.i) ++pLo;
             lastI = c.i;
@@ -357,7 +375,11 @@ bool System::Impl::prepareContacts(double dt, int NC0)
             {
                 if (P[p].j != c.j) continue;
                 const double dd = P[p].n.dot(c.n);
-                if (dd > bestDot) { bestDot = dd; best = p; }
+                if (dd > bestDot)
+                {
+                    bestDot = dd;
+                    best = p;
+                }
             }
             if (best >= 0) c.age = P[best].age;
         }
@@ -372,12 +394,12 @@ bool System::Impl::prepareContacts(double dt, int NC0)
         }
         if (warm && best >= 0)
         {
-            const Vec3 imp = scale*(P[best].rn*P[best].n + P[best].rt);
+            const Vec3 imp = scale * (P[best].rn * P[best].n + P[best].rt);
             s.rn = std::max(-s.coh, imp.dot(c.n));
-            s.rt = imp - imp.dot(c.n)*c.n;
-            const double lim = s.mu*(s.rn + s.coh);
+            s.rt = imp - imp.dot(c.n) * c.n;
+            const double lim = s.mu * (s.rn + s.coh);
             const double tn = s.rt.norm();
-            if (tn > lim) s.rt *= (tn > 0 ? lim/tn : 0.0);
+            if (tn > lim) s.rt *= (tn > 0 ? lim / tn : 0.0);
             warmStart(s);
         }
         // compliant contact: its gap term with the slop band around the
@@ -400,12 +422,12 @@ void System::Impl::warmStart(const SolverContact& c)
     if (c.rn == 0 && c.rt.isZero()) return;
     Body& A = body[c.i];
     Body& B = body[c.j];
-    const Vec3 Pm = c.rn*c.n + c.rt;
+    const Vec3 Pm = c.rn * c.n + c.rt;
     const Vec3 nxt = c.n.cross(c.rt);
-    A.v += A.im*Pm;
-    A.w -= A.ii*A.r*nxt;
-    B.v -= B.im*Pm;
-    B.w -= B.ii*B.r*nxt;
+    A.v += A.im * Pm;
+    A.w -= A.ii * A.r * nxt;
+    B.v -= B.im * Pm;
+    B.w -= B.ii * B.r * nxt;
 }
 
 // ---- adjacency (contacts of each movable body), from the counts of prepareContacts ----
@@ -417,7 +439,7 @@ void System::Impl::buildAdjacency()
     const int NC = int(rows.size());
     for (int i = 0; i < NB; ++i) adjStart[i + 1] += adjStart[i];
     adjItems.resize(adjStart[NB]);
-    cellOf.assign(adjStart.begin(), adjStart.end() - 1);  // cursor
+    cellOf.assign(adjStart.begin(), adjStart.end() - 1); // cursor
     for (int k = 0; k < NC; ++k)
     {
         const std::array<int, 2>& p = pairs[k];
@@ -433,28 +455,28 @@ void System::Impl::integrate(double dt, int NC0)
     const int NW = int(walls.size());
     const int ND = int(droplets.size());
     accumulateDragImpulses(dt);
-    for (int i = 0; i < N; ++i)  // by grain (see freeVelocities)
+    for (int i = 0; i < N; ++i) // by grain (see freeVelocities)
     {
         const int s = slotOf[i];
         const Body& B = body[s];
         v[i] = B.v;
         w[i] = B.w;
-        x[i] += dt*(relaxPositionVelocity.empty() ? B.v : relaxPositionVelocity[s]);
-        packed[s].x = x[i];  // end-of-step centres by slot (storeImpulses' gaps)
+        x[i] += dt * (relaxPositionVelocity.empty() ? B.v : relaxPositionVelocity[s]);
+        packed[s].x = x[i]; // end-of-step centres by slot (storeImpulses' gaps)
         q[i] = rotate(q[i], B.w, dt);
     }
-    for (int k = 0; k < NW; ++k) walls[k].displacement += dt*walls[k].velocity;
+    for (int k = 0; k < NW; ++k) walls[k].displacement += dt * walls[k].velocity;
     for (int k = 0; k < ND; ++k)
     {
         Droplet& D = droplets[k];
         if (D.mass > 0) D.velocity = body[N + NW + k].v;
-        D.centre += dt*D.velocity;
+        D.centre += dt * D.velocity;
     }
-    for (int k = NC0; k < int(rows.size()); ++k)  // impulse -r on the droplet (body B)
+    for (int k = NC0; k < int(rows.size()); ++k) // impulse -r on the droplet (body B)
     {
         const SolverContact& c = rows[k];
         Droplet& D = droplets[c.j - N - NW];
-        D.impulse -= c.rn*c.n;
+        D.impulse -= c.rn * c.n;
         D.grainImpulse[order[c.i]] += c.rn;
     }
     time += dt;
@@ -464,7 +486,7 @@ void System::Impl::integrate(double dt, int NC0)
 void System::Impl::relaxPushOut(double dt, StepReport& rep)
 {
     relaxPositionVelocity.clear();
-    if (relaxSeed.empty()) return;  // (filled by prepareContacts)
+    if (relaxSeed.empty()) return; // (filled by prepareContacts)
     holdPositionVelocities();
     for (int k : relaxSeed) rows[k].bias = 0.0;
     // the solve continues from the rows' impulses and the bodies' velocities;
@@ -501,13 +523,16 @@ void System::Impl::holdPositionVelocities()
 void System::Impl::limitCappedEnergy(double dt, StepReport& rep)
 {
     if (rep.converged || !droplets.empty() || anyCompliance()) return;
-    for (const auto& W : walls) if (!W.velocity.isZero()) return;
-    for (const SolverContact& c : rows) if (c.coh > 0) return;
+    for (const auto& W : walls)
+        if (!W.velocity.isZero()) return;
+    for (const SolverContact& c : rows)
+        if (c.coh > 0) return;
     const int N = int(x.size());
-    for (int i = 0; i < N; ++i) if (fix[i] && !(v[i].isZero() && w[i].isZero())) return;
+    for (int i = 0; i < N; ++i)
+        if (fix[i] && !(v[i].isZero() && w[i].isZero())) return;
     // free velocities again from the start-of-step state (v, w are kept until integrate)
-    std::vector<Vec3>& vf = contactSum;  // scratch (accumulateDragImpulses refills it)
-    vf.resize(2*std::size_t(N));
+    std::vector<Vec3>& vf = contactSum; // scratch (accumulateDragImpulses refills it)
+    vf.resize(2 * std::size_t(N));
     double e0 = 0, a = 0, b = 0;
     for (int i = 0; i < N; ++i)
     {
@@ -515,16 +540,16 @@ void System::Impl::limitCappedEnergy(double dt, StepReport& rep)
         const Body& B = body[slotOf[i]];
         Vec3 v0, w0;
         freeBodyVelocity(i, dt, B.ii, v0, w0);
-        vf[2*i] = v0;
-        vf[2*i + 1] = w0;
-        const double m = 1.0/B.im, J = B.ii > 0 ? 1.0/B.ii : 0.0;
+        vf[2 * i] = v0;
+        vf[2 * i + 1] = w0;
+        const double m = 1.0 / B.im, J = B.ii > 0 ? 1.0 / B.ii : 0.0;
         const Vec3 dv = B.v - v0, dw = B.w - w0;
-        e0 += 0.5*(m*v0.squaredNorm() + J*w0.squaredNorm());
-        b += m*v0.dot(dv) + J*w0.dot(dw);
-        a += 0.5*(m*dv.squaredNorm() + J*dw.squaredNorm());
+        e0 += 0.5 * (m * v0.squaredNorm() + J * w0.squaredNorm());
+        b += m * v0.dot(dv) + J * w0.dot(dw);
+        a += 0.5 * (m * dv.squaredNorm() + J * dw.squaredNorm());
     }
-    if (!(a + b > 0)) return;  // E(1) <= E_free: nothing to do
-    const double alpha = b < 0 ? -b/(2*a) : 0.0;
+    if (!(a + b > 0)) return; // E(1) <= E_free: nothing to do
+    const double alpha = b < 0 ? -b / (2 * a) : 0.0;
     // the grains still move with the solve's velocities in this step (as the
     // relax stage's positions: the overlaps the solve prevents stay
     // prevented); only the velocities they keep are scaled
@@ -533,8 +558,8 @@ void System::Impl::limitCappedEnergy(double dt, StepReport& rep)
     {
         if (fix[i]) continue;
         Body& B = body[slotOf[i]];
-        B.v = vf[2*i] + alpha*(B.v - vf[2*i]);
-        B.w = vf[2*i + 1] + alpha*(B.w - vf[2*i + 1]);
+        B.v = vf[2 * i] + alpha * (B.v - vf[2 * i]);
+        B.w = vf[2 * i + 1] + alpha * (B.w - vf[2 * i + 1]);
     }
     for (SolverContact& c : rows)
     {
@@ -544,7 +569,7 @@ void System::Impl::limitCappedEnergy(double dt, StepReport& rep)
     }
     ++rep.energyLimited;
     rep.impulseScale = std::min(rep.impulseScale, alpha);
-    rep.energyRaise = std::max(rep.energyRaise, e0 > 0 ? (a + b)/e0 : 0.0);
+    rep.energyRaise = std::max(rep.energyRaise, e0 > 0 ? (a + b) / e0 : 0.0);
 }
 
 // Drag impulse dt c (u - v^+) of the step. v^+ = v_free + R/(m + dt c), R
@@ -561,24 +586,24 @@ void System::Impl::accumulateDragImpulses(double dt)
     contactSum.assign(N, Vec3::Zero());
     for (const SolverContact& c : rows)
     {
-        const Vec3 P = c.rn*c.n + c.rt;
+        const Vec3 P = c.rn * c.n + c.rt;
         if (c.i < N) contactSum[c.i] += P;
         if (c.j < N) contactSum[c.j] -= P;
     }
-    if (dragInterface)  // interface grains: n (local contacts + interface impulse)
+    if (dragInterface) // interface grains: n (local contacts + interface impulse)
         for (const DragInterfaceTerm& t : *dragInterface)
         {
             Vec3& R = contactSum[slotOf[t.grain]];
-            R = double(t.copies)*(R + t.impulse);
+            R = double(t.copies) * (R + t.impulse);
         }
-    for (int s = 0; s < N; ++s)  // contactSum by slot
+    for (int s = 0; s < N; ++s) // contactSum by slot
     {
         const int i = order[s];
         const double c = dragCoefficient[i];
         if (!(c > 0) || fix[i]) continue;
-        const Vec3 v0 = v[i] + dt*(g + force[i]/mass[i]);
+        const Vec3 v0 = v[i] + dt * (g + force[i] / mass[i]);
         const Vec3& R = contactSum[s];
-        Vec3 J = dt*c*(mass[i]*(dragVelocity[i] - v0) - R)/effectiveMass(i, dt);
+        Vec3 J = dt * c * (mass[i] * (dragVelocity[i] - v0) - R) / effectiveMass(i, dt);
         if (dim == 2) J.z() = 0;
         dragImpulse[i] += J;
     }
@@ -587,7 +612,7 @@ void System::Impl::accumulateDragImpulses(double dt)
 // ---- impulses into the persistent records, age (closed: loaded or touching) ----
 void System::Impl::storeImpulses(double dt, int NC0, StepReport& rep)
 {
-    const double xi = settings.tolerance*(2*rMin());  // as the solver's xi
+    const double xi = settings.tolerance * (2 * rMin()); // as the solver's xi
     std::vector<Contact>& C = newContacts;
     lastDt = dt;
     double ov = 0;

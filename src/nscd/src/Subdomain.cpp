@@ -20,18 +20,18 @@ namespace nscd
 /// Scratch of the decomposed step, kept between steps (no allocation in steady state).
 struct Subdomain::Scratch
 {
-    std::vector<int> iface;           ///< interface grains (copies > 1, movable)
-    std::vector<Vec3> vAvg, wAvg;     ///< per grain: velocities for averageCopies
-    std::vector<char> inContact;      ///< per grain: body of a contact here
-    std::vector<int> copies;          ///< per grain: copies in this step's solve
-    std::vector<Vec3> lambda;         ///< per interface grain (aligned with iface), 2 each: its copy's
-                                      ///< interface impulses in this step (linear, angular)
-    std::vector<char> ifaceRow;       ///< per row: a body is an interface grain
-    std::vector<int> ifaceRows;       ///< the rows flagged in ifaceRow
-    std::vector<System::Impl::DragInterfaceTerm> dragTerms;  ///< per interface grain: its drag impulse's terms
-    std::vector<int> dropletBodies;   ///< bodies of the droplets with mass (averaged over the subdomains)
-    std::vector<char> dropletShared;  ///< per droplet: a contact of it is solved here
-    std::vector<double> dropletV, dropletW;  ///< per droplet, 3 each: weightedMeanOverSubdomains buffers
+    std::vector<int> iface;       ///< interface grains (copies > 1, movable)
+    std::vector<Vec3> vAvg, wAvg; ///< per grain: velocities for averageCopies
+    std::vector<char> inContact;  ///< per grain: body of a contact here
+    std::vector<int> copies;      ///< per grain: copies in this step's solve
+    std::vector<Vec3> lambda;     ///< per interface grain (aligned with iface), 2 each: its copy's
+                                  ///< interface impulses in this step (linear, angular)
+    std::vector<char> ifaceRow;   ///< per row: a body is an interface grain
+    std::vector<int> ifaceRows;   ///< the rows flagged in ifaceRow
+    std::vector<System::Impl::DragInterfaceTerm> dragTerms; ///< per interface grain: its drag impulse's terms
+    std::vector<int> dropletBodies;  ///< bodies of the droplets with mass (averaged over the subdomains)
+    std::vector<char> dropletShared; ///< per droplet: a contact of it is solved here
+    std::vector<double> dropletV, dropletW; ///< per droplet, 3 each: weightedMeanOverSubdomains buffers
 };
 
 /// Kept from step to step (apart from the scratch): the interface impulses
@@ -40,8 +40,8 @@ struct Subdomain::Scratch
 /// subdomain keeps no per-grain list for them.
 struct Subdomain::InterfaceImpulses
 {
-    std::vector<long> id;       ///< global ids, ascending
-    std::vector<Vec3> impulse;  ///< 2 per id: linear [N s], angular [N m s] (2D: per unit depth)
+    std::vector<long> id;      ///< global ids, ascending
+    std::vector<Vec3> impulse; ///< 2 per id: linear [N s], angular [N m s] (2D: per unit depth)
 };
 
 namespace
@@ -64,7 +64,7 @@ constexpr double requeueFraction = 0.5;
  * 2 entries per interface grain, aligned with X.iface);
  * moved(slot, du) is called with each copy's velocity change |dv| + r |dw|.
  */
-template<class Moved>
+template <class Moved>
 void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X, Moved moved)
 {
     std::vector<Vec3>& lambda = X.lambda;
@@ -80,9 +80,9 @@ void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch&
         const int i = X.iface[k];
         const int s = I.slotOf[i];
         Body& B = I.body[s];
-        const double du = (X.vAvg[i] - B.v).norm() + B.r*(X.wAvg[i] - B.w).norm();
-        if (B.im > 0) lambda[2*k] += (X.vAvg[i] - B.v)/B.im;
-        if (B.ii > 0) lambda[2*k + 1] += (X.wAvg[i] - B.w)/B.ii;
+        const double du = (X.vAvg[i] - B.v).norm() + B.r * (X.wAvg[i] - B.w).norm();
+        if (B.im > 0) lambda[2 * k] += (X.vAvg[i] - B.v) / B.im;
+        if (B.ii > 0) lambda[2 * k + 1] += (X.wAvg[i] - B.w) / B.ii;
         B.v = X.vAvg[i];
         B.w = X.wAvg[i];
         moved(s, du);
@@ -93,18 +93,18 @@ void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch&
     if (X.dropletBodies.empty()) return;
     const int b0 = int(I.x.size() + I.walls.size());
     const int ND = int(I.droplets.size());
-    X.dropletV.assign(3*ND, 0.0);
-    X.dropletW.assign(3*ND, 0.0);
+    X.dropletV.assign(3 * ND, 0.0);
+    X.dropletW.assign(3 * ND, 0.0);
     for (int b : X.dropletBodies)
         for (int c = 0; c < 3; ++c)
         {
-            X.dropletV[3*(b - b0) + c] = I.body[b].v[c];
-            X.dropletW[3*(b - b0) + c] = X.dropletShared[b - b0] ? 1.0 : 0.0;
+            X.dropletV[3 * (b - b0) + c] = I.body[b].v[c];
+            X.dropletW[3 * (b - b0) + c] = X.dropletShared[b - b0] ? 1.0 : 0.0;
         }
     C.weightedMeanOverSubdomains(X.dropletV, X.dropletW);
     for (int b : X.dropletBodies)
     {
-        const Vec3 v(X.dropletV[3*(b - b0)], X.dropletV[3*(b - b0) + 1], X.dropletV[3*(b - b0) + 2]);
+        const Vec3 v(X.dropletV[3 * (b - b0)], X.dropletV[3 * (b - b0) + 1], X.dropletV[3 * (b - b0) + 2]);
         const double du = (v - I.body[b].v).norm();
         I.body[b].v = v;
         moved(b, du);
@@ -138,14 +138,13 @@ void averageInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch&
  * angular). Fills rep (sweeps:
  * sweep-equivalents of local solves; global residual).
  */
-void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X,
-                     double dt, double dmin, StepReport& rep,
-                     const std::vector<int>* seed)
+void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& X, double dt, double dmin,
+                     StepReport& rep, const std::vector<int>* seed)
 {
     const int NC = int(I.rows.size());
     const bool twoD = I.dim == 2;
-    const double xi = I.settings.tolerance*dmin;
-    const double xi2 = xi*xi, dt2 = dt*dt;
+    const double xi = I.settings.tolerance * dmin;
+    const double xi2 = xi * xi, dt2 = dt * dt;
     SolverContact* const cs = I.rows.data();
     Body* const bodies = I.body.data();
     const int* const adjS = I.adjStart.data();
@@ -174,9 +173,13 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
         ++count;
     };
     auto pushBody = [&](int b)
-    { for (int p = adjS[b]; p < adjS[b + 1]; ++p) push(adjI[p]); };
-    if (seed) for (int k : *seed) push(k);
-    else for (int k = 0; k < NC; ++k) push(k);
+    {
+        for (int p = adjS[b]; p < adjS[b + 1]; ++p) push(adjI[p]);
+    };
+    if (seed)
+        for (int k : *seed) push(k);
+    else
+        for (int k = 0; k < NC; ++k) push(k);
     // the rows a seeded solve solves (the others keep their change, already
     // a square root, and are not visited again)
     std::vector<int>& solved = I.seedSolved;
@@ -192,42 +195,48 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
     auto flagRows = [&](int b)
     {
         for (int p = adjS[b]; p < adjS[b + 1]; ++p)
-            if (!ifaceRow[adjI[p]]) { ifaceRow[adjI[p]] = 1; ifaceRows.push_back(adjI[p]); }
+            if (!ifaceRow[adjI[p]])
+            {
+                ifaceRow[adjI[p]] = 1;
+                ifaceRows.push_back(adjI[p]);
+            }
     };
     for (int i : iface) flagRows(I.slotOf[i]);
-    for (int b : X.dropletBodies) flagRows(b);  // (averaged as well)
+    for (int b : X.dropletBodies) flagRows(b); // (averaged as well)
     // residual (ContactSolver.cpp), squared: the last change of each row
     // solved, evaluated at the current velocities for the rows of interface
     // grains. In the same pass the rows are finished (2D tangential impulse
     // back to a vector, change to its square root: one pass over the rows,
     // which are memory-bound), once, when the solve stops.
-    auto rowResidual2 = [&](int k)  // at the current velocities
+    auto rowResidual2 = [&](int k) // at the current velocities
     {
         const SolverContact& c = cs[k];
-        const Vec3 rt = twoD ? Vec3(c.rts*Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
+        const Vec3 rt = twoD ? Vec3(c.rts * Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
         return localResidual2(c, rt, bodies[c.i], bodies[c.j], dt);
     };
     auto finishRow = [&](int k, double& r)
     {
         SolverContact& c = cs[k];
         if (!ifaceRow[k]) r = std::max(r, c.change);
-        if (twoD) c.rt = c.rts*Vec3(-c.n.y(), c.n.x(), 0.0);
+        if (twoD) c.rt = c.rts * Vec3(-c.n.y(), c.n.x(), 0.0);
         c.change = std::sqrt(c.change);
     };
     auto residual2AndFinish = [&]()
     {
         double r = 0;
-        if (seed) for (int k : solved) finishRow(k, r);
-        else for (int k = 0; k < NC; ++k) finishRow(k, r);
+        if (seed)
+            for (int k : solved) finishRow(k, r);
+        else
+            for (int k = 0; k < NC; ++k) finishRow(k, r);
         for (int k : ifaceRows) r = std::max(r, rowResidual2(k));
         return r;
     };
 
-    const long maxSolves = long(I.settings.maxIterations)*long(std::max(NC, 1));
+    const long maxSolves = long(I.settings.maxIterations) * long(std::max(NC, 1));
     long solves = 0;
     int averagings = 0;
     bool busy = true;
-    bool capped = false;  // some subdomain reached maxSolves (global)
+    bool capped = false; // some subdomain reached maxSolves (global)
     double res = 0;
     for (;;)
     {
@@ -246,14 +255,18 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
                              sizeof(SolverContact));
                 if (count > bodiesAhead)
                 {
-                    const SolverContact& a = cs[queue[head + bodiesAhead >= NC ? head + bodiesAhead - NC
-                                                                                : head + bodiesAhead]];
+                    const SolverContact& a =
+                        cs[queue[head + bodiesAhead >= NC ? head + bodiesAhead - NC : head + bodiesAhead]];
                     prefetch(bodies + a.i, sizeof(Body));
                     prefetch(bodies + a.j, sizeof(Body));
                 }
                 inQ[k] = 0;
                 ++solves;
-                if (seed && !solvedFlag[k]) { solvedFlag[k] = 1; solved.push_back(k); }
+                if (seed && !solvedFlag[k])
+                {
+                    solvedFlag[k] = 1;
+                    solved.push_back(k);
+                }
                 SolverContact& c = cs[k];
                 const bool changed = twoD ? local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, 1.0)
                                           : local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, 1.0);
@@ -262,11 +275,14 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
                 pushBody(c.i);
                 pushBody(c.j);
             }
-            averageInterface(I, C, X, [&](int s, double du)
-                             { if (du*dt > requeueFraction*xi) pushBody(s); });
+            averageInterface(I, C, X,
+                             [&](int s, double du)
+                             {
+                                 if (du * dt > requeueFraction * xi) pushBody(s);
+                             });
             ++averagings;
             double flags[2] = {count > 0 ? 1.0 : 0.0, solves >= maxSolves ? 1.0 : 0.0};
-            C.maxOverSubdomainsEach(flags, 2);  // one reduction for both
+            C.maxOverSubdomainsEach(flags, 2); // one reduction for both
             busy = flags[0] > 0;
             capped = flags[1] > 0;
         }
@@ -284,8 +300,8 @@ void solveDecomposed(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratch& 
     res = C.maxOverSubdomains(std::sqrt(residual2AndFinish()));
     rep.contacts = std::max(rep.contacts, NC);
     rep.localSolves += solves;
-    rep.sweeps += NC > 0 ? int((solves + NC - 1)/NC) : 0;
-    rep.residual = std::max(rep.residual, dmin > 0 ? res/dmin : 0.0);
+    rep.sweeps += NC > 0 ? int((solves + NC - 1) / NC) : 0;
+    rep.residual = std::max(rep.residual, dmin > 0 ? res / dmin : 0.0);
     rep.converged = rep.converged && !busy && !capped && res <= xi;
 }
 /**
@@ -308,28 +324,32 @@ void warmStartInterface(System::Impl& I, SubdomainCoupling& C, Subdomain::Scratc
     for (int i = 0; i < N; ++i)
         if ((owned[i] || X.inContact[i]) && X.copies[i] > 1 && !I.fix[i]) X.iface.push_back(i);
     std::vector<Vec3>& lambda = X.lambda;
-    lambda.assign(2*X.iface.size(), Vec3::Zero());
+    lambda.assign(2 * X.iface.size(), Vec3::Zero());
     for (std::size_t k = 0; k < X.iface.size(); ++k)
     {
         const long id = globalId[X.iface[k]];
         const auto it = std::lower_bound(last.id.begin(), last.id.end(), id);
         if (it == last.id.end() || *it != id) continue;
         const std::size_t n = std::size_t(it - last.id.begin());
-        lambda[2*k] = last.impulse[2*n];
-        lambda[2*k + 1] = last.impulse[2*n + 1];
+        lambda[2 * k] = last.impulse[2 * n];
+        lambda[2 * k + 1] = last.impulse[2 * n + 1];
     }
     X.vAvg.resize(N);
     X.wAvg.resize(N);
-    for (std::size_t k = 0; k < X.iface.size(); ++k) { X.vAvg[X.iface[k]] = lambda[2*k]; X.wAvg[X.iface[k]] = lambda[2*k + 1]; }
+    for (std::size_t k = 0; k < X.iface.size(); ++k)
+    {
+        X.vAvg[X.iface[k]] = lambda[2 * k];
+        X.wAvg[X.iface[k]] = lambda[2 * k + 1];
+    }
     C.averageCopies(X.vAvg, X.wAvg);
     for (std::size_t k = 0; k < X.iface.size(); ++k)
     {
         const int i = X.iface[k];
-        lambda[2*k] = scale*(lambda[2*k] - X.vAvg[i]);
-        lambda[2*k + 1] = scale*(lambda[2*k + 1] - X.wAvg[i]);
+        lambda[2 * k] = scale * (lambda[2 * k] - X.vAvg[i]);
+        lambda[2 * k + 1] = scale * (lambda[2 * k + 1] - X.wAvg[i]);
         Body& B = I.body[I.slotOf[i]];
-        B.v += B.im*lambda[2*k];
-        B.w += B.ii*lambda[2*k + 1];
+        B.v += B.im * lambda[2 * k];
+        B.w += B.ii * lambda[2 * k + 1];
     }
     // the copies made to agree before the first sweep: with warm-started
     // contacts their average is the undecomposed warm-started velocity, and
@@ -344,24 +364,26 @@ void keepInterface(const Subdomain::Scratch& X, const std::vector<long>& globalI
 {
     std::vector<std::pair<long, std::size_t>> byId;
     for (std::size_t k = 0; k < X.iface.size(); ++k)
-        if (X.lambda[2*k] != Vec3::Zero() || X.lambda[2*k + 1] != Vec3::Zero())  // (exact; isZero has a tolerance)
+        if (X.lambda[2 * k] != Vec3::Zero()
+            || X.lambda[2 * k + 1] != Vec3::Zero()) // (exact; isZero has a tolerance)
             byId.emplace_back(globalId[X.iface[k]], k);
     std::sort(byId.begin(), byId.end());
     last.id.resize(byId.size());
-    last.impulse.resize(2*byId.size());
+    last.impulse.resize(2 * byId.size());
     for (std::size_t n = 0; n < byId.size(); ++n)
     {
         last.id[n] = byId[n].first;
-        last.impulse[2*n] = X.lambda[2*byId[n].second];
-        last.impulse[2*n + 1] = X.lambda[2*byId[n].second + 1];
+        last.impulse[2 * n] = X.lambda[2 * byId[n].second];
+        last.impulse[2 * n + 1] = X.lambda[2 * byId[n].second + 1];
     }
 }
 } // namespace
 
 Subdomain::Subdomain(System& system, SubdomainCoupling& coupling)
-: sys_(system), coupling_(coupling), scratch_(std::make_unique<Scratch>()),
-  interface_(std::make_unique<InterfaceImpulses>())
-{}
+    : sys_(system), coupling_(coupling), scratch_(std::make_unique<Scratch>()),
+      interface_(std::make_unique<InterfaceImpulses>())
+{
+}
 
 Subdomain::~Subdomain() = default;
 
@@ -386,8 +408,15 @@ void Subdomain::unpackGrain(std::size_t i, unsigned flags, const char* in)
 std::size_t Subdomain::addGrain(unsigned flags, const char* in)
 {
     const std::size_t i = sys_.impl_->appendRow();
-    try { unpackGrain(i, flags, in); }
-    catch (const InputError&) { sys_.removeGrains({i}); throw; }
+    try
+    {
+        unpackGrain(i, flags, in);
+    }
+    catch (const InputError&)
+    {
+        sys_.removeGrains({i});
+        throw;
+    }
     return i;
 }
 
@@ -443,7 +472,8 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     }
     if (coupling_.maxOverSubdomains(refused.empty() ? 0.0 : 1.0) > 0)
         throw InputError(refused.empty() ? "nscd::Subdomain::step: another subdomain refused the step"
-                                           " (its error names the input)" : refused);
+                                           " (its error names the input)"
+                                         : refused);
 
     Scratch& X = *scratch_;
     for (System::Droplet& d : I.droplets)
@@ -452,17 +482,17 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     X.dropletBodies.clear();
     for (int k = 0; k < ND; ++k)
         if (I.droplets[k].mass > 0) X.dropletBodies.push_back(N + NW + k);
-    const double warmScale = I.settings.warmStart && I.lastDt > 0 ? dt/I.lastDt : 0.0;
+    const double warmScale = I.settings.warmStart && I.lastDt > 0 ? dt / I.lastDt : 0.0;
     StepReport rep;
     rep.substeps = 1;
     rep.method = int(System::Settings::Method::NLGS);
     // the tolerance scale d_min of the undecomposed system
-    const double dmin = -2*coupling_.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
+    const double dmin = -2 * coupling_.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
     // the lengths scaled by r_min are the undecomposed system's for the
     // step (System::Impl::rMinOfStep), restored however the step ends
-    const System::Impl::StepRMin sharedRMin(I, 0.5*dmin);
+    const System::Impl::StepRMin sharedRMin(I, 0.5 * dmin);
 
-    I.syncKeptContacts();  // after grains were added (migrants, ghosts)
+    I.syncKeptContacts(); // after grains were added (migrants, ghosts)
     I.maybeReorder();
     I.freeVelocities(dt);
     I.reachFloor.clear();
@@ -537,8 +567,8 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
         warmStartInterface(I, coupling_, X, owned, globalId, *interface_, warmScale);
         solveDecomposed(I, coupling_, X, dt, dmin, rep, nullptr);
         rep.solveSeconds += std::chrono::duration<double>(clock::now() - t1).count();
-        const bool again = redo < maxRedetections
-                        && coupling_.maxOverSubdomains(I.raiseReaches(dt) ? 1.0 : 0.0) > 0;
+        const bool again =
+            redo < maxRedetections && coupling_.maxOverSubdomains(I.raiseReaches(dt) ? 1.0 : 0.0) > 0;
         if (!again) break;
         ++rep.redetections;
         rep.converged = true;
@@ -563,12 +593,12 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     // (its copies' contacts here and elsewhere: n (local + interface))
     X.dragTerms.resize(X.iface.size());
     for (std::size_t k = 0; k < X.iface.size(); ++k)
-        X.dragTerms[k] = {X.iface[k], copies[X.iface[k]], X.lambda[2*k]};
+        X.dragTerms[k] = {X.iface[k], copies[X.iface[k]], X.lambda[2 * k]};
     I.dragInterface = &X.dragTerms;
     std::vector<Vec3> dropletImpulse0(ND);
     for (int k = 0; k < ND; ++k) dropletImpulse0[k] = I.droplets[k].impulse;
     I.integrate(dt, NC0);
-    for (int k = 0; k < ND; ++k)  // the impulse of the contacts of every subdomain
+    for (int k = 0; k < ND; ++k) // the impulse of the contacts of every subdomain
     {
         Vec3& J = I.droplets[k].impulse;
         const Vec3 dJ = J - dropletImpulse0[k];

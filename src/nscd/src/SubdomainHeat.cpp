@@ -18,9 +18,13 @@ void decomposedHeatStep(System::Impl& I, SubdomainCoupling& C, const std::vector
     for (int a = 0; a < n; ++a)
     {
         mine[a] = owned[I.heatGrain[a]] ? 1 : 0;
-        if (!mine[a]) { I.hDiag[a] = 0; I.hR[a] = 0; }
+        if (!mine[a])
+        {
+            I.hDiag[a] = 0;
+            I.hR[a] = 0;
+        }
     }
-    I.heatGraph(dt);  // this subdomain's contacts: edges to ghosts included
+    I.heatGraph(dt); // this subdomain's contacts: edges to ghosts included
 
     // node values <-> per-grain values, for the collectives
     std::vector<double> g(N);
@@ -43,7 +47,7 @@ void decomposedHeatStep(System::Impl& I, SubdomainCoupling& C, const std::vector
     {
         double s = 0;
         for (int a = 0; a < n; ++a)
-            if (mine[a]) s += u[a]*v[a];
+            if (mine[a]) s += u[a] * v[a];
         return C.sumOverSubdomains(s);
     };
     const System::Impl::HeatProduct applyA = [&](std::vector<double>& p, std::vector<double>& y)
@@ -52,7 +56,7 @@ void decomposedHeatStep(System::Impl& I, SubdomainCoupling& C, const std::vector
         I.heatProduct(p, y);
         sumToOwners(y);
     };
-    sumToOwners(I.hDiag);  // (the ghosts' entries now 0: not rows here)
+    sumToOwners(I.hDiag); // (the ghosts' entries now 0: not rows here)
     sumToOwners(I.hR);
 
     // Jacobi-preconditioned conjugate gradients for the increment and the

@@ -19,7 +19,7 @@ constexpr double pi = 3.14159265358979323846;
 
 bool finite(const Vec3& a) { return std::isfinite(a.x()) && std::isfinite(a.y()) && std::isfinite(a.z()); }
 
-}
+} // namespace
 
 // ============================================================================
 // construction / state
@@ -65,7 +65,7 @@ void checkMaterial(const char* caller, const Material& m)
     if (m.compliance > 0 && m.relativeCompliance > 0)
         fail("relativeCompliance", "0 when compliance is given (give one of the two)", m.relativeCompliance);
 }
-}
+} // namespace
 
 int System::addMaterial(const Material& m)
 {
@@ -80,7 +80,7 @@ void System::setMaterial(int id, const Material& m)
         throw InputError("nscd::System::setMaterial: unknown material id " + std::to_string(id));
     checkMaterial("setMaterial", m);
     Impl& I = *impl_;
-    const double ratio = m.density/I.materials[id].density;
+    const double ratio = m.density / I.materials[id].density;
     if (ratio != 1.0)
     {
         // warm start of a packing under gravity: impulses scale with the masses
@@ -93,7 +93,11 @@ void System::setMaterial(int id, const Material& m)
         for (Contact& c : I.contacts)
         {
             const int a = grain(c.i), b = grain(c.j);
-            if ((mine(a) || mine(b)) && other(a) && other(b)) { c.rn *= ratio; c.rt *= ratio; }
+            if ((mine(a) || mine(b)) && other(a) && other(b))
+            {
+                c.rn *= ratio;
+                c.rt *= ratio;
+            }
         }
     }
     I.materials[id] = m;
@@ -115,7 +119,7 @@ std::size_t System::Impl::appendRow()
     columns.grow(1);
     const std::size_t i = x.size() - 1;
     ids[i] = nextId++;
-    order.push_back(int(i));  // a new grain takes the last slot
+    order.push_back(int(i)); // a new grain takes the last slot
     slotOf.push_back(int(i));
     // the kept contacts name a wall or droplet as body N + k: one more grain
     // shifts them (as Remove.cpp's compaction does the other way), once,
@@ -140,9 +144,9 @@ void System::Impl::setMassInertia(std::size_t i)
 {
     // 2D: disc per unit depth, 3D: sphere
     const double rho = materials[mat[i]].density, r = rad[i];
-    const double ms = dim == 2 ? rho*pi*r*r : rho*4.0/3.0*pi*r*r*r;
+    const double ms = dim == 2 ? rho * pi * r * r : rho * 4.0 / 3.0 * pi * r * r * r;
     mass[i] = ms;
-    inertia[i] = (dim == 2 ? 0.5 : 0.4)*ms*r*r;
+    inertia[i] = (dim == 2 ? 0.5 : 0.4) * ms * r * r;
 }
 
 int System::addGrain(const Vec3& centre, double radius, int material, bool fixed)
@@ -150,15 +154,15 @@ int System::addGrain(const Vec3& centre, double radius, int material, bool fixed
     if (!(radius > 0) || !std::isfinite(radius))
     {
         std::ostringstream os;
-        os << "nscd::System::addGrain: radius must be > 0, got " << radius
-           << " for grain " << impl_->x.size();
+        os << "nscd::System::addGrain: radius must be > 0, got " << radius << " for grain "
+           << impl_->x.size();
         throw InputError(os.str());
     }
     if (material < 0 || material >= int(impl_->materials.size()))
     {
         std::ostringstream os;
-        os << "nscd::System::addGrain: unknown material " << material << " for grain "
-           << impl_->x.size() << " (" << impl_->materials.size() << " materials defined)";
+        os << "nscd::System::addGrain: unknown material " << material << " for grain " << impl_->x.size()
+           << " (" << impl_->materials.size() << " materials defined)";
         throw InputError(os.str());
     }
     if (!finite(centre)) throw InputError("nscd::System::addGrain: non-finite centre");
@@ -190,7 +194,7 @@ double System::inertia(std::size_t i) const { return impl_->inertia.at(i); }
 double System::volume(std::size_t i) const
 {
     const double r = impl_->rad.at(i);
-    return impl_->dim == 2 ? pi*r*r : 4.0/3.0*pi*r*r*r;
+    return impl_->dim == 2 ? pi * r * r : 4.0 / 3.0 * pi * r * r * r;
 }
 
 void System::setGravity(const Vec3& g)
@@ -246,9 +250,14 @@ int System::addPlane(const Vec3& point, const Vec3& normal, const Vec3& velocity
     w.p = point;
     w.n = normal.normalized();
     w.velocity = velocity;
-    if (impl_->dim == 2) { w.p.z() = 0; w.n.z() = 0; w.velocity.z() = 0;
+    if (impl_->dim == 2)
+    {
+        w.p.z() = 0;
+        w.n.z() = 0;
+        w.velocity.z() = 0;
         if (!(w.n.norm() > 0)) throw InputError("nscd::System::addPlane: normal along z in 2D");
-        w.n.normalize(); }
+        w.n.normalize();
+    }
     impl_->walls.push_back(std::move(w));
     return int(impl_->walls.size()) - 1;
 }
@@ -268,8 +277,7 @@ int System::addSegment(const Vec3& a, const Vec3& b, const Vec3& velocity)
 }
 
 int System::addTriangulatedSurface(const std::vector<Vec3>& vertices,
-                                   const std::vector<std::array<int, 3>>& triangles,
-                                   const Vec3& velocity)
+                                   const std::vector<std::array<int, 3>>& triangles, const Vec3& velocity)
 {
     if (impl_->dim != 3) throw InputError("nscd::System::addTriangulatedSurface: 3D walls only");
     if (vertices.empty() || triangles.empty())
@@ -320,14 +328,14 @@ int System::nWalls() const { return int(impl_->walls.size()); }
 void checkDroplet(const System::Droplet& d, const char* where)
 {
     const bool ok = std::isfinite(d.radius) && d.radius > 0 && std::isfinite(d.mass) && d.mass >= 0
-                    && std::isfinite(d.surfaceTension) && d.surfaceTension >= 0
-                    && d.centre.allFinite() && d.velocity.allFinite() && d.force.allFinite();
+                    && std::isfinite(d.surfaceTension) && d.surfaceTension >= 0 && d.centre.allFinite()
+                    && d.velocity.allFinite() && d.force.allFinite();
     if (!ok)
     {
         std::ostringstream os;
         os << where << ": invalid droplet (need radius > 0, mass >= 0, surfaceTension >= 0, finite"
-           << " centre/velocity/force), got radius " << d.radius << ", mass " << d.mass
-           << ", surfaceTension " << d.surfaceTension;
+           << " centre/velocity/force), got radius " << d.radius << ", mass " << d.mass << ", surfaceTension "
+           << d.surfaceTension;
         throw InputError(os.str());
     }
 }
@@ -357,12 +365,12 @@ int System::nDroplets() const { return int(impl_->droplets.size()); }
 
 double System::capillaryEntryForce(int dimension, double sigma, double r, double h)
 {
-    const double Fmax = dimension == 2 ? 2*sigma : 2*M_PI*sigma*r;
-    if (h <= r) return Fmax;              // threshold (rising branch replaced)
-    if (h >= 2*r) return 0.0;             // fully inside
-    const double c = 1 - h/r;             // cos(phi), phi in (pi/2, pi)
-    const double s2 = std::max(0.0, 1 - c*c);
-    return dimension == 2 ? Fmax*std::sqrt(s2) : Fmax*s2;
+    const double Fmax = dimension == 2 ? 2 * sigma : 2 * M_PI * sigma * r;
+    if (h <= r) return Fmax;    // threshold (rising branch replaced)
+    if (h >= 2 * r) return 0.0; // fully inside
+    const double c = 1 - h / r; // cos(phi), phi in (pi/2, pi)
+    const double s2 = std::max(0.0, 1 - c * c);
+    return dimension == 2 ? Fmax * std::sqrt(s2) : Fmax * s2;
 }
 
 Vec3 System::wallDisplacement(int wall) const
@@ -391,7 +399,7 @@ double System::Impl::rMax() const
     return r;
 }
 
-double System::minDiameter() const { return 2*impl_->rMin(); }
+double System::minDiameter() const { return 2 * impl_->rMin(); }
 
 void System::setCohesion(std::function<bool(int, int)> predicate, double force)
 {

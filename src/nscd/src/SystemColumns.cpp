@@ -11,13 +11,14 @@ namespace nscd
 
 namespace
 {
-constexpr unsigned RMG = ColumnRestart | ColumnMigrate | ColumnGhost;  // state of a grain
-constexpr unsigned MG = ColumnMigrate | ColumnGhost;                   // travels, not in the file
-constexpr unsigned ORMG = ColumnOptional | RMG;                        // added to the file later
+constexpr unsigned RMG = ColumnRestart | ColumnMigrate | ColumnGhost; // state of a grain
+constexpr unsigned MG = ColumnMigrate | ColumnGhost;                  // travels, not in the file
+constexpr unsigned ORMG = ColumnOptional | RMG;                       // added to the file later
 
 /// Declare column name in c and return its vector.
-template<class T>
-std::vector<T>& declare(GrainColumns& c, const char* name, unsigned flags, const T& def, ColumnDataset ds = {})
+template <class T>
+std::vector<T>& declare(GrainColumns& c, const char* name, unsigned flags, const T& def,
+                        ColumnDataset ds = {})
 {
     return static_cast<TypedColumn<T>&>(c[c.add<T>(name, flags, def, 0, std::move(ds))]).data();
 }
@@ -26,29 +27,28 @@ std::vector<T>& declare(GrainColumns& c, const char* name, unsigned flags, const
 // The datasets are those of the files written before the registry existed
 // (the flags of "fixed" packed in one int, "heatExchange" N x 2 of h, Tf).
 SystemColumns::SystemColumns()
-: ids(declare<long>(columns, "grainIds", ColumnRestart | ColumnOptional, 0L)),
-  x(declare<Vec3>(columns, "positions", RMG, Vec3::Zero())),
-  v(declare<Vec3>(columns, "velocities", RMG, Vec3::Zero())),
-  w(declare<Vec3>(columns, "angularVelocities", RMG, Vec3::Zero())),
-  q(declare<Eigen::Quaterniond>(columns, "orientations", RMG, Eigen::Quaterniond::Identity(),
-                                {"orientations_xyzw"})),
-  force(declare<Vec3>(columns, "forces", RMG, Vec3::Zero())),
-  torque(declare<Vec3>(columns, "torques", RMG, Vec3::Zero())),
-  rad(declare<double>(columns, "radii", RMG, 0.0)),
-  mat(declare<int>(columns, "materialIds", RMG, 0)),
-  fix(declare<char>(columns, "fixed", RMG, char(0), {"fixed", 0, 0, 0})),
-  rotLock(declare<char>(columns, "rotationLocked", RMG, char(0), {"fixed", 0, 0, 1})),
-  mass(declare<double>(columns, "masses", 0, 0.0)),
-  inertia(declare<double>(columns, "inertias", 0, 0.0)),
-  dragCoefficient(declare<double>(columns, "dragCoefficients", MG, 0.0)),
-  dragVelocity(declare<Vec3>(columns, "fluidVelocities", MG, Vec3::Zero())),
-  dragImpulse(declare<Vec3>(columns, "fluidDragImpulses", MG, Vec3::Zero())),
-  T(declare<double>(columns, "temperatures", ORMG, 0.0)),
-  heatQ(declare<double>(columns, "heatSources", ORMG, 0.0)),
-  heatH(declare<double>(columns, "heatExchangeCoefficients", ORMG, 0.0, {"heatExchange", 2, 0})),
-  heatTf(declare<double>(columns, "bathTemperatures", ORMG, 0.0, {"heatExchange", 2, 1})),
-  fixT(declare<char>(columns, "fixedTemperature", ORMG, char(0)))
-{}
+    : ids(declare<long>(columns, "grainIds", ColumnRestart | ColumnOptional, 0L)),
+      x(declare<Vec3>(columns, "positions", RMG, Vec3::Zero())),
+      v(declare<Vec3>(columns, "velocities", RMG, Vec3::Zero())),
+      w(declare<Vec3>(columns, "angularVelocities", RMG, Vec3::Zero())),
+      q(declare<Eigen::Quaterniond>(columns, "orientations", RMG, Eigen::Quaterniond::Identity(),
+                                    {"orientations_xyzw"})),
+      force(declare<Vec3>(columns, "forces", RMG, Vec3::Zero())),
+      torque(declare<Vec3>(columns, "torques", RMG, Vec3::Zero())),
+      rad(declare<double>(columns, "radii", RMG, 0.0)), mat(declare<int>(columns, "materialIds", RMG, 0)),
+      fix(declare<char>(columns, "fixed", RMG, char(0), {"fixed", 0, 0, 0})),
+      rotLock(declare<char>(columns, "rotationLocked", RMG, char(0), {"fixed", 0, 0, 1})),
+      mass(declare<double>(columns, "masses", 0, 0.0)), inertia(declare<double>(columns, "inertias", 0, 0.0)),
+      dragCoefficient(declare<double>(columns, "dragCoefficients", MG, 0.0)),
+      dragVelocity(declare<Vec3>(columns, "fluidVelocities", MG, Vec3::Zero())),
+      dragImpulse(declare<Vec3>(columns, "fluidDragImpulses", MG, Vec3::Zero())),
+      T(declare<double>(columns, "temperatures", ORMG, 0.0)),
+      heatQ(declare<double>(columns, "heatSources", ORMG, 0.0)),
+      heatH(declare<double>(columns, "heatExchangeCoefficients", ORMG, 0.0, {"heatExchange", 2, 0})),
+      heatTf(declare<double>(columns, "bathTemperatures", ORMG, 0.0, {"heatExchange", 2, 1})),
+      fixT(declare<char>(columns, "fixedTemperature", ORMG, char(0)))
+{
+}
 
 GrainColumns& System::columnRegistry() { return impl_->columns; }
 const GrainColumns& System::columns() const { return impl_->columns; }
@@ -59,9 +59,14 @@ namespace
 struct DatasetColumns
 {
     std::string name;
-    int width = 1;   ///< entries per row
+    int width = 1; ///< entries per row
     bool oneD = true;
-    enum Storage { Real, Int, Long } storage = Real;
+    enum Storage
+    {
+        Real,
+        Int,
+        Long
+    } storage = Real;
     std::vector<int> columns;
 };
 
@@ -109,19 +114,21 @@ long integerEntry(const GrainColumns& c, const DatasetColumns& d, std::size_t i,
     {
         const ColumnDataset& ds = c[k].dataset();
         if (ds.offset != e) continue;
-        if (ds.bit >= 0) a |= (c[k].integer(i) ? 1L : 0L) << ds.bit;
-        else a = c[k].integer(i);
+        if (ds.bit >= 0)
+            a |= (c[k].integer(i) ? 1L : 0L) << ds.bit;
+        else
+            a = c[k].integer(i);
     }
     return a;
 }
 
-template<class S>
+template <class S>
 void writeDataset(h5::Writer& w, const GrainColumns& c, const DatasetColumns& d, std::size_t N, hid_t type)
 {
-    std::vector<S> buf(N*std::size_t(d.width), S(0));
+    std::vector<S> buf(N * std::size_t(d.width), S(0));
     for (std::size_t i = 0; i < N; ++i)
     {
-        S* row = &buf[i*d.width];
+        S* row = &buf[i * d.width];
         if constexpr (std::is_same<S, double>::value)
             for (int k : d.columns)
                 for (int e = 0; e < c[k].components(); ++e) row[c[k].dataset().offset + e] = c[k].real(i, e);
@@ -131,19 +138,19 @@ void writeDataset(h5::Writer& w, const GrainColumns& c, const DatasetColumns& d,
     w.write(d.name, buf.data(), N, d.oneD ? 0 : hsize_t(d.width), type);
 }
 
-template<class S>
-void readDataset(h5::Reader& r, GrainColumns& c, const DatasetColumns& d, long N, const std::vector<long>* pick,
-                 hid_t type)
+template <class S>
+void readDataset(h5::Reader& r, GrainColumns& c, const DatasetColumns& d, long N,
+                 const std::vector<long>* pick, hid_t type)
 {
     const std::vector<S> buf = r.read<S>(d.name, type, d.oneD ? 0 : hsize_t(d.width), N, pick);
-    const std::size_t NK = buf.size()/std::size_t(d.width);
+    const std::size_t NK = buf.size() / std::size_t(d.width);
     for (int k : d.columns)
     {
         GrainColumn& col = c[k];
         const ColumnDataset& ds = col.dataset();
         for (std::size_t i = 0; i < NK; ++i)
         {
-            const S* row = &buf[i*d.width];
+            const S* row = &buf[i * d.width];
             if constexpr (std::is_same<S, double>::value)
                 for (int e = 0; e < col.components(); ++e) col.setReal(i, e, row[ds.offset + e]);
             else
@@ -157,9 +164,12 @@ void writeColumns(h5::Writer& w, const GrainColumns& c, std::size_t N)
 {
     for (const DatasetColumns& d : restartDatasets(c, "nscd::System::writeHDF5: " + w.file))
     {
-        if (d.storage == DatasetColumns::Real) writeDataset<double>(w, c, d, N, H5T_NATIVE_DOUBLE);
-        else if (d.storage == DatasetColumns::Int) writeDataset<int>(w, c, d, N, H5T_NATIVE_INT);
-        else writeDataset<long>(w, c, d, N, H5T_NATIVE_LONG);
+        if (d.storage == DatasetColumns::Real)
+            writeDataset<double>(w, c, d, N, H5T_NATIVE_DOUBLE);
+        else if (d.storage == DatasetColumns::Int)
+            writeDataset<int>(w, c, d, N, H5T_NATIVE_INT);
+        else
+            writeDataset<long>(w, c, d, N, H5T_NATIVE_LONG);
     }
 }
 
@@ -178,9 +188,12 @@ std::vector<std::string> readColumns(h5::Reader& r, GrainColumns& c, long N, con
             missing.push_back(d.name);
             continue;
         }
-        if (d.storage == DatasetColumns::Real) readDataset<double>(r, c, d, N, pick, H5T_NATIVE_DOUBLE);
-        else if (d.storage == DatasetColumns::Int) readDataset<int>(r, c, d, N, pick, H5T_NATIVE_INT);
-        else readDataset<long>(r, c, d, N, pick, H5T_NATIVE_LONG);
+        if (d.storage == DatasetColumns::Real)
+            readDataset<double>(r, c, d, N, pick, H5T_NATIVE_DOUBLE);
+        else if (d.storage == DatasetColumns::Int)
+            readDataset<int>(r, c, d, N, pick, H5T_NATIVE_INT);
+        else
+            readDataset<long>(r, c, d, N, pick, H5T_NATIVE_LONG);
     }
     return missing;
 }

@@ -14,93 +14,131 @@ namespace nscd
 
 namespace
 {
-    /// Displacement bound per (sub-)step, in d_min, of a body at its free
-    /// velocity (advance(): only for absurd velocities, see System.H).
-    constexpr double maxTravelDiameters = 100;
-    /// Re-detections of one step (System::Impl::detectAndSolve).
-    constexpr int maxRedetections = 4;
+/// Displacement bound per (sub-)step, in d_min, of a body at its free
+/// velocity (advance(): only for absurd velocities, see System.H).
+constexpr double maxTravelDiameters = 100;
+/// Re-detections of one step (System::Impl::detectAndSolve).
+constexpr int maxRedetections = 4;
 
-    /// The bodies that set the sub-step of advance() over dt: the largest
-    /// change of a body's velocity over dt from the forces of the step,
-    /// |v_free - v| + r |w_free - w| (free velocities of freeVelocities: gravity,
-    /// external force and torque, droplet forces); the largest tangential
-    /// relative free velocity |(1 - n n)(v_free,i - v_free,j)| of two
-    /// touching grains (gap <= alertMargin r_min, contacts of the last
-    /// step); and the largest free speed |v_free| + r |w_free| (walls: their
-    /// velocity); who: grain id >= 0, -1 wall, -2 droplet, -3 nothing
-    /// moves. Fills Impl::body.
-    struct Fastest { double dv = 0, vt = 0, v = 0; int whoDv = -3, whoVt = -3, whoV = -3; };
+/// The bodies that set the sub-step of advance() over dt: the largest
+/// change of a body's velocity over dt from the forces of the step,
+/// |v_free - v| + r |w_free - w| (free velocities of freeVelocities: gravity,
+/// external force and torque, droplet forces); the largest tangential
+/// relative free velocity |(1 - n n)(v_free,i - v_free,j)| of two
+/// touching grains (gap <= alertMargin r_min, contacts of the last
+/// step); and the largest free speed |v_free| + r |w_free| (walls: their
+/// velocity); who: grain id >= 0, -1 wall, -2 droplet, -3 nothing
+/// moves. Fills Impl::body.
+struct Fastest
+{
+    double dv = 0, vt = 0, v = 0;
+    int whoDv = -3, whoVt = -3, whoV = -3;
+};
 
-    template <class ImplT>
-    Fastest fastest(ImplT& I, double dt)
+template <class ImplT>
+Fastest fastest(ImplT& I, double dt)
+{
+    Fastest f;
+    I.syncKeptContacts(); // the contacts of the last step, after grains were added
+    I.freeVelocities(dt);
+    const int N = int(I.x.size()), NW = int(I.walls.size());
+    for (int i = 0; i < N; ++i) // by grain (bodies by slot)
     {
-        Fastest f;
-        I.syncKeptContacts();  // the contacts of the last step, after grains were added
-        I.freeVelocities(dt);
-        const int N = int(I.x.size()), NW = int(I.walls.size());
-        for (int i = 0; i < N; ++i)  // by grain (bodies by slot)
+        const Body& B = I.body[I.slotOf[i]];
+        const double s = B.v.norm() + B.r * B.w.norm();
+        Vec3 v0 = I.v[i], w0 = I.w[i];
+        if (I.dim == 2)
         {
-            const Body& B = I.body[I.slotOf[i]];
-            const double s = B.v.norm() + B.r*B.w.norm();
-            Vec3 v0 = I.v[i], w0 = I.w[i];
-            if (I.dim == 2) { v0.z() = 0; w0.x() = w0.y() = 0; }
-            const double dv = (B.v - v0).norm() + B.r*(B.w - w0).norm();
-            // std::isfinite first: comparing a NaN raises FE_INVALID (SIGFPE when trapped)
-            if (!std::isfinite(s) || !std::isfinite(dv)) { f.v = f.dv = s + dv; f.whoV = f.whoDv = i; return f; }
-            if (s > f.v) { f.v = s; f.whoV = i; }
-            if (dv > f.dv) { f.dv = dv; f.whoDv = i; }
+            v0.z() = 0;
+            w0.x() = w0.y() = 0;
         }
-        const double touch = I.settings.alertMargin*I.rMin();
-        for (const Contact& c : I.contacts)
+        const double dv = (B.v - v0).norm() + B.r * (B.w - w0).norm();
+        // std::isfinite first: comparing a NaN raises FE_INVALID (SIGFPE when trapped)
+        if (!std::isfinite(s) || !std::isfinite(dv))
         {
-            if (c.j >= N) continue;  // walls: plane faces keep their normal
-            // contacts by slot: centres and radii of the packed records
-            // (filled by freeVelocities above)
-            const GrainSlot& A = I.packed[c.i];
-            const GrainSlot& B = I.packed[c.j];
-            const Vec3 d = A.x - B.x;
-            const double dn = d.norm();
-            if (!(dn - A.r - B.r <= touch) || !(dn > 0)) continue;
-            const Vec3 n = d/dn;
-            const Vec3 u = I.body[c.i].v - I.body[c.j].v;
-            const double vt = (u - u.dot(n)*n).norm();
-            if (vt > f.vt) { f.vt = vt; f.whoVt = I.order[c.i]; }
+            f.v = f.dv = s + dv;
+            f.whoV = f.whoDv = i;
+            return f;
         }
-        for (const auto& W : I.walls)
-            if (W.velocity.norm() > f.v) { f.v = W.velocity.norm(); f.whoV = -1; }
-        for (int k = 0; k < int(I.droplets.size()); ++k)
+        if (s > f.v)
         {
-            const Vec3& v = I.body[N + NW + k].v;
-            const double dv = (v - I.droplets[k].velocity).norm();
-            if (v.norm() > f.v) { f.v = v.norm(); f.whoV = -2; }
-            if (dv > f.dv) { f.dv = dv; f.whoDv = -2; }
+            f.v = s;
+            f.whoV = i;
         }
-        return f;
+        if (dv > f.dv)
+        {
+            f.dv = dv;
+            f.whoDv = i;
+        }
     }
-
-    /// Sub-step count over dt (see System::advance) and its cause (0: the
-    /// velocity change, 1: the tangential motion of touching grains, 2: the
-    /// travel): the velocity change of the step and the tangential relative
-    /// velocity of touching grains move a body at most fraction d_min per
-    /// sub-step, the free velocity at most maxTravelDiameters d_min.
-    template <class ImplT>
-    double subStepsOf(const ImplT& I, double dt, double fraction, const Fastest& f, int* cause = nullptr)
+    const double touch = I.settings.alertMargin * I.rMin();
+    for (const Contact& c : I.contacts)
     {
-        const double dmin = 2*I.rMin();
-        if (dmin == 0) return 1;
-        const double a[3] = {f.dv*dt/(fraction*dmin), f.vt*dt/(fraction*dmin), f.v*dt/(maxTravelDiameters*dmin)};
-        const int k = int(std::max_element(a, a + 3) - a);
-        if (cause) *cause = k;
-        return std::max(1.0, std::ceil(a[k]*(1 - 1e-12)));  // guard round-off
+        if (c.j >= N) continue; // walls: plane faces keep their normal
+        // contacts by slot: centres and radii of the packed records
+        // (filled by freeVelocities above)
+        const GrainSlot& A = I.packed[c.i];
+        const GrainSlot& B = I.packed[c.j];
+        const Vec3 d = A.x - B.x;
+        const double dn = d.norm();
+        if (!(dn - A.r - B.r <= touch) || !(dn > 0)) continue;
+        const Vec3 n = d / dn;
+        const Vec3 u = I.body[c.i].v - I.body[c.j].v;
+        const double vt = (u - u.dot(n) * n).norm();
+        if (vt > f.vt)
+        {
+            f.vt = vt;
+            f.whoVt = I.order[c.i];
+        }
     }
+    for (const auto& W : I.walls)
+        if (W.velocity.norm() > f.v)
+        {
+            f.v = W.velocity.norm();
+            f.whoV = -1;
+        }
+    for (int k = 0; k < int(I.droplets.size()); ++k)
+    {
+        const Vec3& v = I.body[N + NW + k].v;
+        const double dv = (v - I.droplets[k].velocity).norm();
+        if (v.norm() > f.v)
+        {
+            f.v = v.norm();
+            f.whoV = -2;
+        }
+        if (dv > f.dv)
+        {
+            f.dv = dv;
+            f.whoDv = -2;
+        }
+    }
+    return f;
 }
+
+/// Sub-step count over dt (see System::advance) and its cause (0: the
+/// velocity change, 1: the tangential motion of touching grains, 2: the
+/// travel): the velocity change of the step and the tangential relative
+/// velocity of touching grains move a body at most fraction d_min per
+/// sub-step, the free velocity at most maxTravelDiameters d_min.
+template <class ImplT>
+double subStepsOf(const ImplT& I, double dt, double fraction, const Fastest& f, int* cause = nullptr)
+{
+    const double dmin = 2 * I.rMin();
+    if (dmin == 0) return 1;
+    const double a[3] = {f.dv * dt / (fraction * dmin), f.vt * dt / (fraction * dmin),
+                         f.v * dt / (maxTravelDiameters * dmin)};
+    const int k = int(std::max_element(a, a + 3) - a);
+    if (cause) *cause = k;
+    return std::max(1.0, std::ceil(a[k] * (1 - 1e-12))); // guard round-off
+}
+} // namespace
 
 double System::subStep(double dt, double fraction) const
 {
     if (!(dt > 0)) throw InputError("nscd::System::subStep: dt must be > 0");
     if (!(fraction > 0)) throw InputError("nscd::System::subStep: fraction must be > 0");
-    Impl& I = *impl_;  // fastest() fills the work array body only
-    return dt/subStepsOf(I, dt, fraction, fastest(I, dt));
+    Impl& I = *impl_; // fastest() fills the work array body only
+    return dt / subStepsOf(I, dt, fraction, fastest(I, dt));
 }
 
 // The sub-step rules of advance (System.H), and why. Contacts are detected
@@ -135,7 +173,7 @@ StepReport System::advance(double dt, double fraction)
         // velocity change over the whole dt of the call (not the remaining
         // time): constant forces give equal sub-steps
         const Fastest f = fastest(I, dt);
-        if (!std::isfinite(f.v) || !std::isfinite(f.dv))  // (f.vt is then finite or NaN-free: same velocities)
+        if (!std::isfinite(f.v) || !std::isfinite(f.dv)) // (f.vt is then finite or NaN-free: same velocities)
         {
             std::ostringstream os;
             os << "nscd::System::advance: grain " << f.whoV << " has a non-finite velocity, force or"
@@ -144,12 +182,12 @@ StepReport System::advance(double dt, double fraction)
             throw StepError(os.str());
         }
         int cause = 0;
-        double h = std::min(remaining, dt/subStepsOf(I, dt, fraction, f, &cause));
-        if (h >= remaining*(1 - 1e-12)) h = remaining;
-        const double needed = total.substeps + std::ceil(remaining/h*(1 - 1e-12));
+        double h = std::min(remaining, dt / subStepsOf(I, dt, fraction, f, &cause));
+        if (h >= remaining * (1 - 1e-12)) h = remaining;
+        const double needed = total.substeps + std::ceil(remaining / h * (1 - 1e-12));
         if (needed > double(maxSub))
         {
-            const double dmin = 2*I.rMin();
+            const double dmin = 2 * I.rMin();
             const int who = cause == 0 ? f.whoDv : (cause == 1 ? f.whoVt : f.whoV);
             const double val = cause == 0 ? f.dv : (cause == 1 ? f.vt : f.v);
             std::ostringstream os;
@@ -165,23 +203,24 @@ StepReport System::advance(double dt, double fraction)
                 else
                     os << "grain " << who << " moves at " << val << " m/s";
                 if (cause != 1 && I.g.norm() > 0)
-                    os << " (" << I.force[who].norm()/(I.mass[who]*I.g.norm()) << " x its weight)";
+                    os << " (" << I.force[who].norm() / (I.mass[who] * I.g.norm()) << " x its weight)";
             }
             else
-                os << (who == -1 ? "a wall" : "a droplet") << (cause == 0 ? " changes its velocity by " : " moves at ")
-                   << val << " m/s";
+                os << (who == -1 ? "a wall" : "a droplet")
+                   << (cause == 0 ? " changes its velocity by " : " moves at ") << val << " m/s";
             if (cause == 2)
-                os << "; a grain may move by " << maxTravelDiameters << " d_min = " << maxTravelDiameters*dmin
-                   << " m per sub-step)";
+                os << "; a grain may move by " << maxTravelDiameters
+                   << " d_min = " << maxTravelDiameters * dmin << " m per sub-step)";
             else
-                os << "; this may move a grain by " << fraction << " d_min = " << fraction*dmin << " m per sub-step)";
+                os << "; this may move a grain by " << fraction << " d_min = " << fraction * dmin
+                   << " m per sub-step)";
             throw StepError(os.str());
         }
         const StepReport r = step(h);
         remaining = (h == remaining) ? 0.0 : remaining - h;
         if (I.settings.heartbeat && remaining > 0 && clock::now() - lastBeat >= beatEvery)
         {
-            I.settings.heartbeat(total.substeps + 1, total.substeps + 1 + remaining/h);
+            I.settings.heartbeat(total.substeps + 1, total.substeps + 1 + remaining / h);
             lastBeat = clock::now();
         }
         total.addSubStep(r);
@@ -201,13 +240,13 @@ int System::Impl::detectAndSolve(double dt, StepReport& rep)
     {
         const auto t0 = clock::now();
         detect(dt);
-        const int NC0 = int(newContacts.size());  // grain-grain and grain-wall contacts
-        detectDroplets(dt);                        // then grain-droplet ones
+        const int NC0 = int(newContacts.size()); // grain-grain and grain-wall contacts
+        detectDroplets(dt);                      // then grain-droplet ones
         const auto t1 = clock::now();
         rep.detectSeconds += std::chrono::duration<double>(t1 - t0).count();
         rep.verletBuilds = int(verlet.builds - builds);
 
-        prepareContacts(dt, NC0);  // warm start and adjacency counts included
+        prepareContacts(dt, NC0); // warm start and adjacency counts included
         buildAdjacency();
         if (redo > 0) rep.residualHistory.clear();
         solveContacts(dt, rep);
@@ -232,16 +271,16 @@ bool System::Impl::raiseReaches(double dt)
     const int N = int(x.size());
     if (N == 0) return false;
     const double af = settings.alertDistanceFactor;
-    const double free = 0.5*settings.alertMargin*rMin();
+    const double free = 0.5 * settings.alertMargin * rMin();
     bool any = false;
-    for (int i = 0; i < N; ++i)  // slots
+    for (int i = 0; i < N; ++i) // slots
     {
         if (packed[i].fix) continue;
         const Body& B = body[i];
         const double vn = B.v.norm();
-        if (!(vn*dt > af*dt*speed[i] + free)) continue;
+        if (!(vn * dt > af * dt * speed[i] + free)) continue;
         if (reachFloor.empty()) reachFloor.assign(N, 0.0);
-        reachFloor[i] = std::max(reachFloor[i], vn + B.r*B.w.norm());
+        reachFloor[i] = std::max(reachFloor[i], vn + B.r * B.w.norm());
         any = true;
     }
     return any;
@@ -252,7 +291,7 @@ void System::checkInitialOverlaps() const
     const Impl& I = *impl_;
     const int N = int(I.x.size());
     if (N == 0) return;
-    const double tol = I.settings.overlapTolerance*I.rMin();
+    const double tol = I.settings.overlapTolerance * I.rMin();
     std::vector<std::string> msgs;
     int count = 0;
     double worst = 0;
@@ -268,37 +307,45 @@ void System::checkInitialOverlaps() const
         }
     };
     // grain-grain: hash grid with cell = 2 r_max
-    const double h = 2*I.rMax();
+    const double h = 2 * I.rMax();
     std::unordered_map<long long, std::vector<int>> grid;
-    auto key = [&](long a, long b, long c) { return (a*73856093LL) ^ (b*19349663LL) ^ (c*83492791LL); };
-    auto cellOf = [&](const Vec3& p, long c[3]) { for (int d = 0; d < 3; ++d) c[d] = long(std::floor(p[d]/h)); };
-    for (int i = 0; i < N; ++i) { long c[3]; cellOf(I.x[i], c); grid[key(c[0], c[1], c[2])].push_back(i); }
+    auto key = [&](long a, long b, long c) { return (a * 73856093LL) ^ (b * 19349663LL) ^ (c * 83492791LL); };
+    auto cellOf = [&](const Vec3& p, long c[3])
+    {
+        for (int d = 0; d < 3; ++d) c[d] = long(std::floor(p[d] / h));
+    };
+    for (int i = 0; i < N; ++i)
+    {
+        long c[3];
+        cellOf(I.x[i], c);
+        grid[key(c[0], c[1], c[2])].push_back(i);
+    }
     for (int i = 0; i < N; ++i)
     {
         long c[3];
         cellOf(I.x[i], c);
         for (long a = c[0] - 1; a <= c[0] + 1; ++a)
-        for (long b = c[1] - 1; b <= c[1] + 1; ++b)
-        for (long z = c[2] - 1; z <= c[2] + 1; ++z)
-        {
-            auto it = grid.find(key(a, b, z));
-            if (it == grid.end()) continue;
-            for (int j : it->second)
-            {
-                if (j <= i) continue;
-                if (I.fix[i] && I.fix[j]) continue;  // neither can move: never a contact
-                long cj[3];
-                cellOf(I.x[j], cj);
-                if (cj[0] != a || cj[1] != b || cj[2] != z) continue;  // hash collision
-                const double ov = I.rad[i] + I.rad[j] - (I.x[i] - I.x[j]).norm();
-                if (ov > tol)
+            for (long b = c[1] - 1; b <= c[1] + 1; ++b)
+                for (long z = c[2] - 1; z <= c[2] + 1; ++z)
                 {
-                    std::ostringstream os;
-                    os << "grains " << i << " and " << j;
-                    report(os.str(), ov);
+                    auto it = grid.find(key(a, b, z));
+                    if (it == grid.end()) continue;
+                    for (int j : it->second)
+                    {
+                        if (j <= i) continue;
+                        if (I.fix[i] && I.fix[j]) continue; // neither can move: never a contact
+                        long cj[3];
+                        cellOf(I.x[j], cj);
+                        if (cj[0] != a || cj[1] != b || cj[2] != z) continue; // hash collision
+                        const double ov = I.rad[i] + I.rad[j] - (I.x[i] - I.x[j]).norm();
+                        if (ov > tol)
+                        {
+                            std::ostringstream os;
+                            os << "grains " << i << " and " << j;
+                            report(os.str(), ov);
+                        }
+                    }
                 }
-            }
-        }
     }
     // grain-wall
     std::vector<int> cand;
@@ -307,15 +354,16 @@ void System::checkInitialOverlaps() const
         const Wall& W = I.walls[wi];
         for (int i = 0; i < N; ++i)
         {
-            if (I.fix[i]) continue;  // fixed grains never contact walls
+            if (I.fix[i]) continue; // fixed grains never contact walls
             double ov = 0;
-            if (W.type == PlaneWall) ov = I.rad[i] - (I.x[i] - (W.p + W.displacement)).dot(W.n);
+            if (W.type == PlaneWall)
+                ov = I.rad[i] - (I.x[i] - (W.p + W.displacement)).dot(W.n);
             else if (W.type == SegmentWall)
             {
                 const Vec3 a = W.p + W.displacement, b = W.b + W.displacement;
                 const Vec3 ab = b - a;
-                const double t = std::clamp((I.x[i] - a).dot(ab)/ab.squaredNorm(), 0.0, 1.0);
-                ov = I.rad[i] - (I.x[i] - (a + t*ab)).norm();
+                const double t = std::clamp((I.x[i] - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+                ov = I.rad[i] - (I.x[i] - (a + t * ab)).norm();
             }
             else
             {
@@ -324,7 +372,8 @@ void System::checkInitialOverlaps() const
                 for (int t : cand)
                 {
                     const auto& f = W.triangles[t];
-                    const Vec3 cp = closestPointTriangle(xl, W.vertices[f[0]], W.vertices[f[1]], W.vertices[f[2]]);
+                    const Vec3 cp =
+                        closestPointTriangle(xl, W.vertices[f[0]], W.vertices[f[1]], W.vertices[f[2]]);
                     ov = std::max(ov, I.rad[i] - (xl - cp).norm());
                 }
             }
@@ -339,9 +388,9 @@ void System::checkInitialOverlaps() const
     if (count > 0)
     {
         std::ostringstream os;
-        os << "nscd::System::checkInitialOverlaps: " << count << " overlap(s) above the tolerance "
-           << tol << " m (overlapTolerance " << I.settings.overlapTolerance << " x r_min), worst "
-           << worst << " m:\n";
+        os << "nscd::System::checkInitialOverlaps: " << count << " overlap(s) above the tolerance " << tol
+           << " m (overlapTolerance " << I.settings.overlapTolerance << " x r_min), worst " << worst
+           << " m:\n";
         for (const auto& m : msgs) os << m << "\n";
         if (count > int(msgs.size())) os << "  ... and " << count - int(msgs.size()) << " more\n";
         throw InputError(os.str());
@@ -365,27 +414,37 @@ void System::setContactImpulses(const std::vector<ContactView>& views, double dt
         const ContactView& v = views[k];
         int i = v.i, j = v.j;
         Vec3 n = v.normal, P = v.impulse;
-        const bool bad = i < 0 || i >= N || j >= N || (j < 0 && -j - 1 >= NW) || i == j || !(n.norm() > 0)
-                         || v.age < 0;
+        const bool bad =
+            i < 0 || i >= N || j >= N || (j < 0 && -j - 1 >= NW) || i == j || !(n.norm() > 0) || v.age < 0;
         if (bad) throw InputError("nscd::System::setContactImpulses: bad contact " + std::to_string(k));
         // grains to slots (the records index grains by slot), pairs with i < j
         i = I.slotOf[i];
         if (j >= 0) j = I.slotOf[j];
-        if (j >= 0 && j < i) { std::swap(i, j); n = -n; P = -P; }
+        if (j >= 0 && j < i)
+        {
+            std::swap(i, j);
+            n = -n;
+            P = -P;
+        }
         n.normalize();
-        if (I.dim == 2) { n.z() = 0; P.z() = 0; n.normalize(); }
+        if (I.dim == 2)
+        {
+            n.z() = 0;
+            P.z() = 0;
+            n.normalize();
+        }
         Contact c;
         c.i = i;
         c.j = j >= 0 ? j : N + (-j - 1);
         c.n = n;
         c.rn = P.dot(n);
-        c.rt = P - c.rn*n;
+        c.rt = P - c.rn * n;
         c.age = v.age;
         cs.push_back(c);
     }
     std::stable_sort(cs.begin(), cs.end(), [](const Contact& a, const Contact& b) { return a.i < b.i; });
     I.contacts = std::move(cs);
-    I.keptContactsN = -1;  // written for the grains there are now
+    I.keptContactsN = -1; // written for the grains there are now
     I.lastDt = dt;
 }
 
@@ -396,7 +455,7 @@ std::vector<System::ContactView> System::contacts() const
     out.reserve(I.contacts.size());
     for (Contact c : I.contacts)
     {
-        c.j = I.keptBody(c);  // (grains added since the last step)
+        c.j = I.keptBody(c); // (grains added since the last step)
         out.push_back(I.contactView(c));
     }
     return out;
@@ -406,18 +465,18 @@ System::ContactView System::Impl::contactView(const Contact& c) const
 {
     const int N = int(x.size());
     ContactView v;
-    v.i = order[c.i];  // slots to grains
+    v.i = order[c.i]; // slots to grains
     v.j = c.j < N ? order[c.j] : -(c.j - N + 1);
     v.normal = c.n;
-    v.impulse = c.rn*c.n + c.rt;
-    if (v.j >= 0 && v.j < v.i)  // grain pairs with i < j, whatever the internal order
+    v.impulse = c.rn * c.n + c.rt;
+    if (v.j >= 0 && v.j < v.i) // grain pairs with i < j, whatever the internal order
     {
         std::swap(v.i, v.j);
         v.normal = -v.normal;
         v.impulse = -v.impulse;
     }
     // contact point on A's surface (current position, normal of the last step)
-    v.point = x[v.i] - rad[v.i]*v.normal;
+    v.point = x[v.i] - rad[v.i] * v.normal;
     v.gap = c.gap;
     v.age = c.age;
     v.cohesive = c.coh > 0;

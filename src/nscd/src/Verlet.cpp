@@ -15,11 +15,11 @@ namespace
 /// Share of the half skin a grain may use (Verlet.H, eq. 3): the
 /// rest, 1e-6 S/2, absorbs the round-off of the distance tests.
 constexpr double halfSkinUsable = 1 - 1e-6;
-}
+} // namespace
 
 void System::Impl::detectListed(DetectGrid& g)
 {
-    const double skin = settings.verletSkin*rMin();
+    const double skin = settings.verletSkin * rMin();
     const bool current = verlet.valid && verlet.start.size() == x.size() + 1 && verlet.skin == skin
                          && g.margin <= verlet.margin;
     if (current && detectFromList(g)) return;
@@ -27,7 +27,11 @@ void System::Impl::detectListed(DetectGrid& g)
     buildVerletList(g);
     // a list just built covers the step, unless a centre or speed is not
     // finite: then the grid scan, as without the list
-    if (!detectFromList(g)) { newContacts.clear(); scanGrid(g, false); }
+    if (!detectFromList(g))
+    {
+        newContacts.clear();
+        scanGrid(g, false);
+    }
 }
 
 void System::Impl::buildVerletList(const DetectGrid& g)
@@ -35,7 +39,7 @@ void System::Impl::buildVerletList(const DetectGrid& g)
     const int N = int(x.size());
     VerletList& L = verlet;
     ++L.builds;
-    L.skin = settings.verletSkin*rMin();
+    L.skin = settings.verletSkin * rMin();
     L.margin = g.margin;
     // eq. 2 of Verlet.H: the grid scan's test with the margin m + S (the
     // fast grains of this step paired in their own pass, as by detect())
@@ -53,14 +57,14 @@ void System::Impl::buildVerletList(const DetectGrid& g)
     for (int i = 0; i < N; ++i) std::sort(L.items.begin() + L.start[i], L.items.begin() + L.start[i + 1]);
     newContacts.clear();
     L.ref.resize(N);
-    const double afdt = g.af*g.dt;
+    const double afdt = g.af * g.dt;
     const bool hasWalls = !walls.empty();
     for (int i = 0; i < N; ++i)
     {
         VerletList::Reference& R = L.ref[i];
         R.x = packed[i].x;
         R.r = packed[i].r;
-        R.reach = afdt*speed[i];
+        R.reach = afdt * speed[i];
         R.fix = packed[i].fix;
         R.nearWall = hasWalls && !R.fix && nearWalls(i, g.dt, gl.margin, g.af);
     }
@@ -68,7 +72,7 @@ void System::Impl::buildVerletList(const DetectGrid& g)
     for (std::size_t w = 0; w < walls.size(); ++w)
     {
         L.wallRef[w].displacement = walls[w].displacement;
-        L.wallRef[w].reach = afdt*walls[w].velocity.norm();
+        L.wallRef[w].reach = afdt * walls[w].velocity.norm();
     }
     L.valid = true;
 }
@@ -80,14 +84,15 @@ bool System::Impl::detectFromList(DetectGrid& g)
     detectGridGeometry(g);
     const int N = int(x.size());
     const VerletList& L = verlet;
-    const double sCut = g.sCut, afdt = g.af*g.dt;
-    const double half = 0.5*L.skin*halfSkinUsable;
+    const double sCut = g.sCut, afdt = g.af * g.dt;
+    const double half = 0.5 * L.skin * halfSkinUsable;
     // the walls' part of the cover (Verlet.H)
     if (L.wallRef.size() != walls.size()) return false;
     for (std::size_t w = 0; w < walls.size(); ++w)
     {
-        const double room = half - std::max(0.0, afdt*walls[w].velocity.norm() - L.wallRef[w].reach);
-        if (!(room >= 0) || !((walls[w].displacement - L.wallRef[w].displacement).squaredNorm() <= room*room))
+        const double room = half - std::max(0.0, afdt * walls[w].velocity.norm() - L.wallRef[w].reach);
+        if (!(room >= 0)
+            || !((walls[w].displacement - L.wallRef[w].displacement).squaredNorm() <= room * room))
             return false;
     }
     std::vector<std::uint64_t>& keys = verlet.keys;
@@ -97,12 +102,12 @@ bool System::Impl::detectFromList(DetectGrid& g)
         {
             // the cover of the list (Verlet.H, eq. 3)
             const VerletList::Reference& R = L.ref[i];
-            const double room = half - std::max(0.0, afdt*speed[i] - R.reach);
-            if (A.r != R.r || A.fix != R.fix || !(room >= 0) || !((A.x - R.x).squaredNorm() <= room*room))
+            const double room = half - std::max(0.0, afdt * speed[i] - R.reach);
+            if (A.r != R.r || A.fix != R.fix || !(room >= 0) || !((A.x - R.x).squaredNorm() <= room * room))
                 return false;
         }
         const bool slowI = speed[i] <= sCut;
-        bool fastPairs = !slowI;  // some pair of i with a fast grain
+        bool fastPairs = !slowI; // some pair of i with a fast grain
         const int b = L.start[i], e = L.start[i + 1];
         if (slowI)
         {
@@ -111,11 +116,15 @@ bool System::Impl::detectFromList(DetectGrid& g)
             for (int k = b; k < e; ++k)
             {
                 const int j = L.items[k];
-                if (speed[j] > sCut) { fastPairs = true; continue; }
+                if (speed[j] > sCut)
+                {
+                    fastPairs = true;
+                    continue;
+                }
                 if (pairInReach(*this, i, j, g))
                     keys.push_back(std::uint64_t(detectCell(g, packed[j].x, dim)) << 32 | std::uint32_t(j));
             }
-            for (std::size_t a = 1; a < keys.size(); ++a)  // insertion sort: a few keys, mostly in order
+            for (std::size_t a = 1; a < keys.size(); ++a) // insertion sort: a few keys, mostly in order
             {
                 const std::uint64_t key = keys[a];
                 std::size_t c = a;
@@ -125,7 +134,7 @@ bool System::Impl::detectFromList(DetectGrid& g)
             for (const std::uint64_t key : keys)
                 pushPairContact(*this, i, int(key & 0xffffffffu), g, newContacts);
         }
-        if (fastPairs)  // then those with a fast grain, by partner
+        if (fastPairs) // then those with a fast grain, by partner
             for (int k = b; k < e; ++k)
             {
                 const int j = L.items[k];

@@ -23,7 +23,7 @@ using Iterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<K, Iterator>;
 using Traits = CGAL::AABB_traits<K, Primitive>;
 using Tree = CGAL::AABB_tree<Traits>;
-}
+} // namespace
 
 struct TriangleTree
 {
@@ -36,7 +36,11 @@ std::shared_ptr<TriangleTree> buildTriangleTree(const std::vector<Vec3>& vertice
 {
     auto t = std::make_shared<TriangleTree>();
     t->triangles.reserve(tris.size());
-    auto P = [&](int k) { const Vec3& a = vertices[k]; return Point(a.x(), a.y(), a.z()); };
+    auto P = [&](int k)
+    {
+        const Vec3& a = vertices[k];
+        return Point(a.x(), a.y(), a.z());
+    };
     for (const auto& f : tris) t->triangles.emplace_back(P(f[0]), P(f[1]), P(f[2]));
     t->tree.insert(t->triangles.begin(), t->triangles.end());
     t->tree.build();
@@ -46,12 +50,16 @@ std::shared_ptr<TriangleTree> buildTriangleTree(const std::vector<Vec3>& vertice
 void trianglesNear(const TriangleTree& t, const Vec3& p, double R, std::vector<int>& out)
 {
     out.clear();
-    const K::Sphere_3 s(Point(p.x(), p.y(), p.z()), R*R);
+    const K::Sphere_3 s(Point(p.x(), p.y(), p.z()), R * R);
     struct Out
     {
         std::vector<int>* o;
         Iterator begin;
-        Out& operator=(const Primitive::Id& id) { o->push_back(int(id - begin)); return *this; }
+        Out& operator=(const Primitive::Id& id)
+        {
+            o->push_back(int(id - begin));
+            return *this;
+        }
         Out& operator*() { return *this; }
         Out& operator++() { return *this; }
         Out& operator++(int) { return *this; }
@@ -63,23 +71,46 @@ Vec3 closestPointTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec
 {
     const Vec3 ab = b - a, ac = c - a, ap = p - a;
     const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    if (d1 <= 0 && d2 <= 0) { feature = 0; return a; }
+    if (d1 <= 0 && d2 <= 0)
+    {
+        feature = 0;
+        return a;
+    }
     const Vec3 bp = p - b;
     const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) { feature = 1; return b; }
-    const double vc = d1*d4 - d3*d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) { feature = 3; return a + ab*(d1/(d1 - d3)); }
+    if (d3 >= 0 && d4 <= d3)
+    {
+        feature = 1;
+        return b;
+    }
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0)
+    {
+        feature = 3;
+        return a + ab * (d1 / (d1 - d3));
+    }
     const Vec3 cp = p - c;
     const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) { feature = 2; return c; }
-    const double vb = d5*d2 - d1*d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) { feature = 5; return a + ac*(d2/(d2 - d6)); }
-    const double va = d3*d6 - d5*d4;
+    if (d6 >= 0 && d5 <= d6)
+    {
+        feature = 2;
+        return c;
+    }
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0)
+    {
+        feature = 5;
+        return a + ac * (d2 / (d2 - d6));
+    }
+    const double va = d3 * d6 - d5 * d4;
     if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    { feature = 4; return b + (c - b)*((d4 - d3)/((d4 - d3) + (d5 - d6))); }
+    {
+        feature = 4;
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
     feature = -1;
-    const double denom = 1.0/(va + vb + vc);
-    return a + ab*(vb*denom) + ac*(vc*denom);
+    const double denom = 1.0 / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
 Vec3 closestPointTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c)
@@ -99,18 +130,23 @@ void buildTriangleFeatures(Wall& w)
         const auto& f = w.triangles[t];
         const Vec3 n = (w.vertices[f[1]] - w.vertices[f[0]]).cross(w.vertices[f[2]] - w.vertices[f[0]]);
         const double nn = n.norm();
-        if (nn > 0 && std::isfinite(nn)) w.triNormal[t] = n/nn;
+        if (nn > 0 && std::isfinite(nn)) w.triNormal[t] = n / nn;
     }
     // edges by sorted vertex pair: (key, triangle, local edge)
-    struct E { long long key; int t; int e; };
+    struct E
+    {
+        long long key;
+        int t;
+        int e;
+    };
     std::vector<E> edges;
-    edges.reserve(3*nt);
+    edges.reserve(3 * nt);
     const long long nv = (long long)w.vertices.size();
     for (std::size_t t = 0; t < nt; ++t)
         for (int e = 0; e < 3; ++e)
         {
             const long long a = w.triangles[t][e], b = w.triangles[t][(e + 1) % 3];
-            edges.push_back({std::min(a, b)*nv + std::max(a, b), int(t), e});
+            edges.push_back({std::min(a, b) * nv + std::max(a, b), int(t), e});
         }
     std::sort(edges.begin(), edges.end(), [](const E& x, const E& y) { return x.key < y.key; });
     // vertex v is flat unless some incident edge is not flat (boundary, fold,
@@ -121,9 +157,15 @@ void buildTriangleFeatures(Wall& w)
         for (int k = 0; k < 3; ++k)
         {
             const int v = w.triangles[t][k];
-            if (w.triNormal[t].isZero()) { vertBad[v] = 1; continue; }
-            if (vertTri[v] < 0) vertTri[v] = int(t);
-            else if (std::abs(w.triNormal[t].dot(w.triNormal[vertTri[v]])) < cosFlat) vertBad[v] = 1;
+            if (w.triNormal[t].isZero())
+            {
+                vertBad[v] = 1;
+                continue;
+            }
+            if (vertTri[v] < 0)
+                vertTri[v] = int(t);
+            else if (std::abs(w.triNormal[t].dot(w.triNormal[vertTri[v]])) < cosFlat)
+                vertBad[v] = 1;
         }
     for (std::size_t k = 0; k < edges.size();)
     {
@@ -145,15 +187,16 @@ void buildTriangleFeatures(Wall& w)
                 const Vec3 d = (w.vertices[fa[(A.e + 1) % 3]] - p).normalized();
                 Vec3 ua = w.vertices[fa[(A.e + 2) % 3]] - p;
                 Vec3 ub = w.vertices[fb[(B.e + 2) % 3]] - p;
-                ua -= ua.dot(d)*d;
-                ub -= ub.dot(d)*d;
+                ua -= ua.dot(d) * d;
+                ub -= ub.dot(d) * d;
                 flat = ua.dot(ub) < 0;
             }
         }
         for (std::size_t m = k; m < l; ++m)
         {
             const E& X = edges[m];
-            if (flat) w.triFlat[X.t] |= (unsigned char)(1u << X.e);
+            if (flat)
+                w.triFlat[X.t] |= (unsigned char)(1u << X.e);
             else
             {
                 vertBad[w.triangles[X.t][X.e]] = 1;
@@ -181,19 +224,27 @@ void linkSegment(std::vector<Wall>& walls, int k)
         if (T.type != SegmentWall) continue;
         const Vec3 ta = T.p + T.displacement, tb = T.b + T.displacement;
         const double lt = (tb - ta).norm();
-        const double tol = 1e-9*std::min(ls, lt);
+        const double tol = 1e-9 * std::min(ls, lt);
         const Vec3 tends[2] = {ta, tb};
         for (int e = 0; e < 2; ++e)
             for (int f = 0; f < 2; ++f)
             {
                 if ((ends[e] - tends[f]).norm() > tol) continue;
                 // directions pointing away from the shared point
-                const Vec3 ds = (ends[1 - e] - ends[e])/ls;
-                const Vec3 dt = (tends[1 - f] - tends[f])/lt;
+                const Vec3 ds = (ends[1 - e] - ends[e]) / ls;
+                const Vec3 dt = (tends[1 - f] - tends[f]) / lt;
                 const bool flat = ds.dot(dt) <= -cosFlat;
                 // keep the first neighbour found, but prefer a collinear one
-                if (S.segNb[e] < 0 || (flat && !S.segFlat[e])) { S.segNb[e] = o; S.segFlat[e] = flat; }
-                if (T.segNb[f] < 0 || (flat && !T.segFlat[f])) { T.segNb[f] = k; T.segFlat[f] = flat; }
+                if (S.segNb[e] < 0 || (flat && !S.segFlat[e]))
+                {
+                    S.segNb[e] = o;
+                    S.segFlat[e] = flat;
+                }
+                if (T.segNb[f] < 0 || (flat && !T.segFlat[f]))
+                {
+                    T.segNb[f] = k;
+                    T.segFlat[f] = flat;
+                }
             }
     }
 }

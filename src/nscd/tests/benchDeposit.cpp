@@ -61,38 +61,43 @@ int legacyMain(int argc, char** argv)
     const int m = s.addMaterial({2500, 0.3});
     std::mt19937 gen(1);
     const double r0 = 1e-3;
-    std::uniform_real_distribution<double> U(0.8*r0, 1.2*r0);
-    const double h = (dim == 3 ? 3.2 : 2.6)*r0;
+    std::uniform_real_distribution<double> U(0.8 * r0, 1.2 * r0);
+    const double h = (dim == 3 ? 3.2 : 2.6) * r0;
     std::uniform_real_distribution<double> J(0, 1);
     const int nz = dim == 3 ? 10 : 1;
-    int nx = dim == 2 ? int(std::sqrt(N)*1.0) : int(std::sqrt(N/nz));
+    int nx = dim == 2 ? int(std::sqrt(N) * 1.0) : int(std::sqrt(N / nz));
     if (layout == "hex" && dim == 2)
     {
         // hexagonal lattice, rows alternately nx and nx - 1 discs
-        nx = int(std::sqrt(N*0.8));
+        nx = int(std::sqrt(N * 0.8));
         const double poly = std::getenv("NSCD_POLY") ? std::atof(std::getenv("NSCD_POLY")) : 0.05;
-        std::uniform_real_distribution<double> R((1 - poly)*r0, r0);
+        std::uniform_real_distribution<double> R((1 - poly) * r0, r0);
         int k = 0;
         for (int b = 0; k < N; ++b)
             for (int a = 0; a < nx - (b % 2) && k < N; ++a, ++k)
-                s.addGrain(Vec3(r0*(2*a + 1 + (b % 2)), r0*(1 + b*std::sqrt(3.0)), 0), R(gen), m);
+                s.addGrain(Vec3(r0 * (2 * a + 1 + (b % 2)), r0 * (1 + b * std::sqrt(3.0)), 0), R(gen), m);
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
         s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
-        s.addPlane(Vec3(2*r0*nx, 0, 0), Vec3(-1, 0, 0));
+        s.addPlane(Vec3(2 * r0 * nx, 0, 0), Vec3(-1, 0, 0));
     }
     else
     {
-        const int ny = (N + nx*nz - 1)/(nx*nz);
+        const int ny = (N + nx * nz - 1) / (nx * nz);
         int k = 0;
         for (int b = 0; b < ny && k < N; ++b)
             for (int c = 0; c < nz && k < N; ++c)
                 for (int a = 0; a < nx && k < N; ++a, ++k)
-                    s.addGrain(Vec3((a + 0.5 + 0.2*(J(gen) - 0.5))*h, (b + 0.5)*h,
-                                    dim == 3 ? (c + 0.5 + 0.2*(J(gen) - 0.5))*h : 0.0), U(gen), m);
+                    s.addGrain(Vec3((a + 0.5 + 0.2 * (J(gen) - 0.5)) * h, (b + 0.5) * h,
+                                    dim == 3 ? (c + 0.5 + 0.2 * (J(gen) - 0.5)) * h : 0.0),
+                               U(gen), m);
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
         s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
-        s.addPlane(Vec3(nx*h, 0, 0), Vec3(-1, 0, 0));
-        if (dim == 3) { s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1)); s.addPlane(Vec3(0, 0, nz*h), Vec3(0, 0, -1)); }
+        s.addPlane(Vec3(nx * h, 0, 0), Vec3(-1, 0, 0));
+        if (dim == 3)
+        {
+            s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1));
+            s.addPlane(Vec3(0, 0, nz * h), Vec3(0, 0, -1));
+        }
     }
     s.checkInitialOverlaps();
     s.setGravity(Vec3(0, -9.81, 0));
@@ -112,7 +117,8 @@ int legacyMain(int argc, char** argv)
     // settling may use a looser tolerance (NSCD_SETTLE_TOL) to reach rest quickly
     const System::Settings measured = s.settings();
     if (std::getenv("NSCD_SETTLE_TOL")) s.settings().tolerance = std::atof(std::getenv("NSCD_SETTLE_TOL"));
-    auto wall = [] { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); };
+    auto wall = []
+    { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); };
     double t0 = wall();
     for (int i = 0; i < settle; ++i)
     {
@@ -121,8 +127,10 @@ int legacyMain(int argc, char** argv)
         {
             double vm = 0;
             for (const auto& v : s.velocities()) vm = std::max(vm, v.norm());
-            std::printf("settle %d contacts %d sweeps %d residual %.2e overlap/r %.2e detect %.3f solve %.3f s vmax %.2e\n",
-                        i, r.contacts, r.sweeps, r.residual, r.maxOverlap/r0, r.detectSeconds, r.solveSeconds, vm);
+            std::printf("settle %d contacts %d sweeps %d residual %.2e overlap/r %.2e detect %.3f solve %.3f "
+                        "s vmax %.2e\n",
+                        i, r.contacts, r.sweeps, r.residual, r.maxOverlap / r0, r.detectSeconds,
+                        r.solveSeconds, vm);
         }
     }
     const double tSettle = wall() - t0;
@@ -137,10 +145,13 @@ int legacyMain(int argc, char** argv)
         const double a = wall();
         const StepReport r = s.step(dt);
         times.push_back(wall() - a);
-        sweeps += r.sweeps; det += r.detectSeconds; sol += r.solveSeconds;
-        ov = std::max(ov, r.maxOverlap); contacts = r.contacts;
+        sweeps += r.sweeps;
+        det += r.detectSeconds;
+        sol += r.solveSeconds;
+        ov = std::max(ov, r.maxOverlap);
+        contacts = r.contacts;
     }
-    if (const char* dump = std::getenv("NSCD_DUMP")) s.writeHDF5(dump);  // final state (bit-identity checks)
+    if (const char* dump = std::getenv("NSCD_DUMP")) s.writeHDF5(dump); // final state (bit-identity checks)
     std::sort(times.begin(), times.end());
     double vmax = 0;
     for (const auto& v : s.velocities()) vmax = std::max(vmax, v.norm());
@@ -148,7 +159,9 @@ int legacyMain(int argc, char** argv)
     for (std::size_t i = 0; i < s.size(); ++i) dmax = std::max(dmax, (s.positions()[i] - x0[i]).norm());
     std::printf("{\"grains\": %d, \"dim\": %d, \"contacts\": %d, \"settle_seconds\": %.3f, "
                 "\"seconds_per_step_median\": %.5f, \"sweeps_per_step\": %.1f, \"detect_s\": %.5f, "
-                "\"solve_s\": %.5f, \"max_overlap_over_r\": %.2e, \"vmax\": %.2e, \"max_displacement_over_r\": %.2e, \"tolerance\": %.1e, \"overlapSlop\": %.1e}\n",
-                N, dim, contacts, tSettle, times[times.size()/2], sweeps/timed, det/timed, sol/timed, ov/r0, vmax, dmax/r0, s.settings().tolerance, s.settings().overlapSlop);
+                "\"solve_s\": %.5f, \"max_overlap_over_r\": %.2e, \"vmax\": %.2e, "
+                "\"max_displacement_over_r\": %.2e, \"tolerance\": %.1e, \"overlapSlop\": %.1e}\n",
+                N, dim, contacts, tSettle, times[times.size() / 2], sweeps / timed, det / timed, sol / timed,
+                ov / r0, vmax, dmax / r0, s.settings().tolerance, s.settings().overlapSlop);
     return 0;
 }

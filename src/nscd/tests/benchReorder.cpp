@@ -22,8 +22,8 @@
 #include "benchBeds.H"
 
 #include <algorithm>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <numeric>
 #include <random>
@@ -74,14 +74,19 @@ std::vector<int> rowOrder(const Bed& bed)
 {
     std::vector<int> p(bed.x.size());
     std::iota(p.begin(), p.end(), 0);
-    auto band = [&](int k) { return long(std::floor(bed.x[k].y()/dMean)); };
-    std::sort(p.begin(), p.end(), [&](int a, int b)
+    auto band = [&](int k) { return long(std::floor(bed.x[k].y() / dMean)); };
+    std::sort(p.begin(), p.end(),
+              [&](int a, int b)
               { return band(a) < band(b) || (band(a) == band(b) && bed.x[a].x() < bed.x[b].x()); });
     return p;
 }
 
 /// Time one step of s (thread CPU) into R's per-step lists.
-struct Samples { std::vector<double> cpu, det, sol, sw, ls, perCs, perLs, perDet; int contacts = 0; };
+struct Samples
+{
+    std::vector<double> cpu, det, sol, sw, ls, perCs, perLs, perDet;
+    int contacts = 0;
+};
 
 double timeStep(System& s, Samples& S)
 {
@@ -93,9 +98,9 @@ double timeStep(System& s, Samples& S)
     S.sol.push_back(r.solveSeconds);
     S.sw.push_back(r.sweeps);
     S.ls.push_back(double(r.localSolves));
-    S.perCs.push_back(1e9*c/std::max(1.0, double(r.sweeps)*r.contacts));
-    S.perLs.push_back(1e9*r.solveSeconds/std::max(1.0, double(r.localSolves)));
-    S.perDet.push_back(1e9*r.detectSeconds/std::max(1, r.contacts));
+    S.perCs.push_back(1e9 * c / std::max(1.0, double(r.sweeps) * r.contacts));
+    S.perLs.push_back(1e9 * r.solveSeconds / std::max(1.0, double(r.localSolves)));
+    S.perDet.push_back(1e9 * r.detectSeconds / std::max(1, r.contacts));
     S.contacts = r.contacts;
     return c;
 }
@@ -116,9 +121,11 @@ Run summary(const Samples& S, const std::string& order, int interval, int grains
     R.nsPerContactSweep = median(S.perCs);
     R.nsPerLocalSolve = median(S.perLs);
     R.nsDetectPerContact = median(S.perDet);
-    std::fprintf(stderr, "  %7d discs %-8s interval %3d: CPU %.4f s/step (detect %.4f, solve %.4f), %.0f sweeps, "
-                 "%.1f ns/contact-sweep, %.1f ns/local solve\n", R.grains, order.c_str(), interval, R.cpu, R.detect,
-                 R.solve, R.sweeps, R.nsPerContactSweep, R.nsPerLocalSolve);
+    std::fprintf(stderr,
+                 "  %7d discs %-8s interval %3d: CPU %.4f s/step (detect %.4f, solve %.4f), %.0f sweeps, "
+                 "%.1f ns/contact-sweep, %.1f ns/local solve\n",
+                 R.grains, order.c_str(), interval, R.cpu, R.detect, R.solve, R.sweeps, R.nsPerContactSweep,
+                 R.nsPerLocalSolve);
     return R;
 }
 
@@ -130,7 +137,7 @@ std::pair<Run, Run> pairedRuns(const Bed& bed, const std::vector<System::Contact
                                int relax, int timed, double& ratio, double first[2])
 {
     System off = build(bed, views, perm), on = build(bed, views, perm);
-    for (System* s : {&off, &on}) s->settings().maxIterations = 1000;  // production setting (nscd README)
+    for (System* s : {&off, &on}) s->settings().maxIterations = 1000; // production setting (nscd README)
     off.settings().reorderInterval = 0;
     on.settings().reorderInterval = interval;
     // the first step of "on" re-sorts the grains (then every interval steps)
@@ -140,7 +147,11 @@ std::pair<Run, Run> pairedRuns(const Bed& bed, const std::vector<System::Contact
         off.step(dt);
         const double c1 = cpu();
         on.step(dt);
-        if (k == 0) { first[0] = c1 - c0; first[1] = cpu() - c1; }
+        if (k == 0)
+        {
+            first[0] = c1 - c0;
+            first[1] = cpu() - c1;
+        }
     }
     Samples a, b;
     std::vector<double> ratios;
@@ -148,21 +159,23 @@ std::pair<Run, Run> pairedRuns(const Bed& bed, const std::vector<System::Contact
     {
         const double ta = timeStep(off, a);
         const double tb = timeStep(on, b);
-        ratios.push_back(tb/ta);
+        ratios.push_back(tb / ta);
     }
     ratio = median(ratios);
     const int N = int(bed.x.size());
     std::pair<Run, Run> out{summary(a, order, 0, N), summary(b, order, interval, N)};
-    std::fprintf(stderr, "  %7d discs %-8s CPU on/off %.3f (median of %d paired steps)\n", N, order.c_str(), ratio, timed);
+    std::fprintf(stderr, "  %7d discs %-8s CPU on/off %.3f (median of %d paired steps)\n", N, order.c_str(),
+                 ratio, timed);
     return out;
 }
 
 std::string json(const Run& R)
 {
     std::ostringstream o;
-    o << "{\"grains\": " << R.grains << ", \"order\": \"" << R.order << "\", \"reorder_interval\": " << R.interval
-      << ", \"contacts\": " << R.contacts << ", \"timed_steps\": " << R.steps
-      << ", \"cpu_seconds_per_step_median\": " << R.cpu << ", \"detect_seconds_per_step_median\": " << R.detect
+    o << "{\"grains\": " << R.grains << ", \"order\": \"" << R.order
+      << "\", \"reorder_interval\": " << R.interval << ", \"contacts\": " << R.contacts
+      << ", \"timed_steps\": " << R.steps << ", \"cpu_seconds_per_step_median\": " << R.cpu
+      << ", \"detect_seconds_per_step_median\": " << R.detect
       << ", \"solve_seconds_per_step_median\": " << R.solve << ", \"sweeps_per_step_median\": " << R.sweeps
       << ", \"local_solves_per_step_median\": " << R.localSolves
       << ", \"cpu_ns_per_contact_sweep_median\": " << R.nsPerContactSweep
@@ -182,7 +195,7 @@ System settledBlock(const Bed& b0, bool quick)
     if (cache) blk.writeHDF5(cache);
     return blk;
 }
-}
+} // namespace
 
 /// nscdBench reorder-case <tiles> <tiled|shuffled> <interval> <steps>: one
 /// bed (tiles x 500 discs), 10 steps then <steps> steps; prints the CPU
@@ -208,7 +221,8 @@ int runReorderCase(int argc, char** argv)
     const std::string order = argv[3];
     if (order != "tiled" && order != "rows" && order != "shuffled")
     {
-        std::fprintf(stderr, "nscdBench reorder-case: order must be tiled, rows or shuffled, got %s\n", argv[3]);
+        std::fprintf(stderr, "nscdBench reorder-case: order must be tiled, rows or shuffled, got %s\n",
+                     argv[3]);
         return 2;
     }
     const int dim = std::getenv("NSCD_DIM") ? std::atoi(std::getenv("NSCD_DIM")) : 2;
@@ -246,17 +260,19 @@ int runReorderCase(int argc, char** argv)
         }
     if (const char* cv = std::getenv("NSCD_CONVERGENCE"))
         s.settings().convergence = std::string(cv) == "rms" ? System::Settings::Convergence::RMS
-                                                              : System::Settings::Convergence::Max;
+                                                            : System::Settings::Convergence::Max;
     if (const char* rt = std::getenv("NSCD_RMS_TOL")) s.settings().rmsTolerance = std::atof(rt);
     // NSCD_METHOD: Settings::Method number (4: Newton, with NSCD_NEWTON_TOL,
     // NSCD_SIGMA, NSCD_LINEAR=cg: newtonTolerance, tangentialRegularisation,
     // newtonLinearSolver); "sweeps" are then Newton iterations
-    if (const char* me = std::getenv("NSCD_METHOD")) s.settings().method = System::Settings::Method(std::atoi(me));
+    if (const char* me = std::getenv("NSCD_METHOD"))
+        s.settings().method = System::Settings::Method(std::atoi(me));
     if (const char* nt = std::getenv("NSCD_NEWTON_TOL")) s.settings().newtonTolerance = std::atof(nt);
     if (const char* sg = std::getenv("NSCD_SIGMA")) s.settings().tangentialRegularisation = std::atof(sg);
     if (const char* ls = std::getenv("NSCD_LINEAR"))
         s.settings().newtonLinearSolver = std::string(ls) == "cg"
-            ? System::Settings::NewtonLinearSolver::ConjugateGradient : System::Settings::NewtonLinearSolver::Cholesky;
+                                              ? System::Settings::NewtonLinearSolver::ConjugateGradient
+                                              : System::Settings::NewtonLinearSolver::Cholesky;
     for (int k = 0; k < 10; ++k) s.step(dt);
     // per step: thread CPU time, sweeps, relax stage (StepReport::relaxSolves),
     // max overlap; over the timed steps: max displacement (all in r_min)
@@ -278,16 +294,17 @@ int runReorderCase(int argc, char** argv)
         relaxSolves += r.relaxLocalSolves;
         overlap = std::max(overlap, r.maxOverlap);
     }
-    const double total = cpu() - c0, rmin = 0.5*dMin;
+    const double total = cpu() - c0, rmin = 0.5 * dMin;
     double disp = 0;
     for (std::size_t i = 0; i < s.size(); ++i) disp = std::max(disp, (s.positions()[i] - x0[i]).norm());
-    std::printf("%zu discs %s interval %d: %.4f CPU s/step (median %.4f), %.1f sweeps/step (median %.0f), relax stage "
+    std::printf("%zu discs %s interval %d: %.4f CPU s/step (median %.4f), %.1f sweeps/step (median %.0f), "
+                "relax stage "
                 "in %d of %d steps (%.3f sweeps/step), max overlap %.3e r_min, max displacement %.3e r_min; "
                 "detection %.4f s/step (median), verletSkin %g, %d list builds\n",
-                s.size(), argv[3], interval, total/steps, median(stepCpu),
-                std::accumulate(sweeps.begin(), sweeps.end(), 0.0)/steps, median(sweeps), relaxSteps, steps,
-                double(relaxSolves)/steps/std::max<double>(1, double(s.nContacts())), overlap/rmin, disp/rmin,
-                median(detect), s.settings().verletSkin, builds);
+                s.size(), argv[3], interval, total / steps, median(stepCpu),
+                std::accumulate(sweeps.begin(), sweeps.end(), 0.0) / steps, median(sweeps), relaxSteps, steps,
+                double(relaxSolves) / steps / std::max<double>(1, double(s.nContacts())), overlap / rmin,
+                disp / rmin, median(detect), s.settings().verletSkin, builds);
     // NSCD_DUMP=<file.h5>: the final state (positions, velocities, contact
     // impulses) for bit-identity checks of library changes (h5diff)
     if (const char* dump = std::getenv("NSCD_DUMP")) s.writeHDF5(dump);
@@ -323,15 +340,17 @@ int runReorder(int argc, char** argv)
         sh = id;
         std::shuffle(sh.begin(), sh.end(), std::mt19937(42));
         std::vector<int> byRows = rowOrder(bed);
-        for (const auto& o : {std::make_pair(std::string("tiled"), &id), std::make_pair(std::string("rows"), &byRows),
-                              std::make_pair(std::string("shuffled"), &sh)})
+        for (const auto& o :
+             {std::make_pair(std::string("tiled"), &id), std::make_pair(std::string("rows"), &byRows),
+              std::make_pair(std::string("shuffled"), &sh)})
         {
             double ratio = 1, first[2] = {0, 0};
             const auto p = pairedRuns(bed, views, *o.second, o.first, 100, relax, timed, ratio, first);
             std::ostringstream r;
-            r << "{\"grains\": " << N << ", \"order\": \"" << o.first << "\", \"cpu_ratio_on_over_off_paired_median\": "
-              << ratio << ", \"first_step_cpu_seconds_off\": " << first[0] << ", \"first_step_cpu_seconds_on\": "
-              << first[1] << "}";
+            r << "{\"grains\": " << N << ", \"order\": \"" << o.first
+              << "\", \"cpu_ratio_on_over_off_paired_median\": " << ratio
+              << ", \"first_step_cpu_seconds_off\": " << first[0]
+              << ", \"first_step_cpu_seconds_on\": " << first[1] << "}";
             rows.push_back(json(p.first));
             rows.push_back(json(p.second));
             ratios.push_back(r.str());
@@ -339,27 +358,40 @@ int runReorder(int argc, char** argv)
     }
     std::ofstream f(out);
     f << "{\n  \"benchmark\": \"nscdReorder\",\n"
-      << "  \"what\": \"cache effect of the grain order (issue 26 item 4): CPU time per step and per contact update "
-         "of 2D beds at rest vs grain count, grains in the tiling order, row-major across the width or shuffled, internal Morton reordering "
+      << "  \"what\": \"cache effect of the grain order (issue 26 item 4): CPU time per step and per contact "
+         "update "
+         "of 2D beds at rest vs grain count, grains in the tiling order, row-major across the width or "
+         "shuffled, internal Morton reordering "
          "off (reorderInterval 0) or on (100)\",\n"
-      << "  \"setup\": \"mirror tilings of one settled " << blockN << "-disc block (" << ncol << " columns, nscdDeposit's "
-         "construction: d 230 um mean, lambda 1.2, rho 2500, mu 0.4, dt 1e-4 s, tolerance 1e-6 d_min, at most 1000 "
-         "sweeps/step), warm-started from the block's impulses; the same bed is given to the System in the tiling order "
-         "(block by block, rows within a block), row-major across the whole width (height bands of one mean diameter, then x: "
-         "an insertion lattice's fill order, as grainDeposit's) or in a random order (std::mt19937 seed 42); reordering off and on "
+      << "  \"setup\": \"mirror tilings of one settled " << blockN << "-disc block (" << ncol
+      << " columns, nscdDeposit's "
+         "construction: d 230 um mean, lambda 1.2, rho 2500, mu 0.4, dt 1e-4 s, tolerance 1e-6 d_min, at "
+         "most 1000 "
+         "sweeps/step), warm-started from the block's impulses; the same bed is given to the System in the "
+         "tiling order "
+         "(block by block, rows within a block), row-major across the whole width (height bands of one mean "
+         "diameter, then x: "
+         "an insertion lattice's fill order, as grainDeposit's) or in a random order (std::mt19937 seed 42); "
+         "reordering off and on "
          "stepped in turn from the same state; "
-      << relax << " steps, then " << timed << " timed steps (medians). Time per contact update = step CPU time / "
-         "(sweeps x contacts); per local solve = solve time / local solves (queue handling included); detection "
+      << relax << " steps, then " << timed
+      << " timed steps (medians). Time per contact update = step CPU time / "
+         "(sweeps x contacts); per local solve = solve time / local solves (queue handling included); "
+         "detection "
          "per contact = detection time / contacts\",\n"
       << "  \"machine\": \"" << machineNote() << "\",\n"
       << "  \"wall_seconds_total\": " << now() - t0 << ",\n"
       << "  \"runs\": [\n";
-    for (std::size_t k = 0; k < rows.size(); ++k) f << "    " << rows[k] << (k + 1 < rows.size() ? ",\n" : "\n");
+    for (std::size_t k = 0; k < rows.size(); ++k)
+        f << "    " << rows[k] << (k + 1 < rows.size() ? ",\n" : "\n");
     f << "  ],\n  \"paired\": [\n";
-    for (std::size_t k = 0; k < ratios.size(); ++k) f << "    " << ratios[k] << (k + 1 < ratios.size() ? ",\n" : "\n");
+    for (std::size_t k = 0; k < ratios.size(); ++k)
+        f << "    " << ratios[k] << (k + 1 < ratios.size() ? ",\n" : "\n");
     f << "  ],\n  \"paired_note\": \"off and on stepped in turn from the same state (off, on, off, on, ...): "
-         "median over the timed steps of the per-pair CPU ratio on/off (< 1: reordering faster); first_step_*: CPU time of "
-         "the first step, in which \\\"on\\\" re-sorts the grains (the cost of a reorder, paid every reorderInterval steps, "
+         "median over the timed steps of the per-pair CPU ratio on/off (< 1: reordering faster); "
+         "first_step_*: CPU time of "
+         "the first step, in which \\\"on\\\" re-sorts the grains (the cost of a reorder, paid every "
+         "reorderInterval steps, "
          "with the cold first step of both)\"\n}\n";
     std::fprintf(stderr, "wrote %s (%.0f s)\n", out.c_str(), now() - t0);
     return 0;

@@ -18,14 +18,21 @@ using namespace nscdBench;
 
 namespace
 {
-struct Method { const char* name; System::Settings::Method method; double relaxation; };
-}
+struct Method
+{
+    const char* name;
+    System::Settings::Method method;
+    double relaxation;
+};
+} // namespace
 
 int runState(int argc, char** argv)
 {
     if (argc < 6)
     {
-        std::fprintf(stderr, "usage: nscdBench state <grainState.h5> <dt> <steps> <out.json> [tolerance [maxIterations]]\n");
+        std::fprintf(
+            stderr,
+            "usage: nscdBench state <grainState.h5> <dt> <steps> <out.json> [tolerance [maxIterations]]\n");
         return 2;
     }
     const std::string file = argv[2];
@@ -34,8 +41,10 @@ int runState(int argc, char** argv)
     const std::string out = argv[5];
     std::setvbuf(stderr, nullptr, _IOLBF, 0);
     using M = System::Settings::Method;
-    const std::vector<Method> methods = {{"NLGS", M::NLGS, 1.0}, {"overRelaxedNLGS", M::OverRelaxedNLGS, 1.3},
-                                         {"APGD", M::APGD, 1.0}, {"NNCG", M::NNCG, 1.0}};
+    const std::vector<Method> methods = {{"NLGS", M::NLGS, 1.0},
+                                         {"overRelaxedNLGS", M::OverRelaxedNLGS, 1.3},
+                                         {"APGD", M::APGD, 1.0},
+                                         {"NNCG", M::NNCG, 1.0}};
     std::vector<std::string> rows;
     double tol = 0;
     int maxIt = 0;
@@ -55,7 +64,7 @@ int runState(int argc, char** argv)
         bool conv = true;
         for (int k = 0; k < steps; ++k)
         {
-            s.settings().residualHistory = k == 0;  // the first step's history (its cost is not timed apart)
+            s.settings().residualHistory = k == 0; // the first step's history (its cost is not timed apart)
             const double c0 = cpu();
             const StepReport r = s.step(h);
             cpuStep.push_back(cpu() - c0);
@@ -65,21 +74,28 @@ int runState(int argc, char** argv)
             contacts = r.contacts;
             if (k == 0) hist = r.residualHistory;
         }
-        std::fprintf(stderr, "  [%s] %zu grains, %d contacts: sweeps/step %s, CPU s/step %s (first step with history)\n",
-                     m.name, s.size(), contacts, jsonList(sweeps).c_str(), jsonList(cpuStep).c_str());
+        std::fprintf(
+            stderr,
+            "  [%s] %zu grains, %d contacts: sweeps/step %s, CPU s/step %s (first step with history)\n",
+            m.name, s.size(), contacts, jsonList(sweeps).c_str(), jsonList(cpuStep).c_str());
         std::ostringstream o;
-        o << "{\"method\": \"" << m.name << "\", \"relaxation\": " << m.relaxation << ", \"contacts\": " << contacts
-          << ", \"sweeps_per_step\": " << jsonList(sweeps) << ", \"cpu_seconds_per_step\": " << jsonList(cpuStep)
-          << ", \"residual_per_step\": " << jsonList(residual) << ", \"converged_every_step\": " << (conv ? "true" : "false")
+        o << "{\"method\": \"" << m.name << "\", \"relaxation\": " << m.relaxation
+          << ", \"contacts\": " << contacts << ", \"sweeps_per_step\": " << jsonList(sweeps)
+          << ", \"cpu_seconds_per_step\": " << jsonList(cpuStep)
+          << ", \"residual_per_step\": " << jsonList(residual)
+          << ", \"converged_every_step\": " << (conv ? "true" : "false")
           << ", \"residual_history_step_1\": " << jsonList(hist) << "}";
         rows.push_back(o.str());
     }
     std::ofstream o(out);
     o << "{\n  \"state\": \"" << file << "\",\n  \"grains\": " << grains << ",\n  \"dt\": " << h
-      << ",\n  \"steps\": " << steps << ",\n  \"tolerance_over_dmin\": " << tol << ",\n  \"max_iterations\": " << maxIt
-      << ",\n  \"machine\": \"" << machineNote() << "\",\n  \"what\": \"the saved state stepped without the fluid (gravity "
-      << "and contacts only), warm-started from its saved impulses; CPU seconds of the thread per step (the first step "
-      << "records the residual history, one residual evaluation per sweep or iteration, included in its time)\",\n"
+      << ",\n  \"steps\": " << steps << ",\n  \"tolerance_over_dmin\": " << tol
+      << ",\n  \"max_iterations\": " << maxIt << ",\n  \"machine\": \"" << machineNote()
+      << "\",\n  \"what\": \"the saved state stepped without the fluid (gravity "
+      << "and contacts only), warm-started from its saved impulses; CPU seconds of the thread per step (the "
+         "first step "
+      << "records the residual history, one residual evaluation per sweep or iteration, included in its "
+         "time)\",\n"
       << "  \"methods\": [\n    ";
     for (std::size_t k = 0; k < rows.size(); ++k) o << (k ? ",\n    " : "") << rows[k];
     o << "\n  ]\n}\n";

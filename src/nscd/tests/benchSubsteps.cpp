@@ -45,11 +45,12 @@ Run advanceSteps(System& s, double h, int steps, const char* tag)
 #else
         R.redetections.push_back(0);
 #endif
-        R.maxOverlapOverR = std::max(R.maxOverlapOverR, r.maxOverlap/(0.5*dMin));
+        R.maxOverlapOverR = std::max(R.maxOverlapOverR, r.maxOverlap / (0.5 * dMin));
         R.converged = R.converged && r.converged;
         if (k % 20 == 0 || k == steps - 1)
-            std::fprintf(stderr, "  [%s] step %d substeps %d sweeps %d contacts %d redetections %g cpu %.3f s\n", tag, k,
-                         r.substeps, r.sweeps, r.contacts, R.redetections.back(), R.cpu.back());
+            std::fprintf(stderr,
+                         "  [%s] step %d substeps %d sweeps %d contacts %d redetections %g cpu %.3f s\n", tag,
+                         k, r.substeps, r.sweeps, r.contacts, R.redetections.back(), R.cpu.back());
     }
     return R;
 }
@@ -63,16 +64,18 @@ double sum(const std::vector<double>& v)
 
 void write(std::FILE* f, const char* name, const Run& R, double h, bool last)
 {
-    std::fprintf(f, "  \"%s\": {\"dt\": %g, \"steps\": %zu, \"substeps_per_step_median\": %g,"
-                    " \"substeps_per_step_max\": %g, \"substeps_total\": %g, \"sweeps_per_step_median\": %g,"
-                    " \"sweeps_total\": %g, \"redetections_total\": %g, \"cpu_seconds_per_step_median\": %g, \"cpu_seconds_total\": %g,"
-                    " \"max_overlap_over_rmin\": %g, \"converged_every_step\": %s}%s\n",
+    std::fprintf(f,
+                 "  \"%s\": {\"dt\": %g, \"steps\": %zu, \"substeps_per_step_median\": %g,"
+                 " \"substeps_per_step_max\": %g, \"substeps_total\": %g, \"sweeps_per_step_median\": %g,"
+                 " \"sweeps_total\": %g, \"redetections_total\": %g, \"cpu_seconds_per_step_median\": %g, "
+                 "\"cpu_seconds_total\": %g,"
+                 " \"max_overlap_over_rmin\": %g, \"converged_every_step\": %s}%s\n",
                  name, h, R.cpu.size(), median(R.substeps),
                  *std::max_element(R.substeps.begin(), R.substeps.end()), sum(R.substeps), median(R.sweeps),
-                 sum(R.sweeps), sum(R.redetections), median(R.cpu), sum(R.cpu), R.maxOverlapOverR, R.converged ? "true" : "false",
-                 last ? "" : ",");
+                 sum(R.sweeps), sum(R.redetections), median(R.cpu), sum(R.cpu), R.maxOverlapOverR,
+                 R.converged ? "true" : "false", last ? "" : ",");
 }
-}
+} // namespace
 
 int runSubsteps(int argc, char** argv)
 {
@@ -94,7 +97,7 @@ int runSubsteps(int argc, char** argv)
     // settle it at dt (as the suite) and tile it
     System rest = makeBlock(b0, 0.4);
     rest.settings().maxIterations = 1000;
-    for (int k = 0; k < 3000 && (k < 50 || vmax(rest) > 0.1*g*dt); ++k) rest.step(dt);
+    for (int k = 0; k < 3000 && (k < 50 || vmax(rest) > 0.1 * g * dt); ++k) rest.step(dt);
     const Bed tiled = tile(fromSystem(rest, b0), nBig, 1);
     double top = 0;
     for (std::size_t i = 0; i < tiled.x.size(); ++i) top = std::max(top, tiled.x[i].y() + tiled.r[i]);
@@ -117,7 +120,7 @@ int runSubsteps(int argc, char** argv)
         System s = makeSystem(tiled, 0.4);
         // the fast grain first: the contact list refers to walls by index
         // after the grains (System::addGrain does not renumber it)
-        const int f = fast ? s.addGrain(x, 0.5*dMax, 0) : -1;
+        const int f = fast ? s.addGrain(x, 0.5 * dMax, 0) : -1;
         std::copy(xs.begin(), xs.end(), s.positions().begin());
         std::copy(vs.begin(), vs.end(), s.velocities().begin());
         std::copy(ws.begin(), ws.end(), s.angularVelocities().begin());
@@ -130,15 +133,20 @@ int runSubsteps(int argc, char** argv)
     System alone = deposit(Vec3::Zero(), Vec3::Zero(), false);
     const Run aloneRun = advanceSteps(alone, dt, 10, "deposit alone");
     // a grain flying over the bed along x at 5 d per step
-    System fly = deposit(Vec3(0.05*tiled.W, top + 2*dMax, 0), Vec3(5*dMean/dt, 0, 0));
+    System fly = deposit(Vec3(0.05 * tiled.W, top + 2 * dMax, 0), Vec3(5 * dMean / dt, 0, 0));
     const Run flyRun = advanceSteps(fly, dt, 10, "deposit+fly");
     // the same grain shot down into the bed at 20 d per step
-    System hit = deposit(Vec3(0.5*tiled.W, top + 30*dMax, 0), Vec3(0, -20*dMean/dt, 0));
+    System hit = deposit(Vec3(0.5 * tiled.W, top + 30 * dMax, 0), Vec3(0, -20 * dMean / dt, 0));
     const Run hitRun = advanceSteps(hit, dt, 10, "deposit+impact");
 
     std::FILE* f = std::fopen(argv[2], "w");
-    if (!f) { std::fprintf(stderr, "cannot write %s\n", argv[2]); return 1; }
-    std::fprintf(f, "{\n  \"benchmark\": \"nscdSubsteps\",\n  \"grains_deposit\": %zu,\n", tiled.x.size() + 1);
+    if (!f)
+    {
+        std::fprintf(stderr, "cannot write %s\n", argv[2]);
+        return 1;
+    }
+    std::fprintf(f, "{\n  \"benchmark\": \"nscdSubsteps\",\n  \"grains_deposit\": %zu,\n",
+                 tiled.x.size() + 1);
     std::fprintf(f, "  \"machine\": \"%s\",\n", machineNote().c_str());
     write(f, "block_settling_500", block, hBlock, false);
     write(f, "deposit_alone", aloneRun, dt, false);

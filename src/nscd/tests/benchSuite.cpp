@@ -35,13 +35,16 @@ using namespace nscd;
 
 namespace nscdBench
 {
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+double now()
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 double cpu()
 {
     timespec ts{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return ts.tv_sec + 1e-9*ts.tv_nsec;
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 double median(std::vector<double> v)
@@ -49,7 +52,7 @@ double median(std::vector<double> v)
     if (v.empty()) return 0;
     std::sort(v.begin(), v.end());
     const size_t n = v.size();
-    return n % 2 ? v[n/2] : 0.5*(v[n/2 - 1] + v[n/2]);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 std::string jsonList(const std::vector<double>& v)
@@ -61,8 +64,12 @@ std::string jsonList(const std::vector<double>& v)
     return o.str();
 }
 
-double peakRssMb() { rusage ru{}; getrusage(RUSAGE_SELF, &ru); return ru.ru_maxrss/1024.0; }
-
+double peakRssMb()
+{
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    return ru.ru_maxrss / 1024.0;
+}
 
 System makeSystem(const Bed& b, double mu)
 {
@@ -72,7 +79,11 @@ System makeSystem(const Bed& b, double mu)
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
     s.addPlane(Vec3(b.W, 0, 0), Vec3(-1, 0, 0));
-    if (b.dim == 3) { s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1)); s.addPlane(Vec3(0, 0, b.D), Vec3(0, 0, -1)); }
+    if (b.dim == 3)
+    {
+        s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1));
+        s.addPlane(Vec3(0, 0, b.D), Vec3(0, 0, -1));
+    }
     s.setGravity(Vec3(0, -g, 0));
     // NSCD_SKIN: Settings::verletSkin (timing the Verlet list against the grid scan)
     if (const char* sk = std::getenv("NSCD_SKIN")) s.settings().verletSkin = std::atof(sk);
@@ -100,9 +111,9 @@ Bed lattice(int dim, int n, int ncol, unsigned seed)
     b.dim = dim;
     std::mt19937 gen(seed);
     std::uniform_real_distribution<double> D(dMin, dMax);
-    const double s = dMax*(1 + 1e-6);
-    b.W = ncol*s;
-    b.D = dim == 3 ? ncol*s : 0;
+    const double s = dMax * (1 + 1e-6);
+    b.W = ncol * s;
+    b.D = dim == 3 ? ncol * s : 0;
     std::vector<int> prev1, prev2, cur;
     for (int layer = 0; int(b.x.size()) < n; ++layer)
     {
@@ -110,25 +121,25 @@ Bed lattice(int dim, int n, int ncol, unsigned seed)
         cur.clear();
         auto place = [&](double px, double pz)
         {
-            const double r = 0.5*D(gen);
-            double y = r*(1 + 1e-9);
+            const double r = 0.5 * D(gen);
+            double y = r * (1 + 1e-9);
             for (const std::vector<int>* L : {&prev1, &prev2})
                 for (int j : *L)
                 {
                     const double dx = px - b.x[j].x(), dz = pz - b.x[j].z();
-                    const double h2 = dx*dx + dz*dz, rr = (r + b.r[j])*(1 + 1e-9);
-                    if (h2 < rr*rr) y = std::max(y, b.x[j].y() + std::sqrt(rr*rr - h2));
+                    const double h2 = dx * dx + dz * dz, rr = (r + b.r[j]) * (1 + 1e-9);
+                    if (h2 < rr * rr) y = std::max(y, b.x[j].y() + std::sqrt(rr * rr - h2));
                 }
             cur.push_back(int(b.x.size()));
             b.x.emplace_back(px, y, pz);
             b.r.push_back(r);
         };
         if (dim == 2)
-            for (int a = 0; a < ncol - odd && int(b.x.size()) < n; ++a) place(s*(a + 0.5 + 0.5*odd), 0.0);
+            for (int a = 0; a < ncol - odd && int(b.x.size()) < n; ++a) place(s * (a + 0.5 + 0.5 * odd), 0.0);
         else
             for (int c = 0; c < ncol - odd && int(b.x.size()) < n; ++c)
                 for (int a = 0; a < ncol - odd && int(b.x.size()) < n; ++a)
-                    place(s*(a + 0.5 + 0.5*odd), s*(c + 0.5 + 0.5*odd));
+                    place(s * (a + 0.5 + 0.5 * odd), s * (c + 0.5 + 0.5 * odd));
         prev2 = prev1;
         prev1 = cur;
     }
@@ -148,15 +159,15 @@ Bed tile(const Bed& b, int nx, int nz)
 {
     Bed t;
     t.dim = b.dim;
-    t.W = nx*b.W;
-    t.D = b.dim == 3 ? nz*b.D : 0;
+    t.W = nx * b.W;
+    t.D = b.dim == 3 ? nz * b.D : 0;
     for (int a = 0; a < nx; ++a)
         for (int c = 0; c < (b.dim == 3 ? nz : 1); ++c)
             for (std::size_t i = 0; i < b.x.size(); ++i)
             {
                 Vec3 p = b.x[i];
-                p.x() = (a % 2) ? (a + 1)*b.W - p.x() : a*b.W + p.x();
-                if (b.dim == 3) p.z() = (c % 2) ? (c + 1)*b.D - p.z() : c*b.D + p.z();
+                p.x() = (a % 2) ? (a + 1) * b.W - p.x() : a * b.W + p.x();
+                if (b.dim == 3) p.z() = (c % 2) ? (c + 1) * b.D - p.z() : c * b.D + p.z();
                 t.x.push_back(p);
                 t.r.push_back(b.r[i]);
             }
@@ -177,17 +188,31 @@ std::vector<System::ContactView> tileContacts(const System& blk, int nx, int nz)
     for (int a = 0; a < nx; ++a)
         for (int c = 0; c < nzz; ++c)
         {
-            const int off = (a*nzz + c)*nb;
-            auto M = [&](Vec3 v) { if (a % 2) v.x() = -v.x(); if (c % 2) v.z() = -v.z(); return v; };
+            const int off = (a * nzz + c) * nb;
+            auto M = [&](Vec3 v)
+            {
+                if (a % 2) v.x() = -v.x();
+                if (c % 2) v.z() = -v.z();
+                return v;
+            };
             for (const auto& v : views)
             {
                 System::ContactView t = v;
                 t.normal = M(v.normal);
                 t.impulse = M(v.impulse);
                 t.i = v.i + off;
-                if (v.j >= 0) { t.j = v.j + off; out.push_back(t); continue; }
+                if (v.j >= 0)
+                {
+                    t.j = v.j + off;
+                    out.push_back(t);
+                    continue;
+                }
                 const int w = -v.j - 1;
-                if (w == 0) { out.push_back(t); continue; }
+                if (w == 0)
+                {
+                    out.push_back(t);
+                    continue;
+                }
                 // side wall: which side of the tile, box wall or seam
                 const bool xw = w <= 2;
                 const int idx = xw ? a : c, n = xw ? nx : nzz;
@@ -200,7 +225,7 @@ std::vector<System::ContactView> tileContacts(const System& blk, int nx, int nz)
                 }
                 else if (nbIdx > idx)
                 {
-                    const int offB = xw ? (nbIdx*nzz + c)*nb : (a*nzz + nbIdx)*nb;
+                    const int offB = xw ? (nbIdx * nzz + c) * nb : (a * nzz + nbIdx) * nb;
                     t.j = v.i + offB;
                     out.push_back(t);
                 }
@@ -234,8 +259,10 @@ SettleResult settle(System& s, int maxSteps, const char* tag)
         builds += r.verletBuilds;
         R.steps = k + 1;
         const double v = vmax(s);
-        calm = v < (phase == 1 ? 1.0 : 0.1)*g*dt ? calm + 1 : 0;
-        if (k % 100 == 0) std::fprintf(stderr, "  [%s] settle step %d contacts %d sweeps %d vmax %.2e\n", tag, k, r.contacts, r.sweeps, v);
+        calm = v < (phase == 1 ? 1.0 : 0.1) * g * dt ? calm + 1 : 0;
+        if (k % 100 == 0)
+            std::fprintf(stderr, "  [%s] settle step %d contacts %d sweeps %d vmax %.2e\n", tag, k,
+                         r.contacts, r.sweeps, v);
         if (phase == 1 && calm >= 20)
         {
             phase = 2;
@@ -244,15 +271,21 @@ SettleResult settle(System& s, int maxSteps, const char* tag)
             s.settings() = keep;
             s.settings().maxIterations = 1000;
         }
-        else if (phase == 2 && calm >= 50) { R.rest = true; break; }
+        else if (phase == 2 && calm >= 50)
+        {
+            R.rest = true;
+            break;
+        }
     }
     s.settings() = keep;
     R.seconds = now() - t0;
     R.cpuSeconds = cpu() - c0;
-    R.sweeps = double(sw)/R.steps;
+    R.sweeps = double(sw) / R.steps;
     R.vmaxEnd = vmax(s);
-    std::fprintf(stderr, "  [%s] settled: %d steps (%d coarse), %.1f s (CPU %.2f s), %.1f sweeps/step, rest %d, "
-                 "%d Verlet list builds\n", tag, R.steps, R.coarseSteps, R.seconds, R.cpuSeconds, R.sweeps, int(R.rest), builds);
+    std::fprintf(stderr,
+                 "  [%s] settled: %d steps (%d coarse), %.1f s (CPU %.2f s), %.1f sweeps/step, rest %d, "
+                 "%d Verlet list builds\n",
+                 tag, R.steps, R.coarseSteps, R.seconds, R.cpuSeconds, R.sweeps, int(R.rest), builds);
     return R;
 }
 
@@ -260,7 +293,7 @@ struct Timed
 {
     int grains = 0, contacts = 0, relaxSteps = 0, timedSteps = 0;
     double relaxSeconds = 0, spsMedian = 0, spsMin = 0, spsMax = 0, sweepsMedian = 0, detectMedian = 0;
-    double cpuMedian = 0;  ///< thread CPU seconds per step (median)
+    double cpuMedian = 0; ///< thread CPU seconds per step (median)
     double maxOverlapOverR = 0, vmaxEnd = 0, maxDispOverD = 0;
     bool converged = true;
     bool budgetHit = false;
@@ -271,18 +304,23 @@ struct Timed
 Timed relaxAndTime(System& s, int relax, int timed, const char* tag, double budget = 300)
 {
     Timed T;
-    s.settings().maxIterations = 1000;  // production setting (README)
+    s.settings().maxIterations = 1000; // production setting (README)
     T.grains = int(s.size());
     const int keepMax = s.settings().maxIterations;
     const double t0 = now();
     for (int k = 0; k < relax; ++k)
     {
-        s.settings().maxIterations = k < relax/4 ? 1000 : keepMax;
+        s.settings().maxIterations = k < relax / 4 ? 1000 : keepMax;
         const StepReport r = s.step(dt);
         if (k % 50 == 0 || k == relax - 1)
-            std::fprintf(stderr, "  [%s] relax step %d contacts %d sweeps %d vmax %.2e\n", tag, k, r.contacts, r.sweeps, vmax(s));
+            std::fprintf(stderr, "  [%s] relax step %d contacts %d sweeps %d vmax %.2e\n", tag, k, r.contacts,
+                         r.sweeps, vmax(s));
         T.relaxSteps = k + 1;
-        if (now() - t0 > budget) { T.budgetHit = true; break; }  // keep the whole run bounded
+        if (now() - t0 > budget)
+        {
+            T.budgetHit = true;
+            break;
+        } // keep the whole run bounded
     }
     s.settings().maxIterations = keepMax;
     T.relaxSeconds = now() - t0;
@@ -298,9 +336,13 @@ Timed relaxAndTime(System& s, int relax, int timed, const char* tag, double budg
         det.push_back(r.detectSeconds);
         T.contacts = r.contacts;
         T.timedSteps = k + 1;
-        T.maxOverlapOverR = std::max(T.maxOverlapOverR, r.maxOverlap/(0.5*dMin));
+        T.maxOverlapOverR = std::max(T.maxOverlapOverR, r.maxOverlap / (0.5 * dMin));
         T.converged = T.converged && r.converged;
-        if (now() - t0 > 2*budget && k >= 4) { T.budgetHit = true; break; }
+        if (now() - t0 > 2 * budget && k >= 4)
+        {
+            T.budgetHit = true;
+            break;
+        }
     }
     T.spsMedian = median(t);
     T.cpuMedian = median(tc);
@@ -309,8 +351,10 @@ Timed relaxAndTime(System& s, int relax, int timed, const char* tag, double budg
     T.sweepsMedian = median(sw);
     T.detectMedian = median(det);
     T.vmaxEnd = vmax(s);
-    for (std::size_t i = 0; i < s.size(); ++i) T.maxDispOverD = std::max(T.maxDispOverD, (s.positions()[i] - x0[i]).norm()/dMean);
-    std::fprintf(stderr, "  [%s] %d grains: %.4f s/step median (CPU %.4f), %.1f sweeps/step, %d contacts\n", tag, T.grains, T.spsMedian, T.cpuMedian, T.sweepsMedian, T.contacts);
+    for (std::size_t i = 0; i < s.size(); ++i)
+        T.maxDispOverD = std::max(T.maxDispOverD, (s.positions()[i] - x0[i]).norm() / dMean);
+    std::fprintf(stderr, "  [%s] %d grains: %.4f s/step median (CPU %.4f), %.1f sweeps/step, %d contacts\n",
+                 tag, T.grains, T.spsMedian, T.cpuMedian, T.sweepsMedian, T.contacts);
     return T;
 }
 
@@ -340,9 +384,12 @@ std::string timedJson(const Timed& T, const std::string& indent)
 std::string scalingJson(const Timed& T)
 {
     std::ostringstream o;
-    o << "{\"grains\": " << T.grains << ", \"contacts\": " << T.contacts << ", \"seconds_per_step_median\": " << T.spsMedian
-      << ", \"cpu_seconds_per_step_median\": " << T.cpuMedian << ", \"sweeps_per_step_median\": " << T.sweepsMedian
-      << ", \"cpu_ns_per_contact_sweep\": " << 1e9*T.cpuMedian/std::max(1.0, T.sweepsMedian*T.contacts) << "}";
+    o << "{\"grains\": " << T.grains << ", \"contacts\": " << T.contacts
+      << ", \"seconds_per_step_median\": " << T.spsMedian
+      << ", \"cpu_seconds_per_step_median\": " << T.cpuMedian
+      << ", \"sweeps_per_step_median\": " << T.sweepsMedian
+      << ", \"cpu_ns_per_contact_sweep\": " << 1e9 * T.cpuMedian / std::max(1.0, T.sweepsMedian * T.contacts)
+      << "}";
     return o.str();
 }
 
@@ -351,16 +398,21 @@ std::string machineNote()
     std::ifstream f("/proc/cpuinfo");
     std::string line, model = "unknown CPU";
     while (std::getline(f, line))
-        if (line.rfind("model name", 0) == 0) { model = line.substr(line.find(':') + 2); break; }
+        if (line.rfind("model name", 0) == 0)
+        {
+            model = line.substr(line.find(':') + 2);
+            break;
+        }
     std::ostringstream o;
-    o << model << ", 1 core (single-threaded, pinned with taskset when available; machine shared with other jobs), "
+    o << model
+      << ", 1 core (single-threaded, pinned with taskset when available; machine shared with other jobs), "
 #ifdef __GNUC__
       << "GCC " << __GNUC__ << "." << __GNUC_MINOR__
 #endif
       << " -O3";
     return o.str();
 }
-}
+} // namespace nscdBench
 
 using namespace nscdBench;
 
@@ -376,7 +428,7 @@ std::string methodName(const System::Settings& S)
     const double w = S.relaxation == 1.0 ? System::Settings::defaultOverRelaxation : S.relaxation;
     return "overRelaxedNLGS (relaxation " + std::to_string(w).substr(0, 4) + ")";
 }
-}
+} // namespace
 
 namespace
 {
@@ -396,13 +448,13 @@ struct SuitePlan
 /// What the suite measured, written to the JSON file by writeSuiteJson.
 struct SuiteResults
 {
-    SettleResult S, S0, S3;      ///< settling of the 2D block (mu = 0.4, mu = 0) and of the 3D block
-    Bed block;                   ///< the settled 2D block (mu = 0.4)
-    std::size_t grains3 = 0;     ///< spheres of the 3D block
-    Timed big, big0, t3;         ///< the 70,000-disc beds (mu = 0.4, mu = 0) and the 3D bed
-    std::vector<Timed> scaling;  ///< the 5,000- and 20,000-disc beds
-    double rssAfterBig = 0;      ///< process peak RSS after the 70,000-disc mu = 0.4 bed [MB]
-    double total = 0;            ///< wall seconds of the whole suite
+    SettleResult S, S0, S3;     ///< settling of the 2D block (mu = 0.4, mu = 0) and of the 3D block
+    Bed block;                  ///< the settled 2D block (mu = 0.4)
+    std::size_t grains3 = 0;    ///< spheres of the 3D block
+    Timed big, big0, t3;        ///< the 70,000-disc beds (mu = 0.4, mu = 0) and the 3D bed
+    std::vector<Timed> scaling; ///< the 5,000- and 20,000-disc beds
+    double rssAfterBig = 0;     ///< process peak RSS after the 70,000-disc mu = 0.4 bed [MB]
+    double total = 0;           ///< wall seconds of the whole suite
 };
 
 /// 2D: the blocks settled (mu = 0.4 and 0), the 70,000-disc beds and the scaling beds timed.
@@ -437,8 +489,8 @@ void runSuite2D(const SuitePlan& P, SuiteResults& R)
     // ---- scaling ----
     for (int nt : {10, 40})
     {
-        System s = makeSystem(tile(R.block, P.quick ? nt/10 : nt, 1), 0.4);
-        s.setContactImpulses(tileContacts(blk, P.quick ? nt/10 : nt, 1), dt);
+        System s = makeSystem(tile(R.block, P.quick ? nt / 10 : nt, 1), 0.4);
+        s.setContactImpulses(tileContacts(blk, P.quick ? nt / 10 : nt, 1), dt);
         R.scaling.push_back(relaxAndTime(s, P.relax, P.timed, "2D scaling"));
     }
 }
@@ -461,7 +513,8 @@ void runSuite3D(const SuitePlan& P, SuiteResults& R)
 void writeBedsJson(std::ostream& o, const SuitePlan& P, const SuiteResults& R)
 {
     double bedHeight = 0;
-    for (std::size_t i = 0; i < R.block.x.size(); ++i) bedHeight = std::max(bedHeight, R.block.x[i].y() + R.block.r[i]);
+    for (std::size_t i = 0; i < R.block.x.size(); ++i)
+        bedHeight = std::max(bedHeight, R.block.x[i].y() + R.block.r[i]);
     o << "{\n"
       << "  \"benchmark\": \"nscdDeposit\",\n"
       << "  \"wall_seconds_total\": " << R.total << ",\n"
@@ -471,56 +524,113 @@ void writeBedsJson(std::ostream& o, const SuitePlan& P, const SuiteResults& R)
       << "  \"grains\": " << R.big.grains << ",\n"
       << "  \"cells\": 0,\n"
       << "  \"target_seconds_per_step\": 0.04,\n"
-      << "  \"target_note\": \"issue 26: <= 0.04 s/step (was 0.1); target_met on the CPU time, the machine being shared\",\n"
+      << "  \"target_note\": \"issue 26: <= 0.04 s/step (was 0.1); target_met on the CPU time, the machine "
+         "being shared\",\n"
       << "  \"target_met\": " << (R.big.cpuMedian <= 0.04 ? "true" : "false") << ",\n"
       << "  \"peak_rss_mb\": " << R.rssAfterBig << ",\n"
-      << "  \"peak_rss_mb_note\": \"process peak RSS after the 70,000-disc mu = 0.4 case (block settling included)\",\n"
+      << "  \"peak_rss_mb_note\": \"process peak RSS after the 70,000-disc mu = 0.4 case (block settling "
+         "included)\",\n"
       << "  \"machine\": \"" << machineNote() << "\",\n"
-      << "  \"parameters\": {\"d_mean_m\": " << dMean << ", \"d_min_m\": " << dMin << ", \"d_max_m\": " << dMax
-      << ", \"lambda\": " << lambda << ", \"diameter_distribution\": \"uniform in [d_min, d_max]\", \"density\": " << rho
-      << ", \"dt\": " << dt << ", \"gravity\": " << g << ", \"friction\": 0.4, \"tolerance_over_dmin\": 1e-6, \"max_iterations_sweeps\": 1000, \"overlap_slop_over_rmin\": 1e-4, \"ordering\": \"Fifo\", \"method\": \"" << methodName(System::Settings{}) << "\"},\n"
+      << "  \"parameters\": {\"d_mean_m\": " << dMean << ", \"d_min_m\": " << dMin
+      << ", \"d_max_m\": " << dMax << ", \"lambda\": " << lambda
+      << ", \"diameter_distribution\": \"uniform in [d_min, d_max]\", \"density\": " << rho
+      << ", \"dt\": " << dt << ", \"gravity\": " << g
+      << ", \"friction\": 0.4, \"tolerance_over_dmin\": 1e-6, \"max_iterations_sweeps\": 1000, "
+         "\"overlap_slop_over_rmin\": 1e-4, \"ordering\": \"Fifo\", \"method\": \""
+      << methodName(System::Settings{}) << "\"},\n"
       << "  \"setup\": \"Mirror tiling of a settled block. A block of " << P.blockN << " discs (" << P.ncol
-      << " columns of a hexagonal lattice of spacing d_max, ~" << P.blockN/P.ncol << " rows, each disc lowered onto the discs below it: a dense layered construction; between two side walls and a floor) is settled to rest "
-      << "(see settling); " << P.nBig << " copies of the settled block are laid side by side, every other one mirrored about the former side wall, so that grains that touched "
-      << "the (frictionless while settling) side wall now touch their mirror images: an exact equilibrium. The tiled bed (box " << P.nBig*P.ncol << " d_max = " << 1e3*R.block.W*P.nBig << " mm wide, bed "
-      << 1e3*bedHeight << " mm high) is relaxed " << P.relax << " steps (warm-started from the block's contact impulses, mapped onto the copies: System::setContactImpulses; the first quarter capped at 1000 sweeps/step), "
-      << "then " << P.timed << " steps are timed; the median wall seconds per step over these steps is reported. The frictionless case uses a block settled with mu = 0.\",\n"
+      << " columns of a hexagonal lattice of spacing d_max, ~" << P.blockN / P.ncol
+      << " rows, each disc lowered onto the discs below it: a dense layered construction; between two side "
+         "walls and a floor) is settled to rest "
+      << "(see settling); " << P.nBig
+      << " copies of the settled block are laid side by side, every other one mirrored about the former side "
+         "wall, so that grains that touched "
+      << "the (frictionless while settling) side wall now touch their mirror images: an exact equilibrium. "
+         "The tiled bed (box "
+      << P.nBig * P.ncol << " d_max = " << 1e3 * R.block.W * P.nBig << " mm wide, bed " << 1e3 * bedHeight
+      << " mm high) is relaxed " << P.relax
+      << " steps (warm-started from the block's contact impulses, mapped onto the copies: "
+         "System::setContactImpulses; the first quarter capped at 1000 sweeps/step), "
+      << "then " << P.timed
+      << " steps are timed; the median wall seconds per step over these steps is reported. The frictionless "
+         "case uses a block settled with mu = 0.\",\n"
       << "  \"timed_steps\": " << P.timed << ",\n"
-      << "  \"mu_0_4\": {\n" << timedJson(R.big, "    ") << "\n  },\n"
-      << "  \"frictionless\": {\n" << timedJson(R.big0, "    ") << ",\n"
-      << "    \"note\": \"not a bed at rest: frictionless polydisperse discs keep rearranging (the mu = 0 block did not reach max |v| < g dt/10 within "
-      << P.maxSettle << " steps; max |v| at the end of timing " << R.big0.vmaxEnd << " m/s), so these are the figures of a slowly creeping bed, "
-      << "with hundreds of sweeps per step; only " << R.big0.relaxSteps << " + " << R.big0.timedSteps << " steps to keep the run bounded\"\n  },\n";
+      << "  \"mu_0_4\": {\n"
+      << timedJson(R.big, "    ") << "\n  },\n"
+      << "  \"frictionless\": {\n"
+      << timedJson(R.big0, "    ") << ",\n"
+      << "    \"note\": \"not a bed at rest: frictionless polydisperse discs keep rearranging (the mu = 0 "
+         "block did not reach max |v| < g dt/10 within "
+      << P.maxSettle << " steps; max |v| at the end of timing " << R.big0.vmaxEnd
+      << " m/s), so these are the figures of a slowly creeping bed, "
+      << "with hundreds of sweeps per step; only " << R.big0.relaxSteps << " + " << R.big0.timedSteps
+      << " steps to keep the run bounded\"\n  },\n";
 }
 
 /// JSON, second part: settling, scaling, the 3D bed and the profiles.
 void writeSettlingScalingJson(std::ostream& o, const SuitePlan& P, const SuiteResults& R)
 {
     o << "  \"settling\": {\n"
-      << "    \"what\": \"one " << P.blockN << "-disc block (" << P.ncol << " discs wide, full bed height) from the layered construction (hexagonal lattice columns of spacing d_max, each disc lowered onto the discs below) to rest with the measured settings (tolerance 1e-6 d_min, at most 1000 sweeps/step): until max |v| < g dt for 20 steps, then until max |v| < g dt/10 for 50 consecutive steps; mu = 0.4; the 70,000-disc bed is made of " << P.nBig << " such blocks\",\n"
-      << "    \"grains\": " << P.blockN << ",\n    \"steps\": " << R.S.steps << ",\n    \"wall_seconds\": " << R.S.seconds << ",\n    \"cpu_seconds\": " << R.S.cpuSeconds
-      << ",\n    \"steps_to_vmax_below_g_dt\": " << R.S.coarseSteps << ",\n    \"sweeps_per_step_mean\": " << R.S.sweeps << ",\n    \"reached_rest\": " << (R.S.rest ? "true" : "false")
-      << ",\n    \"frictionless\": {\"steps\": " << R.S0.steps << ", \"steps_to_vmax_below_g_dt\": " << R.S0.coarseSteps << ", \"wall_seconds\": " << R.S0.seconds << ", \"sweeps_per_step_mean\": " << R.S0.sweeps
+      << "    \"what\": \"one " << P.blockN << "-disc block (" << P.ncol
+      << " discs wide, full bed height) from the layered construction (hexagonal lattice columns of spacing "
+         "d_max, each disc lowered onto the discs below) to rest with the measured settings (tolerance 1e-6 "
+         "d_min, at most 1000 sweeps/step): until max |v| < g dt for 20 steps, then until max |v| < g dt/10 "
+         "for 50 consecutive steps; mu = 0.4; the 70,000-disc bed is made of "
+      << P.nBig << " such blocks\",\n"
+      << "    \"grains\": " << P.blockN << ",\n    \"steps\": " << R.S.steps
+      << ",\n    \"wall_seconds\": " << R.S.seconds << ",\n    \"cpu_seconds\": " << R.S.cpuSeconds
+      << ",\n    \"steps_to_vmax_below_g_dt\": " << R.S.coarseSteps
+      << ",\n    \"sweeps_per_step_mean\": " << R.S.sweeps
+      << ",\n    \"reached_rest\": " << (R.S.rest ? "true" : "false")
+      << ",\n    \"frictionless\": {\"steps\": " << R.S0.steps
+      << ", \"steps_to_vmax_below_g_dt\": " << R.S0.coarseSteps << ", \"wall_seconds\": " << R.S0.seconds
+      << ", \"sweeps_per_step_mean\": " << R.S0.sweeps
       << ", \"reached_rest\": " << (R.S0.rest ? "true" : "false") << "}\n  },\n"
       << "  \"scaling\": [\n";
-    for (std::size_t k = 0; k < R.scaling.size(); ++k)
-        o << "    " << scalingJson(R.scaling[k]) << ",\n";
+    for (std::size_t k = 0; k < R.scaling.size(); ++k) o << "    " << scalingJson(R.scaling[k]) << ",\n";
     o << "    " << scalingJson(R.big) << "\n  ],\n"
-      << "  \"scaling_note\": \"same bed (tiles of the same block), same settings; cpu_ns_per_contact_sweep = CPU time per step / (sweeps x contacts), the per-step passes over grains and contacts included: it grows with size at equal sweeps/step (cache effect: the 70,000-disc working set of bodies, solver rows and persistent contacts, ~60 MB, is far past the 2 MB L2)\",\n"
-      << "  \"profile_at_rest\": \"perf record of 60 steps of the 70,000-disc bed at rest (relaxed state: nscdBench reorder-case 140 tiled 100 290 with NSCD_DUMP, then reorder-case 140 tiled 100 60 with NSCD_LOAD), self samples by stage as a share of System::step and ms/step at 0.0457 CPU s/step: NLGS solve (main + relax stage) 53.5 % 24.5 ms, detection (grid, walls, fast grains) 18.6 % 8.5 ms, prepareContacts with warm start 10.5 % 4.8 ms, storeImpulses 5.2 % 2.4 ms, integrate 3.6 % 1.6 ms, freeVelocities 3.1 % 1.4 ms, relax stage passes 2.6 % 1.2 ms, buildAdjacency 1.4 % 0.7 ms, reach check 0.9 % 0.4 ms. Before the prefetching (same harness, 0.0634 CPU s/step): solve 62.8 % 39.8 ms, detection 15.4 % 9.7 ms, prepareContacts 10.0 % 6.3 ms, the rest as now. The solve waits on memory: the FIFO queue visits rows and bodies out of memory order after the first sweep; the queue now prefetches the row 16 and the bodies of the row 8 places ahead. With the Verlet list of candidate pairs (Settings::verletSkin 0.3, the default; same harness, perf of 60 steps): detection about 8 % of the step (listed pairs re-tested and contact records built 7.7 %, grid geometry 0.3 %) against 14.5 % with the grid scan every step (scan 11.4 %, walls 1.9 %, grid build 1.2 %)\",\n"
-      << "  \"3d\": {\n" << timedJson(R.t3, "    ") << ",\n"
-      << "    \"setup\": \"block of " << R.grains3 << " spheres (fcc square layers 10 x 10 of spacing d_max in a box, each sphere lowered onto the spheres below) settled for "
-      << R.S3.steps << " steps (" << R.S3.seconds << " s, " << R.S3.sweeps << " sweeps/step, max |v| < g dt/10 for 50 steps reached: " << (R.S3.rest ? "yes" : "no") << ", max |v| at the end " << R.S3.vmaxEnd << " m/s"
-      << "), tiled 2 x " << (P.quick ? 1 : 4) << " with mirroring in x and z, relaxed, timed as in 2D\"\n  },\n"
-      << "  \"profile\": \"perf record -g of the quick suite (settling + at-rest steps): 98 % of the samples in System::step with the Gauss-Seidel local solves inlined "
-      << "(solveOne2D inlined, 90 %; the 3D solve lambda 8 %), detection (uniform grid + walls) < 1 %, nothing else visible. At rest, detection is "
-      << R.big.detectMedian/std::max(R.big.spsMedian, 1e-30)*100 << " % of the 70,000-disc step (detect_seconds_per_step_median); the rest is "
-      << "sweeps_per_step_median x contacts local solves (~" << 1e9*(R.big.spsMedian - R.big.detectMedian)/std::max(1.0, R.big.sweepsMedian*R.big.contacts)
-      << " ns each, including queue handling) plus per-step O(N) passes (free velocity, adjacency, warm start, positions). The cost is set by the "
-      << "number of sweeps: a bed at rest with warm start needs a handful; settling and frictionless beds need hundreds (up to the 1000 cap).\"\n"
+      << "  \"scaling_note\": \"same bed (tiles of the same block), same settings; cpu_ns_per_contact_sweep "
+         "= CPU time per step / (sweeps x contacts), the per-step passes over grains and contacts included: "
+         "it grows with size at equal sweeps/step (cache effect: the 70,000-disc working set of bodies, "
+         "solver rows and persistent contacts, ~60 MB, is far past the 2 MB L2)\",\n"
+      << "  \"profile_at_rest\": \"perf record of 60 steps of the 70,000-disc bed at rest (relaxed state: "
+         "nscdBench reorder-case 140 tiled 100 290 with NSCD_DUMP, then reorder-case 140 tiled 100 60 with "
+         "NSCD_LOAD), self samples by stage as a share of System::step and ms/step at 0.0457 CPU s/step: "
+         "NLGS solve (main + relax stage) 53.5 % 24.5 ms, detection (grid, walls, fast grains) 18.6 % 8.5 "
+         "ms, prepareContacts with warm start 10.5 % 4.8 ms, storeImpulses 5.2 % 2.4 ms, integrate 3.6 % 1.6 "
+         "ms, freeVelocities 3.1 % 1.4 ms, relax stage passes 2.6 % 1.2 ms, buildAdjacency 1.4 % 0.7 ms, "
+         "reach check 0.9 % 0.4 ms. Before the prefetching (same harness, 0.0634 CPU s/step): solve 62.8 % "
+         "39.8 ms, detection 15.4 % 9.7 ms, prepareContacts 10.0 % 6.3 ms, the rest as now. The solve waits "
+         "on memory: the FIFO queue visits rows and bodies out of memory order after the first sweep; the "
+         "queue now prefetches the row 16 and the bodies of the row 8 places ahead. With the Verlet list of "
+         "candidate pairs (Settings::verletSkin 0.3, the default; same harness, perf of 60 steps): detection "
+         "about 8 % of the step (listed pairs re-tested and contact records built 7.7 %, grid geometry 0.3 "
+         "%) against 14.5 % with the grid scan every step (scan 11.4 %, walls 1.9 %, grid build 1.2 %)\",\n"
+      << "  \"3d\": {\n"
+      << timedJson(R.t3, "    ") << ",\n"
+      << "    \"setup\": \"block of " << R.grains3
+      << " spheres (fcc square layers 10 x 10 of spacing d_max in a box, each sphere lowered onto the "
+         "spheres below) settled for "
+      << R.S3.steps << " steps (" << R.S3.seconds << " s, " << R.S3.sweeps
+      << " sweeps/step, max |v| < g dt/10 for 50 steps reached: " << (R.S3.rest ? "yes" : "no")
+      << ", max |v| at the end " << R.S3.vmaxEnd << " m/s"
+      << "), tiled 2 x " << (P.quick ? 1 : 4)
+      << " with mirroring in x and z, relaxed, timed as in 2D\"\n  },\n"
+      << "  \"profile\": \"perf record -g of the quick suite (settling + at-rest steps): 98 % of the samples "
+         "in System::step with the Gauss-Seidel local solves inlined "
+      << "(solveOne2D inlined, 90 %; the 3D solve lambda 8 %), detection (uniform grid + walls) < 1 %, "
+         "nothing else visible. At rest, detection is "
+      << R.big.detectMedian / std::max(R.big.spsMedian, 1e-30) * 100
+      << " % of the 70,000-disc step (detect_seconds_per_step_median); the rest is "
+      << "sweeps_per_step_median x contacts local solves (~"
+      << 1e9 * (R.big.spsMedian - R.big.detectMedian) / std::max(1.0, R.big.sweepsMedian * R.big.contacts)
+      << " ns each, including queue handling) plus per-step O(N) passes (free velocity, adjacency, warm "
+         "start, positions). The cost is set by the "
+      << "number of sweeps: a bed at rest with warm start needs a handful; settling and frictionless beds "
+         "need hundreds (up to the 1000 cap).\"\n"
       << "}\n";
 }
-}
+} // namespace
 
 int runSuite(int argc, char** argv)
 {

@@ -22,12 +22,11 @@ System randomSet(int dim, int n, double L, unsigned seed)
     System s(dim);
     const int m = s.addMaterial({1000, 0.3});
     std::mt19937 gen(seed);
-    std::uniform_real_distribution<double> X(0, L), R(0.005, 0.03);  // polydisperse, ratio 6
-    for (int k = 0; k < n; ++k)
-        s.addGrain(Vec3(X(gen), X(gen), dim == 3 ? X(gen) : 0.0), R(gen), m);
+    std::uniform_real_distribution<double> X(0, L), R(0.005, 0.03); // polydisperse, ratio 6
+    for (int k = 0; k < n; ++k) s.addGrain(Vec3(X(gen), X(gen), dim == 3 ? X(gen) : 0.0), R(gen), m);
     return s;
 }
-}
+} // namespace
 
 // Reference: brute-force O(N^2) pair search with the same alert distance
 // (grains at rest: alert = alertMargin * r_min); sets must be identical.
@@ -38,7 +37,7 @@ TEST(BroadPhase, GridFindsEveryBruteForcePair)
         const int n = dim == 2 ? 1500 : 2000;
         System s = randomSet(dim, n, dim == 2 ? 1.0 : 0.4, 42 + dim);
         s.settings().alertMargin = 0.3;
-        s.settings().maxIterations = 1;  // only detection matters here
+        s.settings().maxIterations = 1; // only detection matters here
         // overlaps of the random set only held (no push-out velocity: no grain
         // leaves its reach, so the detection is not repeated with larger ones)
         s.settings().overlapSlop = 1e6;
@@ -46,7 +45,7 @@ TEST(BroadPhase, GridFindsEveryBruteForcePair)
         const auto& r = s.radii();
         double rmin = 1e9;
         for (double a : r) rmin = std::min(rmin, a);
-        const double alert = s.settings().alertMargin*rmin;
+        const double alert = s.settings().alertMargin * rmin;
         std::set<std::pair<int, int>> brute;
         for (int i = 0; i < n; ++i)
             for (int j = i + 1; j < n; ++j)
@@ -84,25 +83,25 @@ TEST(BroadPhase, FastGrainsFindEveryBruteForcePair)
                 const int i = int(gen() % n);
                 // 2 to 20 mean diameters per step, random direction
                 Vec3 v(G(gen), G(gen), dim == 3 ? G(gen) : 0.0);
-                v *= (0.035 + 0.3*(k % 10)/9.0)/(dt*v.norm());
+                v *= (0.035 + 0.3 * (k % 10) / 9.0) / (dt * v.norm());
                 s.velocities()[i] = v;
             }
             // two fast grains side by side outside the bed's box (fast-fast pair
             // of grains outside the grid)
             const double L = dim == 2 ? 1.0 : 0.4;
-            s.velocities()[s.addGrain(Vec3(-0.2*L, 0.5*L, 0), 0.01, 0)] = Vec3(0, 0.07/dt, 0);
-            s.velocities()[s.addGrain(Vec3(-0.2*L + 0.05, 0.5*L, 0), 0.01, 0)] = Vec3(0, -0.07/dt, 0);
+            s.velocities()[s.addGrain(Vec3(-0.2 * L, 0.5 * L, 0), 0.01, 0)] = Vec3(0, 0.07 / dt, 0);
+            s.velocities()[s.addGrain(Vec3(-0.2 * L + 0.05, 0.5 * L, 0), 0.01, 0)] = Vec3(0, -0.07 / dt, 0);
             const int n2 = int(s.size());
             const auto x = s.positions();
             const auto v = s.velocities();
             const auto& r = s.radii();
             double rmin = 1e9;
             for (double a : r) rmin = std::min(rmin, a);
-            const double af = s.settings().alertDistanceFactor, margin = s.settings().alertMargin*rmin;
+            const double af = s.settings().alertDistanceFactor, margin = s.settings().alertMargin * rmin;
             std::set<std::pair<int, int>> brute;
             for (int i = 0; i < n2; ++i)
                 for (int j = i + 1; j < n2; ++j)
-                    if ((x[i] - x[j]).norm() - r[i] - r[j] < af*dt*(v[i].norm() + v[j].norm()) + margin)
+                    if ((x[i] - x[j]).norm() - r[i] - r[j] < af * dt * (v[i].norm() + v[j].norm()) + margin)
                         brute.insert({i, j});
             const StepReport rep = s.step(dt);
             std::set<std::pair<int, int>> grid;
@@ -124,12 +123,13 @@ TEST(BroadPhase, BenchmarkGridVsCgalBoxIntersection)
     {
         const int n = 20000;
         const double phi = dim == 2 ? 0.5 : 0.3;
-        const double rm = 0.0175;  // mean radius
-        const double L = dim == 2 ? std::sqrt(n*3.14159*rm*rm*1.1/phi) : std::cbrt(n*4.19*rm*rm*rm*1.2/phi);
+        const double rm = 0.0175; // mean radius
+        const double L = dim == 2 ? std::sqrt(n * 3.14159 * rm * rm * 1.1 / phi)
+                                  : std::cbrt(n * 4.19 * rm * rm * rm * 1.2 / phi);
         System s = randomSet(dim, n, L, 7);
         s.settings().alertMargin = 0.05;
         s.settings().maxIterations = 1;
-        s.settings().overlapSlop = 1e6;  // no push-out, no re-detection
+        s.settings().overlapSlop = 1e6; // no push-out, no re-detection
         double grid = 1e9;
         for (int k = 0; k < 3; ++k)
         {
@@ -139,7 +139,7 @@ TEST(BroadPhase, BenchmarkGridVsCgalBoxIntersection)
         }
         const auto& x = s.positions();
         const auto& r = s.radii();
-        const double alert = 0.05*0.005;
+        const double alert = 0.05 * 0.005;
         double cgal = 1e9;
         std::size_t pairs = 0;
         for (int k = 0; k < 3; ++k)
@@ -148,43 +148,52 @@ TEST(BroadPhase, BenchmarkGridVsCgalBoxIntersection)
             pairs = 0;
             if (dim == 2)
             {
-                using Box = CGAL::Box_intersection_d::Box_with_handle_d<double, 2, int, CGAL::Box_intersection_d::ID_EXPLICIT>;
+                using Box =
+                    CGAL::Box_intersection_d::Box_with_handle_d<double, 2, int,
+                                                                CGAL::Box_intersection_d::ID_EXPLICIT>;
                 std::vector<Box> boxes;
                 boxes.reserve(n);
                 for (int i = 0; i < n; ++i)
                 {
-                    const double h = r[i] + 0.5*alert;
-                    boxes.emplace_back(CGAL::Bbox_2(x[i].x() - h, x[i].y() - h, x[i].x() + h, x[i].y() + h), i);
+                    const double h = r[i] + 0.5 * alert;
+                    boxes.emplace_back(CGAL::Bbox_2(x[i].x() - h, x[i].y() - h, x[i].x() + h, x[i].y() + h),
+                                       i);
                 }
-                CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b)
-                {
-                    const int i = a.handle(), j = b.handle();
-                    if ((x[i] - x[j]).norm() - r[i] - r[j] < alert) ++pairs;
-                });
+                CGAL::box_self_intersection_d(boxes.begin(), boxes.end(),
+                                              [&](const Box& a, const Box& b)
+                                              {
+                                                  const int i = a.handle(), j = b.handle();
+                                                  if ((x[i] - x[j]).norm() - r[i] - r[j] < alert) ++pairs;
+                                              });
             }
             else
             {
-                using Box = CGAL::Box_intersection_d::Box_with_handle_d<double, 3, int, CGAL::Box_intersection_d::ID_EXPLICIT>;
+                using Box =
+                    CGAL::Box_intersection_d::Box_with_handle_d<double, 3, int,
+                                                                CGAL::Box_intersection_d::ID_EXPLICIT>;
                 std::vector<Box> boxes;
                 boxes.reserve(n);
                 for (int i = 0; i < n; ++i)
                 {
-                    const double h = r[i] + 0.5*alert;
-                    boxes.emplace_back(CGAL::Bbox_3(x[i].x() - h, x[i].y() - h, x[i].z() - h,
-                                                    x[i].x() + h, x[i].y() + h, x[i].z() + h), i);
+                    const double h = r[i] + 0.5 * alert;
+                    boxes.emplace_back(CGAL::Bbox_3(x[i].x() - h, x[i].y() - h, x[i].z() - h, x[i].x() + h,
+                                                    x[i].y() + h, x[i].z() + h),
+                                       i);
                 }
-                CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b)
-                {
-                    const int i = a.handle(), j = b.handle();
-                    if ((x[i] - x[j]).norm() - r[i] - r[j] < alert) ++pairs;
-                });
+                CGAL::box_self_intersection_d(boxes.begin(), boxes.end(),
+                                              [&](const Box& a, const Box& b)
+                                              {
+                                                  const int i = a.handle(), j = b.handle();
+                                                  if ((x[i] - x[j]).norm() - r[i] - r[j] < alert) ++pairs;
+                                              });
             }
-            cgal = std::min(cgal, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            cgal =
+                std::min(cgal, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
-        std::cout << "[broad phase] dim " << dim << " n " << n << " pairs " << pairs
-                  << " grid " << grid*1e3 << " ms, CGAL box_intersection_d " << cgal*1e3 << " ms\n";
-        RecordProperty(dim == 2 ? "grid2D_ms" : "grid3D_ms", std::to_string(grid*1e3));
-        RecordProperty(dim == 2 ? "cgal2D_ms" : "cgal3D_ms", std::to_string(cgal*1e3));
+        std::cout << "[broad phase] dim " << dim << " n " << n << " pairs " << pairs << " grid " << grid * 1e3
+                  << " ms, CGAL box_intersection_d " << cgal * 1e3 << " ms\n";
+        RecordProperty(dim == 2 ? "grid2D_ms" : "grid3D_ms", std::to_string(grid * 1e3));
+        RecordProperty(dim == 2 ? "cgal2D_ms" : "cgal3D_ms", std::to_string(cgal * 1e3));
         EXPECT_GT(pairs, std::size_t(0));
     }
 }

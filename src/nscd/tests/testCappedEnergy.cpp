@@ -24,7 +24,8 @@ double kineticEnergy(const System& s, const std::vector<Vec3>& v)
 {
     double e = 0;
     for (std::size_t i = 0; i < s.size(); ++i)
-        e += 0.5*s.mass(i)*v[i].squaredNorm() + 0.5*s.inertia(i)*s.angularVelocities()[i].squaredNorm();
+        e += 0.5 * s.mass(i) * v[i].squaredNorm()
+             + 0.5 * s.inertia(i) * s.angularVelocities()[i].squaredNorm();
     return e;
 }
 
@@ -32,7 +33,7 @@ double kineticEnergy(const System& s, const std::vector<Vec3>& v)
 /// frictionless side walls (tolerance 1e-3, at most maxIt sweeps per step).
 System pouredColumn(int wide, int n, int maxIt, double mu)
 {
-    const double d = 1e-3, sp = 1.1*d, W = wide*sp;
+    const double d = 1e-3, sp = 1.1 * d, W = wide * sp;
     System s(2);
     const int m = s.addMaterial({2500, mu});
     s.settings().tolerance = 1e-3;
@@ -40,15 +41,15 @@ System pouredColumn(int wide, int n, int maxIt, double mu)
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(0, 1);
     for (int k = 0; k < n; ++k)
-        s.addGrain(Vec3((k % wide + 0.5)*sp + 0.04*d*(2*u(rng) - 1), (k/wide + 0.5)*sp, 0),
-                   0.5*d*(0.9 + 0.1*u(rng)), m);
+        s.addGrain(Vec3((k % wide + 0.5) * sp + 0.04 * d * (2 * u(rng) - 1), (k / wide + 0.5) * sp, 0),
+                   0.5 * d * (0.9 + 0.1 * u(rng)), m);
     s.addSegment(Vec3(0, 0, 0), Vec3(W, 0, 0));
     s.setWallFriction(s.addSegment(Vec3(0, 0, 0), Vec3(0, 1, 0)), 0.0);
     s.setWallFriction(s.addSegment(Vec3(W, 0, 0), Vec3(W, 1, 0)), 0.0);
     s.setGravity(Vec3(0, -g0, 0));
     return s;
 }
-}
+} // namespace
 
 // Single-file and 10-wide columns landing with 5 sweeps per step at most:
 // most solves stop at the cap. Every step: KE_after <= KE_free (1 + 1e-12),
@@ -66,22 +67,28 @@ TEST(CappedEnergy, CappedSolveNeverRaisesTheKineticEnergy)
         for (int k = 0; k < 400; ++k)
         {
             std::vector<Vec3> vf = s.velocities();
-            for (Vec3& v : vf) v.y() -= g0*dt;
+            for (Vec3& v : vf) v.y() -= g0 * dt;
             const double eFree = kineticEnergy(s, vf);
             const StepReport r = s.step(dt);
             const double eAfter = kineticEnergy(s, s.velocities());
-            ASSERT_LE(eAfter, eFree*(1 + 1e-12)) << wide << " wide, step " << k;
+            ASSERT_LE(eAfter, eFree * (1 + 1e-12)) << wide << " wide, step " << k;
             capped += !r.converged;
             limited += r.energyLimited;
-            if (r.energyLimited == 0) EXPECT_EQ(r.impulseScale, 1.0);
-            else { EXPECT_GE(r.impulseScale, 0.0); EXPECT_LT(r.impulseScale, 1.0); EXPECT_GT(r.energyRaise, 0.0); }
+            if (r.energyLimited == 0)
+                EXPECT_EQ(r.impulseScale, 1.0);
+            else
+            {
+                EXPECT_GE(r.impulseScale, 0.0);
+                EXPECT_LT(r.impulseScale, 1.0);
+                EXPECT_GT(r.energyRaise, 0.0);
+            }
         }
         EXPECT_GT(capped, 200) << wide << " wide";
         EXPECT_GT(limited, 0) << wide << " wide";
         // no grain faster than the free fall from the top of the lattice
         double vmax = 0;
         for (const Vec3& v : s.velocities()) vmax = std::max(vmax, v.norm());
-        EXPECT_LT(vmax, std::sqrt(2*g0*0.25)) << wide << " wide";
+        EXPECT_LT(vmax, std::sqrt(2 * g0 * 0.25)) << wide << " wide";
     }
 }
 

@@ -25,10 +25,10 @@ using namespace nscd;
 
 namespace
 {
-constexpr double r = 0.1;      // disc radius [m]
-constexpr double rho = 1000;   // [kg/m^3] -> m = rho pi r^2 [kg/m]
-constexpr double dt = 1e-3;    // [s]
-constexpr double Fc = 100;     // cohesion force [N/m]
+constexpr double r = 0.1;    // disc radius [m]
+constexpr double rho = 1000; // [kg/m^3] -> m = rho pi r^2 [kg/m]
+constexpr double dt = 1e-3;  // [s]
+constexpr double Fc = 100;   // cohesion force [N/m]
 
 /// Two touching free discs on the x axis (gap exactly 0), no gravity.
 System twoDiscs(int minAge)
@@ -50,7 +50,7 @@ void pull(System& s, double F)
     s.setExternalForce(1, Vec3(F, 0, 0));
 }
 
-double gapOf(const System& s) { return s.positions()[1].x() - s.positions()[0].x() - 2*r; }
+double gapOf(const System& s) { return s.positions()[1].x() - s.positions()[0].x() - 2 * r; }
 
 /// The contact between grains 0 and 1 of the last step (fails if absent).
 System::ContactView pairContact(const System& s)
@@ -60,12 +60,12 @@ System::ContactView pairContact(const System& s)
     ADD_FAILURE() << "no contact between grains 0 and 1";
     return {};
 }
-}
+} // namespace
 
 TEST(Cohesion, ContactAgeCountsClosedSteps)
 {
     System s = twoDiscs(5);
-    pull(s, -10);  // pressed: loaded contact
+    pull(s, -10); // pressed: loaded contact
     for (int k = 1; k <= 7; ++k)
     {
         s.step(dt);
@@ -74,7 +74,7 @@ TEST(Cohesion, ContactAgeCountsClosedSteps)
         // cohesion is available once the age at the step start (k - 1)
         // reaches cohesionMinAge, pressed or not
         EXPECT_EQ(c.cohesive, k - 1 >= 5);
-        EXPECT_GT(c.impulse.dot(c.normal), 0.0);  // pressed: repulsive
+        EXPECT_GT(c.impulse.dot(c.normal), 0.0); // pressed: repulsive
     }
     // unloaded but touching (gap 0 <= tolerance d_min): still closed
     pull(s, 0);
@@ -85,7 +85,7 @@ TEST(Cohesion, ContactAgeCountsClosedSteps)
 TEST(Cohesion, PulledApartBelowFcHoldsOnlyAfterMinAge)
 {
     const int N = 5;
-    const double F = 0.5*Fc;
+    const double F = 0.5 * Fc;
     for (const int K : {N, N - 1})
     {
         System s = twoDiscs(N);
@@ -103,10 +103,10 @@ TEST(Cohesion, PulledApartBelowFcHoldsOnlyAfterMinAge)
             // old enough: cohesive, the impulse balances the pull exactly
             EXPECT_TRUE(c.cohesive);
             EXPECT_EQ(rep.cohesiveContacts, 1);
-            EXPECT_NEAR(c.impulse.dot(c.normal), -F*dt, 1e-12*F*dt);
-            EXPECT_LT(s.velocities()[0].norm() + s.velocities()[1].norm(), 1e-12*F*dt/m);
+            EXPECT_NEAR(c.impulse.dot(c.normal), -F * dt, 1e-12 * F * dt);
+            EXPECT_LT(s.velocities()[0].norm() + s.velocities()[1].norm(), 1e-12 * F * dt / m);
             for (int k = 0; k < 200; ++k) s.step(dt);
-            EXPECT_LT(std::abs(gapOf(s)), 1e-12*r) << "K = " << K;
+            EXPECT_LT(std::abs(gapOf(s)), 1e-12 * r) << "K = " << K;
             EXPECT_EQ(pairContact(s).age, K + 201);
         }
         else
@@ -116,20 +116,20 @@ TEST(Cohesion, PulledApartBelowFcHoldsOnlyAfterMinAge)
             EXPECT_EQ(rep.cohesiveContacts, 0);
             EXPECT_NEAR(c.impulse.norm(), 0.0, 1e-15);
             const double du = s.velocities()[1].x() - s.velocities()[0].x();
-            EXPECT_NEAR(du, 2*F*dt/m, 1e-12*2*F*dt/m);
+            EXPECT_NEAR(du, 2 * F * dt / m, 1e-12 * 2 * F * dt / m);
             EXPECT_EQ(pairContact(s).age, 0);
             // ... and never closes again (within cohesionDistance it would be
             // caught if the age were the time spent within reach)
             for (int k = 1; k < 200; ++k) s.step(dt);
-            const double ref = 2*F*dt*dt/m*200*201/2;
-            EXPECT_NEAR(gapOf(s), ref, 1e-12*ref) << "K = " << K;
+            const double ref = 2 * F * dt * dt / m * 200 * 201 / 2;
+            EXPECT_NEAR(gapOf(s), ref, 1e-12 * ref) << "K = " << K;
         }
     }
 }
 
 TEST(Cohesion, AboveFcTheBondBreaks)
 {
-    const double F = 1.5*Fc;
+    const double F = 1.5 * Fc;
     // old contact, minAge 5: first step r_n = -F_c dt, then free flight
     {
         System s = twoDiscs(5);
@@ -140,14 +140,14 @@ TEST(Cohesion, AboveFcTheBondBreaks)
         s.step(dt);
         const auto c = pairContact(s);
         EXPECT_TRUE(c.cohesive);
-        EXPECT_NEAR(c.impulse.dot(c.normal), -Fc*dt, 1e-12*Fc*dt);
+        EXPECT_NEAR(c.impulse.dot(c.normal), -Fc * dt, 1e-12 * Fc * dt);
         const double du = s.velocities()[1].x() - s.velocities()[0].x();
-        EXPECT_NEAR(du, 2*(F - Fc)*dt/m, 1e-12*2*(F - Fc)*dt/m);
-        EXPECT_EQ(c.age, 0);  // open after the step: the bond is broken
+        EXPECT_NEAR(du, 2 * (F - Fc) * dt / m, 1e-12 * 2 * (F - Fc) * dt / m);
+        EXPECT_EQ(c.age, 0); // open after the step: the bond is broken
         s.step(dt);
         EXPECT_FALSE(pairContact(s).cohesive);
         const double du2 = s.velocities()[1].x() - s.velocities()[0].x();
-        EXPECT_NEAR(du2 - du, 2*F*dt/m, 1e-12*2*F*dt/m);
+        EXPECT_NEAR(du2 - du, 2 * F * dt / m, 1e-12 * 2 * F * dt / m);
     }
     // minAge 0: the cohesive force keeps acting while the gap is below
     // cohesionDistance r_min: relative acceleration 2 (F - F_c)/m
@@ -158,10 +158,10 @@ TEST(Cohesion, AboveFcTheBondBreaks)
         for (int k = 1; k <= 10; ++k)
         {
             s.step(dt);
-            ASSERT_LT(gapOf(s), s.settings().cohesionDistance*r);
+            ASSERT_LT(gapOf(s), s.settings().cohesionDistance * r);
             EXPECT_TRUE(pairContact(s).cohesive);
             const double du = s.velocities()[1].x() - s.velocities()[0].x();
-            EXPECT_NEAR(du, 2*(F - Fc)*dt/m*k, 1e-12*2*(F - Fc)*dt/m*k);
+            EXPECT_NEAR(du, 2 * (F - Fc) * dt / m * k, 1e-12 * 2 * (F - Fc) * dt / m * k);
         }
     }
 }
@@ -181,11 +181,11 @@ TEST(Cohesion, WallContactAgeAndHangingDisc)
         h.setGravity(Vec3(0, -9.81, 0));
         h.settings().tolerance = 1e-12;
         h.settings().cohesionMinAge = N;
-        const double W = h.mass(0)*9.81;
-        h.setCohesion([](int, int j) { return j == -1; }, 2*W);
+        const double W = h.mass(0) * 9.81;
+        h.setCohesion([](int, int j) { return j == -1; }, 2 * W);
         if (pressed)
         {
-            h.setExternalForce(0, Vec3(0, 2*W, 0));
+            h.setExternalForce(0, Vec3(0, 2 * W, 0));
             for (int k = 0; k < N; ++k) h.step(dt);
             h.setExternalForce(0, Vec3::Zero());
         }
@@ -198,12 +198,12 @@ TEST(Cohesion, WallContactAgeAndHangingDisc)
             EXPECT_TRUE(h.contacts()[0].cohesive);
             EXPECT_EQ(h.contacts()[0].age, N + 100);
             // the ceiling pulls the disc up with its weight (r_n = -W dt along n = -y)
-            EXPECT_NEAR(h.contacts()[0].impulse.y(), W*dt, 1e-12*W*dt);
+            EXPECT_NEAR(h.contacts()[0].impulse.y(), W * dt, 1e-12 * W * dt);
         }
         else
         {
             // free fall: y = -0.1 - g dt^2 k (k+1)/2
-            EXPECT_NEAR(h.positions()[0].y(), -0.1 - 9.81*dt*dt*100*101/2, 1e-12);
+            EXPECT_NEAR(h.positions()[0].y(), -0.1 - 9.81 * dt * dt * 100 * 101 / 2, 1e-12);
         }
     }
 }
@@ -218,7 +218,7 @@ TEST(Cohesion, AgeIndependentOfWarmStartAndCountsSubSteps)
         // (velocity change 10 m/s over the step of 1e-2 s)
         const int m = 0;
         const int fast = s.addGrain(Vec3(0, 10, 0), r, m);
-        s.setExternalForce(fast, Vec3(1000*s.mass(fast), 0, 0), Vec3::Zero());
+        s.setExternalForce(fast, Vec3(1000 * s.mass(fast), 0, 0), Vec3::Zero());
         pull(s, -10);
         int steps = 0;
         for (int k = 0; k < 3; ++k)
@@ -234,7 +234,7 @@ TEST(Cohesion, AgeIndependentOfWarmStartAndCountsSubSteps)
 TEST(Cohesion, AgeAndMinAgeSurviveHDF5Restart)
 {
     const int N = 6;
-    const double F = 0.5*Fc;
+    const double F = 0.5 * Fc;
     // reference: pressed N - 2 steps, written, read, then pressed 2 more
     // steps and pulled: cohesive (age N) exactly as without the restart
     System s = twoDiscs(N);
@@ -247,7 +247,7 @@ TEST(Cohesion, AgeAndMinAgeSurviveHDF5Restart)
     EXPECT_EQ(r2.settings().cohesionMinAge, N);
     ASSERT_EQ(r2.contacts().size(), s.contacts().size());
     EXPECT_EQ(r2.contacts()[0].age, N - 2);
-    r2.setCohesion([](int, int) { return true; }, Fc);  // the predicate is not saved
+    r2.setCohesion([](int, int) { return true; }, Fc); // the predicate is not saved
     for (System* t : {&s, &r2})
     {
         for (int k = 0; k < 2; ++k) t->step(dt);
@@ -257,7 +257,7 @@ TEST(Cohesion, AgeAndMinAgeSurviveHDF5Restart)
     EXPECT_EQ(r2.positions(), s.positions());
     EXPECT_EQ(r2.velocities(), s.velocities());
     EXPECT_TRUE(pairContact(r2).cohesive);
-    EXPECT_LT(std::abs(gapOf(r2)), 1e-12*r);
+    EXPECT_LT(std::abs(gapOf(r2)), 1e-12 * r);
     // seeding through setContactImpulses keeps the age
     auto views = s.contacts();
     System t = twoDiscs(N);
@@ -271,10 +271,21 @@ TEST(Cohesion, BadInputs)
     EXPECT_THROW(s.setCohesion([](int, int) { return true; }, -1.0), InputError);
     EXPECT_THROW(s.setCohesion([](int, int) { return true; }, std::nan("")), InputError);
     s.settings().cohesionMinAge = -1;
-    try { s.step(dt); FAIL(); }
-    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("cohesionMinAge"), std::string::npos); }
+    try
+    {
+        s.step(dt);
+        FAIL();
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("cohesionMinAge"), std::string::npos);
+    }
     s.settings().cohesionMinAge = 0;
     System::ContactView v{};
-    v.i = 0; v.j = 1; v.normal = Vec3(-1, 0, 0); v.impulse = Vec3::Zero(); v.age = -2;
+    v.i = 0;
+    v.j = 1;
+    v.normal = Vec3(-1, 0, 0);
+    v.impulse = Vec3::Zero();
+    v.age = -2;
     EXPECT_THROW(s.setContactImpulses({v}, dt), InputError);
 }

@@ -29,8 +29,8 @@ System shuffledBed(int n)
     std::iota(perm.begin(), perm.end(), 0);
     std::shuffle(perm.begin(), perm.end(), std::mt19937(11));
     for (int k : perm)
-        s.addGrain(Vec3(1.1e-3 + 2.2e-3*(k % 15) + 1.1e-3*((k/15) % 2), 1.1e-3 + 2.05e-3*(k/15), 0),
-                   1e-3*(0.9 + 0.02*(k % 5)), m);
+        s.addGrain(Vec3(1.1e-3 + 2.2e-3 * (k % 15) + 1.1e-3 * ((k / 15) % 2), 1.1e-3 + 2.05e-3 * (k / 15), 0),
+                   1e-3 * (0.9 + 0.02 * (k % 5)), m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -9.81, 0));
     s.settings().reorderInterval = 5;
@@ -49,7 +49,7 @@ void declareColumns(System& s, unsigned extra = 0)
 }
 
 /// Values of grain id g in the columns of declareColumns.
-double wetness(long g) { return 0.25*double(g) + 1e-3; }
+double wetness(long g) { return 0.25 * double(g) + 1e-3; }
 Vec3 slip(long g) { return Vec3(double(g), -double(g), 0.5); }
 
 void setValues(System& s)
@@ -65,8 +65,8 @@ void setValues(System& s)
         const long g = s.grainIds()[i];
         a[i] = wetness(g);
         b[i] = slip(g);
-        q[i] = Eigen::Quaterniond(Eigen::AngleAxisd(0.01*double(g), Vec3::UnitZ()));
-        c[i] = int(3*g + 1);
+        q[i] = Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * double(g), Vec3::UnitZ()));
+        c[i] = int(3 * g + 1);
         t[i] = 1000000000000L + g;
         d[i] = char(g % 2);
     }
@@ -87,9 +87,10 @@ void expectValues(const System& s, const std::string& where)
         const long g = s.grainIds()[i];
         ASSERT_EQ(a[i], wetness(g)) << where << ", grain " << i;
         ASSERT_EQ(b[i], slip(g)) << where << ", grain " << i;
-        ASSERT_EQ(q[i].coeffs(), Eigen::Quaterniond(Eigen::AngleAxisd(0.01*double(g), Vec3::UnitZ())).coeffs())
+        ASSERT_EQ(q[i].coeffs(),
+                  Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * double(g), Vec3::UnitZ())).coeffs())
             << where << ", grain " << i;
-        ASSERT_EQ(c[i], int(3*g + 1)) << where;
+        ASSERT_EQ(c[i], int(3 * g + 1)) << where;
         ASSERT_EQ(t[i], 1000000000000L + g) << where;
         ASSERT_EQ(d[i], char(g % 2)) << where;
     }
@@ -120,14 +121,23 @@ TEST(Columns, DeclaredColumnsTakeTheDefaultAndNameTheirErrors)
     EXPECT_EQ(s.temperatures()[2], 350.0);
     auto message = [&](auto f)
     {
-        try { f(); }
-        catch (const InputError& e) { return std::string(e.what()); }
+        try
+        {
+            f();
+        }
+        catch (const InputError& e)
+        {
+            return std::string(e.what());
+        }
         return std::string("no error");
     };
-    EXPECT_NE(message([&] { s.addColumn<int>("wetness", 0, 0); }).find("'wetness' declared twice"), std::string::npos);
-    EXPECT_NE(message([&] { s.addColumn<int>("positions", 0, 0); }).find("declared twice"), std::string::npos);
+    EXPECT_NE(message([&] { s.addColumn<int>("wetness", 0, 0); }).find("'wetness' declared twice"),
+              std::string::npos);
+    EXPECT_NE(message([&] { s.addColumn<int>("positions", 0, 0); }).find("declared twice"),
+              std::string::npos);
     EXPECT_NE(message([&] { s.column<double>("dryness"); }).find("no column 'dryness'"), std::string::npos);
-    EXPECT_NE(message([&] { s.column<int>("wetness"); }).find("holds double, asked as int"), std::string::npos);
+    EXPECT_NE(message([&] { s.column<int>("wetness"); }).find("holds double, asked as int"),
+              std::string::npos);
     EXPECT_THROW(s.addColumn<double>("", 0, 0.0), InputError);
 }
 
@@ -152,7 +162,7 @@ TEST(Columns, ValuesSurviveReordering)
     System s = shuffledBed(300);
     declareColumns(s);
     setValues(s);
-    for (int k = 0; k < 6; ++k) s.step(2e-4);  // reordered at step 1 and 6
+    for (int k = 0; k < 6; ++k) s.step(2e-4); // reordered at step 1 and 6
     const std::vector<std::size_t> oldOf = s.renumberAlongInternalOrder();
     ASSERT_EQ(oldOf.size(), s.size()) << "the shuffled bed is scattered";
     expectValues(s, "after renumberAlongInternalOrder");
@@ -179,8 +189,8 @@ TEST(Columns, ValuesSurviveAnHDF5Restart)
     expectValues(r, "read back");
     EXPECT_EQ(r.positions(), s.positions());
     // a part of the file (a subdomain's read)
-    System part = System::readHDF5(file, [](const Vec3& x, double) { return x.x() < 15e-3; },
-                                   [](System& t) { declareColumns(t); });
+    System part = System::readHDF5(
+        file, [](const Vec3& x, double) { return x.x() < 15e-3; }, [](System& t) { declareColumns(t); });
     ASSERT_GT(part.size(), 10u);
     ASSERT_LT(part.size(), s.size());
     expectValues(part, "part read back");
@@ -190,7 +200,8 @@ TEST(Columns, ValuesSurviveAnHDF5Restart)
     EXPECT_EQ(plain.columns().find("wetness"), -1);
 
     // a column the file lacks: optional takes its default, else an error
-    System o = System::readHDF5(file, nullptr, [](System& t)
+    System o = System::readHDF5(file, nullptr,
+                                [](System& t)
                                 { t.addColumn<double>("porosity", ColumnRestart | ColumnOptional, 0.4); });
     EXPECT_EQ(o.column<double>("porosity"), std::vector<double>(s.size(), 0.4));
     try
@@ -220,23 +231,24 @@ TEST(Columns, ColumnsSharingADatasetReadBackTheirParts)
     s.addColumn<double>("pairB", ColumnRestart, 0.0, {"pairs", 2, 1});
     for (std::size_t i = 0; i < s.size(); ++i)
     {
-        lo[i] = 0.1*double(i);
+        lo[i] = 0.1 * double(i);
         hi[i] = 300 + double(i);
         s.column<char>("flagA")[i] = char(i % 2);
-        s.column<char>("flagB")[i] = char((i/2) % 2);
+        s.column<char>("flagB")[i] = char((i / 2) % 2);
         s.column<double>("pairA")[i] = double(i);
         s.column<double>("pairB")[i] = -double(i);
     }
     s.setRotationLocked(4);
     const std::string file = tmpFile("sharedColumns.h5");
     s.writeHDF5(file);
-    System r = System::readHDF5(file, nullptr, [](System& t)
-    {
-        t.addColumn<char>("flagA", ColumnRestart, char(0), {"flags", 0, 0, 0});
-        t.addColumn<char>("flagB", ColumnRestart, char(0), {"flags", 0, 0, 3});
-        t.addColumn<double>("pairA", ColumnRestart, 0.0, {"pairs", 2, 0});
-        t.addColumn<double>("pairB", ColumnRestart, 0.0, {"pairs", 2, 1});
-    });
+    System r = System::readHDF5(file, nullptr,
+                                [](System& t)
+                                {
+                                    t.addColumn<char>("flagA", ColumnRestart, char(0), {"flags", 0, 0, 0});
+                                    t.addColumn<char>("flagB", ColumnRestart, char(0), {"flags", 0, 0, 3});
+                                    t.addColumn<double>("pairA", ColumnRestart, 0.0, {"pairs", 2, 0});
+                                    t.addColumn<double>("pairB", ColumnRestart, 0.0, {"pairs", 2, 1});
+                                });
     for (const char* c : {"flagA", "flagB"}) EXPECT_EQ(r.column<char>(c), s.column<char>(c)) << c;
     for (const char* c : {"pairA", "pairB", "heatExchangeCoefficients", "bathTemperatures"})
         EXPECT_EQ(r.column<double>(c), s.column<double>(c)) << c;
@@ -253,16 +265,25 @@ TEST(Columns, NonFiniteValuesReadAreErrorsUnderFloatingPointTraps)
     for (int which = 0; which < 2; ++which)
     {
         System s = shuffledBed(10);
-        if (which == 0) s.velocities()[2] = Vec3(std::numeric_limits<double>::infinity(), 0, 0);
-        else s.column<Eigen::Quaterniond>("orientations")[2].coeffs()[1] = -std::numeric_limits<double>::infinity();
+        if (which == 0)
+            s.velocities()[2] = Vec3(std::numeric_limits<double>::infinity(), 0, 0);
+        else
+            s.column<Eigen::Quaterniond>("orientations")[2].coeffs()[1] =
+                -std::numeric_limits<double>::infinity();
         const std::string file = tmpFile("nonFinite.h5");
         s.writeHDF5(file);
         std::string what;
 #if defined(__GLIBC__)
         feenableexcept(FE_INVALID);
 #endif
-        try { System::readHDF5(file); }
-        catch (const InputError& e) { what = e.what(); }
+        try
+        {
+            System::readHDF5(file);
+        }
+        catch (const InputError& e)
+        {
+            what = e.what();
+        }
 #if defined(__GLIBC__)
         fedisableexcept(FE_INVALID);
 #endif

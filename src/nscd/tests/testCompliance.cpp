@@ -30,9 +30,9 @@ using namespace nscd;
 
 namespace
 {
-constexpr double rad = 1e-3;   // grain radius [m]
-constexpr double rho = 2500;   // [kg/m^3]
-constexpr double gAcc = 9.81;  // [m/s^2]
+constexpr double rad = 1e-3;  // grain radius [m]
+constexpr double rho = 2500;  // [kg/m^3]
+constexpr double gAcc = 9.81; // [m/s^2]
 
 /// A column of n discs (dim 2) or spheres (dim 3) touching each other and
 /// the floor y = 0 (gaps exactly 0), material mat.
@@ -40,7 +40,7 @@ System column(int dim, int n, const Material& mat)
 {
     System s(dim);
     const int m = s.addMaterial(mat);
-    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, rad + 2*rad*k, 0), rad, m);
+    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, rad + 2 * rad * k, 0), rad, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -gAcc, 0));
     s.settings().tolerance = 1e-11;
@@ -58,7 +58,7 @@ std::vector<double> overlaps(const System& s)
     const auto& x = s.positions();
     std::vector<double> ov(x.size());
     ov[0] = rad - x[0].y();
-    for (std::size_t k = 1; k < x.size(); ++k) ov[k] = 2*rad - (x[k].y() - x[k - 1].y());
+    for (std::size_t k = 1; k < x.size(); ++k) ov[k] = 2 * rad - (x[k].y() - x[k - 1].y());
     return ov;
 }
 } // namespace
@@ -70,9 +70,9 @@ std::vector<double> overlaps(const System& s)
 TEST(Compliance, RestingColumnOverlapIsLoadTimesCompliance2D)
 {
     const int n = 20;
-    const double mass = rho*M_PI*rad*rad;  // [kg/m]
+    const double mass = rho * M_PI * rad * rad; // [kg/m]
     // bottom overlap 1e-3 r under the column's weight
-    const double c = 1e-3*rad/(n*mass*gAcc);  // [m^2/N]
+    const double c = 1e-3 * rad / (n * mass * gAcc); // [m^2/N]
     Material mat{rho, 0.3};
     mat.compliance = c;
     System s = column2D(n, mat);
@@ -81,12 +81,12 @@ TEST(Compliance, RestingColumnOverlapIsLoadTimesCompliance2D)
     const std::vector<double> ov = overlaps(s);
     for (int k = 0; k < n; ++k)
     {
-        const double expected = c*(n - k)*mass*gAcc;  // weight of grains k..n-1
-        EXPECT_NEAR(ov[k], expected, 1e-6*expected) << "contact below grain " << k;
+        const double expected = c * (n - k) * mass * gAcc; // weight of grains k..n-1
+        EXPECT_NEAR(ov[k], expected, 1e-6 * expected) << "contact below grain " << k;
     }
     // the floor's impulse is the weight (statics, independent of c)
     for (const auto& v : s.contacts())
-        if (v.j < 0) EXPECT_NEAR(v.impulse.y()/dt, n*mass*gAcc, 1e-6*n*mass*gAcc);
+        if (v.j < 0) EXPECT_NEAR(v.impulse.y() / dt, n * mass * gAcc, 1e-6 * n * mass * gAcc);
 }
 
 // The same with relativeCompliance beta in 3D (spheres on a plane): the
@@ -94,7 +94,7 @@ TEST(Compliance, RestingColumnOverlapIsLoadTimesCompliance2D)
 TEST(Compliance, RestingColumnOverlapIsLoadTimesRelativeCompliance3D)
 {
     const int n = 6;
-    const double mass = rho*4.0/3.0*M_PI*rad*rad*rad;
+    const double mass = rho * 4.0 / 3.0 * M_PI * rad * rad * rad;
     const double beta = 1e-2, dt = 1e-4;
     Material mat{rho, 0.3};
     mat.relativeCompliance = beta;
@@ -103,11 +103,11 @@ TEST(Compliance, RestingColumnOverlapIsLoadTimesRelativeCompliance3D)
     const std::vector<double> ov = overlaps(s);
     for (int k = 0; k < n; ++k)
     {
-        const double wnn = k == 0 ? 1/mass : 2/mass;
-        const double expected = beta*wnn*dt*dt*(n - k)*mass*gAcc;
+        const double wnn = k == 0 ? 1 / mass : 2 / mass;
+        const double expected = beta * wnn * dt * dt * (n - k) * mass * gAcc;
         // the overlaps (~4e-9 m) are differences of centres ~1e-2 m: the
         // round-off of the positions over the run is ~1e-14 m
-        EXPECT_NEAR(ov[k], expected, 1e-5*expected) << "contact below grain " << k;
+        EXPECT_NEAR(ov[k], expected, 1e-5 * expected) << "contact below grain " << k;
     }
 }
 
@@ -116,9 +116,9 @@ TEST(Compliance, RestingColumnOverlapIsLoadTimesRelativeCompliance3D)
 // the static overlap c m g.
 TEST(Compliance, DroppedGrainOnCompliantFloorCreatesNoEnergy)
 {
-    const double mass = rho*M_PI*rad*rad, dt = 1e-4;
-    const double omega = 0.3/dt;
-    const double c = 1/(omega*omega*mass);  // [m^2/N]
+    const double mass = rho * M_PI * rad * rad, dt = 1e-4;
+    const double omega = 0.3 / dt;
+    const double c = 1 / (omega * omega * mass); // [m^2/N]
     Material mat{rho, 0.3};
     mat.compliance = c;
     System s(2);
@@ -133,7 +133,7 @@ TEST(Compliance, DroppedGrainOnCompliantFloorCreatesNoEnergy)
     {
         const double y = s.positions()[0].y(), v2 = s.velocities()[0].squaredNorm();
         const double delta = std::max(0.0, rad - y);
-        return 0.5*mass*v2 + mass*gAcc*y + 0.5*delta*delta/c;
+        return 0.5 * mass * v2 + mass * gAcc * y + 0.5 * delta * delta / c;
     };
     double e = energy();
     const double e0 = e;
@@ -145,36 +145,36 @@ TEST(Compliance, DroppedGrainOnCompliantFloorCreatesNoEnergy)
         const double en = energy();
         maxOverlap = std::max(maxOverlap, rad - s.positions()[0].y());
         // round-off: 1e-12 of the initial energy
-        if (en > e + 1e-12*e0) ++rises;
-        EXPECT_LE(en, e + 1e-12*e0) << "step " << k;
+        if (en > e + 1e-12 * e0) ++rises;
+        EXPECT_LE(en, e + 1e-12 * e0) << "step " << k;
         e = en;
     }
     EXPECT_EQ(rises, 0);
     // the contact was compliant (overlap well beyond the hard law's slop)
-    EXPECT_GT(maxOverlap, 1e-2*rad);
+    EXPECT_GT(maxOverlap, 1e-2 * rad);
     // at rest on the floor at the static overlap c m g
     EXPECT_LT(s.velocities()[0].norm(), 1e-6);
-    EXPECT_NEAR(rad - s.positions()[0].y(), c*mass*gAcc, 1e-3*c*mass*gAcc);
+    EXPECT_NEAR(rad - s.positions()[0].y(), c * mass * gAcc, 1e-3 * c * mass * gAcc);
 }
 
 // Mixed pair: a compliant grain on a hard one takes the mean compliance.
 TEST(Compliance, MixedPairTakesTheMeanCompliance)
 {
-    const double mass = rho*M_PI*rad*rad, dt = 1e-4;
+    const double mass = rho * M_PI * rad * rad, dt = 1e-4;
     System s(2);
     Material hard{rho, 0.3}, soft{rho, 0.3};
     soft.compliance = 2e-6;
     const int mh = s.addMaterial(hard), ms = s.addMaterial(soft);
-    s.addGrain(Vec3(0, rad, 0), rad, mh);        // hard grain on the floor
-    s.addGrain(Vec3(0, 3*rad, 0), rad, ms);      // soft grain on it
+    s.addGrain(Vec3(0, rad, 0), rad, mh);     // hard grain on the floor
+    s.addGrain(Vec3(0, 3 * rad, 0), rad, ms); // soft grain on it
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -gAcc, 0));
     s.settings().tolerance = 1e-11;
     s.settings().overlapSlop = 0;
     for (int k = 0; k < 3000; ++k) s.step(dt);
     const std::vector<double> ov = overlaps(s);
-    EXPECT_LT(ov[0], 1e-4*rad);  // hard floor contact: within the slop band
-    EXPECT_NEAR(ov[1], 0.5*soft.compliance*mass*gAcc, 1e-6*soft.compliance*mass*gAcc);
+    EXPECT_LT(ov[0], 1e-4 * rad); // hard floor contact: within the slop band
+    EXPECT_NEAR(ov[1], 0.5 * soft.compliance * mass * gAcc, 1e-6 * soft.compliance * mass * gAcc);
 }
 
 // With the slop band (Settings::overlapSlop, default 1e-4 r_min) a compliant
@@ -184,19 +184,19 @@ TEST(Compliance, MixedPairTakesTheMeanCompliance)
 TEST(Compliance, SlopBandHoldsTheOverlapsWithinTheBand)
 {
     const int n = 20;
-    const double mass = rho*M_PI*rad*rad, dt = 1e-4;
-    const double c = 1e-3*rad/(n*mass*gAcc);
+    const double mass = rho * M_PI * rad * rad, dt = 1e-4;
+    const double c = 1e-3 * rad / (n * mass * gAcc);
     Material mat{rho, 0.3};
     mat.compliance = c;
     System s = column2D(n, mat);
     s.settings().overlapSlop = 1e-4;
-    const double band = 1e-4*rad;
+    const double band = 1e-4 * rad;
     for (int k = 0; k < 3000; ++k) ASSERT_TRUE(s.step(dt).converged) << "step " << k;
     const std::vector<double> ov = overlaps(s);
     for (int k = 0; k < n; ++k)
-        EXPECT_NEAR(ov[k], c*(n - k)*mass*gAcc, band*(1 + 1e-6)) << "contact below grain " << k;
+        EXPECT_NEAR(ov[k], c * (n - k) * mass * gAcc, band * (1 + 1e-6)) << "contact below grain " << k;
     for (const auto& v : s.contacts())
-        if (v.j < 0) EXPECT_NEAR(v.impulse.y()/dt, n*mass*gAcc, 1e-6*n*mass*gAcc);
+        if (v.j < 0) EXPECT_NEAR(v.impulse.y() / dt, n * mass * gAcc, 1e-6 * n * mass * gAcc);
 }
 
 // Bad settings are InputErrors naming the field; the restart state keeps
@@ -206,8 +206,15 @@ TEST(Compliance, BadInputAndRestart)
     System s(2);
     Material bad{rho, 0.3};
     bad.compliance = -1;
-    try { s.addMaterial(bad); FAIL() << "no InputError"; }
-    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("compliance"), std::string::npos); }
+    try
+    {
+        s.addMaterial(bad);
+        FAIL() << "no InputError";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("compliance"), std::string::npos);
+    }
     bad.compliance = 1e-6;
     bad.relativeCompliance = 1e-3;
     EXPECT_THROW(s.addMaterial(bad), InputError);
@@ -219,8 +226,15 @@ TEST(Compliance, BadInputAndRestart)
     mat.compliance = 1e-6;
     System a = column2D(5, mat);
     a.settings().method = System::Settings::Method::APGD;
-    try { a.step(1e-4); FAIL() << "no InputError"; }
-    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("APGD"), std::string::npos); }
+    try
+    {
+        a.step(1e-4);
+        FAIL() << "no InputError";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("APGD"), std::string::npos);
+    }
     a.settings().method = System::Settings::Method::NLGS;
     for (int k = 0; k < 50; ++k) a.step(1e-4);
     const std::string file = "compliance_restart.h5";
@@ -228,7 +242,11 @@ TEST(Compliance, BadInputAndRestart)
     System b = System::readHDF5(file);
     EXPECT_EQ(b.material(0).compliance, mat.compliance);
     EXPECT_EQ(b.material(0).relativeCompliance, 0.0);
-    for (int k = 0; k < 20; ++k) { a.step(1e-4); b.step(1e-4); }
+    for (int k = 0; k < 20; ++k)
+    {
+        a.step(1e-4);
+        b.step(1e-4);
+    }
     for (std::size_t i = 0; i < a.size(); ++i)
     {
         EXPECT_EQ(a.positions()[i], b.positions()[i]);
@@ -249,29 +267,33 @@ TEST(Compliance, BadInputAndRestart)
 TEST(Compliance, RmsConvergenceRestingColumnForcesMatchTheWeight)
 {
     const int n = 30;
-    const double mass = rho*M_PI*rad*rad, dt = 1e-4;
+    const double mass = rho * M_PI * rad * rad, dt = 1e-4;
     System s = column2D(n, Material{rho, 0.0});
-    s.settings().overlapSlop = 1e-4;  // the library's default band
+    s.settings().overlapSlop = 1e-4; // the library's default band
     s.settings().convergence = System::Settings::Convergence::RMS;
     s.settings().rmsTolerance = 1e-6;
     StepReport last;
-    for (int k = 0; k < 300; ++k) { last = s.step(dt); ASSERT_TRUE(last.converged) << "step " << k; }
+    for (int k = 0; k < 300; ++k)
+    {
+        last = s.step(dt);
+        ASSERT_TRUE(last.converged) << "step " << k;
+    }
     EXPECT_LE(last.rmsResidual, 1e-6);
     // contact force on the upper grain of each contact = weight above it
     std::vector<double> force(n, 0.0);
     for (const auto& v : s.contacts())
     {
         const int upper = v.j < 0 ? v.i : std::max(v.i, v.j);
-        force[upper] += std::abs(v.impulse.y())/dt;
+        force[upper] += std::abs(v.impulse.y()) / dt;
     }
     double sum2 = 0;
     for (int k = 0; k < n; ++k)
     {
-        const double w = (n - k)*mass*gAcc;
-        EXPECT_NEAR(force[k], w, 1e-3*w) << "contact below grain " << k;
-        sum2 += (force[k] - w)*(force[k] - w)/(w*w);
+        const double w = (n - k) * mass * gAcc;
+        EXPECT_NEAR(force[k], w, 1e-3 * w) << "contact below grain " << k;
+        sum2 += (force[k] - w) * (force[k] - w) / (w * w);
     }
-    EXPECT_LE(std::sqrt(sum2/n), 2e-4);
+    EXPECT_LE(std::sqrt(sum2 / n), 2e-4);
 }
 
 TEST(Compliance, RmsConvergenceBadSettings)
@@ -282,8 +304,15 @@ TEST(Compliance, RmsConvergenceBadSettings)
     EXPECT_THROW(s.step(1e-4), InputError);
     s.settings().rmsTolerance = 1e-4;
     s.settings().method = System::Settings::Method::APGD;
-    try { s.step(1e-4); FAIL() << "no InputError"; }
-    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("RMS"), std::string::npos); }
+    try
+    {
+        s.step(1e-4);
+        FAIL() << "no InputError";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("RMS"), std::string::npos);
+    }
     s.settings().method = System::Settings::Method::NLGS;
     EXPECT_NO_THROW(s.step(1e-4));
 }

@@ -20,9 +20,12 @@ using Method = System::Settings::Method;
 const Method methods[] = {Method::NLGS, Method::OverRelaxedNLGS, Method::APGD, Method::NNCG};
 std::string name(Method m)
 {
-    return m == Method::NLGS ? "NLGS" : m == Method::APGD ? "APGD" : m == Method::NNCG ? "NNCG" : "OverRelaxedNLGS";
+    return m == Method::NLGS   ? "NLGS"
+           : m == Method::APGD ? "APGD"
+           : m == Method::NNCG ? "NNCG"
+                               : "OverRelaxedNLGS";
 }
-}
+} // namespace
 
 // Reference: statics (Newton's third law over a step). A grain resting on a
 // plane receives the normal impulse m g dt, a column of n discs on a floor
@@ -36,7 +39,7 @@ TEST(ContactSolver, RestingGrainAndColumnCarryTheirWeight)
                 System s(dim);
                 const int m = s.addMaterial({2500, 0.4});
                 const double r = 0.005, dt = 1e-3;
-                for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r*(2*k + 1), 0), r, m);
+                for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r * (2 * k + 1), 0), r, m);
                 s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
                 s.setGravity(Vec3(0, -g0, 0));
                 s.settings().tolerance = 1e-9;
@@ -47,12 +50,13 @@ TEST(ContactSolver, RestingGrainAndColumnCarryTheirWeight)
                     const StepReport rep = s.step(dt);
                     EXPECT_TRUE(rep.converged) << name(meth);
                     EXPECT_EQ(rep.method, int(meth));
-                    EXPECT_LT(rep.maxOverlap, 1e-3*r);
+                    EXPECT_LT(rep.maxOverlap, 1e-3 * r);
                 }
                 double floor = 0;
-                for (const auto& c : s.contacts()) if (c.j < 0) floor = c.impulse.y();
-                const double w = n*s.mass(0)*g0*dt;
-                EXPECT_NEAR(floor, w, 1e-5*w) << name(meth) << " dim " << dim << " n " << n;
+                for (const auto& c : s.contacts())
+                    if (c.j < 0) floor = c.impulse.y();
+                const double w = n * s.mass(0) * g0 * dt;
+                EXPECT_NEAR(floor, w, 1e-5 * w) << name(meth) << " dim " << dim << " n " << n;
                 EXPECT_LT(s.velocities()[n - 1].norm(), 1e-6) << name(meth);
             }
 }
@@ -66,29 +70,30 @@ TEST(ContactSolver, InclineStickAndSlide)
         for (int dim : {2, 3})
             for (double deg : {20.0, 30.0})
             {
-                const double mu = deg < 25 ? 0.5 : 0.3, th = deg*pi/180, T = 0.5, dt = 1e-3;
+                const double mu = deg < 25 ? 0.5 : 0.3, th = deg * pi / 180, T = 0.5, dt = 1e-3;
                 System s(dim);
                 const int m = s.addMaterial({2500, mu});
                 const double r = 0.01;
                 s.addGrain(Vec3(0, r, 0), r, m);
                 s.setRotationLocked(0);
                 s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-                s.setGravity(Vec3(g0*std::sin(th), -g0*std::cos(th), 0));
+                s.setGravity(Vec3(g0 * std::sin(th), -g0 * std::cos(th), 0));
                 s.settings().method = meth;
-                for (int k = 0; k < int(std::lround(T/dt)); ++k)
+                for (int k = 0; k < int(std::lround(T / dt)); ++k)
                 {
                     const StepReport rep = s.step(dt);
                     EXPECT_TRUE(rep.converged) << name(meth);
-                    EXPECT_LT(rep.maxOverlap, 1e-3*r);
+                    EXPECT_LT(rep.maxOverlap, 1e-3 * r);
                 }
                 const double v = s.velocities()[0].x();
                 // velocity error allowed by the stopping test: tolerance d_min / dt
-                const double vTol = s.settings().tolerance*2*r/dt;
-                if (deg < 25) EXPECT_LT(std::abs(v), vTol) << name(meth) << " dim " << dim;
+                const double vTol = s.settings().tolerance * 2 * r / dt;
+                if (deg < 25)
+                    EXPECT_LT(std::abs(v), vTol) << name(meth) << " dim " << dim;
                 else
                 {
-                    const double a = g0*(std::sin(th) - mu*std::cos(th));
-                    EXPECT_NEAR(v, a*T, 0.01*a*T) << name(meth) << " dim " << dim;
+                    const double a = g0 * (std::sin(th) - mu * std::cos(th));
+                    EXPECT_NEAR(v, a * T, 0.01 * a * T) << name(meth) << " dim " << dim;
                     EXPECT_LT(std::abs(s.velocities()[0].y()), vTol) << "no lift-off while sliding";
                 }
             }
@@ -104,8 +109,8 @@ TEST(ContactSolver, ResidualMonotoneInTolerance)
     System s(2);
     const int m = s.addMaterial({2500, 0.4});
     for (int k = 0; k < 300; ++k)
-        s.addGrain(Vec3(1.1e-3 + 2.2e-3*(k % 15) + 2e-4*((k/15) % 2), 1.1e-3 + 2.05e-3*(k/15), 0),
-                   1e-3*(0.9 + 0.2*((k*37) % 11)/10.0), m);
+        s.addGrain(Vec3(1.1e-3 + 2.2e-3 * (k % 15) + 2e-4 * ((k / 15) % 2), 1.1e-3 + 2.05e-3 * (k / 15), 0),
+                   1e-3 * (0.9 + 0.2 * ((k * 37) % 11) / 10.0), m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
     s.addPlane(Vec3(0.034, 0, 0), Vec3(-1, 0, 0));

@@ -13,10 +13,10 @@ using namespace nscd;
 
 namespace
 {
-constexpr double r0 = 1e-3;      // radius [m]
-constexpr double d0 = 2*r0;
-constexpr double dt = 1e-3;      // [s]
-constexpr double V = 50*d0/dt;   // 50 diameters per step
+constexpr double r0 = 1e-3; // radius [m]
+constexpr double d0 = 2 * r0;
+constexpr double dt = 1e-3;        // [s]
+constexpr double V = 50 * d0 / dt; // 50 diameters per step
 
 /// Smallest distance between grains along the straight relative paths of a
 /// step, relative to the contact distance: min over pairs and t in [0, 1] of
@@ -24,15 +24,16 @@ constexpr double V = 50*d0/dt;   // 50 diameters per step
 /// start and end of the step (the motion of a step is a straight line at
 /// the end velocity). Negative: the pair passed into each other (a
 /// tunnelling pair has a large negative value even if it ends apart).
-double minPathClearance(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1, const std::vector<double>& r)
+double minPathClearance(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1,
+                        const std::vector<double>& r)
 {
     double c = 1e300;
     for (std::size_t i = 0; i < x0.size(); ++i)
         for (std::size_t j = i + 1; j < x0.size(); ++j)
         {
             const Vec3 a = x0[i] - x0[j], b = x1[i] - x1[j], e = b - a;
-            const double t = e.squaredNorm() > 0 ? std::clamp(-a.dot(e)/e.squaredNorm(), 0.0, 1.0) : 0.0;
-            c = std::min(c, (a + t*e).norm()/(r[i] + r[j]) - 1);
+            const double t = e.squaredNorm() > 0 ? std::clamp(-a.dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+            c = std::min(c, (a + t * e).norm() / (r[i] + r[j]) - 1);
         }
     return c;
 }
@@ -61,8 +62,8 @@ double hexLayer(System& s, int m, int nx, int ny, bool box = false)
     if (box)
     {
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-        s.addPlane(Vec3(-(0.5*nx + 0.5)*d0, 0, 0), Vec3(1, 0, 0));
-        s.addPlane(Vec3(0.5*nx*d0, 0, 0), Vec3(-1, 0, 0));
+        s.addPlane(Vec3(-(0.5 * nx + 0.5) * d0, 0, 0), Vec3(1, 0, 0));
+        s.addPlane(Vec3(0.5 * nx * d0, 0, 0), Vec3(-1, 0, 0));
         if (s.dimension() == 3)
         {
             s.addPlane(Vec3(0, 0, -r0), Vec3(0, 0, 1));
@@ -73,13 +74,13 @@ double hexLayer(System& s, int m, int nx, int ny, bool box = false)
     for (int b = 0; b < ny; ++b)
         for (int a = 0; a < nx; ++a)
         {
-            const Vec3 p(d0*(a - 0.5*nx + 0.5*(b % 2)), r0 + b*std::sqrt(3.0)*r0, 0);
+            const Vec3 p(d0 * (a - 0.5 * nx + 0.5 * (b % 2)), r0 + b * std::sqrt(3.0) * r0, 0);
             s.addGrain(p, r0, m);
             top = std::max(top, p.y() + r0);
         }
     return top;
 }
-}
+} // namespace
 
 // Reference: a rigid grain cannot pass through a rigid plane (no tunnelling),
 // and with restitution 0 (NSCD, Signorini) its normal velocity is 0 once it
@@ -92,15 +93,15 @@ TEST(FastGrains, NoTunnellingThroughAWall)
     {
         System s(dim);
         const int m = s.addMaterial({2500, 0.4});
-        s.addGrain(Vec3(0, 20*d0, 0), r0, m);
+        s.addGrain(Vec3(0, 20 * d0, 0), r0, m);
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-        s.velocities()[0] = Vec3(0.3*V, -V, 0);  // oblique: it also slides
+        s.velocities()[0] = Vec3(0.3 * V, -V, 0); // oblique: it also slides
         const StepReport r = s.advance(dt, 0.1);
         EXPECT_EQ(r.substeps, 1);
-        EXPECT_NEAR(s.positions()[0].y(), r0, 1e-6*r0) << "dim " << dim;
+        EXPECT_NEAR(s.positions()[0].y(), r0, 1e-6 * r0) << "dim " << dim;
         for (int k = 0; k < 5; ++k) s.advance(dt, 0.1);
-        EXPECT_NEAR(s.velocities()[0].y(), 0.0, 1e-9*V);
-        EXPECT_GT(s.positions()[0].y(), r0 - s.settings().overlapTolerance*r0);
+        EXPECT_NEAR(s.velocities()[0].y(), 0.0, 1e-9 * V);
+        EXPECT_GT(s.positions()[0].y(), r0 - s.settings().overlapTolerance * r0);
         EXPECT_NO_THROW(s.checkInitialOverlaps());
     }
 }
@@ -124,7 +125,7 @@ TEST(FastGrains, NoTunnellingThroughAConfinedLayer)
         const int m = s.addMaterial({2500, 0.4});
         const double top = hexLayer(s, m, 20, 6, true);
         // above the hollow between two top-row grains (x = -+r0)
-        const int f = s.addGrain(Vec3(0, top + 30*d0, 0), r0, m);
+        const int f = s.addGrain(Vec3(0, top + 30 * d0, 0), r0, m);
         s.velocities()[f] = Vec3(0, -V, 0);
         for (int k = 0; k < 3; ++k)
         {
@@ -132,13 +133,15 @@ TEST(FastGrains, NoTunnellingThroughAConfinedLayer)
             const StepReport r = s.advance(dt, 0.1);
             if (k == 0)
             {
-                EXPECT_EQ(r.substeps, 1);  // the impact step (later steps may sub-step, see advance())
-                EXPECT_NEAR(s.positions()[f].y(), top - r0 + std::sqrt(3.0)*r0, s.settings().overlapTolerance*r0);
+                EXPECT_EQ(r.substeps, 1); // the impact step (later steps may sub-step, see advance())
+                EXPECT_NEAR(s.positions()[f].y(), top - r0 + std::sqrt(3.0) * r0,
+                            s.settings().overlapTolerance * r0);
             }
-            EXPECT_LT(r.maxOverlap, s.settings().overlapTolerance*r0) << "dim " << dim << " step " << k;
-            EXPECT_GT(s.positions()[f].y(), top - r0 + std::sqrt(3.0)*r0 - 6*s.settings().overlapTolerance*r0)
+            EXPECT_LT(r.maxOverlap, s.settings().overlapTolerance * r0) << "dim " << dim << " step " << k;
+            EXPECT_GT(s.positions()[f].y(),
+                      top - r0 + std::sqrt(3.0) * r0 - 6 * s.settings().overlapTolerance * r0)
                 << "dim " << dim << " step " << k;
-            if (r.substeps == 1)  // straight paths: one step
+            if (r.substeps == 1) // straight paths: one step
                 EXPECT_GT(minPathClearance(x0, s.positions(), s.radii()), -s.settings().overlapTolerance);
         }
         EXPECT_NO_THROW(s.checkInitialOverlaps());
@@ -160,25 +163,26 @@ TEST(FastGrains, NoTunnellingThroughAFreeDenseLayer)
         System s(dim);
         const int m = s.addMaterial({2500, 0.4});
         const double top = hexLayer(s, m, 20, 6);
-        const int f = s.addGrain(Vec3(0.25*d0, top + 30*d0, 0), r0, m);
+        const int f = s.addGrain(Vec3(0.25 * d0, top + 30 * d0, 0), r0, m);
         s.velocities()[f] = Vec3(0, -V, 0);
-        const Vec3 p0 = s.mass(f)*s.velocities()[f];
+        const Vec3 p0 = s.mass(f) * s.velocities()[f];
         for (int k = 0; k < 4; ++k)
         {
             const auto x0 = s.positions();
             const StepReport r = s.advance(dt, 0.1);
-            if (k == 0) EXPECT_EQ(r.substeps, 1);  // the impact step
+            if (k == 0) EXPECT_EQ(r.substeps, 1); // the impact step
             EXPECT_TRUE(r.converged);
-            EXPECT_LT(r.maxOverlap, s.settings().overlapTolerance*r0) << "dim " << dim << " step " << k;
-            if (r.substeps == 1)  // straight paths: one step
+            EXPECT_LT(r.maxOverlap, s.settings().overlapTolerance * r0) << "dim " << dim << " step " << k;
+            if (r.substeps == 1) // straight paths: one step
                 EXPECT_GT(minPathClearance(x0, s.positions(), s.radii()), -s.settings().overlapTolerance)
                     << "dim " << dim << " step " << k;
-            EXPECT_LT(maxOverlap(s, {}), s.settings().overlapTolerance*r0) << "dim " << dim << " step " << k;
+            EXPECT_LT(maxOverlap(s, {}), s.settings().overlapTolerance * r0)
+                << "dim " << dim << " step " << k;
             Vec3 p = Vec3::Zero();
-            for (std::size_t i = 0; i < s.size(); ++i) p += s.mass(i)*s.velocities()[i];
-            EXPECT_LT((p - p0).norm(), 1e-10*p0.norm()) << "dim " << dim;
+            for (std::size_t i = 0; i < s.size(); ++i) p += s.mass(i) * s.velocities()[i];
+            EXPECT_LT((p - p0).norm(), 1e-10 * p0.norm()) << "dim " << dim;
         }
-        EXPECT_LT(maxOverlap(s, {}), s.settings().overlapTolerance*r0);
+        EXPECT_LT(maxOverlap(s, {}), s.settings().overlapTolerance * r0);
     }
 }
 
@@ -195,24 +199,24 @@ TEST(FastGrains, HeadOnInelasticCollision)
         System s(dim);
         const int m = s.addMaterial({2500, 0.0});
         s.addGrain(Vec3(0, 0, 0), r0, m);
-        s.addGrain(Vec3(21*d0, 0, 0), r0, m);
+        s.addGrain(Vec3(21 * d0, 0, 0), r0, m);
         s.velocities()[0] = Vec3(V, 0, 0);
-        const double xc0 = 0.5*(s.positions()[0].x() + s.positions()[1].x());
-        const double E0 = 0.5*s.mass(0)*V*V;
+        const double xc0 = 0.5 * (s.positions()[0].x() + s.positions()[1].x());
+        const double E0 = 0.5 * s.mass(0) * V * V;
         for (int k = 1; k <= 3; ++k)
         {
             EXPECT_EQ(s.advance(dt, 0.1).substeps, 1);
             const auto& x = s.positions();
             const auto& v = s.velocities();
-            EXPECT_NEAR(0.5*(x[0].x() + x[1].x()), xc0 + 0.5*V*k*dt, 1e-9*d0);
-            EXPECT_NEAR(v[0].x() + v[1].x(), V, 1e-9*V);
-            EXPECT_NEAR(x[1].x() - x[0].x(), d0, 1e-6*d0) << "touching after step " << k;
+            EXPECT_NEAR(0.5 * (x[0].x() + x[1].x()), xc0 + 0.5 * V * k * dt, 1e-9 * d0);
+            EXPECT_NEAR(v[0].x() + v[1].x(), V, 1e-9 * V);
+            EXPECT_NEAR(x[1].x() - x[0].x(), d0, 1e-6 * d0) << "touching after step " << k;
             if (k >= 2)
             {
-                EXPECT_NEAR(v[0].x(), 0.5*V, 1e-9*V);
-                EXPECT_NEAR(v[1].x(), 0.5*V, 1e-9*V);
-                const double E = 0.5*s.mass(0)*(v[0].squaredNorm() + v[1].squaredNorm());
-                EXPECT_NEAR(E, 0.5*E0, 1e-8*E0);
+                EXPECT_NEAR(v[0].x(), 0.5 * V, 1e-9 * V);
+                EXPECT_NEAR(v[1].x(), 0.5 * V, 1e-9 * V);
+                const double E = 0.5 * s.mass(0) * (v[0].squaredNorm() + v[1].squaredNorm());
+                EXPECT_NEAR(E, 0.5 * E0, 1e-8 * E0);
             }
         }
     }
@@ -229,18 +233,18 @@ TEST(FastGrains, SkimmingGrainIsNotBraked)
     {
         System s(dim);
         const int m = s.addMaterial({2500, 0.4});
-        for (int a = 0; a < 200; ++a) s.addGrain(Vec3(a*d0, 0, 0), r0, m, true);  // fixed row
-        const int f = s.addGrain(Vec3(0, 1.5*d0, 0), r0, m);
+        for (int a = 0; a < 200; ++a) s.addGrain(Vec3(a * d0, 0, 0), r0, m, true); // fixed row
+        const int f = s.addGrain(Vec3(0, 1.5 * d0, 0), r0, m);
         const Vec3 v0(V, 0, 0);
         s.velocities()[f] = v0;
         for (int k = 0; k < 3; ++k)
         {
             const StepReport r = s.advance(dt, 0.1);
             EXPECT_EQ(r.substeps, 1);
-            EXPECT_GT(r.contacts, 0);  // candidates were detected
+            EXPECT_GT(r.contacts, 0); // candidates were detected
         }
         EXPECT_EQ(s.velocities()[f], v0) << "dim " << dim;
-        EXPECT_NEAR(s.positions()[f].x(), 3*V*dt, 1e-12);
+        EXPECT_NEAR(s.positions()[f].x(), 3 * V * dt, 1e-12);
     }
 }
 
@@ -260,15 +264,15 @@ TEST(FastGrains, BedAtRestWithOneFastGrainTakesOneStep)
         {
             System b(dim);
             const int m = b.addMaterial({2500, 0.4});
-            top = hexLayer(b, m, 60, 5, true);  // box x in [-30.5, 30] d
+            top = hexLayer(b, m, 60, 5, true); // box x in [-30.5, 30] d
             b.setGravity(Vec3(0, -9.81, 0));
-            for (int k = 0; k < 20; ++k) b.step(dt);  // settle the touching layer
+            for (int k = 0; k < 20; ++k) b.step(dt); // settle the touching layer
             return b;
         };
         System ref = bed();
         ref.advance(dt, 0.1);
         System s = bed();
-        const int f = s.addGrain(Vec3(-28*d0, top + 3*d0, 0), r0, 0);
+        const int f = s.addGrain(Vec3(-28 * d0, top + 3 * d0, 0), r0, 0);
         s.velocities()[f] = Vec3(V, 0, 0);
         const StepReport r = s.advance(dt, 0.1);
         EXPECT_EQ(r.substeps, 1);
@@ -277,7 +281,7 @@ TEST(FastGrains, BedAtRestWithOneFastGrainTakesOneStep)
         double moved = 0;
         for (std::size_t i = 0; i < ref.size(); ++i)
             moved = std::max(moved, (s.positions()[i] - ref.positions()[i]).norm());
-        EXPECT_LT(moved, 1e-4*d0);  // solver tolerance 1e-6 d per contact, 5 rows
-        EXPECT_NEAR(s.positions()[f].x(), -28*d0 + V*dt, 1e-9*d0);
+        EXPECT_LT(moved, 1e-4 * d0); // solver tolerance 1e-6 d per contact, 5 rows
+        EXPECT_NEAR(s.positions()[f].x(), -28 * d0 + V * dt, 1e-9 * d0);
     }
 }

@@ -23,7 +23,7 @@ System fallingDisc()
     s.setGravity(Vec3(0, -10, 0));
     return s;
 }
-}
+} // namespace
 
 // Sub-steps: ceil(|v + g dt| dt / (f d)) (thesis 5.1.3); dt = 0.1 s, f = 0.1,
 // d = 0.01 m: 1 m/s x 0.1 s / 0.001 m = 100 sub-steps, independent of the code.
@@ -43,14 +43,14 @@ TEST(AdvanceFaults, SubStepCapThrowsBeforeMovingAnyGrain)
         EXPECT_NE(w.find("grain 0"), std::string::npos) << w;
         EXPECT_NE(w.find("about 100 sub-steps"), std::string::npos) << w;
     }
-    EXPECT_EQ(s.positions()[0], Vec3(0, 0, 0));   // state unchanged
+    EXPECT_EQ(s.positions()[0], Vec3(0, 0, 0)); // state unchanged
     EXPECT_EQ(s.time(), 0.0);
 
     s.settings().maxSubSteps = 100;
     const StepReport r = s.advance(0.1, 0.1);
     EXPECT_EQ(r.substeps, 100);
     // free fall: y = -g t^2/2 up to the sub-stepping's O(dt) integration error
-    EXPECT_NEAR(s.positions()[0].y(), -0.05, 0.05*0.02);
+    EXPECT_NEAR(s.positions()[0].y(), -0.05, 0.05 * 0.02);
 }
 
 TEST(AdvanceFaults, NonFiniteForceThrows)
@@ -72,10 +72,10 @@ TEST(AdvanceFaults, HeartbeatReportsProgress)
 {
     System s = fallingDisc();
     std::vector<std::pair<long, double>> beats;
-    s.settings().heartbeatSeconds = 0;   // every sub-step
+    s.settings().heartbeatSeconds = 0; // every sub-step
     s.settings().heartbeat = [&beats](long done, double all) { beats.emplace_back(done, all); };
     s.advance(0.1, 0.1);
-    ASSERT_EQ(beats.size(), 99u);        // after each sub-step but the last
+    ASSERT_EQ(beats.size(), 99u); // after each sub-step but the last
     EXPECT_EQ(beats.front().first, 1);
     EXPECT_EQ(beats.back().first, 99);
     for (const auto& b : beats) EXPECT_GE(b.second, double(b.first));
@@ -96,20 +96,22 @@ TEST(AdvanceFaults, HeartbeatReportsProgress)
 // The first 260 steps hold the event (about 1 min of CPU).
 TEST(AdvanceFaults, FrictionlessSideWallsKeepAPouredColumnInside)
 {
-    const double d = 55e-6, w = 10e-3/18, H = 0.0364, dt = 2e-4;
+    const double d = 55e-6, w = 10e-3 / 18, H = 0.0364, dt = 2e-4;
     System s(2);
     const int m = s.addMaterial({3200, 0.3});
     s.settings().tolerance = 1e-3;
     s.settings().maxIterations = 1000;
     std::mt19937_64 rng(8);
     std::uniform_real_distribution<double> u(0, 1);
-    const double sp = 1.1*d;
+    const double sp = 1.1 * d;
     int n = 0;
     for (int j = 0; n < 4314; ++j)
-        for (int i = 0; i < int(w/sp) && n < 4314; ++i, ++n)
+        for (int i = 0; i < int(w / sp) && n < 4314; ++i, ++n)
         {
-            const double dd = 0.9*d + 0.1*d*u(rng);
-            s.addGrain(Vec3((i + 0.5)*sp + 0.04*d*(2*u(rng) - 1), (j + 0.5)*sp + 0.04*d*(2*u(rng) - 1), 0), dd/2, m);
+            const double dd = 0.9 * d + 0.1 * d * u(rng);
+            s.addGrain(Vec3((i + 0.5) * sp + 0.04 * d * (2 * u(rng) - 1),
+                            (j + 0.5) * sp + 0.04 * d * (2 * u(rng) - 1), 0),
+                       dd / 2, m);
         }
     s.addSegment(Vec3(0, 0, 0), Vec3(w, 0, 0));
     s.setWallFriction(s.addSegment(Vec3(0, 0, 0), Vec3(0, H, 0)), 0.0);

@@ -27,10 +27,10 @@ TEST(FluidDrag, LoneGrainRelaxesToTerminalVelocity)
         s.addGrain(Vec3(0, 0, 0), 1e-3, m);
         s.setGravity(Vec3(0, -g0, 0));
         const double mass = s.mass(0);
-        const double tau = 0.02;                  // relaxation time m/c [s]
-        const double c = mass/tau;
+        const double tau = 0.02; // relaxation time m/c [s]
+        const double c = mass / tau;
         const Vec3 u(0.05, 0.1, 0);
-        const Vec3 vt = u + tau*Vec3(0, -g0, 0);
+        const Vec3 vt = u + tau * Vec3(0, -g0, 0);
         // first order in dt: halving dt halves the error at t = tau
         double err[2];
         for (int k = 0; k < 2; ++k)
@@ -41,22 +41,22 @@ TEST(FluidDrag, LoneGrainRelaxesToTerminalVelocity)
             r.setGravity(Vec3(0, -g0, 0));
             r.setFluidDrag(0, c, u);
             const double dt = k == 0 ? 1e-3 : 5e-4;
-            const int n = int(std::lround(tau/dt));
+            const int n = int(std::lround(tau / dt));
             for (int j = 0; j < n; ++j) r.step(dt);
-            const Vec3 exact = vt + (Vec3::Zero() - vt)*std::exp(-1.0);
+            const Vec3 exact = vt + (Vec3::Zero() - vt) * std::exp(-1.0);
             err[k] = (r.velocities()[0] - exact).norm();
         }
-        EXPECT_NEAR(err[0]/err[1], 2.0, 0.1) << "dim " << dim;
-        EXPECT_LT(err[0], 0.02*vt.norm());
+        EXPECT_NEAR(err[0] / err[1], 2.0, 0.1) << "dim " << dim;
+        EXPECT_LT(err[0], 0.02 * vt.norm());
         // stiff: c dt/m = 1e4 reaches v_t in one step, no overshoot
-        s.setFluidDrag(0, 1e4*mass/1e-3, u);
+        s.setFluidDrag(0, 1e4 * mass / 1e-3, u);
         s.step(1e-3);
-        const Vec3 vt2 = u + 1e-7*Vec3(0, -g0, 0);
-        EXPECT_LT((s.velocities()[0] - vt2).norm(), 1e-4*vt2.norm()) << "dim " << dim;
+        const Vec3 vt2 = u + 1e-7 * Vec3(0, -g0, 0);
+        EXPECT_LT((s.velocities()[0] - vt2).norm(), 1e-4 * vt2.norm()) << "dim " << dim;
         // impulse received: m (v^+ - v^n) - dt m g
         const Vec3 J = s.fluidDragImpulses()[0];
-        const Vec3 Jref = mass*s.velocities()[0] - 1e-3*mass*Vec3(0, -g0, 0);
-        EXPECT_LT((J - Jref).norm(), 1e-12*Jref.norm()) << "dim " << dim;
+        const Vec3 Jref = mass * s.velocities()[0] - 1e-3 * mass * Vec3(0, -g0, 0);
+        EXPECT_LT((J - Jref).norm(), 1e-12 * Jref.norm()) << "dim " << dim;
     }
 }
 
@@ -75,12 +75,12 @@ TEST(FluidDrag, StiffColumnAtRestCarriesItsSubmergedWeight)
         const int m = s.addMaterial({2650, 0.4});
         const double r = 1e-4, dt = 1e-3;
         const int n = 8;
-        for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r + 2*r*k, 0), r, m);
+        for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r + 2 * r * k, 0), r, m);
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
         s.setGravity(Vec3(0, -g0, 0));
         const double mass = s.mass(0);
-        const double c = 1e3*mass/dt;
-        const double u = 0.6*mass*g0/c;              // drag 60 % of the weight
+        const double c = 1e3 * mass / dt;
+        const double u = 0.6 * mass * g0 / c; // drag 60 % of the weight
         for (int k = 0; k < n; ++k) s.setFluidDrag(k, c, Vec3(0, u, 0));
         // default solver settings: the stopping test weighs the impulse
         // changes with the grains' own masses (SolverContact::residualWeight2),
@@ -93,15 +93,15 @@ TEST(FluidDrag, StiffColumnAtRestCarriesItsSubmergedWeight)
         }
         double vmax = 0;
         for (int k = 0; k < n; ++k) vmax = std::max(vmax, s.velocities()[k].norm());
-        EXPECT_LT(c*vmax, 1e-3*mass*g0) << "dim " << dim;  // drag of the residual motion
+        EXPECT_LT(c * vmax, 1e-3 * mass * g0) << "dim " << dim; // drag of the residual motion
         // floor contact: the whole column, n (m g - c u) dt per step
         double floorImpulse = 0;
         for (const auto& cv : s.contacts())
             if (cv.j < 0) floorImpulse += cv.impulse.y();
-        EXPECT_NEAR(floorImpulse, n*(mass*g0 - c*u)*dt, 1e-4*n*mass*g0*dt) << "dim " << dim;
+        EXPECT_NEAR(floorImpulse, n * (mass * g0 - c * u) * dt, 1e-4 * n * mass * g0 * dt) << "dim " << dim;
         // drag impulse received over the 200 steps: c u dt each
         for (int k = 0; k < n; ++k)
-            EXPECT_NEAR(s.fluidDragImpulses()[k].y(), 200*c*u*dt, 1e-3*200*c*u*dt);
+            EXPECT_NEAR(s.fluidDragImpulses()[k].y(), 200 * c * u * dt, 1e-3 * 200 * c * u * dt);
     }
 }
 
@@ -113,16 +113,16 @@ TEST(FluidDrag, ColumnLiftsAtTerminalVelocityAboveTheWeight)
     System s(2);
     const int m = s.addMaterial({2650, 0.4});
     const double r = 1e-4, dt = 1e-3;
-    for (int k = 0; k < 4; ++k) s.addGrain(Vec3(0, r + 2*r*k, 0), r, m);
+    for (int k = 0; k < 4; ++k) s.addGrain(Vec3(0, r + 2 * r * k, 0), r, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -g0, 0));
     const double mass = s.mass(0);
-    const double c = 1e4*mass/dt;
-    const double u = 1.5*mass*g0/c;
+    const double c = 1e4 * mass / dt;
+    const double u = 1.5 * mass * g0 / c;
     for (int k = 0; k < 4; ++k) s.setFluidDrag(k, c, Vec3(0, u, 0));
     for (int step = 0; step < 20; ++step) s.step(dt);
-    const double vt = u - mass*g0/c;
-    for (int k = 0; k < 4; ++k) EXPECT_NEAR(s.velocities()[k].y(), vt, 1e-6*vt);
+    const double vt = u - mass * g0 / c;
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(s.velocities()[k].y(), vt, 1e-6 * vt);
 }
 
 TEST(FluidDrag, BadInputIsRejected)

@@ -21,8 +21,8 @@ constexpr double pi = 3.14159265358979323846;
 Material matA(double c) { return {1000, 0.3, 6e10, 0.22, 100, c}; }
 Material matB(double c) { return {2000, 0.3, 3e10, 0.30, 50, c}; }
 
-double relErr(double a, double b) { return std::abs(a - b)/std::max(std::abs(b), 1e-300); }
-}
+double relErr(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
+} // namespace
 
 // Reference: two grains pressed together by opposite external forces F (no
 // gravity): the normal impulse is F dt, the conductance H of eq. 4.2 is
@@ -42,7 +42,7 @@ TEST(Heat, TwoGrainsRelaxToMassWeightedMean)
         {
             System s(dim);
             // heat capacities chosen so that kappa ~ 1/s (and ~1e-8 / s x 1e11 stiff)
-            const double cA = (dim == 2 ? 0.3 : 30)/stiff, cB = (dim == 2 ? 0.5 : 50)/stiff;
+            const double cA = (dim == 2 ? 0.3 : 30) / stiff, cB = (dim == 2 ? 0.5 : 50) / stiff;
             const int mA = s.addMaterial(matA(cA));
             const int mB = s.addMaterial(matB(cB));
             const double rA = 0.01, rB = 0.015, F = 1.0;
@@ -52,17 +52,17 @@ TEST(Heat, TwoGrainsRelaxToMassWeightedMean)
             s.setExternalForce(b, Vec3(-F, 0, 0));
             s.temperatures()[a] = 400;
             s.temperatures()[b] = 300;
-            const double CA = s.mass(a)*cA, CB = s.mass(b)*cB;
-            const double E0 = CA*400 + CB*300;
-            EXPECT_NEAR(s.heatContent(), E0, 1e-15*E0);
+            const double CA = s.mass(a) * cA, CB = s.mass(b) * cB;
+            const double E0 = CA * 400 + CB * 300;
+            EXPECT_NEAR(s.heatContent(), E0, 1e-15 * E0);
             // counted grains only (a subdomain's owned ones): each grain's C T
             // (consistency check of the flag argument, no physics)
             const std::vector<char> onlyA{1, 0}, onlyB{0, 1};
-            EXPECT_NEAR(s.heatContent(&onlyA), CA*400, 1e-15*E0);
-            EXPECT_NEAR(s.heatContent(&onlyB), CB*300, 1e-15*E0);
+            EXPECT_NEAR(s.heatContent(&onlyA), CA * 400, 1e-15 * E0);
+            EXPECT_NEAR(s.heatContent(&onlyB), CB * 300, 1e-15 * E0);
             const std::vector<char> wrongSize{1};
             EXPECT_THROW(s.heatContent(&wrongSize), InputError);
-            const double mean = E0/(CA + CB);
+            const double mean = E0 / (CA + CB);
             const double dt = 1e-3;
             double D = 100, kappa0 = 0, maxDiscrete = 0, maxCont = 0, maxCons = 0, contBound = 0;
             int n = stiff > 1 ? 1 : 0;
@@ -71,19 +71,23 @@ TEST(Heat, TwoGrainsRelaxToMassWeightedMean)
                 const StepReport r = s.step(dt);
                 ASSERT_EQ(s.nContacts(), 1u);
                 const auto c = s.contacts()[0];
-                EXPECT_NEAR(c.impulse.dot(c.normal), F*dt, 1e-9*F*dt);
+                EXPECT_NEAR(c.impulse.dot(c.normal), F * dt, 1e-9 * F * dt);
                 const double H = s.contactConductance(c, dt);
-                const double kappa = H*(1/CA + 1/CB);
-                if (k == 0) { kappa0 = kappa; if (!n) n = int(std::lround(2/(kappa*dt))); }
-                EXPECT_NEAR(kappa, kappa0, 1e-12*kappa0);
-                D /= 1 + kappa*dt;  // discrete closed form with this step's H
+                const double kappa = H * (1 / CA + 1 / CB);
+                if (k == 0)
+                {
+                    kappa0 = kappa;
+                    if (!n) n = int(std::lround(2 / (kappa * dt)));
+                }
+                EXPECT_NEAR(kappa, kappa0, 1e-12 * kappa0);
+                D /= 1 + kappa * dt; // discrete closed form with this step's H
                 const double Ds = s.temperatures()[a] - s.temperatures()[b];
-                maxDiscrete = std::max(maxDiscrete, std::abs(Ds - D)/100);
-                const double t = (k + 1)*dt;
-                const double Dc = 100*std::exp(-kappa0*t);
-                maxCont = std::max(maxCont, std::abs(Ds - Dc)/Dc);
-                contBound = kappa0*t*kappa0*dt;
-                maxCons = std::max(maxCons, std::abs(s.heatContent() - E0)/E0);
+                maxDiscrete = std::max(maxDiscrete, std::abs(Ds - D) / 100);
+                const double t = (k + 1) * dt;
+                const double Dc = 100 * std::exp(-kappa0 * t);
+                maxCont = std::max(maxCont, std::abs(Ds - Dc) / Dc);
+                contBound = kappa0 * t * kappa0 * dt;
+                maxCons = std::max(maxCons, std::abs(s.heatContent() - E0) / E0);
                 EXPECT_EQ(r.wallHeat, 0.0);
                 EXPECT_EQ(r.fixedGrainHeat, 0.0);
                 EXPECT_EQ(r.sourceHeat, 0.0);
@@ -92,7 +96,7 @@ TEST(Heat, TwoGrainsRelaxToMassWeightedMean)
             if (stiff == 1)
             {
                 EXPECT_LT(maxDiscrete, 1e-10) << "dim " << dim;
-                EXPECT_LT(kappa0*dt, 2e-3);
+                EXPECT_LT(kappa0 * dt, 2e-3);
                 EXPECT_LT(maxCont, contBound) << "dim " << dim;
                 std::printf("[ measured ] dim %d: kappa %.4g /s, %d steps, |D - D_discrete|/D0 %.2e, "
                             "|D/D_exact - 1| %.2e (bound %.2e), heat %.2e\n",
@@ -104,14 +108,15 @@ TEST(Heat, TwoGrainsRelaxToMassWeightedMean)
                 // update evaluates H (T_b* - T_a*) from rounded T* ~ 400 K, so
                 // its round-off is ~ eps kappa dt 400 K (here ~1e-5 K): the
                 // tolerance is 1e-15 kappa dt 400 K (~5 eps).
-                EXPECT_GT(kappa0*dt, 1e6);
-                const double tol = 1e-15*kappa0*dt*400;
+                EXPECT_GT(kappa0 * dt, 1e6);
+                const double tol = 1e-15 * kappa0 * dt * 400;
                 EXPECT_NEAR(s.temperatures()[a], mean, tol);
                 EXPECT_NEAR(s.temperatures()[b], mean, tol);
                 EXPECT_LE(s.temperatures()[a], 400);
                 EXPECT_GE(s.temperatures()[b], 300);
-                std::printf("[ measured ] dim %d stiff: kappa dt %.3g, T - mean %.2e %.2e (tol %.1e), heat %.2e\n",
-                            dim, kappa0*dt, s.temperatures()[a] - mean, s.temperatures()[b] - mean, tol, maxCons);
+                std::printf(
+                    "[ measured ] dim %d stiff: kappa dt %.3g, T - mean %.2e %.2e (tol %.1e), heat %.2e\n",
+                    dim, kappa0 * dt, s.temperatures()[a] - mean, s.temperatures()[b] - mean, tol, maxCons);
             }
         }
     }
@@ -128,8 +133,8 @@ TEST(Heat, ConductanceFormula)
         const Material A = matA(1), B = matB(1);
         const int mA = s.addMaterial(A), mB = s.addMaterial(B);
         const double rA = 0.01, rB = 0.015;
-        s.addGrain(Vec3(0, rA, 0), rA, mA);           // on the floor
-        s.addGrain(Vec3(0, 2*rA + rB, 0), rB, mB);    // on top of it
+        s.addGrain(Vec3(0, rA, 0), rA, mA);          // on the floor
+        s.addGrain(Vec3(0, 2 * rA + rB, 0), rB, mB); // on top of it
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
         s.setGravity(Vec3(0, -9.81, 0));
         const double dt = 1e-3;
@@ -144,27 +149,35 @@ TEST(Heat, ConductanceFormula)
             {
                 const Material& m = c.i == 0 ? A : B;
                 ks = m.conductivity;
-                Es = m.youngModulus/(1 - m.poissonRatio*m.poissonRatio);
-                ds = 2*(c.i == 0 ? rA : rB);
+                Es = m.youngModulus / (1 - m.poissonRatio * m.poissonRatio);
+                ds = 2 * (c.i == 0 ? rA : rB);
             }
             else
             {
-                ks = 2/(1/A.conductivity + 1/B.conductivity);
-                Es = 1/((1 - A.poissonRatio*A.poissonRatio)/A.youngModulus
-                        + (1 - B.poissonRatio*B.poissonRatio)/B.youngModulus);
-                ds = 1/(1/(2*rA) + 1/(2*rB));
+                ks = 2 / (1 / A.conductivity + 1 / B.conductivity);
+                Es = 1
+                     / ((1 - A.poissonRatio * A.poissonRatio) / A.youngModulus
+                        + (1 - B.poissonRatio * B.poissonRatio) / B.youngModulus);
+                ds = 1 / (1 / (2 * rA) + 1 / (2 * rB));
             }
-            const double H = 4*ks*std::pow(rn*ds/(2*pi*Es*dt), 0.25);
-            EXPECT_NEAR(s.contactConductance(c, dt), H, 1e-14*H);
+            const double H = 4 * ks * std::pow(rn * ds / (2 * pi * Es * dt), 0.25);
+            EXPECT_NEAR(s.contactConductance(c, dt), H, 1e-14 * H);
             ++seen;
         }
-        EXPECT_EQ(seen, 2);  // A on the floor, B on A
+        EXPECT_EQ(seen, 2); // A on the floor, B on A
     }
 }
 
 namespace
 {
-struct ChainResult { double maxErr; double q; double wallQ; double bathQ; double nonLinear; };
+struct ChainResult
+{
+    double maxErr;
+    double q;
+    double wallQ;
+    double bathQ;
+    double nonLinear;
+};
 
 // Vertical column of n grains on a floor wall at Tbot, the top grain held at
 // Ttop (fixed temperature), gravity: the load, hence H_k, grows downwards.
@@ -193,24 +206,26 @@ ChainResult column(int dim, int n, double Tbot, double Ttop)
     StepReport rep;
     for (int k = 0; k < 1500; ++k) rep = s.step(dt);
     // expected profile from the last step's conductances (series resistances)
-    std::vector<double> R(n, 0.0);  // R[k]: resistance below grain k
+    std::vector<double> R(n, 0.0); // R[k]: resistance below grain k
     for (const auto& c : s.contacts())
     {
         const double H = s.contactConductance(c, dt);
         if (!(H > 0)) continue;
-        if (c.j == -(floor + 1)) R[c.i] = 1/H;
-        else if (c.j >= 0) R[std::max(c.i, c.j)] = 1/H;
+        if (c.j == -(floor + 1))
+            R[c.i] = 1 / H;
+        else if (c.j >= 0)
+            R[std::max(c.i, c.j)] = 1 / H;
     }
     double Rsum = 0;
     for (double a : R) Rsum += a;
-    const double q = (Tbot - Ttop)/Rsum;
-    ChainResult out{0, q, rep.wallHeat/dt, -rep.fixedGrainHeat/dt, 0};
+    const double q = (Tbot - Ttop) / Rsum;
+    ChainResult out{0, q, rep.wallHeat / dt, -rep.fixedGrainHeat / dt, 0};
     double T = Tbot;
     for (int k = 0; k < n; ++k)
     {
-        T -= q*R[k];
+        T -= q * R[k];
         out.maxErr = std::max(out.maxErr, std::abs(s.temperatures()[k] - T));
-        const double lin = Tbot + (Ttop - Tbot)*(k + 1)/double(n);
+        const double lin = Tbot + (Ttop - Tbot) * (k + 1) / double(n);
         out.nonLinear = std::max(out.nonLinear, std::abs(T - lin));
     }
     return out;
@@ -225,37 +240,37 @@ double pressedChain(int dim, int n, double T0, double T1, double& q, double& bat
     System s(dim);
     const int m = s.addMaterial(matA(1e-3));
     const double r = 0.01;
-    for (int k = 0; k < n; ++k) s.addGrain(Vec3((2*k + 1)*r, 0, 0), r, m, k == n - 1);
+    for (int k = 0; k < n; ++k) s.addGrain(Vec3((2 * k + 1) * r, 0, 0), r, m, k == n - 1);
     s.setExternalForce(0, Vec3(1.0, 0, 0));
     s.setFixedTemperature(0);
     s.setFixedTemperature(n - 1);
     for (int k = 0; k < n; ++k) s.temperatures()[k] = T0;
     s.temperatures()[n - 1] = T1;
-    s.settings().tolerance = 1e-12;  // steady contact forces (see column)
+    s.settings().tolerance = 1e-12; // steady contact forces (see column)
     const double dt = 1e-3;
     StepReport rep;
     for (int k = 0; k < 1500; ++k) rep = s.step(dt);
     EXPECT_EQ(s.nContacts(), std::size_t(n - 1));
-    std::vector<double> R(n, 0.0);  // R[k]: resistance between k-1 and k
+    std::vector<double> R(n, 0.0); // R[k]: resistance between k-1 and k
     double Rsum = 0;
     for (const auto& c : s.contacts())
     {
-        R[std::max(c.i, c.j)] = 1/s.contactConductance(c, dt);
+        R[std::max(c.i, c.j)] = 1 / s.contactConductance(c, dt);
         Rsum += R[std::max(c.i, c.j)];
     }
-    q = (T1 - T0)/Rsum;
-    bathIn = rep.fixedGrainHeat/dt;  // net: in from grain n-1, out to grain 0 (0 at steady state)
+    q = (T1 - T0) / Rsum;
+    bathIn = rep.fixedGrainHeat / dt; // net: in from grain n-1, out to grain 0 (0 at steady state)
     double err = 0, T = T0;
     seriesErr = 0;
     for (int k = 0; k < n; ++k)
     {
-        T += q*R[k];
+        T += q * R[k];
         seriesErr = std::max(seriesErr, std::abs(s.temperatures()[k] - T));
-        err = std::max(err, std::abs(s.temperatures()[k] - (T0 + (T1 - T0)*k/double(n - 1))));
+        err = std::max(err, std::abs(s.temperatures()[k] - (T0 + (T1 - T0) * k / double(n - 1))));
     }
     return err;
 }
-}
+} // namespace
 
 // Reference: steady conduction through a chain of contacts in series: the
 // heat flux q = (T_hot - T_cold)/sum_k (1/H_k) is the same through every
@@ -268,18 +283,20 @@ TEST(Heat, ChainSteadyStateSeriesResistances)
     {
         const ChainResult c = column(dim, 10, 400, 300);
         EXPECT_LT(c.maxErr, 1e-6) << "dim " << dim;
-        EXPECT_GT(c.nonLinear, 0.1);  // the load-dependent H makes it non-linear
-        EXPECT_NEAR(c.wallQ, c.q, 1e-6*c.q);
-        EXPECT_NEAR(c.bathQ, c.q, 1e-6*c.q);
+        EXPECT_GT(c.nonLinear, 0.1); // the load-dependent H makes it non-linear
+        EXPECT_NEAR(c.wallQ, c.q, 1e-6 * c.q);
+        EXPECT_NEAR(c.bathQ, c.q, 1e-6 * c.q);
         std::printf("[ measured ] column dim %d: max |T - T_series| %.2e K, q %.4g, wall %.2e rel, "
-                    "deviation from linear %.3g K\n", dim, c.maxErr, c.q, std::abs(c.wallQ/c.q - 1), c.nonLinear);
+                    "deviation from linear %.3g K\n",
+                    dim, c.maxErr, c.q, std::abs(c.wallQ / c.q - 1), c.nonLinear);
         double q = 0, bath = 0, es = 0;
         const double e = pressedChain(dim, 10, 300, 400, q, bath, es);
         EXPECT_LT(es, 1e-6) << "dim " << dim;
         EXPECT_LT(e, 1e-6) << "dim " << dim;
-        EXPECT_NEAR(bath, 0.0, 1e-6*q);
+        EXPECT_NEAR(bath, 0.0, 1e-6 * q);
         std::printf("[ measured ] pressed chain dim %d: max |T - T_series| %.2e K, |T - linear| %.2e K, "
-                    "net bath heat %.1e rel\n", dim, es, e, std::abs(bath/q));
+                    "net bath heat %.1e rel\n",
+                    dim, es, e, std::abs(bath / q));
     }
 }
 
@@ -303,25 +320,26 @@ System heatedBox(int dim, bool sources)
             for (int c = 0; c < (dim == 3 ? 3 : 1); ++c, ++id)
             {
                 const int mat = id % 7 == 3 ? inert : (id % 2 ? m1 : m2);
-                const int k = s.addGrain(Vec3((a + 0.5)*h, (b + 0.5)*h, dim == 3 ? (c + 0.5)*h : 0),
-                                         0.008 + 0.002*U(gen), mat);
-                s.temperatures()[k] = 280 + 100*U(gen);
-                s.velocities()[k] = Vec3(U(gen) - 0.5, U(gen) - 0.5, 0)*0.2;
-                if (sources && mat != inert && k % 3 == 0) s.setHeatSource(k, 50*(U(gen) - 0.3));
-                if (sources && mat != inert && k % 5 == 0) s.setHeatExchange(k, 0.5*U(gen), 250 + 100*U(gen));
+                const int k = s.addGrain(Vec3((a + 0.5) * h, (b + 0.5) * h, dim == 3 ? (c + 0.5) * h : 0),
+                                         0.008 + 0.002 * U(gen), mat);
+                s.temperatures()[k] = 280 + 100 * U(gen);
+                s.velocities()[k] = Vec3(U(gen) - 0.5, U(gen) - 0.5, 0) * 0.2;
+                if (sources && mat != inert && k % 3 == 0) s.setHeatSource(k, 50 * (U(gen) - 0.3));
+                if (sources && mat != inert && k % 5 == 0)
+                    s.setHeatExchange(k, 0.5 * U(gen), 250 + 100 * U(gen));
             }
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
-    s.addPlane(Vec3(n*h, 0, 0), Vec3(-1, 0, 0));
+    s.addPlane(Vec3(n * h, 0, 0), Vec3(-1, 0, 0));
     if (dim == 3)
     {
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1));
-        s.addPlane(Vec3(0, 0, 3*h), Vec3(0, 0, -1));
+        s.addPlane(Vec3(0, 0, 3 * h), Vec3(0, 0, -1));
     }
     s.setGravity(Vec3(0, -9.81, 0));
     return s;
 }
-}
+} // namespace
 
 // Reference: with adiabatic walls and no source, sum m c T is invariant
 // (1e-12 relative), and backward Euler with an M-matrix keeps every
@@ -338,12 +356,16 @@ TEST(Heat, AdiabaticBoxConservesHeat)
             System s = heatedBox(dim, variant > 0);
             if (variant == 2)
             {
-                s.setWallTemperature(0, 500);     // heated floor
-                s.setFixedTemperature(7);         // a cold bath grain
+                s.setWallTemperature(0, 500); // heated floor
+                s.setFixedTemperature(7);     // a cold bath grain
                 s.temperatures()[7] = 200;
             }
             double lo = 1e300, hi = -1e300;
-            for (double T : s.temperatures()) { lo = std::min(lo, T); hi = std::max(hi, T); }
+            for (double T : s.temperatures())
+            {
+                lo = std::min(lo, T);
+                hi = std::max(hi, T);
+            }
             const double E0 = s.heatContent();
             double wall = 0, fixedG = 0, src = 0, maxErr = 0;
             int its = 0;
@@ -355,10 +377,14 @@ TEST(Heat, AdiabaticBoxConservesHeat)
                 src += r.sourceHeat;
                 its = std::max(its, r.heatIterations);
                 EXPECT_LT(r.heatResidual, 1e-12);
-                maxErr = std::max(maxErr, std::abs(s.heatContent() - E0 - wall - fixedG - src)/E0);
+                maxErr = std::max(maxErr, std::abs(s.heatContent() - E0 - wall - fixedG - src) / E0);
             }
             EXPECT_LT(maxErr, 1e-12) << "dim " << dim << " variant " << variant;
-            if (variant < 2) { EXPECT_EQ(wall, 0.0); EXPECT_EQ(fixedG, 0.0); }
+            if (variant < 2)
+            {
+                EXPECT_EQ(wall, 0.0);
+                EXPECT_EQ(fixedG, 0.0);
+            }
             if (variant == 0)
             {
                 EXPECT_EQ(src, 0.0);
@@ -368,8 +394,13 @@ TEST(Heat, AdiabaticBoxConservesHeat)
                     EXPECT_LE(T, hi + 1e-9);
                 }
             }
-            else EXPECT_NE(src, 0.0);
-            if (variant == 2) { EXPECT_GT(wall, 0.0); EXPECT_LT(fixedG, 0.0); }
+            else
+                EXPECT_NE(src, 0.0);
+            if (variant == 2)
+            {
+                EXPECT_GT(wall, 0.0);
+                EXPECT_LT(fixedG, 0.0);
+            }
             std::printf("[ measured ] box dim %d variant %d: %zu contacts, budget error %.2e rel, "
                         "heat in: walls %.4g fixed %.4g sources %.4g J, max CG its %d\n",
                         dim, variant, s.nContacts(), maxErr, wall, fixedG, src, its);
@@ -390,10 +421,10 @@ TEST(Heat, ExchangeIsImplicitAndSourceIsExact)
         const int m = s.addMaterial(matA(800));
         s.addGrain(Vec3(0, 0, 0), 0.01, m);
         s.addGrain(Vec3(1, 0, 0), 0.01, m);
-        const double C = s.mass(0)*800, dt = 1e-3;
+        const double C = s.mass(0) * 800, dt = 1e-3;
         s.temperatures()[0] = 300;
         s.temperatures()[1] = 300;
-        const double h = C/dt*0.5, Tf = 350, Q = 7.5;
+        const double h = C / dt * 0.5, Tf = 350, Q = 7.5;
         s.setHeatExchange(0, h, Tf);
         s.setHeatSource(1, Q);
         EXPECT_EQ(s.heatExchange(0).first, h);
@@ -402,18 +433,18 @@ TEST(Heat, ExchangeIsImplicitAndSourceIsExact)
         for (int k = 0; k < 20; ++k)
         {
             const StepReport r = s.step(dt);
-            const double T1 = (C/dt*T + h*Tf)/(C/dt + h);
-            EXPECT_NEAR(r.sourceHeat, dt*(h*(Tf - T1) + Q), 1e-12*C*T1);
+            const double T1 = (C / dt * T + h * Tf) / (C / dt + h);
+            EXPECT_NEAR(r.sourceHeat, dt * (h * (Tf - T1) + Q), 1e-12 * C * T1);
             // the bath's part alone (StepReport::exchangeHeat)
-            EXPECT_NEAR(r.exchangeHeat, dt*h*(Tf - T1), 1e-12*C*T1);
+            EXPECT_NEAR(r.exchangeHeat, dt * h * (Tf - T1), 1e-12 * C * T1);
             T = T1;
             err = std::max(err, relErr(s.temperatures()[0], T));
-            EXPECT_NEAR(s.temperatures()[1], 300 + (k + 1)*dt*Q/C, 1e-12*300);
+            EXPECT_NEAR(s.temperatures()[1], 300 + (k + 1) * dt * Q / C, 1e-12 * 300);
         }
         EXPECT_LT(err, 1e-12);
-        s.setHeatExchange(0, C/dt*1e6, 200);
+        s.setHeatExchange(0, C / dt * 1e6, 200);
         s.step(dt);
-        EXPECT_NEAR(s.temperatures()[0], 200, 2e-6*150);
+        EXPECT_NEAR(s.temperatures()[0], 200, 2e-6 * 150);
         EXPECT_GE(s.temperatures()[0], 200);
         // switched off
         s.setHeatExchange(0, 0, 0);
@@ -442,7 +473,7 @@ TEST(Heat, HDF5RoundTripAndRestart)
         };
         const int N = 40;
         System a = make();
-        for (int k = 0; k < 2*N; ++k) a.step(1e-3);
+        for (int k = 0; k < 2 * N; ++k) a.step(1e-3);
         System b = make();
         for (int k = 0; k < N; ++k) b.step(1e-3);
         const std::string f = "nscd_heat.h5";
@@ -491,7 +522,7 @@ TEST(Heat, HDF5RoundTripAndRestart)
         }
         for (int w = 0; w < old.nWalls(); ++w) EXPECT_TRUE(old.wallAdiabatic(w));
         EXPECT_EQ(old.defaultTemperature(), 0.0);
-        old.step(1e-3);  // usable
+        old.step(1e-3); // usable
         std::remove(f.c_str());
     }
 }
@@ -503,7 +534,8 @@ TEST(Heat, InputErrors)
     EXPECT_THROW(s.addMaterial({1000, 0.3, 1e9, 0.3, -1, 800}), InputError);
     EXPECT_THROW(s.addMaterial({1000, 0.3, -1e9, 0.3, 1, 800}), InputError);
     EXPECT_THROW(s.addMaterial({1000, 0.3, 1e9, 0.7, 1, 800}), InputError);
-    EXPECT_THROW(s.addMaterial({1000, 0.3, 1e9, 0.3, 1, std::numeric_limits<double>::infinity()}), InputError);
+    EXPECT_THROW(s.addMaterial({1000, 0.3, 1e9, 0.3, 1, std::numeric_limits<double>::infinity()}),
+                 InputError);
     const int m = s.addMaterial(matA(800));
     const int inert = s.addMaterial({1000, 0.3});
     s.setDefaultTemperature(293.15);
@@ -530,10 +562,17 @@ TEST(Heat, InputErrors)
     EXPECT_THROW(s.setDefaultTemperature(std::nan("")), InputError);
     // heat source on a grain whose temperature is not integrated: step throws, state unchanged
     s.setHeatSource(1, 5.0);
-    try { s.step(1e-3); ADD_FAILURE() << "no throw"; }
-    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("grain 1"), std::string::npos) << e.what(); }
+    try
+    {
+        s.step(1e-3);
+        ADD_FAILURE() << "no throw";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("grain 1"), std::string::npos) << e.what();
+    }
     EXPECT_EQ(s.time(), 0.0);
-    s.setFixedTemperature(1);  // a bath: allowed (its source is ignored)
+    s.setFixedTemperature(1); // a bath: allowed (its source is ignored)
     EXPECT_NO_THROW(s.step(1e-3));
     s.temperatures()[0] = std::nan("");
     EXPECT_THROW(s.step(1e-3), InputError);

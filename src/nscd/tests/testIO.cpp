@@ -31,17 +31,19 @@ System makeBox(int dim, int n)
         for (int b = 0; b < n; ++b)
             for (int c = 0; c < (dim == 3 ? 3 : 1); ++c)
             {
-                const int k = s.addGrain(Vec3((a + 0.5)*h, (b + 0.5)*h, dim == 3 ? (c + 0.5)*h : 0), U(gen), (a + b) % 2 ? m : m2);
-                s.velocities()[k] = Vec3(U(gen) - 0.005, 0, 0)*100;
+                const int k = s.addGrain(Vec3((a + 0.5) * h, (b + 0.5) * h, dim == 3 ? (c + 0.5) * h : 0),
+                                         U(gen), (a + b) % 2 ? m : m2);
+                s.velocities()[k] = Vec3(U(gen) - 0.005, 0, 0) * 100;
             }
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0.01, 0));
     s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
-    s.addPlane(Vec3(n*h, 0, 0), Vec3(-1, 0, 0));
-    if (dim == 2) s.addSegment(Vec3(0.02, 0.5, 0), Vec3(0.06, 0.4, 0));
+    s.addPlane(Vec3(n * h, 0, 0), Vec3(-1, 0, 0));
+    if (dim == 2)
+        s.addSegment(Vec3(0.02, 0.5, 0), Vec3(0.06, 0.4, 0));
     else
     {
         s.addTriangulatedSurface({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {{0, 1, 2}});
-        s.addPlane(Vec3(0, 0, 3*h), Vec3(0, 0, -1));
+        s.addPlane(Vec3(0, 0, 3 * h), Vec3(0, 0, -1));
     }
     s.setGravity(Vec3(0.5, -9.81, 0));
     s.setExternalForce(3, Vec3(1e-3, 2e-3, 0), Vec3(0, 0, 1e-7));
@@ -49,7 +51,7 @@ System makeBox(int dim, int n)
     s.settings().tolerance = 1e-5;
     return s;
 }
-}
+} // namespace
 
 TEST(HDF5, RoundTripEveryField)
 {
@@ -99,7 +101,7 @@ TEST(HDF5, RestartIsBitIdentical)
     {
         const int N = 60;
         System a = makeBox(dim, 6);
-        for (int k = 0; k < 2*N; ++k) a.step(1e-3);
+        for (int k = 0; k < 2 * N; ++k) a.step(1e-3);
         System b = makeBox(dim, 6);
         for (int k = 0; k < N; ++k) b.step(1e-3);
         b.writeHDF5("nscd_restart.h5");
@@ -108,7 +110,8 @@ TEST(HDF5, RestartIsBitIdentical)
         EXPECT_EQ(a.positions(), c.positions()) << "dim " << dim;
         EXPECT_EQ(a.velocities(), c.velocities());
         EXPECT_EQ(a.angularVelocities(), c.angularVelocities());
-        for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a.orientations()[i].coeffs(), c.orientations()[i].coeffs());
+        for (std::size_t i = 0; i < a.size(); ++i)
+            EXPECT_EQ(a.orientations()[i].coeffs(), c.orientations()[i].coeffs());
         EXPECT_EQ(a.time(), c.time());
         std::remove("nscd_restart.h5");
     }
@@ -153,11 +156,17 @@ TEST(HDF5, MissingAndCorruptFiles)
         std::ifstream in("nscd_ok.h5", std::ios::binary);
         std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         std::ofstream o("nscd_trunc.h5", std::ios::binary);
-        o.write(data.data(), std::streamsize(data.size()/2));
+        o.write(data.data(), std::streamsize(data.size() / 2));
     }
     EXPECT_THROW(System::readHDF5("nscd_trunc.h5"), InputError);
-    try { System::readHDF5("nscd_garbage.h5"); }
-    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("nscd_garbage.h5"), std::string::npos); }
+    try
+    {
+        System::readHDF5("nscd_garbage.h5");
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("nscd_garbage.h5"), std::string::npos);
+    }
     EXPECT_THROW(s.writeHDF5("no/such/dir/x.h5"), InputError);
     std::remove("nscd_garbage.h5");
     std::remove("nscd_ok.h5");
@@ -190,7 +199,11 @@ TEST(HDF5, PreambleInUserBlock)
     }
     System b = System::readHDF5("nscd_preamble.h5");
     std::remove("nscd_preamble.h5");
-    for (int k = 0; k < 20; ++k) { a.step(1e-3); b.step(1e-3); }
+    for (int k = 0; k < 20; ++k)
+    {
+        a.step(1e-3);
+        b.step(1e-3);
+    }
     EXPECT_EQ(a.positions(), b.positions());
     EXPECT_EQ(a.velocities(), b.velocities());
     // a preamble longer than 512 bytes: the next power of two
@@ -209,15 +222,18 @@ std::map<std::pair<long, long>, Vec3> contactsById(const System& s)
     for (const System::ContactView& c : s.contacts())
     {
         const long a = id[c.i], b = c.j >= 0 ? id[c.j] : c.j;
-        if (c.j >= 0 && b < a) out[{b, a}] = -c.impulse;
-        else out[{a, b}] = c.impulse;
+        if (c.j >= 0 && b < a)
+            out[{b, a}] = -c.impulse;
+        else
+            out[{a, b}] = c.impulse;
     }
     return out;
 }
 
 /// Check that part is the grains of whole whose centre keep accepts, in the
 /// file's order, with their state, ids and the contacts among them.
-void expectPartOf(const System& whole, const System& part, const std::function<bool(const Vec3&, double)>& keep)
+void expectPartOf(const System& whole, const System& part,
+                  const std::function<bool(const Vec3&, double)>& keep)
 {
     std::vector<std::size_t> kept;
     for (std::size_t i = 0; i < whole.size(); ++i)
@@ -243,7 +259,7 @@ void expectPartOf(const System& whole, const System& part, const std::function<b
         if (ids.count(pair.first) && (pair.second < 0 || ids.count(pair.second))) expected[pair] = impulse;
     EXPECT_EQ(contactsById(part), expected);
 }
-}
+} // namespace
 
 // System::readHDF5(file, keep), the start of a decomposed run (each rank
 // reads its region): the part read equals the whole read restricted to the
@@ -275,18 +291,18 @@ TEST(HDF5, PartReadKeepsTheGrainsAndTheirContacts)
     const int m = s.addMaterial({2500, 0.4});
     const double r = 5e-4;
     for (int b = 0; b < 240; ++b)
-        for (int a = 0; a < 300; ++a)
-            s.addGrain(Vec3((2*a + 1)*r, (2*b + 1)*r, 0), r, m);
+        for (int a = 0; a < 300; ++a) s.addGrain(Vec3((2 * a + 1) * r, (2 * b + 1) * r, 0), r, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -9.81, 0));
-    s.settings().maxIterations = 3;  // (contacts with impulses, not an equilibrium)
+    s.settings().maxIterations = 3; // (contacts with impulses, not an equilibrium)
     s.step(1e-4);
     ASSERT_GT(s.contacts().size(), 100000u);
     s.writeHDF5(f);
     const System whole = System::readHDF5(f);
     // grains 0-65535 (rows 0-218) are the first chunk: a band of rows 210-229
     // of the left half, across its end
-    const auto band = [r](const Vec3& x, double) { return x.y() > 420*r && x.y() < 460*r && x.x() < 300*r; };
+    const auto band = [r](const Vec3& x, double)
+    { return x.y() > 420 * r && x.y() < 460 * r && x.x() < 300 * r; };
     expectPartOf(whole, System::readHDF5(f, band), band);
     std::remove(f.c_str());
 }

@@ -31,9 +31,9 @@ using Method = System::Settings::Method;
 
 namespace
 {
-constexpr double rad = 1e-3;   // [m]
-constexpr double rho = 2500;   // [kg/m^3]
-constexpr double gAcc = 9.81;  // [m/s^2]
+constexpr double rad = 1e-3;  // [m]
+constexpr double rho = 2500;  // [kg/m^3]
+constexpr double gAcc = 9.81; // [m/s^2]
 
 /// n frictionless discs in a column on the floor y = 0, gaps 0, compliance c.
 System newtonColumn(int n, double c, double mu)
@@ -42,12 +42,12 @@ System newtonColumn(int n, double c, double mu)
     Material mat{rho, mu};
     mat.compliance = c;
     const int m = s.addMaterial(mat);
-    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, rad + 2*rad*k, 0), rad, m);
+    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, rad + 2 * rad * k, 0), rad, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -gAcc, 0));
     s.settings().method = Method::Newton;
     s.settings().newtonTolerance = 1e-12;
-    s.settings().overlapSlop = 0;  // the law exactly
+    s.settings().overlapSlop = 0; // the law exactly
     return s;
 }
 
@@ -63,7 +63,8 @@ System pile(int n)
     std::uniform_real_distribution<double> u(0, 1);
     const double w = 12e-3, sp = 2.4e-3;
     for (int k = 0; k < n; ++k)
-        s.addGrain(Vec3((k % 5 + 0.5)*sp + 2e-4*(u(rng) - 0.5), (k/5 + 0.5)*sp, 0), rad*(0.9 + 0.1*u(rng)), m);
+        s.addGrain(Vec3((k % 5 + 0.5) * sp + 2e-4 * (u(rng) - 0.5), (k / 5 + 0.5) * sp, 0),
+                   rad * (0.9 + 0.1 * u(rng)), m);
     s.addSegment(Vec3(0, 0, 0), Vec3(w, 0, 0));
     s.addSegment(Vec3(0, 0, 0), Vec3(0, 0.1, 0));
     s.addSegment(Vec3(w, 0, 0), Vec3(w, 0.1, 0));
@@ -81,8 +82,8 @@ System pile(int n)
 TEST(Newton, RestingColumnCarriesTheWeightAbove)
 {
     const int n = 20;
-    const double mass = rho*M_PI*rad*rad;
-    const double c = 1e-3*rad/(n*mass*gAcc);  // bottom overlap 1e-3 r
+    const double mass = rho * M_PI * rad * rad;
+    const double c = 1e-3 * rad / (n * mass * gAcc); // bottom overlap 1e-3 r
     System s = newtonColumn(n, c, 0.0);
     const double dt = 1e-4;
     int maxIt = 0;
@@ -92,20 +93,20 @@ TEST(Newton, RestingColumnCarriesTheWeightAbove)
         ASSERT_TRUE(r.converged) << "step " << k;
         maxIt = std::max(maxIt, r.sweeps);
     }
-    EXPECT_LE(maxIt, 30);  // Newton iterations per step
+    EXPECT_LE(maxIt, 30); // Newton iterations per step
     for (const auto& v : s.contacts())
     {
         // contact below grain k carries grains k..n-1
         const int k = v.j < 0 ? 0 : std::max(v.i, v.j);
-        const double load = (n - k)*mass*gAcc;
-        EXPECT_NEAR(std::abs(v.impulse.y())/dt, load, 1e-6*load) << "contact below grain " << k;
+        const double load = (n - k) * mass * gAcc;
+        EXPECT_NEAR(std::abs(v.impulse.y()) / dt, load, 1e-6 * load) << "contact below grain " << k;
     }
     const auto& x = s.positions();
     for (int k = 0; k < n; ++k)
     {
-        const double ov = k == 0 ? rad - x[0].y() : 2*rad - (x[k].y() - x[k - 1].y());
-        const double expected = c*(n - k)*mass*gAcc;
-        EXPECT_NEAR(ov, expected, 1e-6*expected) << "overlap below grain " << k;
+        const double ov = k == 0 ? rad - x[0].y() : 2 * rad - (x[k].y() - x[k - 1].y());
+        const double expected = c * (n - k) * mass * gAcc;
+        EXPECT_NEAR(ov, expected, 1e-6 * expected) << "overlap below grain " << k;
     }
 }
 
@@ -115,13 +116,13 @@ TEST(Newton, RestingColumnCarriesTheWeightAbove)
 // flight would close the gap, gap+ = gap + dt v+ (1e-9 m/s, 1e-12 m).
 TEST(Newton, DroppedSphereFollowsImplicitEulerSpring)
 {
-    const double mass = rho*4.0/3.0*M_PI*rad*rad*rad, dt = 1e-4;
-    const double omega = 0.3/dt, c = 1/(omega*omega*mass);
+    const double mass = rho * 4.0 / 3.0 * M_PI * rad * rad * rad, dt = 1e-4;
+    const double omega = 0.3 / dt, c = 1 / (omega * omega * mass);
     System s(3);
     Material mat{rho, 0.5};
     mat.compliance = c;
     const int m = s.addMaterial(mat);
-    double gap = 2e-4, v = 0;  // reference state
+    double gap = 2e-4, v = 0; // reference state
     s.addGrain(Vec3(0, rad + gap, 0), rad, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -gAcc, 0));
@@ -132,10 +133,15 @@ TEST(Newton, DroppedSphereFollowsImplicitEulerSpring)
     for (int k = 0; k < 600; ++k)
     {
         s.step(dt);
-        const double vFree = v - dt*gAcc;
-        if (gap + dt*vFree >= 0) v = vFree;  // no force: the spring is not compressed at the end
-        else { v = (vFree - dt*gap/(mass*c))/(1 + dt*dt/(mass*c)); ++contactSteps; }
-        gap += dt*v;
+        const double vFree = v - dt * gAcc;
+        if (gap + dt * vFree >= 0)
+            v = vFree; // no force: the spring is not compressed at the end
+        else
+        {
+            v = (vFree - dt * gap / (mass * c)) / (1 + dt * dt / (mass * c));
+            ++contactSteps;
+        }
+        gap += dt * v;
         ASSERT_NEAR(s.velocities()[0].y(), v, 1e-9) << "step " << k;
         ASSERT_NEAR(s.positions()[0].y() - rad, gap, 1e-12) << "step " << k;
         ASSERT_NEAR(s.velocities()[0].x(), 0.0, 1e-15);
@@ -156,19 +162,19 @@ TEST(Newton, DroppedSphereFollowsImplicitEulerSpring)
 //    (1e-6 relative).
 TEST(Newton, BlockOnInclineSticksOrSlidesAsCoulomb)
 {
-    const double mass = rho*M_PI*rad*rad, dt = 1e-4, mu = 0.5;
-    const double c = 1e-4*rad/(mass*gAcc);  // overlap 1e-4 r under its weight
-    for (double theta : {0.4, 0.5})  // tan: 0.42 (sticks), 0.55 (slides)
+    const double mass = rho * M_PI * rad * rad, dt = 1e-4, mu = 0.5;
+    const double c = 1e-4 * rad / (mass * gAcc); // overlap 1e-4 r under its weight
+    for (double theta : {0.4, 0.5})              // tan: 0.42 (sticks), 0.55 (slides)
     {
         System s(2);
         Material mat{rho, mu};
         mat.compliance = c;
         const int m = s.addMaterial(mat);
-        const double F_n = mass*gAcc*std::cos(theta), F_t = mass*gAcc*std::sin(theta);
-        s.addGrain(Vec3(0, rad - c*F_n, 0), rad, m);  // at the spring's equilibrium
+        const double F_n = mass * gAcc * std::cos(theta), F_t = mass * gAcc * std::sin(theta);
+        s.addGrain(Vec3(0, rad - c * F_n, 0), rad, m); // at the spring's equilibrium
         s.setRotationLocked(0);
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-        s.setGravity(Vec3(gAcc*std::sin(theta), -gAcc*std::cos(theta), 0));
+        s.setGravity(Vec3(gAcc * std::sin(theta), -gAcc * std::cos(theta), 0));
         s.settings().method = Method::Newton;
         s.settings().newtonTolerance = 1e-13;
         s.settings().overlapSlop = 0;
@@ -178,24 +184,24 @@ TEST(Newton, BlockOnInclineSticksOrSlidesAsCoulomb)
         for (int k = 0; k < steps; ++k)
         {
             ASSERT_TRUE(s.step(dt).converged);
-            if (k == steps/2 - 1) vHalf = s.velocities()[0].x();
+            if (k == steps / 2 - 1) vHalf = s.velocities()[0].x();
         }
         const double vx = s.velocities()[0].x();
         if (std::tan(theta) < mu)
         {
-            const double creep = sigma*(c/(dt*dt))*F_t*dt;
-            EXPECT_NEAR(vx, creep, 1e-6*creep) << "theta " << theta;
-            EXPECT_NEAR(creep, sigma*c*F_t/dt, 1e-12);
+            const double creep = sigma * (c / (dt * dt)) * F_t * dt;
+            EXPECT_NEAR(vx, creep, 1e-6 * creep) << "theta " << theta;
+            EXPECT_NEAR(creep, sigma * c * F_t / dt, 1e-12);
         }
         else
         {
-            const double a = gAcc*(std::sin(theta) - mu*std::cos(theta));
-            EXPECT_NEAR((vx - vHalf)/(steps/2*dt), a, 1e-9*a) << "theta " << theta;
-            EXPECT_NEAR(vx, a*steps*dt - mu*mu*a*dt, 1e-6*a*steps*dt) << "theta " << theta;
+            const double a = gAcc * (std::sin(theta) - mu * std::cos(theta));
+            EXPECT_NEAR((vx - vHalf) / (steps / 2 * dt), a, 1e-9 * a) << "theta " << theta;
+            EXPECT_NEAR(vx, a * steps * dt - mu * mu * a * dt, 1e-6 * a * steps * dt) << "theta " << theta;
             const double overlap = rad - s.positions()[0].y();
             // the previous step's speed set this step's gap
-            const double expected = c*F_n - mu*(vx - a*dt)*dt;
-            EXPECT_NEAR(overlap, expected, 1e-3*std::abs(expected)) << "theta " << theta;
+            const double expected = c * F_n - mu * (vx - a * dt) * dt;
+            EXPECT_NEAR(overlap, expected, 1e-3 * std::abs(expected)) << "theta " << theta;
         }
     }
 }
@@ -229,9 +235,9 @@ TEST(Newton, AgreesWithCompliantNLGSOnASettledPile)
         EXPECT_LE(rb.sweeps, 30);
         double dv = 0;
         for (int i = 0; i < n; ++i)
-            dv = std::max(dv, (a.velocities()[i] - b.velocities()[i]).norm() + rad*(a.angularVelocities()[i]
-                              - b.angularVelocities()[i]).norm());
-        EXPECT_LE(dv, bound*gAcc*dt) << "sigma " << sigma;
+            dv = std::max(dv, (a.velocities()[i] - b.velocities()[i]).norm()
+                                  + rad * (a.angularVelocities()[i] - b.angularVelocities()[i]).norm());
+        EXPECT_LE(dv, bound * gAcc * dt) << "sigma " << sigma;
         std::vector<Vec3> ia(n, Vec3::Zero()), ib(n, Vec3::Zero());
         auto total = [&](const System& s, std::vector<Vec3>& sum)
         {
@@ -245,8 +251,8 @@ TEST(Newton, AgreesWithCompliantNLGSOnASettledPile)
         total(b, ib);
         for (int i = 0; i < n; ++i)
         {
-            const double weightDt = rho*M_PI*a.radii()[i]*a.radii()[i]*gAcc*dt;
-            EXPECT_LE((ia[i] - ib[i]).norm(), bound*weightDt) << "grain " << i << " sigma " << sigma;
+            const double weightDt = rho * M_PI * a.radii()[i] * a.radii()[i] * gAcc * dt;
+            EXPECT_LE((ia[i] - ib[i]).norm(), bound * weightDt) << "grain " << i << " sigma " << sigma;
         }
     }
 }
@@ -268,7 +274,7 @@ TEST(Newton, OneStickingContactMatchesTheExactLocalSolve)
             mat.relativeCompliance = 1e-2;
             const int m = s.addMaterial(mat);
             s.addGrain(Vec3(0, 0, 0), rad, m);
-            s.addGrain(Vec3(2*rad, 0, 0), rad, m);
+            s.addGrain(Vec3(2 * rad, 0, 0), rad, m);
             s.velocities()[0] = Vec3(0.05, 0.005, 0);
             s.velocities()[1] = Vec3(-0.05, -0.005, 0);
             s.angularVelocities()[0] = Vec3(0, 0, 5);
@@ -284,15 +290,16 @@ TEST(Newton, OneStickingContactMatchesTheExactLocalSolve)
         const System a = make(Method::NLGS), b = make(Method::Newton);
         for (int i = 0; i < 2; ++i)
         {
-            EXPECT_LE((a.velocities()[i] - b.velocities()[i]).norm(), 1e-6*0.1) << "dim " << dim << " grain " << i;
-            EXPECT_LE(rad*(a.angularVelocities()[i] - b.angularVelocities()[i]).norm(), 1e-6*0.1)
+            EXPECT_LE((a.velocities()[i] - b.velocities()[i]).norm(), 1e-6 * 0.1)
+                << "dim " << dim << " grain " << i;
+            EXPECT_LE(rad * (a.angularVelocities()[i] - b.angularVelocities()[i]).norm(), 1e-6 * 0.1)
                 << "dim " << dim << " grain " << i;
         }
         // sticking: the contact points move together (NLGS exactly)
-        const Vec3 n(-1, 0, 0);  // from B (grain 1) to A (grain 0)
+        const Vec3 n(-1, 0, 0); // from B (grain 1) to A (grain 0)
         const Vec3 du = a.velocities()[0] - a.velocities()[1]
-                        - (rad*a.angularVelocities()[0] + rad*a.angularVelocities()[1]).cross(n);
-        EXPECT_LE((du - du.dot(n)*n).norm(), 1e-9) << "dim " << dim;
+                        - (rad * a.angularVelocities()[0] + rad * a.angularVelocities()[1]).cross(n);
+        EXPECT_LE((du - du.dot(n) * n).norm(), 1e-9) << "dim " << dim;
     }
 }
 
@@ -313,12 +320,14 @@ TEST(Newton, ConeCostGradientAndHessianMatchFiniteDifferences)
         for (double mu : {0.0, 0.3, 1.0})
             for (int trial = 0; trial < 200; ++trial)
             {
-                Eigen::Vector3d vc(u(gen), 0.05*u(gen), comps == 3 ? 0.05*u(gen) : 0.0);
+                Eigen::Vector3d vc(u(gen), 0.05 * u(gen), comps == 3 ? 0.05 * u(gen) : 0.0);
                 const newton::ConeProjection p = newton::project(vc, vhat, Rn, Rt, mu, true);
                 // distance to the region boundaries, relative (skip the kinks)
-                const double yn = -(vc(0) - vhat)/Rn, yr = std::hypot(vc(1), vc(2))/Rt;
-                if (std::abs(yn) < 1e-4 || (mu > 0 && (std::abs(yr - mu*yn) < 1e-4*(yr + 1)
-                                                       || std::abs(yn + mu*Rt/Rn*yr) < 1e-4*(yr + 1))))
+                const double yn = -(vc(0) - vhat) / Rn, yr = std::hypot(vc(1), vc(2)) / Rt;
+                if (std::abs(yn) < 1e-4
+                    || (mu > 0
+                        && (std::abs(yr - mu * yn) < 1e-4 * (yr + 1)
+                            || std::abs(yn + mu * Rt / Rn * yr) < 1e-4 * (yr + 1))))
                     continue;
                 ++seen[p.region];
                 const double h = 1e-7;
@@ -329,12 +338,12 @@ TEST(Newton, ConeCostGradientAndHessianMatchFiniteDifferences)
                     const newton::ConeProjection pp = newton::project(vc + e, vhat, Rn, Rt, mu, false);
                     const newton::ConeProjection pm = newton::project(vc - e, vhat, Rn, Rt, mu, false);
                     const double scaleG = std::max(1.0, p.gamma.cwiseAbs().maxCoeff());
-                    EXPECT_NEAR((pp.cost - pm.cost)/(2*h), -p.gamma(a), 1e-6*scaleG)
+                    EXPECT_NEAR((pp.cost - pm.cost) / (2 * h), -p.gamma(a), 1e-6 * scaleG)
                         << "region " << p.region << " mu " << mu << " component " << a;
-                    const Eigen::Vector3d dg = (pp.gamma - pm.gamma)/(2*h);
-                    const double scaleH = std::max(1.0/Rt, p.G.cwiseAbs().maxCoeff());
+                    const Eigen::Vector3d dg = (pp.gamma - pm.gamma) / (2 * h);
+                    const double scaleH = std::max(1.0 / Rt, p.G.cwiseAbs().maxCoeff());
                     for (int b = 0; b < comps; ++b)
-                        EXPECT_NEAR(dg(b), -p.G(b, a), 1e-6*scaleH)
+                        EXPECT_NEAR(dg(b), -p.G(b, a), 1e-6 * scaleH)
                             << "region " << p.region << " mu " << mu << " entry " << b << a;
                 }
             }
@@ -350,8 +359,8 @@ TEST(Newton, ConeCostGradientAndHessianMatchFiniteDifferences)
 // stretches by c m g (consistency, 1e-6); a disc with F_c = 0.5 m g falls.
 TEST(Newton, CohesiveContactHoldsAHangingDisc)
 {
-    const double mass = rho*M_PI*rad*rad, dt = 1e-4;
-    const double c = 1e-3*rad/(mass*gAcc);
+    const double mass = rho * M_PI * rad * rad, dt = 1e-4;
+    const double c = 1e-3 * rad / (mass * gAcc);
     for (const double factor : {3.0, 0.5})
     {
         System s(2);
@@ -359,9 +368,9 @@ TEST(Newton, CohesiveContactHoldsAHangingDisc)
         mat.compliance = c;
         const int m = s.addMaterial(mat);
         s.addGrain(Vec3(0, -rad, 0), rad, m);
-        s.addPlane(Vec3(0, 0, 0), Vec3(0, -1, 0));  // ceiling y = 0, grains below
+        s.addPlane(Vec3(0, 0, 0), Vec3(0, -1, 0)); // ceiling y = 0, grains below
         s.setGravity(Vec3(0, -gAcc, 0));
-        s.setCohesion([](int, int) { return true; }, factor*mass*gAcc);
+        s.setCohesion([](int, int) { return true; }, factor * mass * gAcc);
         s.settings().method = Method::Newton;
         s.settings().newtonTolerance = 1e-13;
         s.settings().overlapSlop = 0;
@@ -370,10 +379,12 @@ TEST(Newton, CohesiveContactHoldsAHangingDisc)
         {
             ASSERT_EQ(s.contacts().size(), 1u);
             // on the disc: up, m g dt; along the normal (down, from the ceiling): -m g dt, a tension
-            EXPECT_NEAR(s.contacts()[0].impulse.y(), mass*gAcc*dt, 1e-8*mass*gAcc*dt);
-            EXPECT_NEAR(-rad - s.positions()[0].y(), c*mass*gAcc, 1e-6*c*mass*gAcc);  // stretched gap
+            EXPECT_NEAR(s.contacts()[0].impulse.y(), mass * gAcc * dt, 1e-8 * mass * gAcc * dt);
+            EXPECT_NEAR(-rad - s.positions()[0].y(), c * mass * gAcc,
+                        1e-6 * c * mass * gAcc); // stretched gap
         }
-        else EXPECT_LT(s.positions()[0].y(), -rad - 1e-3);
+        else
+            EXPECT_LT(s.positions()[0].y(), -rad - 1e-3);
     }
 }
 
@@ -394,7 +405,7 @@ TEST(Newton, RefusesHardContactsAndBadSettings)
         }
     };
     {
-        System s = newtonColumn(3, 0.0, 0.3);  // compliance 0: the hard law
+        System s = newtonColumn(3, 0.0, 0.3); // compliance 0: the hard law
         expectError(s, "compliance");
     }
     {

@@ -14,7 +14,12 @@ namespace
 constexpr double pi = 3.14159265358979323846;
 constexpr double g0 = 9.81;
 
-struct InclineResult { double v; double slip; double x; };
+struct InclineResult
+{
+    double v;
+    double slip;
+    double x;
+};
 
 // grain of radius r resting on the plane y = 0, gravity tilted by theta:
 // returns the down-slope velocity after T, the contact-point slip velocity
@@ -27,22 +32,22 @@ InclineResult incline(int dim, double thetaDeg, double mu, bool lockRotation, do
     s.addGrain(Vec3(0, r, 0), r, m);
     if (lockRotation) s.setRotationLocked(0);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-    const double th = thetaDeg*pi/180;
-    s.setGravity(Vec3(g0*std::sin(th), -g0*std::cos(th), 0));
+    const double th = thetaDeg * pi / 180;
+    s.setGravity(Vec3(g0 * std::sin(th), -g0 * std::cos(th), 0));
     const double dt = 1e-3;
-    const int n = int(std::lround(T/dt));
+    const int n = int(std::lround(T / dt));
     for (int k = 0; k < n; ++k)
     {
         const StepReport rep = s.step(dt);
         EXPECT_TRUE(rep.converged);
-        EXPECT_LT(rep.maxOverlap, 1e-3*r);
+        EXPECT_LT(rep.maxOverlap, 1e-3 * r);
     }
     const Vec3 v = s.velocities()[0], w = s.angularVelocities()[0];
     // contact point at -r e_y: velocity v + w x (-r e_y)
     const Vec3 vc = v + w.cross(Vec3(0, -r, 0));
     return {v.x(), vc.x(), s.positions()[0].x()};
 }
-}
+} // namespace
 
 // Reference: sliding block on an incline, a = g (sin t - mu cos t) if
 // tan t > mu, at rest otherwise (rotation locked). Tolerance 1% on a.
@@ -50,13 +55,13 @@ TEST(Incline, RotationLockedStickAndSlide)
 {
     for (int dim : {2, 3})
     {
-        const InclineResult st = incline(dim, 20, 0.5, true);  // tan 20 = 0.364 < 0.5
+        const InclineResult st = incline(dim, 20, 0.5, true); // tan 20 = 0.364 < 0.5
         EXPECT_LT(std::abs(st.x), 1e-8) << "dim " << dim;
         EXPECT_LT(std::abs(st.v), 1e-8);
-        const double th = 30*pi/180, mu = 0.3, T = 0.5;
+        const double th = 30 * pi / 180, mu = 0.3, T = 0.5;
         const InclineResult sl = incline(dim, 30, mu, true, T);
-        const double a = g0*(std::sin(th) - mu*std::cos(th));
-        EXPECT_NEAR(sl.v, a*T, 0.01*a*T) << "dim " << dim;
+        const double a = g0 * (std::sin(th) - mu * std::cos(th));
+        EXPECT_NEAR(sl.v, a * T, 0.01 * a * T) << "dim " << dim;
     }
 }
 
@@ -68,16 +73,16 @@ TEST(Incline, FreeRotationRollsOrSlides)
     const double T = 0.5;
     for (int dim : {2, 3})
     {
-        const double k = dim == 2 ? 0.5 : 0.4;  // I = k m r^2
-        const double th = 20*pi/180;
+        const double k = dim == 2 ? 0.5 : 0.4; // I = k m r^2
+        const double th = 20 * pi / 180;
         const InclineResult roll = incline(dim, 20, 0.5, false, T);
-        const double aRoll = g0*std::sin(th)/(1 + k);
-        EXPECT_NEAR(roll.v, aRoll*T, 0.01*aRoll*T) << "dim " << dim;
+        const double aRoll = g0 * std::sin(th) / (1 + k);
+        EXPECT_NEAR(roll.v, aRoll * T, 0.01 * aRoll * T) << "dim " << dim;
         EXPECT_LT(std::abs(roll.slip), 1e-6);
-        const double th2 = 40*pi/180, mu = 0.05;  // mu < tan(40) k/(1+k)
+        const double th2 = 40 * pi / 180, mu = 0.05; // mu < tan(40) k/(1+k)
         const InclineResult slide = incline(dim, 40, mu, false, T);
-        const double aSl = g0*(std::sin(th2) - mu*std::cos(th2));
-        EXPECT_NEAR(slide.v, aSl*T, 0.01*aSl*T) << "dim " << dim;
+        const double aSl = g0 * (std::sin(th2) - mu * std::cos(th2));
+        EXPECT_NEAR(slide.v, aSl * T, 0.01 * aSl * T) << "dim " << dim;
         EXPECT_GT(slide.slip, 0.1);
     }
 }
@@ -100,10 +105,10 @@ TEST(Drop, StopsOnPlaneWithoutOverlap)
         for (int k = 0; k < 600; ++k)
         {
             const StepReport rep = s.step(dt);
-            EXPECT_LT(rep.maxOverlap, 1e-3*r);
+            EXPECT_LT(rep.maxOverlap, 1e-3 * r);
             minY = std::min(minY, s.positions()[0].y());
         }
-        EXPECT_GT(minY, r*(1 - 1e-3));
+        EXPECT_GT(minY, r * (1 - 1e-3));
         EXPECT_NEAR(s.positions()[0].y(), r, 1e-9);
         EXPECT_NEAR(s.velocities()[0].y(), 0.0, 1e-9);
     }
@@ -118,7 +123,7 @@ TEST(Rest, StackOfDiscsStaysAtRest)
     const int m = s.addMaterial({2500, 0.4});
     const double r = 0.005;
     const int n = 8;
-    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r*(2*k + 1), 0), r, m);
+    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r * (2 * k + 1), 0), r, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -g0, 0));
     // xi = 1e-9 d_min: impulse error per contact ~ xi/(W dt^2 g) relative
@@ -129,13 +134,14 @@ TEST(Rest, StackOfDiscsStaysAtRest)
     {
         const StepReport rep = s.step(1e-3);
         EXPECT_TRUE(rep.converged);
-        EXPECT_LT(rep.maxOverlap, 1e-3*r);
+        EXPECT_LT(rep.maxOverlap, 1e-3 * r);
     }
-    for (int k = 0; k < n; ++k) EXPECT_LT((s.positions()[k] - x0[k]).norm(), 1e-6*r);
+    for (int k = 0; k < n; ++k) EXPECT_LT((s.positions()[k] - x0[k]).norm(), 1e-6 * r);
     // the bottom contact carries the whole weight (1e-9 relative)
     double bottom = 0;
-    for (const auto& c : s.contacts()) if (c.j < 0) bottom = c.impulse.y();
-    EXPECT_NEAR(bottom, n*s.mass(0)*g0*1e-3, 1e-5*n*s.mass(0)*g0*1e-3);
+    for (const auto& c : s.contacts())
+        if (c.j < 0) bottom = c.impulse.y();
+    EXPECT_NEAR(bottom, n * s.mass(0) * g0 * 1e-3, 1e-5 * n * s.mass(0) * g0 * 1e-3);
 }
 
 namespace
@@ -146,19 +152,19 @@ void pile(int dim, int nx, int nz, double& creep, double& overlap, double rmin)
     System s(dim);
     const int m = s.addMaterial({2500, 0.4});
     std::mt19937 gen(1);
-    std::uniform_real_distribution<double> U(rmin, 1.5*rmin);
-    const double h = 3.2*rmin, L = nx*h;
+    std::uniform_real_distribution<double> U(rmin, 1.5 * rmin);
+    const double h = 3.2 * rmin, L = nx * h;
     for (int a = 0; a < nx; ++a)
         for (int b = 0; b < 12; ++b)
             for (int c = 0; c < (dim == 3 ? nz : 1); ++c)
-                s.addGrain(Vec3((a + 0.5)*h, (b + 0.5)*h, dim == 3 ? (c + 0.5)*h : 0.0), U(gen), m);
+                s.addGrain(Vec3((a + 0.5) * h, (b + 0.5) * h, dim == 3 ? (c + 0.5) * h : 0.0), U(gen), m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
     s.addPlane(Vec3(L, 0, 0), Vec3(-1, 0, 0));
     if (dim == 3)
     {
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1));
-        s.addPlane(Vec3(0, 0, nz*h), Vec3(0, 0, -1));
+        s.addPlane(Vec3(0, 0, nz * h), Vec3(0, 0, -1));
     }
     s.setGravity(Vec3(0, -g0, 0));
     s.checkInitialOverlaps();
@@ -175,7 +181,7 @@ void pile(int dim, int nx, int nz, double& creep, double& overlap, double rmin)
     for (std::size_t k = 0; k < s.size(); ++k) creep = std::max(creep, (s.positions()[k] - x0[k]).norm());
     EXPECT_NO_THROW(s.checkInitialOverlaps());
 }
-}
+} // namespace
 
 // Reference: static equilibrium of a dense deposit; after settling, no grain
 // moves by more than 1e-3 r_min in 0.5 s (no creep), overlaps < 1e-3 r_min.
@@ -184,8 +190,8 @@ TEST(Rest, DensePileStaysAtRest2D)
     double creep, overlap;
     const double rmin = 0.002;
     pile(2, 12, 1, creep, overlap, rmin);
-    EXPECT_LT(creep, 1e-3*rmin);
-    EXPECT_LT(overlap, 1e-3*rmin);
+    EXPECT_LT(creep, 1e-3 * rmin);
+    EXPECT_LT(overlap, 1e-3 * rmin);
 }
 
 TEST(Rest, DensePileStaysAtRest3D)
@@ -193,8 +199,8 @@ TEST(Rest, DensePileStaysAtRest3D)
     double creep, overlap;
     const double rmin = 0.002;
     pile(3, 5, 5, creep, overlap, rmin);
-    EXPECT_LT(creep, 1e-3*rmin);
-    EXPECT_LT(overlap, 1e-3*rmin);
+    EXPECT_LT(creep, 1e-3 * rmin);
+    EXPECT_LT(overlap, 1e-3 * rmin);
 }
 
 // Moving wall: a plane pushing a grain at constant speed (no gravity) carries it.
@@ -221,7 +227,7 @@ TEST(Walls, SegmentsHoldDisc)
     s.setGravity(Vec3(0, -g0, 0));
     for (int k = 0; k < 2000; ++k) EXPECT_LT(s.step(1e-3).maxOverlap, 1e-4);
     // rests where it touches both segments: centre height r*sqrt(2)
-    EXPECT_NEAR(s.positions()[0].y(), 0.05*std::sqrt(2.0), 1e-6);
+    EXPECT_NEAR(s.positions()[0].y(), 0.05 * std::sqrt(2.0), 1e-6);
     EXPECT_NEAR(s.positions()[0].x(), 0.0, 1e-6);
 }
 
@@ -240,7 +246,7 @@ TEST(Walls, TriangulatedFloorAndCorner)
     std::vector<std::array<int, 3>> t = {{0, 1, 2}, {0, 2, 3}, {0, 3, 5}, {0, 5, 4}, {0, 4, 6}, {0, 6, 1}};
     s.addTriangulatedSurface(v, t);
     s.setGravity(Vec3(0, -g0, 0));
-    for (int k = 0; k < 1500; ++k) EXPECT_LT(s.step(1e-3).maxOverlap, 1e-3*r);
+    for (int k = 0; k < 1500; ++k) EXPECT_LT(s.step(1e-3).maxOverlap, 1e-3 * r);
     EXPECT_NEAR(s.positions()[0].x(), r, 1e-6);
     EXPECT_NEAR(s.positions()[0].y(), r, 1e-6);
     EXPECT_NEAR(s.positions()[0].z(), r, 1e-6);
@@ -251,7 +257,12 @@ TEST(Walls, TriangulatedFloorAndCorner)
 // impulse = weight (1e-5 relative at xi = 1e-9 d_min), overlap < slop + 1e-3 r.
 TEST(Solver, VariantsGiveTheStaticColumn)
 {
-    struct Variant { System::Settings::Ordering o; double slop; double relax; };
+    struct Variant
+    {
+        System::Settings::Ordering o;
+        double slop;
+        double relax;
+    };
     for (const Variant& v : {Variant{System::Settings::Ordering::Fifo, 0.0, 1.0},
                              Variant{System::Settings::Ordering::Symmetric, 0.0, 1.0},
                              Variant{System::Settings::Ordering::Symmetric, 1e-4, 1.0},
@@ -261,7 +272,7 @@ TEST(Solver, VariantsGiveTheStaticColumn)
         const int m = s.addMaterial({2500, 0.4});
         const double r = 0.005;
         const int n = 8;
-        for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r*(2*k + 1), 0), r, m);
+        for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r * (2 * k + 1), 0), r, m);
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
         s.setGravity(Vec3(0, -g0, 0));
         s.settings().tolerance = 1e-9;
@@ -272,12 +283,13 @@ TEST(Solver, VariantsGiveTheStaticColumn)
         {
             const StepReport rep = s.step(1e-3);
             EXPECT_TRUE(rep.converged);
-            EXPECT_LT(rep.maxOverlap, (v.slop + 1e-3)*r);
+            EXPECT_LT(rep.maxOverlap, (v.slop + 1e-3) * r);
         }
         double bottom = 0;
-        for (const auto& c : s.contacts()) if (c.j < 0) bottom = c.impulse.y();
-        const double w = n*s.mass(0)*g0*1e-3;
-        EXPECT_NEAR(bottom, w, 1e-5*w) << "ordering " << int(v.o) << " slop " << v.slop;
+        for (const auto& c : s.contacts())
+            if (c.j < 0) bottom = c.impulse.y();
+        const double w = n * s.mass(0) * g0 * 1e-3;
+        EXPECT_NEAR(bottom, w, 1e-5 * w) << "ordering " << int(v.o) << " slop " << v.slop;
     }
     System s(2);
     s.settings().relaxation = 2.5;

@@ -26,11 +26,11 @@ TEST(RelaxStage, ColumnAtRestRunsNoSecondSolve)
     System s(2);
     const int m = s.addMaterial({2500, 0.4});
     const double r = 1e-3;
-    for (int k = 0; k < 10; ++k) s.addGrain(Vec3(0, r*(2*k + 1), 0), r, m);
+    for (int k = 0; k < 10; ++k) s.addGrain(Vec3(0, r * (2 * k + 1), 0), r, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -g0, 0));
-    const double slop = s.settings().overlapSlop*r;
-    for (int k = 0; k < 100; ++k) s.step(1e-4);  // the contacts load
+    const double slop = s.settings().overlapSlop * r;
+    for (int k = 0; k < 100; ++k) s.step(1e-4); // the contacts load
     for (int k = 0; k < 200; ++k)
     {
         const StepReport rep = s.step(1e-4);
@@ -51,8 +51,8 @@ TEST(RelaxStage, SecondSolveQueuesOnlyThePushOutRows)
     System s(2);
     const int m = s.addMaterial({2500, 0.4});
     const double r = 1e-3, dt = 1e-4;
-    const double slop = s.settings().overlapSlop*r;
-    for (int k = 0; k < 50; ++k) s.addGrain(Vec3(3*r*k, r - (k == 7 ? 5*slop : 0.0), 0), r, m);
+    const double slop = s.settings().overlapSlop * r;
+    for (int k = 0; k < 50; ++k) s.addGrain(Vec3(3 * r * k, r - (k == 7 ? 5 * slop : 0.0), 0), r, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -g0, 0));
     const StepReport rep = s.step(dt);
@@ -61,9 +61,9 @@ TEST(RelaxStage, SecondSolveQueuesOnlyThePushOutRows)
     EXPECT_EQ(rep.relaxSolves, 1);
     EXPECT_GE(rep.relaxLocalSolves, 1);
     EXPECT_LE(rep.relaxLocalSolves, 2);
-    const double xi = s.settings().tolerance*2*r;
-    EXPECT_NEAR(s.positions()[7].y(), r - slop, xi);       // pushed back to the band edge
-    EXPECT_NEAR(s.velocities()[7].y(), 0.0, xi/dt);        // without the push-out velocity
+    const double xi = s.settings().tolerance * 2 * r;
+    EXPECT_NEAR(s.positions()[7].y(), r - slop, xi);  // pushed back to the band edge
+    EXPECT_NEAR(s.velocities()[7].y(), 0.0, xi / dt); // without the push-out velocity
     for (int k = 0; k < 50; ++k)
         if (k != 7) EXPECT_NEAR(s.positions()[k].y(), r, 1e-15) << "disc " << k;
 }

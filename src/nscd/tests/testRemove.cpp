@@ -25,13 +25,13 @@ System stack(int extra)
     const int m = s.addMaterial({rho, 0.4});
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     for (int k = 0; k < extra; ++k) s.addGrain(Vec3(1.0 + k, r, 0), r, m);
-    for (int k = 0; k < 3; ++k) s.addGrain(Vec3(0, r + 2*r*k, 0), r, m);
+    for (int k = 0; k < 3; ++k) s.addGrain(Vec3(0, r + 2 * r * k, 0), r, m);
     s.setGravity(Vec3(0, -g, 0));
     return s;
 }
 
-double weight() { return rho*3.14159265358979323846*r*r*g; }   // N per metre of depth
-}
+double weight() { return rho * 3.14159265358979323846 * r * r * g; } // N per metre of depth
+} // namespace
 
 // The isolated disc 0 is removed after 20 steps: the stack (renumbered 0-2,
 // the floor contacts renumbered from wall body 4 to 3) must continue exactly
@@ -41,8 +41,12 @@ double weight() { return rho*3.14159265358979323846*r*r*g; }   // N per metre of
 TEST(RemoveGrains, StackContinuesAsWithoutTheRemovedGrain)
 {
     System a = stack(1), ref = stack(0);
-    for (int k = 0; k < 20; ++k) { a.step(dt); ref.step(dt); }
-    ASSERT_EQ(a.nContacts(), 4u);   // isolated-floor, floor-0, 0-1, 1-2
+    for (int k = 0; k < 20; ++k)
+    {
+        a.step(dt);
+        ref.step(dt);
+    }
+    ASSERT_EQ(a.nContacts(), 4u); // isolated-floor, floor-0, 0-1, 1-2
     const std::vector<std::size_t> removed = a.removeGrains({0});
     ASSERT_EQ(removed, std::vector<std::size_t>{0});
     ASSERT_EQ(a.size(), 3u);
@@ -62,8 +66,8 @@ TEST(RemoveGrains, StackContinuesAsWithoutTheRemovedGrain)
     // of grains j and above (0.1 %: 20 steps of settling)
     for (const auto& c : ca)
     {
-        const double carried = (c.j < 0 ? 3 : -(3 - c.j))*weight()*dt;
-        EXPECT_NEAR(c.impulse.y(), carried, 1e-3*std::abs(carried)) << c.i << " " << c.j;
+        const double carried = (c.j < 0 ? 3 : -(3 - c.j)) * weight() * dt;
+        EXPECT_NEAR(c.impulse.y(), carried, 1e-3 * std::abs(carried)) << c.i << " " << c.j;
     }
 
     // warm start: the next steps take the same sweeps and give the same state
@@ -96,23 +100,23 @@ TEST(RemoveGrains, DropsTheContactsOfRemovedGrains)
     const auto c = s.contacts();
     ASSERT_EQ(c.size(), 1u);
     EXPECT_EQ(c[0].i, 0);
-    EXPECT_EQ(c[0].j, -1);   // wall 0
+    EXPECT_EQ(c[0].j, -1); // wall 0
     EXPECT_EQ(c[0].impulse.y(), floorImpulse);
     const double v0 = s.velocities()[1].y();
     s.step(dt);
     // free fall of the top disc over one step (no contact within reach of the
     // gap 2r): v = v0 - g dt (analytical)
-    EXPECT_NEAR(s.velocities()[1].y(), v0 - g*dt, 1e-12);
+    EXPECT_NEAR(s.velocities()[1].y(), v0 - g * dt, 1e-12);
 }
 
 TEST(RemoveGrains, IdsAreNeverReusedAndSurviveTheState)
 {
-    System s = stack(2);   // ids 0 ... 4
+    System s = stack(2); // ids 0 ... 4
     s.removeGrains({4, 0});
     EXPECT_EQ(s.grainIds(), (std::vector<long>{1, 2, 3}));
     const int m = 0;
-    EXPECT_EQ(s.addGrain(Vec3(5, r, 0), r, m), 3);   // index 3 ...
-    EXPECT_EQ(s.grainIds().back(), 5);                // ... id 5, not 4 nor 0
+    EXPECT_EQ(s.addGrain(Vec3(5, r, 0), r, m), 3); // index 3 ...
+    EXPECT_EQ(s.grainIds().back(), 5);             // ... id 5, not 4 nor 0
 
     const std::string file = ::testing::TempDir() + "nscdRemoveIds.h5";
     s.writeHDF5(file);

@@ -3,12 +3,12 @@
 // reorderInterval): the curve itself, the same physics with and without it,
 // the external grain order of the interface and of the HDF5 state, and a
 // bit-exact restart across reorders.
-#include "nscd/System.H"
 #include "Reorder.H"
 #include "nscd/Permutation.H"
+#include "nscd/System.H"
 
-#include <hdf5.h>
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <algorithm>
 #include <cmath>
@@ -42,20 +42,20 @@ System makePile(int dim, int n, unsigned seed, int reorderInterval, bool lowered
     const int row = dim == 2 ? 15 : 6;
     for (int k = 0; k < n; ++k)
     {
-        const int a = k % row, b = dim == 2 ? k/row : (k/row) % row, c = dim == 2 ? 0 : k/(row*row);
+        const int a = k % row, b = dim == 2 ? k / row : (k / row) % row, c = dim == 2 ? 0 : k / (row * row);
         const double h = 2.2e-3;
-        const double shift = 1.1e-3*((dim == 2 ? b : c) % 2);
-        const double ri = 1e-3*(0.9 + 0.2*((k*37) % 11)/10.0);
-        Vec3 p = dim == 2 ? Vec3(1.1e-3 + h*a + shift, 1.1e-3 + 2.05e-3*b, 0)
-                          : Vec3(1.1e-3 + h*a + shift, 1.1e-3 + 2.05e-3*c, 1.1e-3 + h*b + shift);
+        const double shift = 1.1e-3 * ((dim == 2 ? b : c) % 2);
+        const double ri = 1e-3 * (0.9 + 0.2 * ((k * 37) % 11) / 10.0);
+        Vec3 p = dim == 2 ? Vec3(1.1e-3 + h * a + shift, 1.1e-3 + 2.05e-3 * b, 0)
+                          : Vec3(1.1e-3 + h * a + shift, 1.1e-3 + 2.05e-3 * c, 1.1e-3 + h * b + shift);
         if (lowered)
         {
-            double y = ri*(1 + 1e-9);
+            double y = ri * (1 + 1e-9);
             for (int j = 0; j < k; ++j)
             {
                 const double dx = p.x() - x[j].x(), dz = p.z() - x[j].z();
-                const double h2 = dx*dx + dz*dz, rr = (ri + r[j])*(1 + 1e-9);
-                if (h2 < rr*rr) y = std::max(y, x[j].y() + std::sqrt(rr*rr - h2));
+                const double h2 = dx * dx + dz * dz, rr = (ri + r[j]) * (1 + 1e-9);
+                if (h2 < rr * rr) y = std::max(y, x[j].y() + std::sqrt(rr * rr - h2));
             }
             p.y() = y;
         }
@@ -66,11 +66,15 @@ System makePile(int dim, int n, unsigned seed, int reorderInterval, bool lowered
     std::iota(perm.begin(), perm.end(), 0);
     std::shuffle(perm.begin(), perm.end(), std::mt19937(seed));
     for (int k : perm) s.addGrain(x[k], r[k], m);
-    const double W = 2.2e-3*row + 1.1e-3;
+    const double W = 2.2e-3 * row + 1.1e-3;
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
     s.addPlane(Vec3(W, 0, 0), Vec3(-1, 0, 0));
-    if (dim == 3) { s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1)); s.addPlane(Vec3(0, 0, W), Vec3(0, 0, -1)); }
+    if (dim == 3)
+    {
+        s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1));
+        s.addPlane(Vec3(0, 0, W), Vec3(0, 0, -1));
+    }
     s.setGravity(Vec3(0, -g0, 0));
     s.settings().reorderInterval = reorderInterval;
     return s;
@@ -86,7 +90,9 @@ std::vector<int> fileOrder(const std::string& file)
     H5Sget_simple_extent_dims(sp, &n, nullptr);
     std::vector<int> out(n);
     H5Dread(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
-    H5Sclose(sp); H5Dclose(d); H5Fclose(f);
+    H5Sclose(sp);
+    H5Dclose(d);
+    H5Fclose(f);
     return out;
 }
 
@@ -98,13 +104,18 @@ std::vector<double> filePositions(const std::string& file)
     const hid_t sp = H5Dget_space(d);
     hsize_t n[2] = {0, 0};
     H5Sget_simple_extent_dims(sp, n, nullptr);
-    std::vector<double> out(n[0]*n[1]);
+    std::vector<double> out(n[0] * n[1]);
     H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
-    H5Sclose(sp); H5Dclose(d); H5Fclose(f);
+    H5Sclose(sp);
+    H5Dclose(d);
+    H5Fclose(f);
     return out;
 }
 
-std::string tmpName(const char* tag) { return std::string("testReorder_") + tag + "_" + std::to_string(::getpid()) + ".h5"; }
+std::string tmpName(const char* tag)
+{
+    return std::string("testReorder_") + tag + "_" + std::to_string(::getpid()) + ".h5";
+}
 
 /// Contacts as a map (smaller grain, larger grain or wall code) -> impulse on the smaller grain.
 using ContactMap = std::map<std::pair<int, int>, Vec3>;
@@ -119,7 +130,7 @@ void expectSameContacts(const ContactMap& a, const ContactMap& b)
     for (auto p = a.begin(), q = b.begin(); p != a.end(); ++p, ++q)
     {
         ASSERT_EQ(p->first, q->first);
-        EXPECT_LE((p->second - q->second).norm(), 1e-12*scale) << p->first.first << " " << p->first.second;
+        EXPECT_LE((p->second - q->second).norm(), 1e-12 * scale) << p->first.first << " " << p->first.second;
     }
 }
 
@@ -130,12 +141,12 @@ std::map<std::pair<int, int>, Vec3> contactMap(const System& s)
     {
         const bool swap = v.j >= 0 && v.j < v.i;
         const std::pair<int, int> key = swap ? std::make_pair(v.j, v.i) : std::make_pair(v.i, v.j);
-        auto it = m.emplace(key, Vec3::Zero()).first;  // (Vec3() is not zeroed)
+        auto it = m.emplace(key, Vec3::Zero()).first; // (Vec3() is not zeroed)
         it->second += swap ? Vec3(-v.impulse) : v.impulse;
     }
     return m;
 }
-}
+} // namespace
 
 // The Morton key interleaves the bits of the cell indices (definition:
 // Morton 1966), checked against a bit-by-bit interleave, and orders a 4 x 4
@@ -149,9 +160,9 @@ TEST(Reorder, MortonKeyAndCurve)
         std::uint64_t k2 = 0, k3 = 0;
         for (int b = 0; b < 21; ++b)
         {
-            k2 |= std::uint64_t((i >> b) & 1) << (2*b) | std::uint64_t((j >> b) & 1) << (2*b + 1);
-            k3 |= std::uint64_t((i >> b) & 1) << (3*b) | std::uint64_t((j >> b) & 1) << (3*b + 1)
-                  | std::uint64_t((k >> b) & 1) << (3*b + 2);
+            k2 |= std::uint64_t((i >> b) & 1) << (2 * b) | std::uint64_t((j >> b) & 1) << (2 * b + 1);
+            k3 |= std::uint64_t((i >> b) & 1) << (3 * b) | std::uint64_t((j >> b) & 1) << (3 * b + 1)
+                  | std::uint64_t((k >> b) & 1) << (3 * b + 2);
         }
         ASSERT_EQ(mortonKey2(i, j), k2);
         ASSERT_EQ(mortonKey3(i, j, k), k3);
@@ -159,7 +170,7 @@ TEST(Reorder, MortonKeyAndCurve)
     EXPECT_EQ(mortonKey2(0xffffffffu, 0), 0x5555555555555555ULL);
     // 4 x 4 points, index a + 4 b at cell (a, b), given in reverse order
     std::vector<Vec3> x;
-    for (int p = 15; p >= 0; --p) x.emplace_back(p % 4 + 0.5, p/4 + 0.5, 0);
+    for (int p = 15; p >= 0; --p) x.emplace_back(p % 4 + 0.5, p / 4 + 0.5, 0);
     const std::vector<int> ord = mortonOrder(x, 2, 1.0);
     const int z[16] = {0, 1, 4, 5, 2, 3, 6, 7, 8, 9, 12, 13, 10, 11, 14, 15};
     for (int s = 0; s < 16; ++s) EXPECT_EQ(15 - ord[s], z[s]) << "slot " << s;
@@ -174,7 +185,7 @@ TEST(Reorder, OnlyScatteredOrdersAreResorted)
 {
     std::vector<Vec3> x;
     for (int b = 0; b < 20; ++b)
-        for (int a = 0; a < 60; ++a) x.emplace_back(a + 0.5 + 0.01*(b % 3), b + 0.5, 0);
+        for (int a = 0; a < 60; ++a) x.emplace_back(a + 0.5 + 0.01 * (b % 3), b + 0.5, 0);
     const std::vector<int> curve = mortonOrder(x, 2, 1.0);
     std::vector<int> slotOf(x.size());
     std::iota(slotOf.begin(), slotOf.end(), 0);
@@ -185,7 +196,7 @@ TEST(Reorder, OnlyScatteredOrdersAreResorted)
     System s(2);
     const int m = s.addMaterial({2500, 0.4});
     for (int k = 0; k < 300; ++k)
-        s.addGrain(Vec3(1.1e-3 + 2.2e-3*(k % 15), 1.1e-3 + 2.05e-3*(k/15), 0), 1e-3, m);
+        s.addGrain(Vec3(1.1e-3 + 2.2e-3 * (k % 15), 1.1e-3 + 2.05e-3 * (k / 15), 0), 1e-3, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -g0, 0));
     s.settings().reorderInterval = 1;
@@ -220,15 +231,16 @@ TEST(Reorder, IndependentGrainsBitIdentical)
             for (int c : cells)
             {
                 const double r = U(gen);
-                const Vec3 p = dim == 2 ? Vec3(3e-3*(c + 0.5), r + 1e-5*(c % 3), 0)
-                                        : Vec3(3e-3*(c % 8 + 0.5), r + 1e-5*(c % 3), 3e-3*(c/8 + 0.5));
+                const Vec3 p = dim == 2
+                                   ? Vec3(3e-3 * (c + 0.5), r + 1e-5 * (c % 3), 0)
+                                   : Vec3(3e-3 * (c % 8 + 0.5), r + 1e-5 * (c % 3), 3e-3 * (c / 8 + 0.5));
                 const int k = s.addGrain(p, r, m);
-                s.velocities()[k] = Vec3(0.01*(c % 5 - 2), -0.02, 0);
-                s.angularVelocities()[k] = Vec3(0, 0, 3.0*(c % 4));
-                s.setExternalForce(k, Vec3(1e-6*c, 0, 0), Vec3(0, 0, 1e-10*(c % 7)));
-                s.setFluidDrag(k, 1e-4*(c % 3), Vec3(0.05, 0.01*(c % 2), 0));
-                s.setHeatExchange(k, 1e-4*(c % 4), 300 + c);
-                s.temperatures()[k] = 290 + 0.5*c;
+                s.velocities()[k] = Vec3(0.01 * (c % 5 - 2), -0.02, 0);
+                s.angularVelocities()[k] = Vec3(0, 0, 3.0 * (c % 4));
+                s.setExternalForce(k, Vec3(1e-6 * c, 0, 0), Vec3(0, 0, 1e-10 * (c % 7)));
+                s.setFluidDrag(k, 1e-4 * (c % 3), Vec3(0.05, 0.01 * (c % 2), 0));
+                s.setHeatExchange(k, 1e-4 * (c % 4), 300 + c);
+                s.temperatures()[k] = 290 + 0.5 * c;
                 if (c % 6 == 0) s.setRotationLocked(k);
             }
             const int floor = s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
@@ -277,8 +289,13 @@ TEST(Reorder, PileSamePhysicsWithinTolerance)
     for (int dim : {2, 3})
     {
         const int n = dim == 2 ? 300 : 216;
-        System a = makePile(dim, n, 7, 0, true), b = makePile(dim, n, 7, 10, true), c = makePile(dim, n, 7, 0, true);
-        for (System* s : {&a, &b, &c}) { s->settings().tolerance = 1e-8; s->settings().maxIterations = 100000; }
+        System a = makePile(dim, n, 7, 0, true), b = makePile(dim, n, 7, 10, true),
+               c = makePile(dim, n, 7, 0, true);
+        for (System* s : {&a, &b, &c})
+        {
+            s->settings().tolerance = 1e-8;
+            s->settings().maxIterations = 100000;
+        }
         c.settings().tolerance = 1e-9;
         const double dt = 1e-4;
         double worst = 0, worstTol = 0;
@@ -294,16 +311,18 @@ TEST(Reorder, PileSamePhysicsWithinTolerance)
             }
         }
         const double d = a.minDiameter();
-        std::printf("dim %d: max |x_reorder - x| = %.3e d_min, max |x_tol/10 - x| = %.3e d_min\n", dim, worst/d, worstTol/d);
-        EXPECT_LT(worst, 3*worstTol) << "dim " << dim;
-        EXPECT_NEAR(double(a.nContacts()), double(b.nContacts()), 0.01*a.nContacts());
+        std::printf("dim %d: max |x_reorder - x| = %.3e d_min, max |x_tol/10 - x| = %.3e d_min\n", dim,
+                    worst / d, worstTol / d);
+        EXPECT_LT(worst, 3 * worstTol) << "dim " << dim;
+        EXPECT_NEAR(double(a.nContacts()), double(b.nContacts()), 0.01 * a.nContacts());
         auto floorLoad = [dt](const System& s)
         {
             double load = 0;
-            for (const auto& v : s.contacts()) if (v.j == -1) load += v.impulse.y()/dt;
+            for (const auto& v : s.contacts())
+                if (v.j == -1) load += v.impulse.y() / dt;
             return load;
         };
-        EXPECT_NEAR(floorLoad(b), floorLoad(a), 1e-3*floorLoad(a)) << "dim " << dim;
+        EXPECT_NEAR(floorLoad(b), floorLoad(a), 1e-3 * floorLoad(a)) << "dim " << dim;
     }
 }
 
@@ -321,37 +340,44 @@ TEST(Reorder, ExternalOrderUnchanged)
     // every grain-grain contact joins grains that are neighbours in positions()
     for (const auto& v : s.contacts())
     {
-        if (v.j == -1) EXPECT_LT(s.positions()[v.i].y() - s.radii()[v.i], 1e-4);  // floor
+        if (v.j == -1) EXPECT_LT(s.positions()[v.i].y() - s.radii()[v.i], 1e-4); // floor
         if (v.j < 0) continue;
-        EXPECT_LT(v.i, v.j);  // grain pairs i < j, as without reordering
+        EXPECT_LT(v.i, v.j); // grain pairs i < j, as without reordering
         const double gap = (s.positions()[v.i] - s.positions()[v.j]).norm() - r0[v.i] - r0[v.j];
-        EXPECT_LT(gap, 0.1*s.minDiameter()) << v.i << " " << v.j;
+        EXPECT_LT(gap, 0.1 * s.minDiameter()) << v.i << " " << v.j;
         EXPECT_NEAR(v.normal.dot((s.positions()[v.i] - s.positions()[v.j]).normalized()), 1.0, 1e-3);
     }
     // the highest grain, pushed up with 100 times its weight, is the one
     // that rises (against the same run without the push)
     int top = 0;
-    for (std::size_t i = 0; i < s.size(); ++i) if (s.positions()[i].y() > s.positions()[top].y()) top = int(i);
+    for (std::size_t i = 0; i < s.size(); ++i)
+        if (s.positions()[i].y() > s.positions()[top].y()) top = int(i);
     {
         const std::string f0 = tmpName("push");
         s.writeHDF5(f0);
         System t = System::readHDF5(f0);
         std::remove(f0.c_str());
-        t.setExternalForce(top, Vec3(0, 100*s.mass(top)*g0, 0));
-        for (int k = 0; k < 10; ++k) { s.step(2e-4); t.step(2e-4); }
+        t.setExternalForce(top, Vec3(0, 100 * s.mass(top) * g0, 0));
+        for (int k = 0; k < 10; ++k)
+        {
+            s.step(2e-4);
+            t.step(2e-4);
+        }
         for (std::size_t i = 0; i < s.size(); ++i)
         {
             const double dy = t.positions()[i].y() - s.positions()[i].y();
-            if (int(i) == top) EXPECT_GT(dy, 0.1*r0[i]);
-            else EXPECT_LT(std::abs(dy), 0.02*r0[i]) << "grain " << i;
+            if (int(i) == top)
+                EXPECT_GT(dy, 0.1 * r0[i]);
+            else
+                EXPECT_LT(std::abs(dy), 0.02 * r0[i]) << "grain " << i;
         }
     }
     const std::string f = tmpName("order");
     s.writeHDF5(f);
     const std::vector<double> xf = filePositions(f);
-    ASSERT_EQ(xf.size(), 3*s.size());
+    ASSERT_EQ(xf.size(), 3 * s.size());
     for (std::size_t i = 0; i < s.size(); ++i)
-        for (int c = 0; c < 3; ++c) ASSERT_EQ(xf[3*i + c], s.positions()[i][c]);
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(xf[3 * i + c], s.positions()[i][c]);
     const std::vector<int> ord = fileOrder(f);
     std::vector<int> id(ord.size());
     std::iota(id.begin(), id.end(), 0);
@@ -375,7 +401,7 @@ TEST(Reorder, RestartAfterReorderIsBitExact)
         {
             const int n = dim == 2 ? 300 : 216;
             System a = makePile(dim, n, 13, 7);
-            for (int k = 0; k < 2*N; ++k) a.step(2e-4);
+            for (int k = 0; k < 2 * N; ++k) a.step(2e-4);
             System b = makePile(dim, n, 13, 7);
             for (int k = 0; k < N; ++k) b.step(2e-4);
             const std::string f = tmpName("restart");
@@ -399,19 +425,21 @@ TEST(Reorder, RemoveSeedAndCohesionFollowGrains)
 {
     System s = makePile(2, 300, 17, 4);
     double worstGap = -1;
-    bool pairOrder = true;  // grain pairs given with i < j
-    s.setCohesion([&](int i, int j)
-                  {
-                      const double r = j >= 0 ? s.radii()[j] : 0;
-                      const double gap = j >= 0 ? (s.positions()[i] - s.positions()[j]).norm() - s.radii()[i] - r
-                                                : s.positions()[i].y() - s.radii()[i];
-                      if (j != -2 && j != -3) worstGap = std::max(worstGap, gap);  // side walls: not checked
-                      if (j >= 0 && !(i < j)) pairOrder = false;
-                      return true;
-                  }, 1e-6);
+    bool pairOrder = true; // grain pairs given with i < j
+    s.setCohesion(
+        [&](int i, int j)
+        {
+            const double r = j >= 0 ? s.radii()[j] : 0;
+            const double gap = j >= 0 ? (s.positions()[i] - s.positions()[j]).norm() - s.radii()[i] - r
+                                      : s.positions()[i].y() - s.radii()[i];
+            if (j != -2 && j != -3) worstGap = std::max(worstGap, gap); // side walls: not checked
+            if (j >= 0 && !(i < j)) pairOrder = false;
+            return true;
+        },
+        1e-6);
     for (int k = 0; k < 40; ++k) s.step(2e-4);
     // (within cohesionDistance at detection; a wrong grain would be diameters away)
-    EXPECT_LT(worstGap, 0.25*s.minDiameter());
+    EXPECT_LT(worstGap, 0.25 * s.minDiameter());
     EXPECT_TRUE(pairOrder);
     // setContactImpulses(contacts()) gives back the same contacts
     const auto before = contactMap(s);
@@ -420,7 +448,13 @@ TEST(Reorder, RemoveSeedAndCohesionFollowGrains)
     // remove grains 5, 17, 100: the others' contacts are kept, renumbered
     const std::set<int> gone = {5, 17, 100};
     std::map<std::pair<int, int>, Vec3> expected;
-    auto renum = [&](int i) { int k = i; for (int g : gone) if (g < i) --k; return k; };
+    auto renum = [&](int i)
+    {
+        int k = i;
+        for (int g : gone)
+            if (g < i) --k;
+        return k;
+    };
     for (const auto& e : before)
     {
         const int i = e.first.first, j = e.first.second;
@@ -445,10 +479,15 @@ TEST(Reorder, PermuteInPlaceMatchesTheCopy)
         std::vector<std::size_t> oldOf(N);
         std::iota(oldOf.begin(), oldOf.end(), 0);
         std::shuffle(oldOf.begin(), oldOf.end(), rng);
-        if (N > 2) std::swap(oldOf[0], *std::find(oldOf.begin(), oldOf.end(), 0));  // a fixed point
+        if (N > 2) std::swap(oldOf[0], *std::find(oldOf.begin(), oldOf.end(), 0)); // a fixed point
         std::vector<int> a(N);
-        std::vector<double> pairs(2*N);
-        for (int k = 0; k < N; ++k) { a[k] = 10*k; pairs[2*k] = k; pairs[2*k + 1] = -k; }
+        std::vector<double> pairs(2 * N);
+        for (int k = 0; k < N; ++k)
+        {
+            a[k] = 10 * k;
+            pairs[2 * k] = k;
+            pairs[2 * k + 1] = -k;
+        }
         std::vector<int> want(N);
         for (int k = 0; k < N; ++k) want[k] = a[oldOf[k]];
         StridedView<double> first{pairs, 2, 0};
@@ -456,8 +495,8 @@ TEST(Reorder, PermuteInPlaceMatchesTheCopy)
         EXPECT_EQ(a, want) << N;
         for (int k = 0; k < N; ++k)
         {
-            ASSERT_EQ(pairs[2*k], double(oldOf[k]));
-            ASSERT_EQ(pairs[2*k + 1], -double(k));  // the other component is left alone
+            ASSERT_EQ(pairs[2 * k], double(oldOf[k]));
+            ASSERT_EQ(pairs[2 * k + 1], -double(k)); // the other component is left alone
         }
     }
 }
@@ -477,13 +516,13 @@ TEST(Reorder, RenumberAlongInternalOrderKeepsTheRun)
         System b = makePile(dim, n, 19, 5);
         for (System* s : {&a, &b})
         {
-            for (int k = 0; k < 12; ++k) s->step(2e-4);  // reordered at steps 1, 6 and 11
+            for (int k = 0; k < 12; ++k) s->step(2e-4); // reordered at steps 1, 6 and 11
             for (std::size_t i = 0; i < s->size(); ++i) s->temperatures()[i] = 300 + double(i);
-            s->setExternalForce(7, Vec3(0, 3*s->mass(7)*g0, 0));
+            s->setExternalForce(7, Vec3(0, 3 * s->mass(7) * g0, 0));
         }
         const std::vector<std::size_t> oldOf = b.renumberAlongInternalOrder();
         ASSERT_EQ(oldOf.size(), b.size()) << "dim " << dim << ": the shuffled pile is scattered";
-        EXPECT_TRUE(b.renumberAlongInternalOrder().empty());  // in order now
+        EXPECT_TRUE(b.renumberAlongInternalOrder().empty()); // in order now
         for (std::size_t k = 0; k < b.size(); ++k)
         {
             const std::size_t i = oldOf[k];
@@ -493,7 +532,11 @@ TEST(Reorder, RenumberAlongInternalOrderKeepsTheRun)
             ASSERT_EQ(b.temperatures()[k], a.temperatures()[i]);
         }
         // (the external force on grain 7 went with it: the runs agree below)
-        for (int k = 0; k < 30; ++k) { a.step(2e-4); b.step(2e-4); }
+        for (int k = 0; k < 30; ++k)
+        {
+            a.step(2e-4);
+            b.step(2e-4);
+        }
         for (std::size_t k = 0; k < b.size(); ++k)
         {
             const std::size_t i = oldOf[k];
@@ -505,7 +548,8 @@ TEST(Reorder, RenumberAlongInternalOrderKeepsTheRun)
         ContactMap ca = contactMap(a), cb;
         for (const auto& e : contactMap(b))
         {
-            int i = int(oldOf[e.first.first]), j = e.first.second >= 0 ? int(oldOf[e.first.second]) : e.first.second;
+            int i = int(oldOf[e.first.first]),
+                j = e.first.second >= 0 ? int(oldOf[e.first.second]) : e.first.second;
             const bool swap = j >= 0 && j < i;
             cb[swap ? std::make_pair(j, i) : std::make_pair(i, j)] = swap ? Vec3(-e.second) : e.second;
         }

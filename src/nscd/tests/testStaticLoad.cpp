@@ -25,8 +25,8 @@ const System::ContactView* find(const std::vector<System::ContactView>& c, int a
 }
 
 /// force [N] (2D: N/m) of contact v along its normal, from its impulse
-double force(const System::ContactView& v, double dt) { return v.impulse.dot(v.normal)/dt; }
-}
+double force(const System::ContactView& v, double dt) { return v.impulse.dot(v.normal) / dt; }
+} // namespace
 
 // A column of 20 discs of different sizes on a floor: the contact under
 // disc k carries the weight of discs k..19 (statics of a column).
@@ -37,9 +37,9 @@ TEST(StaticLoad, ColumnCarriesTheWeightAbove)
     double y = 0;
     for (int k = 0; k < 20; ++k)
     {
-        const double r = 1e-3*(1 + 0.03*(k % 4));
+        const double r = 1e-3 * (1 + 0.03 * (k % 4));
         s.addGrain(Vec3(0, y + r, 0), r, m);
-        y += 2*r;
+        y += 2 * r;
     }
     const int floor = s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -g0, 0));
@@ -52,10 +52,11 @@ TEST(StaticLoad, ColumnCarriesTheWeightAbove)
     double above = 0;
     for (int k = 19; k >= 0; --k)
     {
-        above += s.mass(k)*g0;
-        const System::ContactView* c = k > 0 ? find(sl.contacts, k - 1, k) : find(sl.contacts, 0, -(floor + 1));
+        above += s.mass(k) * g0;
+        const System::ContactView* c =
+            k > 0 ? find(sl.contacts, k - 1, k) : find(sl.contacts, 0, -(floor + 1));
         ASSERT_NE(c, nullptr) << "contact under disc " << k;
-        EXPECT_NEAR(force(*c, dt), above, 1e-6*above) << "under disc " << k;
+        EXPECT_NEAR(force(*c, dt), above, 1e-6 * above) << "under disc " << k;
     }
 }
 
@@ -71,22 +72,22 @@ TEST(StaticLoad, ThreeDiscStackMatchesStatics)
     const double r = 1e-3;
     s.addGrain(Vec3(-r, r, 0), r, m);
     s.addGrain(Vec3(r, r, 0), r, m);
-    s.addGrain(Vec3(0, r + std::sqrt(3.0)*r, 0), r, m);
+    s.addGrain(Vec3(0, r + std::sqrt(3.0) * r, 0), r, m);
     const int floor = s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-    const int left = s.addPlane(Vec3(-2*r, 0, 0), Vec3(1, 0, 0));
-    const int right = s.addPlane(Vec3(2*r, 0, 0), Vec3(-1, 0, 0));
+    const int left = s.addPlane(Vec3(-2 * r, 0, 0), Vec3(1, 0, 0));
+    const int right = s.addPlane(Vec3(2 * r, 0, 0), Vec3(-1, 0, 0));
     s.setGravity(Vec3(0, -g0, 0));
-    const double dt = 1e-4, mg = s.mass(0)*g0;
+    const double dt = 1e-4, mg = s.mass(0) * g0;
     const StaticLoad sl = staticLoad(s, s.touchingContacts(1e-9), dt);
     EXPECT_EQ(sl.unbalanced, 0);
     ASSERT_EQ(sl.contacts.size(), 7u);
-    EXPECT_NEAR(force(*find(sl.contacts, 0, 2), dt), mg/std::sqrt(3.0), 1e-6*mg);
-    EXPECT_NEAR(force(*find(sl.contacts, 1, 2), dt), mg/std::sqrt(3.0), 1e-6*mg);
-    EXPECT_NEAR(force(*find(sl.contacts, 0, -(left + 1)), dt), mg/(2*std::sqrt(3.0)), 1e-6*mg);
-    EXPECT_NEAR(force(*find(sl.contacts, 1, -(right + 1)), dt), mg/(2*std::sqrt(3.0)), 1e-6*mg);
-    EXPECT_NEAR(force(*find(sl.contacts, 0, -(floor + 1)), dt), 1.5*mg, 1e-6*mg);
-    EXPECT_NEAR(force(*find(sl.contacts, 1, -(floor + 1)), dt), 1.5*mg, 1e-6*mg);
-    EXPECT_NEAR(force(*find(sl.contacts, 0, 1), dt), 0, 1e-6*mg);
+    EXPECT_NEAR(force(*find(sl.contacts, 0, 2), dt), mg / std::sqrt(3.0), 1e-6 * mg);
+    EXPECT_NEAR(force(*find(sl.contacts, 1, 2), dt), mg / std::sqrt(3.0), 1e-6 * mg);
+    EXPECT_NEAR(force(*find(sl.contacts, 0, -(left + 1)), dt), mg / (2 * std::sqrt(3.0)), 1e-6 * mg);
+    EXPECT_NEAR(force(*find(sl.contacts, 1, -(right + 1)), dt), mg / (2 * std::sqrt(3.0)), 1e-6 * mg);
+    EXPECT_NEAR(force(*find(sl.contacts, 0, -(floor + 1)), dt), 1.5 * mg, 1e-6 * mg);
+    EXPECT_NEAR(force(*find(sl.contacts, 1, -(floor + 1)), dt), 1.5 * mg, 1e-6 * mg);
+    EXPECT_NEAR(force(*find(sl.contacts, 0, 1), dt), 0, 1e-6 * mg);
 }
 
 // 3D: a sphere on three fixed spheres of the same size in a triangle
@@ -96,19 +97,19 @@ TEST(StaticLoad, SphereOnThreeSpheres)
 {
     System s(3);
     const int m = s.addMaterial({2500, 0.4});
-    const double r = 1e-3, a = 2*r, R = a/std::sqrt(3.0);
+    const double r = 1e-3, a = 2 * r, R = a / std::sqrt(3.0);
     for (int k = 0; k < 3; ++k)
     {
-        const double t = 2*M_PI*k/3;
-        s.addGrain(Vec3(R*std::cos(t), 0, R*std::sin(t)), r, m, true);
+        const double t = 2 * M_PI * k / 3;
+        s.addGrain(Vec3(R * std::cos(t), 0, R * std::sin(t)), r, m, true);
     }
-    s.addGrain(Vec3(0, a*std::sqrt(2.0/3.0), 0), r, m);
+    s.addGrain(Vec3(0, a * std::sqrt(2.0 / 3.0), 0), r, m);
     s.setGravity(Vec3(0, -g0, 0));
-    const double dt = 1e-4, mg = s.mass(3)*g0;
+    const double dt = 1e-4, mg = s.mass(3) * g0;
     const StaticLoad sl = staticLoad(s, s.touchingContacts(1e-9), dt);
     EXPECT_EQ(sl.unbalanced, 0);
     for (int k = 0; k < 3; ++k)
-        EXPECT_NEAR(force(*find(sl.contacts, k, 3), dt), mg/(3*std::sqrt(2.0/3.0)), 1e-6*mg);
+        EXPECT_NEAR(force(*find(sl.contacts, k, 3), dt), mg / (3 * std::sqrt(2.0 / 3.0)), 1e-6 * mg);
 }
 
 // A hexagonal bed of equal discs between two walls, 20 discs wide and 40
@@ -126,39 +127,39 @@ TEST(StaticLoad, SeededHexBedStartsAtRest)
         for (int row = 0; row < 40; ++row)
         {
             const bool odd = row % 2;
-            const double y = r + row*std::sqrt(3.0)*r;
+            const double y = r + row * std::sqrt(3.0) * r;
             for (int k = 0; k < (odd ? n - 1 : n); ++k)
-                s.addGrain(Vec3((odd ? 2 : 1)*r + 2*r*k, y, 0), r, m);
+                s.addGrain(Vec3((odd ? 2 : 1) * r + 2 * r * k, y, 0), r, m);
         }
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
         s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
-        s.addPlane(Vec3(2*r*n, 0, 0), Vec3(-1, 0, 0));
+        s.addPlane(Vec3(2 * r * n, 0, 0), Vec3(-1, 0, 0));
         s.setGravity(Vec3(0, -g0, 0));
         s.settings().maxIterations = 100000;
     };
     System seeded(2), cold(2);
     build(seeded);
     build(cold);
-    const StaticLoad sl = staticLoad(seeded, seeded.touchingContacts(1e-9*r), dt);
+    const StaticLoad sl = staticLoad(seeded, seeded.touchingContacts(1e-9 * r), dt);
     EXPECT_EQ(sl.unbalanced, 0);
     // hexagonal: 3 contacts below each disc of a full row's interior ...
-    EXPECT_GT(sl.contacts.size(), 2u*seeded.size());
+    EXPECT_GT(sl.contacts.size(), 2u * seeded.size());
     // global balance: the floor carries the whole weight
     double floorLoad = 0, weight = 0;
     for (const auto& c : sl.contacts)
-        if (c.j == -1) floorLoad += force(c, dt)*c.normal.y();
-    for (std::size_t i = 0; i < seeded.size(); ++i) weight += seeded.mass(i)*g0;
-    EXPECT_NEAR(floorLoad, weight, 1e-6*weight);
+        if (c.j == -1) floorLoad += force(c, dt) * c.normal.y();
+    for (std::size_t i = 0; i < seeded.size(); ++i) weight += seeded.mass(i) * g0;
+    EXPECT_NEAR(floorLoad, weight, 1e-6 * weight);
 
     seeded.setContactImpulses(sl.contacts, dt);
     const StepReport a = seeded.step(dt);
     const StepReport b = cold.step(dt);
     EXPECT_TRUE(a.converged);
     EXPECT_LE(a.sweeps, 2);
-    EXPECT_GT(b.sweeps, 20*std::max(1, a.sweeps));
+    EXPECT_GT(b.sweeps, 20 * std::max(1, a.sweeps));
     double va = 0;
     for (const Vec3& v : seeded.velocities()) va = std::max(va, v.norm());
-    EXPECT_LT(va, 1e-3*g0*dt);
+    EXPECT_LT(va, 1e-3 * g0 * dt);
 }
 
 TEST(StaticLoad, Errors)
@@ -169,7 +170,7 @@ TEST(StaticLoad, Errors)
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     EXPECT_THROW(s.touchingContacts(-1), InputError);
     const auto t = s.touchingContacts(1e-9);
-    EXPECT_THROW(staticLoad(s, t, 1e-4), InputError);  // no gravity
+    EXPECT_THROW(staticLoad(s, t, 1e-4), InputError); // no gravity
     s.setGravity(Vec3(0, -g0, 0));
     EXPECT_THROW(staticLoad(s, t, 0), InputError);
     std::vector<System::ContactView> bad = t;

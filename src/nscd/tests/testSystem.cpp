@@ -22,9 +22,16 @@ TEST(Errors, BadInputs)
     EXPECT_THROW(s.addGrain(Vec3(0, 0, 0), -0.1, m), InputError);
     EXPECT_THROW(s.addGrain(Vec3(0, 0, 0), 0.0, m), InputError);
     EXPECT_THROW(s.addGrain(Vec3(0, 0, 0), 0.1, 7), InputError);
-    try { s.addGrain(Vec3(0, 0, 0), 0.1, 3); FAIL(); }
-    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("unknown material 3"), std::string::npos); }
-    EXPECT_THROW(s.addTriangulatedSurface({Vec3(0, 0, 0)}, {{0, 0, 0}}), InputError);  // 2D
+    try
+    {
+        s.addGrain(Vec3(0, 0, 0), 0.1, 3);
+        FAIL();
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("unknown material 3"), std::string::npos);
+    }
+    EXPECT_THROW(s.addTriangulatedSurface({Vec3(0, 0, 0)}, {{0, 0, 0}}), InputError); // 2D
     EXPECT_THROW(s.step(0.0), InputError);
     EXPECT_THROW(s.setWallVelocity(3, Vec3::Zero()), InputError);
     System s3(3);
@@ -39,8 +46,8 @@ TEST(Errors, InitialOverlapNamesThePair)
     const int m = s.addMaterial({1000, 0.3});
     s.addGrain(Vec3(0, 0, 0), 0.1, m);
     s.addGrain(Vec3(0.5, 0, 0), 0.1, m);
-    s.addGrain(Vec3(0.69, 0, 0), 0.1, m);  // overlaps grain 1 by 0.01
-    s.addPlane(Vec3(0, -0.1, 0), Vec3(0, 1, 0));  // grain 0 just touches: fine
+    s.addGrain(Vec3(0.69, 0, 0), 0.1, m);        // overlaps grain 1 by 0.01
+    s.addPlane(Vec3(0, -0.1, 0), Vec3(0, 1, 0)); // grain 0 just touches: fine
     try
     {
         s.checkInitialOverlaps();
@@ -55,9 +62,16 @@ TEST(Errors, InitialOverlapNamesThePair)
     }
     s.positions()[2].x() = 0.7;
     EXPECT_NO_THROW(s.checkInitialOverlaps());
-    s.positions()[0].y() = -0.05;  // into the plane by 0.05
-    try { s.checkInitialOverlaps(); FAIL(); }
-    catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("grain 0 and wall 0"), std::string::npos); }
+    s.positions()[0].y() = -0.05; // into the plane by 0.05
+    try
+    {
+        s.checkInitialOverlaps();
+        FAIL();
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("grain 0 and wall 0"), std::string::npos);
+    }
 }
 
 // Consistency check of the documented rule of advance() (System.H): a
@@ -73,20 +87,20 @@ TEST(SubStepping, PicksDtFromDminAndVelocityChange)
     const int m = s.addMaterial({1000, 0.3});
     s.addGrain(Vec3(0, 0, 0), 0.01, m);
     const int b = s.addGrain(Vec3(1, 0, 0), 0.05, m);
-    s.velocities()[b] = Vec3(3.0, 4.0, 0);  // |v| = 5: 2.5 d_min per step
+    s.velocities()[b] = Vec3(3.0, 4.0, 0); // |v| = 5: 2.5 d_min per step
     const double frac = 0.1, dmin = 0.02;
     const double dt = 1e-2;
     EXPECT_EQ(s.subStep(dt, frac), dt);
     EXPECT_EQ(s.advance(dt, frac).substeps, 1);
     // a force changing its velocity by 5 m/s over dt: 25 sub-steps
     const double mass = s.mass(b);
-    s.setExternalForce(b, Vec3(0, 500*mass, 0), Vec3::Zero());
+    s.setExternalForce(b, Vec3(0, 500 * mass, 0), Vec3::Zero());
     const double h = s.subStep(dt, frac);
-    EXPECT_LE(5.0*h, frac*dmin*(1 + 1e-12));
-    EXPECT_GT(5.0*h*2, frac*dmin);  // not needlessly small
+    EXPECT_LE(5.0 * h, frac * dmin * (1 + 1e-12));
+    EXPECT_GT(5.0 * h * 2, frac * dmin); // not needlessly small
     const double t0 = s.time();
     const StepReport r = s.advance(dt, frac);
-    EXPECT_EQ(r.substeps, int(std::ceil(5.0*dt/(frac*dmin))));
+    EXPECT_EQ(r.substeps, int(std::ceil(5.0 * dt / (frac * dmin))));
     EXPECT_NEAR(s.time() - t0, dt, 1e-15);
     // no force, an absurd speed of 1e4 m/s: 1e4 dt / (100 d_min) = 50 sub-steps
     s.setExternalForce(b, Vec3::Zero(), Vec3::Zero());
@@ -110,24 +124,27 @@ TEST(Momentum, ConservedInFreeCollisions)
             for (int b = 0; b < n; ++b)
                 for (int c = 0; c < (dim == 3 ? n : 1); ++c)
                 {
-                    const int k = s.addGrain(Vec3(0.1*a, 0.1*b, 0.1*c), 0.02 + 0.025*U(gen), (a + b) % 2 ? m1 : m2);
+                    const int k = s.addGrain(Vec3(0.1 * a, 0.1 * b, 0.1 * c), 0.02 + 0.025 * U(gen),
+                                             (a + b) % 2 ? m1 : m2);
                     s.velocities()[k] = Vec3(U(gen) - 0.5, U(gen) - 0.5, dim == 3 ? U(gen) - 0.5 : 0.0);
-                    if (dim == 3) s.angularVelocities()[k] = Vec3(U(gen), U(gen), U(gen))*10;
-                    else s.angularVelocities()[k] = Vec3(0, 0, 10*U(gen));
+                    if (dim == 3)
+                        s.angularVelocities()[k] = Vec3(U(gen), U(gen), U(gen)) * 10;
+                    else
+                        s.angularVelocities()[k] = Vec3(0, 0, 10 * U(gen));
                 }
         auto momentum = [&]()
         {
             Vec3 p = Vec3::Zero();
-            for (std::size_t i = 0; i < s.size(); ++i) p += s.mass(i)*s.velocities()[i];
+            for (std::size_t i = 0; i < s.size(); ++i) p += s.mass(i) * s.velocities()[i];
             return p;
         };
         double scale = 0;
-        for (std::size_t i = 0; i < s.size(); ++i) scale += s.mass(i)*s.velocities()[i].norm();
+        for (std::size_t i = 0; i < s.size(); ++i) scale += s.mass(i) * s.velocities()[i].norm();
         const Vec3 p0 = momentum();
         int contacts = 0;
         for (int k = 0; k < 300; ++k) contacts += s.step(2e-3).contacts;
         EXPECT_GT(contacts, 100);
-        EXPECT_LT((momentum() - p0).norm(), 1e-12*scale) << "dim " << dim;
+        EXPECT_LT((momentum() - p0).norm(), 1e-12 * scale) << "dim " << dim;
     }
 }
 
@@ -151,7 +168,7 @@ TEST(Contacts, ViewAndCohesion)
             ++walls;
             EXPECT_NEAR(c.normal.y(), 1.0, 1e-14);
             // weight per unit depth times dt (1e-9 rel)
-            EXPECT_NEAR(c.impulse.y(), s.mass(c.i)*9.81*dt, 1e-9*s.mass(c.i)*9.81*dt);
+            EXPECT_NEAR(c.impulse.y(), s.mass(c.i) * 9.81 * dt, 1e-9 * s.mass(c.i) * 9.81 * dt);
             EXPECT_GT(s.contactConductance(c, dt), 0.0);
         }
     }
@@ -162,11 +179,11 @@ TEST(Contacts, ViewAndCohesion)
     h.addGrain(Vec3(0, -0.1, 0), 0.1, mh);
     h.addPlane(Vec3(0, 0, 0), Vec3(0, -1, 0));
     h.setGravity(Vec3(0, -9.81, 0));
-    h.setCohesion([](int, int j) { return j == -1; }, 2.0*h.mass(0)*9.81);
+    h.setCohesion([](int, int j) { return j == -1; }, 2.0 * h.mass(0) * 9.81);
     for (int k = 0; k < 100; ++k) h.step(dt);
     EXPECT_NEAR(h.positions()[0].y(), -0.1, 1e-9);
     // too weak cohesion: it falls
-    h.setCohesion([](int, int) { return true; }, 0.5*h.mass(0)*9.81);
+    h.setCohesion([](int, int) { return true; }, 0.5 * h.mass(0) * 9.81);
     for (int k = 0; k < 100; ++k) h.step(dt);
     EXPECT_LT(h.positions()[0].y(), -0.11);
 }
@@ -186,19 +203,19 @@ TEST(Materials, SetMaterialRecomputesMassAndWeight)
         const int m0 = s.addMaterial({3200, 0.3});
         const int m1 = s.addMaterial({1000, 0.3});
         s.addGrain(Vec3(0, r, 0), r, m0);
-        s.addGrain(Vec3(3*r, r, 0), r, m1);
+        s.addGrain(Vec3(3 * r, r, 0), r, m1);
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
         s.setGravity(Vec3(0, -g, 0));
-        const double shape = dim == 2 ? pi*r*r : 4.0/3.0*pi*r*r*r;
+        const double shape = dim == 2 ? pi * r * r : 4.0 / 3.0 * pi * r * r * r;
         const double iFactor = dim == 2 ? 0.5 : 0.4;
-        EXPECT_NEAR(s.mass(0), 3200*shape, 1e-12*3200*shape);
+        EXPECT_NEAR(s.mass(0), 3200 * shape, 1e-12 * 3200 * shape);
         Material changed{1600, 0.3, 1e11, 0.35, 234, 290};
         s.setMaterial(m0, changed);
         EXPECT_EQ(s.material(m0).youngModulus, 1e11);
         EXPECT_EQ(s.material(m0).heatCapacity, 290);
-        EXPECT_NEAR(s.mass(0), 1600*shape, 1e-12*1600*shape);
-        EXPECT_NEAR(s.inertia(0), iFactor*1600*shape*r*r, 1e-12*1600*shape*r*r);
-        EXPECT_NEAR(s.mass(1), 1000*shape, 1e-12*1000*shape);   // other material untouched
+        EXPECT_NEAR(s.mass(0), 1600 * shape, 1e-12 * 1600 * shape);
+        EXPECT_NEAR(s.inertia(0), iFactor * 1600 * shape * r * r, 1e-12 * 1600 * shape * r * r);
+        EXPECT_NEAR(s.mass(1), 1000 * shape, 1e-12 * 1000 * shape); // other material untouched
         for (int k = 0; k < 5; ++k) s.step(dt);
         int seen = 0;
         for (const auto& c : s.contacts())
@@ -206,19 +223,23 @@ TEST(Materials, SetMaterialRecomputesMassAndWeight)
             if (c.j != -1) continue;
             ++seen;
             const double rho = c.i == 0 ? 1600 : 1000;
-            EXPECT_NEAR(c.impulse.y(), rho*shape*g*dt, 1e-9*rho*shape*g*dt) << "dim " << dim;
+            EXPECT_NEAR(c.impulse.y(), rho * shape * g * dt, 1e-9 * rho * shape * g * dt) << "dim " << dim;
         }
         EXPECT_EQ(seen, 2);
         // errors: unknown id, invalid material (the old one stays)
         EXPECT_THROW(s.setMaterial(2, changed), InputError);
         EXPECT_THROW(s.setMaterial(-1, changed), InputError);
-        try { s.setMaterial(m0, {0.0, 0.3}); FAIL(); }
+        try
+        {
+            s.setMaterial(m0, {0.0, 0.3});
+            FAIL();
+        }
         catch (const InputError& e)
         {
             EXPECT_NE(std::string(e.what()).find("setMaterial: density"), std::string::npos) << e.what();
         }
         EXPECT_EQ(s.material(m0).density, 1600);
-        EXPECT_NEAR(s.mass(0), 1600*shape, 1e-12*1600*shape);
+        EXPECT_NEAR(s.mass(0), 1600 * shape, 1e-12 * 1600 * shape);
     }
 }
 
@@ -237,8 +258,8 @@ TEST(Contacts, AddingAGrainKeepsWallContacts)
     for (int k = 0; k < 3; ++k) s.step(1e-3);
     ASSERT_EQ(s.contacts().size(), 1u);
     EXPECT_EQ(s.contacts()[0].j, -1);
-    s.addGrain(Vec3(1, 1, 0), 0.01, m);  // far away
-    s.addGrain(Vec3(2, 1, 0), 0.01, m);  // two grains added before the records are used
+    s.addGrain(Vec3(1, 1, 0), 0.01, m); // far away
+    s.addGrain(Vec3(2, 1, 0), 0.01, m); // two grains added before the records are used
     ASSERT_EQ(s.contacts().size(), 1u);
     EXPECT_EQ(s.contacts()[0].j, -1);
     // a state written before the next step keeps the wall contact too
@@ -249,5 +270,5 @@ TEST(Contacts, AddingAGrainKeepsWallContacts)
     EXPECT_EQ(back.contacts()[0].j, -1);
     const StepReport r = s.step(1e-3);
     EXPECT_LE(r.sweeps, 1);
-    EXPECT_NEAR(s.contacts()[0].impulse.y(), s.mass(0)*9.81*1e-3, 1e-9*s.mass(0)*9.81*1e-3);
+    EXPECT_NEAR(s.contacts()[0].impulse.y(), s.mass(0) * 9.81 * 1e-3, 1e-9 * s.mass(0) * 9.81 * 1e-3);
 }

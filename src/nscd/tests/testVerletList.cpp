@@ -20,8 +20,8 @@ using namespace nscd;
 
 namespace
 {
-constexpr double r0 = 1e-3;   // mean radius [m]
-constexpr double dt = 5e-4;   // [s]
+constexpr double r0 = 1e-3; // mean radius [m]
+constexpr double dt = 5e-4; // [s]
 
 /// n polydisperse grains (radii 0.7-1.3 r0, seeded) on a jittered lattice
 /// of spacing 2.8 r0 (2D: rows of 12; 3D: layers of 6 x 6) over the floor
@@ -36,18 +36,18 @@ System makePile(int dim, int n, double skin, unsigned seed, bool moving)
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(-1, 1);
     const int row = dim == 2 ? 12 : 6;
-    const double h = 2.8*r0, W = h*row + 0.6*r0;
+    const double h = 2.8 * r0, W = h * row + 0.6 * r0;
     std::vector<Vec3> x, v;
     std::vector<double> r;
     for (int k = 0; k < n; ++k)
     {
-        const int a = k % row, b = dim == 2 ? k/row : (k/row) % row, c = dim == 2 ? 0 : k/(row*row);
+        const int a = k % row, b = dim == 2 ? k / row : (k / row) % row, c = dim == 2 ? 0 : k / (row * row);
         const int level = dim == 2 ? b : c;
-        Vec3 p(0.3*r0 + h*(a + 0.5) + 0.1*r0*u(rng), 1.5*r0 + h*level + 0.1*r0*u(rng), 0);
-        if (dim == 3) p.z() = 0.3*r0 + h*(b + 0.5) + 0.1*r0*u(rng);
+        Vec3 p(0.3 * r0 + h * (a + 0.5) + 0.1 * r0 * u(rng), 1.5 * r0 + h * level + 0.1 * r0 * u(rng), 0);
+        if (dim == 3) p.z() = 0.3 * r0 + h * (b + 0.5) + 0.1 * r0 * u(rng);
         x.push_back(p);
-        r.push_back(r0*(1 + 0.3*u(rng)));
-        v.push_back(moving ? Vec3(0.2*u(rng), 0.2*u(rng), dim == 3 ? 0.2*u(rng) : 0.0) : Vec3::Zero());
+        r.push_back(r0 * (1 + 0.3 * u(rng)));
+        v.push_back(moving ? Vec3(0.2 * u(rng), 0.2 * u(rng), dim == 3 ? 0.2 * u(rng) : 0.0) : Vec3::Zero());
     }
     std::vector<int> perm(n);
     std::iota(perm.begin(), perm.end(), 0);
@@ -60,13 +60,14 @@ System makePile(int dim, int n, double skin, unsigned seed, bool moving)
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     if (dim == 2)
     {
-        s.addSegment(Vec3(0, 0, 0), Vec3(0, 60*h, 0));
-        s.addSegment(Vec3(W, 0, 0), Vec3(W, 60*h, 0));
+        s.addSegment(Vec3(0, 0, 0), Vec3(0, 60 * h, 0));
+        s.addSegment(Vec3(W, 0, 0), Vec3(W, 60 * h, 0));
     }
     else
     {
-        s.addTriangulatedSurface({Vec3(-W, -1e-4*r0, -W), Vec3(2*W, -1e-4*r0, -W), Vec3(2*W, -1e-4*r0, 2*W),
-                                  Vec3(-W, -1e-4*r0, 2*W)}, {{0, 1, 2}, {0, 2, 3}});
+        s.addTriangulatedSurface({Vec3(-W, -1e-4 * r0, -W), Vec3(2 * W, -1e-4 * r0, -W),
+                                  Vec3(2 * W, -1e-4 * r0, 2 * W), Vec3(-W, -1e-4 * r0, 2 * W)},
+                                 {{0, 1, 2}, {0, 2, 3}});
         s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
         s.addPlane(Vec3(W, 0, 0), Vec3(-1, 0, 0));
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1));
@@ -111,7 +112,7 @@ int stepBoth(System& a, System& b, int steps, const std::string& where)
     }
     return builds;
 }
-}
+} // namespace
 
 // Reference: Verlet 1967 / LAMMPS neighbour skin (Verlet.H): the listed
 // pairs re-tested with the grid scan's test give the grid scan's contacts.
@@ -130,7 +131,7 @@ TEST(VerletList, MovingPileSameContacts)
             const std::string where = "dim " + std::to_string(dim) + " skin " + std::to_string(skin);
             const int builds = stepBoth(a, b, 120, where);
             EXPECT_GT(builds, 5) << where;
-            EXPECT_GT(a.nContacts(), std::size_t(n)) << where;  // the pile has come together
+            EXPECT_GT(a.nContacts(), std::size_t(n)) << where; // the pile has come together
         }
 }
 
@@ -153,7 +154,7 @@ TEST(VerletList, BedAtRestAndChanges)
             s.writeHDF5(file);
         }
         System a = System::readHDF5(file), b = System::readHDF5(file);
-        a.settings().verletSkin = 0;  // (not in the state: the default otherwise)
+        a.settings().verletSkin = 0; // (not in the state: the default otherwise)
         b.settings().verletSkin = 0.2;
         // built at the first step, then kept (3D: once more, the settled bed still creeps)
         EXPECT_LE(stepBoth(a, b, 60, where + " at rest"), 2) << where;
@@ -164,18 +165,19 @@ TEST(VerletList, BedAtRestAndChanges)
         for (const Vec3& p : a.positions()) top = std::max(top, p.y());
         for (System* s : {&a, &b})
         {
-            const int f = s->addGrain(Vec3(8*r0, top + 6*r0, dim == 3 ? 8*r0 : 0.0), r0, 0);
+            const int f = s->addGrain(Vec3(8 * r0, top + 6 * r0, dim == 3 ? 8 * r0 : 0.0), r0, 0);
             s->velocities()[f] = Vec3(0.5, -8.0, 0);
         }
         EXPECT_GE(stepBoth(a, b, 20, where + " fast grain"), 1);
         ASSERT_FALSE(::testing::Test::HasFatalFailure());
 
         // a grain moved by hand (0.5 r0: beyond half the skin), grains removed, one added
-        for (System* s : {&a, &b}) s->positions()[5] += Vec3(0.5*r0, 0, 0);
+        for (System* s : {&a, &b}) s->positions()[5] += Vec3(0.5 * r0, 0, 0);
         EXPECT_GE(stepBoth(a, b, 5, where + " moved"), 1);
         for (System* s : {&a, &b}) s->removeGrains({3, 40, 41});
         EXPECT_GE(stepBoth(a, b, 5, where + " removed"), 1);
-        for (System* s : {&a, &b}) s->addGrain(Vec3(20*r0, top + 3*r0, dim == 3 ? 5*r0 : 0.0), 1.1*r0, 0);
+        for (System* s : {&a, &b})
+            s->addGrain(Vec3(20 * r0, top + 3 * r0, dim == 3 ? 5 * r0 : 0.0), 1.1 * r0, 0);
         EXPECT_GE(stepBoth(a, b, 10, where + " added"), 1);
         ASSERT_FALSE(::testing::Test::HasFatalFailure());
 
@@ -209,7 +211,7 @@ TEST(VerletList, MovingWallAndFixedGrain)
         s->addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.05, 0, 0));
     }
     EXPECT_GT(stepBoth(a, b, 80, "piston"), 1);
-    for (System* s : {&a, &b}) s->addGrain(s->positions()[10] + Vec3(0, 2.5*r0, 0), r0, 0, true);
+    for (System* s : {&a, &b}) s->addGrain(s->positions()[10] + Vec3(0, 2.5 * r0, 0), r0, 0, true);
     EXPECT_GE(stepBoth(a, b, 10, "fixed grain"), 1);
 }
 

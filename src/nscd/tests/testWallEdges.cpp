@@ -15,7 +15,7 @@ using namespace nscd;
 namespace
 {
 constexpr double g0 = 9.81;
-constexpr double theta = 30.0*3.14159265358979323846/180.0;
+constexpr double theta = 30.0 * 3.14159265358979323846 / 180.0;
 
 /// Floor y = 0, x in [0, L], z in [0, W], nx x nz quads, each split into 2 triangles.
 void addTriangulatedFloor(System& s, double L, double W, int nx, int nz, double x0 = 0)
@@ -23,8 +23,8 @@ void addTriangulatedFloor(System& s, double L, double W, int nx, int nz, double 
     std::vector<Vec3> v;
     std::vector<std::array<int, 3>> t;
     for (int k = 0; k <= nz; ++k)
-        for (int i = 0; i <= nx; ++i) v.emplace_back(x0 + L*i/nx, 0.0, W*k/nz);
-    auto id = [&](int i, int k) { return k*(nx + 1) + i; };
+        for (int i = 0; i <= nx; ++i) v.emplace_back(x0 + L * i / nx, 0.0, W * k / nz);
+    auto id = [&](int i, int k) { return k * (nx + 1) + i; };
     for (int k = 0; k < nz; ++k)
         for (int i = 0; i < nx; ++i)
         {
@@ -47,19 +47,19 @@ void addTriangulatedFloor(System& s, double L, double W, int nx, int nz, double 
 /// the mean acceleration between t1 and t2 (from the velocity).
 double slide(System& s, double dt, double t1, double t2)
 {
-    s.setGravity(g0*Vec3(std::sin(theta), -std::cos(theta), 0));
-    const int n1 = int(std::lround(t1/dt)), n2 = int(std::lround(t2/dt));
+    s.setGravity(g0 * Vec3(std::sin(theta), -std::cos(theta), 0));
+    const int n1 = int(std::lround(t1 / dt)), n2 = int(std::lround(t2 / dt));
     double v1 = 0;
     for (int k = 0; k < n2; ++k)
     {
         const StepReport r = s.step(dt);
-        EXPECT_LT(r.maxOverlap, 1e-3*s.radii()[0]);
+        EXPECT_LT(r.maxOverlap, 1e-3 * s.radii()[0]);
         if (k + 1 == n1) v1 = s.velocities()[0].x();
     }
     EXPECT_NEAR(s.velocities()[0].y(), 0.0, 1e-6);
-    return (s.velocities()[0].x() - v1)/(t2 - t1);
+    return (s.velocities()[0].x() - v1) / (t2 - t1);
 }
-}
+} // namespace
 
 // A sphere sliding across a 20 x 2-quad triangulated floor (80 triangles, the
 // internal edges and vertices are flat) is not braked at the edges:
@@ -67,24 +67,29 @@ double slide(System& s, double dt, double t1, double t2)
 TEST(WallEdges, SphereSlidesAcrossTriangulatedFloor)
 {
     const double mu = 0.1, r = 0.01;
-    const double ref = g0*(std::sin(theta) - mu*std::cos(theta));
+    const double ref = g0 * (std::sin(theta) - mu * std::cos(theta));
     for (int patches : {1, 2})
     {
         System s(3);
         const int m = s.addMaterial({2500, mu});
-        s.addGrain(Vec3(0.02, r, 0.025), r, m);  // on the middle line z = W/2 (edges and vertices)
-        if (patches == 1) addTriangulatedFloor(s, 1.0, 0.05, 20, 2);
-        else  // the same floor as two surfaces (two mesh patches) meeting at x = 0.3
+        s.addGrain(Vec3(0.02, r, 0.025), r, m); // on the middle line z = W/2 (edges and vertices)
+        if (patches == 1)
+            addTriangulatedFloor(s, 1.0, 0.05, 20, 2);
+        else // the same floor as two surfaces (two mesh patches) meeting at x = 0.3
         {
             addTriangulatedFloor(s, 0.3, 0.05, 6, 2);
             addTriangulatedFloor(s, 0.7, 0.05, 14, 2, 0.3);
         }
         const double a = slide(s, 1e-4, 0.05, 0.6);
         std::printf("patches %d: a = %.5f (g (sin - mu cos) = %.5f)\n", patches, a, ref);
-        EXPECT_NEAR(a, ref, 5e-3*ref);
-        EXPECT_GT(s.positions()[0].x(), 0.6);  // crossed many triangles
+        EXPECT_NEAR(a, ref, 5e-3 * ref);
+        EXPECT_GT(s.positions()[0].x(), 0.6); // crossed many triangles
         int n = 0;
-        for (const auto& c : s.contacts()) { ++n; EXPECT_NEAR(c.normal.y(), 1.0, 1e-9); }
+        for (const auto& c : s.contacts())
+        {
+            ++n;
+            EXPECT_NEAR(c.normal.y(), 1.0, 1e-9);
+        }
         EXPECT_EQ(n, 1);
     }
 }
@@ -103,14 +108,19 @@ TEST(WallEdges, SphereSlidesAcrossInclinedRoundedMesh)
     const double L = 1.0, W = 0.05;
     std::vector<Vec3> v;
     std::vector<std::array<int, 3>> t;
-    auto round6 = [](double a) { char b[32]; std::snprintf(b, sizeof b, "%.6g", a); return std::atof(b); };
+    auto round6 = [](double a)
+    {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.6g", a);
+        return std::atof(b);
+    };
     for (int k = 0; k <= nz; ++k)
         for (int i = 0; i <= nx; ++i)
         {
-            const Vec3 p = R*Vec3(L*i/nx, 0.0, W*k/nz) + Vec3(0.1, 0.7, 0);
+            const Vec3 p = R * Vec3(L * i / nx, 0.0, W * k / nz) + Vec3(0.1, 0.7, 0);
             v.emplace_back(round6(p.x()), round6(p.y()), round6(p.z()));
         }
-    auto id = [&](int i, int k) { return k*(nx + 1) + i; };
+    auto id = [&](int i, int k) { return k * (nx + 1) + i; };
     for (int k = 0; k < nz; ++k)
         for (int i = 0; i < nx; ++i)
         {
@@ -118,20 +128,20 @@ TEST(WallEdges, SphereSlidesAcrossInclinedRoundedMesh)
             t.push_back({id(i, k), id(i + 1, k + 1), id(i + 1, k)});
         }
     s.addTriangulatedSurface(v, t);
-    const Vec3 down = R*Vec3(0, -1, 0), along = R*Vec3(1, 0, 0);
-    s.addGrain(R*Vec3(0.02, r*(1 + 1e-5), 0.013) + Vec3(0.1, 0.7, 0), r, m);
+    const Vec3 down = R * Vec3(0, -1, 0), along = R * Vec3(1, 0, 0);
+    s.addGrain(R * Vec3(0.02, r * (1 + 1e-5), 0.013) + Vec3(0.1, 0.7, 0), r, m);
     s.setGravity(Vec3(0, -g0, 0));
     const double dt = 1e-4;
     double v1 = 0;
     for (int k = 0; k < 6000; ++k)
     {
-        EXPECT_LT(s.step(dt).maxOverlap, 1e-3*r);
+        EXPECT_LT(s.step(dt).maxOverlap, 1e-3 * r);
         if (k + 1 == 500) v1 = s.velocities()[0].dot(along);
     }
-    const double a = (s.velocities()[0].dot(along) - v1)/0.55;
-    const double ref = g0*(std::sin(theta) - mu*std::cos(theta));
+    const double a = (s.velocities()[0].dot(along) - v1) / 0.55;
+    const double ref = g0 * (std::sin(theta) - mu * std::cos(theta));
     std::printf("inclined rounded mesh: a = %.5f (g (sin - mu cos) = %.5f)\n", a, ref);
-    EXPECT_NEAR(a, ref, 5e-3*ref);
+    EXPECT_NEAR(a, ref, 5e-3 * ref);
     EXPECT_NEAR(s.velocities()[0].dot(down), 0.0, 1e-3);
 }
 
@@ -142,11 +152,11 @@ TEST(WallEdges, DiscSlidesAcrossCollinearSegments)
     System s(2);
     const int m = s.addMaterial({2500, mu});
     s.addGrain(Vec3(0.02, r, 0), r, m);
-    for (int k = 0; k < 20; ++k) s.addSegment(Vec3(0.05*k, 0, 0), Vec3(0.05*(k + 1), 0, 0));
+    for (int k = 0; k < 20; ++k) s.addSegment(Vec3(0.05 * k, 0, 0), Vec3(0.05 * (k + 1), 0, 0));
     const double a = slide(s, 1e-4, 0.05, 0.6);
-    const double ref = g0*(std::sin(theta) - mu*std::cos(theta));
+    const double ref = g0 * (std::sin(theta) - mu * std::cos(theta));
     std::printf("segments: a = %.5f (g (sin - mu cos) = %.5f)\n", a, ref);
-    EXPECT_NEAR(a, ref, 5e-3*ref);
+    EXPECT_NEAR(a, ref, 5e-3 * ref);
     EXPECT_GT(s.positions()[0].x(), 0.6);
     EXPECT_EQ(s.nContacts(), 1u);
 }
@@ -161,29 +171,29 @@ TEST(WallEdges, ConvexEdgesStillContact)
         System s(3);
         const int m = s.addMaterial({2500, 0.5});
         // box [-1, 0] x [-1, 0] x [0, 1]: top y = 0 and side x = 0 (2 triangles each)
-        std::vector<Vec3> v = {Vec3(-1, 0, 0), Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(-1, 0, 1),
-                               Vec3(0, -1, 0), Vec3(0, -1, 1)};
+        std::vector<Vec3> v = {Vec3(-1, 0, 0), Vec3(0, 0, 0),  Vec3(0, 0, 1),
+                               Vec3(-1, 0, 1), Vec3(0, -1, 0), Vec3(0, -1, 1)};
         std::vector<std::array<int, 3>> t = {{0, 1, 2}, {0, 2, 3}, {1, 4, 5}, {1, 5, 2}};
         s.addTriangulatedSurface(v, t);
         const Vec3 n = Vec3(1, 1, 0).normalized();
-        s.addGrain(Vec3(0, 0, 0.5) + r*n, r, m);
+        s.addGrain(Vec3(0, 0, 0.5) + r * n, r, m);
         s.checkInitialOverlaps();
-        s.setGravity(-g0*n);
+        s.setGravity(-g0 * n);
         for (int k = 0; k < 200; ++k) s.step(1e-4);
         ASSERT_EQ(s.nContacts(), 1u);
         EXPECT_NEAR(s.contacts()[0].normal.dot(n), 1.0, 1e-9);
-        EXPECT_NEAR((s.positions()[0] - (Vec3(0, 0, 0.5) + r*n)).norm(), 0.0, 1e-3*r);
+        EXPECT_NEAR((s.positions()[0] - (Vec3(0, 0, 0.5) + r * n)).norm(), 0.0, 1e-3 * r);
         // the sphere at the end of the box's top edge (a convex vertex)
         System s2(3);
         s2.addMaterial({2500, 0.5});
         s2.addTriangulatedSurface(v, t);
         const Vec3 n2 = Vec3(1, 1, -1).normalized();
-        s2.addGrain(r*n2, r, m);
-        s2.setGravity(-g0*n2);
+        s2.addGrain(r * n2, r, m);
+        s2.setGravity(-g0 * n2);
         for (int k = 0; k < 200; ++k) s2.step(1e-4);
         ASSERT_EQ(s2.nContacts(), 1u);
         EXPECT_NEAR(s2.contacts()[0].normal.dot(n2), 1.0, 1e-9);
-        EXPECT_NEAR((s2.positions()[0] - r*n2).norm(), 0.0, 1e-3*r);
+        EXPECT_NEAR((s2.positions()[0] - r * n2).norm(), 0.0, 1e-3 * r);
     }
     {
         System s(2);
@@ -191,12 +201,12 @@ TEST(WallEdges, ConvexEdgesStillContact)
         s.addSegment(Vec3(-1, 0, 0), Vec3(0, 0, 0));
         s.addSegment(Vec3(0, 0, 0), Vec3(0, -1, 0));
         const Vec3 n = Vec3(1, 1, 0).normalized();
-        s.addGrain(r*n, r, m);
-        s.setGravity(-g0*n);
+        s.addGrain(r * n, r, m);
+        s.setGravity(-g0 * n);
         for (int k = 0; k < 200; ++k) s.step(1e-4);
         ASSERT_EQ(s.nContacts(), 1u);
         EXPECT_NEAR(s.contacts()[0].normal.dot(n), 1.0, 1e-9);
-        EXPECT_NEAR((s.positions()[0] - r*n).norm(), 0.0, 1e-3*r);
+        EXPECT_NEAR((s.positions()[0] - r * n).norm(), 0.0, 1e-3 * r);
     }
 }
 
@@ -209,17 +219,21 @@ TEST(WallEdges, FixedGrainsIgnoreWallsAndEachOther)
     {
         System s(2);
         const int m = s.addMaterial({2500, 0.3});
-        s.addGrain(Vec3(0, 0, 0), r, m, true);        // cut by the plane and the segment
-        s.addGrain(Vec3(1.5*r, 0, 0), r, m, true);    // overlaps grain 0
-        s.addPlane(Vec3(0, 0.5*r, 0), Vec3(0, 1, 0));
+        s.addGrain(Vec3(0, 0, 0), r, m, true);       // cut by the plane and the segment
+        s.addGrain(Vec3(1.5 * r, 0, 0), r, m, true); // overlaps grain 0
+        s.addPlane(Vec3(0, 0.5 * r, 0), Vec3(0, 1, 0));
         s.addSegment(Vec3(-1, 0, 0), Vec3(1, 0, 0));
         s.setGravity(Vec3(0, -g0, 0));
         EXPECT_NO_THROW(s.checkInitialOverlaps());
         s.step(1e-4);
         EXPECT_EQ(s.nContacts(), 0u);
         EXPECT_EQ(s.positions()[0], Vec3(0, 0, 0));
-        s.addGrain(Vec3(0, 1.2*r, 0), r, m);         // free grain: overlaps plane and grain 0
-        try { s.checkInitialOverlaps(); FAIL() << "free grain overlap not reported"; }
+        s.addGrain(Vec3(0, 1.2 * r, 0), r, m); // free grain: overlaps plane and grain 0
+        try
+        {
+            s.checkInitialOverlaps();
+            FAIL() << "free grain overlap not reported";
+        }
         catch (const InputError& e)
         {
             const std::string msg = e.what();
@@ -257,17 +271,17 @@ TEST(WallEdges, WallFriction)
     EXPECT_LT(s.wallFriction(w), 0);
     s.setWallFriction(w, 0.0);
     EXPECT_THROW(s.setWallFriction(5, 0.1), InputError);
-    s.setGravity(g0*Vec3(std::sin(theta), -std::cos(theta), 0));
+    s.setGravity(g0 * Vec3(std::sin(theta), -std::cos(theta), 0));
     for (int k = 0; k < 1000; ++k) s.step(1e-4);
-    EXPECT_NEAR(s.velocities()[0].x(), g0*std::sin(theta)*0.1, 1e-6);
+    EXPECT_NEAR(s.velocities()[0].x(), g0 * std::sin(theta) * 0.1, 1e-6);
     s.writeHDF5("wallFriction.h5");
     System t = System::readHDF5("wallFriction.h5");
     EXPECT_EQ(t.wallFriction(w), 0.0);
     t.setWallFriction(w, -3);
     EXPECT_LT(t.wallFriction(w), 0);
-    for (int k = 0; k < 1000; ++k) t.step(1e-4);  // tan 30 > 0.4: slides with the grain's mu
-    const double a = g0*(std::sin(theta) - 0.4*std::cos(theta));
-    EXPECT_NEAR(t.velocities()[0].x(), g0*std::sin(theta)*0.1 + a*0.1, 1e-6);
+    for (int k = 0; k < 1000; ++k) t.step(1e-4); // tan 30 > 0.4: slides with the grain's mu
+    const double a = g0 * (std::sin(theta) - 0.4 * std::cos(theta));
+    EXPECT_NEAR(t.velocities()[0].x(), g0 * std::sin(theta) * 0.1 + a * 0.1, 1e-6);
     std::remove("wallFriction.h5");
 }
 
@@ -280,7 +294,7 @@ TEST(WarmStart, SetContactImpulsesSeedsACopy)
     auto column = [](System& s)
     {
         const int m = s.addMaterial({2500, 0.4});
-        for (int k = 0; k < 30; ++k) s.addGrain(Vec3(0, 0.01*(2*k + 1), 0), 0.01, m);
+        for (int k = 0; k < 30; ++k) s.addGrain(Vec3(0, 0.01 * (2 * k + 1), 0), 0.01, m);
         s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
         s.setGravity(Vec3(0, -g0, 0));
     };
@@ -292,17 +306,19 @@ TEST(WarmStart, SetContactImpulsesSeedsACopy)
     column(cold);
     warm.positions() = cold.positions() = a.positions();
     auto views = a.contacts();
-    std::swap(views[3].i, views[3].j);  // either way round for grain pairs
+    std::swap(views[3].i, views[3].j); // either way round for grain pairs
     views[3].normal = -views[3].normal;
     views[3].impulse = -views[3].impulse;
     warm.setContactImpulses(views, 1e-4);
     const StepReport rw = warm.step(1e-4), rc = cold.step(1e-4);
-    EXPECT_LE(rw.localSolves, long(2*rw.contacts));  // the seeded impulses are the solution
-    EXPECT_GT(rc.localSolves, 2*rw.localSolves);
+    EXPECT_LE(rw.localSolves, long(2 * rw.contacts)); // the seeded impulses are the solution
+    EXPECT_GT(rc.localSolves, 2 * rw.localSolves);
     double fa = 0, fw = 0;
-    for (const auto& c : a.contacts()) if (c.j == -1) fa = c.impulse.y();
-    for (const auto& c : warm.contacts()) if (c.j == -1) fw = c.impulse.y();
-    EXPECT_NEAR(fw, fa, 1e-3*fa);
+    for (const auto& c : a.contacts())
+        if (c.j == -1) fa = c.impulse.y();
+    for (const auto& c : warm.contacts())
+        if (c.j == -1) fw = c.impulse.y();
+    EXPECT_NEAR(fw, fa, 1e-3 * fa);
     std::vector<System::ContactView> bad(1, views[0]);
     bad[0].j = -5;
     EXPECT_THROW(warm.setContactImpulses(bad, 1e-4), InputError);
@@ -321,22 +337,23 @@ TEST(WarmStart, SetMaterialScalesTheImpulsesOfARestingColumn)
     const int m = s.addMaterial({2500, 0.4});
     const int n = 30;
     const double r = 0.01, dt = 1e-4;
-    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r*(2*k + 1), 0), r, m);
+    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r * (2 * k + 1), 0), r, m);
     s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
     s.setGravity(Vec3(0, -g0, 0));
     for (int k = 0; k < 2000; ++k) s.step(dt);
     const auto floorImpulse = [&s]
     {
-        for (const auto& c : s.contacts()) if (c.j == -1) return c.impulse.y();
+        for (const auto& c : s.contacts())
+            if (c.j == -1) return c.impulse.y();
         return 0.0;
     };
     // statics, up to the solver's penetration correction (measured 1.9 %)
     const double before = floorImpulse();
-    EXPECT_NEAR(before, n*2500*M_PI*r*r*g0*dt, 0.03*n*2500*M_PI*r*r*g0*dt);
+    EXPECT_NEAR(before, n * 2500 * M_PI * r * r * g0 * dt, 0.03 * n * 2500 * M_PI * r * r * g0 * dt);
     const auto x0 = s.positions();
     s.setMaterial(m, {1250, 0.4});
     const StepReport rep = s.step(dt);
-    EXPECT_LE(rep.localSolves, long(2*rep.contacts));     // the warm start is the solution
-    EXPECT_NEAR(floorImpulse(), 0.5*before, 1e-3*before);  // half the weight
-    for (int k = 0; k < n; ++k) EXPECT_NEAR(s.positions()[k].y(), x0[k].y(), 1e-5*r);
+    EXPECT_LE(rep.localSolves, long(2 * rep.contacts));       // the warm start is the solution
+    EXPECT_NEAR(floorImpulse(), 0.5 * before, 1e-3 * before); // half the weight
+    for (int k = 0; k < n; ++k) EXPECT_NEAR(s.positions()[k].y(), x0[k].y(), 1e-5 * r);
 }

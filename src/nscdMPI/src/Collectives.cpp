@@ -15,10 +15,10 @@ namespace
 {
 /// components doubles per local grain, checked on every rank (one refusing
 /// alone would leave the others waiting); InputError naming the function
-void checkGrainValues(const DecomposedSystem::Impl& I, const char* function, const std::vector<double>& values,
-                      int components)
+void checkGrainValues(const DecomposedSystem::Impl& I, const char* function,
+                      const std::vector<double>& values, int components)
 {
-    int bad = components < 1 || values.size() != std::size_t(components)*I.sys.size();
+    int bad = components < 1 || values.size() != std::size_t(components) * I.sys.size();
     MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, I.comm);
     if (bad)
         throw InputError(std::string("nscd::mpi::DecomposedSystem::") + function + ": "
@@ -27,11 +27,10 @@ void checkGrainValues(const DecomposedSystem::Impl& I, const char* function, con
                          + " components here, or a size mismatch on another rank");
 }
 
-
 /// Send the values of the grains of from[r] to each rank r, which receives
 /// them for its grains of to[r] (the lists of the two sides aligned: ghosts
 /// and their owners' send lists) and applies combine(value here, received).
-template<class Combine>
+template <class Combine>
 void passAlong(const DecomposedSystem::Impl& I, const std::vector<std::vector<int>>& from,
                const std::vector<std::vector<int>>& to, std::vector<double>& values, int components, int tag,
                Combine combine)
@@ -40,15 +39,15 @@ void passAlong(const DecomposedSystem::Impl& I, const std::vector<std::vector<in
     for (int r = 0; r < I.P; ++r)
     {
         for (int i : from[r])
-            send[r].insert(send[r].end(), values.begin() + std::ptrdiff_t(i)*components,
-                           values.begin() + std::ptrdiff_t(i + 1)*components);
-        recv[r].resize(to[r].size()*std::size_t(components));
+            send[r].insert(send[r].end(), values.begin() + std::ptrdiff_t(i) * components,
+                           values.begin() + std::ptrdiff_t(i + 1) * components);
+        recv[r].resize(to[r].size() * std::size_t(components));
     }
     exchangeKnown(I.comm, tag, send, recv);
     for (int r = 0; r < I.P; ++r)
         for (std::size_t k = 0; k < to[r].size(); ++k)
             for (int c = 0; c < components; ++c)
-                combine(values[std::size_t(to[r][k])*components + c], recv[r][k*components + c]);
+                combine(values[std::size_t(to[r][k]) * components + c], recv[r][k * components + c]);
 }
 } // namespace
 
@@ -65,7 +64,8 @@ void DecomposedSystem::copyToGhosts(std::vector<double>& values, int components)
     Impl& I = *impl_;
     checkGrainValues(I, "copyToGhosts", values, components);
     if (I.P == 1) return;
-    passAlong(I, I.sendTo, I.ghostFrom, values, components, TagGhostValues, [](double& v, double got) { v = got; });
+    passAlong(I, I.sendTo, I.ghostFrom, values, components, TagGhostValues,
+              [](double& v, double got) { v = got; });
 }
 
 double DecomposedSystem::Impl::sumOverSubdomains(double value)
@@ -83,23 +83,23 @@ void DecomposedSystem::Impl::weightedMeanOverSubdomains(std::vector<double>& val
     const std::size_t n = values.size();
     if (P == 1 || n == 0) return;
     // every rank's (w v, w) gathered and summed in rank order: the same bits everywhere
-    std::vector<double> mine(2*n), all(2*n*std::size_t(P));
+    std::vector<double> mine(2 * n), all(2 * n * std::size_t(P));
     for (std::size_t j = 0; j < n; ++j)
     {
-        mine[2*j] = weights[j]*values[j];
-        mine[2*j + 1] = weights[j];
+        mine[2 * j] = weights[j] * values[j];
+        mine[2 * j + 1] = weights[j];
     }
-    MPI_Allgather(mine.data(), int(2*n), MPI_DOUBLE, all.data(), int(2*n), MPI_DOUBLE, comm);
-    counters.bytesSent += long(2*n*sizeof(double))*(P - 1);
+    MPI_Allgather(mine.data(), int(2 * n), MPI_DOUBLE, all.data(), int(2 * n), MPI_DOUBLE, comm);
+    counters.bytesSent += long(2 * n * sizeof(double)) * (P - 1);
     for (std::size_t j = 0; j < n; ++j)
     {
         double wv = 0, w = 0;
         for (int r = 0; r < P; ++r)
         {
-            wv += all[2*n*std::size_t(r) + 2*j];
-            w += all[2*n*std::size_t(r) + 2*j + 1];
+            wv += all[2 * n * std::size_t(r) + 2 * j];
+            w += all[2 * n * std::size_t(r) + 2 * j + 1];
         }
-        if (w > 0) values[j] = wv/w;
+        if (w > 0) values[j] = wv / w;
     }
 }
 
@@ -130,8 +130,7 @@ std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
     std::vector<ContactRecord> contacts;
     for (const System::ContactView& c : I.sys.contacts())
     {
-        const bool mine = c.j < 0 ? bool(I.owned[c.i])
-                                  : bool(I.owned[I.gid[c.i] < I.gid[c.j] ? c.i : c.j]);
+        const bool mine = c.j < 0 ? bool(I.owned[c.i]) : bool(I.owned[I.gid[c.i] < I.gid[c.j] ? c.i : c.j]);
         if (!mine) continue;
         ContactRecord k;
         k.grain = I.gid[c.i];
@@ -144,13 +143,13 @@ std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
     auto gather = [&](const auto& mine, auto& all)
     {
         using T = typename std::decay_t<decltype(mine)>::value_type;
-        const int n = int(mine.size()*sizeof(T));
+        const int n = int(mine.size() * sizeof(T));
         std::vector<int> bytes(I.P), offs(I.P, 0);
         MPI_Gather(&n, 1, MPI_INT, bytes.data(), 1, MPI_INT, root, I.comm);
         if (I.rank == root)
         {
             std::partial_sum(bytes.begin(), bytes.end() - 1, offs.begin() + 1);
-            all.resize(std::size_t(offs.back() + bytes.back())/sizeof(T));
+            all.resize(std::size_t(offs.back() + bytes.back()) / sizeof(T));
         }
         MPI_Gatherv(mine.data(), n, MPI_BYTE, all.data(), bytes.data(), offs.data(), MPI_BYTE, root, I.comm);
     };
@@ -160,21 +159,24 @@ std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
     gather(contacts, allContacts);
     if (I.rank != root) return nullptr;
 
-    std::vector<std::pair<long, std::size_t>> byId(allGrains.size()/bytes);  // (id, record)
-    for (std::size_t k = 0; k < byId.size(); ++k) byId[k] = {recordId(&allGrains[k*bytes]), k};
+    std::vector<std::pair<long, std::size_t>> byId(allGrains.size() / bytes); // (id, record)
+    for (std::size_t k = 0; k < byId.size(); ++k) byId[k] = {recordId(&allGrains[k * bytes]), k};
     std::sort(byId.begin(), byId.end());
     auto whole = std::make_unique<System>(Subdomain::withoutGrains(I.sys));
     struct NoCoupling : SubdomainCoupling
     {
         double maxOverSubdomains(double v) override { return v; }
-        void countCopies(const std::vector<char>& in, std::vector<int>& out) override { out.assign(in.size(), 1); }
+        void countCopies(const std::vector<char>& in, std::vector<int>& out) override
+        {
+            out.assign(in.size(), 1);
+        }
         void averageCopies(std::vector<Vec3>&, std::vector<Vec3>&) override {}
     } none;
     Subdomain access(*whole, none);
     std::unordered_map<long, int> index;
     for (const auto& [id, k] : byId)
     {
-        const std::size_t i = access.addGrain(ColumnMigrate, &allGrains[k*bytes] + sizeof(long));
+        const std::size_t i = access.addGrain(ColumnMigrate, &allGrains[k * bytes] + sizeof(long));
         access.setGrainId(i, id);
         index[id] = int(i);
     }

@@ -17,18 +17,19 @@ namespace mpi
 {
 
 DecomposedSystem::DecomposedSystem(int dimension, MPI_Comm comm, OwnerFunction ownerOf, double halo)
-: impl_(std::make_unique<Impl>(dimension))
+    : impl_(std::make_unique<Impl>(dimension))
 {
     impl_->init(comm, std::move(ownerOf), halo);
 }
 
 DecomposedSystem::DecomposedSystem(System&& whole, MPI_Comm comm, OwnerFunction ownerOf, double halo)
-: DecomposedSystem(std::move(whole), -1, comm, std::move(ownerOf), halo)
-{}
+    : DecomposedSystem(std::move(whole), -1, comm, std::move(ownerOf), halo)
+{
+}
 
 DecomposedSystem::DecomposedSystem(System&& part, long wholeSize, MPI_Comm comm, OwnerFunction ownerOf,
                                    double halo)
-: impl_(std::make_unique<Impl>(std::move(part)))
+    : impl_(std::make_unique<Impl>(std::move(part)))
 {
     Impl& I = *impl_;
     I.init(comm, std::move(ownerOf), halo);
@@ -45,7 +46,7 @@ DecomposedSystem::DecomposedSystem(System&& part, long wholeSize, MPI_Comm comm,
     for (long id : I.gid) idEnd = std::max(idEnd, id + 1);
     MPI_Allreduce(MPI_IN_PLACE, &idEnd, 1, MPI_LONG, MPI_MAX, I.comm);
     long expected = wholeSize;
-    if (wholeSize < 0) expected = long(N);  // the whole system on every rank
+    if (wholeSize < 0) expected = long(N); // the whole system on every rank
     std::vector<int> claim(idEnd, std::numeric_limits<int>::max());
     for (std::size_t i = 0; i < N; ++i)
         if (I.checkedOwner(I.sys.positions()[i], I.gid[i]) == I.rank) claim[I.gid[i]] = I.rank;
@@ -63,7 +64,7 @@ DecomposedSystem::DecomposedSystem(System&& part, long wholeSize, MPI_Comm comm,
             {
                 const Vec3& x = I.sys.positions()[i];
                 lost += "\n    grain " + std::to_string(I.gid[i]) + " at (" + std::to_string(x.x()) + ", "
-                      + std::to_string(x.y()) + ", " + std::to_string(x.z()) + ")";
+                        + std::to_string(x.y()) + ", " + std::to_string(x.z()) + ")";
                 ++named;
             }
         throw InputError("nscd::mpi::DecomposedSystem: " + std::to_string(expected - claimed) + " of "
@@ -75,12 +76,16 @@ DecomposedSystem::DecomposedSystem(System&& part, long wholeSize, MPI_Comm comm,
     {
         const Vec3& x = I.sys.positions()[i];
         I.owned[i] = claim[I.gid[i]] == I.rank;
-        if (I.owned[i]) { lo = lo.cwiseMin(x); hi = hi.cwiseMax(x); }
+        if (I.owned[i])
+        {
+            lo = lo.cwiseMin(x);
+            hi = hi.cwiseMax(x);
+        }
     }
     claim = {};
     std::vector<char> drop(N, 0);
     for (std::size_t i = 0; i < N; ++i)
-        drop[i] = !I.owned[i] && distance2(I.sys.positions()[i], lo, hi) > I.halo*I.halo;
+        drop[i] = !I.owned[i] && distance2(I.sys.positions()[i], lo, hi) > I.halo * I.halo;
     I.removeFlagged(drop);
     exchange();
 }
@@ -105,7 +110,7 @@ StepReport DecomposedSystem::advance(double dt, double fraction)
     // the reach of the fastest grain must stay within the halo: r_max, the
     // margin and the alert distance of a pair of such grains (bounds over
     // every rank)
-    double bounds[2] = {0, -1e300};  // r_max, -r_min
+    double bounds[2] = {0, -1e300}; // r_max, -r_min
     const Vec3 g = I.sys.gravity();
     for (std::size_t i = 0; i < I.sys.size(); ++i)
     {
@@ -122,31 +127,32 @@ StepReport DecomposedSystem::advance(double dt, double fraction)
         for (std::size_t i = 0; i < I.sys.size(); ++i)
         {
             if (I.sys.fixed(i)) continue;
-            const Vec3 vFree = I.sys.velocities()[i] + dt*(g + force[i]/I.sys.mass(i));
-            speed = std::max(speed, vFree.norm() + I.sys.radii()[i]*I.sys.angularVelocities()[i].norm());
+            const Vec3 vFree = I.sys.velocities()[i] + dt * (g + force[i] / I.sys.mass(i));
+            speed = std::max(speed, vFree.norm() + I.sys.radii()[i] * I.sys.angularVelocities()[i].norm());
         }
         // sub-steps: System::subStep's rule on each rank, and the halo's
-        double need[4] = {bounds[0], bounds[1], speed, dt/I.sys.subStep(dt, fraction)};
+        double need[4] = {bounds[0], bounds[1], speed, dt / I.sys.subStep(dt, fraction)};
         {
             CpuTimer t(I.counters.solveCommCpuSeconds);
             MPI_Allreduce(MPI_IN_PLACE, need, 4, MPI_DOUBLE, MPI_MAX, I.comm);
         }
-        const double rMax = need[0], rMin = need[1] > -1e300 ? -need[1] : 0.0;  // (no grain anywhere: 0)
-        const double spare = I.halo - 2*rMax - set.alertMargin*std::max(rMin, 0.0);
+        const double rMax = need[0], rMin = need[1] > -1e300 ? -need[1] : 0.0; // (no grain anywhere: 0)
+        const double spare = I.halo - 2 * rMax - set.alertMargin * std::max(rMin, 0.0);
         if (!(spare > 0))
             throw InputError("nscd::mpi::DecomposedSystem::advance: the halo " + std::to_string(I.halo)
                              + " m does not exceed 2 r_max + the alert margin ("
-                             + std::to_string(2*rMax + set.alertMargin*rMin) + " m)");
-        const double nHalo = std::ceil(2*set.alertDistanceFactor*need[2]*dt/spare*(1 - 1e-12));
+                             + std::to_string(2 * rMax + set.alertMargin * rMin) + " m)");
+        const double nHalo = std::ceil(2 * set.alertDistanceFactor * need[2] * dt / spare * (1 - 1e-12));
         const double n = std::max({1.0, need[3], nHalo});
-        double h = std::min(remaining, dt/n);
-        if (h >= remaining*(1 - 1e-12)) h = remaining;
-        const double needed = total.substeps + std::ceil(remaining/h*(1 - 1e-12));
+        double h = std::min(remaining, dt / n);
+        if (h >= remaining * (1 - 1e-12)) h = remaining;
+        const double needed = total.substeps + std::ceil(remaining / h * (1 - 1e-12));
         if (needed > double(set.maxSubSteps))
             throw StepError("nscd::mpi::DecomposedSystem::advance: the step of " + std::to_string(dt)
-                            + " s needs about " + std::to_string(needed) + " sub-steps, more than maxSubSteps = "
-                            + std::to_string(set.maxSubSteps) + " (fastest grain: free speed "
-                            + std::to_string(need[2]) + " m/s; halo " + std::to_string(I.halo) + " m)");
+                            + " s needs about " + std::to_string(needed)
+                            + " sub-steps, more than maxSubSteps = " + std::to_string(set.maxSubSteps)
+                            + " (fastest grain: free speed " + std::to_string(need[2]) + " m/s; halo "
+                            + std::to_string(I.halo) + " m)");
         total.addSubStep(step(h));
         remaining = (h == remaining) ? 0.0 : remaining - h;
     }
@@ -174,7 +180,7 @@ std::size_t DecomposedSystem::addGrain(long id, const Vec3& centre, double radiu
     I.sub.setGrainId(i, id);
     I.gid.push_back(id);
     I.owned.push_back(1);
-    I.data.resize(I.gid.size()*std::size_t(I.dataWidth), 0.0);
+    I.data.resize(I.gid.size() * std::size_t(I.dataWidth), 0.0);
     return i;
 }
 
@@ -184,7 +190,7 @@ void DecomposedSystem::setGrainDataWidth(int width)
     if (width < 0)
         throw InputError("nscd::mpi::DecomposedSystem::setGrainDataWidth: negative width "
                          + std::to_string(width));
-    if (width != I.dataWidth) I.data.assign(I.gid.size()*std::size_t(width), 0.0);
+    if (width != I.dataWidth) I.data.assign(I.gid.size() * std::size_t(width), 0.0);
     I.dataWidth = width;
 }
 
@@ -217,7 +223,7 @@ StepReport DecomposedSystem::step(double dt)
     }
     catch (const InputError&)
     {
-        throw;  // refused by the collective input check: every rank throws it
+        throw; // refused by the collective input check: every rank throws it
     }
     catch (const std::exception& e)
     {

@@ -44,19 +44,23 @@ void DecomposedSystem::Impl::exchange()
     std::vector<std::vector<double>> sendD(P), recvD;
     std::vector<std::vector<ContactRecord>> sendC(P), recvC;
     std::vector<int> dest(N0, -1);
-    std::vector<int> leaving;  // owner unknown here (a local owner function)
+    std::vector<int> leaving; // owner unknown here (a local owner function)
     for (int i = 0; i < N0; ++i)
     {
         if (!owned[i]) continue;
         const int r = checkedOwner(sys.positions()[i], gid[i]);
-        if (r == notHere) leaving.push_back(i);
-        else if (r != rank) dest[i] = r;
+        if (r == notHere)
+            leaving.push_back(i);
+        else if (r != rank)
+            dest[i] = r;
     }
     const std::vector<int> claimed = claimLeavers(leaving);
     for (std::size_t k = 0; k < leaving.size(); ++k)
     {
-        if (claimed[k] < 0) unclaimed.push_back(leaving[k]);
-        else dest[leaving[k]] = claimed[k];
+        if (claimed[k] < 0)
+            unclaimed.push_back(leaving[k]);
+        else
+            dest[leaving[k]] = claimed[k];
     }
     counters.unclaimed = long(unclaimed.size());
     bool any = false;
@@ -78,13 +82,13 @@ void DecomposedSystem::Impl::exchange()
                 const int a = side == 0 ? c.i : c.j;
                 const int b = side == 0 ? c.j : c.i;
                 if (a < 0 || dest[a] < 0) continue;
-                if (b >= 0 && !(gid[a] < gid[b])) continue;  // the partner's owner keeps it
+                if (b >= 0 && !(gid[a] < gid[b])) continue; // the partner's owner keeps it
                 ContactRecord k;
                 k.grain = gid[a];
                 k.partner = b >= 0 ? gid[b] : long(b);
                 const double sgn = side == 0 ? 1.0 : -1.0;
-                put(k.n, sgn*c.normal);
-                put(k.impulse, sgn*c.impulse);
+                put(k.n, sgn * c.normal);
+                put(k.impulse, sgn * c.impulse);
                 k.age = c.age;
                 sendC[dest[a]].push_back(k);
             }
@@ -93,15 +97,16 @@ void DecomposedSystem::Impl::exchange()
     counters.bytesSent += exchangeData(sendD, recv, bytes, recvD);
     counters.bytesSent += exchangeLists(comm, TagContacts, sendC, recvC);
     {
-        std::unordered_map<long, int> local;  // the ghosts here (a migrant may be one)
-        for (int i = 0; i < int(gid.size()); ++i) if (!owned[i]) local[gid[i]] = i;
+        std::unordered_map<long, int> local; // the ghosts here (a migrant may be one)
+        for (int i = 0; i < int(gid.size()); ++i)
+            if (!owned[i]) local[gid[i]] = i;
         for (int r = 0; r < P; ++r)
-            for (std::size_t k = 0; k < recv[r].size()/bytes; ++k)
+            for (std::size_t k = 0; k < recv[r].size() / bytes; ++k)
             {
-                const char* g = recv[r].data() + k*bytes;
-                auto it = local.find(recordId(g));  // a ghost here becomes owned (keeps its contacts)
+                const char* g = recv[r].data() + k * bytes;
+                auto it = local.find(recordId(g)); // a ghost here becomes owned (keeps its contacts)
                 place(it == local.end() ? -1 : it->second, g, ColumnMigrate,
-                      recvD[r].data() + k*std::size_t(travelWidth()), true);
+                      recvD[r].data() + k * std::size_t(travelWidth()), true);
             }
     }
 
@@ -121,13 +126,13 @@ void DecomposedSystem::Impl::exchange()
             box[k] = std::min(box[k], regionLo[k]);
             box[3 + k] = std::max(box[3 + k], regionHi[k]);
         }
-    std::vector<double> boxes(6*P);
+    std::vector<double> boxes(6 * P);
     MPI_Allgather(box, 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, comm);
     sendTo.assign(P, {});
     send.assign(P, {});
     bytes = recordBytes(ColumnGhost);
     sendD.assign(P, {});
-    const double h2 = halo*halo;
+    const double h2 = halo * halo;
     for (int i = 0; i < N; ++i)
     {
         if (!owned[i]) continue;
@@ -135,7 +140,7 @@ void DecomposedSystem::Impl::exchange()
         for (int r = 0; r < P; ++r)
         {
             if (r == rank) continue;
-            const double* b = &boxes[6*r];
+            const double* b = &boxes[6 * r];
             if (distance2(x, Vec3(b[0], b[1], b[2]), Vec3(b[3], b[4], b[5])) > h2) continue;
             sendTo[r].push_back(i);
             appendRecord(i, ColumnGhost, send[r]);
@@ -145,19 +150,26 @@ void DecomposedSystem::Impl::exchange()
     }
     counters.bytesSent += exchangeLists(comm, TagRecords, send, recv);
     counters.bytesSent += exchangeData(sendD, recv, bytes, recvD);
-    std::unordered_map<long, int> local;  // the ghosts here (refreshed in place)
-    for (int i = 0; i < N; ++i) if (!owned[i]) local[gid[i]] = i;
+    std::unordered_map<long, int> local; // the ghosts here (refreshed in place)
+    for (int i = 0; i < N; ++i)
+        if (!owned[i]) local[gid[i]] = i;
     std::vector<char> keep(N, 0);
     for (int i = 0; i < N; ++i) keep[i] = owned[i];
     ghostFrom.assign(P, {});
     for (int r = 0; r < P; ++r)
-        for (std::size_t k = 0; k < recv[r].size()/bytes; ++k)
+        for (std::size_t k = 0; k < recv[r].size() / bytes; ++k)
         {
-            const char* g = recv[r].data() + k*bytes;
+            const char* g = recv[r].data() + k * bytes;
             auto it = local.find(recordId(g));
             const int i = place(it == local.end() ? -1 : it->second, g, ColumnGhost,
-                                recvD[r].data() + k*std::size_t(travelWidth()), false);
-            if (i >= N) { keep.push_back(1); ++counters.ghostsAdded; } else keep[i] = 1;
+                                recvD[r].data() + k * std::size_t(travelWidth()), false);
+            if (i >= N)
+            {
+                keep.push_back(1);
+                ++counters.ghostsAdded;
+            }
+            else
+                keep[i] = 1;
             ghostFrom[r].push_back(i);
         }
     // ghosts not refreshed are dropped; the indices kept shift down
@@ -171,36 +183,42 @@ void DecomposedSystem::Impl::exchange()
         if (keep[i]) newIndex[i] = n++;
     }
     removeFlagged(drop2);
-    for (auto& L : ghostFrom) for (int& i : L) i = newIndex[i];
-    for (auto& L : sendTo) for (int& i : L) i = newIndex[i];
-    for (int& i : unclaimed) i = newIndex[i];  // owned: kept
+    for (auto& L : ghostFrom)
+        for (int& i : L) i = newIndex[i];
+    for (auto& L : sendTo)
+        for (int& i : L) i = newIndex[i];
+    for (int& i : unclaimed) i = newIndex[i]; // owned: kept
     seedMigratedContacts(recvC);
     renumberAlongSlots();
 }
 
 std::vector<int> DecomposedSystem::Impl::claimLeavers(const std::vector<int>& leaving)
 {
-    struct Leaver { double x[3]; long id; };
+    struct Leaver
+    {
+        double x[3];
+        long id;
+    };
     std::vector<Leaver> mine(leaving.size());
     for (std::size_t k = 0; k < leaving.size(); ++k)
     {
         put(mine[k].x, sys.positions()[leaving[k]]);
         mine[k].id = gid[leaving[k]];
     }
-    const int n = int(mine.size()*sizeof(Leaver));
+    const int n = int(mine.size() * sizeof(Leaver));
     std::vector<int> bytes(P), offs(P, 0);
     MPI_Allgather(&n, 1, MPI_INT, bytes.data(), 1, MPI_INT, comm);
     std::partial_sum(bytes.begin(), bytes.end() - 1, offs.begin() + 1);
-    const std::size_t total = std::size_t(offs.back() + bytes.back())/sizeof(Leaver);
+    const std::size_t total = std::size_t(offs.back() + bytes.back()) / sizeof(Leaver);
     if (total == 0) return {};
     std::vector<Leaver> all(total);
     MPI_Allgatherv(mine.data(), n, MPI_BYTE, all.data(), bytes.data(), offs.data(), MPI_BYTE, comm);
-    counters.bytesSent += long(n)*(P - 1);
-    const std::size_t first = std::size_t(offs[rank])/sizeof(Leaver);
+    counters.bytesSent += long(n) * (P - 1);
+    const std::size_t first = std::size_t(offs[rank]) / sizeof(Leaver);
     std::vector<int> claim(total, std::numeric_limits<int>::max());
     for (std::size_t k = 0; k < total; ++k)
     {
-        if (k >= first && k < first + mine.size()) continue;  // not in this region: asked already
+        if (k >= first && k < first + mine.size()) continue; // not in this region: asked already
         if (checkedOwner(get(all[k].x), all[k].id) == rank) claim[k] = rank;
     }
     MPI_Allreduce(MPI_IN_PLACE, claim.data(), int(total), MPI_INT, MPI_MIN, comm);
@@ -218,12 +236,12 @@ void DecomposedSystem::Impl::seedMigratedContacts(const std::vector<std::vector<
     std::unordered_map<long, int> local;
     for (int i = 0; i < int(gid.size()); ++i) local[gid[i]] = i;
     std::vector<System::ContactView> views = sys.contacts();
-    auto key = [](int i, int j)  // a pair either way round (j < 0: a wall)
+    auto key = [](int i, int j) // a pair either way round (j < 0: a wall)
     {
         if (j >= 0 && j < i) std::swap(i, j);
         return (static_cast<unsigned long long>(unsigned(i)) << 32) | unsigned(j);
     };
-    std::unordered_set<unsigned long long> known;  // the pairs with a record here already
+    std::unordered_set<unsigned long long> known; // the pairs with a record here already
     for (const System::ContactView& c : views) known.insert(key(c.i, c.j));
     for (const auto& L : recvC)
         for (const ContactRecord& k : L)
@@ -234,7 +252,7 @@ void DecomposedSystem::Impl::seedMigratedContacts(const std::vector<std::vector<
             if (k.partner >= 0)
             {
                 auto it = local.find(k.partner);
-                if (it == local.end()) continue;  // the partner is not within the halo any more
+                if (it == local.end()) continue; // the partner is not within the halo any more
                 b = it->second;
             }
             if (!known.insert(key(a->second, b)).second) continue;

@@ -37,7 +37,7 @@ double threadCpu()
 {
     timespec t;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9*double(t.tv_nsec);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
 /// Resident memory of the process [MB]: now (VmRSS) or its peak (VmHWM)
@@ -51,7 +51,7 @@ double rssMB(const char* field = "VmRSS:", const char* file = "/proc/self/status
     std::string line;
     const std::size_t n = std::string(field).size();
     while (std::getline(f, line))
-        if (line.rfind(field, 0) == 0) return std::atof(line.c_str() + n)/1024.0;
+        if (line.rfind(field, 0) == 0) return std::atof(line.c_str() + n) / 1024.0;
     return 0;
 }
 
@@ -59,10 +59,10 @@ double median(std::vector<double> v)
 {
     if (v.empty()) return 0;
     std::sort(v.begin(), v.end());
-    return v[v.size()/2];
+    return v[v.size() / 2];
 }
 
-template<class T>
+template <class T>
 std::string list(const std::vector<T>& v)
 {
     std::ostringstream os;
@@ -109,11 +109,13 @@ int main(int argc, char** argv)
             const StepReport rep = S.step(dt);
             t.push_back(threadCpu() - t0);
             if (std::getenv("NSCD_VERBOSE"))
-                std::printf("undecomposed step %d: sweeps %d (relax solve %d), local solves %ld, contacts %d, residual %.3g, cpu %.4f s\n",
-                            n, rep.sweeps, rep.relaxSolves, rep.localSolves, rep.contacts, rep.residual, t.back());
+                std::printf("undecomposed step %d: sweeps %d (relax solve %d), local solves %ld, contacts "
+                            "%d, residual %.3g, cpu %.4f s\n",
+                            n, rep.sweeps, rep.relaxSolves, rep.localSolves, rep.contacts, rep.residual,
+                            t.back());
         }
         serialCpu = median(t);
-        serialRss = rssMB();  // (the undecomposed system held, after its steps)
+        serialRss = rssMB(); // (the undecomposed system held, after its steps)
         serialPss = rssMB("Pss:", "/proc/self/smaps_rollup");
     }
     malloc_trim(0);
@@ -125,7 +127,13 @@ int main(int argc, char** argv)
     double rmax = 0;
     System whole(2);
     if (partRead)
-        System::readHDF5(state, [&](const Vec3& x, double r) { xs.push_back(x.x()); rmax = std::max(rmax, r); return false; });
+        System::readHDF5(state,
+                         [&](const Vec3& x, double r)
+                         {
+                             xs.push_back(x.x());
+                             rmax = std::max(rmax, r);
+                             return false;
+                         });
     else
     {
         whole = System::readHDF5(state);
@@ -137,14 +145,14 @@ int main(int argc, char** argv)
     }
     const std::size_t N = xs.size();
     std::sort(xs.begin(), xs.end());
-    std::vector<double> cut(P + 1);  // slab bounds at the grain-count quantiles
+    std::vector<double> cut(P + 1); // slab bounds at the grain-count quantiles
     cut[0] = -1e300;
     cut[P] = 1e300;
-    for (int r = 1; r < P; ++r) cut[r] = 0.5*(xs[N*r/P - 1] + xs[N*r/P]);
+    for (int r = 1; r < P; ++r) cut[r] = 0.5 * (xs[N * r / P - 1] + xs[N * r / P]);
     xs = {};
     auto ownerOf = [cut, P](const Vec3& x, long)
     { return int(std::upper_bound(cut.begin() + 1, cut.begin() + P, x.x()) - (cut.begin() + 1)); };
-    const double halo = 3*rmax;
+    const double halo = 3 * rmax;
     if (partRead)
         whole = System::readHDF5(state, [&](const Vec3& x, double)
                                  { return x.x() >= cut[rank] - halo && x.x() < cut[rank + 1] + halo; });
@@ -174,9 +182,10 @@ int main(int argc, char** argv)
         contacts.push_back(rep.contacts);
         converged = converged && rep.converged;
         if (std::getenv("NSCD_VERBOSE") && (rank == 0 || std::getenv("NSCD_ALLRANKS")))
-            std::printf("rank %d step %d: averagings %d (relax solve %d), local solves %ld, contacts %d, residual %.3g, work %.4f s, migrated %ld, ghosts sent %ld added %ld dropped %ld\n",
-                        rank, n, k.averagings, rep.relaxSolves, rep.localSolves, rep.contacts, rep.residual, work.back(),
-                        k.migratedOut, k.ghostsSent, k.ghostsAdded, k.ghostsDropped);
+            std::printf("rank %d step %d: averagings %d (relax solve %d), local solves %ld, contacts %d, "
+                        "residual %.3g, work %.4f s, migrated %ld, ghosts sent %ld added %ld dropped %ld\n",
+                        rank, n, k.averagings, rep.relaxSolves, rep.localSolves, rep.contacts, rep.residual,
+                        work.back(), k.migratedOut, k.ghostsSent, k.ghostsAdded, k.ghostsDropped);
     }
     const auto owned = gather(double(D.nOwned()), P);
     const auto ghosts = gather(double(D.system().size() - D.nOwned()), P);
@@ -189,26 +198,25 @@ int main(int argc, char** argv)
     {
         std::ofstream o(argv[3]);
         o << "{\n  \"ranks\": " << P << ",\n  \"grains\": " << N << ",\n  \"dt\": " << dt
-          << ",\n  \"timed_steps\": " << steps << ",\n  \"converged_every_step\": " << (converged ? "true" : "false")
+          << ",\n  \"timed_steps\": " << steps
+          << ",\n  \"converged_every_step\": " << (converged ? "true" : "false")
           << ",\n  \"owned_grains\": " << list(owned) << ",\n  \"ghost_grains\": " << list(ghosts)
-          << ",\n  \"contacts\": " << list(mContacts)
-          << ",\n  \"cpu_seconds_per_step\": " << list(mCpu)
+          << ",\n  \"contacts\": " << list(mContacts) << ",\n  \"cpu_seconds_per_step\": " << list(mCpu)
           << ",\n  \"nscd_work_cpu_seconds_per_step\": " << list(mWork)
           << ",\n  \"solve_collectives_cpu_seconds_per_step\": " << list(mComm)
           << ",\n  \"exchange_cpu_seconds_per_step\": " << list(mExch)
           << ",\n  \"averagings_per_step\": " << list(mAvg)
-          << ",\n  \"bytes_sent_per_step\": " << list(mBytes)
-          << ",\n  \"rss_mb\": " << list(rss)
-          << ",\n  \"peak_rss_mb\": " << list(peak)
-          << ",\n  \"pss_mb\": " << list(pss);
+          << ",\n  \"bytes_sent_per_step\": " << list(mBytes) << ",\n  \"rss_mb\": " << list(rss)
+          << ",\n  \"peak_rss_mb\": " << list(peak) << ",\n  \"pss_mb\": " << list(pss);
         if (serial)
             o << ",\n  \"undecomposed_cpu_seconds_per_step\": " << serialCpu
               << ",\n  \"undecomposed_rss_mb\": " << serialRss
               << ",\n  \"undecomposed_pss_mb\": " << serialPss;
         o << "\n}\n";
-        std::printf("np %d: owned %s, work CPU %s s/step, collectives %s, exchange %s, averagings %s, rss %s MB\n",
-                    P, list(owned).c_str(), list(mWork).c_str(), list(mComm).c_str(), list(mExch).c_str(),
-                    list(mAvg).c_str(), list(rss).c_str());
+        std::printf(
+            "np %d: owned %s, work CPU %s s/step, collectives %s, exchange %s, averagings %s, rss %s MB\n", P,
+            list(owned).c_str(), list(mWork).c_str(), list(mComm).c_str(), list(mExch).c_str(),
+            list(mAvg).c_str(), list(rss).c_str());
         if (serial) std::printf("undecomposed System::step: %.4f CPU s/step\n", serialCpu);
     }
     MPI_Finalize();

@@ -16,8 +16,18 @@ using nscd::mpi::DecomposedSystem;
 
 namespace
 {
-int rankOf(MPI_Comm c) { int r; MPI_Comm_rank(c, &r); return r; }
-int sizeOf(MPI_Comm c) { int p; MPI_Comm_size(c, &p); return p; }
+int rankOf(MPI_Comm c)
+{
+    int r;
+    MPI_Comm_rank(c, &r);
+    return r;
+}
+int sizeOf(MPI_Comm c)
+{
+    int p;
+    MPI_Comm_size(c, &p);
+    return p;
+}
 
 double total(double x)
 {
@@ -27,7 +37,7 @@ double total(double x)
 }
 
 /// Values of grain id g in step n.
-double charge(long g, int n) { return 1e-3*double(g) + double(n); }
+double charge(long g, int n) { return 1e-3 * double(g) + double(n); }
 Vec3 spin(long g) { return Vec3(double(g), 0.5, -double(g)); }
 } // namespace
 
@@ -39,7 +49,8 @@ TEST(DecomposedColumns, ColumnsTravelWithTheirGrains)
 {
     const int P = sizeOf(MPI_COMM_WORLD);
     const double lo = -2e-3, hi = 36e-3;
-    auto owner = [=](const Vec3& x, long) { return std::clamp(int(std::floor((x.x() - lo)/(hi - lo)*P)), 0, P - 1); };
+    auto owner = [=](const Vec3& x, long)
+    { return std::clamp(int(std::floor((x.x() - lo) / (hi - lo) * P)), 0, P - 1); };
     DecomposedSystem D(2, MPI_COMM_WORLD, owner, 3e-3);
     System& S = D.system();
     const int m = S.addMaterial({2500, 0.3});
@@ -49,17 +60,17 @@ TEST(DecomposedColumns, ColumnsTravelWithTheirGrains)
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(-1, 1);
     const double a = 1.2e-3;
-    const Vec3 c(10*a, 10*a, 0);
+    const Vec3 c(10 * a, 10 * a, 0);
     for (int k = 0; k < 400; ++k)
     {
-        const Vec3 x((k % 20 + 0.5)*a, (k/20 + 0.5)*a, 0);
-        const double r = 0.5e-3*(0.95 + 0.05*u(rng));
-        const Vec3 v = -20*(x - c) + 0.1*Vec3(u(rng), u(rng), 0) + Vec3(0.4, 0, 0);
+        const Vec3 x((k % 20 + 0.5) * a, (k / 20 + 0.5) * a, 0);
+        const double r = 0.5e-3 * (0.95 + 0.05 * u(rng));
+        const Vec3 v = -20 * (x - c) + 0.1 * Vec3(u(rng), u(rng), 0) + Vec3(0.4, 0, 0);
         const std::size_t i = D.addGrain(long(k), x, r, m);
         if (i == std::size_t(-1)) continue;
         S.velocities()[i] = v;
         S.column<Vec3>("spin")[i] = spin(k);
-        S.column<long>("birth")[i] = 7L*k;
+        S.column<long>("birth")[i] = 7L * k;
     }
     D.exchange();
     long migrated = 0, ghostsChecked = 0;
@@ -77,9 +88,11 @@ TEST(DecomposedColumns, ColumnsTravelWithTheirGrains)
         for (std::size_t i = 0; i < S.size(); ++i)
         {
             const long g = D.globalIds()[i];
-            ASSERT_EQ(q2[i], charge(g, n)) << "step " << n << ", grain " << g << (D.owned()[i] ? "" : " (ghost)");
-            ASSERT_EQ(b[i], 7L*g) << "step " << n << ", grain " << g;
-            if (D.owned()[i]) ASSERT_EQ(s[i], spin(g)) << "step " << n << ", grain " << g;
+            ASSERT_EQ(q2[i], charge(g, n))
+                << "step " << n << ", grain " << g << (D.owned()[i] ? "" : " (ghost)");
+            ASSERT_EQ(b[i], 7L * g) << "step " << n << ", grain " << g;
+            if (D.owned()[i])
+                ASSERT_EQ(s[i], spin(g)) << "step " << n << ", grain " << g;
             else
             {
                 // not copied to ghosts: the default, or the value of a grain that was owned here
@@ -90,7 +103,7 @@ TEST(DecomposedColumns, ColumnsTravelWithTheirGrains)
     }
     if (P > 1)
     {
-        EXPECT_GT(total(double(migrated)), 20);  // grains changed ranks
+        EXPECT_GT(total(double(migrated)), 20); // grains changed ranks
         EXPECT_GT(total(double(ghostsChecked)), 100);
     }
     const std::unique_ptr<System> whole = D.gatherWhole(0);
@@ -102,7 +115,7 @@ TEST(DecomposedColumns, ColumnsTravelWithTheirGrains)
             const long g = whole->grainIds()[i];
             EXPECT_EQ(whole->column<double>("charge")[i], charge(g, 99));
             EXPECT_EQ(whole->column<Vec3>("spin")[i], spin(g));
-            EXPECT_EQ(whole->column<long>("birth")[i], 7L*g);
+            EXPECT_EQ(whole->column<long>("birth")[i], 7L * g);
         }
     }
 }

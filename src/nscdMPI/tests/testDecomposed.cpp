@@ -13,9 +13,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
-#include <cmath>
 #include <numeric>
 #include <random>
 #include <string>
@@ -26,8 +26,18 @@ using nscd::mpi::DecomposedSystem;
 
 namespace
 {
-int worldRank() { int r; MPI_Comm_rank(MPI_COMM_WORLD, &r); return r; }
-int worldSize() { int p; MPI_Comm_size(MPI_COMM_WORLD, &p); return p; }
+int worldRank()
+{
+    int r;
+    MPI_Comm_rank(MPI_COMM_WORLD, &r);
+    return r;
+}
+int worldSize()
+{
+    int p;
+    MPI_Comm_size(MPI_COMM_WORLD, &p);
+    return p;
+}
 
 double sumAll(double x)
 {
@@ -47,7 +57,7 @@ DecomposedSystem::OwnerFunction slabs(int k, double lo, double hi)
 {
     const int P = worldSize();
     return [=](const Vec3& x, long)
-    { return std::clamp(int(std::floor((x[k] - lo)/(hi - lo)*P)), 0, P - 1); };
+    { return std::clamp(int(std::floor((x[k] - lo) / (hi - lo) * P)), 0, P - 1); };
 }
 
 /// The same slabs seen locally: this rank's slab, notHere elsewhere (as a
@@ -57,7 +67,7 @@ DecomposedSystem::OwnerFunction localSlabs(int k, double lo, double hi)
     const int P = worldSize(), me = worldRank();
     return [=](const Vec3& x, long)
     {
-        const double s = std::floor((x[k] - lo)/(hi - lo)*P);
+        const double s = std::floor((x[k] - lo) / (hi - lo) * P);
         return s == me ? me : DecomposedSystem::notHere;
     };
 }
@@ -74,13 +84,19 @@ std::vector<long> ownedIdsEverywhere(const DecomposedSystem& D)
     MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
     std::partial_sum(counts.begin(), counts.end() - 1, offs.begin() + 1);
     std::vector<long> all(offs.back() + counts.back());
-    MPI_Allgatherv(mine.data(), n, MPI_LONG, all.data(), counts.data(), offs.data(), MPI_LONG, MPI_COMM_WORLD);
+    MPI_Allgatherv(mine.data(), n, MPI_LONG, all.data(), counts.data(), offs.data(), MPI_LONG,
+                   MPI_COMM_WORLD);
     std::sort(all.begin(), all.end());
     return all;
 }
 
 /// Grains of a case: centre, radius, velocity.
-struct Grain { Vec3 x; double r; Vec3 v; };
+struct Grain
+{
+    Vec3 x;
+    double r;
+    Vec3 v;
+};
 
 /// 20 x 20 discs of radius 0.45-0.5 mm on a lattice of 1.2 mm, converging
 /// on the centre at 20 1/s, drifting at 0.4 m/s along x, plus random
@@ -91,13 +107,13 @@ std::vector<Grain> gasCase()
     std::uniform_real_distribution<double> u(-1, 1);
     std::vector<Grain> g;
     const double a = 1.2e-3;
-    const Vec3 c(10*a, 10*a, 0);
+    const Vec3 c(10 * a, 10 * a, 0);
     for (int j = 0; j < 20; ++j)
         for (int i = 0; i < 20; ++i)
         {
-            const Vec3 x((i + 0.5)*a, (j + 0.5)*a, 0);
-            const double r = 0.5e-3*(0.95 + 0.05*u(rng));
-            g.push_back({x, r, Vec3(-20*(x - c) + 0.1*Vec3(u(rng), u(rng), 0) + Vec3(0.4, 0, 0))});
+            const Vec3 x((i + 0.5) * a, (j + 0.5) * a, 0);
+            const double r = 0.5e-3 * (0.95 + 0.05 * u(rng));
+            g.push_back({x, r, Vec3(-20 * (x - c) + 0.1 * Vec3(u(rng), u(rng), 0) + Vec3(0.4, 0, 0))});
         }
     return g;
 }
@@ -112,7 +128,8 @@ std::vector<Grain> looseLattice(int cols, int rows, double a, unsigned seed)
     std::vector<Grain> G;
     for (int j = 0; j < rows; ++j)
         for (int i = 0; i < cols; ++i)
-            G.push_back({Vec3((i + 0.5 + (j % 2 ? 0.1 : -0.1))*a + 0.1e-3, (j + 0.5)*a + 0.1e-3, 0), u(rng), Vec3::Zero()});
+            G.push_back({Vec3((i + 0.5 + (j % 2 ? 0.1 : -0.1)) * a + 0.1e-3, (j + 0.5) * a + 0.1e-3, 0),
+                         u(rng), Vec3::Zero()});
     return G;
 }
 
@@ -137,8 +154,8 @@ Vec3 ownedMomentum(const DecomposedSystem& D, double& scale)
     for (std::size_t i = 0; i < S.size(); ++i)
         if (D.owned()[i])
         {
-            p += S.mass(i)*S.velocities()[i];
-            s += S.mass(i)*S.velocities()[i].norm();
+            p += S.mass(i) * S.velocities()[i];
+            s += S.mass(i) * S.velocities()[i].norm();
         }
     scale = sumAll(s);
     return Vec3(sumAll(p.x()), sumAll(p.y()), 0.0);
@@ -180,9 +197,10 @@ void throwGrains(const DecomposedSystem::OwnerFunction& ownerOf, double advanceD
             if (D.owned()[i])
             {
                 const Vec3& v = S.velocities()[i];
-                p += S.mass(i)*v;
-                s += S.mass(i)*v.norm();
-                e += 0.5*(S.mass(i)*v.squaredNorm() + S.inertia(i)*S.angularVelocities()[i].squaredNorm());
+                p += S.mass(i) * v;
+                s += S.mass(i) * v.norm();
+                e += 0.5
+                     * (S.mass(i) * v.squaredNorm() + S.inertia(i) * S.angularVelocities()[i].squaredNorm());
             }
         scale = sumAll(s);
         energy = sumAll(e);
@@ -199,7 +217,7 @@ void throwGrains(const DecomposedSystem::OwnerFunction& ownerOf, double advanceD
     {
         const StepReport rep = advanceDt > 0 ? D.advance(advanceDt) : D.step(1e-4);
         ASSERT_TRUE(rep.converged) << "step " << n;
-        ASSERT_LT(rep.maxOverlap, 1e-3*0.5e-3) << "step " << n;
+        ASSERT_LT(rep.maxOverlap, 1e-3 * 0.5e-3) << "step " << n;
         substeps = std::max(substeps, rep.substeps);
         migrated += D.counters().migratedOut;
         contactsMax = std::max(contactsMax, rep.contacts);
@@ -207,24 +225,18 @@ void throwGrains(const DecomposedSystem::OwnerFunction& ownerOf, double advanceD
     }
     double scale = 0, energy = 0;
     const Vec3 p = momentum(scale, energy);
-    EXPECT_LT((p - p0).norm(), 1e-12*scale0) << "momentum " << p.transpose() << " from " << p0.transpose();
-    EXPECT_LT(energy, 0.98*energy0);  // the (inelastic) collisions dissipated
+    EXPECT_LT((p - p0).norm(), 1e-12 * scale0) << "momentum " << p.transpose() << " from " << p0.transpose();
+    EXPECT_LT(energy, 0.98 * energy0); // the (inelastic) collisions dissipated
     EXPECT_GT(sumAll(double(contactsMax)), 100);
-    if (worldSize() > 1) EXPECT_GT(sumAll(double(migrated)), 20);  // grains changed ranks
+    if (worldSize() > 1) EXPECT_GT(sumAll(double(migrated)), 20); // grains changed ranks
     if (advanceDt > 0) EXPECT_GT(substeps, 1);
 }
 
-TEST(Decomposed, ThrownGrainsKeepEveryIdAndTheMomentum)
-{
-    throwGrains(slabs(0, 0, 36e-3));
-}
+TEST(Decomposed, ThrownGrainsKeepEveryIdAndTheMomentum) { throwGrains(slabs(0, 0, 36e-3)); }
 
 // The same with an owner function that knows only its own rank's slab: the
 // owners of the grains leaving a slab are found by asking every rank.
-TEST(Decomposed, ThrownGrainsKeepEveryIdWithALocalOwnerFunction)
-{
-    throwGrains(localSlabs(0, -2e-3, 36e-3));
-}
+TEST(Decomposed, ThrownGrainsKeepEveryIdWithALocalOwnerFunction) { throwGrains(localSlabs(0, -2e-3, 36e-3)); }
 
 // Steps of 2 ms: a grain at 0.5 m/s would reach beyond the halo's spare
 // (3 mm - 2 r_max), so advance() sub-steps, and the ids and momentum are kept.
@@ -254,7 +266,7 @@ TEST(Decomposed, DragImpulsesAndTravellingValuesFollowTheGrains)
         if (i != std::size_t(-1)) S.velocities()[i] = G[k].v;
     }
     D.setGrainDataWidth(2);
-    for (std::size_t i = 0; i < S.size(); ++i) D.grainData()[2*i] = double(D.globalIds()[i]);
+    for (std::size_t i = 0; i < S.size(); ++i) D.grainData()[2 * i] = double(D.globalIds()[i]);
     D.exchange();
     const double dt = 1e-4;
     const Vec3 u(0.2, 0.1, 0);
@@ -263,7 +275,7 @@ TEST(Decomposed, DragImpulsesAndTravellingValuesFollowTheGrains)
     long interface = 0, renumbered = 0;
     for (int n = 0; n < 100; ++n)
     {
-        for (std::size_t i = 0; i < S.size(); ++i) S.setFluidDrag(i, 0.05*S.mass(i)/dt, u);
+        for (std::size_t i = 0; i < S.size(); ++i) S.setFluidDrag(i, 0.05 * S.mass(i) / dt, u);
         const Vec3 p0 = momentum(scale);
         const StepReport rep = D.step(dt);
         ASSERT_TRUE(rep.converged) << "step " << n;
@@ -273,24 +285,27 @@ TEST(Decomposed, DragImpulsesAndTravellingValuesFollowTheGrains)
         for (std::size_t i = 0; i < S.size(); ++i)
         {
             if (D.owned()[i]) J += S.fluidDragImpulses()[i];
-            ASSERT_EQ(D.grainData()[2*i], double(D.globalIds()[i])) << "step " << n;  // travelled, ghosts too
+            ASSERT_EQ(D.grainData()[2 * i], double(D.globalIds()[i]))
+                << "step " << n; // travelled, ghosts too
         }
         J = Vec3(sumAll(J.x()), sumAll(J.y()), 0.0);
-        worst = std::max(worst, (momentum(scale) - p0 - J).norm()/scale);
+        worst = std::max(worst, (momentum(scale) - p0 - J).norm() / scale);
     }
     if (worldRank() == 0)
-        std::printf("[ drag ] %d ranks: |d(sum m v) - sum J|/sum m|v| at most %.2e per step\n", worldSize(), worst);
+        std::printf("[ drag ] %d ranks: |d(sum m v) - sum J|/sum m|v| at most %.2e per step\n", worldSize(),
+                    worst);
     EXPECT_LT(worst, 1e-12);
-    if (worldSize() > 1) EXPECT_GT(interface, 10);  // steps with interface averagings
+    if (worldSize() > 1) EXPECT_GT(interface, 10); // steps with interface averagings
     // the gas's grains reach a rank in a scattered order: its local indices
     // are renumbered along the Morton order, and the travelling values, the
     // drag impulses and the momentum balance above went through it
     if (worldSize() > 1) EXPECT_GT(renumbered, 0);
 
     std::vector<double> values(S.size());
-    for (std::size_t i = 0; i < S.size(); ++i) values[i] = D.owned()[i] ? 2.0*double(D.globalIds()[i]) : -1.0;
+    for (std::size_t i = 0; i < S.size(); ++i)
+        values[i] = D.owned()[i] ? 2.0 * double(D.globalIds()[i]) : -1.0;
     D.copyToGhosts(values, 1);
-    for (std::size_t i = 0; i < S.size(); ++i) EXPECT_EQ(values[i], 2.0*double(D.globalIds()[i]));
+    for (std::size_t i = 0; i < S.size(); ++i) EXPECT_EQ(values[i], 2.0 * double(D.globalIds()[i]));
     EXPECT_THROW(D.setGrainDataWidth(-1), InputError);
 }
 
@@ -307,19 +322,19 @@ TEST(Decomposed, GhostValuesSumToTheirOwnersAndLostGrainsAreReported)
     const int m = S.addMaterial({2500, 0.3});
     for (std::size_t k = 0; k < G.size(); ++k) D.addGrain(long(k), G[k].x, G[k].r, m);
     D.exchange();
-    std::vector<double> ones(2*S.size(), 1.0);
+    std::vector<double> ones(2 * S.size(), 1.0);
     D.sumToOwners(ones, 2);
     double owned = 0, held = 0;
     for (std::size_t i = 0; i < S.size(); ++i)
         if (D.owned()[i])
         {
-            owned += ones[2*i];
-            EXPECT_EQ(ones[2*i], ones[2*i + 1]);
+            owned += ones[2 * i];
+            EXPECT_EQ(ones[2 * i], ones[2 * i + 1]);
         }
     EXPECT_EQ(sumAll(owned), sumAll(double(S.size())));
-    EXPECT_EQ(D.system().grainIds(), D.globalIds());  // the local System's ids are the global ones
-    if (worldSize() > 1) EXPECT_GT(sumAll(double(S.size())), double(G.size()));  // ghosts exist
-    if (worldRank() == 0) ones.push_back(1.0);  // wrong on one rank: every rank throws
+    EXPECT_EQ(D.system().grainIds(), D.globalIds()); // the local System's ids are the global ones
+    if (worldSize() > 1) EXPECT_GT(sumAll(double(S.size())), double(G.size())); // ghosts exist
+    if (worldRank() == 0) ones.push_back(1.0); // wrong on one rank: every rank throws
     EXPECT_THROW(D.sumToOwners(ones, 2), InputError);
 
     // grain 0 (on the lowest slab) thrown below every region
@@ -346,9 +361,9 @@ TEST(Decomposed, GhostValuesSumToTheirOwnersAndLostGrainsAreReported)
 TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
 {
     const int cols = 10, rows = 20;
-    const double a = 1.15e-3, W = cols*a + 0.2e-3, H = rows*a + 1e-3;
+    const double a = 1.15e-3, W = cols * a + 0.2e-3, H = rows * a + 1e-3;
     const std::vector<Grain> G = looseLattice(cols, rows, a, 3);
-    DecomposedSystem D(2, MPI_COMM_WORLD, slabs(1, 0, 0.6*H), 2.5e-3);
+    DecomposedSystem D(2, MPI_COMM_WORLD, slabs(1, 0, 0.6 * H), 2.5e-3);
     const int m = box(D.system(), W);
     for (std::size_t k = 0; k < G.size(); ++k) D.addGrain(long(k), G[k].x, G[k].r, m);
     D.exchange();
@@ -368,14 +383,14 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
         averagingsMax = std::max(averagingsMax, rep.sweeps);
         serial.step(dt);
         if (n < steps - averaged) continue;
-        capped += !rep.converged;  // (the pour may cap a step, not the bed at rest)
-        loadDecomposed += sumAll(wallLoad(D.system(), &D.owned()))/(averaged*dt);
-        loadSerial += wallLoad(serial, nullptr)/(averaged*dt);
+        capped += !rep.converged; // (the pour may cap a step, not the bed at rest)
+        loadDecomposed += sumAll(wallLoad(D.system(), &D.owned())) / (averaged * dt);
+        loadSerial += wallLoad(serial, nullptr) / (averaged * dt);
     }
     double weight = 0;
-    for (std::size_t i = 0; i < serial.size(); ++i) weight += serial.mass(i)*9.81;
-    EXPECT_NEAR(loadSerial/weight, 1.0, 1e-3);
-    EXPECT_NEAR(loadDecomposed/weight, 1.0, 1e-3);
+    for (std::size_t i = 0; i < serial.size(); ++i) weight += serial.mass(i) * 9.81;
+    EXPECT_NEAR(loadSerial / weight, 1.0, 1e-3);
+    EXPECT_NEAR(loadDecomposed / weight, 1.0, 1e-3);
     EXPECT_EQ(capped, 0);
     // at rest, at the undecomposed run's height
     double vmax = 0, top = 0, topSerial = 0, ySum = 0;
@@ -388,7 +403,7 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
         }
     vmax = maxAll(vmax);
     top = maxAll(top);
-    const double yMean = sumAll(ySum)/double(G.size());
+    const double yMean = sumAll(ySum) / double(G.size());
     double ySerial = 0;
     for (std::size_t i = 0; i < serial.size(); ++i)
     {
@@ -399,17 +414,18 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
     if (worldRank() == 0)
         std::printf("[ deposit ] %d ranks: wall load/weight %.6f (serial %.6f), top %.4f mm (serial %.4f), "
                     "mean y %.5f mm (serial %.5f), vmax %.2e m/s, sweeps/step max %d\n",
-                    worldSize(), loadDecomposed/weight, loadSerial/weight, 1e3*top, 1e3*topSerial,
-                    1e3*yMean, 1e3*ySerial, vmax, averagingsMax);
+                    worldSize(), loadDecomposed / weight, loadSerial / weight, 1e3 * top, 1e3 * topSerial,
+                    1e3 * yMean, 1e3 * ySerial, vmax, averagingsMax);
     EXPECT_LT(vmax, 5e-3);
-    EXPECT_NEAR(top, topSerial, 0.02*topSerial);
-    EXPECT_NEAR(yMean, ySerial, 0.01*ySerial);
+    EXPECT_NEAR(top, topSerial, 0.02 * topSerial);
+    EXPECT_NEAR(yMean, ySerial, 0.01 * ySerial);
 
     // the bed gathered whole on rank 0 (every grain once, in id order, with
     // its contacts), written, and restarted on x slabs (another
     // decomposition): the first step carries the weight to the walls at
     // once (the warm start was kept) and the bed stays at rest
-    const std::string state = "decomposedRestart-np" + std::to_string(worldSize()) + ".h5";  // ctest runs np 1, 2, 4 at once
+    const std::string state =
+        "decomposedRestart-np" + std::to_string(worldSize()) + ".h5"; // ctest runs np 1, 2, 4 at once
     std::unique_ptr<System> whole = D.gatherWhole(0);
     EXPECT_EQ(bool(whole), worldRank() == 0);
     if (whole)
@@ -417,19 +433,19 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
         ASSERT_EQ(whole->size(), G.size());
         for (std::size_t i = 0; i < G.size(); ++i) EXPECT_EQ(whole->grainIds()[i], long(i));
         EXPECT_GT(whole->nContacts(), G.size());
-        EXPECT_NEAR(wallLoad(*whole, nullptr)/dt/weight, 1.0, 2e-3);
+        EXPECT_NEAR(wallLoad(*whole, nullptr) / dt / weight, 1.0, 2e-3);
         whole->writeHDF5(state);
     }
     MPI_Barrier(MPI_COMM_WORLD);
     DecomposedSystem R(System::readHDF5(state), MPI_COMM_WORLD, localSlabs(0, 0, W), 2.5e-3);
     const StepReport rep = R.step(dt);
     EXPECT_TRUE(rep.converged);
-    const double restartLoad = sumAll(wallLoad(R.system(), &R.owned()))/dt/weight;
+    const double restartLoad = sumAll(wallLoad(R.system(), &R.owned())) / dt / weight;
     EXPECT_NEAR(restartLoad, 1.0, 2e-3);
     EXPECT_EQ(ownedIdsEverywhere(R).size(), G.size());
     if (worldRank() == 0)
-        std::printf("[ restart ] %d ranks: first step %d sweeps, wall load/weight %.6f\n", worldSize(), rep.sweeps,
-                    restartLoad);
+        std::printf("[ restart ] %d ranks: first step %d sweeps, wall load/weight %.6f\n", worldSize(),
+                    rep.sweeps, restartLoad);
 
     // the same restart without any rank reading the whole state: each reads
     // its slab grown by the halo (System::readHDF5(file, keep)); it owns the
@@ -438,10 +454,12 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
     // solves' order differs, at the tolerance level)
     const double halo = 2.5e-3;
     const int P = worldSize(), me = worldRank();
-    const auto region = [=](const Vec3& x, double) { return x.x() >= me*W/P - halo && x.x() < (me + 1)*W/P + halo; };
+    const auto region = [=](const Vec3& x, double)
+    { return x.x() >= me * W / P - halo && x.x() < (me + 1) * W / P + halo; };
     System part = System::readHDF5(state, region);
     EXPECT_LT(part.size(), P > 1 ? G.size() : G.size() + 1);
-    DecomposedSystem Rp(std::move(part), long(System::grainIdsHDF5(state).size()), MPI_COMM_WORLD, localSlabs(0, 0, W), halo);
+    DecomposedSystem Rp(std::move(part), long(System::grainIdsHDF5(state).size()), MPI_COMM_WORLD,
+                        localSlabs(0, 0, W), halo);
     auto idsOf = [](const DecomposedSystem& S, bool owned)
     {
         std::vector<long> ids;
@@ -457,7 +475,7 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
     const StepReport repPart = Rp.step(dt);
     Rw.step(dt);
     EXPECT_TRUE(repPart.converged);
-    const double partLoad = sumAll(wallLoad(Rp.system(), &Rp.owned()))/dt/weight;
+    const double partLoad = sumAll(wallLoad(Rp.system(), &Rp.owned())) / dt / weight;
     EXPECT_NEAR(partLoad, restartLoad, 1e-4);
     std::unordered_map<long, Vec3> xw;
     for (std::size_t i = 0; i < Rw.system().size(); ++i)
@@ -466,10 +484,11 @@ TEST(Decomposed, DepositCarriesItsWeightAcrossTheInterfaces)
     for (std::size_t i = 0; i < Rp.system().size(); ++i)
         if (Rp.owned()[i]) dx = std::max(dx, (Rp.system().positions()[i] - xw.at(Rp.globalIds()[i])).norm());
     dx = maxAll(dx);
-    EXPECT_LT(dx, 1e-5*1e-3);  // 1e-5 d: the contact tolerance's scale
+    EXPECT_LT(dx, 1e-5 * 1e-3); // 1e-5 d: the contact tolerance's scale
     if (worldRank() == 0)
         std::printf("[ part read ] %d ranks: first step %d sweeps, wall load/weight %.6f, "
-                    "max |x - x(whole read)| %.2e m\n", worldSize(), repPart.sweeps, partLoad, dx);
+                    "max |x - x(whole read)| %.2e m\n",
+                    worldSize(), repPart.sweeps, partLoad, dx);
     MPI_Barrier(MPI_COMM_WORLD);
     if (worldRank() == 0) std::remove(state.c_str());
 }
@@ -494,17 +513,17 @@ TEST(Decomposed, DropletThroughTheGrainsKeepsTheMomentum)
     System::Droplet drop;
     drop.centre = Vec3(12e-3, 12e-3, 0);
     drop.radius = 2.5e-3;
-    drop.mass = 1000*M_PI*drop.radius*drop.radius;
+    drop.mass = 1000 * M_PI * drop.radius * drop.radius;
     drop.velocity = Vec3(0.3, -0.2, 0);
-    drop.surfaceTension = 0.02;  // grains pushed in beyond 2 sigma = 0.04 N/m
+    drop.surfaceTension = 0.02; // grains pushed in beyond 2 sigma = 0.04 N/m
     S.addDroplet(drop);
     D.exchange();
-    auto momentum = [&](double& scale) -> Vec3  // (a Vec3, not an Eigen expression of temporaries)
+    auto momentum = [&](double& scale) -> Vec3 // (a Vec3, not an Eigen expression of temporaries)
     {
         const Vec3 p = ownedMomentum(D, scale);
         const System::Droplet& d = S.droplet(0);
-        scale += d.mass*d.velocity.norm();
-        return p + d.mass*d.velocity;
+        scale += d.mass * d.velocity.norm();
+        return p + d.mass * d.velocity;
     };
     double scale0 = 0, worst = 0, spread = 0, exchanged = 0;
     int shared = 0;
@@ -515,12 +534,11 @@ TEST(Decomposed, DropletThroughTheGrainsKeepsTheMomentum)
         const StepReport rep = D.step(1e-4);
         ASSERT_TRUE(rep.converged) << "step " << n;
         double scale = 0;
-        worst = std::max(worst, (momentum(scale) - p0).norm()/scale0);
-
+        worst = std::max(worst, (momentum(scale) - p0).norm() / scale0);
 
         exchanged += S.droplet(0).impulse.norm();
         const System::Droplet& d = S.droplet(0);
-        double here = 0;  // this rank solved a droplet contact
+        double here = 0; // this rank solved a droplet contact
         for (double rn : d.grainImpulse) here = std::max(here, rn > 0 ? 1.0 : 0.0);
         shared = std::max(shared, int(sumAll(here)));
         std::fill(S.droplet(0).grainImpulse.begin(), S.droplet(0).grainImpulse.end(), 0.0);
@@ -529,11 +547,11 @@ TEST(Decomposed, DropletThroughTheGrainsKeepsTheMomentum)
     }
     if (worldRank() == 0)
         std::printf("[ droplet gas ] %d ranks: |d(sum m v + M V)|/sum m|v| at most %.2e, droplet impulses "
-                    "%.3g of its momentum, at most %d ranks solving its contacts\n", worldSize(), worst,
-                    exchanged/(drop.mass*drop.velocity.norm()), shared);
+                    "%.3g of its momentum, at most %d ranks solving its contacts\n",
+                    worldSize(), worst, exchanged / (drop.mass * drop.velocity.norm()), shared);
     EXPECT_LT(worst, 1e-12);
-    EXPECT_GT(exchanged, 0.05*drop.mass*drop.velocity.norm());  // the droplet did meet grains
-    if (worldSize() > 1) EXPECT_GT(shared, 1);  // on several ranks in one step
+    EXPECT_GT(exchanged, 0.05 * drop.mass * drop.velocity.norm()); // the droplet did meet grains
+    if (worldSize() > 1) EXPECT_GT(shared, 1);                     // on several ranks in one step
     EXPECT_EQ(spread, 0.0);
     EXPECT_EQ(ownedIdsEverywhere(D).size(), G.size());
 }
@@ -552,13 +570,13 @@ TEST(Decomposed, DropletThroughTheGrainsKeepsTheMomentum)
 TEST(Decomposed, DropletRestsOnTheBedAcrossTheInterfacesAsSerial)
 {
     const int cols = 16, rows = 8;
-    const double a = 1.15e-3, W = cols*a + 0.2e-3, R = 3e-3, g = 9.81;
+    const double a = 1.15e-3, W = cols * a + 0.2e-3, R = 3e-3, g = 9.81;
     const std::vector<Grain> G = looseLattice(cols, rows, a, 5);
     System::Droplet drop;
-    drop.centre = Vec3(0.5*W, rows*a + R + 1e-3, 0);
+    drop.centre = Vec3(0.5 * W, rows * a + R + 1e-3, 0);
     drop.radius = R;
-    drop.mass = 1000*M_PI*R*R;  // [kg/m]
-    drop.force = Vec3(0, -drop.mass*g, 0);
+    drop.mass = 1000 * M_PI * R * R; // [kg/m]
+    drop.force = Vec3(0, -drop.mass * g, 0);
     drop.surfaceTension = 0.5;
     auto setUp = [&](System& S)
     {
@@ -576,8 +594,8 @@ TEST(Decomposed, DropletRestsOnTheBedAcrossTheInterfacesAsSerial)
     const double dt = 5e-4;
     const int steps = 400, averaged = 100;
     double loadDecomposed = 0, loadSerial = 0, dropDecomposed = 0, dropSerial = 0, spread = 0;
-    double grainImpulse = 0, grainImpulseSerial = 0, ghostImpulse = 0;  // sum of r_n [N s/m]
-    double farImpulse = -1;  // largest gap [m] of a grain with an impulse on the droplet
+    double grainImpulse = 0, grainImpulseSerial = 0, ghostImpulse = 0; // sum of r_n [N s/m]
+    double farImpulse = -1; // largest gap [m] of a grain with an impulse on the droplet
     int shared = 0;
     for (int n = 0; n < steps; ++n)
     {
@@ -593,7 +611,7 @@ TEST(Decomposed, DropletRestsOnTheBedAcrossTheInterfacesAsSerial)
                            maxAll(d.velocity.norm()) + maxAll(-d.velocity.norm())});
         // after the step's exchange (migrations, ghosts): each entry still
         // belongs to its grain (a grain pressed on the droplet), ghosts zero
-        double here = 0;  // ranks solving a droplet contact
+        double here = 0; // ranks solving a droplet contact
         ASSERT_EQ(d.grainImpulse.size(), D.system().size());
         for (std::size_t i = 0; i < D.system().size(); ++i)
         {
@@ -605,10 +623,10 @@ TEST(Decomposed, DropletRestsOnTheBedAcrossTheInterfacesAsSerial)
         }
         shared = std::max(shared, int(sumAll(here)));
         if (n < steps - averaged) continue;
-        loadDecomposed += sumAll(wallLoad(D.system(), &D.owned()))/(averaged*dt);
-        loadSerial += wallLoad(serial, nullptr)/(averaged*dt);
-        dropDecomposed += d.impulse.y()/(averaged*dt);
-        dropSerial += serial.droplet(0).impulse.y()/(averaged*dt);
+        loadDecomposed += sumAll(wallLoad(D.system(), &D.owned())) / (averaged * dt);
+        loadSerial += wallLoad(serial, nullptr) / (averaged * dt);
+        dropDecomposed += d.impulse.y() / (averaged * dt);
+        dropSerial += serial.droplet(0).impulse.y() / (averaged * dt);
         double mine = 0;
         for (std::size_t i = 0; i < D.system().size(); ++i)
             if (D.owned()[i]) mine += d.grainImpulse[i];
@@ -616,32 +634,34 @@ TEST(Decomposed, DropletRestsOnTheBedAcrossTheInterfacesAsSerial)
         for (double rn : serial.droplet(0).grainImpulse) grainImpulseSerial += rn;
     }
     double weight = 0;
-    for (std::size_t i = 0; i < serial.size(); ++i) weight += serial.mass(i)*g;
-    const double dropWeight = drop.mass*g;
+    for (std::size_t i = 0; i < serial.size(); ++i) weight += serial.mass(i) * g;
+    const double dropWeight = drop.mass * g;
     const double yd = D.system().droplet(0).centre.y(), ydSerial = serial.droplet(0).centre.y();
     if (worldRank() == 0)
         std::printf("[ droplet ] %d ranks (at most %d solving its contacts): droplet impulse/weight %.6f "
                     "(serial %.6f), wall load/total weight %.6f (serial %.6f), centre %.4f mm (serial %.4f), "
-                    "sum of grain impulses %.4g (serial %.4g) N s/m\n", worldSize(), shared,
-                    dropDecomposed/dropWeight, dropSerial/dropWeight, loadDecomposed/(weight + dropWeight),
-                    loadSerial/(weight + dropWeight), 1e3*yd, 1e3*ydSerial, grainImpulse, grainImpulseSerial);
-    EXPECT_NEAR(dropSerial/dropWeight, 1.0, 1e-3);
-    EXPECT_NEAR(dropDecomposed/dropWeight, 1.0, 1e-3);
-    EXPECT_NEAR(loadSerial/(weight + dropWeight), 1.0, 1e-3);
-    EXPECT_NEAR(loadDecomposed/(weight + dropWeight), 1.0, 1e-3);
-    EXPECT_EQ(spread, 0.0);        // the same droplet on every rank
-    EXPECT_EQ(ghostImpulse, 0.0);  // a contact's impulse is its owner's
-    EXPECT_LT(maxAll(farImpulse), 0.1*0.45e-3);  // only grains at the droplet's surface
-    EXPECT_NEAR(grainImpulse, grainImpulseSerial, 0.05*grainImpulseSerial);
-    EXPECT_NEAR(yd, ydSerial, 0.02*ydSerial);  // (as the deposit's top above)
+                    "sum of grain impulses %.4g (serial %.4g) N s/m\n",
+                    worldSize(), shared, dropDecomposed / dropWeight, dropSerial / dropWeight,
+                    loadDecomposed / (weight + dropWeight), loadSerial / (weight + dropWeight), 1e3 * yd,
+                    1e3 * ydSerial, grainImpulse, grainImpulseSerial);
+    EXPECT_NEAR(dropSerial / dropWeight, 1.0, 1e-3);
+    EXPECT_NEAR(dropDecomposed / dropWeight, 1.0, 1e-3);
+    EXPECT_NEAR(loadSerial / (weight + dropWeight), 1.0, 1e-3);
+    EXPECT_NEAR(loadDecomposed / (weight + dropWeight), 1.0, 1e-3);
+    EXPECT_EQ(spread, 0.0);                       // the same droplet on every rank
+    EXPECT_EQ(ghostImpulse, 0.0);                 // a contact's impulse is its owner's
+    EXPECT_LT(maxAll(farImpulse), 0.1 * 0.45e-3); // only grains at the droplet's surface
+    EXPECT_NEAR(grainImpulse, grainImpulseSerial, 0.05 * grainImpulseSerial);
+    EXPECT_NEAR(yd, ydSerial, 0.02 * ydSerial); // (as the deposit's top above)
     // held on the grains' tops by the barrier: no grain immersed
     double immersed = 0;
     for (std::size_t i = 0; i < D.system().size(); ++i)
-        immersed = std::max(immersed, R + D.system().radii()[i]
-                                      - (D.system().positions()[i] - D.system().droplet(0).centre).norm());
-    EXPECT_LT(maxAll(immersed), 1e-3*0.45e-3);
+        immersed =
+            std::max(immersed, R + D.system().radii()[i]
+                                   - (D.system().positions()[i] - D.system().droplet(0).centre).norm());
+    EXPECT_LT(maxAll(immersed), 1e-3 * 0.45e-3);
     EXPECT_EQ(ownedIdsEverywhere(D).size(), G.size());
-    if (worldSize() > 1) EXPECT_GT(shared, 1);  // the droplet's contacts on several ranks
+    if (worldSize() > 1) EXPECT_GT(shared, 1); // the droplet's contacts on several ranks
 }
 
 // Heat conduction across the interfaces: 6 vertical columns of 12 discs of
@@ -660,7 +680,7 @@ TEST(Decomposed, DropletRestsOnTheBedAcrossTheInterfacesAsSerial)
 TEST(Decomposed, HeatConductionAcrossTheInterfacesMatchesSerial)
 {
     const int cols = 6, rows = 12;
-    const double r = 0.5e-3, pitch = 1.5e-3, H = rows*2*r, dt = 1e-4;
+    const double r = 0.5e-3, pitch = 1.5e-3, H = rows * 2 * r, dt = 1e-4;
     auto setUp = [&](System& S)
     {
         S.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
@@ -675,25 +695,29 @@ TEST(Decomposed, HeatConductionAcrossTheInterfacesMatchesSerial)
         m.heatCapacity = 1e-3;
         return S.addMaterial(m);
     };
-    auto centre = [&](long k) { return Vec3((k/rows + 0.5)*pitch, (2*(k % rows) + 1)*r, 0); };
-    auto T0 = [&](long k) { return 300 + 200*double((k*7) % 13)/12; };
+    auto centre = [&](long k) { return Vec3((k / rows + 0.5) * pitch, (2 * (k % rows) + 1) * r, 0); };
+    auto T0 = [&](long k) { return 300 + 200 * double((k * 7) % 13) / 12; };
     // heat input of grain k: (fixed temperature, source Q [W/m], exchange h [W/(m K)])
     auto heatInput = [&](System& S, std::size_t i, long k)
     {
         S.temperatures()[i] = T0(k);
-        if (k % rows == rows - 1) S.setHeatSource(i, 1e-3*(1 + k/rows));
+        if (k % rows == rows - 1) S.setHeatSource(i, 1e-3 * (1 + k / rows));
         if (k % rows == 2) S.setHeatExchange(i, 1e-3, 350);
-        if (k == 2*rows + 5) { S.setFixedTemperature(i, true); S.temperatures()[i] = 450; }
+        if (k == 2 * rows + 5)
+        {
+            S.setFixedTemperature(i, true);
+            S.temperatures()[i] = 450;
+        }
     };
     DecomposedSystem D(2, MPI_COMM_WORLD, slabs(1, 0, H), 2.5e-3);
     const int m = setUp(D.system());
-    for (long k = 0; k < cols*rows; ++k) D.addGrain(k, centre(k), r, m);
+    for (long k = 0; k < cols * rows; ++k) D.addGrain(k, centre(k), r, m);
     D.exchange();
     for (std::size_t i = 0; i < D.system().size(); ++i) heatInput(D.system(), i, D.globalIds()[i]);
     System serial(2);
     setUp(serial);
-    for (long k = 0; k < cols*rows; ++k) serial.addGrain(centre(k), r, m);
-    for (long k = 0; k < cols*rows; ++k) heatInput(serial, std::size_t(k), k);
+    for (long k = 0; k < cols * rows; ++k) serial.addGrain(centre(k), r, m);
+    for (long k = 0; k < cols * rows; ++k) heatInput(serial, std::size_t(k), k);
 
     auto ownedHeat = [&]()
     {
@@ -701,7 +725,7 @@ TEST(Decomposed, HeatConductionAcrossTheInterfacesMatchesSerial)
         const System& S = D.system();
         for (std::size_t i = 0; i < S.size(); ++i)
             if (D.owned()[i] && !S.fixedTemperature(i))
-                q += S.mass(i)*S.material(S.materials()[i]).heatCapacity*S.temperatures()[i];
+                q += S.mass(i) * S.material(S.materials()[i]).heatCapacity * S.temperatures()[i];
         return sumAll(q);
     };
     const double q0 = ownedHeat();
@@ -714,24 +738,27 @@ TEST(Decomposed, HeatConductionAcrossTheInterfacesMatchesSerial)
         EXPECT_TRUE(rep.converged);
         budget += rep.wallHeat + rep.fixedGrainHeat + rep.sourceHeat;
         budgetScale += std::abs(rep.wallHeat) + std::abs(rep.fixedGrainHeat) + std::abs(rep.sourceHeat);
-        EXPECT_NEAR(rep.wallHeat, repSerial.wallHeat, 1e-8*std::abs(repSerial.wallHeat));
+        EXPECT_NEAR(rep.wallHeat, repSerial.wallHeat, 1e-8 * std::abs(repSerial.wallHeat));
         iterations = std::max(iterations, rep.heatIterations);
     }
     double dT = 0, spread = 0;
     for (std::size_t i = 0; i < D.system().size(); ++i)
     {
         const double Ts = serial.temperatures()[std::size_t(D.globalIds()[i])];
-        dT = std::max(dT, std::abs(D.system().temperatures()[i] - Ts));  // ghosts included
+        dT = std::max(dT, std::abs(D.system().temperatures()[i] - Ts)); // ghosts included
     }
-    for (std::size_t k = 0; k < serial.size(); ++k) spread = std::max(spread, std::abs(serial.temperatures()[k] - T0(long(k))));
+    for (std::size_t k = 0; k < serial.size(); ++k)
+        spread = std::max(spread, std::abs(serial.temperatures()[k] - T0(long(k))));
     dT = maxAll(dT);
     const double closure = std::abs(ownedHeat() - q0 - budget);
     if (worldRank() == 0)
-        std::printf("[ heat ] %d ranks: max |T - T(serial)| %.2e K (largest change %.2f K), budget defect %.2e of "
-                    "%.2e J/m, CG iterations/step max %d\n", worldSize(), dT, spread, closure, budgetScale, iterations);
-    EXPECT_GT(spread, 1.0);  // the heat moved
-    EXPECT_LT(dT, 1e-8*200);
-    EXPECT_LT(closure, 1e-12*budgetScale + 1e-14*q0);
+        std::printf(
+            "[ heat ] %d ranks: max |T - T(serial)| %.2e K (largest change %.2f K), budget defect %.2e of "
+            "%.2e J/m, CG iterations/step max %d\n",
+            worldSize(), dT, spread, closure, budgetScale, iterations);
+    EXPECT_GT(spread, 1.0); // the heat moved
+    EXPECT_LT(dT, 1e-8 * 200);
+    EXPECT_LT(closure, 1e-12 * budgetScale + 1e-14 * q0);
 }
 
 // A chain of discs hanging under a ceiling by cohesion (thesis eq. 4.18),
@@ -748,19 +775,19 @@ TEST(Decomposed, HeatConductionAcrossTheInterfacesMatchesSerial)
 TEST(Decomposed, CohesiveChainHangsAcrossTheInterfacesAsSerial)
 {
     const int n = 12;
-    const double r = 0.5e-3, H = 2*n*r, dt = 1e-4, g = 9.81;
+    const double r = 0.5e-3, H = 2 * n * r, dt = 1e-4, g = 9.81;
     for (const double load : {1.5, 0.5})
     {
         double Fc = 0;
         auto setUp = [&](System& S)
         {
-            S.addPlane(Vec3(0, H, 0), Vec3(0, -1, 0));  // the ceiling
+            S.addPlane(Vec3(0, H, 0), Vec3(0, -1, 0)); // the ceiling
             S.setGravity(Vec3(0, -g, 0));
             S.settings().tolerance = 1e-12;
             const int m = S.addMaterial({2500, 0.3});
             return m;
         };
-        auto centre = [&](long k) { return Vec3(2*r, H - (2*k + 1)*r, 0); };
+        auto centre = [&](long k) { return Vec3(2 * r, H - (2 * k + 1) * r, 0); };
         DecomposedSystem D(2, MPI_COMM_WORLD, slabs(1, 0, H), 2.5e-3);
         const int m = setUp(D.system());
         for (long k = 0; k < n; ++k) D.addGrain(k, centre(k), r, m);
@@ -768,13 +795,13 @@ TEST(Decomposed, CohesiveChainHangsAcrossTheInterfacesAsSerial)
         System serial(2);
         setUp(serial);
         for (long k = 0; k < n; ++k) serial.addGrain(centre(k), r, m);
-        const double W = n*serial.mass(0)*g;  // [N/m]
-        Fc = load*W;
+        const double W = n * serial.mass(0) * g; // [N/m]
+        Fc = load * W;
         D.system().setCohesion([](int, int) { return true; }, Fc);
         serial.setCohesion([](int, int) { return true; }, Fc);
 
         const int steps = 30;
-        double ceilingImpulse = 0;  // this rank's owned contacts with the ceiling, last step
+        double ceilingImpulse = 0; // this rank's owned contacts with the ceiling, last step
         for (int s = 0; s < steps; ++s)
         {
             const StepReport rep = D.step(dt);
@@ -794,30 +821,31 @@ TEST(Decomposed, CohesiveChainHangsAcrossTheInterfacesAsSerial)
         }
         dx = maxAll(dx);
         drop = sumAll(drop);
-        const double tEnd = steps*dt;
+        const double tEnd = steps * dt;
         if (worldRank() == 0)
-            std::printf("[ cohesion ] %d ranks, F_c = %.1f n m g: max |x - x(serial)| %.2e m, lowest grain fell "
-                        "%.3e m (free fall %.3e), ceiling pull %.6f n m g dt\n", worldSize(), load, dx, drop,
-                        0.5*g*tEnd*tEnd, ceilingImpulse/(W*dt));
-        EXPECT_LT(dx, 1e-9*r);
+            std::printf(
+                "[ cohesion ] %d ranks, F_c = %.1f n m g: max |x - x(serial)| %.2e m, lowest grain fell "
+                "%.3e m (free fall %.3e), ceiling pull %.6f n m g dt\n",
+                worldSize(), load, dx, drop, 0.5 * g * tEnd * tEnd, ceilingImpulse / (W * dt));
+        EXPECT_LT(dx, 1e-9 * r);
         if (load > 1)
         {
-            EXPECT_LT(drop, 1e-6*r);                                  // the chain hangs
-            EXPECT_NEAR(ceilingImpulse, W*dt, 1e-6*W*dt);             // and the ceiling carries it
+            EXPECT_LT(drop, 1e-6 * r);                          // the chain hangs
+            EXPECT_NEAR(ceilingImpulse, W * dt, 1e-6 * W * dt); // and the ceiling carries it
         }
         else
         {
             // rigid fall, pulled back while the gap is within the cohesion distance
             double v = 0, y = 0;
-            const double reach = serial.settings().cohesionDistance*r;
+            const double reach = serial.settings().cohesionDistance * r;
             for (int s = 0; s < steps; ++s)
             {
-                v += (y <= reach ? g*(1 - Fc/W) : g)*dt;
-                y += v*dt;
+                v += (y <= reach ? g * (1 - Fc / W) : g) * dt;
+                y += v * dt;
             }
             if (worldRank() == 0) std::printf("[ cohesion ] expected fall %.6e m\n", y);
-            EXPECT_GT(y, 0.5*0.5*g*tEnd*tEnd);
-            EXPECT_NEAR(drop, y, 1e-6*y);
+            EXPECT_GT(y, 0.5 * 0.5 * g * tEnd * tEnd);
+            EXPECT_NEAR(drop, y, 1e-6 * y);
         }
     }
 }
@@ -829,7 +857,7 @@ TEST(Decomposed, BadInputIsRefused)
         // input refused on one rank only: every rank throws (none hangs)
         DecomposedSystem D(2, MPI_COMM_WORLD, slabs(0, 0, 10e-3), 3e-3);
         const int m = D.system().addMaterial({2500, 0.3});
-        for (int k = 0; k < 8; ++k) D.addGrain(k, Vec3((k + 0.5)*1.25e-3, 1e-3, 0), 0.5e-3, m);
+        for (int k = 0; k < 8; ++k) D.addGrain(k, Vec3((k + 0.5) * 1.25e-3, 1e-3, 0), 0.5e-3, m);
         D.exchange();
         if (worldRank() == 0) D.system().settings().tolerance = -1;
         try
@@ -840,11 +868,14 @@ TEST(Decomposed, BadInputIsRefused)
         catch (const InputError& e)
         {
             const std::string what = e.what();
-            if (worldRank() == 0) EXPECT_NE(what.find("tolerance > 0"), std::string::npos) << what;
-            else EXPECT_NE(what.find("another subdomain refused"), std::string::npos) << what;
+            if (worldRank() == 0)
+                EXPECT_NE(what.find("tolerance > 0"), std::string::npos) << what;
+            else
+                EXPECT_NE(what.find("another subdomain refused"), std::string::npos) << what;
         }
     }
-    DecomposedSystem D(2, MPI_COMM_WORLD, [](const Vec3&, long) { return -2; }, 1e-3);
+    DecomposedSystem D(
+        2, MPI_COMM_WORLD, [](const Vec3&, long) { return -2; }, 1e-3);
     const int m = D.system().addMaterial({2500, 0.3});
     try
     {
@@ -863,8 +894,8 @@ class RankFailurePrinter : public ::testing::EmptyTestEventListener
     void OnTestPartResult(const ::testing::TestPartResult& r) override
     {
         if (r.failed())
-            std::printf("[ rank %d ] failure in %s:%d\n%s\n", worldRank(), r.file_name() ? r.file_name() : "?",
-                        r.line_number(), r.summary());
+            std::printf("[ rank %d ] failure in %s:%d\n%s\n", worldRank(),
+                        r.file_name() ? r.file_name() : "?", r.line_number(), r.summary());
     }
 };
 
@@ -872,7 +903,7 @@ int main(int argc, char** argv)
 {
     MPI_Init(&argc, &argv);
     ::testing::InitGoogleTest(&argc, argv);
-    if (worldRank() != 0)  // one report: rank 0's, and the others' failures
+    if (worldRank() != 0) // one report: rank 0's, and the others' failures
     {
         ::testing::TestEventListeners& L = ::testing::UnitTest::GetInstance()->listeners();
         delete L.Release(L.default_result_printer());

@@ -13,18 +13,22 @@
 
 #include <algorithm>
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 
-namespace {
+namespace
+{
 
 /// Insertion sort of a tiny array (avoids a GCC -Warray-bounds false positive
 /// of std::sort on fixed arrays).
 inline void smallSort(label* a, int n)
 {
-    for (int i = 1; i < n; ++i) {
+    for (int i = 1; i < n; ++i)
+    {
         const label v = a[i];
         int j = i - 1;
-        while (j >= 0 && a[j] > v) {
+        while (j >= 0 && a[j] > v)
+        {
             a[j + 1] = a[j];
             --j;
         }
@@ -35,8 +39,10 @@ inline void smallSort(label* a, int n)
 /// Position of vertex @p p among the first @p n entries of @p v, or -1.
 inline int indexOf(const label* v, int n, label p)
 {
-    for (int k = 0; k < n; ++k) {
-        if (v[k] == p) {
+    for (int k = 0; k < n; ++k)
+    {
+        if (v[k] == p)
+        {
             return k;
         }
     }
@@ -45,12 +51,11 @@ inline int indexOf(const label* v, int n, label p)
 
 /// Faces of the cell models as vertex slots in CellShape order (-1: triangle).
 const int tetFaces[4][4] = {{1, 2, 3, -1}, {0, 3, 2, -1}, {0, 1, 3, -1}, {0, 2, 1, -1}};
-const int prismFaces[5][4] = {{0, 2, 1, -1}, {3, 4, 5, -1}, {0, 3, 5, 2},
-                              {1, 2, 5, 4}, {0, 1, 4, 3}};
+const int prismFaces[5][4] = {{0, 2, 1, -1}, {3, 4, 5, -1}, {0, 3, 5, 2}, {1, 2, 5, 4}, {0, 1, 4, 3}};
 const int hexFaces[6][4] = {{0, 4, 7, 3}, {1, 2, 6, 5}, {0, 1, 5, 4},
                             {3, 7, 6, 2}, {0, 3, 2, 1}, {4, 5, 6, 7}};
 
-}  // namespace
+} // namespace
 
 bool CellMesh::classify3D(label c)
 {
@@ -58,14 +63,16 @@ bool CellMesh::classify3D(label c)
     // against the model's faces, then the overlap library's element volume
     CellShape s;
     int nBase;
-    if (!candidateShape(c, s, nBase)) {
+    if (!candidateShape(c, s, nBase))
+    {
         return false;
     }
     label v[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
     orientedBase(c, nBase, v);
     const bool complete = s == CellShape::Tet ? findTetApex(c, v) : findTopVertices(c, nBase, v);
     double vol;
-    if (!complete || !facesMatchModel(c, s, v) || !elementVolume(s, v, vol)) {
+    if (!complete || !facesMatchModel(c, s, v) || !elementVolume(s, v, vol))
+    {
         return false;
     }
     shape_[c] = s;
@@ -80,25 +87,34 @@ bool CellMesh::candidateShape(label c, CellShape& s, int& nBase) const
     const label e = mesh_.cellOffsets[c + 1];
     const label nf = e - b;
     int nTri = 0, nQuad = 0;
-    for (label i = b; i < e; ++i) {
+    for (label i = b; i < e; ++i)
+    {
         const label f = mesh_.cellFaces[i];
         const label n = mesh_.faceOffsets[f + 1] - mesh_.faceOffsets[f];
         nTri += (n == 3);
         nQuad += (n == 4);
-        if (!facePlanar_[f]) {
+        if (!facePlanar_[f])
+        {
             return false;
         }
     }
-    if (nf == 4 && nTri == 4) {
+    if (nf == 4 && nTri == 4)
+    {
         s = CellShape::Tet;
         nBase = 3;
-    } else if (nf == 5 && nTri == 2 && nQuad == 3) {
+    }
+    else if (nf == 5 && nTri == 2 && nQuad == 3)
+    {
         s = CellShape::Prism;
         nBase = 3;
-    } else if (nf == 6 && nQuad == 6) {
+    }
+    else if (nf == 6 && nQuad == 6)
+    {
         s = CellShape::Hex;
         nBase = 4;
-    } else {
+    }
+    else
+    {
         return false;
     }
     return true;
@@ -110,27 +126,34 @@ void CellMesh::orientedBase(label c, int nBase, label* v) const
     const label b = mesh_.cellOffsets[c];
     const label e = mesh_.cellOffsets[c + 1];
     label base = -1, baseSlot = -1;
-    for (label i = b; i < e && base < 0; ++i) {
+    for (label i = b; i < e && base < 0; ++i)
+    {
         const label f = mesh_.cellFaces[i];
-        if (mesh_.faceOffsets[f + 1] - mesh_.faceOffsets[f] == nBase) {
+        if (mesh_.faceOffsets[f + 1] - mesh_.faceOffsets[f] == nBase)
+        {
             base = f;
             baseSlot = i;
         }
     }
-    for (int k = 0; k < nBase; ++k) {
+    for (int k = 0; k < nBase; ++k)
+    {
         v[k] = mesh_.faceVertices[mesh_.faceOffsets[base] + k];
     }
-    if (cellFaceSign_[baseSlot] > 0.0) {
-        std::reverse(v, v + nBase);  // owner: stored normal is outward
+    if (cellFaceSign_[baseSlot] > 0.0)
+    {
+        std::reverse(v, v + nBase); // owner: stored normal is outward
     }
 }
 
 bool CellMesh::findTetApex(label c, label* v) const
 {
-    for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1] && v[3] < 0; ++i) {
+    for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1] && v[3] < 0; ++i)
+    {
         const label f = mesh_.cellFaces[i];
-        for (label j = mesh_.faceOffsets[f]; j < mesh_.faceOffsets[f + 1]; ++j) {
-            if (indexOf(v, 3, mesh_.faceVertices[j]) < 0) {
+        for (label j = mesh_.faceOffsets[f]; j < mesh_.faceOffsets[f + 1]; ++j)
+        {
+            if (indexOf(v, 3, mesh_.faceVertices[j]) < 0)
+            {
                 v[3] = mesh_.faceVertices[j];
                 break;
             }
@@ -142,29 +165,38 @@ bool CellMesh::findTetApex(label c, label* v) const
 bool CellMesh::findTopVertices(label c, int nBase, label* v) const
 {
     // every edge from base vertex k to a non-base vertex q gives v[nBase + k] = q
-    for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1]; ++i) {
+    for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1]; ++i)
+    {
         const label f = mesh_.cellFaces[i];
         const label fb = mesh_.faceOffsets[f];
         const label n = mesh_.faceOffsets[f + 1] - fb;
-        for (label j = 0; j < n; ++j) {
+        for (label j = 0; j < n; ++j)
+        {
             const label p = mesh_.faceVertices[fb + j];
             const label q = mesh_.faceVertices[fb + (j + 1) % n];
             const int kp = indexOf(v, nBase, p), kq = indexOf(v, nBase, q);
-            if (kp >= 0 && kq < 0) {
-                if (v[nBase + kp] >= 0 && v[nBase + kp] != q) {
+            if (kp >= 0 && kq < 0)
+            {
+                if (v[nBase + kp] >= 0 && v[nBase + kp] != q)
+                {
                     return false;
                 }
                 v[nBase + kp] = q;
-            } else if (kq >= 0 && kp < 0) {
-                if (v[nBase + kq] >= 0 && v[nBase + kq] != p) {
+            }
+            else if (kq >= 0 && kp < 0)
+            {
+                if (v[nBase + kq] >= 0 && v[nBase + kq] != p)
+                {
                     return false;
                 }
                 v[nBase + kq] = p;
             }
         }
     }
-    for (int k = 0; k < 2 * nBase; ++k) {
-        if (v[k] < 0) {
+    for (int k = 0; k < 2 * nBase; ++k)
+    {
+        if (v[k] < 0)
+        {
             return false;
         }
     }
@@ -174,37 +206,43 @@ bool CellMesh::findTopVertices(label c, int nBase, label* v) const
 bool CellMesh::facesMatchModel(label c, CellShape s, const label* v) const
 {
     // every cell face must be a face of the model (compared as sorted vertex sets)
-    const int(*model)[4] =
-        s == CellShape::Tet ? tetFaces : (s == CellShape::Prism ? prismFaces : hexFaces);
+    const int(*model)[4] = s == CellShape::Tet ? tetFaces : (s == CellShape::Prism ? prismFaces : hexFaces);
     const label b = mesh_.cellOffsets[c];
     const label e = mesh_.cellOffsets[c + 1];
     const label nf = e - b;
-    for (label i = b; i < e; ++i) {
+    for (label i = b; i < e; ++i)
+    {
         const label f = mesh_.cellFaces[i];
         const label fb = mesh_.faceOffsets[f];
         const label n = mesh_.faceOffsets[f + 1] - fb;
-        if (n > 4) {
+        if (n > 4)
+        {
             return false;
         }
         label fv[4];
-        for (label j = 0; j < n; ++j) {
+        for (label j = 0; j < n; ++j)
+        {
             fv[j] = mesh_.faceVertices[fb + j];
         }
         smallSort(fv, int(n));
         bool found = false;
-        for (label m = 0; m < nf && !found; ++m) {
+        for (label m = 0; m < nf && !found; ++m)
+        {
             const int mn = model[m][3] < 0 ? 3 : 4;
-            if (mn != n) {
+            if (mn != n)
+            {
                 continue;
             }
             label mv[4];
-            for (int j = 0; j < mn; ++j) {
+            for (int j = 0; j < mn; ++j)
+            {
                 mv[j] = v[model[m][j]];
             }
             smallSort(mv, mn);
             found = std::equal(fv, fv + n, mv);
         }
-        if (!found) {
+        if (!found)
+        {
             return false;
         }
     }
@@ -214,18 +252,25 @@ bool CellMesh::facesMatchModel(label c, CellShape s, const label* v) const
 bool CellMesh::elementVolume(CellShape s, const label* v, double& vol) const
 {
     // element volume as computed by the overlap library
-    auto P = [&](int k) {
+    auto P = [&](int k)
+    {
         const Vec3& p = mesh_.points[v[k]];
         return overlap::Vector(p[0], p[1], p[2]);
     };
-    if (s == CellShape::Tet) {
-        if ((P(1) - P(0)).cross(P(2) - P(0)).dot(P(3) - P(0)) <= 0.0) {
+    if (s == CellShape::Tet)
+    {
+        if ((P(1) - P(0)).cross(P(2) - P(0)).dot(P(3) - P(0)) <= 0.0)
+        {
             return false;
         }
         vol = overlap::Tetrahedron(P(0), P(1), P(2), P(3)).volume;
-    } else if (s == CellShape::Prism) {
+    }
+    else if (s == CellShape::Prism)
+    {
         vol = overlap::Wedge(P(0), P(1), P(2), P(3), P(4), P(5)).volume;
-    } else {
+    }
+    else
+    {
         vol = overlap::Hexahedron(P(0), P(1), P(2), P(3), P(4), P(5), P(6), P(7)).volume;
     }
     return vol > 0.0;
@@ -238,13 +283,16 @@ void CellMesh::prepare3D()
     shapeVolume_.assign(nCells_, 0.0);
     convex_.assign(nCells_, 1);
     boxIndex_.assign(nCells_, -1);
-    for (label c = 0; c < nCells_; ++c) {
-        if (!classify3D(c)) {
+    for (label c = 0; c < nCells_; ++c)
+    {
+        if (!classify3D(c))
+        {
             shape_[c] = CellShape::Polyhedron;
             shapeVolume_[c] = decompositionVolume(c);
         }
         Vec3 lo, hi;
-        if (axisAlignedBoxCell(mesh_, c, lo, hi)) {
+        if (axisAlignedBoxCell(mesh_, c, lo, hi))
+        {
             boxIndex_[c] = label(boxLo_.size());
             boxLo_.push_back(lo);
             boxHi_.push_back(hi);
@@ -259,12 +307,14 @@ double CellMesh::decompositionVolume(label c) const
     // volume of the tet decomposition (cell centre, face centre, edge)
     const Vec3& C = mesh_.cellCentres[c];
     double vol = 0.0;
-    for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1]; ++i) {
+    for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1]; ++i)
+    {
         const label f = mesh_.cellFaces[i];
         const Vec3& F = faceCentre_[f];
         const label fb = mesh_.faceOffsets[f];
         const label n = mesh_.faceOffsets[f + 1] - fb;
-        for (label k = 0; k < n; ++k) {
+        for (label k = 0; k < n; ++k)
+        {
             const Vec3& p = mesh_.points[mesh_.faceVertices[fb + k]];
             const Vec3& q = mesh_.points[mesh_.faceVertices[fb + (k + 1) % n]];
             vol += cellFaceSign_[i] * (p - F).cross(q - F).dot(F - C) / 6.0;
@@ -277,16 +327,21 @@ bool CellMesh::convex3D(label c) const
 {
     // all cell vertices behind all (planar) face planes
     const double tolC = 1e-10 * boundRadius_[c];
-    for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1]; ++i) {
+    for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1]; ++i)
+    {
         const label f = mesh_.cellFaces[i];
-        if (!facePlanar_[f]) {
+        if (!facePlanar_[f])
+        {
             return false;
         }
         const Vec3 N = cellFaceSign_[i] * faceNormal_[f];
-        for (label j = mesh_.cellOffsets[c]; j < mesh_.cellOffsets[c + 1]; ++j) {
+        for (label j = mesh_.cellOffsets[c]; j < mesh_.cellOffsets[c + 1]; ++j)
+        {
             const label g = mesh_.cellFaces[j];
-            for (label k = mesh_.faceOffsets[g]; k < mesh_.faceOffsets[g + 1]; ++k) {
-                if (N.dot(mesh_.points[mesh_.faceVertices[k]] - faceCentre_[f]) > tolC) {
+            for (label k = mesh_.faceOffsets[g]; k < mesh_.faceOffsets[g + 1]; ++k)
+            {
+                if (N.dot(mesh_.points[mesh_.faceVertices[k]] - faceCentre_[f]) > tolC)
+                {
                     return false;
                 }
             }
@@ -295,4 +350,4 @@ bool CellMesh::convex3D(label c) const
     return true;
 }
 
-}  // namespace overlapMapping
+} // namespace overlapMapping

@@ -9,18 +9,22 @@
 #include <stdexcept>
 #include <string>
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 
 label MeshView::nCells() const
 {
-    if (!cellOffsets.empty()) {
+    if (!cellOffsets.empty())
+    {
         return label(cellOffsets.size()) - 1;
     }
     label n = 0;
-    for (label o : owner) {
+    for (label o : owner)
+    {
         n = std::max(n, o + 1);
     }
-    for (label o : neighbour) {
+    for (label o : neighbour)
+    {
         n = std::max(n, o + 1);
     }
     return n;
@@ -28,7 +32,8 @@ label MeshView::nCells() const
 
 label MeshView::addFace(const std::vector<label>& verts, label own, label nei)
 {
-    if (faceOffsets.empty()) {
+    if (faceOffsets.empty())
+    {
         faceOffsets.push_back(0);
     }
     faceVertices.insert(faceVertices.end(), verts.begin(), verts.end());
@@ -40,66 +45,74 @@ label MeshView::addFace(const std::vector<label>& verts, label own, label nei)
 
 void MeshView::buildCells()
 {
-    if (!cellOffsets.empty()) {
+    if (!cellOffsets.empty())
+    {
         return;
     }
     const label nF = nFaces();
-    if (label(owner.size()) != nF || label(neighbour.size()) != nF) {
-        throw std::invalid_argument(
-            "overlapMapping::MeshView: owner/neighbour must have one entry per "
-            "face (" + std::to_string(nF) + "), got "
-            + std::to_string(owner.size()) + "/"
-            + std::to_string(neighbour.size()));
+    if (label(owner.size()) != nF || label(neighbour.size()) != nF)
+    {
+        throw std::invalid_argument("overlapMapping::MeshView: owner/neighbour must have one entry per "
+                                    "face ("
+                                    + std::to_string(nF) + "), got " + std::to_string(owner.size()) + "/"
+                                    + std::to_string(neighbour.size()));
     }
     const label nC = nCells();
     std::vector<label> count(nC + 1, 0);
-    for (label f = 0; f < nF; ++f) {
-        if (owner[f] < 0) {
-            throw std::invalid_argument(
-                "overlapMapping::MeshView: face " + std::to_string(f)
-                + " has no owner");
+    for (label f = 0; f < nF; ++f)
+    {
+        if (owner[f] < 0)
+        {
+            throw std::invalid_argument("overlapMapping::MeshView: face " + std::to_string(f)
+                                        + " has no owner");
         }
         ++count[owner[f] + 1];
-        if (neighbour[f] >= 0) {
+        if (neighbour[f] >= 0)
+        {
             ++count[neighbour[f] + 1];
         }
     }
-    for (label c = 0; c < nC; ++c) {
+    for (label c = 0; c < nC; ++c)
+    {
         count[c + 1] += count[c];
     }
     cellOffsets = count;
     cellFaces.assign(count[nC], -1);
     std::vector<label> fill(count.begin(), count.end() - 1);
-    for (label f = 0; f < nF; ++f) {
+    for (label f = 0; f < nF; ++f)
+    {
         cellFaces[fill[owner[f]]++] = f;
-        if (neighbour[f] >= 0) {
+        if (neighbour[f] >= 0)
+        {
             cellFaces[fill[neighbour[f]]++] = f;
         }
     }
 }
 
-void faceCentreAndArea(const MeshView& mesh, label f, Vec3& centre,
-                       Vec3& areaVector)
+void faceCentreAndArea(const MeshView& mesh, label f, Vec3& centre, Vec3& areaVector)
 {
     const label b = mesh.faceOffsets[f];
     const label e = mesh.faceOffsets[f + 1];
     const label n = e - b;
     const Vec3* P = mesh.points.data();
     const label* fv = mesh.faceVertices.data() + b;
-    if (n == 3) {
+    if (n == 3)
+    {
         centre = (P[fv[0]] + P[fv[1]] + P[fv[2]]) / 3.0;
         areaVector = 0.5 * (P[fv[1]] - P[fv[0]]).cross(P[fv[2]] - P[fv[0]]);
         return;
     }
     Vec3 avg = Vec3::Zero();
-    for (label i = 0; i < n; ++i) {
+    for (label i = 0; i < n; ++i)
+    {
         avg += P[fv[i]];
     }
     avg /= double(n);
     Vec3 sumN = Vec3::Zero();
     double sumA = 0.0;
     Vec3 sumAc = Vec3::Zero();
-    for (label i = 0; i < n; ++i) {
+    for (label i = 0; i < n; ++i)
+    {
         const Vec3& p = P[fv[i]];
         const Vec3& q = P[fv[(i + 1) % n]];
         const Vec3 c = p + q + avg;
@@ -119,25 +132,29 @@ void computeCellGeometry(MeshView& mesh)
     const label nF = mesh.nFaces();
     const label nC = mesh.nCells();
     std::vector<Vec3> fc(nF), fa(nF);
-    for (label f = 0; f < nF; ++f) {
+    for (label f = 0; f < nF; ++f)
+    {
         faceCentreAndArea(mesh, f, fc[f], fa[f]);
     }
     mesh.cellCentres.assign(nC, Vec3::Zero());
     mesh.cellVolumes.assign(nC, 0.0);
-    for (label c = 0; c < nC; ++c) {
+    for (label c = 0; c < nC; ++c)
+    {
         const label b = mesh.cellOffsets[c];
         const label e = mesh.cellOffsets[c + 1];
         Vec3 est = Vec3::Zero();
-        for (label i = b; i < e; ++i) {
+        for (label i = b; i < e; ++i)
+        {
             est += fc[mesh.cellFaces[i]];
         }
         est /= double(std::max<label>(e - b, 1));
         double vol = 0.0;
         Vec3 cen = Vec3::Zero();
-        for (label i = b; i < e; ++i) {
+        for (label i = b; i < e; ++i)
+        {
             const label f = mesh.cellFaces[i];
             const double sign = (mesh.owner[f] == c) ? 1.0 : -1.0;
-            const double pyr3 = sign * fa[f].dot(fc[f] - est);  // 3 x volume
+            const double pyr3 = sign * fa[f].dot(fc[f] - est); // 3 x volume
             const Vec3 pc = 0.75 * fc[f] + 0.25 * est;
             vol += pyr3;
             cen += pyr3 * pc;
@@ -147,4 +164,4 @@ void computeCellGeometry(MeshView& mesh)
     }
 }
 
-}  // namespace overlapMapping
+} // namespace overlapMapping

@@ -12,7 +12,8 @@
 
 using namespace overlapMapping;
 
-namespace {
+namespace
+{
 
 std::vector<Vec2> rect(double x0, double y0, double x1, double y1)
 {
@@ -20,16 +21,13 @@ std::vector<Vec2> rect(double x0, double y0, double x1, double y1)
 }
 
 // Circular segment beyond the line y = h of a disc of radius r at the origin.
-double segmentArea(double r, double h)
-{
-    return r * r * std::acos(h / r) - h * std::sqrt(r * r - h * h);
-}
+double segmentArea(double r, double h) { return r * r * std::acos(h / r) - h * std::sqrt(r * r - h * h); }
 double segmentCentroidY(double r, double h)
 {
     return 2.0 / 3.0 * std::pow(r * r - h * h, 1.5) / segmentArea(r, h);
 }
 
-}  // namespace
+} // namespace
 
 // Disc fully inside the unit square: area pi r^2, centroid = centre.
 // Tolerance 1e-14 relative (round-off of a sum of 4 atan2).
@@ -88,7 +86,8 @@ TEST(DiscPolygon, CentredOnEdgeHalfDisc)
 TEST(DiscPolygon, CircularSegment)
 {
     const double r = 1.3;
-    for (double h : {-1.2, -0.7, -0.1, 0.0, 0.05, 0.5, 0.9, 1.25}) {
+    for (double h : {-1.2, -0.7, -0.1, 0.0, 0.05, 0.5, 0.9, 1.25})
+    {
         const auto half = rect(-5, h, 5, 5);
         const DiscOverlap2D o = discPolygonOverlap(Vec2(0, 0), r, half.data(), 4);
         EXPECT_NEAR(o.area, segmentArea(r, h), 1e-13 * r * r) << "h=" << h;
@@ -103,8 +102,7 @@ TEST(DiscPolygon, Tangent)
     const auto sq = rect(0, 0, 1, 1);
     const double r = 0.25;
     EXPECT_NEAR(discPolygonOverlap(Vec2(1.25, 0.5), r, sq.data(), 4).area, 0.0, 1e-15);
-    EXPECT_NEAR(discPolygonOverlap(Vec2(0.75, 0.5), r, sq.data(), 4).area,
-                pi * r * r, 1e-15);
+    EXPECT_NEAR(discPolygonOverlap(Vec2(0.75, 0.5), r, sq.data(), 4).area, pi * r * r, 1e-15);
     // far away
     EXPECT_EQ(discPolygonOverlap(Vec2(5, 5), r, sq.data(), 4).area, 0.0);
 }
@@ -117,7 +115,8 @@ TEST(DiscPolygon, CentredOnSharedVertexAndEdge)
     double sum = 0.0;
     Vec2 mom = Vec2::Zero();
     for (int i = -1; i <= 0; ++i)
-        for (int j = -1; j <= 0; ++j) {
+        for (int j = -1; j <= 0; ++j)
+        {
             const auto sq = rect(i, j, i + 1, j + 1);
             const DiscOverlap2D o = discPolygonOverlap(Vec2(0, 0), r, sq.data(), 4);
             EXPECT_NEAR(o.area, 0.25 * pi * r * r, 1e-15);
@@ -128,10 +127,10 @@ TEST(DiscPolygon, CentredOnSharedVertexAndEdge)
     EXPECT_NEAR(mom.norm(), 0.0, 1e-16);
     // triangle fan around the centre (6 triangles) also partitions the disc
     sum = 0.0;
-    for (int k = 0; k < 6; ++k) {
+    for (int k = 0; k < 6; ++k)
+    {
         const double a0 = k * pi / 3, a1 = (k + 1) * pi / 3;
-        const std::vector<Vec2> t = {Vec2(0, 0), Vec2(cos(a0), sin(a0)),
-                                     Vec2(cos(a1), sin(a1))};
+        const std::vector<Vec2> t = {Vec2(0, 0), Vec2(cos(a0), sin(a0)), Vec2(cos(a1), sin(a1))};
         sum += discPolygonOverlap(Vec2(0, 0), r, t.data(), 3).area;
     }
     EXPECT_NEAR(sum, pi * r * r, 1e-15);
@@ -159,28 +158,34 @@ TEST(DiscPolygon, Orientation)
 TEST(DiscPolygon, MonteCarlo)
 {
     const std::vector<std::vector<Vec2>> polys = {
-        {Vec2(0.1, 0.0), Vec2(0.8, 0.1), Vec2(1.0, 0.6), Vec2(0.7, 1.0), Vec2(0.2, 0.9),
-         Vec2(-0.1, 0.4)},
-        {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0.5, 0.3), Vec2(0, 1)}};  // non-convex
+        {Vec2(0.1, 0.0), Vec2(0.8, 0.1), Vec2(1.0, 0.6), Vec2(0.7, 1.0), Vec2(0.2, 0.9), Vec2(-0.1, 0.4)},
+        {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0.5, 0.3), Vec2(0, 1)}}; // non-convex
     const Vec2 c(0.62, 0.41);
     const double r = 0.47;
     std::mt19937_64 rng(12345);
     std::uniform_real_distribution<double> U(-1.0, 1.0);
     const int N = 4000000;
-    for (const auto& P : polys) {
+    for (const auto& P : polys)
+    {
         const int n = int(P.size());
         long hits = 0;
         double sx = 0, sy = 0, sp = 0, sp2 = 0;
-        for (int i = 0; i < N; ++i) {
+        for (int i = 0; i < N; ++i)
+        {
             const Vec2 x = c + r * Vec2(U(rng), U(rng));
             if ((x - c).squaredNorm() > r * r) continue;
-            int wn = 0;  // winding number
-            for (int k = 0; k < n; ++k) {
+            int wn = 0; // winding number
+            for (int k = 0; k < n; ++k)
+            {
                 const Vec2& a = P[k];
                 const Vec2& b = P[(k + 1) % n];
                 const double cr = (b[0] - a[0]) * (x[1] - a[1]) - (x[0] - a[0]) * (b[1] - a[1]);
-                if (a[1] <= x[1]) { if (b[1] > x[1] && cr > 0) ++wn; }
-                else if (b[1] <= x[1] && cr < 0) --wn;
+                if (a[1] <= x[1])
+                {
+                    if (b[1] > x[1] && cr > 0) ++wn;
+                }
+                else if (b[1] <= x[1] && cr < 0)
+                    --wn;
             }
             if (wn == 0) continue;
             ++hits;

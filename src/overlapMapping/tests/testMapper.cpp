@@ -11,21 +11,23 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <cstdio>
+#include <map>
 #include <random>
 #include <stdexcept>
 
 using namespace overlapMapping;
 
-namespace {
+namespace
+{
 
 std::vector<double> lin(double a, double b, int n) { return gradedSpacing(a, b, n); }
 
 /// Deterministic interior-point perturbation (keeps the boundary box).
 PointMap perturbation(double amp, bool alsoZ)
 {
-    return [amp, alsoZ](const Vec3& p) {
+    return [amp, alsoZ](const Vec3& p)
+    {
         auto inside = [](double v) { return v > 1e-9 && v < 1 - 1e-9; };
         const unsigned seed = unsigned(std::llround(p[0] * 7919 + p[1] * 104729 + p[2] * 1299709));
         std::mt19937 r(seed);
@@ -45,7 +47,8 @@ MeshView polyMesh()
 {
     std::vector<Vec3> pts;
     std::map<std::array<double, 3>, label> ids;
-    auto P = [&](double x, double y, double z) {
+    auto P = [&](double x, double y, double z)
+    {
         auto it = ids.find({x, y, z});
         if (it != ids.end()) return it->second;
         pts.emplace_back(x, y, z);
@@ -59,26 +62,28 @@ MeshView polyMesh()
                      {P(0, 1, 0), P(0, 1, 1), P(1, 1, 1), P(1, 1, 0)},
                      {P(0, 0, 0), P(0, 1, 0), P(1, 1, 0), P(1, .5, 0), P(1, 0, 0)},
                      {P(0, 0, 1), P(1, 0, 1), P(1, .5, 1), P(1, 1, 1), P(0, 1, 1)}});
-    for (double y0 : {0.0, 0.5}) {
+    for (double y0 : {0.0, 0.5})
+    {
         const double y1 = y0 + 0.5;
-        cells.push_back(cellModelFaces(
-            CellShape::Hex, {P(1, y0, 0), P(2, y0, 0), P(2, y1, 0), P(1, y1, 0),
-                             P(1, y0, 1), P(2, y0, 1), P(2, y1, 1), P(1, y1, 1)}));
+        cells.push_back(cellModelFaces(CellShape::Hex, {P(1, y0, 0), P(2, y0, 0), P(2, y1, 0), P(1, y1, 0),
+                                                        P(1, y0, 1), P(2, y0, 1), P(2, y1, 1), P(1, y1, 1)}));
     }
     return meshFromCellFaces(pts, cells);
 }
 
 /// Random grains wholly inside the box [lo, hi] (2D: xy only).
-void randomGrains(int n, const Vec3& lo, const Vec3& hi, double rmin, double rmax,
-                  bool twoD, unsigned seed, std::vector<Vec3>& x, std::vector<double>& r)
+void randomGrains(int n, const Vec3& lo, const Vec3& hi, double rmin, double rmax, bool twoD, unsigned seed,
+                  std::vector<Vec3>& x, std::vector<double>& r)
 {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> U(0, 1);
     x.resize(n);
     r.resize(n);
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < n; ++i)
+    {
         r[i] = rmin + (rmax - rmin) * U(rng);
-        for (int d = 0; d < 3; ++d) {
+        for (int d = 0; d < 3; ++d)
+        {
             x[i][d] = lo[d] + r[i] + (hi[d] - lo[d] - 2 * r[i]) * U(rng);
         }
         if (twoD) x[i][2] = 0.5 * (lo[2] + hi[2]);
@@ -89,14 +94,14 @@ void randomGrains(int n, const Vec3& lo, const Vec3& hi, double rmin, double rma
 double maxUnityError(const OverlapMapper& om)
 {
     double e = 0;
-    for (label g = 0; g < om.nGrains(); ++g) {
-        e = std::max(e, std::abs(om.grainMappedVolume()[g] - om.grainVolume()[g])
-                            / om.grainVolume()[g]);
+    for (label g = 0; g < om.nGrains(); ++g)
+    {
+        e = std::max(e, std::abs(om.grainMappedVolume()[g] - om.grainVolume()[g]) / om.grainVolume()[g]);
     }
     return e;
 }
 
-}  // namespace
+} // namespace
 
 // Partition of unity in 2D: Σ_c V_gc = pi r^2 depth for discs wholly inside
 // the domain, on uniform, graded, perturbed (non-orthogonal) quad meshes and
@@ -108,15 +113,16 @@ TEST(Mapper, PartitionOfUnity2D)
         grid2DMesh(lin(0, 1, 10), lin(0, 1, 10), 0, 0.01),
         grid2DMesh(gradedSpacing(0, 1, 12, 8.0), gradedSpacing(0, 1, 9, 0.2), 0, 0.01),
         grid2DMesh(lin(0, 1, 10), lin(0, 1, 10), 0, 0.01, false, perturbation(0.03, false)),
-        grid2DMesh(lin(0, 1, 9), gradedSpacing(0, 1, 7, 3.0), 0, 0.01, true,
-                   perturbation(0.02, false))};
+        grid2DMesh(lin(0, 1, 9), gradedSpacing(0, 1, 7, 3.0), 0, 0.01, true, perturbation(0.02, false))};
     double worst = 0;
-    for (const auto& mv : meshes) {
+    for (const auto& mv : meshes)
+    {
         CellMesh m(mv);
         OverlapMapper om(m);
         std::vector<Vec3> x;
         std::vector<double> r;
-        for (double rmax : {0.04, 0.12, 0.3}) {
+        for (double rmax : {0.04, 0.12, 0.3})
+        {
             randomGrains(200, Vec3(0, 0, 0), Vec3(1, 1, 0.01), 0.2 * rmax, rmax, true, 5, x, r);
             om.map(x, r);
             EXPECT_LT(maxUnityError(om), 1e-12) << "rmax " << rmax;
@@ -144,12 +150,14 @@ TEST(Mapper, PartitionOfUnity3D)
         tetGridMesh(lin(0, 1, 3), lin(0, 1, 3), lin(0, 1, 3), 6, perturbation(0.05, true))};
     int k = 0;
     double worst = 0;
-    for (const auto& mv : meshes) {
+    for (const auto& mv : meshes)
+    {
         CellMesh m(mv);
         OverlapMapper om(m);
         std::vector<Vec3> x;
         std::vector<double> r;
-        for (double rmax : {0.08, 0.2, 0.45}) {
+        for (double rmax : {0.08, 0.2, 0.45})
+        {
             randomGrains(40, Vec3(0, 0, 0), Vec3(1, 1, 1), 0.3 * rmax, rmax, false, 9 + k, x, r);
             om.map(x, r);
             EXPECT_LT(maxUnityError(om), 1e-12) << "mesh " << k << " rmax " << rmax;
@@ -174,7 +182,8 @@ TEST(Mapper, PartitionOfUnity3D)
     std::vector<Vec3> x;
     std::vector<double> r;
     randomGrains(60, Vec3(0.5, 0, 0), Vec3(1.5, 1, 1), 0.1, 0.45, false, 77, x, r);
-    for (bool closedForm : {true, false}) {
+    for (bool closedForm : {true, false})
+    {
         MappingSettings s;
         s.closedFormBoxes = closedForm;
         OverlapMapper om(pm, s);
@@ -190,7 +199,8 @@ TEST(Mapper, PartitionOfUnity3D)
 // third law), because weights are renormalised by W_g.
 TEST(Mapper, BoundaryGrainsConserveSpreadForce)
 {
-    for (bool twoD : {true, false}) {
+    for (bool twoD : {true, false})
+    {
         MeshView mv = twoD ? grid2DMesh(lin(0, 1, 6), lin(0, 1, 6), 0, 0.1)
                            : hexGridMesh(lin(0, 1, 4), lin(0, 1, 4), lin(0, 1, 4));
         CellMesh m(mv);
@@ -198,7 +208,8 @@ TEST(Mapper, BoundaryGrainsConserveSpreadForce)
         std::vector<Vec3> x = {Vec3(0.02, 0.5, 0.5), Vec3(0.99, 0.99, 0.5), Vec3(0.5, 0.001, 0.05)};
         std::vector<double> r = {0.1, 0.15, 0.2};
         om.map(x, r);
-        for (label g = 0; g < 3; ++g) {
+        for (label g = 0; g < 3; ++g)
+        {
             EXPECT_LT(om.grainMappedVolume()[g], 0.9 * om.grainVolume()[g]);
         }
         std::vector<Vec3> F = {Vec3(1, -2, 3), Vec3(-0.5, 0.25, 7), Vec3(4, 4, -1)};
@@ -219,23 +230,27 @@ TEST(Mapper, SolidFractionBoundedDensePacking)
     const double d = 0.02, r = d / 2;
     std::vector<Vec3> x;
     std::vector<double> rad;
-    for (int j = 0;; ++j) {
+    for (int j = 0;; ++j)
+    {
         const double y = r + j * d * std::sqrt(3.0) / 2;
         if (y > 1 - r) break;
-        for (int i = 0;; ++i) {
+        for (int i = 0;; ++i)
+        {
             const double xx = r + i * d + (j % 2) * r;
             if (xx > 1 - r) break;
             x.emplace_back(xx, y, 0);
             rad.push_back(r * (1 - 1e-12));
         }
     }
-    for (double hd : {2.0, 1.0, 0.5}) {
+    for (double hd : {2.0, 1.0, 0.5})
+    {
         const int n = int(std::round(1.0 / (hd * d)));
         CellMesh m(grid2DMesh(lin(0, 1, n), lin(0, 1, n), 0, 1e-3));
         OverlapMapper om(m);
         om.map(x, rad);
         double mx = 0, mn = 1, total = 0, area = 0;
-        for (label c = 0; c < m.nCells(); ++c) {
+        for (label c = 0; c < m.nCells(); ++c)
+        {
             mx = std::max(mx, om.solidFraction()[c]);
             mn = std::min(mn, om.solidFraction()[c]);
             total += om.solidFraction()[c] * m.cellVolume(c);
@@ -246,7 +261,8 @@ TEST(Mapper, SolidFractionBoundedDensePacking)
         EXPECT_NEAR(total, x.size() * pi * r * r * 1e-3, 1e-9 * total);
         std::vector<double> eps;
         om.voidFraction(eps);
-        for (label c = 0; c < m.nCells(); ++c) {
+        for (label c = 0; c < m.nCells(); ++c)
+        {
             EXPECT_GE(eps[c], 1e-8);
             EXPECT_NEAR(eps[c], std::max(1 - om.solidFraction()[c], 1e-8), 1e-15);
         }
@@ -261,21 +277,24 @@ TEST(Mapper, SolidFractionBoundedDensePacking)
 // Tolerance 1e-13 relative (round-off of sums of ~1e3 terms).
 TEST(Mapper, SpreadGatherAdjoint)
 {
-    for (bool twoD : {true, false}) {
+    for (bool twoD : {true, false})
+    {
         MeshView mv = twoD ? grid2DMesh(gradedSpacing(0, 1, 15, 3), lin(0, 1, 12), 0, 0.1, true)
                            : tetGridMesh(lin(0, 1, 4), lin(0, 1, 4), lin(0, 1, 4), 5);
         CellMesh m(mv);
         OverlapMapper om(m);
         std::vector<Vec3> x;
         std::vector<double> r;
-        randomGrains(150, Vec3(-0.05, -0.05, twoD ? 0 : -0.05), Vec3(1.05, 1.05, twoD ? 0.1 : 1.05),
-                     0.02, 0.15, twoD, 21, x, r);
-        for (auto& xi : x) {  // centres inside, some grains stick out
+        randomGrains(150, Vec3(-0.05, -0.05, twoD ? 0 : -0.05), Vec3(1.05, 1.05, twoD ? 0.1 : 1.05), 0.02,
+                     0.15, twoD, 21, x, r);
+        for (auto& xi : x)
+        { // centres inside, some grains stick out
             for (int d = 0; d < (twoD ? 2 : 3); ++d) xi[d] = std::clamp(xi[d], 0.001, 0.999);
         }
         om.map(x, r);
         int outside = 0;
-        for (label g = 0; g < om.nGrains(); ++g) {
+        for (label g = 0; g < om.nGrains(); ++g)
+        {
             outside += om.grainMappedVolume()[g] < (1 - 1e-9) * om.grainVolume()[g];
         }
         EXPECT_GT(outside, 5);
@@ -289,11 +308,13 @@ TEST(Mapper, SpreadGatherAdjoint)
         om.spread(F.data(), sF);
         om.spreadDensity(F.data(), sD);
         double lhs = 0, rhs = 0, rhsD = 0, scale = 0;
-        for (size_t g = 0; g < x.size(); ++g) {
+        for (size_t g = 0; g < x.size(); ++g)
+        {
             lhs += ga[g] * F[g];
             scale += std::abs(ga[g] * F[g]);
         }
-        for (label c = 0; c < m.nCells(); ++c) {
+        for (label c = 0; c < m.nCells(); ++c)
+        {
             rhs += a[c] * sF[c];
             rhsD += a[c] * sD[c] * m.cellVolume(c);
         }
@@ -322,7 +343,8 @@ TEST(Mapper, SolidVelocityUniform)
     om.map(x, r);
     std::vector<Vec3> v(x.size(), Vec3(0.1, -2.0, 0.3)), pv;
     om.solidVelocity(v.data(), pv);
-    for (label c = 0; c < m.nCells(); ++c) {
+    for (label c = 0; c < m.nCells(); ++c)
+    {
         EXPECT_NEAR((pv[c] - om.solidFraction()[c] * v[0]).norm(), 0.0, 1e-14);
     }
 }
@@ -337,15 +359,15 @@ TEST(Mapper, GatherAtCentroidsExactForLinearFields)
 {
     const double a0 = 0.7;
     const Vec3 b(1.3, -0.4, 2.1);
-    std::vector<MeshView> meshes = {grid2DMesh(lin(0, 1, 7), gradedSpacing(0, 1, 6, 4.0), 0, 0.1),
-                                    grid2DMesh(lin(0, 1, 7), lin(0, 1, 5), 0, 0.1, true,
-                                               perturbation(0.03, false)),
-                                    hexGridMesh(lin(0, 1, 4), gradedSpacing(0, 1, 3, 2), lin(0, 1, 4)),
-                                    prismGridMesh(lin(0, 1, 3), lin(0, 1, 3), lin(0, 1, 3)),
-                                    tetGridMesh(lin(0, 1, 3), lin(0, 1, 3), lin(0, 1, 3), 5),
-                                    hexGridMesh(lin(0, 1, 4), lin(0, 1, 4), lin(0, 1, 4),
-                                                perturbation(0.04, true))};
-    for (const auto& mv : meshes) {
+    std::vector<MeshView> meshes = {
+        grid2DMesh(lin(0, 1, 7), gradedSpacing(0, 1, 6, 4.0), 0, 0.1),
+        grid2DMesh(lin(0, 1, 7), lin(0, 1, 5), 0, 0.1, true, perturbation(0.03, false)),
+        hexGridMesh(lin(0, 1, 4), gradedSpacing(0, 1, 3, 2), lin(0, 1, 4)),
+        prismGridMesh(lin(0, 1, 3), lin(0, 1, 3), lin(0, 1, 3)),
+        tetGridMesh(lin(0, 1, 3), lin(0, 1, 3), lin(0, 1, 3), 5),
+        hexGridMesh(lin(0, 1, 4), lin(0, 1, 4), lin(0, 1, 4), perturbation(0.04, true))};
+    for (const auto& mv : meshes)
+    {
         CellMesh m(mv);
         OverlapMapper om(m);
         std::vector<Vec3> x;
@@ -357,10 +379,12 @@ TEST(Mapper, GatherAtCentroidsExactForLinearFields)
         Vec3 b2 = b;
         if (m.twoD()) b2[2] = 0;
         for (label c = 0; c < m.nCells(); ++c) a[c] = a0 + b2.dot(m.cellCentre(c));
-        if (m.twoD()) for (auto& gv : grad) gv[2] = 0;
+        if (m.twoD())
+            for (auto& gv : grad) gv[2] = 0;
         std::vector<double> ga;
         om.gatherAtCentroids(a.data(), grad.data(), ga);
-        for (size_t g = 0; g < x.size(); ++g) {
+        for (size_t g = 0; g < x.size(); ++g)
+        {
             EXPECT_NEAR(ga[g], a0 + b2.dot(x[g]), 1e-12) << "cells " << m.nCells();
         }
         // vector version with OpenFOAM's gradient convention (grad U)_ij = d_i U_j
@@ -372,7 +396,8 @@ TEST(Mapper, GatherAtCentroidsExactForLinearFields)
         for (label c = 0; c < m.nCells(); ++c) U[c] = Vec3(G.transpose() * Eigen::Vector3d(m.cellCentre(c)));
         std::vector<Vec3> gv;
         om.gatherAtCentroids(U.data(), gU.data(), gv);
-        for (size_t g = 0; g < x.size(); ++g) {
+        for (size_t g = 0; g < x.size(); ++g)
+        {
             const Vec3 ref = Vec3(G.transpose() * Eigen::Vector3d(x[g]));
             EXPECT_NEAR((gv[g] - ref).norm(), 0.0, 1e-12);
         }
@@ -388,17 +413,19 @@ TEST(Mapper, MovingGrainContinuityVsPCM)
 {
     CellMesh m(grid2DMesh(lin(0, 5, 5), lin(0, 1, 1), 0, 0.1));
     const double r = 0.3;
-    const double ratio = pi * r * r / 1.0;  // V_grain / V_cell
-    auto maxJump = [&](MappingMethod method, double dx) {
+    const double ratio = pi * r * r / 1.0; // V_grain / V_cell
+    auto maxJump = [&](MappingMethod method, double dx)
+    {
         MappingSettings s;
         s.method = method;
         OverlapMapper om(m, s);
         double prev = -1, jump = 0;
         std::vector<double> rad = {r};
-        for (double xg = 0.5; xg <= 4.5 + 1e-12; xg += dx) {
+        for (double xg = 0.5; xg <= 4.5 + 1e-12; xg += dx)
+        {
             std::vector<Vec3> x = {Vec3(xg, 0.5, 0.05)};
             om.map(x, rad);
-            const double phi = om.solidFraction()[1];  // cell x in [1, 2]
+            const double phi = om.solidFraction()[1]; // cell x in [1, 2]
             if (prev >= 0) jump = std::max(jump, std::abs(phi - prev));
             prev = phi;
         }
@@ -407,7 +434,7 @@ TEST(Mapper, MovingGrainContinuityVsPCM)
     const double e1 = maxJump(MappingMethod::Exact, 1e-2);
     const double e2 = maxJump(MappingMethod::Exact, 1e-3);
     const double e3 = maxJump(MappingMethod::Exact, 1e-4);
-    EXPECT_LT(e1, 2 * r * 1e-2 * 1.01);  // |d phi/dx| <= chord length 2r / cell area
+    EXPECT_LT(e1, 2 * r * 1e-2 * 1.01); // |d phi/dx| <= chord length 2r / cell area
     EXPECT_LT(e2, e1 / 5);
     EXPECT_LT(e3, e2 / 5);
     const double p1 = maxJump(MappingMethod::ParticleCentroid, 1e-2);
@@ -415,7 +442,8 @@ TEST(Mapper, MovingGrainContinuityVsPCM)
     EXPECT_NEAR(p1, ratio, 1e-12);
     EXPECT_NEAR(p3, ratio, 1e-12);
     std::printf("[ moving grain ] max |dphi| exact: dx=1e-2 %.3e, 1e-3 %.3e, 1e-4 %.3e;"
-                " PCM: %.4f, %.4f (V_g/V_c = %.4f)\n", e1, e2, e3, p1, p3, ratio);
+                " PCM: %.4f, %.4f (V_g/V_c = %.4f)\n",
+                e1, e2, e3, p1, p3, ratio);
 }
 
 // PCM (eq. 3.44-3.45): one entry per grain, the whole volume in the cell of
@@ -430,13 +458,14 @@ TEST(Mapper, ParticleCentroidMethod)
     std::vector<double> r = {0.2, 0.1};
     om.map(x, r);
     ASSERT_EQ(om.nEntries(), 2u);
-    for (label g = 0; g < 2; ++g) {
+    for (label g = 0; g < 2; ++g)
+    {
         EXPECT_EQ(om.entryCell()[g], m.findCell(x[g]));
         EXPECT_DOUBLE_EQ(om.entryVolume()[g], sphereVolume(r[g]));
         EXPECT_DOUBLE_EQ(om.entryWeight()[g], 1.0);
     }
-    EXPECT_NEAR(om.solidFraction()[om.entryCell()[0]],
-                sphereVolume(0.2) / m.cellVolume(om.entryCell()[0]), 1e-14);
+    EXPECT_NEAR(om.solidFraction()[om.entryCell()[0]], sphereVolume(0.2) / m.cellVolume(om.entryCell()[0]),
+                1e-14);
 }
 
 // Effective diameter factor (section 3.2.3): the mapped volume scales as k^2
@@ -468,10 +497,13 @@ TEST(Mapper, Errors)
     OverlapMapper om(m);
     std::vector<Vec3> x = {Vec3(0.5, 0.5, 0.5), Vec3(1.5, 0.5, 0.5)};
     std::vector<double> r = {0.1, 0.1};
-    try {
+    try
+    {
         om.map(x, r);
         FAIL() << "expected std::runtime_error";
-    } catch (const std::runtime_error& e) {
+    }
+    catch (const std::runtime_error& e)
+    {
         EXPECT_NE(std::string(e.what()).find("grain 1"), std::string::npos) << e.what();
     }
     MappingSettings s;
@@ -507,13 +539,19 @@ TEST(Mapper, NoReallocationAndLocalCost)
     const void* p3 = om.entryCentroid().data();
     std::mt19937 rng(1);
     std::uniform_real_distribution<double> U(-1e-4, 1e-4);
-    for (int it = 0; it < 10; ++it) {
-        for (auto& xi : x) { xi[0] += U(rng); xi[1] += U(rng); }
+    for (int it = 0; it < 10; ++it)
+    {
+        for (auto& xi : x)
+        {
+            xi[0] += U(rng);
+            xi[1] += U(rng);
+        }
         om.map(x, r);
         EXPECT_LE(om.lastCellsEvaluated(), 12u * x.size());
     }
     // entries only reallocate if the count grows beyond the capacity reached
-    if (om.entryCell().capacity() >= om.nEntries()) {
+    if (om.entryCell().capacity() >= om.nEntries())
+    {
         EXPECT_EQ(p1, (const void*)om.entryCell().data());
         EXPECT_EQ(p2, (const void*)om.entryVolume().data());
         EXPECT_EQ(p3, (const void*)om.entryCentroid().data());

@@ -12,9 +12,10 @@
 
 using namespace overlapMapping;
 
-namespace {
+namespace
+{
 std::vector<double> lin(double a, double b, int n) { return gradedSpacing(a, b, n); }
-}  // namespace
+} // namespace
 
 // Builders: cell volumes sum to the box volume (1e-13), internal faces are
 // shared by exactly two cells (conformity of the 5-tet alternating split),
@@ -23,24 +24,32 @@ TEST(MeshBuilders, VolumesAndConformity)
 {
     const auto xs = gradedSpacing(0, 2, 3, 2.0), ys = lin(0, 1, 2), zs = lin(0, 1.5, 2);
     const double box = 2 * 1 * 1.5, surf = 2 * (2 * 1 + 2 * 1.5 + 1 * 1.5);
-    struct Case { MeshView mv; label nCells; };
+    struct Case
+    {
+        MeshView mv;
+        label nCells;
+    };
     std::vector<Case> cases = {{hexGridMesh(xs, ys, zs), 12},
                                {tetGridMesh(xs, ys, zs, 5), 60},
                                {tetGridMesh(xs, ys, zs, 6), 72},
                                {prismGridMesh(xs, ys, zs), 24}};
-    for (auto& cs : cases) {
+    for (auto& cs : cases)
+    {
         CellMesh m(cs.mv);
         EXPECT_EQ(m.nCells(), cs.nCells);
         double v = 0;
-        for (label c = 0; c < m.nCells(); ++c) {
+        for (label c = 0; c < m.nCells(); ++c)
+        {
             v += m.cellVolume(c);
             EXPECT_NEAR(m.shapeVolume(c), m.cellVolume(c), 1e-14);
             EXPECT_TRUE(m.convex(c));
         }
         EXPECT_NEAR(v, box, 1e-13);
         double a = 0;
-        for (label f = 0; f < cs.mv.nFaces(); ++f) {
-            if (cs.mv.neighbour[f] < 0) {
+        for (label f = 0; f < cs.mv.nFaces(); ++f)
+        {
+            if (cs.mv.neighbour[f] < 0)
+            {
                 Vec3 fc, S;
                 faceCentreAndArea(cs.mv, f, fc, S);
                 a += S.norm();
@@ -63,12 +72,14 @@ TEST(MeshBuilders, GradedSpacing)
 // (1e-14), triangles and quads; edge normals point outward.
 TEST(CellMesh, TwoDPolygons)
 {
-    for (bool tri : {false, true}) {
+    for (bool tri : {false, true})
+    {
         MeshView mv = grid2DMesh(lin(0, 1, 4), gradedSpacing(0, 2, 3, 3.0), -0.05, 0.05, tri);
         CellMesh m(mv);
         EXPECT_TRUE(m.twoD());
         EXPECT_NEAR(m.depth(), 0.1, 1e-15);
-        for (label c = 0; c < m.nCells(); ++c) {
+        for (label c = 0; c < m.nCells(); ++c)
+        {
             EXPECT_EQ(m.polygonSize(c), tri ? 3 : 4);
             EXPECT_GT(m.polygonArea(c), 0.0);
             EXPECT_NEAR(m.polygonArea(c) * m.depth(), m.cellVolume(c), 1e-14);
@@ -88,7 +99,8 @@ TEST(CellMesh, FindCell)
 {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> U(0.0, 1.0);
-    auto perturb = [&](const Vec3& p) {
+    auto perturb = [&](const Vec3& p)
+    {
         const bool interior = p[0] > 1e-9 && p[0] < 1 - 1e-9 && p[1] > 1e-9 && p[1] < 1 - 1e-9;
         std::mt19937 r2(unsigned(1000 * p[0] + 37 * 1000 * p[1]));
         std::uniform_real_distribution<double> D(-0.03, 0.03);
@@ -99,9 +111,11 @@ TEST(CellMesh, FindCell)
                                     prismGridMesh(lin(0, 1, 3), lin(0, 1, 4), lin(0, 1, 2)),
                                     grid2DMesh(lin(0, 1, 8), lin(0, 1, 7), 0, 0.1, false, perturb),
                                     grid2DMesh(lin(0, 1, 8), lin(0, 1, 7), 0, 0.1, true, perturb)};
-    for (const auto& mv : meshes) {
+    for (const auto& mv : meshes)
+    {
         CellMesh m(mv);
-        for (int t = 0; t < 300; ++t) {
+        for (int t = 0; t < 300; ++t)
+        {
             Vec3 x(U(rng), U(rng), U(rng));
             if (m.twoD()) x[2] = 0.05;
             const label c0 = m.findCell(x);
@@ -127,7 +141,7 @@ TEST(CellMesh, InvalidInputThrows)
     EXPECT_THROW(CellMesh{bad}, std::invalid_argument);
     MeshView mis = hexGridMesh(lin(0, 1, 1), lin(0, 1, 1), lin(0, 1, 1));
     mis.twoD = true;
-    mis.z0 = -1.0;  // no face on z = -1
+    mis.z0 = -1.0; // no face on z = -1
     mis.z1 = 1.0;
     EXPECT_THROW(CellMesh{mis}, std::invalid_argument);
     MeshView vol = hexGridMesh(lin(0, 1, 1), lin(0, 1, 1), lin(0, 1, 1));

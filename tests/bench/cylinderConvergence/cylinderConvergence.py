@@ -61,6 +61,7 @@ Start-up mean 0.5-1.0 s (post hoc; D/h 25 run to 1 s, --short): 1.676,
 1.732, 1.772, 1.797, 1.850, 1.871 cm/s at D/h 8-25, also uneven (no order
 from 12-15-20; p = 2.6 from 15-20-25).
 """
+
 import argparse
 import math
 import os
@@ -71,6 +72,7 @@ import sys
 import tempfile
 import time
 
+import nscdpost
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -78,20 +80,26 @@ ROOT = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
 TUT = os.path.join(ROOT, "tutorials", "vansFoam", "cylinderSedimentation")
 OUT = os.path.join(ROOT, "tests", "bench", "results", "cylinderConvergence.json")
 PNG = os.path.join(HERE, "cylinderConvergence.png")
-import nscdpost
 
-setupCase = nscdpost.load_module("cylinderSedimentation_setupCase", os.path.join(TUT, "setupCase.py"))
-postProcess = nscdpost.load_module("cylinderSedimentation_postProcess", os.path.join(TUT, "postProcess.py"))
+setupCase = nscdpost.load_module(
+    "cylinderSedimentation_setupCase", os.path.join(TUT, "setupCase.py")
+)
+postProcess = nscdpost.load_module(
+    "cylinderSedimentation_postProcess", os.path.join(TUT, "postProcess.py")
+)
 
-UT_REF = setupCase.UT_REF           # [m/s] Namkoong et al. (2008), thesis 3.3.3
-PLATEAU_WINDOW = (2.75, 3.5)        # [s]
-ONSET_FRACTION = 0.04               # lateral onset: |U_x| >= 0.04 U_t,ref
-SAFETY_FACTOR = 1.25                # Roache (1994), three or more grids
-TOL = 0.05                          # issue 7: within 5 % of 2.501 cm/s
+UT_REF = setupCase.UT_REF  # [m/s] Namkoong et al. (2008), thesis 3.3.3
+PLATEAU_WINDOW = (2.75, 3.5)  # [s]
+ONSET_FRACTION = 0.04  # lateral onset: |U_x| >= 0.04 U_t,ref
+SAFETY_FACTOR = 1.25  # Roache (1994), three or more grids
+TOL = 0.05  # issue 7: within 5 % of 2.501 cm/s
 #: sensitivity of the conclusion to the window (chosen AFTER the primary
 #: measure had been seen, reported as such): mean -U_y over these windows [s]
-SENSITIVITY_WINDOWS = {"mean_2.50_3.50": (2.5, 3.5), "mean_3.00_3.50": (3.0, 3.5),
-                       "mean_0.50_1.00": (0.5, 1.0)}
+SENSITIVITY_WINDOWS = {
+    "mean_2.50_3.50": (2.5, 3.5),
+    "mean_3.00_3.50": (3.0, 3.5),
+    "mean_0.50_1.00": (0.5, 1.0),
+}
 
 
 # --------------------------------------------------------------------------- #
@@ -130,12 +138,25 @@ def richardson3(h, phi, safety=SAFETY_FACTOR):
         raise ValueError("richardson3: cell sizes must differ")
     r21, r32 = h2 / h1, h3 / h2
     e21, e32 = f2 - f1, f3 - f2
-    out = {"h": [h1, h2, h3], "phi": [f1, f2, f3], "r21": r21, "r32": r32,
-           "eps21": e21, "eps32": e32, "monotone": bool(e21 * e32 > 0),
-           "spread": float((max(f1, f2, f3) - min(f1, f2, f3)) / np.mean([f1, f2, f3])),
-           "p": None, "phi_ext": None, "e_a21": abs(e21 / f1), "e_ext21": None,
-           "gci_fine": None, "C": None, "safety_factor": safety, "diverging": False,
-           "convergence_ratio": (e21 / e32) if e32 else None}
+    out = {
+        "h": [h1, h2, h3],
+        "phi": [f1, f2, f3],
+        "r21": r21,
+        "r32": r32,
+        "eps21": e21,
+        "eps32": e32,
+        "monotone": bool(e21 * e32 > 0),
+        "spread": float((max(f1, f2, f3) - min(f1, f2, f3)) / np.mean([f1, f2, f3])),
+        "p": None,
+        "phi_ext": None,
+        "e_a21": abs(e21 / f1),
+        "e_ext21": None,
+        "gci_fine": None,
+        "C": None,
+        "safety_factor": safety,
+        "diverging": False,
+        "convergence_ratio": (e21 / e32) if e32 else None,
+    }
     if e21 == 0 or e32 == 0 or not out["monotone"]:
         return out
     s = 1.0
@@ -146,12 +167,12 @@ def richardson3(h, phi, safety=SAFETY_FACTOR):
         # monotone but diverging sequence (|eps32| < |eps21|, the finer
         # step the larger) gets a spurious positive order whose power law
         # misses the coarsest value
-        q = math.log((r21 ** p - s) / (r32 ** p - s))
+        q = math.log((r21**p - s) / (r32**p - s))
         return p * math.log(r21) - (a + q)
 
     lo, hi = 1e-3, 20.0
     glo, ghi = g(lo), g(hi)
-    if glo * ghi > 0:       # no order in (0, 20]: divergence (|eps32| < |eps21| r32-ish)
+    if glo * ghi > 0:  # no order in (0, 20]: divergence (|eps32| < |eps21| r32-ish)
         out["diverging"] = True
         return out
     for _ in range(200):
@@ -162,15 +183,22 @@ def richardson3(h, phi, safety=SAFETY_FACTOR):
         else:
             lo, glo = mid, gm
     p = 0.5 * (lo + hi)
-    rp = r21 ** p
+    rp = r21**p
     phi_ext = (rp * f1 - f2) / (rp - 1)
-    out.update(p=p, phi_ext=phi_ext, e_ext21=abs((phi_ext - f1) / phi_ext),
-               gci_fine=safety * out["e_a21"] / (rp - 1),
-               C=(f1 - phi_ext) / h1 ** p)
+    out.update(
+        p=p,
+        phi_ext=phi_ext,
+        e_ext21=abs((phi_ext - f1) / phi_ext),
+        gci_fine=safety * out["e_a21"] / (rp - 1),
+        C=(f1 - phi_ext) / h1**p,
+    )
     return out
 
 
-def power_fit(h, phi, p_grid=np.linspace(0.1, 6.0, 591)):
+P_GRID = np.linspace(0.1, 6.0, 591)  # trial orders of power_fit
+
+
+def power_fit(h, phi, p_grid=P_GRID):
     """Least-squares fit phi(h) = phi_inf + C h^p over all levels (p on a
     grid, phi_inf and C linear; nscdpost.power_law_fit); returns
     dict(order, phi_inf, C, rms)."""
@@ -200,15 +228,32 @@ def run_level(work, cpd, end, walls=None, height=None):
     work/L<cpd>_W<walls>/case; height: the box height [m], default
     setupCase.HEIGHT); returns the case directory."""
     height = setupCase.HEIGHT if height is None else height
-    d = os.path.join(work, f"L{cpd:g}" + ("" if walls is None else f"_W{walls:g}")
-                     + ("" if height == setupCase.HEIGHT else f"_H{height:g}"))
+    d = os.path.join(
+        work,
+        f"L{cpd:g}"
+        + ("" if walls is None else f"_W{walls:g}")
+        + ("" if height == setupCase.HEIGHT else f"_H{height:g}"),
+    )
     case = os.path.join(d, "case")
     if os.path.exists(d):
         shutil.rmtree(d)
     os.makedirs(d)
-    subprocess.run([sys.executable, os.path.join(TUT, "setupCase.py"), case, str(end), str(cpd),
-                    str(height), "yes", "1e-3", "resolved"]
-                   + ([] if walls is None else [str(walls)]), check=True, stdout=subprocess.DEVNULL)
+    subprocess.run(
+        [
+            sys.executable,
+            os.path.join(TUT, "setupCase.py"),
+            case,
+            str(end),
+            str(cpd),
+            str(height),
+            "yes",
+            "1e-3",
+            "resolved",
+        ]
+        + ([] if walls is None else [str(walls)]),
+        check=True,
+        stdout=subprocess.DEVNULL,
+    )
     for app in ("blockMesh", "grainDeposit", "vansFoam"):
         with open(os.path.join(case, f"log.{app}"), "w") as log:
             subprocess.run([app], cwd=case, stdout=log, stderr=subprocess.STDOUT, check=True)
@@ -236,7 +281,7 @@ def measure_level(case):
     if t[-1] < PLATEAU_WINDOW[1] - 1e-9:
         raise ValueError(f"{case}: reaches t = {t[-1]} s < {PLATEAU_WINDOW[1]} s")
     sel = (t >= PLATEAU_WINDOW[0] - 1e-9) & (t <= PLATEAU_WINDOW[1] + 1e-9)
-    upto = t <= PLATEAU_WINDOW[1] + 1e-9      # same span at every level
+    upto = t <= PLATEAU_WINDOW[1] + 1e-9  # same span at every level
     on = np.nonzero(upto & (np.abs(ulat) >= ONSET_FRACTION * UT_REF))[0]
     nx, cells, exe, dexe, log = grid_and_cost(case)
     cpd = setupCase.D / (setupCase.WIDTH / nx)
@@ -261,13 +306,19 @@ def measure_level(case):
         "peak_velocity": float(ustr[upto][ipk]),
         "peak_time": float(t[upto][ipk]),
         "peak_velocity_error": float(ustr[upto][ipk] / UT_REF - 1),
-        **{k: float(np.mean(ustr[(t >= a - 1e-9) & (t <= b + 1e-9)]))
-           for k, (a, b) in SENSITIVITY_WINDOWS.items()},
+        **{
+            k: float(np.mean(ustr[(t >= a - 1e-9) & (t <= b + 1e-9)]))
+            for k, (a, b) in SENSITIVITY_WINDOWS.items()
+        },
         "max_abs_x": float(np.max(np.abs(xc[upto]))),
         "max_abs_lateral_velocity": float(np.max(np.abs(ulat[upto]))),
         "lateral_onset_time": float(t[on[0]]) if on.size else None,
-        "series": {"time": t[upto].tolist(), "streamwise_velocity": ustr[upto].tolist(),
-                   "lateral_velocity": ulat[upto].tolist(), "x": xc[upto].tolist()},
+        "series": {
+            "time": t[upto].tolist(),
+            "streamwise_velocity": ustr[upto].tolist(),
+            "lateral_velocity": ulat[upto].tolist(),
+            "x": xc[upto].tolist(),
+        },
     }
 
 
@@ -277,9 +328,14 @@ def measure_short(case):
     t, x, u = postProcess.grain_history(case)
     ustr = -u[0, :, 1]
     nx, cells, _, dexe, _ = grid_and_cost(case)
-    out = {"case": os.path.abspath(case), "cells_per_diameter": setupCase.D / (setupCase.WIDTH / nx),
-           "h": setupCase.WIDTH / nx, "cells": cells, "end_time": float(t[-1]),
-           "cpu_seconds_per_step_median": float(np.median(dexe)) if dexe.size else None}
+    out = {
+        "case": os.path.abspath(case),
+        "cells_per_diameter": setupCase.D / (setupCase.WIDTH / nx),
+        "h": setupCase.WIDTH / nx,
+        "cells": cells,
+        "end_time": float(t[-1]),
+        "cpu_seconds_per_step_median": float(np.median(dexe)) if dexe.size else None,
+    }
     for k, (a, b) in SENSITIVITY_WINDOWS.items():
         if t[-1] >= b - 1e-9:
             out[k] = float(np.mean(ustr[(t >= a - 1e-9) & (t <= b + 1e-9)]))
@@ -290,38 +346,52 @@ def convergence(levels, key):
     """Richardson on the three finest levels and a power fit over all, for
     the measure `key`; plus the D/h a 5 % result needs."""
     lv = sorted((L for L in levels if L.get(key) is not None), key=lambda L: L["h"])
-    h = [L["h"] / setupCase.D for L in lv]          # h in units of D
+    h = [L["h"] / setupCase.D for L in lv]  # h in units of D
     phi = [L[key] for L in lv]
     r = richardson3(h[:3], phi[:3])
     # first order (the formal order of a volume-penalised boundary smeared
     # over ~h) through the two finest levels, for comparison
     e1 = (phi[0] - phi[1]) / (h[1] / h[0] - 1)
-    res = {"richardson_three_finest": r,
-           "cells_per_diameter_used": [lv[i]["cells_per_diameter"] for i in range(3)],
-           "values": {f"{L['cells_per_diameter']:g}": L[key] for L in lv},
-           "first_order_two_finest": {
-               "phi_ext": phi[0] + e1, "C": -e1 / h[0],
-               "cells_per_diameter_for_5_percent": cells_per_d_for(
-                   phi[0] + e1, -e1 / h[0], 1.0, UT_REF, TOL)}}
+    res = {
+        "richardson_three_finest": r,
+        "cells_per_diameter_used": [lv[i]["cells_per_diameter"] for i in range(3)],
+        "values": {f"{L['cells_per_diameter']:g}": L[key] for L in lv},
+        "first_order_two_finest": {
+            "phi_ext": phi[0] + e1,
+            "C": -e1 / h[0],
+            "cells_per_diameter_for_5_percent": cells_per_d_for(
+                phi[0] + e1, -e1 / h[0], 1.0, UT_REF, TOL
+            ),
+        },
+    }
     if len(lv) >= 4:
         res["power_fit_all_levels"] = power_fit(h, phi)
         res["richardson_consecutive_triples"] = [
-            dict(cells_per_diameter=[lv[j]["cells_per_diameter"] for j in range(i, i + 3)],
-                 **{k: v for k, v in richardson3(h[i:i + 3], phi[i:i + 3]).items()
-                    if k in ("p", "phi_ext", "gci_fine", "monotone", "spread")})
-            for i in range(len(lv) - 2)]
+            dict(
+                cells_per_diameter=[lv[j]["cells_per_diameter"] for j in range(i, i + 3)],
+                **{
+                    k: v
+                    for k, v in richardson3(h[i : i + 3], phi[i : i + 3]).items()
+                    if k in ("p", "phi_ext", "gci_fine", "monotone", "spread")
+                },
+            )
+            for i in range(len(lv) - 2)
+        ]
     if r["phi_ext"] is not None:
         res["extrapolated_error_vs_reference"] = r["phi_ext"] / UT_REF - 1
         res["cells_per_diameter_for_5_percent"] = cells_per_d_for(
-            r["phi_ext"], r["C"], r["p"], UT_REF, TOL)
+            r["phi_ext"], r["C"], r["p"], UT_REF, TOL
+        )
         res["cells_per_diameter_for_5_percent_discretisation_error"] = cells_per_d_for(
-            r["phi_ext"], r["C"], r["p"], r["phi_ext"], TOL)
+            r["phi_ext"], r["C"], r["p"], r["phi_ext"], TOL
+        )
     return res
 
 
 def plot(levels, conv):
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
@@ -330,8 +400,12 @@ def plot(levels, conv):
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
     for i, L in enumerate(sorted(levels, key=lambda L: L["h"])):
         s = L["series"]
-        a1.plot(s["time"], np.array(s["streamwise_velocity"]) / UT_REF, f"C{i}-",
-                label=f"D/h = {L['cells_per_diameter']:g}")
+        a1.plot(
+            s["time"],
+            np.array(s["streamwise_velocity"]) / UT_REF,
+            f"C{i}-",
+            label=f"D/h = {L['cells_per_diameter']:g}",
+        )
         a1.plot(s["time"], np.array(s["lateral_velocity"]) / UT_REF, f"C{i}:")
     a1.axhline(1.0, color="k", ls="--", lw=0.8, label="Namkoong et al. (2008) 2.501 cm/s")
     a1.axvspan(*PLATEAU_WINDOW, color="0.9", zorder=0, label="plateau window")
@@ -341,28 +415,48 @@ def plot(levels, conv):
     a1.grid(alpha=0.3)
     lv = sorted(levels, key=lambda L: L["h"])
     hd = np.array([L["h"] / setupCase.D for L in lv])
-    for key, mk, lab in (("plateau_velocity", "o", "plateau mean 2.75-3.5 s"),
-                         ("peak_velocity", "s", "peak")):
+    for key, mk, lab in (
+        ("plateau_velocity", "o", "plateau mean 2.75-3.5 s"),
+        ("peak_velocity", "s", "peak"),
+    ):
         a2.plot(hd, [100 * L[key] for L in lv], mk, label=lab)
         r = conv[key]["richardson_three_finest"]
         if r["phi_ext"] is not None:
-            hh = np.linspace(0, r["h"][2], 100)      # the three levels fitted
+            hh = np.linspace(0, r["h"][2], 100)  # the three levels fitted
             a2.plot(hh, 100 * (r["phi_ext"] + r["C"] * hh ** r["p"]), "k-", lw=0.7)
-            a2.errorbar([0], [100 * r["phi_ext"]], yerr=[100 * r["gci_fine"] * r["phi"][0]],
-                        fmt=mk, mfc="none", color="k", capsize=3,
-                        label=f"{lab}: three finest p = {r['p']:.2f}, ext {100 * r['phi_ext']:.3f} cm/s, GCI")
+            a2.errorbar(
+                [0],
+                [100 * r["phi_ext"]],
+                yerr=[100 * r["gci_fine"] * r["phi"][0]],
+                fmt=mk,
+                mfc="none",
+                color="k",
+                capsize=3,
+                label=f"{lab}: three finest p = {r['p']:.2f}, ext {100 * r['phi_ext']:.3f} cm/s, GCI",
+            )
     f1 = conv["plateau_velocity"]["first_order_two_finest"]
     hh = np.linspace(0, hd.max(), 100)
-    a2.plot(hh, 100 * (f1["phi_ext"] + f1["C"] * hh), "C0--", lw=0.7,
-            label=f"plateau, first order through the two finest: {100 * f1['phi_ext']:.3f} cm/s")
+    a2.plot(
+        hh,
+        100 * (f1["phi_ext"] + f1["C"] * hh),
+        "C0--",
+        lw=0.7,
+        label=f"plateau, first order through the two finest: {100 * f1['phi_ext']:.3f} cm/s",
+    )
     pf = conv["plateau_velocity"].get("power_fit_all_levels")
     if pf:
-        a2.plot(hh, 100 * (pf["phi_inf"] + pf["C"] * hh ** pf["order"]), "C0-", lw=0.7,
-                label=f"plateau, least squares over all levels: p = {pf['order']:.2f}, "
-                      f"{100 * pf['phi_inf']:.3f} cm/s")
+        a2.plot(
+            hh,
+            100 * (pf["phi_inf"] + pf["C"] * hh ** pf["order"]),
+            "C0-",
+            lw=0.7,
+            label=f"plateau, least squares over all levels: p = {pf['order']:.2f}, "
+            f"{100 * pf['phi_inf']:.3f} cm/s",
+        )
     a2.axhline(100 * UT_REF, color="k", ls="--", lw=0.8, label="2.501 cm/s")
-    a2.axhspan(100 * UT_REF * (1 - TOL), 100 * UT_REF * (1 + TOL), color="0.92", zorder=0,
-               label="+-5 %")
+    a2.axhspan(
+        100 * UT_REF * (1 - TOL), 100 * UT_REF * (1 + TOL), color="0.92", zorder=0, label="+-5 %"
+    )
     a2.set_xlabel("h / D")
     a2.set_ylabel("fall velocity [cm/s]")
     a2.set_xlim(left=-0.005)
@@ -380,19 +474,23 @@ def faxen_quote():
     if not os.path.exists(path):
         return None
     import json
+
     fx = json.load(open(path))
     lv = sorted(fx["levels"], key=lambda L: L["h"])
     r = richardson3([1.0 / L["cells_per_diameter"] for L in lv[:3]], [L["mean"] for L in lv[:3]])
-    return {"source": "tests/bench/results/faxenConvergence.json",
-            "cells_per_diameter": [L["cells_per_diameter"] for L in lv],
-            "mean_drag": [L["mean"] for L in lv], "faxen_drag": fx["faxen_drag"],
-            "observed_order_error_vs_faxen": fx.get("observed_order_error_vs_faxen"),
-            "observed_order_successive_differences": fx.get("observed_order_successive_differences"),
-            "richardson_fit_all_levels": fx.get("richardson_fit"),
-            "richardson_three_finest": r,
-            "note": "h in units of D; each level's drag is the mean over 4 sub-cell disc positions "
-                    "whose scatter (1.1-6.9 %, 1.1 % at D/h 32) is larger than the 0.1 % step from D/h 24 to 32, "
-                    "so the three-finest order is not meaningful"}
+    return {
+        "source": "tests/bench/results/faxenConvergence.json",
+        "cells_per_diameter": [L["cells_per_diameter"] for L in lv],
+        "mean_drag": [L["mean"] for L in lv],
+        "faxen_drag": fx["faxen_drag"],
+        "observed_order_error_vs_faxen": fx.get("observed_order_error_vs_faxen"),
+        "observed_order_successive_differences": fx.get("observed_order_successive_differences"),
+        "richardson_fit_all_levels": fx.get("richardson_fit"),
+        "richardson_three_finest": r,
+        "note": "h in units of D; each level's drag is the mean over 4 sub-cell disc positions "
+        "whose scatter (1.1-6.9 %, 1.1 % at D/h 32) is larger than the 0.1 % step from D/h 24 to 32, "
+        "so the three-finest order is not meaningful",
+    }
 
 
 def post(cases, wall=None, short=()):
@@ -407,23 +505,23 @@ def post(cases, wall=None, short=()):
     res = {
         "benchmark": "cylinderConvergence",
         "case": "tutorials/vansFoam/cylinderSedimentation setupCase.py CASE 3.5 D/h 0.32 yes 1e-3 "
-                "resolved (full box, rotation coupling, resolved scheme, released D/100 off axis)",
+        "resolved (full box, rotation coupling, resolved scheme, released D/100 off axis)",
         "reference": "Namkoong, Yoo & Choi (2008), J. Fluid Mech. 604:33-53 (a cylinder in an INFINITE fluid): U_t = 2.501 cm/s, "
-                     "Re 156 (thesis 3.3.3)",
+        "Re 156 (thesis 3.3.3)",
         "terminal_velocity_reference": UT_REF,
         "measure": f"plateau_velocity: mean -U_y at the write times (every 0.05 s) in "
-                   f"{PLATEAU_WINDOW[0]}-{PLATEAU_WINDOW[1]} s; peak_velocity: max -U_y up to "
-                   f"{PLATEAU_WINDOW[1]} s; lateral_onset_time: first |U_x| >= "
-                   f"{ONSET_FRACTION} U_t,ref",
+        f"{PLATEAU_WINDOW[0]}-{PLATEAU_WINDOW[1]} s; peak_velocity: max -U_y up to "
+        f"{PLATEAU_WINDOW[1]} s; lateral_onset_time: first |U_x| >= "
+        f"{ONSET_FRACTION} U_t,ref",
         "method": "Roache (1994) generalised Richardson, non-constant ratio, as in Celik et al. "
-                  "(2008) J. Fluids Eng. 130:078001; GCI_fine safety factor 1.25; p from the three "
-                  "finest levels; power_fit_all_levels: least squares phi_inf + C h^p",
+        "(2008) J. Fluids Eng. 130:078001; GCI_fine safety factor 1.25; p from the three "
+        "finest levels; power_fit_all_levels: least squares phi_inf + C h^p",
         "levels": sorted(levels, key=lambda L: L["cells_per_diameter"]),
         "short_levels": shorts,
         "convergence": conv,
         "sensitivity_windows": {k: list(v) for k, v in SENSITIVITY_WINDOWS.items()},
         "sensitivity_note": "windows chosen after the primary measure was seen: how much the "
-                            "order and extrapolation depend on the averaging window",
+        "order and extrapolation depend on the averaging window",
         "convergence_sensitivity": sens,
         "observed_order": rp["p"],
         "monotone": rp["monotone"],
@@ -435,13 +533,16 @@ def post(cases, wall=None, short=()):
         "extrapolated_relative_error": (rp["phi_ext"] / UT_REF - 1) if rp["phi_ext"] else None,
         "within_5_percent_finest": abs(finest["plateau_velocity_error"]) <= TOL,
         "within_5_percent_extrapolated": (abs(rp["phi_ext"] / UT_REF - 1) <= TOL)
-                                         if rp["phi_ext"] else None,
+        if rp["phi_ext"]
+        else None,
         "convergence_ratio_three_finest": rp["convergence_ratio"],
         "power_fit_all_levels": conv["plateau_velocity"].get("power_fit_all_levels"),
-        "first_order_extrapolation_two_finest":
-            conv["plateau_velocity"]["first_order_two_finest"]["phi_ext"],
-        "cells_per_diameter_for_5_percent_if_first_order":
-            conv["plateau_velocity"]["first_order_two_finest"]["cells_per_diameter_for_5_percent"],
+        "first_order_extrapolation_two_finest": conv["plateau_velocity"]["first_order_two_finest"][
+            "phi_ext"
+        ],
+        "cells_per_diameter_for_5_percent_if_first_order": conv["plateau_velocity"][
+            "first_order_two_finest"
+        ]["cells_per_diameter_for_5_percent"],
         "thesis_order": 1.65,
         "faxen_fixed_disc": faxen_quote(),
         "wall_seconds_total": wall,
@@ -449,35 +550,52 @@ def post(cases, wall=None, short=()):
     os.makedirs(os.path.dirname(OUT), exist_ok=True)
     nscdpost.write_json(OUT, res)
     plot(levels, conv)
-    print(f"{'D/h':>5} {'cells':>7} {'steps':>5} {'cpu/step':>8} {'plateau':>8} {'err':>7} "
-          f"{'peak':>7} {'max|x|':>7} {'onset':>5}")
+    print(
+        f"{'D/h':>5} {'cells':>7} {'steps':>5} {'cpu/step':>8} {'plateau':>8} {'err':>7} "
+        f"{'peak':>7} {'max|x|':>7} {'onset':>5}"
+    )
     for L in res["levels"]:
-        print(f"{L['cells_per_diameter']:5g} {L['cells']:7d} {L['steps_to_3.5s']:5d} "
-              f"{L['cpu_seconds_per_step_median'] or 0:8.3f} {100 * L['plateau_velocity']:8.4f} "
-              f"{100 * L['plateau_velocity_error']:+6.1f}% {100 * L['peak_velocity']:7.4f} "
-              f"{1e3 * L['max_abs_x']:7.3f} {L['lateral_onset_time']}")
+        print(
+            f"{L['cells_per_diameter']:5g} {L['cells']:7d} {L['steps_to_3.5s']:5d} "
+            f"{L['cpu_seconds_per_step_median'] or 0:8.3f} {100 * L['plateau_velocity']:8.4f} "
+            f"{100 * L['plateau_velocity_error']:+6.1f}% {100 * L['peak_velocity']:7.4f} "
+            f"{1e3 * L['max_abs_x']:7.3f} {L['lateral_onset_time']}"
+        )
     for k, c in list(conv.items()) + list(sens.items()):
-        print(f"{k}: " + ", ".join(f"{L['cells_per_diameter']:g}: {100 * L[k]:.4f}"
-                                   for L in res["levels"]) + " cm/s")
+        print(
+            f"{k}: "
+            + ", ".join(f"{L['cells_per_diameter']:g}: {100 * L[k]:.4f}" for L in res["levels"])
+            + " cm/s"
+        )
         r = c["richardson_three_finest"]
         if r["p"] is None:
-            print(f"{k}: {'diverging' if r['diverging'] else 'oscillatory'}, no order "
-                  f"(R = eps21/eps32 = {r['convergence_ratio']:.3g}), spread {100 * r['spread']:.2f} %")
+            print(
+                f"{k}: {'diverging' if r['diverging'] else 'oscillatory'}, no order "
+                f"(R = eps21/eps32 = {r['convergence_ratio']:.3g}), spread {100 * r['spread']:.2f} %"
+            )
         else:
-            print(f"{k}: p = {r['p']:.3f}, extrapolated {100 * r['phi_ext']:.4f} cm/s "
-                  f"({100 * (r['phi_ext'] / UT_REF - 1):+.1f} %), GCI_fine {100 * r['gci_fine']:.2f} %,"
-                  f" D/h for 5 %: {c['cells_per_diameter_for_5_percent']}")
+            print(
+                f"{k}: p = {r['p']:.3f}, extrapolated {100 * r['phi_ext']:.4f} cm/s "
+                f"({100 * (r['phi_ext'] / UT_REF - 1):+.1f} %), GCI_fine {100 * r['gci_fine']:.2f} %,"
+                f" D/h for 5 %: {c['cells_per_diameter_for_5_percent']}"
+            )
         if "power_fit_all_levels" in c:
             pf = c["power_fit_all_levels"]
-            print(f"   all-level fit: p = {pf['order']:.2f}, phi_inf {100 * pf['phi_inf']:.4f} cm/s, "
-                  f"rms {100 * pf['rms']:.4f} cm/s")
+            print(
+                f"   all-level fit: p = {pf['order']:.2f}, phi_inf {100 * pf['phi_inf']:.4f} cm/s, "
+                f"rms {100 * pf['rms']:.4f} cm/s"
+            )
         for tr in c.get("richardson_consecutive_triples", []):
-            print(f"   triple {tr['cells_per_diameter']}: p = {tr['p']}, ext {tr['phi_ext']}, "
-                  f"monotone {tr['monotone']}")
+            print(
+                f"   triple {tr['cells_per_diameter']}: p = {tr['p']}, ext {tr['phi_ext']}, "
+                f"monotone {tr['monotone']}"
+            )
         f1 = c["first_order_two_finest"]
-        print(f"   first order, two finest: ext {100 * f1['phi_ext']:.4f} cm/s "
-              f"({100 * (f1['phi_ext'] / UT_REF - 1):+.1f} %), D/h for 5 %: "
-              f"{f1['cells_per_diameter_for_5_percent']}")
+        print(
+            f"   first order, two finest: ext {100 * f1['phi_ext']:.4f} cm/s "
+            f"({100 * (f1['phi_ext'] / UT_REF - 1):+.1f} %), D/h for 5 %: "
+            f"{f1['cells_per_diameter_for_5_percent']}"
+        )
     print(f"wrote {OUT}, {PNG}")
     return res
 
@@ -486,11 +604,11 @@ def selftest():
     """richardson3 on phi = 2 + 3 h^1.65 at the ratios of D/h 10, 12, 15
     must return p = 1.65 and phi_ext = 2 to 1e-9; oscillatory data no p."""
     h = [1 / 15, 1 / 12, 1 / 10]
-    r = richardson3(h, [2 + 3 * x ** 1.65 for x in h])
+    r = richardson3(h, [2 + 3 * x**1.65 for x in h])
     assert abs(r["p"] - 1.65) < 1e-9 and abs(r["phi_ext"] - 2) < 1e-9, r
     r = richardson3(h, [2.0, 2.1, 2.05])
     assert r["p"] is None and not r["monotone"], r
-    r = richardson3(h, [2.0, 2.1, 2.11])      # monotone, the finer step larger
+    r = richardson3(h, [2.0, 2.1, 2.11])  # monotone, the finer step larger
     assert r["p"] is None and r["diverging"], r
     print("richardson3 selftest passed")
 
@@ -499,9 +617,13 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("levels", nargs="*", help="D/h values (run) or case dirs (--post)")
     ap.add_argument("--post", action="store_true", help="post-process existing case dirs")
-    ap.add_argument("--short", nargs="*", default=[],
-                    help="(--post) case dirs of finer levels run only through the start-up "
-                         "(used for the windows they cover)")
+    ap.add_argument(
+        "--short",
+        nargs="*",
+        default=[],
+        help="(--post) case dirs of finer levels run only through the start-up "
+        "(used for the windows they cover)",
+    )
     ap.add_argument("--selftest", action="store_true")
     ap.add_argument("--end", type=float, default=PLATEAU_WINDOW[1])
     ap.add_argument("--workdir", default=None)

@@ -36,6 +36,7 @@ usage: tests/bench/faxenConvergence/faxenConvergence.py [D/h ...] [--offsets N] 
        t_end = 0.12 s is steady: D/h = 8 centred gives 16.6686 at 0.12 s and
        16.6613 at 0.48 s (-0.04 %, measured 2026-11-21).
 """
+
 import argparse
 import json
 import math
@@ -118,8 +119,9 @@ def main():
     ap.add_argument("cpd", nargs="*", type=float, default=[8, 12, 16, 24, 32])
     ap.add_argument("--offsets", type=int, default=4)
     ap.add_argument("--end", type=float, default=0.12)
-    ap.add_argument("--out", default=os.path.join(ROOT, "tests", "bench", "results",
-                                                  "faxenConvergence.json"))
+    ap.add_argument(
+        "--out", default=os.path.join(ROOT, "tests", "bench", "results", "faxenConvergence.json")
+    )
     a = ap.parse_args()
     env = conftest.foam_env()
     ref = trr.faxen_drag(0.2)
@@ -133,15 +135,28 @@ def main():
             for sx, sy in offsets(a.offsets):
                 v = disc_drag(work, env, cpd, sx, sy, a.end)
                 vals.append(v)
-                print(f"D/h = {cpd:g}, offset ({sx:+.2f}, {sy:+.2f}) h: F/(mu U) = {v:.4f}", flush=True)
+                print(
+                    f"D/h = {cpd:g}, offset ({sx:+.2f}, {sy:+.2f}) h: F/(mu U) = {v:.4f}",
+                    flush=True,
+                )
             m = float(np.mean(vals))
-            levels.append({"cells_per_diameter": cpd, "h": D / cpd, "offsets_h": offsets(a.offsets),
-                           "drag": vals, "mean": m,
-                           "spread": float((max(vals) - min(vals)) / m),
-                           "error_vs_faxen": abs(m - ref) / ref,
-                           "wall_seconds": time.time() - t1})
-            print(f"D/h = {cpd:g}: mean {m:.4f} (Faxen {ref:.4f}, {100 * (m - ref) / ref:+.2f} %), "
-                  f"spread {100 * levels[-1]['spread']:.2f} %", flush=True)
+            levels.append(
+                {
+                    "cells_per_diameter": cpd,
+                    "h": D / cpd,
+                    "offsets_h": offsets(a.offsets),
+                    "drag": vals,
+                    "mean": m,
+                    "spread": float((max(vals) - min(vals)) / m),
+                    "error_vs_faxen": abs(m - ref) / ref,
+                    "wall_seconds": time.time() - t1,
+                }
+            )
+            print(
+                f"D/h = {cpd:g}: mean {m:.4f} (Faxen {ref:.4f}, {100 * (m - ref) / ref:+.2f} %), "
+                f"spread {100 * levels[-1]['spread']:.2f} %",
+                flush=True,
+            )
     h = np.array([lv["h"] for lv in levels])
     f = np.array([lv["mean"] for lv in levels])
     err = np.abs(f - ref)
@@ -153,16 +168,21 @@ def main():
     res = {
         "benchmark": "faxenConvergence",
         "case": "tests/cases/test_resolvedRegime.py fixed_disc_drag (k = D/H = 0.2, Re = 0.01, "
-                f"t_end = {a.end} s), disc centre averaged over {a.offsets} sub-cell offsets",
+        f"t_end = {a.end} s), disc centre averaged over {a.offsets} sub-cell offsets",
         "reference": "Faxen (1946), Happel & Brenner (1965); Ben Richou et al. (2004) eq. 1: "
-                     "F/(mu U) = 4 pi / (-ln k - 0.9157 + 1.7244 k^2 - 1.7302 k^4 + 2.4056 k^6 "
-                     "- 4.5913 k^8)",
+        "F/(mu U) = 4 pi / (-ln k - 0.9157 + 1.7244 k^2 - 1.7302 k^4 + 2.4056 k^6 "
+        "- 4.5913 k^8)",
         "faxen_drag": ref,
         "levels": levels,
         "observed_order_error_vs_faxen": p_err,
         "observed_order_successive_differences": p_diff,
-        "richardson_fit": {"order": p_r, "F_inf": f_inf, "C": c_r, "rms": rms,
-                           "F_inf_vs_faxen": (f_inf - ref) / ref if f_inf == f_inf else None},
+        "richardson_fit": {
+            "order": p_r,
+            "F_inf": f_inf,
+            "C": c_r,
+            "rms": rms,
+            "F_inf_vs_faxen": (f_inf - ref) / ref if f_inf == f_inf else None,
+        },
         "thesis_order": 1.65,
         "wall_seconds_total": time.time() - t0,
     }
@@ -170,13 +190,17 @@ def main():
     with open(a.out, "w") as fo:
         json.dump(res, fo, indent=2, sort_keys=True)
         fo.write("\n")
-    print(f"observed order: |F - F_Faxen| ~ h^{p_err:.2f}, successive differences ~ h^{p_diff:.2f}, "
-          f"Richardson fit p = {p_r:.2f}, F_inf = {f_inf:.4f} ({100 * (f_inf - ref) / ref:+.2f} % "
-          f"vs Faxen)\n-> {a.out}")
+    print(
+        f"observed order: |F - F_Faxen| ~ h^{p_err:.2f}, successive differences ~ h^{p_diff:.2f}, "
+        f"Richardson fit p = {p_r:.2f}, F_inf = {f_inf:.4f} ({100 * (f_inf - ref) / ref:+.2f} % "
+        f"vs Faxen)\n-> {a.out}"
+    )
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         fig, ax = plt.subplots(1, 2, figsize=(9, 3.8))
         for lv in levels:
             ax[0].plot([lv["cells_per_diameter"]] * len(lv["drag"]), lv["drag"], "C0.", alpha=0.5)
@@ -189,7 +213,9 @@ def main():
         ax[0].legend(fontsize=8)
         ax[1].loglog(a.cpd, err / ref, "C0o-", label=f"|F - F_Faxen|/F_Faxen, p = {p_err:.2f}")
         if len(diffs):
-            ax[1].loglog(D / hm, diffs / ref, "C2s-", label=f"successive differences, p = {p_diff:.2f}")
+            ax[1].loglog(
+                D / hm, diffs / ref, "C2s-", label=f"successive differences, p = {p_diff:.2f}"
+            )
         x = np.array(a.cpd)
         ax[1].loglog(x, (err[0] / ref) * (x / x[0]) ** -1.65, "k:", label="slope -1.65 (thesis)")
         ax[1].set_xlabel("D/h")

@@ -17,16 +17,16 @@ Measured per case, from the lagrangian grains of the first and last times:
   runout_change_last_interval: L_f minus the runout one write interval earlier.
 Reference: Staron & Hinch (2005) and Lube et al. (2005), see REFERENCE below.
 """
+
 import os
 import sys
 
-import numpy as np
-
 import nscdpost
+import numpy as np
 
 REFERENCE = {
     "source": "Lube, Huppert, Sparks & Freundt (2005) Phys. Rev. E 72, 041301, 2D columns: "
-              "(L_f-L_i)/L_i = 1.2 a for a < 1.8 and 1.9 a^(2/3) for a > 2.8",
+    "(L_f-L_i)/L_i = 1.2 a for a < 1.8 and 1.9 a^(2/3) for a > 2.8",
 }
 
 
@@ -105,14 +105,20 @@ def main():
     nscdpost.write_json("results.json", out)
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         a = np.linspace(0.2, 8, 200)
         fig, ax = plt.subplots(figsize=(5, 4))
         ax.loglog(a, runout_law(a), "k-", label="Lube et al. 2005 (2D)")
-        ax.loglog([c["aspect_ratio"] for c in results],
-                  [c["normalised_runout"] for c in results], "o", color="C3",
-                  label="grainFoam (NSCD discs)")
+        ax.loglog(
+            [c["aspect_ratio"] for c in results],
+            [c["normalised_runout"] for c in results],
+            "o",
+            color="C3",
+            label="grainFoam (NSCD discs)",
+        )
         ax.set_xlabel("aspect ratio a = H_i / L_i")
         ax.set_ylabel("(L_f - L_i) / L_i")
         ax.legend()
@@ -122,8 +128,10 @@ def main():
     except ImportError:
         print("matplotlib missing: no runout.png")
     for c in results:
-        print(f"a = {c['aspect_ratio']:.2f}: (L_f-L_i)/L_i = {c['normalised_runout']:.2f} "
-              f"(law {c['reference_normalised_runout']:.2f}), H_f/L_i = {c['final_height']/c['initial_width']:.2f}")
+        print(
+            f"a = {c['aspect_ratio']:.2f}: (L_f-L_i)/L_i = {c['normalised_runout']:.2f} "
+            f"(law {c['reference_normalised_runout']:.2f}), H_f/L_i = {c['final_height'] / c['initial_width']:.2f}"
+        )
 
 
 if __name__ == "__main__":

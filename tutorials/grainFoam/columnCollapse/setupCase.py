@@ -9,12 +9,14 @@ fraction of 0.82 (dense random 2D packing of slightly polydisperse discs); the
 insertion box is taller than the final column (grains settle from a loose
 lattice).  The domain extends far enough for the runout of the scaling law.
 """
+
 import math
 import os
 import sys
 
-here = os.path.dirname(os.path.abspath(__file__))
 import nscdpost
+
+here = os.path.dirname(os.path.abspath(__file__))
 
 
 def main():
@@ -34,20 +36,31 @@ def main():
     h = 4 * dmean
     tend = round(max(0.6, 5.5 * math.sqrt(h0 / 9.81)), 2)
     subs = {
-        "@LX@": f"{lx:.6g}", "@LY@": f"{ly:.6g}", "@LZ@": f"{dmean:.6g}",
-        "@NX@": str(max(1, int(lx / h))), "@NY@": str(max(1, int(ly / h))),
-        "@W0@": f"{w0:.6g}", "@HBOX@": f"{hbox:.6g}", "@NGRAINS@": str(n),
-        "@DMIN@": f"{dmin:.6g}", "@LAMBDA@": f"{lam:.6g}",
-        "@FRICTION@": f"{mu:.6g}", "@ENDTIME@": f"{tend:.6g}",
+        "@LX@": f"{lx:.6g}",
+        "@LY@": f"{ly:.6g}",
+        "@LZ@": f"{dmean:.6g}",
+        "@NX@": str(max(1, int(lx / h))),
+        "@NY@": str(max(1, int(ly / h))),
+        "@W0@": f"{w0:.6g}",
+        "@HBOX@": f"{hbox:.6g}",
+        "@NGRAINS@": str(n),
+        "@DMIN@": f"{dmin:.6g}",
+        "@LAMBDA@": f"{lam:.6g}",
+        "@FRICTION@": f"{mu:.6g}",
+        "@ENDTIME@": f"{tend:.6g}",
         "@WRITEINTERVAL@": f"{tend / 10:.6g}",
-        "@ROWTOP@": f"{dmean:.6g}", "@ROWY@": f"{0.5 * dmean:.6g}",
-        "@ROWX0@": f"{0.5 * dmean:.6g}", "@ROWX1@": f"{lx - 0.5 * dmean:.6g}",
+        "@ROWTOP@": f"{dmean:.6g}",
+        "@ROWY@": f"{0.5 * dmean:.6g}",
+        "@ROWX0@": f"{0.5 * dmean:.6g}",
+        "@ROWX1@": f"{lx - 0.5 * dmean:.6g}",
         "@DMEAN@": f"{dmean:.6g}",
     }
     nscdpost.instantiate_case(os.path.join(here, "base"), case, subs)
     with open(os.path.join(case, "caseParameters"), "w") as fh:
         fh.write(f"aspectRatio {a}\ngateX {w0}\nnGrains {n}\nfriction {mu}\n")
-    print(f"{case}: a={a} N={n} L_i={w0:.4f} m H_i~{h0:.4f} m domain {lx:.3f}x{ly:.3f} m, endTime {tend} s")
+    print(
+        f"{case}: a={a} N={n} L_i={w0:.4f} m H_i~{h0:.4f} m domain {lx:.3f}x{ly:.3f} m, endTime {tend} s"
+    )
 
 
 if __name__ == "__main__":

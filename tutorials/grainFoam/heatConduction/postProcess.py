@@ -10,13 +10,13 @@ caseParameters, see setupCase.py). From the last written time: the grain
 temperatures (lagrangian field T) for a temperature-coloured snapshot and the
 mean temperature of each horizontal layer of one mean diameter.
 """
+
 import os
 import re
 import sys
 
-import numpy as np
-
 import nscdpost
+import numpy as np
 
 
 def main():
@@ -44,19 +44,28 @@ def main():
     for k in range(int(np.ceil(y.max() / dm))):
         sel = (y >= k * dm) & (y < (k + 1) * dm)
         if sel.any():
-            layers.append({"y": (k + 0.5) * dm, "mean_T": float(T[sel].mean()), "grains": int(sel.sum())})
+            layers.append(
+                {"y": (k + 0.5) * dm, "mean_T": float(T[sel].mean()), "grains": int(sel.sum())}
+            )
     # keep the json small: every step would be thousands of entries
     stride = max(1, len(t) // 200)
     res = {
         "description": "2D contact conduction (thesis 4.1.1, Fig. 4.2 analogue): floor 400 K, "
-                       "adiabatic sides, open top, discs initially 300 K, glass beads",
-        "material": {"density": 2500, "youngModulus": 6e10, "poissonRatio": 0.22,
-                     "conductivity": 1.4, "heatCapacity": 840},
+        "adiabatic sides, open top, discs initially 300 K, glass beads",
+        "material": {
+            "density": 2500,
+            "youngModulus": 6e10,
+            "poissonRatio": 0.22,
+            "conductivity": 1.4,
+            "heatCapacity": 840,
+        },
         "time_scale_S": S,
         "n_grains": int(len(d)),
         "time": [float(v) for v in t[::stride]] + ([t[-1]] if (len(t) - 1) % stride else []),
-        "mean_grain_temperature": [float(v) for v in Tm[::stride]] + ([Tm[-1]] if (len(t) - 1) % stride else []),
-        "final_time": t[-1], "final_mean_grain_temperature": Tm[-1],
+        "mean_grain_temperature": [float(v) for v in Tm[::stride]]
+        + ([Tm[-1]] if (len(t) - 1) % stride else []),
+        "final_time": t[-1],
+        "final_mean_grain_temperature": Tm[-1],
         "total_wall_heat_J_per_m": float(np.sum(Qw)),
         "heat_gained_J_per_m_from_T": None,
         "final_layer_temperature": layers,
@@ -64,14 +73,17 @@ def main():
     # energy check: sum m c (T - T0) with the glass c (simulated c = 840/S and
     # the scaled time give the same temperatures; the wall heat in the log is
     # for the simulated c)
-    m = 2500 * np.pi * d ** 2 / 4
+    m = 2500 * np.pi * d**2 / 4
     res["heat_gained_J_per_m_from_T"] = float(np.sum(m * 840.0 / S * (T - float(params["T0"]))))
     nscdpost.write_json("results.json", res)
-    print(f"{len(d)} grains, final time {t[-1]:.4g} s (physical): mean T {Tm[-1]:.2f} K; "
-          f"wall heat (simulated c) {res['total_wall_heat_J_per_m']:.4g} J/m vs grain heat gain "
-          f"{res['heat_gained_J_per_m_from_T']:.4g} J/m")
+    print(
+        f"{len(d)} grains, final time {t[-1]:.4g} s (physical): mean T {Tm[-1]:.2f} K; "
+        f"wall heat (simulated c) {res['total_wall_heat_J_per_m']:.4g} J/m vs grain heat gain "
+        f"{res['heat_gained_J_per_m_from_T']:.4g} J/m"
+    )
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         from matplotlib.collections import PatchCollection

@@ -14,12 +14,14 @@ equation m c dT/dt = sum H dT is linear: with heatCapacity c/S the temperature
 at simulated time t is the one of the real glass (c = 840 J/(kg K)) at time
 S t. S = 5e4 by default; postProcess.py reports the physical time S t.
 """
+
 import math
 import os
 import sys
 
-here = os.path.dirname(os.path.abspath(__file__))
 import nscdpost
+
+here = os.path.dirname(os.path.abspath(__file__))
 
 
 def main():
@@ -37,12 +39,18 @@ def main():
     ly = 1.05 * hbox
     h = 2 * dmean
     subs = {
-        "@LX@": f"{lx:.6g}", "@LY@": f"{ly:.6g}", "@LZ@": f"{dmean:.6g}",
-        "@NX@": str(max(1, int(lx / h))), "@NY@": str(max(1, int(ly / h))),
-        "@HBOX@": f"{hbox:.6g}", "@NGRAINS@": str(n),
-        "@DMIN@": f"{dmin:.6g}", "@LAMBDA@": f"{lam:.6g}",
+        "@LX@": f"{lx:.6g}",
+        "@LY@": f"{ly:.6g}",
+        "@LZ@": f"{dmean:.6g}",
+        "@NX@": str(max(1, int(lx / h))),
+        "@NY@": str(max(1, int(ly / h))),
+        "@HBOX@": f"{hbox:.6g}",
+        "@NGRAINS@": str(n),
+        "@DMIN@": f"{dmin:.6g}",
+        "@LAMBDA@": f"{lam:.6g}",
         "@HEATCAPACITY@": f"{840.0 / S:.6g}",
-        "@ENDTIME@": f"{tend:.6g}", "@DELTAT@": f"{dt:.6g}",
+        "@ENDTIME@": f"{tend:.6g}",
+        "@DELTAT@": f"{dt:.6g}",
         "@WRITEINTERVAL@": f"{tend / 10:.6g}",
     }
     nscdpost.instantiate_case(os.path.join(here, "base"), case, subs)

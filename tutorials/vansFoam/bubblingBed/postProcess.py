@@ -31,19 +31,20 @@ thesis' reported trend (section 4.2.3: the bed cools faster the higher the
 inflow velocity; the thesis calibrated lambda on v = 1.54 m/s) and with the
 well-mixed air-only time constant.
 """
+
 import json
 import math
 import os
 import re
 import sys
 
+import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
 
 RHO_A, CP_A, C_P = 1.204, 1010.0, 840.0
-SAMPLE = 0.05     # simulated seconds between stored samples
+SAMPLE = 0.05  # simulated seconds between stored samples
 
 
 def log_series(case):
@@ -55,13 +56,18 @@ def log_series(case):
             if m:
                 t = float(m.group(1))
                 continue
-            m = re.match(r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
-                         r"energy fluid \+ grains = (\S+) J", line)
+            m = re.match(
+                r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
+                r"energy fluid \+ grains = (\S+) J",
+                line,
+            )
             if m:
                 out.append((t, float(m.group(1)), float(m.group(4))))
                 continue
             if line.startswith("heat budget:"):
-                for key, val in re.findall(r"([a-z][a-z ]*?) = (\S+) J", line[len("heat budget:"):]):
+                for key, val in re.findall(
+                    r"([a-z][a-z ]*?) = (\S+) J", line[len("heat budget:") :]
+                ):
                     key = key.strip().replace(" ", "_")
                     budget[key] = budget.get(key, 0.0) + float(val)
     return np.array(out), budget
@@ -72,7 +78,12 @@ def cell_centres(case, tname):
 
 
 def maps(case, info, png):
-    tdirs = [d for d in os.listdir(case) if re.match(r"^[0-9.eE+-]+$", d) and os.path.isfile(os.path.join(case, d, "voidFractionMean"))]
+    tdirs = [
+        d
+        for d in os.listdir(case)
+        if re.match(r"^[0-9.eE+-]+$", d)
+        and os.path.isfile(os.path.join(case, d, "voidFractionMean"))
+    ]
     if not tdirs:
         return None
     tname = max(tdirs, key=float)
@@ -89,6 +100,7 @@ def maps(case, info, png):
     P[iy, ix], VX[iy, ix], VY[iy, ix] = phi, v[:, 0], v[:, 1]
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
@@ -98,7 +110,9 @@ def maps(case, info, png):
     ny = np.searchsorted(ys, min(ys[-1], top + 0.01)) + 1
     fig, axes = plt.subplots(1, 2, figsize=(8, 6), sharey=True)
     ext = [0, xs[-1] + xs[0], 0, ys[ny - 1] + ys[0]]
-    im = axes[0].imshow(P[:ny], origin="lower", extent=ext, cmap="viridis", vmin=0, vmax=0.75, aspect="equal")
+    im = axes[0].imshow(
+        P[:ny], origin="lower", extent=ext, cmap="viridis", vmin=0, vmax=0.75, aspect="equal"
+    )
     fig.colorbar(im, ax=axes[0], label="solid fraction")
     axes[0].set_title("time-averaged solid fraction")
     sp = np.hypot(VX, VY)
@@ -111,7 +125,9 @@ def maps(case, info, png):
     for a in axes:
         a.set_xlabel("x [m]")
     axes[0].set_ylabel("y [m]")
-    fig.suptitle(f"v = {info['inflow_velocity']} m/s, averaged over t = {info['avg_start']} - {float(tname):g} s")
+    fig.suptitle(
+        f"v = {info['inflow_velocity']} m/s, averaged over t = {info['avg_start']} - {float(tname):g} s"
+    )
     fig.tight_layout()
     fig.savefig(png, dpi=120)
     plt.close(fig)
@@ -119,10 +135,19 @@ def maps(case, info, png):
 
 
 def main(cases):
-    res = {"inflow_velocity": [], "time": [], "mean_particle_temperature": [], "excess_temperature": [],
-           "cooling_time": [], "well_mixed_air_time": [], "heat_budget": [], "time_averaged_maps": [],
-           "heat_time_scale": [], "reference": "thesis section 4.2.3 trend (faster cooling at higher inflow "
-           "velocity); Patil et al. 2015 data not available here"}
+    res = {
+        "inflow_velocity": [],
+        "time": [],
+        "mean_particle_temperature": [],
+        "excess_temperature": [],
+        "cooling_time": [],
+        "well_mixed_air_time": [],
+        "heat_budget": [],
+        "time_averaged_maps": [],
+        "heat_time_scale": [],
+        "reference": "thesis section 4.2.3 trend (faster cooling at higher inflow "
+        "velocity); Patil et al. 2015 data not available here",
+    }
     curves = []
     for case in cases:
         info = json.load(open(os.path.join(case, "case.json")))
@@ -155,20 +180,30 @@ def main(cases):
         res["cooling_time"].append(tc)
         res["well_mixed_air_time"].append(tau_air)
         res["heat_budget"].append(budget)
-        res["time_averaged_maps"].append({"start": info["avg_start"], "end": float(tname) if tname else None,
-                                          "png": png if tname else None})
+        res["time_averaged_maps"].append(
+            {
+                "start": info["avg_start"],
+                "end": float(tname) if tname else None,
+                "png": png if tname else None,
+            }
+        )
         curves.append((v, tphys, Tm, tau_air, T0, Tin))
-        print(f"{case}: v = {v} m/s, {len(data)} steps, T {Tm[0]:.2f} -> {Tm[-1]:.2f} K at t = {tphys[-1]:.1f} s"
-              f" (physical), 1/e cooling time {tc}, well-mixed air-only tau {tau_air:.1f} s")
+        print(
+            f"{case}: v = {v} m/s, {len(data)} steps, T {Tm[0]:.2f} -> {Tm[-1]:.2f} K at t = {tphys[-1]:.1f} s"
+            f" (physical), 1/e cooling time {tc}, well-mixed air-only tau {tau_air:.1f} s"
+        )
     # the thesis' trend: higher inflow velocity -> faster cooling
     order = sorted(range(len(res["inflow_velocity"])), key=lambda i: res["inflow_velocity"][i])
     tmin = min((res["time"][i][-1] for i in order), default=0)
     at = [float(np.interp(tmin, res["time"][i], res["excess_temperature"][i])) for i in order]
     res["excess_temperature_at_common_time"] = {"time": tmin, "values": at}
-    res["faster_cooling_at_higher_velocity"] = bool(all(a > b for a, b in zip(at, at[1:]))) if len(at) > 1 else None
+    res["faster_cooling_at_higher_velocity"] = (
+        bool(all(a > b for a, b in zip(at, at[1:]))) if len(at) > 1 else None
+    )
     nscdpost.write_json(os.path.join(here, "results.json"), res)
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
@@ -178,8 +213,14 @@ def main(cases):
     for (v, t, Tm, tau, T0, Tin), c in zip(curves, ["C0", "C1", "C2", "C3"]):
         ax.plot(t, Tm, color=c, label=f"nscdFoam, v = {v} m/s")
         tt = np.linspace(0, t[-1], 100)
-        ax.plot(tt, Tin + (T0 - Tin) * np.exp(-tt / tau), "--", color=c, lw=0.8,
-                label=f"well-mixed bed, air only (tau = {tau:.0f} s)")
+        ax.plot(
+            tt,
+            Tin + (T0 - Tin) * np.exp(-tt / tau),
+            "--",
+            color=c,
+            lw=0.8,
+            label=f"well-mixed bed, air only (tau = {tau:.0f} s)",
+        )
     ax.set_xlabel("physical time [s]")
     ax.set_ylabel("mean particle temperature [K]")
     ax.set_title("Bubbling bed cooling (thesis Fig. 4.8 setup)")

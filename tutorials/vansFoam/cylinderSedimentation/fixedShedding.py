@@ -25,20 +25,25 @@ Brown 1998); the blockage D/W = 1/8 raises St by some percent.
 usage: fixedShedding.py setup CASEDIR [CELLS_PER_D [ENDTIME]]   (default 15, 8 s)
        fixedShedding.py post CASEDIR      -> shedding.json, shedding.png (cwd)
 """
+
 import json
 import os
 import sys
 
+import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
 
-setupCase = nscdpost.load_module("cylinderSedimentation_setupCase", os.path.join(here, "setupCase.py"))
-post = nscdpost.load_module("cylinderSedimentation_postProcess", os.path.join(here, "postProcess.py"))
+setupCase = nscdpost.load_module(
+    "cylinderSedimentation_setupCase", os.path.join(here, "setupCase.py")
+)
+post = nscdpost.load_module(
+    "cylinderSedimentation_postProcess", os.path.join(here, "postProcess.py")
+)
 
-UPSTREAM, DOWNSTREAM = 8, 24          # [D]
-SEED = 1.0 / 50                       # [D] lateral offset of the disc
+UPSTREAM, DOWNSTREAM = 8, 24  # [D]
+SEED = 1.0 / 50  # [D] lateral offset of the disc
 
 
 def setup(case, cells_per_d=15.0, end_time=8.0):
@@ -47,10 +52,23 @@ def setup(case, cells_per_d=15.0, end_time=8.0):
     h = D / cells_per_d
     lo, hi = (-UPSTREAM * D, -W / 2), (DOWNSTREAM * D, W / 2)
     cells = (round((hi[0] - lo[0]) / h), round(W / h))
-    setupCase.write_case(case, lo, hi, cells, [(0.0, SEED * D, D)], setupCase.RHO_S,
-                         setupCase.RHO_F, setupCase.NU, gravity=(0, 0, 0), end_time=end_time,
-                         write_interval=0.05, max_co=0.5, max_dt=2e-3, fixed=True,
-                         inflow=setupCase.UT_REF)
+    setupCase.write_case(
+        case,
+        lo,
+        hi,
+        cells,
+        [(0.0, SEED * D, D)],
+        setupCase.RHO_S,
+        setupCase.RHO_F,
+        setupCase.NU,
+        gravity=(0, 0, 0),
+        end_time=end_time,
+        write_interval=0.05,
+        max_co=0.5,
+        max_dt=2e-3,
+        fixed=True,
+        inflow=setupCase.UT_REF,
+    )
     return cells[0] * cells[1]
 
 
@@ -61,8 +79,11 @@ def analyse(case):
         if time <= 0:
             continue
         t.append(time)
-        F.append(nscdpost.read_vector_field(os.path.join(case, name, "lagrangian", "grains",
-                                                         "Ffluid"))[0])
+        F.append(
+            nscdpost.read_vector_field(os.path.join(case, name, "lagrangian", "grains", "Ffluid"))[
+                0
+            ]
+        )
     t, F = np.array(t), np.array(F)
     U, D, nu = setupCase.UT_REF, setupCase.D, setupCase.NU
     re = U * D / nu
@@ -73,20 +94,25 @@ def analyse(case):
     sel = t >= (sh["window_start"] if sh["window_start"] is not None else t[-1])
     txt = open(os.path.join(case, "system", "blockMeshDict")).read()
     ny = int(txt.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[1])
-    return t, F, sh, {
-        "fixed_cylinder_reynolds_number": re,
-        "fixed_cylinder_cells_per_diameter": D / (setupCase.WIDTH / ny),
-        "fixed_cylinder_shedding_frequency": f,
-        "fixed_cylinder_shedding_periods_used": sh["periods"],
-        "fixed_cylinder_shedding_window": [sh["window_start"], sh["window_end"]],
-        "fixed_cylinder_shedding_frequency_fft": sh["fft_frequency"],
-        "fixed_cylinder_drag_fft_frequency_half": sh["streamwise_fft_frequency_half"],
-        "fixed_cylinder_strouhal_number": f * D / U,
-        "fixed_cylinder_mean_drag_coefficient": float(np.mean(F[sel, 0]) / rhoU2D),
-        "fixed_cylinder_lift_coefficient_amplitude": sh["oscillation_amplitude"] / rhoU2D,
-        "strouhal_reference_williamson1996": st_ref,
-        "strouhal_reference_williamson_brown1998": float(post.strouhal_williamson_brown(re)),
-    }
+    return (
+        t,
+        F,
+        sh,
+        {
+            "fixed_cylinder_reynolds_number": re,
+            "fixed_cylinder_cells_per_diameter": D / (setupCase.WIDTH / ny),
+            "fixed_cylinder_shedding_frequency": f,
+            "fixed_cylinder_shedding_periods_used": sh["periods"],
+            "fixed_cylinder_shedding_window": [sh["window_start"], sh["window_end"]],
+            "fixed_cylinder_shedding_frequency_fft": sh["fft_frequency"],
+            "fixed_cylinder_drag_fft_frequency_half": sh["streamwise_fft_frequency_half"],
+            "fixed_cylinder_strouhal_number": f * D / U,
+            "fixed_cylinder_mean_drag_coefficient": float(np.mean(F[sel, 0]) / rhoU2D),
+            "fixed_cylinder_lift_coefficient_amplitude": sh["oscillation_amplitude"] / rhoU2D,
+            "strouhal_reference_williamson1996": st_ref,
+            "strouhal_reference_williamson_brown1998": float(post.strouhal_williamson_brown(re)),
+        },
+    )
 
 
 def main():
@@ -101,29 +127,40 @@ def main():
         return
     t, F, sh, res = analyse(case)
     with open("shedding.json", "w") as fo:
-        json.dump(dict(res, time=t.tolist(), lift=F[:, 1].tolist(), drag=F[:, 0].tolist()),
-                  fo, indent=2, sort_keys=True)
+        json.dump(
+            dict(res, time=t.tolist(), lift=F[:, 1].tolist(), drag=F[:, 0].tolist()),
+            fo,
+            indent=2,
+            sort_keys=True,
+        )
         fo.write("\n")
     st, sr = res["fixed_cylinder_strouhal_number"], res["strouhal_reference_williamson1996"]
-    print(f"fixed cylinder Re = {res['fixed_cylinder_reynolds_number']:.1f}: shedding "
-          f"{res['fixed_cylinder_shedding_frequency']:.4f} Hz over {sh['periods']:.1f} periods "
-          f"(FFT {sh['fft_frequency']:.4f} Hz, drag/2 {sh['streamwise_fft_frequency_half']:.4f} Hz), "
-          f"St = {st:.4f} vs {sr:.4f} (Williamson 1996) ({100 * (st - sr) / sr:+.1f} %), "
-          f"C_D = {res['fixed_cylinder_mean_drag_coefficient']:.3f}")
+    print(
+        f"fixed cylinder Re = {res['fixed_cylinder_reynolds_number']:.1f}: shedding "
+        f"{res['fixed_cylinder_shedding_frequency']:.4f} Hz over {sh['periods']:.1f} periods "
+        f"(FFT {sh['fft_frequency']:.4f} Hz, drag/2 {sh['streamwise_fft_frequency_half']:.4f} Hz), "
+        f"St = {st:.4f} vs {sr:.4f} (Williamson 1996) ({100 * (st - sr) / sr:+.1f} %), "
+        f"C_D = {res['fixed_cylinder_mean_drag_coefficient']:.3f}"
+    )
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        rhoU2D = 0.5 * setupCase.RHO_F * setupCase.UT_REF ** 2 * setupCase.D
+
+        rhoU2D = 0.5 * setupCase.RHO_F * setupCase.UT_REF**2 * setupCase.D
         fig, ax = plt.subplots(figsize=(7, 3.6))
         ax.plot(t, F[:, 1] / rhoU2D, "C3", label="$C_L$ (lift of the penalised disc)")
         ax.plot(t, F[:, 0] / rhoU2D, "C0", label="$C_D$")
         if sh["window_start"] is not None:
-            ax.axvspan(sh["window_start"], sh["window_end"], color="0.9", zorder=0,
-                       label="analysis window")
-        ax.set_title(f"fixed cylinder, Re = 156, D/h = {res['fixed_cylinder_cells_per_diameter']:.3g}: "
-                     f"St = {st:.3f} ({sh['periods']:.1f} periods); Williamson (1996) {sr:.3f}",
-                     fontsize=9)
+            ax.axvspan(
+                sh["window_start"], sh["window_end"], color="0.9", zorder=0, label="analysis window"
+            )
+        ax.set_title(
+            f"fixed cylinder, Re = 156, D/h = {res['fixed_cylinder_cells_per_diameter']:.3g}: "
+            f"St = {st:.3f} ({sh['periods']:.1f} periods); Williamson (1996) {sr:.3f}",
+            fontsize=9,
+        )
         ax.set_xlabel("t [s]")
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)

@@ -29,16 +29,19 @@ From the grain written at every write time (lagrangian/grains, U):
   St = 0.2665 - 1.018/sqrt(Re) = 0.1850, i.e. f = St U_t/D = 0.925 Hz.  The
   walls (W/D = 8) and the freedom of the cylinder shift it by some percent.
 """
+
 import json
 import os
 import sys
 
+import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
 
-setupCase = nscdpost.load_module("cylinderSedimentation_setupCase", os.path.join(here, "setupCase.py"))
+setupCase = nscdpost.load_module(
+    "cylinderSedimentation_setupCase", os.path.join(here, "setupCase.py")
+)
 
 
 def grain_history(case):
@@ -114,9 +117,16 @@ def shedding_analysis(t, ulat, ustr, f_guess, onset=0.2, hysteresis=0.25):
     the signal has gone beyond +-hysteresis * max|signal| (sampling noise and
     the residual of a smooth drift are not oscillations).
     """
-    out = {"shedding_frequency": 0.0, "periods": 0.0, "window_start": None,
-           "window_end": float(t[-1]), "crossings": [], "fft_frequency": 0.0,
-           "streamwise_fft_frequency_half": 0.0, "oscillation_amplitude": 0.0}
+    out = {
+        "shedding_frequency": 0.0,
+        "periods": 0.0,
+        "window_start": None,
+        "window_end": float(t[-1]),
+        "crossings": [],
+        "fft_frequency": 0.0,
+        "streamwise_fft_frequency_half": 0.0,
+        "oscillation_amplitude": 0.0,
+    }
     amax = np.max(np.abs(ulat))
     if amax <= 0 or t.size < 8:
         return out
@@ -127,18 +137,18 @@ def shedding_analysis(t, ulat, ustr, f_guess, onset=0.2, hysteresis=0.25):
         return out
     dt = float(np.median(np.diff(ts)))
     w = max(1, int(round(1.0 / (f_guess * dt))))
-    if w + 8 > ts.size:     # shorter than one period + 8 samples: linear trend
+    if w + 8 > ts.size:  # shorter than one period + 8 samples: linear trend
         a = ul - np.polyval(np.polyfit(ts, ul, 1), ts)
-    else:                   # centred moving average over one period, full windows only
+    else:  # centred moving average over one period, full windows only
         ma = np.convolve(ul, np.ones(w) / w, mode="valid")
         k0 = (w - 1) // 2
-        ts, ul, us = ts[k0:k0 + ma.size], ul[k0:k0 + ma.size], us[k0:k0 + ma.size]
+        ts, ul, us = ts[k0 : k0 + ma.size], ul[k0 : k0 + ma.size], us[k0 : k0 + ma.size]
         a = ul - ma
     out["oscillation_amplitude"] = float(0.5 * (a.max() - a.min()))
     out["window_start"], out["window_end"] = float(ts[0]), float(ts[-1])
     tc = _zero_crossings(ts, a, hysteresis)
     out["crossings"] = tc.tolist()
-    if tc.size >= 5:        # at least two full periods
+    if tc.size >= 5:  # at least two full periods
         out["periods"] = 0.5 * (tc.size - 1)
         out["shedding_frequency"] = float(out["periods"] / (tc[-1] - tc[0]))
     out["fft_frequency"] = _fft_peak(ts, a)
@@ -158,7 +168,7 @@ def measure(t, ustr, ulat, window=0.4):
         a = ul - np.polyval(np.polyfit(ts, ul, 1), ts)
         s = np.signbit(a)
         idx = np.nonzero(s[1:] != s[:-1])[0]
-        if idx.size >= 5:           # at least two full periods, else a drift
+        if idx.size >= 5:  # at least two full periods, else a drift
             # interpolated crossing times; half a period between crossings
             tc = ts[idx] - a[idx] * (ts[idx + 1] - ts[idx]) / (a[idx + 1] - a[idx])
             f = float(0.5 * (idx.size - 1) / (tc[-1] - tc[0]))
@@ -174,7 +184,11 @@ def selftest():
     rng = np.random.default_rng(1)
     grow = np.clip((t - 1.0) / 2.0, 0.0, 1.0)
     for drift in (0.001, 0.01):
-        ul = 0.004 * np.sin(2 * np.pi * 0.9 * t) * grow + drift * t / 8 + 1e-5 * rng.standard_normal(t.size)
+        ul = (
+            0.004 * np.sin(2 * np.pi * 0.9 * t) * grow
+            + drift * t / 8
+            + 1e-5 * rng.standard_normal(t.size)
+        )
         us = 0.025 + 0.001 * np.sin(2 * np.pi * 1.8 * t) * grow
         r = shedding_analysis(t, ul, us, 0.925)
         assert abs(r["shedding_frequency"] / 0.9 - 1) < 0.02 and r["periods"] >= 3, r
@@ -223,10 +237,14 @@ def main():
         "y": x[0, :, 1].tolist(),
         "cells_per_diameter": setupCase.D / (setupCase.WIDTH / nx),
         "walls_from_axis_in_D": walls / setupCase.D,
-        "rotation_coupling": "rotationCoupling yes" in open(
-            os.path.join(case, "constant", "couplingProperties")).read(),
-        "scheme": ("resolved" if "resolvedCellsPerDiameter" in open(
-            os.path.join(case, "constant", "couplingProperties")).read() else "default"),
+        "rotation_coupling": "rotationCoupling yes"
+        in open(os.path.join(case, "constant", "couplingProperties")).read(),
+        "scheme": (
+            "resolved"
+            if "resolvedCellsPerDiameter"
+            in open(os.path.join(case, "constant", "couplingProperties")).read()
+            else "default"
+        ),
         "terminal_velocity": ut,
         "max_streamwise_velocity": float(ustr.max()),
         "terminal_velocity_reference": ref,
@@ -244,45 +262,69 @@ def main():
         "strouhal_reference_williamson1996": st_ref,
         "strouhal_reference_williamson_brown1998": float(strouhal_williamson_brown(re_ref)),
         "shedding_frequency_reference": f_ref,
-        "shedding_frequency_reference_source":
-            "fixed unbounded cylinder at Re = 156, St = 0.2175 - 5.1064/Re (Williamson 1996), "
-            "f = St U_t/D; no verified value of Namkoong et al. (2008) for the free cylinder",
+        "shedding_frequency_reference_source": "fixed unbounded cylinder at Re = 156, St = 0.2175 - 5.1064/Re (Williamson 1996), "
+        "f = St U_t/D; no verified value of Namkoong et al. (2008) for the free cylinder",
     }
-    if os.path.exists("shedding.json"):     # fixedShedding.py post: the fixed-cylinder companion
+    if os.path.exists("shedding.json"):  # fixedShedding.py post: the fixed-cylinder companion
         fixed = json.load(open("shedding.json"))
         res.update({k: v for k, v in fixed.items() if not isinstance(v, list)})
     nscdpost.write_json("results.json", res)
-    print(f"terminal velocity {100 * ut:.4f} cm/s (reference {100 * ref:.4f} cm/s, "
-          f"{100 * (ut - ref) / ref:+.1f} %), Re = {re:.1f}")
-    print(f"shedding frequency {f:.3f} Hz over {sh['periods']:.1f} periods from "
-          f"t = {sh['window_start']} s (FFT {sh['fft_frequency']:.3f} Hz, streamwise/2 "
-          f"{sh['streamwise_fft_frequency_half']:.3f} Hz), St = {res['strouhal_number']:.3f}; "
-          f"reference St {st_ref:.3f}, f {f_ref:.3f} Hz")
+    print(
+        f"terminal velocity {100 * ut:.4f} cm/s (reference {100 * ref:.4f} cm/s, "
+        f"{100 * (ut - ref) / ref:+.1f} %), Re = {re:.1f}"
+    )
+    print(
+        f"shedding frequency {f:.3f} Hz over {sh['periods']:.1f} periods from "
+        f"t = {sh['window_start']} s (FFT {sh['fft_frequency']:.3f} Hz, streamwise/2 "
+        f"{sh['streamwise_fft_frequency_half']:.3f} Hz), St = {res['strouhal_number']:.3f}; "
+        f"reference St {st_ref:.3f}, f {f_ref:.3f} Hz"
+    )
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         fig, ax = plt.subplots(figsize=(7, 4))
         ax.plot(t, ustr / ref, "C0-", label=r"$u_{str}/U_t$ (vansFoam)")
         ax.plot(t, ulat / ref, "C3-", label=r"$u_{lat}/U_t$ (vansFoam)")
         ax.axhline(1.0, color="C0", ls="--", label="$U_t$ = 2.501 cm/s (Namkoong et al. 2008)")
         ax.axhline(0.0, color="k", lw=0.5)
         if sh["window_start"] is not None:
-            ax.axvspan(sh["window_start"], sh["window_end"], color="0.9", zorder=0,
-                       label="shedding analysis window")
+            ax.axvspan(
+                sh["window_start"],
+                sh["window_end"],
+                color="0.9",
+                zorder=0,
+                label="shedding analysis window",
+            )
             # reference oscillation: the period 1/f_ref drawn from the first crossing
             if sh["crossings"]:
                 t0 = sh["crossings"][0]
                 tr = np.linspace(t0, t[-1], 400)
                 amp = np.max(np.abs(ulat[t >= sh["window_start"]])) / ref
-                ax.plot(tr, amp * np.sin(2 * np.pi * f_ref * (tr - t0)) * np.sign(ulat[-1] or 1),
-                        "C3:", lw=0.8, label=f"period of St = {st_ref:.3f} (Williamson 1996), "
-                                            f"{f_ref:.3f} Hz")
-        ax.set_title(f"D/h = {res['cells_per_diameter']:.3g}: " + (
-            f"f = {f:.3f} Hz ({sh['periods']:.1f} periods)" if f > 0 else
-            "no lateral oscillation (< 2 periods)") + f", reference {f_ref:.3f} Hz"
-            + (f"; fixed cylinder {res['fixed_cylinder_shedding_frequency']:.3f} Hz"
-               if "fixed_cylinder_shedding_frequency" in res else ""), fontsize=9)
+                ax.plot(
+                    tr,
+                    amp * np.sin(2 * np.pi * f_ref * (tr - t0)) * np.sign(ulat[-1] or 1),
+                    "C3:",
+                    lw=0.8,
+                    label=f"period of St = {st_ref:.3f} (Williamson 1996), {f_ref:.3f} Hz",
+                )
+        ax.set_title(
+            f"D/h = {res['cells_per_diameter']:.3g}: "
+            + (
+                f"f = {f:.3f} Hz ({sh['periods']:.1f} periods)"
+                if f > 0
+                else "no lateral oscillation (< 2 periods)"
+            )
+            + f", reference {f_ref:.3f} Hz"
+            + (
+                f"; fixed cylinder {res['fixed_cylinder_shedding_frequency']:.3f} Hz"
+                if "fixed_cylinder_shedding_frequency" in res
+                else ""
+            ),
+            fontsize=9,
+        )
         ax.set_xlabel("t [s]")
         ax.set_ylabel("velocity / $U_t$")
         ax.legend(fontsize=7)
@@ -291,6 +333,7 @@ def main():
         fig.savefig("velocity.png", dpi=120)
     except ImportError:
         print("matplotlib missing: no velocity.png")
+
 
 if __name__ == "__main__":
     main()

@@ -40,28 +40,34 @@ number is verified the comparison is a self-convergence one: the kissing
 time at D/h = 6 and 12.5 (see the issue 7 reports), REFERENCE_KISSING_TIME
 below to fill in.
 """
+
 import json
 import os
 import sys
 
+import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
 
 
 # by path: both tutorials have a setupCase.py / postProcess.py
-setupCase = nscdpost.load_module("draftingKissingTumbling_setupCase", os.path.join(here, "setupCase.py"))
+setupCase = nscdpost.load_module(
+    "draftingKissingTumbling_setupCase", os.path.join(here, "setupCase.py")
+)
 grain_history = nscdpost.load_module(
     "cylinderSedimentation_postProcess",
-    os.path.join(here, "..", "cylinderSedimentation", "postProcess.py")).grain_history
+    os.path.join(here, "..", "cylinderSedimentation", "postProcess.py"),
+).grain_history
 
 
 # Published kissing time [s] of this set-up and its source; None: not verified.
 REFERENCE_KISSING_TIME = None
-REFERENCE_KISSING_SOURCE = ("none verified: Glowinski et al. (2001), Wan & Turek (2006), Feng et al. "
-                            "(1994) and the codes reproducing them (OpenLB dkt2d, ...) give no quotable "
-                            "kissing time in the searched literature")
+REFERENCE_KISSING_SOURCE = (
+    "none verified: Glowinski et al. (2001), Wan & Turek (2006), Feng et al. "
+    "(1994) and the codes reproducing them (OpenLB dkt2d, ...) give no quotable "
+    "kissing time in the searched literature"
+)
 
 
 def cell_size(case):
@@ -95,29 +101,58 @@ def main():
     t, x, u = grain_history(case)
     h = cell_size(case)
     kiss, tumble, gap = dkt_measure(t, x, setupCase.D, h)
-    res = {"time": t.tolist(), "x1": x[0, :, 0].tolist(), "y1": x[0, :, 1].tolist(),
-           "x2": x[1, :, 0].tolist(), "y2": x[1, :, 1].tolist(), "gap": gap.tolist(),
-           "kissing_time": kiss, "tumbling_time": tumble, "cell_size": h,
-           "contact_time": contact_time(t, x, setupCase.D),
-           "min_gap": float(gap.min()), "min_gap_time": float(t[int(np.argmin(gap))]),
-           "inversion_time": (float(t[np.nonzero(x[0, :, 1] < x[1, :, 1])[0][0]])
-                              if np.any(x[0, :, 1] < x[1, :, 1]) else None),
-           "reference_kissing_time": REFERENCE_KISSING_TIME,
-           "reference_kissing_source": REFERENCE_KISSING_SOURCE,
-           "cells_per_diameter": setupCase.D / h,
-           "rotation_coupling": "rotationCoupling yes" in open(
-               os.path.join(case, "constant", "couplingProperties")).read()}
+    res = {
+        "time": t.tolist(),
+        "x1": x[0, :, 0].tolist(),
+        "y1": x[0, :, 1].tolist(),
+        "x2": x[1, :, 0].tolist(),
+        "y2": x[1, :, 1].tolist(),
+        "gap": gap.tolist(),
+        "kissing_time": kiss,
+        "tumbling_time": tumble,
+        "cell_size": h,
+        "contact_time": contact_time(t, x, setupCase.D),
+        "min_gap": float(gap.min()),
+        "min_gap_time": float(t[int(np.argmin(gap))]),
+        "inversion_time": (
+            float(t[np.nonzero(x[0, :, 1] < x[1, :, 1])[0][0]])
+            if np.any(x[0, :, 1] < x[1, :, 1])
+            else None
+        ),
+        "reference_kissing_time": REFERENCE_KISSING_TIME,
+        "reference_kissing_source": REFERENCE_KISSING_SOURCE,
+        "cells_per_diameter": setupCase.D / h,
+        "rotation_coupling": "rotationCoupling yes"
+        in open(os.path.join(case, "constant", "couplingProperties")).read(),
+    }
     res["compared_runs"] = [
-        {k: o.get(k) for k in ("cells_per_diameter", "rotation_coupling", "kissing_time",
-                               "contact_time", "tumbling_time", "min_gap", "min_gap_time",
-                               "inversion_time")} for o in others]
+        {
+            k: o.get(k)
+            for k in (
+                "cells_per_diameter",
+                "rotation_coupling",
+                "kissing_time",
+                "contact_time",
+                "tumbling_time",
+                "min_gap",
+                "min_gap_time",
+                "inversion_time",
+            )
+        }
+        for o in others
+    ]
     import nscdpost
+
     nscdpost.write_json("results.json", res)
-    print(f"kissing at t = {kiss} s, tumbling (y1 < y2) at t = {tumble} s, min gap {gap.min():.2e} m")
+    print(
+        f"kissing at t = {kiss} s, tumbling (y1 < y2) at t = {tumble} s, min gap {gap.min():.2e} m"
+    )
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         fig, ax = plt.subplots(1, 2, figsize=(9, 4))
         ax[0].plot(t, 100 * x[0, :, 0], "C0", label="disc 1 (upper at t = 0)")
         ax[0].plot(t, 100 * x[1, :, 0], "C3", label="disc 2")
@@ -126,25 +161,46 @@ def main():
         ax[1].plot(t, 100 * x[1, :, 1], "C3", label="disc 2")
         for k, o in enumerate(others):
             lab = f"D/h = {o['cells_per_diameter']:.3g}" + (
-                ", rotation" if o.get("rotation_coupling") else "")
+                ", rotation" if o.get("rotation_coupling") else ""
+            )
             for j, key in enumerate(("1", "2")):
-                ax[0].plot(o["time"], 100 * np.array(o["x" + key]), ("C0", "C3")[j],
-                           ls=("--", ":", "-.")[k % 3], lw=0.8, label=f"disc {key}, {lab}")
-                ax[1].plot(o["time"], 100 * np.array(o["y" + key]), ("C0", "C3")[j],
-                           ls=("--", ":", "-.")[k % 3], lw=0.8, label=f"disc {key}, {lab}")
+                ax[0].plot(
+                    o["time"],
+                    100 * np.array(o["x" + key]),
+                    ("C0", "C3")[j],
+                    ls=("--", ":", "-.")[k % 3],
+                    lw=0.8,
+                    label=f"disc {key}, {lab}",
+                )
+                ax[1].plot(
+                    o["time"],
+                    100 * np.array(o["y" + key]),
+                    ("C0", "C3")[j],
+                    ls=("--", ":", "-.")[k % 3],
+                    lw=0.8,
+                    label=f"disc {key}, {lab}",
+                )
         ax[1].set_ylabel("y [cm]")
         for a in ax:
             if kiss is not None:
                 a.axvline(kiss, color="k", ls="--", lw=0.8, label="kissing (gap < h)")
             if REFERENCE_KISSING_TIME is not None:
-                a.axvline(REFERENCE_KISSING_TIME, color="C2", ls=":", lw=1.2,
-                          label=f"reference kissing time ({REFERENCE_KISSING_SOURCE})")
+                a.axvline(
+                    REFERENCE_KISSING_TIME,
+                    color="C2",
+                    ls=":",
+                    lw=1.2,
+                    label=f"reference kissing time ({REFERENCE_KISSING_SOURCE})",
+                )
             a.set_xlabel("t [s]")
             a.grid(alpha=0.3)
             a.legend(fontsize=8)
-        fig.suptitle(f"DKT, vansFoam D/h = {setupCase.D / h:.3g} (thesis 3.3.4); kissing "
-                     f"{kiss} s" + ("" if REFERENCE_KISSING_TIME is not None else
-                                    " (no verified published reference)"), fontsize=9)
+        fig.suptitle(
+            f"DKT, vansFoam D/h = {setupCase.D / h:.3g} (thesis 3.3.4); kissing "
+            f"{kiss} s"
+            + ("" if REFERENCE_KISSING_TIME is not None else " (no verified published reference)"),
+            fontsize=9,
+        )
         fig.tight_layout()
         fig.savefig("positions.png", dpi=120)
     except ImportError:

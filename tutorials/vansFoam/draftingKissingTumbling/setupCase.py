@@ -26,34 +26,57 @@ usage: setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [ROTATION yes|no] [MAXDT] [S
   (rho_p/rho_f = 1.01).  With SCHEME resolved the same restart from
   t = 1.14 s stays smooth, and the whole run is stable at 1e-3 s.
 """
+
 import os
 import sys
 
-here = os.path.dirname(os.path.abspath(__file__))
 import nscdpost
+
+here = os.path.dirname(os.path.abspath(__file__))
 
 
 # write_case() of the falling-cylinder tutorial
-cyl = nscdpost.load_module("cylinderSedimentation_setupCase",
-                          os.path.join(here, "..", "cylinderSedimentation", "setupCase.py"))
+cyl = nscdpost.load_module(
+    "cylinderSedimentation_setupCase",
+    os.path.join(here, "..", "cylinderSedimentation", "setupCase.py"),
+)
 
-W, H = 0.02, 0.08          # [m]
-D = 0.002                  # [m]
+W, H = 0.02, 0.08  # [m]
+D = 0.002  # [m]
 RHO_F, RHO_P = 1000.0, 1010.0
-NU = 1e-6                  # [m^2/s] = 0.01 g/(cm s) / 1 g/cm^3
-START = [(0.00999, 0.072), (0.010, 0.068)]   # [m] upper (1), lower (2)
+NU = 1e-6  # [m^2/s] = 0.01 g/(cm s) / 1 g/cm^3
+START = [(0.00999, 0.072), (0.010, 0.068)]  # [m] upper (1), lower (2)
 
 
-def dkt_case(case, end_time=4.0, cells_per_d=12.5, write_interval=0.01, rotation=False,
-             max_dt=1e-3, resolved=False):
+def dkt_case(
+    case,
+    end_time=4.0,
+    cells_per_d=12.5,
+    write_interval=0.01,
+    rotation=False,
+    max_dt=1e-3,
+    resolved=False,
+):
     """Write the DKT case (see the module docstring); resolved: add
     `resolvedCellsPerDiameter 4;` to constant/couplingProperties.  Returns
     the number of cells."""
     h = D / cells_per_d
     nx, ny = round(W / h), round(H / h)
-    cyl.write_case(case, (0.0, 0.0), (W, H), (nx, ny), [(x, y, D) for x, y in START],
-                   RHO_P, RHO_F, NU, end_time=end_time, write_interval=write_interval,
-                   max_co=0.5, max_dt=max_dt, rotation=rotation)
+    cyl.write_case(
+        case,
+        (0.0, 0.0),
+        (W, H),
+        (nx, ny),
+        [(x, y, D) for x, y in START],
+        RHO_P,
+        RHO_F,
+        NU,
+        end_time=end_time,
+        write_interval=write_interval,
+        max_co=0.5,
+        max_dt=max_dt,
+        rotation=rotation,
+    )
     if resolved:
         cyl.opt_in_resolved(case)
     return nx * ny
@@ -69,8 +92,10 @@ def main():
     if scheme not in ("resolved", "default"):
         sys.exit(f"setupCase.py: SCHEME must be resolved or default, not {scheme!r}")
     n = dkt_case(case, end, cpd, rotation=rot, max_dt=max_dt, resolved=scheme == "resolved")
-    print(f"{case}: {n} cells, D/h = {cpd:g}, endTime {end:g} s, rotationCoupling {rot}, "
-          f"maxDeltaT {max_dt:g} s, scheme {scheme}")
+    print(
+        f"{case}: {n} cells, D/h = {cpd:g}, endTime {end:g} s, rotationCoupling {rot}, "
+        f"maxDeltaT {max_dt:g} s, scheme {scheme}"
+    )
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ against t/t_ff, the vertical forces and the heat rates on the droplet.
 Pure functions of results.json's `cases` entries and case.json (no case
 files are read here); used by postProcess.main.
 """
+
 import math
 import os
 
@@ -17,8 +18,10 @@ G = 9.81  # gravity [m/s^2] of the tutorial (free-fall time t_ff = sqrt(2 R_0/G)
 def pyplot():
     """matplotlib.pyplot on the non-interactive Agg backend (PNG files only)."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     return plt
 
 
@@ -60,12 +63,20 @@ def plot_final_depth(res, data, outdir):
 # the time series plotted against t/t_ff: results key, y label, title, file
 TIME_SERIES_PLOTS = (
     ("depth", "h/D", "droplet depth (thesis Fig. 4.14)", "dropletDigging_depth.png"),
-    ("velocity", "u t_ff/R", "droplet velocity (thesis Fig. 4.15)",
-     "dropletDigging_velocity.png"),
-    ("mean_grain_temperature", "(T_p - T_d)/(T_bed - T_d)",
-     "mean grain temperature (thesis Fig. 4.16)", "dropletDigging_grainTemperature.png"),
-    ("lifetime", "m/mdot [s]", "instant lifetime (thesis Fig. 4.17)",
-     "dropletDigging_lifetime.png"))
+    ("velocity", "u t_ff/R", "droplet velocity (thesis Fig. 4.15)", "dropletDigging_velocity.png"),
+    (
+        "mean_grain_temperature",
+        "(T_p - T_d)/(T_bed - T_d)",
+        "mean grain temperature (thesis Fig. 4.16)",
+        "dropletDigging_grainTemperature.png",
+    ),
+    (
+        "lifetime",
+        "m/mdot [s]",
+        "instant lifetime (thesis Fig. 4.17)",
+        "dropletDigging_lifetime.png",
+    ),
+)
 
 
 def scaled_series(key, info, r):
@@ -125,7 +136,9 @@ def plot_forces(data, outdir):
         tff = math.sqrt(info["droplet_diameter"] / G)
         t, f, col = np.array(r["time"]), r["forces"], f"C{k}"
         ax.plot(t / tff, smooth(t, f["fluid"]), "-", color=col, label=f"{T:g} C: fluid F_f")
-        ax.plot(t / tff, smooth(t, f["grains"]), "--", color=col, label=f"{T:g} C: grains F_p (+F_c)")
+        ax.plot(
+            t / tff, smooth(t, f["grains"]), "--", color=col, label=f"{T:g} C: grains F_p (+F_c)"
+        )
         ax.plot(t / tff, f["weight"], ":", color=col, lw=0.8)
     ax.set_xlabel("t / t_ff")
     ax.set_ylabel("vertical force / m_0 g (dotted: weight)")
@@ -146,7 +159,9 @@ def plot_heat(data, outdir):
         qf, qp, qfilm = (np.array(r[x]) for x in ("Q_f", "Q_p", "Q_film"))
         q0 = qf[0] + qp[0] + qfilm[0]
         ax.plot(t / tff, smooth(t, qf / q0), "-", color=col, label=f"{T:g} C: Q_f")
-        ax.plot(t / tff, smooth(t, (qp + qfilm) / q0), "--", color=col, label=f"{T:g} C: Q_p (+Q_film)")
+        ax.plot(
+            t / tff, smooth(t, (qp + qfilm) / q0), "--", color=col, label=f"{T:g} C: Q_p (+Q_film)"
+        )
     ax.set_xlabel("t / t_ff")
     ax.set_ylabel("heat rate / first-step L mdot")
     ax.set_yscale("log")

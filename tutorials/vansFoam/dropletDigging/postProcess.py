@@ -62,16 +62,17 @@ thresholds 350 C and 500 C and the maximum depth near 400 C.
 t_ff = sqrt(2 R_0/g) is the free-fall time over the droplet radius (the
 thesis' time scale, section 4.3.3); velocities are scaled by R_0/t_ff.
 """
+
 import json
 import math
 import os
 import re
 import sys
 
+import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
 
 # the figures (thesis Figures 4.13-4.19), a sibling module loaded by path so
 # that tests loading this file by path (nscdpost.load_module) find it too
@@ -79,9 +80,33 @@ figures = nscdpost.load_module("dropletDigging_figures", os.path.join(here, "fig
 G = figures.G
 
 # droplet.dat columns (src/dropletCoupling/README.md)
-COL = dict(t=0, x=1, y=2, u=3, v=4, m=5, mdot=6, Qf=7, Qp=8, R=9, depth=10, Vdot=11,
-           Vp=12, Fp_x=13, Fp_y=14, Fpen_x=15, Fpen_y=16, nGrainsIn=17, Fw_x=18, Fw_y=19,
-           S_x=20, S_y=21, Fc_x=22, Fc_y=23, Q_film=24)
+COL = dict(
+    t=0,
+    x=1,
+    y=2,
+    u=3,
+    v=4,
+    m=5,
+    mdot=6,
+    Qf=7,
+    Qp=8,
+    R=9,
+    depth=10,
+    Vdot=11,
+    Vp=12,
+    Fp_x=13,
+    Fp_y=14,
+    Fpen_x=15,
+    Fpen_y=16,
+    nGrainsIn=17,
+    Fw_x=18,
+    Fw_y=19,
+    S_x=20,
+    S_y=21,
+    Fc_x=22,
+    Fc_y=23,
+    Q_film=24,
+)
 
 
 def read_droplet(case):
@@ -148,8 +173,12 @@ def energy_budget(case, info=None):
     defect = (lg["E"][-1] - lg["E"][0]) + heat - ext
     sink = -(d[:, COL["Qf"]] + d[:, COL["Qp"]]) * dts
     mism = np.max(np.abs((b[:, 2] - vap) - sink) / np.abs(sink))
-    return {"defect": float(defect), "relative": float(abs(defect) / heat),
-            "droplet_heat": float(heat), "source_mismatch": float(mism)}
+    return {
+        "defect": float(defect),
+        "relative": float(abs(defect) / heat),
+        "droplet_heat": float(heat),
+        "source_mismatch": float(mism),
+    }
 
 
 def ergun_coefficients(d, eps, rho_f, mu):
@@ -157,7 +186,7 @@ def ergun_coefficients(d, eps, rho_f, mu):
     speed U [m/s]: a = 1.75 rho_f (1-eps)/(eps^3 d) (inertial), b = 150 mu
     (1-eps)^2/(eps^3 d^2) (viscous).  d [m], mu [Pa s], rho_f [kg/m^3]."""
     phi = 1 - eps
-    return 1.75 * rho_f * phi / (eps ** 3 * d), 150 * mu * phi ** 2 / (eps ** 3 * d ** 2)
+    return 1.75 * rho_f * phi / (eps**3 * d), 150 * mu * phi**2 / (eps**3 * d**2)
 
 
 def ergun_umf(d, eps, rho_p, rho_f=1.204, mu=2e-5, g=G, weight_fraction=None):
@@ -186,15 +215,17 @@ def bed_void_fraction(case, info):
         p = os.path.join(case, t, "voidFraction")
         if os.path.isfile(p):
             eps = np.asarray(nscdpost.read_scalar_field(p))
-            nx, ny = info["cells"]          # uniform mesh (setupCase.py)
+            nx, ny = info["cells"]  # uniform mesh (setupCase.py)
             xc = (np.arange(nx) + 0.5) * info["width"] / nx
             yc = (np.arange(ny) + 0.5) * info["height"] / ny
             X, Y = np.meshgrid(xc, yc)
             cc = np.column_stack((X.ravel(), Y.ravel()))
-            sel = ((cc[:, 1] < info["bed_top"] - 2 * info["grain_diameter"])
-                   & (cc[:, 1] > 2 * info["grain_diameter"])
-                   & (cc[:, 0] > info["grain_diameter"])
-                   & (cc[:, 0] < info["width"] - info["grain_diameter"]))
+            sel = (
+                (cc[:, 1] < info["bed_top"] - 2 * info["grain_diameter"])
+                & (cc[:, 1] > 2 * info["grain_diameter"])
+                & (cc[:, 0] > info["grain_diameter"])
+                & (cc[:, 0] < info["width"] - info["grain_diameter"])
+            )
             return float(np.mean(eps[sel]))
     return None
 
@@ -253,9 +284,20 @@ def bed_diagnostics(case, info, d, umf):
     X, Y = (a.ravel() for a in np.meshgrid(xc, yc))
     top, dg = info["bed_top"], info["grain_diameter"]
     psi0 = cohesion_threshold(case)
-    out = {k: [] for k in ("time", "ring_speed", "ring_radial", "ring_speed_over_Umf",
-                           "ring_radial_over_Umf", "ejected", "above_top_1d",
-                           "cohesive_near", "near_grains")}
+    out = {
+        k: []
+        for k in (
+            "time",
+            "ring_speed",
+            "ring_radial",
+            "ring_speed_over_Umf",
+            "ring_radial_over_Umf",
+            "ejected",
+            "above_top_1d",
+            "cohesive_near",
+            "near_grains",
+        )
+    }
     for t, tn in nscdpost.time_dirs(case):
         if t <= 0 or not os.path.isfile(os.path.join(case, tn, "voidFraction")):
             continue
@@ -278,8 +320,9 @@ def bed_diagnostics(case, info, d, umf):
         rg = np.hypot(gx - xd, gy - yd)
         near = (rg > R) & (rg < R + 2 * dg)
         if psi0 is not None and near.any():
-            ci = (np.clip((gx / dx).astype(int), 0, nx - 1)
-                  + nx * np.clip((gy / (H / ny)).astype(int), 0, ny - 1))
+            ci = np.clip((gx / dx).astype(int), 0, nx - 1) + nx * np.clip(
+                (gy / (H / ny)).astype(int), 0, ny - 1
+            )
             coh = float(np.mean(psi[ci[near]] < psi0))
         else:
             coh = None
@@ -305,10 +348,13 @@ def summary(d, uv, umf, times=(0.1, 0.3, 0.6, 1.0, 1.5)):
     uv [m/s]: U_v on d's steps, umf [m/s] or None."""
     t, depth = d[:, 0], d[:, COL["depth"]]
     R, m, mdot = d[:, COL["R"]], d[:, COL["m"]], d[:, COL["mdot"]]
-    out = {"depth_at": {f"{x:g}": float(np.interp(x, t, depth)) for x in times
-                        if x <= t[-1] + 1e-9}}
+    out = {
+        "depth_at": {f"{x:g}": float(np.interp(x, t, depth)) for x in times if x <= t[-1] + 1e-9}
+    }
     win = t >= t[-1] - min(0.2, 0.3 * t[-1])
-    out["sinking_speed_end"] = float(np.polyfit(t[win], depth[win], 1)[0]) if win.sum() > 2 else None
+    out["sinking_speed_end"] = (
+        float(np.polyfit(t[win], depth[win], 1)[0]) if win.sum() > 2 else None
+    )
     w = (t >= 0.1) & (t <= 0.3)
     out["Uv_over_Umf_01_03"] = float(np.mean(uv[w]) / umf) if (w.any() and umf) else None
     out["R_end"] = float(R[-1])
@@ -341,11 +387,17 @@ def force_balance(d, window=0.2):
     resid = float(np.sqrt(np.mean((m[1:] * acc - net[1:]) ** 2)) / w0) if len(t) > 1 else None
     late = t >= t[-1] - window
     mg = np.mean(m[late] * G)
-    return {"weight": (-m * G / w0).tolist(), "fluid": (fluid / w0).tolist(),
-            "grains": (grains / w0).tolist(), "net": (net / w0).tolist(),
-            "momentum_residual": resid,
-            "support": {"fluid": float(np.mean(fluid[late]) / mg),
-                        "grains": float(np.mean(grains[late]) / mg)}}
+    return {
+        "weight": (-m * G / w0).tolist(),
+        "fluid": (fluid / w0).tolist(),
+        "grains": (grains / w0).tolist(),
+        "net": (net / w0).tolist(),
+        "momentum_residual": resid,
+        "support": {
+            "fluid": float(np.mean(fluid[late]) / mg),
+            "grains": float(np.mean(grains[late]) / mg),
+        },
+    }
 
 
 def snapshot(case, time_name, out):
@@ -353,9 +405,11 @@ def snapshot(case, time_name, out):
     the droplet circle (droplet.dat at the nearest step) and the initial bed
     top (dashed); left the whole cell, right a zoom of 3 R around the droplet."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.collections import EllipseCollection
+
     info = json.load(open(os.path.join(case, "case.json")))
     g = nscdpost.read_grains(case, time_name)
     d = read_droplet(case)
@@ -365,9 +419,16 @@ def snapshot(case, time_name, out):
     sp = np.linalg.norm(g["U"], axis=1) * 1e3
     fig, axs = plt.subplots(1, 2, figsize=(10, 6))
     for ax, zoom in zip(axs, (False, True)):
-        ec = EllipseCollection(g["d"] * 1e3, g["d"] * 1e3, 0, units="xy",
-                               offsets=g["x"][:, :2] * 1e3, transOffset=ax.transData,
-                               array=sp, cmap="viridis")
+        ec = EllipseCollection(
+            g["d"] * 1e3,
+            g["d"] * 1e3,
+            0,
+            units="xy",
+            offsets=g["x"][:, :2] * 1e3,
+            transOffset=ax.transData,
+            array=sp,
+            cmap="viridis",
+        )
         ec.set_clim(0, max(5.0, float(np.percentile(sp, 99.5))))
         ax.add_collection(ec)
         ax.add_patch(plt.Circle((xd, yd), R, fill=False, color="r", lw=1.5))
@@ -382,8 +443,10 @@ def snapshot(case, time_name, out):
         ax.set_xlabel("x [mm]")
         ax.set_ylabel("y [mm]")
     fig.colorbar(ec, ax=axs, label="grain speed [mm/s]")
-    axs[0].set_title(f"T_bed {info['bed_temperature_C']:g} C, d {info['grain_diameter'] * 1e3:.3f} mm,"
-                     f" t = {t:g} s")
+    axs[0].set_title(
+        f"T_bed {info['bed_temperature_C']:g} C, d {info['grain_diameter'] * 1e3:.3f} mm,"
+        f" t = {t:g} s"
+    )
     fig.savefig(out, dpi=100)
     plt.close(fig)
 
@@ -408,19 +471,37 @@ def case_results(case):
     with np.errstate(divide="ignore"):
         life = np.where(mdot > 0, m / np.where(mdot > 0, mdot, 1), np.inf)
     uv = d[:, COL["Vdot"]] / (2 * np.pi * R * info["depth_l"])
-    res = {"time": d[:, 0].tolist(), "depth": depth.tolist(),
-           "velocity": (-d[:, COL["v"]]).tolist(), "mass": m.tolist(), "mdot": mdot.tolist(),
-           "Q_f": d[:, COL["Qf"]].tolist(), "Q_p": d[:, COL["Qp"]].tolist(),
-           "Q_film": (d[:, COL["Q_film"]] if d.shape[1] > COL["Q_film"]
-                      else np.zeros(len(d))).tolist(),
-           "lifetime": life.tolist(), "vapour_velocity": uv.tolist()}
-    gT = np.interp(d[:, 0], lg["time"], lg["grain_T"]) if len(lg["time"]) else np.full(len(d), np.nan)
+    res = {
+        "time": d[:, 0].tolist(),
+        "depth": depth.tolist(),
+        "velocity": (-d[:, COL["v"]]).tolist(),
+        "mass": m.tolist(),
+        "mdot": mdot.tolist(),
+        "Q_f": d[:, COL["Qf"]].tolist(),
+        "Q_p": d[:, COL["Qp"]].tolist(),
+        "Q_film": (
+            d[:, COL["Q_film"]] if d.shape[1] > COL["Q_film"] else np.zeros(len(d))
+        ).tolist(),
+        "lifetime": life.tolist(),
+        "vapour_velocity": uv.tolist(),
+    }
+    gT = (
+        np.interp(d[:, 0], lg["time"], lg["grain_T"])
+        if len(lg["time"])
+        else np.full(len(d), np.nan)
+    )
     res["mean_grain_temperature"] = gT.tolist()
     eps = bed_void_fraction(case, info)
-    mu = info.get("mu", 2e-5)             # gas viscosity of the case (similarity scaling)
+    mu = info.get("mu", 2e-5)  # gas viscosity of the case (similarity scaling)
     if eps is not None:
-        ergun = ergun_umf(info["grain_diameter"], eps, info["grain_density"], rho_f=info["rho"],
-                          mu=mu, weight_fraction=info.get("bed_weight_fraction"))
+        ergun = ergun_umf(
+            info["grain_diameter"],
+            eps,
+            info["grain_density"],
+            rho_f=info["rho"],
+            mu=mu,
+            weight_fraction=info.get("bed_weight_fraction"),
+        )
         umf = info.get("U_mf_measured") or ergun
         res["bed_void_fraction"] = eps
         res["U_mf"] = umf
@@ -451,8 +532,7 @@ def case_snapshots(case, T, outdir):
     written times t > 0 of the case nearest 0.3 s, half the run and its end."""
     tn = [(t, n) for t, n in nscdpost.time_dirs(case) if t > 0]
     if tn:
-        pick = {min(tn, key=lambda a: abs(a[0] - x))[1]
-                for x in (0.3, 0.5 * tn[-1][0], tn[-1][0])}
+        pick = {min(tn, key=lambda a: abs(a[0] - x))[1] for x in (0.3, 0.5 * tn[-1][0], tn[-1][0])}
         for n in sorted(pick, key=float):
             snapshot(case, n, os.path.join(outdir, f"snap_T{T:g}_{n}s.png"))
 
@@ -461,11 +541,13 @@ def case_line(T, r):
     """The log line of one case: final depth, first-step mdot, mean U_v,
     U_mf, energy defect and, for a run that stopped early, why.  T [C]: bed
     temperature, r: its `case_results`."""
-    return (f"T_bed {T:g} C: final depth {r['depth'][-1] * 1e3:.3f} mm, mdot(first step) "
-            f"{r['mdot'][0]:.3e} kg/s, U_v mean {np.mean(r['vapour_velocity'][1:]):.3g} m/s, "
-            f"U_mf {r.get('U_mf', float('nan')):.3g} m/s, energy defect "
-            f"{r.get('energy_defect', float('nan')):.2e}"
-            + (f", STOPPED at t = {r['time'][-1]:.3g} s: {r['stopped']}" if r["stopped"] else ""))
+    return (
+        f"T_bed {T:g} C: final depth {r['depth'][-1] * 1e3:.3f} mm, mdot(first step) "
+        f"{r['mdot'][0]:.3e} kg/s, U_v mean {np.mean(r['vapour_velocity'][1:]):.3g} m/s, "
+        f"U_mf {r.get('U_mf', float('nan')):.3g} m/s, energy defect "
+        f"{r.get('energy_defect', float('nan')):.2e}"
+        + (f", STOPPED at t = {r['time'][-1]:.3g} s: {r['stopped']}" if r["stopped"] else "")
+    )
 
 
 def read_cases(cases, outdir, snap):
@@ -519,7 +601,10 @@ def write_results(res, outdir):
     temperature, final depth per case)."""
     with open(os.path.join(outdir, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
-    print("bed temperature [C], final depth [m]:", list(zip(res["bed_temperature"], res["final_depth"])))
+    print(
+        "bed temperature [C], final depth [m]:",
+        list(zip(res["bed_temperature"], res["final_depth"])),
+    )
 
 
 def main(cases, outdir=here, snap=False):
@@ -556,12 +641,21 @@ def cohesion_sweep(cases, outdir=here):
         info, r = case_results(c)
         bond = cohesion_bond(info)
         data.append((bond, info, r))
-        out["cases"].append({"case": os.path.relpath(c, outdir), "bond": bond,
-                             "cohesion_factor": info.get("cohesion_factor"),
-                             "bed_temperature_C": info["bed_temperature_C"],
-                             "time": r["time"][::10], "depth": r["depth"][::10],
-                             "summary": r["summary"], "support": r["forces"].get("support")})
-        print(f"{c}: Bo {bond:.3g}, final depth {r['depth'][-1] * 1e3:.3f} mm at {r['time'][-1]:.3g} s")
+        out["cases"].append(
+            {
+                "case": os.path.relpath(c, outdir),
+                "bond": bond,
+                "cohesion_factor": info.get("cohesion_factor"),
+                "bed_temperature_C": info["bed_temperature_C"],
+                "time": r["time"][::10],
+                "depth": r["depth"][::10],
+                "summary": r["summary"],
+                "support": r["forces"].get("support"),
+            }
+        )
+        print(
+            f"{c}: Bo {bond:.3g}, final depth {r['depth'][-1] * 1e3:.3f} mm at {r['time'][-1]:.3g} s"
+        )
     figures.plot_cohesion_sweep(data, outdir)
     with open(os.path.join(outdir, "cohesion.json"), "w") as f:
         json.dump(out, f, indent=1)

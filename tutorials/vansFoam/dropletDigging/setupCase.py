@@ -28,21 +28,22 @@ similarity=d_ref)): gas and liquid viscosity x (d/d_ref)^2, cohesion x d/d_ref,
 d the bed's mean grain diameter (`similarity_factors`, docs/validation/dropletDigging.md "Measured,
 similarity-scaled 0.2 mm bed").
 """
+
 import math
 import os
 import sys
 
+import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
 
 # Table 4.2
 RHO, MU, CP, KAPPA, BETA = 1.204, 2e-5, 1040.0, 0.026, 3e-3
 NU = MU / RHO
 D_V, RHO_V = 2e-5, 1.204
 RHO_P, C_P, K_P, FRICTION = 3200.0, 290.0, 234.0, 0.3
-E_P, NU_P = 1e11, 0.35           # contact conduction, eq. 4.2-4.3
+E_P, NU_P = 1e11, 0.35  # contact conduction, eq. 4.2-4.3
 W, H, H_P, GAP, D_DROP = 10e-3, 30e-3, 22.5e-3, 1.5e-3, 2.5e-3
 D_GRAIN_TABLE = 55e-6
 DT = 5e-4
@@ -56,12 +57,12 @@ be 6,700 grain weights, 74 times the largest capillary force between two 55 um
 spheres (2 pi R sigma = 1.0e-5 N), which no wet contact can carry."""
 # water (not in Table 4.2)
 RHO_L, LATENT, T_D = 958.0, 2.257e6, 373.15
-DEPTH = GAP                      # 2D mesh depth = the Hele-Shaw gap
+DEPTH = GAP  # 2D mesh depth = the Hele-Shaw gap
 # uniform cells, D/8 (env CELLS_PER_DROPLET: D/n, the mesh-refinement study)
 CELL = D_DROP / int(os.environ.get("CELLS_PER_DROPLET", "8"))
 D_GRAIN_REDUCED = 1e-3
-PHI_BED = 0.4                    # solid fraction of the real bed (thesis 4.3.2)
-MU_L = 2.82e-4                   # liquid (water, 100 C) viscosity [Pa s]: dropletProperties default
+PHI_BED = 0.4  # solid fraction of the real bed (thesis 4.3.2)
+MU_L = 2.82e-4  # liquid (water, 100 C) viscosity [Pa s]: dropletProperties default
 # surface tension of water at 100 C [N/m]: IAPWS R1-76(2014), 58.91 mN/m
 SIGMA_WATER = 0.05891
 
@@ -88,8 +89,10 @@ def similarity_factors(d_grain, d_ref, permeability_ratio=1.0):
     if not d_ref > 0:
         raise ValueError(f"similarity_factors: reference grain diameter {d_ref} must be > 0")
     if not permeability_ratio > 0:
-        raise ValueError(f"similarity_factors: permeability ratio {permeability_ratio} must be > 0"
-                         " (U_mf measured / U_mf Ergun, umf.py)")
+        raise ValueError(
+            f"similarity_factors: permeability ratio {permeability_ratio} must be > 0"
+            " (U_mf measured / U_mf Ergun, umf.py)"
+        )
     r = d_grain / d_ref
     return {"s": r * r * permeability_ratio, "c": r}
 
@@ -118,8 +121,9 @@ def contact_tolerance(d_grain):
     if env:
         tol = float(env)
         if not 0 < tol <= 0.1:
-            raise ValueError(f"CONTACT_TOL={env}: the contact tolerance (relative to d_min) "
-                             "must be in (0, 0.1]")
+            raise ValueError(
+                f"CONTACT_TOL={env}: the contact tolerance (relative to d_min) must be in (0, 0.1]"
+            )
         return tol
     return 1e-4 if d_grain >= 0.45e-3 else 1e-3
 
@@ -146,7 +150,9 @@ def contact_compliance():
     if not beta >= 0:
         raise ValueError(f"CONTACT_COMPLIANCE={beta}: the relative contact compliance must be >= 0")
     if not 0 < omega < 2:
-        raise ValueError(f"CONTACT_RELAXATION={omega}: the over-relaxation factor must be in (0, 2)")
+        raise ValueError(
+            f"CONTACT_RELAXATION={omega}: the over-relaxation factor must be in (0, 2)"
+        )
     return beta, omega
 
 
@@ -174,40 +180,60 @@ def mesh_and_grains(case, d_grain, rho_grain=RHO_P, inlet=False):
     outlet leaves the case (`outletPatches`)."""
     nx, ny = int(round(W / CELL)), int(round(H / CELL))
     floor = "" if inlet else "(1 5 4 0) "
-    write(case, "system/blockMeshDict", "dictionary",
-          "scale 1;\nvertices ((0 0 0) (%g 0 0) (%g %g 0) (0 %g 0) (0 0 %g) (%g 0 %g) (%g %g %g) (0 %g %g));\n"
-          % (W, W, H, H, DEPTH, W, DEPTH, W, H, DEPTH, H, DEPTH)
-          + f"blocks (hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1));\n"
-          + f"boundary (\n walls {{ type wall; faces ({floor}(0 4 7 3) (2 6 5 1)); }}\n"
-          + (" inlet { type patch; faces ((1 5 4 0)); }\n" if inlet else "")
-          + " outlet { type patch; faces ((3 7 6 2)); }\n"
-          " frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n")
+    write(
+        case,
+        "system/blockMeshDict",
+        "dictionary",
+        "scale 1;\nvertices ((0 0 0) (%g 0 0) (%g %g 0) (0 %g 0) (0 0 %g) (%g 0 %g) (%g %g %g) (0 %g %g));\n"
+        % (W, W, H, H, DEPTH, W, DEPTH, W, H, DEPTH, H, DEPTH)
+        + f"blocks (hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1));\n"
+        + f"boundary (\n walls {{ type wall; faces ({floor}(0 4 7 3) (2 6 5 1)); }}\n"
+        + (" inlet { type patch; faces ((1 5 4 0)); }\n" if inlet else "")
+        + " outlet { type patch; faces ((3 7 6 2)); }\n"
+        " frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n",
+    )
     beta, omega = contact_compliance()
     compliance = f" relativeCompliance {beta:g};" if beta > 0 else ""
     relaxation = f" relaxation {omega:g};" if omega != 1 else ""
-    write(case, "constant/grainProperties", "dictionary",
-          f"materials {{ grains {{ density {rho_grain:.9g}; friction {FRICTION}; conductivity {K_P};"
-          f" youngModulus {E_P:g}; poissonRatio {NU_P}; heatCapacity {C_P};{compliance} }} }}\n"
-          + f"wallPatches (walls{' inlet' if inlet else ''});\n"
-          + ("outletPatches (outlet);\n" if inlet else "")
-          + f"contactSolver {{ tolerance {contact_tolerance(d_grain):g};"
-          f" maxIterations {contact_max_iterations()};"
-          f" overlapTolerance 1e-2;{relaxation} }}\n"
-          f"// grain diameter of this bed: {d_grain:g} m (Table 4.2: {D_GRAIN_TABLE:g} m)\n")
-    write(case, "constant/g", "uniformDimensionedVectorField",
-          "dimensions [0 1 -2 0 0 0 0];\nvalue (0 -9.81 0);\n")
+    write(
+        case,
+        "constant/grainProperties",
+        "dictionary",
+        f"materials {{ grains {{ density {rho_grain:.9g}; friction {FRICTION}; conductivity {K_P};"
+        f" youngModulus {E_P:g}; poissonRatio {NU_P}; heatCapacity {C_P};{compliance} }} }}\n"
+        + f"wallPatches (walls{' inlet' if inlet else ''});\n"
+        + ("outletPatches (outlet);\n" if inlet else "")
+        + f"contactSolver {{ tolerance {contact_tolerance(d_grain):g};"
+        f" maxIterations {contact_max_iterations()};"
+        f" overlapTolerance 1e-2;{relaxation} }}\n"
+        f"// grain diameter of this bed: {d_grain:g} m (Table 4.2: {D_GRAIN_TABLE:g} m)\n",
+    )
+    write(
+        case,
+        "constant/g",
+        "uniformDimensionedVectorField",
+        "dimensions [0 1 -2 0 0 0 0];\nvalue (0 -9.81 0);\n",
+    )
 
 
 def deposit_system(case):
     """controlDict, fvSchemes and fvSolution of a grainDeposit case."""
-    write(case, "system/controlDict", "dictionary",
-          "application grainDeposit; startFrom latestTime; startTime 0; stopAt endTime;\n"
-          "endTime 1; deltaT 1e-4; writeControl timeStep; writeInterval 1; writeFormat ascii;\n"
-          "writePrecision 12; timeFormat general; timePrecision 6; runTimeModifiable false;\n")
-    write(case, "system/fvSchemes", "dictionary",
-          "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
-          "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
-          "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n")
+    write(
+        case,
+        "system/controlDict",
+        "dictionary",
+        "application grainDeposit; startFrom latestTime; startTime 0; stopAt endTime;\n"
+        "endTime 1; deltaT 1e-4; writeControl timeStep; writeInterval 1; writeFormat ascii;\n"
+        "writePrecision 12; timeFormat general; timePrecision 6; runTimeModifiable false;\n",
+    )
+    write(
+        case,
+        "system/fvSchemes",
+        "dictionary",
+        "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
+        "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
+        "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n",
+    )
     write(case, "system/fvSolution", "dictionary", "solvers {}\n")
 
 
@@ -216,13 +242,17 @@ def deposit(d_grain=D_GRAIN_REDUCED, root=here):
     mesh_and_grains(case, d_grain)
     # ~ the number that fills w x h_p (1 mm grains: 234, bed top 20.8 mm;
     # more do not fit the loose insertion lattice of the 30 mm cell)
-    n = int(0.82 * W * H_P / (np.pi / 4 * d_grain ** 2))
+    n = int(0.82 * W * H_P / (np.pi / 4 * d_grain**2))
     deposit_system(case)
-    write(case, "system/grainDepositDict", "dictionary",
-          "material grains;\nmethod box;\n"
-          f"box {{ min (0 0 0); max ({W:.9g} {H:.9g} 1); }}\n"
-          f"number {n};\ndMin {0.9 * d_grain:.9g};\nsizeRatio {1 / 0.9:.6g};\nseed 8;\n"
-          "settle { maxTime 1; deltaT 2e-4; speedTolerance 2e-3; }\n")
+    write(
+        case,
+        "system/grainDepositDict",
+        "dictionary",
+        "material grains;\nmethod box;\n"
+        f"box {{ min (0 0 0); max ({W:.9g} {H:.9g} 1); }}\n"
+        f"number {n};\ndMin {0.9 * d_grain:.9g};\nsizeRatio {1 / 0.9:.6g};\nseed 8;\n"
+        "settle { maxTime 1; deltaT 2e-4; speedTolerance 2e-3; }\n",
+    )
     print(f"{case}: {n} grains of {d_grain:g} m to settle")
 
 
@@ -244,11 +274,12 @@ def tiled_deposit(d_grain, root=here, source=None):
         if not os.path.isfile(os.path.join(source, "0", "grainState.h5")):
             source = os.path.join(here, "reduced", "deposit")
     g = nscdpost.read_grains(source, "0")
-    d_src = float(np.max(g["d"]))       # nominal: dMin = 0.9 d, sizeRatio 1/0.9
+    d_src = float(np.max(g["d"]))  # nominal: dMin = 0.9 d, sizeRatio 1/0.9
     k = int(round(d_src / d_grain))
     if k < 1 or abs(k * d_grain / d_src - 1) > 0.05:
-        raise ValueError(f"tiled_deposit: source grain {d_src:g} m is not an integer multiple "
-                         f"of {d_grain:g} m")
+        raise ValueError(
+            f"tiled_deposit: source grain {d_src:g} m is not an integer multiple of {d_grain:g} m"
+        )
     s = 1.0 / k
     x = g["x"][:, 0] * s
     y = g["x"][:, 1] * s
@@ -265,10 +296,15 @@ def tiled_deposit(d_grain, root=here, source=None):
     case = os.path.join(root, "deposit")
     mesh_and_grains(case, d_grain)
     deposit_system(case)
-    write(case, "system/grainDepositDict", "dictionary",
-          "material grains;\nmethod list;\ngrains (\n"
-          + "\n".join("(%.12g %.12g %.12g %.12g)" % gr for gr in grains) + "\n);\n"
-          "settle { maxTime 0.12; deltaT 2e-4; speedTolerance 2e-3; }\n")
+    write(
+        case,
+        "system/grainDepositDict",
+        "dictionary",
+        "material grains;\nmethod list;\ngrains (\n"
+        + "\n".join("(%.12g %.12g %.12g %.12g)" % gr for gr in grains)
+        + "\n);\n"
+        "settle { maxTime 0.12; deltaT 2e-4; speedTolerance 2e-3; }\n",
+    )
     print(f"{case}: {len(grains)} grains of {d_grain:g} m ({k} x {k} tiles of {source})")
 
 
@@ -308,8 +344,9 @@ def surface_tension(value=None):
         try:
             value = SIGMA_WATER if env == "water" else float(env or 0)
         except ValueError:
-            raise ValueError(f"SURFACE_TENSION={env}: give the surface tension in N/m "
-                             "(e.g. 0.05891) or 'water'") from None
+            raise ValueError(
+                f"SURFACE_TENSION={env}: give the surface tension in N/m (e.g. 0.05891) or 'water'"
+            ) from None
     value = float(value)
     if not value >= 0:
         raise ValueError(f"surface tension {value} N/m must be >= 0 (SURFACE_TENSION)")
@@ -324,8 +361,7 @@ def vapour_release(value=None):
     for anything else."""
     value = value or os.environ.get("VAPOUR_RELEASE") or "uniform"
     if value not in ("uniform", "heatFlux"):
-        raise ValueError(f"VAPOUR_RELEASE={value}: give 'uniform' (thesis, default) "
-                         "or 'heatFlux'")
+        raise ValueError(f"VAPOUR_RELEASE={value}: give 'uniform' (thesis, default) or 'heatFlux'")
     return value
 
 
@@ -360,13 +396,17 @@ def zehner_schlunder(k_s, k_f, eps):
     k_s, k_f [W/(m K)] > 0, eps the void fraction in (0, 1).  Raises
     ValueError otherwise."""
     if not (k_s > 0 and k_f > 0 and 0 < eps < 1):
-        raise ValueError(f"zehner_schlunder: need k_s, k_f > 0 and 0 < eps < 1, got "
-                         f"{k_s}, {k_f}, {eps}")
+        raise ValueError(
+            f"zehner_schlunder: need k_s, k_f > 0 and 0 < eps < 1, got {k_s}, {k_f}, {eps}"
+        )
     kap, B = k_f / k_s, 1.25 * ((1 - eps) / eps) ** (10 / 9)
     a = 1 - kap * B
     r = math.sqrt(1 - eps)
-    return k_f * (1 - r + 2 * r / a * ((1 - kap) * B / a ** 2 * math.log(1 / (kap * B))
-                                       - (B + 1) / 2 - (B - 1) / a))
+    return k_f * (
+        1
+        - r
+        + 2 * r / a * ((1 - kap) * B / a**2 * math.log(1 / (kap * B)) - (B + 1) / 2 - (B - 1) / a)
+    )
 
 
 def front_rear_walls(value=None):
@@ -385,13 +425,25 @@ def front_rear_walls(value=None):
     if not yes_no(value, "FRONT_REAR_WALLS"):
         return None
     k_eff = zehner_schlunder(K_P, KAPPA, 1 - PHI_BED)
-    return PHI_BED * RHO_P * C_P * GAP ** 2 / (12 * k_eff)
+    return PHI_BED * RHO_P * C_P * GAP**2 / (12 * k_eff)
 
 
-def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=None,
-          similarity=None, deposit_root=None, sigma=None, release=None, film=None,
-          permeability_ratio=1.0, u_mf=None,
-          walls=None):
+def setup(
+    case,
+    t_bed_c,
+    end_time=0.5,
+    root=here,
+    porosity=None,
+    write_interval=None,
+    similarity=None,
+    deposit_root=None,
+    sigma=None,
+    release=None,
+    film=None,
+    permeability_ratio=1.0,
+    u_mf=None,
+    walls=None,
+):
     """Case CASE at bed temperature t_bed_c [C] with the bed of root/deposit.
     porosity: None (solid discs; the gas sees the discs of radius 0.88 r,
     section 3.2.3) or the grain porosity n of the porous-grain correction
@@ -414,8 +466,11 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
     dep = os.path.join(deposit_root or root, "deposit")
     g = nscdpost.read_grains(dep, "0")
     d_grain = float(np.mean(g["d"]))
-    sim = (similarity_factors(d_grain, similarity, permeability_ratio) if similarity
-           else {"s": 1.0, "c": 1.0})
+    sim = (
+        similarity_factors(d_grain, similarity, permeability_ratio)
+        if similarity
+        else {"s": 1.0, "c": 1.0}
+    )
     min_age, c_factor = cohesion_settings()
     nu, mu_l, f_c0 = NU * sim["s"], MU_L * sim["s"], F_C0 * sim["c"] * c_factor
     phi2d = packing_2d(g, bed_top(dep))
@@ -433,82 +488,155 @@ def setup(case, t_bed_c, end_time=0.5, root=here, porosity=None, write_interval=
         if tau:
             f.write(f"frontRearWalls {{ temperature {t_bed}; relaxationTime {tau:.6g}; }}\n")
     emp = "frontAndBack { type empty; }"
-    write(case, "0/U", "volVectorField", "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
-          "boundaryField { walls { type noSlip; } outlet { type pressureInletOutletVelocity;"
-          f" value uniform (0 0 0); }} {emp} }}\n")
-    write(case, "0/p", "volScalarField", "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
-          "boundaryField { walls { type fixedFluxPressure; value uniform 0; }"
-          f" outlet {{ type fixedValue; value uniform 0; }} {emp} }}\n")
-    write(case, "0/T", "volScalarField", f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {t_bed};\n"
-          f"boundaryField {{ walls {{ type fixedValue; value uniform {t_bed}; }}"
-          f" outlet {{ type inletOutlet; inletValue uniform {t_bed}; value uniform {t_bed}; }} {emp} }}\n")
-    write(case, "0/psi", "volScalarField", "dimensions [0 0 0 0 0 0 0];\ninternalField uniform 0;\n"
-          "boundaryField { walls { type fixedValue; value uniform 0; }"
-          f" outlet {{ type inletOutlet; inletValue uniform 0; value uniform 0; }} {emp} }}\n")
-    write(case, "constant/transportProperties", "dictionary",
-          f"rho {RHO};\nnu {nu:.10g};\nCp {CP};\nkappa {KAPPA};\nbeta {BETA};\nTRef {t_bed};\n"
-          f"vapour {{ D {D_V}; rho {RHO_V}; bounded yes; }}\n")
-    write(case, "constant/couplingProperties", "dictionary",
-          "dragModel DallavalleDiFelice;\ntwoDimensionalDrag perUnitDepth;\nforceModel A;\n"
-          "voidFraction { method overlap; epsMin 1e-8; effectiveDiameterFactor "
-          + ("0.88; }\n" if porosity is None else f"1; }}\ngrainPorosity {porosity:.6g};\n")
-          +
-          "heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n"
-          f"cohesion {{ force {f_c0:.9g}; vapourThreshold {PSI0}; minAge {min_age}; }}\n")  # N/m: COHESION_NOTE
+    write(
+        case,
+        "0/U",
+        "volVectorField",
+        "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
+        "boundaryField { walls { type noSlip; } outlet { type pressureInletOutletVelocity;"
+        f" value uniform (0 0 0); }} {emp} }}\n",
+    )
+    write(
+        case,
+        "0/p",
+        "volScalarField",
+        "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
+        "boundaryField { walls { type fixedFluxPressure; value uniform 0; }"
+        f" outlet {{ type fixedValue; value uniform 0; }} {emp} }}\n",
+    )
+    write(
+        case,
+        "0/T",
+        "volScalarField",
+        f"dimensions [0 0 0 1 0 0 0];\ninternalField uniform {t_bed};\n"
+        f"boundaryField {{ walls {{ type fixedValue; value uniform {t_bed}; }}"
+        f" outlet {{ type inletOutlet; inletValue uniform {t_bed}; value uniform {t_bed}; }} {emp} }}\n",
+    )
+    write(
+        case,
+        "0/psi",
+        "volScalarField",
+        "dimensions [0 0 0 0 0 0 0];\ninternalField uniform 0;\n"
+        "boundaryField { walls { type fixedValue; value uniform 0; }"
+        f" outlet {{ type inletOutlet; inletValue uniform 0; value uniform 0; }} {emp} }}\n",
+    )
+    write(
+        case,
+        "constant/transportProperties",
+        "dictionary",
+        f"rho {RHO};\nnu {nu:.10g};\nCp {CP};\nkappa {KAPPA};\nbeta {BETA};\nTRef {t_bed};\n"
+        f"vapour {{ D {D_V}; rho {RHO_V}; bounded yes; }}\n",
+    )
+    write(
+        case,
+        "constant/couplingProperties",
+        "dictionary",
+        "dragModel DallavalleDiFelice;\ntwoDimensionalDrag perUnitDepth;\nforceModel A;\n"
+        "voidFraction { method overlap; epsMin 1e-8; effectiveDiameterFactor "
+        + ("0.88; }\n" if porosity is None else f"1; }}\ngrainPorosity {porosity:.6g};\n")
+        + "heatTransferModel DiFeliceColburn;\nDiFeliceColburnCoeffs { delta 500; alpha 0.4; }\n"
+        f"cohesion {{ force {f_c0:.9g}; vapourThreshold {PSI0}; minAge {min_age}; }}\n",
+    )  # N/m: COHESION_NOTE
     sig = surface_tension(sigma)
     release = vapour_release(release)
     film = film_conduction(film)
     if film and not sig > 0:
-        raise ValueError("FILM_CONDUCTION=yes needs the capillary barrier: set "
-                         "SURFACE_TENSION=water (or a value > 0)")
+        raise ValueError(
+            "FILM_CONDUCTION=yes needs the capillary barrier: set "
+            "SURFACE_TENSION=water (or a value > 0)"
+        )
     # with the barrier the droplet starts resting on the bed (no grain inside
     # its surface); without it at the bed top (98th percentile, as measured
     # in README.md)
     y_drop = resting_height(g, W / 2, D_DROP / 2) if sig > 0 else top + D_DROP / 2
-    write(case, "constant/dropletProperties", "dictionary",
-          f"centre ({W / 2:.9g} {y_drop:.9g} {DEPTH / 2:.9g});\ndiameter {D_DROP};\n"
-          f"velocity (0 0 0);\nliquidDensity {RHO_L};\nlatentHeat {LATENT};\n"
-          f"vapourisationTemperature {T_D};\nvapourDensity {RHO_V};\nmoving yes;\nblowing yes;\n"
-          f"liquidViscosity {mu_l:.9g};\nsurfaceTension {sig:.9g};\nvapourRelease {release};\n"
-          f"filmConduction {'yes' if film else 'no'};\n")
-    write(case, "system/fvOptions", "dictionary",
-          "droplet { type vapourDropletSource; }\n"
-          f"heleShaw {{ type heleShawFriction; selectionMode all; gap {GAP}; fields (U); }}\n")
-    write(case, "system/controlDict", "dictionary",
-          "application vansFoam; startFrom latestTime; startTime 0; stopAt endTime;\n"
-          f"endTime {end_time}; deltaT {DT}; adjustTimeStep yes; maxCo 0.5; maxDeltaT {DT};\n"
-          f"writeControl adjustableRunTime; writeInterval {write_interval or end_time / 10:g};"
-          " writeFormat ascii;\n"
-          "writePrecision 12; timeFormat general; timePrecision 6; runTimeModifiable false;\n"
-          'libs ("libdropletCoupling.so");\n')
-    write(case, "system/fvSchemes", "dictionary",
-          "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
-          "divSchemes { default none; div(phi,U) Gauss limitedLinearV 1; div(phi,T) Gauss limitedLinear 1;"
-          " div(phi,psi) Gauss limitedLinear01 1; }\n"
-          "laplacianSchemes { default Gauss linear corrected; }\n"
-          "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n")
-    write(case, "system/fvSolution", "dictionary",
-          "solvers {\n  p { solver GAMG; smoother DIC; tolerance 1e-9; relTol 0.01; }\n"
-          "  pFinal { $p; relTol 0; }\n"
-          "  \"(U|UFinal)\" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-9; relTol 0; }\n"
-          "  \"(T|psi)\" { solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0; }\n}\n"
-          "PIMPLE { momentumPredictor yes; nOuterCorrectors 1; nCorrectors 2;"
-          " nNonOrthogonalCorrectors 0; }\n")
-    nscdpost.write_json(os.path.join(case, "case.json"), {
-        "bed_temperature_C": t_bed_c, "bed_top": top, "grain_diameter": d_grain,
-        "grains": int(len(g["d"])), "droplet_diameter": D_DROP, "width": W, "height": H,
-        "depth_l": DEPTH, "cells": [int(round(W / CELL)), int(round(H / CELL))],
-        "rho": RHO, "Cp": CP, "mu": nu * RHO, "liquid_viscosity": mu_l,
-        "cohesion_force": f_c0, "cohesion_min_age": min_age,
-        "cohesion_factor": c_factor, "similarity_reference_diameter": similarity,
-        "surface_tension": sig, "vapour_release": release, "film_conduction": film,
-        "front_rear_walls_tau": tau,
-        "similarity_s": sim["s"], "permeability_ratio": permeability_ratio if similarity else None,
-        "U_mf_measured": u_mf, "T_d": T_D, "latent_heat": LATENT,
-        "grain_density": RHO_P, "packing_2d": phi2d, "grain_porosity": porosity,
-        "bed_weight_fraction": phi2d * (1 - (porosity or 0.0))})
-    print(f"{case}: T_bed = {t_bed_c:g} C, {len(g['d'])} grains of {d_grain:g} m, bed top "
-          f"{top * 1e3:.3f} mm, endTime {end_time} s")
+    write(
+        case,
+        "constant/dropletProperties",
+        "dictionary",
+        f"centre ({W / 2:.9g} {y_drop:.9g} {DEPTH / 2:.9g});\ndiameter {D_DROP};\n"
+        f"velocity (0 0 0);\nliquidDensity {RHO_L};\nlatentHeat {LATENT};\n"
+        f"vapourisationTemperature {T_D};\nvapourDensity {RHO_V};\nmoving yes;\nblowing yes;\n"
+        f"liquidViscosity {mu_l:.9g};\nsurfaceTension {sig:.9g};\nvapourRelease {release};\n"
+        f"filmConduction {'yes' if film else 'no'};\n",
+    )
+    write(
+        case,
+        "system/fvOptions",
+        "dictionary",
+        "droplet { type vapourDropletSource; }\n"
+        f"heleShaw {{ type heleShawFriction; selectionMode all; gap {GAP}; fields (U); }}\n",
+    )
+    write(
+        case,
+        "system/controlDict",
+        "dictionary",
+        "application vansFoam; startFrom latestTime; startTime 0; stopAt endTime;\n"
+        f"endTime {end_time}; deltaT {DT}; adjustTimeStep yes; maxCo 0.5; maxDeltaT {DT};\n"
+        f"writeControl adjustableRunTime; writeInterval {write_interval or end_time / 10:g};"
+        " writeFormat ascii;\n"
+        "writePrecision 12; timeFormat general; timePrecision 6; runTimeModifiable false;\n"
+        'libs ("libdropletCoupling.so");\n',
+    )
+    write(
+        case,
+        "system/fvSchemes",
+        "dictionary",
+        "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
+        "divSchemes { default none; div(phi,U) Gauss limitedLinearV 1; div(phi,T) Gauss limitedLinear 1;"
+        " div(phi,psi) Gauss limitedLinear01 1; }\n"
+        "laplacianSchemes { default Gauss linear corrected; }\n"
+        "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n",
+    )
+    write(
+        case,
+        "system/fvSolution",
+        "dictionary",
+        "solvers {\n  p { solver GAMG; smoother DIC; tolerance 1e-9; relTol 0.01; }\n"
+        "  pFinal { $p; relTol 0; }\n"
+        '  "(U|UFinal)" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-9; relTol 0; }\n'
+        '  "(T|psi)" { solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0; }\n}\n'
+        "PIMPLE { momentumPredictor yes; nOuterCorrectors 1; nCorrectors 2;"
+        " nNonOrthogonalCorrectors 0; }\n",
+    )
+    nscdpost.write_json(
+        os.path.join(case, "case.json"),
+        {
+            "bed_temperature_C": t_bed_c,
+            "bed_top": top,
+            "grain_diameter": d_grain,
+            "grains": int(len(g["d"])),
+            "droplet_diameter": D_DROP,
+            "width": W,
+            "height": H,
+            "depth_l": DEPTH,
+            "cells": [int(round(W / CELL)), int(round(H / CELL))],
+            "rho": RHO,
+            "Cp": CP,
+            "mu": nu * RHO,
+            "liquid_viscosity": mu_l,
+            "cohesion_force": f_c0,
+            "cohesion_min_age": min_age,
+            "cohesion_factor": c_factor,
+            "similarity_reference_diameter": similarity,
+            "surface_tension": sig,
+            "vapour_release": release,
+            "film_conduction": film,
+            "front_rear_walls_tau": tau,
+            "similarity_s": sim["s"],
+            "permeability_ratio": permeability_ratio if similarity else None,
+            "U_mf_measured": u_mf,
+            "T_d": T_D,
+            "latent_heat": LATENT,
+            "grain_density": RHO_P,
+            "packing_2d": phi2d,
+            "grain_porosity": porosity,
+            "bed_weight_fraction": phi2d * (1 - (porosity or 0.0)),
+        },
+    )
+    print(
+        f"{case}: T_bed = {t_bed_c:g} C, {len(g['d'])} grains of {d_grain:g} m, bed top "
+        f"{top * 1e3:.3f} mm, endTime {end_time} s"
+    )
 
 
 if __name__ == "__main__":
@@ -516,5 +644,9 @@ if __name__ == "__main__":
         deposit(float(sys.argv[2]) if len(sys.argv) > 2 else D_GRAIN_REDUCED)
     else:
         por = sys.argv[4] if len(sys.argv) > 4 else "none"
-        setup(sys.argv[1], float(sys.argv[2]), *(float(a) for a in sys.argv[3:4]),
-              porosity=None if por == "none" else ("auto" if por == "auto" else float(por)))
+        setup(
+            sys.argv[1],
+            float(sys.argv[2]),
+            *(float(a) for a in sys.argv[3:4]),
+            porosity=None if por == "none" else ("auto" if por == "auto" else float(por)),
+        )

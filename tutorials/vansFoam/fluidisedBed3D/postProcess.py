@@ -21,15 +21,16 @@ References, independent of the code:
   the Dallavalle law of the code) and u_i = u_t 10^(-d/W) (Richardson &
   Zaki's wall factor).
 """
+
 import json
 import math
 import os
 import sys
 
+import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
 
 
 def patch_average(case, name):
@@ -38,9 +39,12 @@ def patch_average(case, name):
     if not runs:
         raise SystemExit(f"{case}: no postProcessing/{name}: run vansFoam first")
     rows = []
-    for _, start in runs:   # restarts write one directory each
-        rows.append(np.loadtxt(os.path.join(case, "postProcessing", name, start,
-                                            "surfaceFieldValue.dat"), ndmin=2))
+    for _, start in runs:  # restarts write one directory each
+        rows.append(
+            np.loadtxt(
+                os.path.join(case, "postProcessing", name, start, "surfaceFieldValue.dat"), ndmin=2
+            )
+        )
     a = np.concatenate(rows)
     _, keep = np.unique(a[:, 0], return_index=True)
     return a[keep, 0], a[keep, 1]
@@ -73,8 +77,12 @@ def richardson_zaki(b, d):
     ret = ut * d / b["nu"]
     n = (4.7 + 0.41 * ret**0.75) / (1 + 0.175 * ret**0.75)
     ui = ut * 10 ** (-d / b["width"])
-    return {"terminal_velocity": ut, "terminal_reynolds": ret, "exponent_n": n,
-            "void_fraction": (b["u0"] / ui) ** (1 / n)}
+    return {
+        "terminal_velocity": ut,
+        "terminal_reynolds": ret,
+        "exponent_n": n,
+        "void_fraction": (b["u0"] / ui) ** (1 / n),
+    }
 
 
 def bed_surface(y, d):
@@ -98,7 +106,7 @@ def analyse(case):
         raise SystemExit(f"{case}: no grains written (reconstructPar after a parallel run)")
     g0 = nscdpost.read_grains(case, times[0][1])
     vp = math.pi / 6 * g0["d"] ** 3
-    weight = float(vp.sum() * (b["rho_p"] - b["rho"]) * b["g"] / area)   # [Pa]
+    weight = float(vp.sum() * (b["rho_p"] - b["rho"]) * b["g"] / area)  # [Pa]
     d_mean = float(g0["d"].mean())
     rz = richardson_zaki(b, d_mean)
 
@@ -109,9 +117,13 @@ def analyse(case):
             raise SystemExit(f"{case}/{name}: {len(g['d'])} grains, {len(g0['d'])} at the start")
         y = g["x"][:, 1]
         surface = bed_surface(y, g["d"])
-        row = {"time": tw, "grains": int(len(g["d"])), "bed_surface": surface,
-               "bed_void_fraction": 1 - float((math.pi / 6 * g["d"] ** 3).sum()) / (area * surface),
-               "resting_on_floor": int((y < 0.5 * g["d"] * 1.02).sum())}
+        row = {
+            "time": tw,
+            "grains": int(len(g["d"])),
+            "bed_surface": surface,
+            "bed_void_fraction": 1 - float((math.pi / 6 * g["d"] ** 3).sum()) / (area * surface),
+            "resting_on_floor": int((y < 0.5 * g["d"] * 1.02).sum()),
+        }
         if "Ffluid" in g and tw > 0:
             k = int(np.argmin(abs(t - tw)))
             fy = g["Ffluid"][:, 1] - b["rho"] * math.pi / 6 * g["d"] ** 3 * b["g"]
@@ -121,21 +133,29 @@ def analyse(case):
 
     end = float(t[-1])
     late = t >= 0.5 * end
-    res = {"bed_weight_per_area": weight, "d_mean": d_mean, "u0": b["u0"], "grains": b["grains"],
-           "ranks": b["ranks"], "richardson_zaki": rz,
-           "pressure_drop_over_weight_second_half": float(dp[late].mean() / weight),
-           "pressure_drop_over_weight_second_half_std": float(dp[late].std() / weight),
-           "time": [float(x) for x in t[::10]],
-           "pressure_drop_over_weight": [float(x) for x in (dp / weight)[::10]],
-           "writes": writes}
+    res = {
+        "bed_weight_per_area": weight,
+        "d_mean": d_mean,
+        "u0": b["u0"],
+        "grains": b["grains"],
+        "ranks": b["ranks"],
+        "richardson_zaki": rz,
+        "pressure_drop_over_weight_second_half": float(dp[late].mean() / weight),
+        "pressure_drop_over_weight_second_half_std": float(dp[late].std() / weight),
+        "time": [float(x) for x in t[::10]],
+        "pressure_drop_over_weight": [float(x) for x in (dp / weight)[::10]],
+        "writes": writes,
+    }
     nscdpost.write_json(os.path.join(case, "results.json"), res)
     return res
 
 
 def plot(case, res):
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     ax[0].plot(res["time"], res["pressure_drop_over_weight"], label="vansFoam")
     ax[0].axhline(1, color="k", ls="--", label="buoyant weight per area")
@@ -145,8 +165,12 @@ def plot(case, res):
     ax[0].legend()
     w = res["writes"]
     ax[1].plot([r["time"] for r in w], [r["bed_void_fraction"] for r in w], "o-", label="vansFoam")
-    ax[1].axhline(res["richardson_zaki"]["void_fraction"], color="k", ls="--",
-                  label="Richardson & Zaki (1954)")
+    ax[1].axhline(
+        res["richardson_zaki"]["void_fraction"],
+        color="k",
+        ls="--",
+        label="Richardson & Zaki (1954)",
+    )
     ax[1].set_xlabel("t [s]")
     ax[1].set_ylabel("mean void fraction of the bed")
     ax[1].legend()
@@ -158,7 +182,9 @@ if __name__ == "__main__":
     c = sys.argv[1] if len(sys.argv) > 1 else here
     r = analyse(c)
     plot(c, r)
-    print(f"{c}: dp/(W_b/A) over the second half {r['pressure_drop_over_weight_second_half']:.4f}"
-          f" (std {r['pressure_drop_over_weight_second_half_std']:.4f}); bed void fraction at the end"
-          f" {r['writes'][-1]['bed_void_fraction']:.3f}, Richardson-Zaki"
-          f" {r['richardson_zaki']['void_fraction']:.3f}")
+    print(
+        f"{c}: dp/(W_b/A) over the second half {r['pressure_drop_over_weight_second_half']:.4f}"
+        f" (std {r['pressure_drop_over_weight_second_half_std']:.4f}); bed void fraction at the end"
+        f" {r['writes'][-1]['bed_void_fraction']:.3f}, Richardson-Zaki"
+        f" {r['richardson_zaki']['void_fraction']:.3f}"
+    )

@@ -13,17 +13,19 @@ the column is twice the initial bed high.  Defaults: the tutorial's
 100,000 spheres, 42 spacings across (14 x 38 x 14 cells), U_0 = 0.06 m/s,
 0.5 s, 4 ranks.
 """
+
 import argparse
 import math
 import os
 
-here = os.path.dirname(os.path.abspath(__file__))
 import nscdpost
+
+here = os.path.dirname(os.path.abspath(__file__))
 
 D_MIN, LAMBDA = 0.95e-3, 1.1
 D_MAX = LAMBDA * D_MIN
-SPACING = 1.1 * D_MAX                   # grainDeposit's lattice spacing
-SPACINGS_PER_CELL = 3                   # h = 3 s: each cell layer holds three lattice layers
+SPACING = 1.1 * D_MAX  # grainDeposit's lattice spacing
+SPACINGS_PER_CELL = 3  # h = 3 s: each cell layer holds three lattice layers
 RHO, RHO_P, NU, G = 1000.0, 2500.0, 1e-6, 9.81
 
 
@@ -35,8 +37,10 @@ def decomposition(ranks):
 def setup(case, across=42, grains=100000, u0=0.06, end=0.5, ranks=4, dt=1e-3, write=0.05):
     """Write the case; returns its geometry and parameters (also in case/bed.json)."""
     if across % SPACINGS_PER_CELL:
-        raise SystemExit(f"setupCase.py: --across {across}: must be a multiple of {SPACINGS_PER_CELL}"
-                         f" (h = {SPACINGS_PER_CELL} lattice spacings)")
+        raise SystemExit(
+            f"setupCase.py: --across {across}: must be a multiple of {SPACINGS_PER_CELL}"
+            f" (h = {SPACINGS_PER_CELL} lattice spacings)"
+        )
     nx = across // SPACINGS_PER_CELL
     # the lattice holds floor(W/s) nodes across: W a hair above across*s
     width = (across + 1e-6) * SPACING
@@ -45,24 +49,54 @@ def setup(case, across=42, grains=100000, u0=0.06, end=0.5, ranks=4, dt=1e-3, wr
     h = width / nx
     ny = math.ceil(2 * h_box / h)
     npx, npz = decomposition(ranks)
-    subs = {"@W@": f"{width:.12g}", "@HC@": f"{ny * h:.12g}", "@NX@": str(nx), "@NY@": str(ny),
-            "@HBOX@": f"{h_box:.12g}", "@NGRAINS@": str(grains), "@DMIN@": f"{D_MIN:g}",
-            "@LAMBDA@": f"{LAMBDA:g}", "@U0@": f"{u0:.9g}", "@ENDTIME@": f"{end:g}",
-            "@DT@": f"{dt:g}", "@WRITE@": f"{write:g}", "@NP@": str(ranks),
-            "@NPX@": str(npx), "@NPZ@": str(npz)}
+    subs = {
+        "@W@": f"{width:.12g}",
+        "@HC@": f"{ny * h:.12g}",
+        "@NX@": str(nx),
+        "@NY@": str(ny),
+        "@HBOX@": f"{h_box:.12g}",
+        "@NGRAINS@": str(grains),
+        "@DMIN@": f"{D_MIN:g}",
+        "@LAMBDA@": f"{LAMBDA:g}",
+        "@U0@": f"{u0:.9g}",
+        "@ENDTIME@": f"{end:g}",
+        "@DT@": f"{dt:g}",
+        "@WRITE@": f"{write:g}",
+        "@NP@": str(ranks),
+        "@NPX@": str(npx),
+        "@NPZ@": str(npz),
+    }
     nscdpost.instantiate_case(os.path.join(here, "base"), case, subs)
-    info = {"width": width, "column_height": ny * h, "cells": [nx, ny, nx], "h": h,
-            "grains": grains, "lattice_layers": layers, "lattice_spacing": SPACING,
-            "d_min": D_MIN, "size_ratio": LAMBDA, "u0": u0, "rho": RHO, "rho_p": RHO_P,
-            "nu": NU, "g": G, "ranks": ranks, "end_time": end}
+    info = {
+        "width": width,
+        "column_height": ny * h,
+        "cells": [nx, ny, nx],
+        "h": h,
+        "grains": grains,
+        "lattice_layers": layers,
+        "lattice_spacing": SPACING,
+        "d_min": D_MIN,
+        "size_ratio": LAMBDA,
+        "u0": u0,
+        "rho": RHO,
+        "rho_p": RHO_P,
+        "nu": NU,
+        "g": G,
+        "ranks": ranks,
+        "end_time": end,
+    }
     nscdpost.write_json(os.path.join(case, "bed.json"), info)
-    print(f"{case}: {grains} spheres, {nx} x {ny} x {nx} cells (h = {h * 1e3:.3f} mm), "
-          f"U_0 = {u0} m/s, {end} s, {ranks} rank(s)")
+    print(
+        f"{case}: {grains} spheres, {nx} x {ny} x {nx} cells (h = {h * 1e3:.3f} mm), "
+        f"U_0 = {u0} m/s, {end} s, {ranks} rank(s)"
+    )
     return info
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("case")
     ap.add_argument("--across", type=int, default=42)
     ap.add_argument("--grains", type=int, default=100000)

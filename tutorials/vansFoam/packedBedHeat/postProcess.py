@@ -35,19 +35,21 @@ time), the energy balance Q vs the heat the grains gave (log, `heat:` line)
 and the grain temperature drift (the grains are a finite, very large heat
 capacity).
 """
+
 import json
 import math
 import os
 import re
 import sys
 
+import nscdpost
 import numpy as np
+from correlations import nusselt_difelice_colburn as nu_difelice_colburn
+from correlations import nusselt_gunn as nu_gunn
+from correlations import nusselt_ranz_marshall as nu_ranz_marshall
+from correlations import nusselt_wakao_kaguei as nu_wakao
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
-from correlations import (nusselt_difelice_colburn as nu_difelice_colburn,
-                          nusselt_gunn as nu_gunn, nusselt_ranz_marshall as nu_ranz_marshall,
-                          nusselt_wakao_kaguei as nu_wakao)
 
 # closures: Re is the superficial Reynolds number U_s d/nu
 MODELS = {"DiFeliceColburn": nu_difelice_colburn, "Gunn": nu_gunn, "RanzMarshall": nu_ranz_marshall}
@@ -55,12 +57,19 @@ MODELS = {"DiFeliceColburn": nu_difelice_colburn, "Gunn": nu_gunn, "RanzMarshall
 
 # ---- case reading --------------------------------------------------------------
 
+
 def read_internal(path):
     """Internal scalar field; a uniform field is expanded to the cell count."""
     f = nscdpost.read_internal_field(path)
     if f.ndim == 0:
-        n = int(re.search(r"\n(\d+)\s*\n", open(os.path.join(os.path.dirname(path), "..", "constant",
-                                                             "polyMesh", "owner")).read()).group(1))
+        n = int(
+            re.search(
+                r"\n(\d+)\s*\n",
+                open(
+                    os.path.join(os.path.dirname(path), "..", "constant", "polyMesh", "owner")
+                ).read(),
+            ).group(1)
+        )
         return np.full(n, float(f))
     return f
 
@@ -80,7 +89,9 @@ def heat_log(case):
         elif line.startswith("deltaT = "):
             dt = float(line.split()[2])
         elif line.startswith("heat: grain mean T"):
-            m = re.match(r"heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J", line)
+            m = re.match(
+                r"heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J", line
+            )
             out.append((t, dt, float(m.group(1)), float(m.group(3))))
     return np.array(out)
 
@@ -90,7 +101,7 @@ def solid_fraction_profile(y, yc, d, A):
     of diameters d centred at heights yc in a column of cross-section A)."""
     r = 0.5 * d
     z = y[:, None] - yc[None, :]
-    return np.sum(np.pi * np.clip(r ** 2 - z ** 2, 0, None), axis=1) / A
+    return np.sum(np.pi * np.clip(r**2 - z**2, 0, None), axis=1) / A
 
 
 def slab_solid_volume(y1, y2, yc, d):
@@ -98,7 +109,7 @@ def slab_solid_volume(y1, y2, yc, d):
     r = 0.5 * d
     a = np.clip(y1 - yc, -r, r)
     b = np.clip(y2 - yc, -r, r)
-    return float(np.sum(np.pi * (r ** 2 * (b - a) - (b ** 3 - a ** 3) / 3)))
+    return float(np.sum(np.pi * (r**2 * (b - a) - (b**3 - a**3) / 3)))
 
 
 def bed_void_fraction(yc, d, A, y0):
@@ -118,7 +129,7 @@ def unit_ball_points(n=40):
     """Deterministic points filling the unit ball (cell centres of an n^3 grid)."""
     g = (np.arange(n) + 0.5) / n * 2 - 1
     P = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
-    return P[(P ** 2).sum(1) <= 1]
+    return P[(P**2).sum(1) <= 1]
 
 
 def closure_as_applied(case, time_name, b, eps_cells, model, Pr):
@@ -140,7 +151,9 @@ def closure_as_applied(case, time_name, b, eps_cells, model, Pr):
     g = nscdpost.read_grains(case, time_name)
     u = nscdpost.read_vector_field(os.path.join(case, time_name, "lagrangian", "grains", "Ufluid"))
     lag = os.path.join(case, time_name, "lagrangian", "grains")
-    dT = nscdpost.read_scalar_field(os.path.join(lag, "T")) - nscdpost.read_scalar_field(os.path.join(lag, "Tfluid"))
+    dT = nscdpost.read_scalar_field(os.path.join(lag, "T")) - nscdpost.read_scalar_field(
+        os.path.join(lag, "Tfluid")
+    )
     B = unit_ball_points()
     nus, epss, res = [], [], []
     for x, dd, up in zip(g["x"], g["d"], u):
@@ -155,13 +168,20 @@ def closure_as_applied(case, time_name, b, eps_cells, model, Pr):
         epss.append(eps_p)
         res.append(eps_p * re_p)
     nus = np.array(nus)
-    return (float(np.mean(nus)), float(np.sum(nus * dT) / np.sum(dT)), float(np.mean(epss)),
-            float(np.mean(res)))
+    return (
+        float(np.mean(nus)),
+        float(np.sum(nus * dT) / np.sum(dT)),
+        float(np.mean(epss)),
+        float(np.mean(res)),
+    )
 
 
 def latest_time(case):
-    return max((float(n), n) for n in os.listdir(case)
-               if re.fullmatch(r"[0-9.e+-]+", n) and os.path.isfile(os.path.join(case, n, "T")))[1]
+    return max(
+        (float(n), n)
+        for n in os.listdir(case)
+        if re.fullmatch(r"[0-9.e+-]+", n) and os.path.isfile(os.path.join(case, n, "T"))
+    )[1]
 
 
 def measure(case):
@@ -179,7 +199,7 @@ def measure(case):
     hl = heat_log(case)
     T_p = hl[-1, 2]
     Q = rho * cp * Us * A * (T_out - T_in)
-    Q_grains = -hl[-1, 3] / hl[-1, 1]            # heat the grains gave in the last step [W]
+    Q_grains = -hl[-1, 3] / hl[-1, 1]  # heat the grains gave in the last step [W]
     dT_in, dT_out = T_p - T_in, T_p - T_out
     dT_lm = (dT_in - dT_out) / math.log(dT_in / dT_out)
     h = Q / (b["grain_surface"] * dT_lm)
@@ -203,29 +223,52 @@ def measure(case):
     layers = eps_cells.reshape(nx, ny, nx, order="F").mean(axis=(0, 2))
 
     corr = MODELS[model](eps_bed, Res, Pr)
-    nu_applied, nu_applied_dT, eps_applied, re_applied = closure_as_applied(case, latest_time(case), b, eps_cells,
-                                                             model, Pr)
-    res = {"case": case, "reynolds": Res, "superficial_velocity": Us, "void_fraction": eps_bed,
-           "prandtl": Pr, "T_in": T_in, "T_out": T_out, "T_grains": T_p, "Q": Q, "Q_grains": Q_grains,
-           "dT_lm": dT_lm, "ntu": ntu, "h": h, "nusselt_measured": Nu, "nusselt_correlation": corr,
-           "nusselt_gunn": nu_gunn(eps_bed, Res, Pr), "nusselt_wakao": nu_wakao(Res, Pr),
-           "nusselt_closure_grain_mean": nu_applied, "nusselt_closure_heat_weighted": nu_applied_dT,
-           "grain_void_fraction_mean": eps_applied,
-           "grain_reynolds_mean": re_applied,
-           "model": model, "bed_height": bed_height, "steady_drift": drift,
-           "grain_T_drift": abs(T_p - b["T_p"]) / dT_in, "eps_layers": layers.tolist()}
-    print(f"{os.path.basename(os.path.normpath(case))}: Re {Res:8.3f} eps {eps_bed:.4f} T_out {T_out:.6f} K NTU {ntu:7.3f} "
-          f"Nu {Nu:8.4f} {model} {corr:8.4f} ratio {Nu / corr:.4f} (closure over the grains "
-          f"{nu_applied:.4f}: eps_p {eps_applied:.4f}, eps_p Re_p {re_applied:.4g}; weighted by "
-          f"T_p - T_f,p {nu_applied_dT:.4f}) | Q {Q:.5g} W, grains {Q_grains:.5g} W "
-          f"({(Q - Q_grains) / Q_grains:+.1e}), T_out drift over the last flow-through {drift:.1e} "
-          f"of dT_out, grain T drift {res['grain_T_drift']:.1e} of dT_in")
+    nu_applied, nu_applied_dT, eps_applied, re_applied = closure_as_applied(
+        case, latest_time(case), b, eps_cells, model, Pr
+    )
+    res = {
+        "case": case,
+        "reynolds": Res,
+        "superficial_velocity": Us,
+        "void_fraction": eps_bed,
+        "prandtl": Pr,
+        "T_in": T_in,
+        "T_out": T_out,
+        "T_grains": T_p,
+        "Q": Q,
+        "Q_grains": Q_grains,
+        "dT_lm": dT_lm,
+        "ntu": ntu,
+        "h": h,
+        "nusselt_measured": Nu,
+        "nusselt_correlation": corr,
+        "nusselt_gunn": nu_gunn(eps_bed, Res, Pr),
+        "nusselt_wakao": nu_wakao(Res, Pr),
+        "nusselt_closure_grain_mean": nu_applied,
+        "nusselt_closure_heat_weighted": nu_applied_dT,
+        "grain_void_fraction_mean": eps_applied,
+        "grain_reynolds_mean": re_applied,
+        "model": model,
+        "bed_height": bed_height,
+        "steady_drift": drift,
+        "grain_T_drift": abs(T_p - b["T_p"]) / dT_in,
+        "eps_layers": layers.tolist(),
+    }
+    print(
+        f"{os.path.basename(os.path.normpath(case))}: Re {Res:8.3f} eps {eps_bed:.4f} T_out {T_out:.6f} K NTU {ntu:7.3f} "
+        f"Nu {Nu:8.4f} {model} {corr:8.4f} ratio {Nu / corr:.4f} (closure over the grains "
+        f"{nu_applied:.4f}: eps_p {eps_applied:.4f}, eps_p Re_p {re_applied:.4g}; weighted by "
+        f"T_p - T_f,p {nu_applied_dT:.4f}) | Q {Q:.5g} W, grains {Q_grains:.5g} W "
+        f"({(Q - Q_grains) / Q_grains:+.1e}), T_out drift over the last flow-through {drift:.1e} "
+        f"of dT_out, grain T drift {res['grain_T_drift']:.1e} of dT_in"
+    )
     return res
 
 
 def plot(cases, png="packedBedHeat.png"):
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
@@ -236,15 +279,29 @@ def plot(cases, png="packedBedHeat.png"):
     model = cases[0]["model"]
     r = np.logspace(np.log10(min(Re.min(), 1.0)), np.log10(max(Re.max(), 500.0)), 200)
     fig, ax = plt.subplots(figsize=(5.5, 4))
-    ax.loglog(r, [MODELS[model](eps, x, Pr) for x in r], "k-",
-              label=f"{model} (selected), eps = {eps:.3f}")
+    ax.loglog(
+        r,
+        [MODELS[model](eps, x, Pr) for x in r],
+        "k-",
+        label=f"{model} (selected), eps = {eps:.3f}",
+    )
     if model != "Gunn":
         ax.loglog(r, [nu_gunn(eps, x, Pr) for x in r], "b--", label="Gunn (1978)")
     ax.loglog(r, [nu_wakao(x, Pr) for x in r], "g:", label="Wakao & Kaguei (1982)")
-    ax.loglog(Re, [c["nusselt_measured"] for c in cases], "ro", ms=7,
-              label="vansFoam, measured (mixed-cup Q, log-mean dT)")
-    ax.loglog(Re, [c["nusselt_closure_grain_mean"] for c in cases], "k+", ms=9,
-              label=f"{model} at each grain's eps, Re (mean)")
+    ax.loglog(
+        Re,
+        [c["nusselt_measured"] for c in cases],
+        "ro",
+        ms=7,
+        label="vansFoam, measured (mixed-cup Q, log-mean dT)",
+    )
+    ax.loglog(
+        Re,
+        [c["nusselt_closure_grain_mean"] for c in cases],
+        "k+",
+        ms=9,
+        label=f"{model} at each grain's eps, Re (mean)",
+    )
     ax.set_xlabel("Re = U_s d / nu (superficial)")
     ax.set_ylabel("Nu = h d / k")
     ax.set_title(f"air through a fixed bed of hot spheres, Pr = {Pr:.3f}", fontsize=9)
@@ -255,30 +312,44 @@ def plot(cases, png="packedBedHeat.png"):
 
 
 def mesh_study(argv):
-    cases = sorted((measure(c) for c in argv),
-                   key=lambda c: -json.load(open(os.path.join(c["case"], "bed.json")))["dy_over_d"])
+    cases = sorted(
+        (measure(c) for c in argv),
+        key=lambda c: -json.load(open(os.path.join(c["case"], "bed.json")))["dy_over_d"],
+    )
     dy = [json.load(open(os.path.join(c["case"], "bed.json")))["dy_over_d"] for c in cases]
-    out = {"reynolds": cases[0]["reynolds"], "void_fraction": cases[0]["void_fraction"],
-           "prandtl": cases[0]["prandtl"], "model": cases[0]["model"], "dy_over_d": dy,
-           "nusselt_measured": [c["nusselt_measured"] for c in cases],
-           "nusselt_closure_grain_mean": [c["nusselt_closure_grain_mean"] for c in cases],
-           "nusselt_closure_heat_weighted": [c["nusselt_closure_heat_weighted"] for c in cases],
-           "grain_void_fraction_mean": [c["grain_void_fraction_mean"] for c in cases],
-           "nusselt_correlation": cases[0]["nusselt_correlation"],
-           "ntu": [c["ntu"] for c in cases]}
+    out = {
+        "reynolds": cases[0]["reynolds"],
+        "void_fraction": cases[0]["void_fraction"],
+        "prandtl": cases[0]["prandtl"],
+        "model": cases[0]["model"],
+        "dy_over_d": dy,
+        "nusselt_measured": [c["nusselt_measured"] for c in cases],
+        "nusselt_closure_grain_mean": [c["nusselt_closure_grain_mean"] for c in cases],
+        "nusselt_closure_heat_weighted": [c["nusselt_closure_heat_weighted"] for c in cases],
+        "grain_void_fraction_mean": [c["grain_void_fraction_mean"] for c in cases],
+        "nusselt_correlation": cases[0]["nusselt_correlation"],
+        "ntu": [c["ntu"] for c in cases],
+    }
     nscdpost.write_json("results_mesh.json", out)
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
         return
     fig, ax = plt.subplots(figsize=(5, 3.6))
     ax.semilogx(dy, out["nusselt_measured"], "ro-", label="measured (mixed-cup Q, log-mean dT)")
-    ax.semilogx(dy, out["nusselt_closure_grain_mean"], "k+--", ms=9,
-                label="closure at each grain's eps, Re (mean)")
+    ax.semilogx(
+        dy,
+        out["nusselt_closure_grain_mean"],
+        "k+--",
+        ms=9,
+        label="closure at each grain's eps, Re (mean)",
+    )
     ax.axhline(out["nusselt_correlation"], color="k", label=f"{out['model']} at the bed's eps, U_s")
     from matplotlib.ticker import NullFormatter
+
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xticks(dy)
     ax.set_xticklabels([f"{v:g}" for v in dy])

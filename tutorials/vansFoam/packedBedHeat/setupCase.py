@@ -19,37 +19,53 @@ Mesh: lateral cells 2 d (h/d = 2, 4 x 4 across), axial cells DY_D d
 (default 0.125: the air's temperature relaxes over ~1/(lambda) = 0.3-1 d
 in the bed, see README.md).
 """
+
 import os
 import sys
 
+import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
 
-D = 2e-3                        # grain diameter [m]
-W = 8 * D                       # column width (square) [m]
-HEIGHT = 14 * D                 # column height [m]
-Y_BED = 4 * D                   # bottom of the bed (temporary floor while pouring) [m]
+D = 2e-3  # grain diameter [m]
+W = 8 * D  # column width (square) [m]
+HEIGHT = 14 * D  # column height [m]
+Y_BED = 4 * D  # bottom of the bed (temporary floor while pouring) [m]
 N_GRAINS = 300
 RHO, MU, CP, KAPPA = 1.204, 2e-5, 1010.0, 0.025
 NU = MU / RHO
 T_IN, T_P = 300.0, 350.0
-FLOWTHROUGHS = 3.0              # run length in column flow-through times H/U_s
+FLOWTHROUGHS = 3.0  # run length in column flow-through times H/U_s
 MAXCO = 1.0
 
 
 def subs(dy_d=0.125, re=None, model="DiFeliceColburn", tscheme="limitedLinear 1"):
     ny = int(round(HEIGHT / (dy_d * D)))
-    s = {"@W@": f"{W:.9g}", "@HEIGHT@": f"{HEIGHT:.9g}", "@NX@": str(int(round(W / (2 * D)))),
-         "@NY@": str(ny), "@DY_D@": f"{dy_d:g}", "@NU@": f"{NU:.12g}", "@MODEL@": model,
-         "@TP@": f"{T_P:g}", "@TIN@": f"{T_IN:g}", "@TSCHEME@": tscheme,
-         "@MAXCO@": f"{MAXCO:g}", "@FLOWTHROUGHS@": f"{FLOWTHROUGHS:g}"}
+    s = {
+        "@W@": f"{W:.9g}",
+        "@HEIGHT@": f"{HEIGHT:.9g}",
+        "@NX@": str(int(round(W / (2 * D)))),
+        "@NY@": str(ny),
+        "@DY_D@": f"{dy_d:g}",
+        "@NU@": f"{NU:.12g}",
+        "@MODEL@": model,
+        "@TP@": f"{T_P:g}",
+        "@TIN@": f"{T_IN:g}",
+        "@TSCHEME@": tscheme,
+        "@MAXCO@": f"{MAXCO:g}",
+        "@FLOWTHROUGHS@": f"{FLOWTHROUGHS:g}",
+    }
     us = 0.0 if re is None else re * NU / D
     end = 1.0 if re is None else FLOWTHROUGHS * HEIGHT / us
-    s.update({"@US@": f"{us:.12g}", "@ENDTIME@": f"{end:.9g}",
-              "@WRITEINTERVAL@": f"{end / 3:.9g}",
-              "@DT0@": f"{0.1 * dy_d * D / max(us, 1e-9):.6g}"})
+    s.update(
+        {
+            "@US@": f"{us:.12g}",
+            "@ENDTIME@": f"{end:.9g}",
+            "@WRITEINTERVAL@": f"{end / 3:.9g}",
+            "@DT0@": f"{0.1 * dy_d * D / max(us, 1e-9):.6g}",
+        }
+    )
     return s
 
 
@@ -57,13 +73,15 @@ def deposit(n=N_GRAINS, root=here):
     case = os.path.join(root, "deposit")
     nscdpost.instantiate_case(os.path.join(here, "base"), case, subs())
     with open(os.path.join(case, "system", "grainDepositDict"), "w") as f:
-        f.write("FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n"
-                "// pour: loose lattice above the temporary floor y = Y_BED, settle under gravity\n"
-                "material glass;\nmethod box;\n"
-                f"box {{ min (0 {Y_BED:.9g} 0); max ({W:.9g} {HEIGHT:.9g} {W:.9g}); }}\n"
-                f"number {n};\ndMin {D};\nsizeRatio 1;\nseed 5;\n"
-                "settle { maxTime 1; deltaT 2e-4; speedTolerance 2e-3;\n"
-                f"  temporaryWalls ( {{ point (0 {Y_BED:.9g} 0); normal (0 1 0); }} ); }}\n")
+        f.write(
+            "FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n"
+            "// pour: loose lattice above the temporary floor y = Y_BED, settle under gravity\n"
+            "material glass;\nmethod box;\n"
+            f"box {{ min (0 {Y_BED:.9g} 0); max ({W:.9g} {HEIGHT:.9g} {W:.9g}); }}\n"
+            f"number {n};\ndMin {D};\nsizeRatio 1;\nseed 5;\n"
+            "settle { maxTime 1; deltaT 2e-4; speedTolerance 2e-3;\n"
+            f"  temporaryWalls ( {{ point (0 {Y_BED:.9g} 0); normal (0 1 0); }} ); }}\n"
+        )
     print(f"{case}: {n} spheres (d = {D} m) to pour")
 
 
@@ -71,11 +89,15 @@ def freeze(root=here):
     """Replace deposit/system/grainDepositDict by the settled grains, fixed."""
     case = os.path.join(root, "deposit")
     g = nscdpost.read_grains(case, "0")
-    lines = "\n".join(f"({x:.15g} {y:.15g} {z:.15g} {d:.15g})" for (x, y, z), d in zip(g["x"], g["d"]))
+    lines = "\n".join(
+        f"({x:.15g} {y:.15g} {z:.15g} {d:.15g})" for (x, y, z), d in zip(g["x"], g["d"])
+    )
     with open(os.path.join(case, "system", "grainDepositDict"), "w") as f:
-        f.write("FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n"
-                "// the poured bed, frozen: every grain fixed\n"
-                f"material glass;\nmethod list;\nfixed yes;\ngrains\n(\n{lines}\n);\n")
+        f.write(
+            "FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n"
+            "// the poured bed, frozen: every grain fixed\n"
+            f"material glass;\nmethod list;\nfixed yes;\ngrains\n(\n{lines}\n);\n"
+        )
     top = float(np.max(g["x"][:, 1] + 0.5 * g["d"]))
     print(f"{case}: {len(g['d'])} grains frozen, bed {Y_BED * 1e3:.3f} .. {top * 1e3:.3f} mm")
 
@@ -87,16 +109,34 @@ def setup(case, re, model="DiFeliceColburn", dy_d=0.125, tscheme="limitedLinear 
     nscdpost.copy_grain_state(dep, case)
     g = nscdpost.read_grains(dep, "0")
     assert g["fixed"].all(), "run `setupCase.py freeze` and grainDeposit first"
-    nscdpost.write_json(os.path.join(case, "bed.json"), {
-        "reynolds": re, "superficial_velocity": float(s["@US@"]), "model": model,
-        "d": D, "width": W, "height": HEIGHT, "bed_bottom": Y_BED, "grains": int(len(g["d"])),
-        "grain_surface": float(np.sum(np.pi * g["d"] ** 2)),
-        "grain_volume": float(np.sum(np.pi / 6 * g["d"] ** 3)),
-        "bed_top": float(np.max(g["x"][:, 1] + 0.5 * g["d"])),
-        "rho": RHO, "nu": NU, "cp": CP, "kappa": KAPPA, "T_in": T_IN, "T_p": T_P,
-        "dy_over_d": dy_d, "T_scheme": tscheme})
-    print(f"{case}: Re = {re:g}, U_s = {float(s['@US@']):.5g} m/s, endTime {s['@ENDTIME@']} s, "
-          f"{s['@NX@']} x {s['@NY@']} x {s['@NX@']} cells, model {model}")
+    nscdpost.write_json(
+        os.path.join(case, "bed.json"),
+        {
+            "reynolds": re,
+            "superficial_velocity": float(s["@US@"]),
+            "model": model,
+            "d": D,
+            "width": W,
+            "height": HEIGHT,
+            "bed_bottom": Y_BED,
+            "grains": int(len(g["d"])),
+            "grain_surface": float(np.sum(np.pi * g["d"] ** 2)),
+            "grain_volume": float(np.sum(np.pi / 6 * g["d"] ** 3)),
+            "bed_top": float(np.max(g["x"][:, 1] + 0.5 * g["d"])),
+            "rho": RHO,
+            "nu": NU,
+            "cp": CP,
+            "kappa": KAPPA,
+            "T_in": T_IN,
+            "T_p": T_P,
+            "dy_over_d": dy_d,
+            "T_scheme": tscheme,
+        },
+    )
+    print(
+        f"{case}: Re = {re:g}, U_s = {float(s['@US@']):.5g} m/s, endTime {s['@ENDTIME@']} s, "
+        f"{s['@NX@']} x {s['@NY@']} x {s['@NX@']} cells, model {model}"
+    )
 
 
 if __name__ == "__main__":
@@ -106,5 +146,10 @@ if __name__ == "__main__":
         freeze()
     else:
         args = sys.argv[1:]
-        setup(args[0], float(args[1]), *(args[2:3] or ["DiFeliceColburn"]),
-              *([float(args[3])] if len(args) > 3 else []), *(args[4:5]))
+        setup(
+            args[0],
+            float(args[1]),
+            *(args[2:3] or ["DiFeliceColburn"]),
+            *([float(args[3])] if len(args) > 3 else []),
+            *(args[4:5]),
+        )

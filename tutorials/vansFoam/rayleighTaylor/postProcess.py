@@ -13,13 +13,13 @@ number of separate x-intervals where the edge hangs more than 4 d_max below
 its median, i.e. fingers of grains falling into the air (thesis section
 3.3.1, Vinningland et al. 2007).
 """
+
 import json
 import os
 import sys
 
-import numpy as np
-
 import nscdpost
+import numpy as np
 
 
 def lower_edge(g, width, dmax):
@@ -50,24 +50,38 @@ def main():
         front.append(float(e.mean()))
         count.append(fingers(e, dmax))
         edges.append(e)
-    res = {"time": t, "mean_front_position": front, "finger_count": count,
-           "grains": setup["grains"], "width": W, "height": setup["height"]}
+    res = {
+        "time": t,
+        "mean_front_position": front,
+        "finger_count": count,
+        "grains": setup["grains"],
+        "width": W,
+        "height": setup["height"],
+    }
     nscdpost.write_json("results.json", res)
     for a, b, c in zip(t, front, count):
         print(f"t = {a:.3f} s: mean lower edge {b * 1e3:.2f} mm, fingers {c}")
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
         xs = (np.arange(len(edges[0])) + 0.5) * W / len(edges[0])
         for k, (ti, e) in enumerate(zip(t, edges)):
-            a1.plot(xs * 1e3, e * 1e3, color=plt.cm.viridis(k / max(1, len(t) - 1)), label=f"{ti:.2f} s")
-        a1.set_xlabel("x [mm]"); a1.set_ylabel("lower edge of the grains [mm]"); a1.legend(fontsize=6)
+            a1.plot(
+                xs * 1e3, e * 1e3, color=plt.cm.viridis(k / max(1, len(t) - 1)), label=f"{ti:.2f} s"
+            )
+        a1.set_xlabel("x [mm]")
+        a1.set_ylabel("lower edge of the grains [mm]")
+        a1.legend(fontsize=6)
         a2.plot(t, np.array(front) * 1e3, "o-", label="mean lower edge [mm]")
         a2b = a2.twinx()
         a2b.plot(t, count, "s--", color="C1", label="fingers")
-        a2.set_xlabel("t [s]"); a2.set_ylabel("mean lower edge [mm]"); a2b.set_ylabel("finger count")
+        a2.set_xlabel("t [s]")
+        a2.set_ylabel("mean lower edge [mm]")
+        a2b.set_ylabel("finger count")
         fig.suptitle("Granular Rayleigh-Taylor instability (thesis 3.3.1)")
         fig.tight_layout()
         fig.savefig("fingers.png", dpi=120)

@@ -14,12 +14,14 @@ fraction ~0.76) filling the box from the top; the thesis' 70,000 discs then
 fill the top 57 mm and leave ~11 mm of air below (the thesis does not say how
 its packing was made; it gives the grain count and the box).
 """
+
 import os
 import random
 import sys
 
-here = os.path.dirname(os.path.abspath(__file__))
 import nscdpost
+
+here = os.path.dirname(os.path.abspath(__file__))
 
 D_MAX, LAMBDA = 230e-6, 1.2
 W_FULL, H_FULL, N_FULL = 0.056, 0.068, 70000
@@ -34,7 +36,7 @@ def main():
     h = 2 * D_MAX
     nx, ny = round(W / h), round(H / h)
     rng = random.Random(7)
-    dy = D_MAX * 3 ** 0.5 / 2
+    dy = D_MAX * 3**0.5 / 2
     per_row = int((W - D_MAX) / D_MAX)
     lines, j = [], 0
     while len(lines) < n_target:
@@ -47,18 +49,39 @@ def main():
             d = D_MAX * (1 / LAMBDA + (1 - 1 / LAMBDA) * rng.random()) * (1 - 1e-6)
             lines.append(f"({x:.9g} {y:.9g} 0 {d:.9g})")
         j += 1
-    nscdpost.instantiate_case(os.path.join(here, "base"), case, {
-        "@WIDTH@": f"{W:.9g}", "@HEIGHT@": f"{H:.9g}", "@H@": f"{W / nx:.9g}",
-        "@NX@": str(nx), "@NY@": str(ny), "@ENDTIME@": end})
+    nscdpost.instantiate_case(
+        os.path.join(here, "base"),
+        case,
+        {
+            "@WIDTH@": f"{W:.9g}",
+            "@HEIGHT@": f"{H:.9g}",
+            "@H@": f"{W / nx:.9g}",
+            "@NX@": str(nx),
+            "@NY@": str(ny),
+            "@ENDTIME@": end,
+        },
+    )
     with open(os.path.join(case, "system", "grainDepositDict"), "w") as f:
-        f.write("FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n")
+        f.write(
+            "FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n"
+        )
         f.write("// triangular lattice of spacing d_max from the top, released at t = 0\n")
         f.write("material beads;\nmethod list;\ngrains\n(\n" + "\n".join(lines) + "\n);\n")
-    nscdpost.write_json(os.path.join(case, "setup.json"),
-                        {"width": W, "height": H, "grains": len(lines), "rows": j,
-                         "initial_interface": H - (j - 1) * dy - D_MAX, "d_max": D_MAX})
-    print(f"{case}: {len(lines)} discs in {j} rows, box {W * 1e3:.1f} x {H * 1e3:.1f} mm, "
-          f"mesh {nx} x {ny}, endTime {end} s")
+    nscdpost.write_json(
+        os.path.join(case, "setup.json"),
+        {
+            "width": W,
+            "height": H,
+            "grains": len(lines),
+            "rows": j,
+            "initial_interface": H - (j - 1) * dy - D_MAX,
+            "d_max": D_MAX,
+        },
+    )
+    print(
+        f"{case}: {len(lines)} discs in {j} rows, box {W * 1e3:.1f} x {H * 1e3:.1f} mm, "
+        f"mesh {nx} x {ny}, endTime {end} s"
+    )
 
 
 if __name__ == "__main__":

@@ -12,12 +12,12 @@ exact overlap representation only the leading edge moves while the grains
 behind stay packed; PCM needs artificial pressure diffusion in the thesis'
 finite-element code and opens a void at the top.
 """
+
 import os
 import sys
 
-import numpy as np
-
 import nscdpost
+import numpy as np
 
 
 def measure(case):
@@ -43,12 +43,16 @@ def main():
     nscdpost.write_json("results.json", res)
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         fig, ax = plt.subplots(figsize=(5, 4))
         for k, (m, r) in enumerate(sorted(res.items())):
             tag = "" if r["completed"] else f" (unstable, stopped after t = {r['time'][-1]:g} s)"
-            ax.plot(r["time"], r["front_height"], "-o", color=f"C{k}", label=f"{m}: leading edge{tag}")
+            ax.plot(
+                r["time"], r["front_height"], "-o", color=f"C{k}", label=f"{m}: leading edge{tag}"
+            )
             ax.plot(r["time"], r["top_height"], "--", color=f"C{k}", label=f"{m}: top of layer")
         ax.set_xlabel("t [s]")
         ax.set_ylabel("height [m]")
@@ -59,8 +63,10 @@ def main():
     except ImportError:
         print("matplotlib missing: no front.png")
     for m, r in res.items():
-        print(f"{m}: front {r['front_height'][0]:.4f} -> {r['front_height'][-1]:.4f} m, "
-              f"top {r['top_height'][0]:.4f} -> {r['top_height'][-1]:.4f} m")
+        print(
+            f"{m}: front {r['front_height'][0]:.4f} -> {r['front_height'][-1]:.4f} m, "
+            f"top {r['top_height'][0]:.4f} -> {r['top_height'][-1]:.4f} m"
+        )
 
 
 if __name__ == "__main__":

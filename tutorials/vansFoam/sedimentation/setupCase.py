@@ -6,11 +6,13 @@ the top 0.15 m of the 0.4 x 0.6 m box.
 
 usage: setupCase.py CASEDIR METHOD [ENDTIME] [ROWS]   (METHOD: overlap | centroid)
 """
+
 import os
 import sys
 
-here = os.path.dirname(os.path.abspath(__file__))
 import nscdpost
+
+here = os.path.dirname(os.path.abspath(__file__))
 
 
 # per method: the void fraction floor and the artificial pressure diffusion
@@ -31,24 +33,31 @@ def main():
     end = sys.argv[3] if len(sys.argv) > 3 else "2"
     rows = int(sys.argv[4]) if len(sys.argv) > 4 else 50
     r = 1.5e-3
-    ncol = int(0.4 / (2 * r))          # 133
+    ncol = int(0.4 / (2 * r))  # 133
     x0 = 0.5 * (0.4 - ncol * 2 * r)
     ytop = 0.6 - 2e-3
     lines = []
     for j in range(rows):
         for i in range(ncol):
-            lines.append(f"({x0 + (2 * i + 1) * r:.9g} {ytop - (2 * j + 1) * r:.9g} 0 {2 * r * (1 - 1e-9):.12g})")
+            lines.append(
+                f"({x0 + (2 * i + 1) * r:.9g} {ytop - (2 * j + 1) * r:.9g} 0 {2 * r * (1 - 1e-9):.12g})"
+            )
     if method not in METHODS:
         sys.exit(f"setupCase.py: unknown METHOD {method} (use: {' | '.join(METHODS)})")
-    nscdpost.instantiate_case(os.path.join(here, "base"), case,
-                              {"@METHOD@": method, "@ENDTIME@": end, **METHODS[method]})
+    nscdpost.instantiate_case(
+        os.path.join(here, "base"), case, {"@METHOD@": method, "@ENDTIME@": end, **METHODS[method]}
+    )
     with open(os.path.join(case, "system", "grainDepositDict"), "w") as f:
-        f.write("FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n")
+        f.write(
+            "FoamFile { version 2.0; format ascii; class dictionary; object grainDepositDict; }\n"
+        )
         f.write("// square lattice, spacing 2r, no settling (released at t = 0)\n")
         f.write("material grains;\nmethod list;\ngrains\n(\n" + "\n".join(lines) + "\n);\n")
-    print(f"{case}: {len(lines)} discs, void fraction method {method} (epsMin "
-          f"{METHODS[method]['@EPSMIN@']}, pressureDiffusion {METHODS[method]['@PRESSUREDIFFUSION@']}), "
-          f"endTime {end} s")
+    print(
+        f"{case}: {len(lines)} discs, void fraction method {method} (epsMin "
+        f"{METHODS[method]['@EPSMIN@']}, pressureDiffusion {METHODS[method]['@PRESSUREDIFFUSION@']}), "
+        f"endTime {end} s"
+    )
 
 
 if __name__ == "__main__":

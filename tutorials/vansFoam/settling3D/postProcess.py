@@ -8,10 +8,9 @@ a dense cloud (solid fraction ~0.3-0.5) falls slower than a lone grain
 (hindered settling: return flow of the displaced water, Richardson & Zaki
 1954) and stops on the floor."""
 
-import numpy as np
-
 import correlations
 import nscdpost
+import numpy as np
 
 
 def terminal(d, rhop=2500.0, rho=1000.0, nu=1e-6):
@@ -29,13 +28,21 @@ def main():
         v.append(float(np.mean(g["U"][:, 1])))
         dmean = float(np.mean(g["d"]))
     wt = terminal(dmean)
-    nscdpost.write_json("results.json", {"time": t, "mean_grain_velocity": v,
-                                         "single_grain_terminal_velocity": -wt,
-                                         "mean_diameter": dmean})
+    nscdpost.write_json(
+        "results.json",
+        {
+            "time": t,
+            "mean_grain_velocity": v,
+            "single_grain_terminal_velocity": -wt,
+            "mean_diameter": dmean,
+        },
+    )
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         fig, ax = plt.subplots(figsize=(5, 3.5))
         ax.plot(t, v, "o-", label="vansFoam, 1,500 spheres")
         ax.axhline(-wt, color="k", ls="--", label="single-grain terminal velocity")

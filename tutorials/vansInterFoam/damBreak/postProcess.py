@@ -31,6 +31,7 @@ report the comparison without shift and with the time-origin shift dT
 error, and the front speed dZ/dT (least squares over T >= 1.43, independent
 of the time origin).
 """
+
 import json
 import math
 import os
@@ -39,16 +40,18 @@ import sys
 
 import numpy as np
 
-A = 0.05715                  # column width [m]
-N2 = 2.0                     # column height / width
+A = 0.05715  # column width [m]
+N2 = 2.0  # column height / width
 G = 9.81
 # Martin & Moyce (1952) Table 2, n^2 = 2, a = 2.25 in
-T_REF = np.array([0.41, 0.84, 1.19, 1.43, 1.63, 1.83, 1.98, 2.20, 2.32, 2.51,
-                  2.65, 2.83, 2.98, 3.11, 3.33])
-Z_REF = np.array([1.11, 1.22, 1.44, 1.67, 1.89, 2.11, 2.33, 2.56, 2.78, 3.00,
-                  3.22, 3.44, 3.67, 3.89, 4.11])
+T_REF = np.array(
+    [0.41, 0.84, 1.19, 1.43, 1.63, 1.83, 1.98, 2.20, 2.32, 2.51, 2.65, 2.83, 2.98, 3.11, 3.33]
+)
+Z_REF = np.array(
+    [1.11, 1.22, 1.44, 1.67, 1.89, 2.11, 2.33, 2.56, 2.78, 3.00, 3.22, 3.44, 3.67, 3.89, 4.11]
+)
 DT_MAX = 0.3
-T_SPEED = 1.43               # front speed fitted over T >= T_SPEED
+T_SPEED = 1.43  # front speed fitted over T >= T_SPEED
 
 
 def front_history(case):
@@ -101,8 +104,11 @@ def log_numbers(case):
     if clock:
         out["wall_seconds"] = float(clock[-1])
     out["steps"] = len(re.findall(r"^Time = ", txt, re.M))
-    cells = re.search(r"nCells: (\d+)", open(os.path.join(case, "log.blockMesh")).read()) \
-        if os.path.exists(os.path.join(case, "log.blockMesh")) else None
+    cells = (
+        re.search(r"nCells: (\d+)", open(os.path.join(case, "log.blockMesh")).read())
+        if os.path.exists(os.path.join(case, "log.blockMesh"))
+        else None
+    )
     if cells:
         out["cells"] = int(cells.group(1))
     return out
@@ -124,7 +130,7 @@ def measure(case):
         "Z": Z.tolist(),
         "reference": {
             "source": "Martin & Moyce (1952) Phil. Trans. R. Soc. A 244, 312-324, "
-                      "Table 2 (n^2 = 2, a = 2.25 in); T = t sqrt(2 g/a), Z = x/a",
+            "Table 2 (n^2 = 2, a = 2.25 in); T = t sqrt(2 g/a), Z = x/a",
             "T": T_REF.tolist(),
             "Z": Z_REF.tolist(),
         },
@@ -145,6 +151,7 @@ def measure(case):
 def plot(res, path):
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
@@ -154,10 +161,10 @@ def plot(res, path):
     dT = res["time_origin_shift"]
     fig, ax = plt.subplots(figsize=(5.5, 4))
     ax.plot(T, Z, "-", color="C0", label="vansInterFoam (no grains)")
-    ax.plot(T + dT, Z, "--", color="C0",
-            label=f"vansInterFoam, time origin shifted by {dT:.3f}")
-    ax.plot(T_REF, Z_REF, "o", color="k", mfc="none",
-            label="Martin & Moyce (1952), Table 2, $n^2 = 2$")
+    ax.plot(T + dT, Z, "--", color="C0", label=f"vansInterFoam, time origin shifted by {dT:.3f}")
+    ax.plot(
+        T_REF, Z_REF, "o", color="k", mfc="none", label="Martin & Moyce (1952), Table 2, $n^2 = 2$"
+    )
     ax.set_xlabel(r"$T = t\,\sqrt{2g/a}$")
     ax.set_ylabel(r"$Z = x_f/a$")
     ax.set_xlim(0, 3.6)
@@ -174,10 +181,12 @@ def main():
     with open(os.path.join(case, "results.json"), "w") as f:
         json.dump(res, f, indent=1, sort_keys=True)
     plot(res, os.path.join(case, "front.png"))
-    print(f"front vs Martin & Moyce: max |error| {100 * res['max_abs_relative_error']:.1f} % "
-          f"(no shift), {100 * res['max_abs_relative_error_shifted']:.1f} % with the time "
-          f"origin shifted by {res['time_origin_shift']:.3f}; front speed dZ/dT "
-          f"{res['front_speed_dZdT']:.3f} (experiment {res['front_speed_dZdT_reference']:.3f})")
+    print(
+        f"front vs Martin & Moyce: max |error| {100 * res['max_abs_relative_error']:.1f} % "
+        f"(no shift), {100 * res['max_abs_relative_error_shifted']:.1f} % with the time "
+        f"origin shifted by {res['time_origin_shift']:.3f}; front speed dZ/dT "
+        f"{res['front_speed_dZdT']:.3f} (experiment {res['front_speed_dZdT_reference']:.3f})"
+    )
     if "water_volume_max_relative_change" in res:
         print(f"water volume: max relative change {res['water_volume_max_relative_change']:.3g}")
 

@@ -17,6 +17,7 @@ drives a bore of height h1 with v_f = (h1 - h0) sqrt(g (h1 + h0)/(2 h1 h0))
 use this piston picture for the bore and solitary regimes).  OUTDIR gets
 results.json (one entry per configuration) and <config>.png.
 """
+
 import json
 import math
 import os
@@ -31,8 +32,11 @@ TABLE_5_1 = {
     "solitary": {"experiment": 2, "thesis": 0.83, "sarlin": 0.65},
     "bore": {"experiment": 3, "thesis": 1.93, "sarlin": 1.39},
 }
-EXPECTED_REGIME = {"nonlinearTransition": "nonlinear_transition",
-                   "solitary": "solitary", "bore": "bore"}
+EXPECTED_REGIME = {
+    "nonlinearTransition": "nonlinear_transition",
+    "solitary": "solitary",
+    "bore": "bore",
+}
 
 
 def regime(fr):
@@ -49,7 +53,10 @@ def regime(fr):
 def piston_bore_amplitude(v, h0, g=G):
     """Bore height h1 - h0 [m] ahead of a piston moving at v [m/s] into water
     of depth h0 [m] (shallow-water bore relations), by bisection."""
-    f = lambda h1: (h1 - h0) * math.sqrt(g * (h1 + h0) / (2 * h1 * h0)) - v
+
+    def f(h1):
+        return (h1 - h0) * math.sqrt(g * (h1 + h0) / (2 * h1 * h0)) - v
+
     lo, hi = h0, 2 * h0
     while f(hi) < 0:
         hi *= 2
@@ -80,32 +87,42 @@ def measure(case):
     gauges = read_dat(dat_path(case, "gauges", "waveGauges.dat"))
     vf = float(np.nanmax(front[:, 3]))
     fr = vf / math.sqrt(G * params["h0"])
-    return params, front, gauges, {
-        "front_froude_number": fr,
-        "max_front_velocity": vf,
-        "max_wave_amplitude": float(np.max(gauges[:, 1])),
-        "gauge_x": params["gauges"][0],
-        "water_depth": params["h0"],
-        "column_height": params["H0"],
-        "column_width": params["L0"],
-        "regime": regime(fr),
-    }
+    return (
+        params,
+        front,
+        gauges,
+        {
+            "front_froude_number": fr,
+            "max_front_velocity": vf,
+            "max_wave_amplitude": float(np.max(gauges[:, 1])),
+            "gauge_x": params["gauges"][0],
+            "water_depth": params["h0"],
+            "column_height": params["H0"],
+            "column_width": params["L0"],
+            "regime": regime(fr),
+        },
+    )
 
 
 def plot(path, config, params, gauges, res):
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(figsize=(7, 4))
     for k, x in enumerate(params["gauges"]):
         ax.plot(gauges[:, 0], gauges[:, 1 + k] * 1e3, label=f"nscdFoam, x = {x:.2f} m")
     a = piston_bore_amplitude(res["max_front_velocity"], params["h0"])
-    ax.axhline(a * 1e3, color="k", ls="--",
-               label=f"piston bore at v_f (Stoker 1957): {a * 1e3:.1f} mm")
+    ax.axhline(
+        a * 1e3, color="k", ls="--", label=f"piston bore at v_f (Stoker 1957): {a * 1e3:.1f} mm"
+    )
     ax.set_xlabel("t [s]")
     ax.set_ylabel("free-surface elevation [mm]")
-    ax.set_title(f"{config}: Fr_f = {res['front_froude_number']:.2f} -> {res['regime']}"
-                 f" (thesis {TABLE_5_1[config]['thesis']}, Sarlin {TABLE_5_1[config]['sarlin']})")
+    ax.set_title(
+        f"{config}: Fr_f = {res['front_froude_number']:.2f} -> {res['regime']}"
+        f" (thesis {TABLE_5_1[config]['thesis']}, Sarlin {TABLE_5_1[config]['sarlin']})"
+    )
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()
@@ -123,15 +140,18 @@ def main(argv=None):
     for case in args[1:]:
         params, front, gauges, res = measure(case)
         config = params["config"]
-        res["piston_bore_amplitude"] = piston_bore_amplitude(res["max_front_velocity"],
-                                                             params["h0"])
+        res["piston_bore_amplitude"] = piston_bore_amplitude(
+            res["max_front_velocity"], params["h0"]
+        )
         res["thesis_front_froude_number"] = TABLE_5_1[config]["thesis"]
         res["sarlin_front_froude_number"] = TABLE_5_1[config]["sarlin"]
         res["expected_regime"] = EXPECTED_REGIME[config]
         results[config] = res
         plot(os.path.join(out, f"{config}.png"), config, params, gauges, res)
-        print(f"{config}: Fr_f = {res['front_froude_number']:.3f} ({res['regime']}), "
-              f"max elevation {res['max_wave_amplitude'] * 1e3:.2f} mm")
+        print(
+            f"{config}: Fr_f = {res['front_froude_number']:.3f} ({res['regime']}), "
+            f"max elevation {res['max_wave_amplitude'] * 1e3:.2f} mm"
+        )
     path = os.path.join(out, "results.json")
     if os.path.isfile(path):
         old = json.load(open(path))

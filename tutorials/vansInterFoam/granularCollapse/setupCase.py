@@ -18,12 +18,14 @@ shallowest, tallest) so that Fr_f = v_f / sqrt(g h0) lands in the three
 regimes of Sarlin et al. (nonlinear transition < 0.35 < solitary < 0.87 <
 bore).  Grains: d = 5 mm mean, polydispersity 1.2, rho_p 2500, mu 0.9.
 """
+
 import math
 import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
 import nscdpost
+
+HERE = os.path.dirname(os.path.abspath(__file__))
 
 # h0: water depth, H0: column height, L0: column width [m]
 CONFIGS = {
@@ -31,9 +33,9 @@ CONFIGS = {
     "solitary": {"h0": 0.08, "H0": 0.16, "L0": 0.06},
     "bore": {"h0": 0.04, "H0": 0.30, "L0": 0.06},
 }
-D_MEAN, LAMBDA = 5e-3, 1.2            # grain diameter, d_max/d_min
-PACKING = 0.82                        # dense random packing of discs (2D)
-GAUGE_OFFSETS = (0.3, 0.5, 0.7)       # gauges at x = L0 + offset [m]
+D_MEAN, LAMBDA = 5e-3, 1.2  # grain diameter, d_max/d_min
+PACKING = 0.82  # dense random packing of discs (2D)
+GAUGE_OFFSETS = (0.3, 0.5, 0.7)  # gauges at x = L0 + offset [m]
 
 
 def snap(v, dx):
@@ -57,22 +59,40 @@ def setup(case, config, dx=0.02, basin=1.0, end_time=0.8, settle_tolerance=5e-3)
         ly = snap(hbox + 0.02, dx)
     gauges = [lp + g for g in GAUGE_OFFSETS if lp + g < lx]
     subs = {
-        "@LP@": f"{lp:.6g}", "@LX@": f"{lx:.6g}", "@LY@": f"{ly:.6g}",
-        "@LZ@": f"{dx:.6g}", "@H0W@": f"{h0:.6g}",
-        "@NXP@": str(round(lp / dx)), "@NXB@": str(round((lx - lp) / dx)),
-        "@NYW@": str(round(h0 / dx)), "@NYA@": str(round((ly - h0) / dx)),
-        "@X0@": "0", "@HBOX@": f"{hbox:.6g}", "@NGRAINS@": str(n),
-        "@DMIN@": f"{dmin:.6g}", "@ENDTIME@": f"{end_time:.6g}",
+        "@LP@": f"{lp:.6g}",
+        "@LX@": f"{lx:.6g}",
+        "@LY@": f"{ly:.6g}",
+        "@LZ@": f"{dx:.6g}",
+        "@H0W@": f"{h0:.6g}",
+        "@NXP@": str(round(lp / dx)),
+        "@NXB@": str(round((lx - lp) / dx)),
+        "@NYW@": str(round(h0 / dx)),
+        "@NYA@": str(round((ly - h0) / dx)),
+        "@X0@": "0",
+        "@HBOX@": f"{hbox:.6g}",
+        "@NGRAINS@": str(n),
+        "@DMIN@": f"{dmin:.6g}",
+        "@ENDTIME@": f"{end_time:.6g}",
         "@WRITEINTERVAL@": f"{end_time / 10:.6g}",
         "@GAUGES@": " ".join(f"{g:.6g}" for g in gauges),
         "@SETTLETOL@": f"{settle_tolerance:.6g}",
     }
     nscdpost.instantiate_case(os.path.join(HERE, "base"), case, subs)
-    params = {"config": config, "h0": h0, "H0": c["H0"], "L0": lp, "n_grains": n,
-              "dx": dx, "basin_length": lx - lp, "gauges": gauges, "end_time": end_time}
+    params = {
+        "config": config,
+        "h0": h0,
+        "H0": c["H0"],
+        "L0": lp,
+        "n_grains": n,
+        "dx": dx,
+        "basin_length": lx - lp,
+        "gauges": gauges,
+        "end_time": end_time,
+    }
     nscdpost.write_json(os.path.join(case, "caseParameters.json"), params)
-    print(f"{case}: {config} h0={h0} H0={c['H0']} L0={lp} N={n} "
-          f"mesh {lx:.3f} x {ly:.3f} m, dx={dx}")
+    print(
+        f"{case}: {config} h0={h0} H0={c['H0']} L0={lp} N={n} mesh {lx:.3f} x {ly:.3f} m, dx={dx}"
+    )
     return params
 
 

@@ -42,36 +42,41 @@ wave, 524 m historical run-up, 500-750 m for the thesis' 2D PFEM run.  The
 digitised gauge record of Fritz et al. (2001, 2009) (thesis Fig. 5.12) was not
 available to us: it is not plotted.
 """
+
 import json
 import math
 import os
 import re
 import sys
 
+import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
 
 G = 9.81
 RHO_W = 1000.0
-WAVE_REF = 60.0                  # [m] initial wave height, thesis section 5.3
-RUNUP_HISTORICAL = 524.0         # [m] Miller (1960), thesis section 5.3
-RUNUP_THESIS = (500.0, 750.0)    # [m] thesis section 5.3.2, Fig. 5.11
+WAVE_REF = 60.0  # [m] initial wave height, thesis section 5.3
+RUNUP_HISTORICAL = 524.0  # [m] Miller (1960), thesis section 5.3
+RUNUP_THESIS = (500.0, 750.0)  # [m] thesis section 5.3.2, Fig. 5.11
 
 
 def water_volumes(log_text):
     """(n,) sum(eps alpha V) [m^3] of every step of a vansInterFoam log."""
-    return np.array([float(v) for v in
-                     re.findall(r"water volume sum\(eps alpha V\) = (\S+)", log_text)])
+    return np.array(
+        [float(v) for v in re.findall(r"water volume sum\(eps alpha V\) = (\S+)", log_text)]
+    )
 
 
 def atmosphere_outflow(case):
     """(n,) cumulative water volume [m^3] that left through the atmosphere
     after each step: sum_n F_n dt_n, F_n the `atmosphereFlux` function object's
     sum of alphaPhi0.water over the patch (m^3/s, outflow > 0)."""
-    d = np.loadtxt(os.path.join(case, "postProcessing", "atmosphereFlux", "0",
-                                "surfaceFieldValue.dat"), comments="#", ndmin=2)
+    d = np.loadtxt(
+        os.path.join(case, "postProcessing", "atmosphereFlux", "0", "surfaceFieldValue.dat"),
+        comments="#",
+        ndmin=2,
+    )
     dt = np.diff(np.concatenate([[0.0], d[:, 0]]))
     return np.cumsum(d[:, 1] * dt)
 
@@ -118,7 +123,7 @@ def histories(case, p):
         out["mw"].append(RHO_W * float(w.sum()))
         out["zw"].append(float(np.sum(w * C[:, 1]) / w.sum()))
         g = nscdpost.read_grains(case, name)
-        m = p["grain_density"] * math.pi / 4 * g["d"]**2 * p["thickness"]
+        m = p["grain_density"] * math.pi / 4 * g["d"] ** 2 * p["thickness"]
         if g0 is None:
             g0 = g
         out["dE"].append(float(G * np.sum(m * (g0["x"][:, 1] - g["x"][:, 1]))))
@@ -184,8 +189,9 @@ def main():
         "runup": runup.tolist(),
         "max_runup": max_runup,
         "max_runup_time": max_runup_time,
-        "runup_measured_by": "runUp function object (every step)" if ru is not None
-                             else "postProcess.py (write times)",
+        "runup_measured_by": "runUp function object (every step)"
+        if ru is not None
+        else "postProcess.py (write times)",
         "max_runup_write_times": float(h["runup"][i]),
         "waveGauges_eta_initial": float(wg[0, 1]) if wg is not None else None,
         "waveGauges_eta_max": float(wg[:, 1].max()) if wg is not None else None,
@@ -205,30 +211,37 @@ def main():
         "slide_mass_per_metre": p["slide_mass"] / p["thickness"],
         "cell_size_fine": p["h_fine"],
         "reference": {
-            "initial_wave_height": WAVE_REF, "runup_historical": RUNUP_HISTORICAL,
-            "runup_thesis_2d": list(RUNUP_THESIS), "front_froude_number_thesis": 3.18,
+            "initial_wave_height": WAVE_REF,
+            "runup_historical": RUNUP_HISTORICAL,
+            "runup_thesis_2d": list(RUNUP_THESIS),
+            "front_froude_number_thesis": 3.18,
             "source": "thesis section 5.3 (Fritz et al. 2001 1:675 model, Miller 1960);"
-                      " gauge record of Fritz et al. not digitised here",
+            " gauge record of Fritz et al. not digitised here",
         },
     }
     nscdpost.write_json(os.path.join(case, "results.json"), res)
     plot(case, res, H)
-    print(f"{case}: max gauge elevation {eta.max():.1f} m, max run-up {res['max_runup']:.1f} m "
-          f"(bound {runup_bound:.0f} m), Fr_f = {fr:.2f} (v_f {vf:.1f} m/s), water volume "
-          f"change {res['water_volume_relative_change']:.2e} (spray out {out[-1]:.3g} m^3), "
-          f"balance error {res['water_balance_relative_error']:.1e}")
+    print(
+        f"{case}: max gauge elevation {eta.max():.1f} m, max run-up {res['max_runup']:.1f} m "
+        f"(bound {runup_bound:.0f} m), Fr_f = {fr:.2f} (v_f {vf:.1f} m/s), water volume "
+        f"change {res['water_volume_relative_change']:.2e} (spray out {out[-1]:.3g} m^3), "
+        f"balance error {res['water_balance_relative_error']:.1e}"
+    )
 
 
 def plot(case, res, H):
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     ts = math.sqrt(G / H)
     tg, eta = np.array(res["gauge_time"]), np.array(res["gauge_elevation"])
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.plot(tg * ts, eta / H, label=f"vansInterFoam ({res['mode']}, {res['grain_count']} grains)")
-    ax.axhline(WAVE_REF / H, color="k", ls="--",
-               label="~60 m initial wave (thesis 5.3, Fritz et al. 2001)")
+    ax.axhline(
+        WAVE_REF / H, color="k", ls="--", label="~60 m initial wave (thesis 5.3, Fritz et al. 2001)"
+    )
     ax.set_xlabel(r"$t\,\sqrt{g/h_0}$")
     ax.set_ylabel(r"$\eta/h_0$ at x = 885 m")
     ax.set_title("Lituya Bay: gauge at 885 m (Fritz et al. record not digitised)")
@@ -237,7 +250,12 @@ def plot(case, res, H):
     fig.savefig(os.path.join(case, "gauge.png"), dpi=120)
     plt.close(fig)
     fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot(res["runup_time"], res["runup"], "-", label=f"vansInterFoam run-up, right shore ({res['runup_measured_by']})")
+    ax.plot(
+        res["runup_time"],
+        res["runup"],
+        "-",
+        label=f"vansInterFoam run-up, right shore ({res['runup_measured_by']})",
+    )
     ax.axhline(RUNUP_HISTORICAL, color="r", ls="--", label="524 m historical (Miller 1960)")
     ax.axhspan(*RUNUP_THESIS, color="0.85", label="500-750 m thesis 2D PFEM (Fig. 5.11)")
     ax.set_xlabel("t [s]")

@@ -27,31 +27,56 @@ in the block, d/2 off the slope, and written as grainDeposit's `list`.
 Writes CASEDIR/caseParameters.json (read by postProcess.py) and
 CASEDIR/gmshArgs (the -setnumber arguments of lituyaBay.geo).
 """
+
 import json
 import math
 import os
 import sys
 
+import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
-import nscdpost
 
-H, L = 122.0, 1342.0           # water depth, shore-to-shore length [m]
+H, L = 122.0, 1342.0  # water depth, shore-to-shore length [m]
 SLIDE_LENGTH, SLIDE_THICKNESS, SLIDE_HEIGHT = 970.0, 92.0, 230.0  # [m]
-SLIDE_MASS = 98.5e6            # [kg per m of thickness], thesis section 5.3.1
-RHO_S, LAMBDA = 2640.0, 3.0    # grain density, d_max/d_min
-GAUGE_X = 885.0                # [m] from the initial left shore
-DZ = 1.0                       # mesh thickness [m] (results per metre)
+SLIDE_MASS = 98.5e6  # [kg per m of thickness], thesis section 5.3.1
+RHO_S, LAMBDA = 2640.0, 3.0  # grain density, d_max/d_min
+GAUGE_X = 885.0  # [m] from the initial left shore
+DZ = 1.0  # mesh thickness [m] (results per metre)
 
 MODES = {
     # hFine/hCoarse: cell sizes [m]; grains: count; endTime, writeInterval [s]
-    "full": dict(hFine=4.0, hCoarse=40.0, grains=27960, endTime=100.0,
-                 writeInterval=0.5, gaugeInterval=0.1, contactIter=2000, ytop=1050.0),
-    "medium": dict(hFine=10.0, hCoarse=60.0, grains=1500, endTime=60.0,
-                   writeInterval=1.0, gaugeInterval=0.1, contactIter=1000, ytop=1050.0),
-    "reduced": dict(hFine=25.0, hCoarse=80.0, grains=150, endTime=55.0,
-                    writeInterval=1.0, gaugeInterval=0.2, contactIter=500, ytop=1050.0),
+    "full": dict(
+        hFine=4.0,
+        hCoarse=40.0,
+        grains=27960,
+        endTime=100.0,
+        writeInterval=0.5,
+        gaugeInterval=0.1,
+        contactIter=2000,
+        ytop=1050.0,
+    ),
+    "medium": dict(
+        hFine=10.0,
+        hCoarse=60.0,
+        grains=1500,
+        endTime=60.0,
+        writeInterval=1.0,
+        gaugeInterval=0.1,
+        contactIter=1000,
+        ytop=1050.0,
+    ),
+    "reduced": dict(
+        hFine=25.0,
+        hCoarse=80.0,
+        grains=150,
+        endTime=55.0,
+        writeInterval=1.0,
+        gaugeInterval=0.2,
+        contactIter=500,
+        ytop=1050.0,
+    ),
 }
 
 
@@ -61,7 +86,7 @@ def grain_diameters(n, rng):
     area = SLIDE_MASS / RHO_S
     dmin = math.sqrt(area / (n * math.pi / 4 * (1 + LAMBDA + LAMBDA**2) / 3))
     d = rng.uniform(dmin, LAMBDA * dmin, n)
-    d *= math.sqrt(area / (math.pi / 4 * np.sum(d**2)))   # exact slide mass
+    d *= math.sqrt(area / (math.pi / 4 * np.sum(d**2)))  # exact slide mass
     return np.sort(d)[::-1], dmin
 
 
@@ -69,9 +94,9 @@ def place_block(d, rng, max_tries=20000):
     """Random sequential addition of discs of diameters d (largest first) in
     the slide block; returns the (n, 2) centres.  Raises RuntimeError when a
     disc cannot be placed."""
-    t = np.array([-1.0, 1.0]) / math.sqrt(2)     # up the left slope
-    nrm = np.array([1.0, 1.0]) / math.sqrt(2)    # out of the slope, into the fluid
-    p0 = np.array([-SLIDE_HEIGHT, SLIDE_HEIGHT])   # lower end of the block, on the slope
+    t = np.array([-1.0, 1.0]) / math.sqrt(2)  # up the left slope
+    nrm = np.array([1.0, 1.0]) / math.sqrt(2)  # out of the slope, into the fluid
+    p0 = np.array([-SLIDE_HEIGHT, SLIDE_HEIGHT])  # lower end of the block, on the slope
     cell = d.max()
     grid = {}
     ab = np.zeros((len(d), 2))
@@ -85,7 +110,9 @@ def place_block(d, rng, max_tries=20000):
             for ja in (ia - 1, ia, ia + 1):
                 for jb in (ib - 1, ib, ib + 1):
                     for j in grid.get((ja, jb), ()):
-                        if (a - ab[j, 0])**2 + (b - ab[j, 1])**2 < (0.5 * (di + d[j]) * 1.001)**2:
+                        if (a - ab[j, 0]) ** 2 + (b - ab[j, 1]) ** 2 < (
+                            0.5 * (di + d[j]) * 1.001
+                        ) ** 2:
                             ok = False
                             break
                     if not ok:
@@ -112,37 +139,56 @@ def main():
     rng = np.random.default_rng(1958)
     d, dmin = grain_diameters(m["grains"], rng)
     x = place_block(d, rng)
-    grains = "\n".join(f"({xi:.10g} {yi:.10g} {0.5 * DZ:.10g} {di:.10g})"
-                       for (xi, yi), di in zip(x, d))
-    dmax_dt = 0.25 * m["hFine"] / 150.0     # initial step: Co 0.25 at 150 m/s
+    grains = "\n".join(
+        f"({xi:.10g} {yi:.10g} {0.5 * DZ:.10g} {di:.10g})" for (xi, yi), di in zip(x, d)
+    )
+    dmax_dt = 0.25 * m["hFine"] / 150.0  # initial step: Co 0.25 at 150 m/s
     subs = {
-        "@ENDTIME@": f"{m['endTime']:g}", "@WRITEINTERVAL@": f"{m['writeInterval']:g}",
-        "@DELTAT@": f"{min(1e-3, dmax_dt):.3g}", "@MAXDELTAT@": f"{m['hFine'] / 100:.3g}",
+        "@ENDTIME@": f"{m['endTime']:g}",
+        "@WRITEINTERVAL@": f"{m['writeInterval']:g}",
+        "@DELTAT@": f"{min(1e-3, dmax_dt):.3g}",
+        "@MAXDELTAT@": f"{m['hFine'] / 100:.3g}",
         "@CONTACTITER@": str(m["contactIter"]),
-        "@GAUGEINTERVAL@": f"{m['gaugeInterval']:g}", "@GRAINS@": grains,
+        "@GAUGEINTERVAL@": f"{m['gaugeInterval']:g}",
+        "@GRAINS@": grains,
     }
     nscdpost.instantiate_case(os.path.join(here, "base"), case, subs)
     mass = RHO_S * math.pi / 4 * float(np.sum(d**2)) * DZ
     zc = float(np.sum(d**2 * x[:, 1]) / np.sum(d**2))
     params = {
-        "mode": mode, "water_depth": H, "bay_length": L, "gauge_x": GAUGE_X,
-        "thickness": DZ, "slide_length": SLIDE_LENGTH, "slide_thickness": SLIDE_THICKNESS,
-        "slide_height": SLIDE_HEIGHT, "grain_count": int(len(d)),
-        "grain_d_min": float(d.min()), "grain_d_max": float(d.max()),
-        "grain_mean_radius": float(0.5 * d.mean()), "grain_density": RHO_S,
-        "slide_mass": mass, "slide_centre_height": zc,
+        "mode": mode,
+        "water_depth": H,
+        "bay_length": L,
+        "gauge_x": GAUGE_X,
+        "thickness": DZ,
+        "slide_length": SLIDE_LENGTH,
+        "slide_thickness": SLIDE_THICKNESS,
+        "slide_height": SLIDE_HEIGHT,
+        "grain_count": int(len(d)),
+        "grain_d_min": float(d.min()),
+        "grain_d_max": float(d.max()),
+        "grain_mean_radius": float(0.5 * d.mean()),
+        "grain_density": RHO_S,
+        "slide_mass": mass,
+        "slide_centre_height": zc,
         "solid_fraction_block": float(np.pi / 4 * np.sum(d**2) / (SLIDE_LENGTH * SLIDE_THICKNESS)),
-        "h_fine": m["hFine"], "h_coarse": m["hCoarse"], "y_top": m["ytop"],
+        "h_fine": m["hFine"],
+        "h_coarse": m["hCoarse"],
+        "y_top": m["ytop"],
     }
     with open(os.path.join(case, "caseParameters.json"), "w") as fh:
         json.dump(params, fh, indent=2)
     with open(os.path.join(case, "gmshArgs"), "w") as fh:
-        fh.write(f"-setnumber H {H:g} -setnumber L {L:g} -setnumber Ytop {m['ytop']:g} "
-                 f"-setnumber dz {DZ:g} -setnumber hFine {m['hFine']:g} "
-                 f"-setnumber hCoarse {m['hCoarse']:g}\n")
-    print(f"{case}: {mode}, {len(d)} grains d in [{d.min():.3g}, {d.max():.3g}] m, "
-          f"slide {mass / 1e3:.4g} t/m (thesis 98.5e3 t/m), solid fraction in the block "
-          f"{params['solid_fraction_block']:.3f}, cells ~{m['hFine']:g} m")
+        fh.write(
+            f"-setnumber H {H:g} -setnumber L {L:g} -setnumber Ytop {m['ytop']:g} "
+            f"-setnumber dz {DZ:g} -setnumber hFine {m['hFine']:g} "
+            f"-setnumber hCoarse {m['hCoarse']:g}\n"
+        )
+    print(
+        f"{case}: {mode}, {len(d)} grains d in [{d.min():.3g}, {d.max():.3g}] m, "
+        f"slide {mass / 1e3:.4g} t/m (thesis 98.5e3 t/m), solid fraction in the block "
+        f"{params['solid_fraction_block']:.3f}, cells ~{m['hFine']:g} m"
+    )
 
 
 if __name__ == "__main__":

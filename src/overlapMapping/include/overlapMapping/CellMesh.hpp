@@ -13,7 +13,8 @@
 #include <cstdint>
 #include <vector>
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 
 /**
  * @brief Shape of a 3D cell as recognised for the `overlap` library.
@@ -29,7 +30,13 @@ namespace overlapMapping {
  * Polyhedron: anything else, or a tet/prism/hex with a warped face; it is
  * decomposed into tetrahedra (cell centre, face centre, edge).
  */
-enum class CellShape : std::uint8_t { Tet, Prism, Hex, Polyhedron };
+enum class CellShape : std::uint8_t
+{
+    Tet,
+    Prism,
+    Hex,
+    Polyhedron
+};
 
 /**
  * @brief Mesh prepared for overlap queries (immutable after construction).
@@ -41,7 +48,8 @@ enum class CellShape : std::uint8_t { Tet, Prism, Hex, Polyhedron };
  * neighbours) or 3D element shapes, and a uniform bin grid for point location.
  * Cost O(nCells) time and memory.
  */
-class CellMesh {
+class CellMesh
+{
 public:
     /**
      * @brief Prepare @p mesh.
@@ -75,37 +83,19 @@ public:
     double boundRadius(label c) const { return boundRadius_[c]; }
 
     /// Cells sharing an internal face with @p c: [begin, end).
-    const label* neighboursBegin(label c) const
-    {
-        return adjCells_.data() + adjOffsets_[c];
-    }
+    const label* neighboursBegin(label c) const { return adjCells_.data() + adjOffsets_[c]; }
     /// End of the neighbour list of @p c.
-    const label* neighboursEnd(label c) const
-    {
-        return adjCells_.data() + adjOffsets_[c + 1];
-    }
+    const label* neighboursEnd(label c) const { return adjCells_.data() + adjOffsets_[c + 1]; }
 
     // ---- 2D -------------------------------------------------------------
     /// Number of polygon vertices of 2D cell @p c.
-    int polygonSize(label c) const
-    {
-        return polyOffsets_[c + 1] - polyOffsets_[c];
-    }
+    int polygonSize(label c) const { return polyOffsets_[c + 1] - polyOffsets_[c]; }
     /// Polygon vertices (xy, counter-clockwise) of 2D cell @p c.
-    const Vec2* polygon(label c) const
-    {
-        return polyVerts_.data() + polyOffsets_[c];
-    }
+    const Vec2* polygon(label c) const { return polyVerts_.data() + polyOffsets_[c]; }
     /// Outward unit normals of the polygon edges (edge k from vertex k to k+1).
-    const Vec2* edgeNormals(label c) const
-    {
-        return edgeNormal_.data() + polyOffsets_[c];
-    }
+    const Vec2* edgeNormals(label c) const { return edgeNormal_.data() + polyOffsets_[c]; }
     /// n_k . a_k for each edge (signed distance of x = n.x - offset).
-    const double* edgeOffsets(label c) const
-    {
-        return edgeOffset_.data() + polyOffsets_[c];
-    }
+    const double* edgeOffsets(label c) const { return edgeOffset_.data() + polyOffsets_[c]; }
     /// Polygon area [m^2] of 2D cell @p c.
     double polygonArea(label c) const { return polyArea_[c]; }
     /// Polygon centroid [m] of 2D cell @p c.
@@ -166,7 +156,8 @@ public:
         const label b = polyOffsets_[c];
         const label e = polyOffsets_[c + 1];
         double worst = edgeNormal_[b][0] * x + edgeNormal_[b][1] * y - edgeOffset_[b];
-        for (label k = b + 1; k < e; ++k) {
+        for (label k = b + 1; k < e; ++k)
+        {
             const double d = edgeNormal_[k][0] * x + edgeNormal_[k][1] * y - edgeOffset_[k];
             worst = d > worst ? d : worst;
         }
@@ -255,7 +246,7 @@ private:
     std::vector<label> shapeVerts_;
     std::vector<double> shapeVolume_;
     std::vector<std::uint8_t> convex_;
-    std::vector<label> boxIndex_;  // per cell: index into boxLo_/boxHi_, or -1
+    std::vector<label> boxIndex_; // per cell: index into boxLo_/boxHi_, or -1
     std::vector<Vec3> boxLo_, boxHi_;
 
     // bins
@@ -265,6 +256,6 @@ private:
     std::vector<label> binOffsets_, binCells_;
 };
 
-}  // namespace overlapMapping
+} // namespace overlapMapping
 
 #endif

@@ -22,7 +22,8 @@
 
 #include "overlapMapping/Types.hpp"
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 
 /**
  * @brief Integrals over disc ∩ polygon, relative to the disc centre.
@@ -33,7 +34,8 @@ namespace overlapMapping {
  *  - polar    = ∫ |s|^2 dA        [m^4]   (only filled when requested)
  * For a clockwise polygon all three come out with a negative sign.
  */
-struct DiscPolygonMoments {
+struct DiscPolygonMoments
+{
     double area = 0.0;
     Vec2 moment = Vec2::Zero();
     double polar = 0.0;
@@ -53,12 +55,12 @@ struct DiscPolygonMoments {
  *         to @p centre. Closed form, no sampling (thesis section 3.2.1).
  * @note No exception is thrown; radius <= 0 gives zero.
  */
-DiscPolygonMoments discPolygonMoments(const Vec2& centre, double radius,
-                                      const Vec2* poly, int n,
+DiscPolygonMoments discPolygonMoments(const Vec2& centre, double radius, const Vec2* poly, int n,
                                       bool withPolar = false);
 
 /// Result of discPolygonOverlap().
-struct DiscOverlap2D {
+struct DiscOverlap2D
+{
     double area = 0.0;            ///< area of disc ∩ polygon [m^2], >= 0
     Vec2 centroid = Vec2::Zero(); ///< centroid of disc ∩ polygon [m]; the
                                   ///< disc centre when area == 0
@@ -72,8 +74,7 @@ struct DiscOverlap2D {
  * @param centre disc centre [m]; @param radius disc radius [m];
  * @param poly polygon vertices (either orientation), @param n vertex count.
  */
-DiscOverlap2D discPolygonOverlap(const Vec2& centre, double radius,
-                                 const Vec2* poly, int n);
+DiscOverlap2D discPolygonOverlap(const Vec2& centre, double radius, const Vec2* poly, int n);
 
 /**
  * @brief Signed area and centroid of a simple polygon (shoelace formula).
@@ -82,6 +83,6 @@ DiscOverlap2D discPolygonOverlap(const Vec2& centre, double radius,
  */
 double polygonAreaCentroid(const Vec2* poly, int n, Vec2& centroid);
 
-}  // namespace overlapMapping
+} // namespace overlapMapping
 
 #endif

@@ -30,10 +30,12 @@
 #include "overlapMapping/CellMesh.hpp"
 #include "overlapMapping/SphereBox.hpp"
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 
 /// Volume and centroid of sphere ∩ cell.
-struct SphereOverlap3D {
+struct SphereOverlap3D
+{
     double volume = 0.0;          ///< overlap volume [m^3], >= 0
     Vec3 centroid = Vec3::Zero(); ///< overlap centroid [m] (sphere centre if
                                   ///< volume == 0 or not requested)
@@ -66,8 +68,7 @@ double sphereHexVolume(const Vec3& c, double r, const Vec3 v[8]);
  * @brief First moment ∫_{S∩K} (x - c) dV [m^4] of sphere ∩ cell @p cell,
  *        exact for planar faces (see file comment).
  */
-Vec3 sphereCellFirstMoment(const CellMesh& mesh, label cell, const Vec3& c,
-                           double r);
+Vec3 sphereCellFirstMoment(const CellMesh& mesh, label cell, const Vec3& c, double r);
 
 /**
  * @brief Overlap volume (and optionally centroid) of sphere (c, r) with 3D
@@ -88,9 +89,8 @@ Vec3 sphereCellFirstMoment(const CellMesh& mesh, label cell, const Vec3& c,
  * @param cache optional corner memo for the box cells of one sphere (see
  *        SphereCornerCache).
  */
-SphereOverlap3D sphereCellOverlap(const CellMesh& mesh, label cell,
-                                  const Vec3& c, double r, bool withCentroid,
-                                  bool closedFormBoxes = true,
+SphereOverlap3D sphereCellOverlap(const CellMesh& mesh, label cell, const Vec3& c, double r,
+                                  bool withCentroid, bool closedFormBoxes = true,
                                   SphereCornerCache* cache = nullptr);
 
 /**
@@ -98,9 +98,8 @@ SphereOverlap3D sphereCellOverlap(const CellMesh& mesh, label cell,
  *        (cell centre, face centre, edge), used for polyhedra; exact for any
  *        star-shaped cell (inverted tets are subtracted).
  */
-double sphereCellVolumeByTets(const CellMesh& mesh, label cell, const Vec3& c,
-                              double r);
+double sphereCellVolumeByTets(const CellMesh& mesh, label cell, const Vec3& c, double r);
 
-}  // namespace overlapMapping
+} // namespace overlapMapping
 
 #endif

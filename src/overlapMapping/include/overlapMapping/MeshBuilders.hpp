@@ -12,7 +12,8 @@
 #include <functional>
 #include <vector>
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 
 /// Optional point transformation applied to grid points (e.g. perturbation).
 using PointMap = std::function<Vec3(const Vec3&)>;
@@ -22,8 +23,7 @@ using PointMap = std::function<Vec3(const Vec3&)>;
  *        vertex labels in CellShape order.
  * @throws std::invalid_argument for CellShape::Polyhedron.
  */
-std::vector<std::vector<label>> cellModelFaces(CellShape shape,
-                                               const std::vector<label>& verts);
+std::vector<std::vector<label>> cellModelFaces(CellShape shape, const std::vector<label>& verts);
 
 /**
  * @brief Assemble a mesh from cells given as lists of outward-oriented faces.
@@ -46,8 +46,7 @@ MeshView hexGridMesh(const std::vector<double>& xs, const std::vector<double>& y
  * @throws std::invalid_argument if tetsPerHex is not 5 or 6.
  */
 MeshView tetGridMesh(const std::vector<double>& xs, const std::vector<double>& ys,
-                     const std::vector<double>& zs, int tetsPerHex = 6,
-                     const PointMap& map = nullptr);
+                     const std::vector<double>& zs, int tetsPerHex = 6, const PointMap& map = nullptr);
 
 /// Prism mesh: every hex split into 2 prisms along the bottom diagonal 0-2.
 MeshView prismGridMesh(const std::vector<double>& xs, const std::vector<double>& ys,
@@ -58,9 +57,8 @@ MeshView prismGridMesh(const std::vector<double>& xs, const std::vector<double>&
  *        triangles (each quad split along a diagonal) if @p triangles.
  *        @p map may move points in x and y only.
  */
-MeshView grid2DMesh(const std::vector<double>& xs, const std::vector<double>& ys,
-                    double z0, double z1, bool triangles = false,
-                    const PointMap& map = nullptr);
+MeshView grid2DMesh(const std::vector<double>& xs, const std::vector<double>& ys, double z0, double z1,
+                    bool triangles = false, const PointMap& map = nullptr);
 
 /**
  * @brief n+1 coordinates from a to b with geometric grading: the last
@@ -68,6 +66,6 @@ MeshView grid2DMesh(const std::vector<double>& xs, const std::vector<double>& ys
  */
 std::vector<double> gradedSpacing(double a, double b, int n, double ratio = 1.0);
 
-}  // namespace overlapMapping
+} // namespace overlapMapping
 
 #endif

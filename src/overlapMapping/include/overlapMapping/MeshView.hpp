@@ -11,7 +11,8 @@
 
 #include <vector>
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 
 /**
  * @brief Mesh given as plain arrays, in the layout of OpenFOAM's polyMesh.
@@ -35,25 +36,23 @@ namespace overlapMapping {
  *   they are taken from the points' z range. Only z-normal 2D meshes are
  *   supported (not axisymmetric wedges).
  */
-struct MeshView {
-    std::vector<Vec3> points;          ///< point coordinates [m]
-    std::vector<label> faceOffsets;    ///< CSR offsets, size nFaces+1
-    std::vector<label> faceVertices;   ///< CSR point indices
-    std::vector<label> owner;          ///< owner cell of each face
-    std::vector<label> neighbour;      ///< neighbour cell, -1 on boundary
-    std::vector<label> cellOffsets;    ///< optional CSR offsets, nCells+1
-    std::vector<label> cellFaces;      ///< optional CSR face indices
-    std::vector<Vec3> cellCentres;     ///< optional, cell centroids [m]
-    std::vector<double> cellVolumes;   ///< optional, cell volumes [m^3]
-    bool twoD = false;                 ///< one-cell-thick 2D mesh (z-normal)
-    double z0 = 0.0;                   ///< back plane of a 2D mesh [m]
-    double z1 = 0.0;                   ///< front plane of a 2D mesh [m]
+struct MeshView
+{
+    std::vector<Vec3> points;        ///< point coordinates [m]
+    std::vector<label> faceOffsets;  ///< CSR offsets, size nFaces+1
+    std::vector<label> faceVertices; ///< CSR point indices
+    std::vector<label> owner;        ///< owner cell of each face
+    std::vector<label> neighbour;    ///< neighbour cell, -1 on boundary
+    std::vector<label> cellOffsets;  ///< optional CSR offsets, nCells+1
+    std::vector<label> cellFaces;    ///< optional CSR face indices
+    std::vector<Vec3> cellCentres;   ///< optional, cell centroids [m]
+    std::vector<double> cellVolumes; ///< optional, cell volumes [m^3]
+    bool twoD = false;               ///< one-cell-thick 2D mesh (z-normal)
+    double z0 = 0.0;                 ///< back plane of a 2D mesh [m]
+    double z1 = 0.0;                 ///< front plane of a 2D mesh [m]
 
     /// Number of faces (faceOffsets.size() - 1, or 0).
-    label nFaces() const
-    {
-        return faceOffsets.empty() ? 0 : label(faceOffsets.size()) - 1;
-    }
+    label nFaces() const { return faceOffsets.empty() ? 0 : label(faceOffsets.size()) - 1; }
 
     /// Number of cells: cellOffsets.size()-1 if given, else 1 + max owner or
     /// neighbour index.
@@ -85,9 +84,8 @@ void computeCellGeometry(MeshView& mesh);
  * @param mesh mesh, @param f face index; @param[out] centre [m];
  * @param[out] areaVector |S| = area [m^2], direction = unit normal (out of owner).
  */
-void faceCentreAndArea(const MeshView& mesh, label f, Vec3& centre,
-                       Vec3& areaVector);
+void faceCentreAndArea(const MeshView& mesh, label f, Vec3& centre, Vec3& areaVector);
 
-}  // namespace overlapMapping
+} // namespace overlapMapping
 
 #endif

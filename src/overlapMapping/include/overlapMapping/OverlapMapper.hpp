@@ -31,22 +31,26 @@
 #include <type_traits>
 #include <vector>
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 
 /// Volume-mapping strategy.
-enum class MappingMethod {
-    Exact,            ///< exact grain/cell overlaps (section 3.2.1)
-    ParticleCentroid  ///< PCM: all of V_g in the centre's cell (eq. 3.44-3.45)
+enum class MappingMethod
+{
+    Exact,           ///< exact grain/cell overlaps (section 3.2.1)
+    ParticleCentroid ///< PCM: all of V_g in the centre's cell (eq. 3.44-3.45)
 };
 
 /// What to do with a grain whose centre lies in no cell.
-enum class OutsideGrainPolicy {
-    Throw,  ///< throw std::runtime_error naming the grain and position
-    Skip    ///< give it no entry (it contributes nothing, gathers zero)
+enum class OutsideGrainPolicy
+{
+    Throw, ///< throw std::runtime_error naming the grain and position
+    Skip   ///< give it no entry (it contributes nothing, gathers zero)
 };
 
 /// Settings of an OverlapMapper.
-struct MappingSettings {
+struct MappingSettings
+{
     /// Exact overlaps or PCM.
     MappingMethod method = MappingMethod::Exact;
     /// Lower bound of the void fraction (thesis section 3.2.2: 1e-8).
@@ -75,9 +79,7 @@ struct MappingSettings {
      *        (thesis section 3.2.3) -> k = 0.883.
      * @throws std::invalid_argument for non-positive fractions.
      */
-    static double diameterFactorForPacking(double phiTarget = 0.64,
-                                           double phiModel = 0.82,
-                                           bool twoD = true);
+    static double diameterFactorForPacking(double phiTarget = 0.64, double phiModel = 0.82, bool twoD = true);
 };
 
 /**
@@ -96,7 +98,8 @@ struct MappingSettings {
  *
  * Not thread-safe (holds scratch buffers); use one mapper per thread.
  */
-class OverlapMapper {
+class OverlapMapper
+{
 public:
     /**
      * @param mesh prepared mesh; must outlive the mapper.
@@ -199,14 +202,12 @@ public:
      *        centroids: out_g = Σ_c w_gc (a_c + grad_c . (x_gc - x_c)).
      * @param a cell values, @param grad cell gradients (nCells).
      */
-    void gatherAtCentroids(const double* a, const Vec3* grad,
-                           std::vector<double>& out) const;
+    void gatherAtCentroids(const double* a, const Vec3* grad, std::vector<double>& out) const;
     /**
      * @brief Vector version; @p grad follows OpenFOAM's convention
      *        (grad U)_ij = d_i U_j, i.e. U(x) = U_c + (x - x_c) & grad U.
      */
-    void gatherAtCentroids(const Vec3* a, const Eigen::Matrix3d* grad,
-                           std::vector<Vec3>& out) const;
+    void gatherAtCentroids(const Vec3* a, const Eigen::Matrix3d* grad, std::vector<Vec3>& out) const;
 
 private:
     void mapExact(label g, const Vec3& c, double r, label cell);
@@ -215,9 +216,12 @@ private:
     template <class T>
     static T zero()
     {
-        if constexpr (std::is_arithmetic_v<T>) {
+        if constexpr (std::is_arithmetic_v<T>)
+        {
             return T(0);
-        } else {
+        }
+        else
+        {
             return T::Zero();
         }
     }
@@ -237,7 +241,7 @@ private:
     std::vector<std::uint32_t> visited_;
     std::uint32_t stamp_ = 0;
     std::vector<label> queue_;
-    SphereCornerCache corners_;  // 3D box cells: corner terms of one grain
+    SphereCornerCache corners_; // 3D box cells: corner terms of one grain
     std::size_t cellsEvaluated_ = 0;
 };
 
@@ -248,7 +252,8 @@ void OverlapMapper::spread(const T* in, std::vector<T>& out) const
 {
     out.assign(mesh_.nCells(), zero<T>());
     const std::size_t n = entryCell_.size();
-    for (std::size_t e = 0; e < n; ++e) {
+    for (std::size_t e = 0; e < n; ++e)
+    {
         out[entryCell_[e]] += entryWeight_[e] * in[entryGrain_[e]];
     }
 }
@@ -257,7 +262,8 @@ template <class T>
 void OverlapMapper::spreadDensity(const T* in, std::vector<T>& out) const
 {
     spread(in, out);
-    for (label c = 0; c < mesh_.nCells(); ++c) {
+    for (label c = 0; c < mesh_.nCells(); ++c)
+    {
         out[c] = out[c] / mesh_.cellVolume(c);
     }
 }
@@ -267,11 +273,12 @@ void OverlapMapper::gather(const T* in, std::vector<T>& out) const
 {
     out.assign(nGrains_, zero<T>());
     const std::size_t n = entryCell_.size();
-    for (std::size_t e = 0; e < n; ++e) {
+    for (std::size_t e = 0; e < n; ++e)
+    {
         out[entryGrain_[e]] += entryWeight_[e] * in[entryCell_[e]];
     }
 }
 
-}  // namespace overlapMapping
+} // namespace overlapMapping
 
 #endif

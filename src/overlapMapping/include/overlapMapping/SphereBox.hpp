@@ -86,16 +86,19 @@
 #include <limits>
 #include <vector>
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 struct MeshView;
 }
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 
 /// Volume and first moment of sphere ∩ box.
-struct SphereBoxOverlap {
-    double volume = 0.0;         ///< overlap volume [m^3], >= 0
-    Vec3 moment = Vec3::Zero();  ///< ∫ (x - c) dV over the overlap [m^4]
+struct SphereBoxOverlap
+{
+    double volume = 0.0;        ///< overlap volume [m^3], >= 0
+    Vec3 moment = Vec3::Zero(); ///< ∫ (x - c) dV over the overlap [m^4]
 };
 
 /**
@@ -108,14 +111,15 @@ struct SphereBoxOverlap {
  * exact plane offsets and resets itself when the sphere (or withMoment)
  * changes. Not thread-safe; 150 kB on the heap, allocated once.
  */
-class SphereCornerCache {
+class SphereCornerCache
+{
 public:
     SphereCornerCache();
 
 private:
-    friend SphereBoxOverlap sphereBoxOverlap(const Vec3&, double, const Vec3&,
-                                             const Vec3&, bool, SphereCornerCache*);
-    static constexpr int maxPlanes = 16;  ///< distinct offsets per axis
+    friend SphereBoxOverlap sphereBoxOverlap(const Vec3&, double, const Vec3&, const Vec3&, bool,
+                                             SphereCornerCache*);
+    static constexpr int maxPlanes = 16; ///< distinct offsets per axis
     /// Slot of corner (a, b, c) in values_ (-1 if an axis is full); resets the
     /// cache if (centre, r, withMoment) changed.
     int slot(double a, double b, double c);
@@ -128,8 +132,8 @@ private:
     std::uint32_t stamp_ = 1;
     double planes_[3][maxPlanes];
     int nPlanes_[3] = {0, 0, 0};
-    std::vector<std::uint32_t> filled_;  // maxPlanes^3 stamps
-    std::vector<double> values_;         // maxPlanes^3 x (v, mx, my, mz)
+    std::vector<std::uint32_t> filled_; // maxPlanes^3 stamps
+    std::vector<double> values_;        // maxPlanes^3 x (v, mx, my, mz)
 };
 
 /**
@@ -152,8 +156,7 @@ double sphereCornerVolume(double a, double b, double c, double r);
  * @return volume [m^3] and first moment ∫ (x - c) dV [m^4]; the overlap
  *         centroid is c + moment / volume.
  */
-SphereBoxOverlap sphereBoxOverlap(const Vec3& c, double r, const Vec3& lo,
-                                  const Vec3& hi, bool withMoment,
+SphereBoxOverlap sphereBoxOverlap(const Vec3& c, double r, const Vec3& lo, const Vec3& hi, bool withMoment,
                                   SphereCornerCache* cache = nullptr);
 
 /// Volume only of sphereBoxOverlap() [m^3].
@@ -179,9 +182,8 @@ inline double sphereBoxVolume(const Vec3& c, double r, const Vec3& lo, const Vec
  * @param relTol tolerance relative to the cell size (default 1e-12, the same
  *        as the planarity test of CellMesh)
  */
-bool axisAlignedBoxCell(const MeshView& m, label cell, Vec3& lo, Vec3& hi,
-                        double relTol = 1e-12);
+bool axisAlignedBoxCell(const MeshView& m, label cell, Vec3& lo, Vec3& hi, double relTol = 1e-12);
 
-}  // namespace overlapMapping
+} // namespace overlapMapping
 
 #endif

@@ -15,7 +15,8 @@
 #include <Eigen/Core>
 #include <cstdint>
 
-namespace overlapMapping {
+namespace overlapMapping
+{
 
 /// Index type of points, faces, cells and grains (same width as OpenFOAM's
 /// default 32-bit `label`).
@@ -30,6 +31,6 @@ using Vec2 = Eigen::Matrix<double, 2, 1, Eigen::DontAlign>;
 /// pi to double precision.
 constexpr double pi = 3.14159265358979323846264338327950288;
 
-}  // namespace overlapMapping
+} // namespace overlapMapping
 
 #endif

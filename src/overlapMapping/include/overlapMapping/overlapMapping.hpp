@@ -7,13 +7,13 @@
 #ifndef OVERLAPMAPPING_OVERLAPMAPPING_HPP
 #define OVERLAPMAPPING_OVERLAPMAPPING_HPP
 
-#include "overlapMapping/Types.hpp"
-#include "overlapMapping/MeshView.hpp"
 #include "overlapMapping/CellMesh.hpp"
 #include "overlapMapping/Geometry2D.hpp"
 #include "overlapMapping/Geometry3D.hpp"
-#include "overlapMapping/SphereBox.hpp"
 #include "overlapMapping/MeshBuilders.hpp"
+#include "overlapMapping/MeshView.hpp"
 #include "overlapMapping/OverlapMapper.hpp"
+#include "overlapMapping/SphereBox.hpp"
+#include "overlapMapping/Types.hpp"
 
 #endif
