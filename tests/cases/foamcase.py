@@ -3,6 +3,7 @@
 edited in place with foamlib."""
 
 import os
+import re
 import shutil
 import subprocess
 
@@ -131,6 +132,34 @@ def make_box_case(
         write(
             os.path.join(case, "system", "grainDepositDict"), "dictionary", "grainDepositDict", body
         )
+
+
+def gmsh_box(case, env, lo, hi, h, polyhedral=False):
+    """Replace the case's mesh by a gmsh tetrahedral mesh of the box lo..hi
+    (cell size at most h [m]), one wall patch `walls` (as make_box_case's
+    3D box); polyhedral: its dual mesh (OpenFOAM's polyDualMesh, feature
+    angle 70 deg), polyhedral cells."""
+    size = [b - a for a, b in zip(lo, hi)]
+    with open(os.path.join(case, "box.geo"), "w") as f:
+        f.write(
+            'SetFactory("OpenCASCADE");\n'
+            f"Box(1) = {{{lo[0]}, {lo[1]}, {lo[2]}, {size[0]}, {size[1]}, {size[2]}}};\n"
+            f"Mesh.CharacteristicLengthMax = {h};\n"
+            'Physical Surface("walls") = {1, 2, 3, 4, 5, 6};\nPhysical Volume("fluid") = {1};\n'
+        )
+    subprocess.run(
+        ["gmsh", "-3", "-format", "msh2", "box.geo", "-o", "box.msh"],
+        cwd=case,
+        check=True,
+        capture_output=True,
+    )
+    run("gmshToFoam", case, env, args=(os.path.join(case, "box.msh"),))
+    bnd = os.path.join(case, "constant", "polyMesh", "boundary")
+    txt = open(bnd).read()
+    open(bnd, "w").write(re.sub(r"(walls\s*\{\s*type\s+)patch", r"\1wall", txt))
+    if polyhedral:
+        # cwd: polyDualMesh writes its feature .obj files there
+        run("polyDualMesh", case, env, args=("70", "-overwrite"), cwd=case)
 
 
 def run(app, case, env, args=(), check=True, cwd=None):

@@ -9,12 +9,20 @@ import math
 import os
 import re
 import shutil
-import subprocess
 
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import add_fluid, make_box_case, read_internal, run, run_fatal_io, run_parallel, write
+from foamcase import (
+    add_fluid,
+    gmsh_box,
+    make_box_case,
+    read_internal,
+    run,
+    run_fatal_io,
+    run_parallel,
+    write,
+)
 
 pytestmark = pytest.mark.fast
 
@@ -303,25 +311,7 @@ def tet_box(case, env, grains=(), gravity=(0, -G, 0), polyhedral=False):
     )
     open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     add_fluid(case, 1000.0, 1e-6)
-    with open(os.path.join(case, "box.geo"), "w") as f:
-        f.write(
-            'SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 0.02, 0.04, 0.02};\n'
-            "Mesh.CharacteristicLengthMax = 0.004;\n"
-            'Physical Surface("walls") = {1, 2, 3, 4, 5, 6};\nPhysical Volume("fluid") = {1};\n'
-        )
-    subprocess.run(
-        ["gmsh", "-3", "-format", "msh2", "box.geo", "-o", "box.msh"],
-        cwd=case,
-        check=True,
-        capture_output=True,
-    )
-    run("gmshToFoam", case, env, args=(os.path.join(case, "box.msh"),))
-    bnd = os.path.join(case, "constant", "polyMesh", "boundary")
-    txt = open(bnd).read()
-    open(bnd, "w").write(re.sub(r"(walls\s*\{\s*type\s+)patch", r"\1wall", txt))
-    if polyhedral:
-        # cwd: polyDualMesh writes its feature .obj files there
-        run("polyDualMesh", case, env, args=("70", "-overwrite"), cwd=case)
+    gmsh_box(case, env, (0, 0, 0), (0.02, 0.04, 0.02), 0.004, polyhedral=polyhedral)
     run("grainDeposit", case, env)
 
 
@@ -394,13 +384,20 @@ def test_water_at_rest_on_unstructured_meshes(tmp_path, env, mesh):
     grain and with 2 non-orthogonal correctors 8e-7 m/s).  Gravity is the
     discrete gradient of g.x there (createVelocityCorrection.H, balanced
     gravity); with g itself the Gauss gradient of the hydrostatic pressure
-    left 0.07 m/s on tets after 10 ms, 0.3-0.39 m/s after 0.1-0.3 s."""
+    left 0.07 m/s on tets after 10 ms, 0.3-0.39 m/s after 0.1-0.3 s.
+    The grain's overlap volumes over these cells add up to its volume."""
     case = str(tmp_path / mesh)
     tet_box(case, env, grains=[(0.01, 0.02, 0.01, 0.004)], polyhedral=mesh == "polyhedral")
     run("vansFoam", case, env)
     U = np.asarray(read_internal(os.path.join(case, "0.01", "U")))
     print(f"water at rest on the {mesh} mesh: |U| max {np.abs(U).max():.3e} m/s")
     assert np.abs(U).max() < 5e-4
+    # the overlap volumes' partition of unity on these cells: the solid
+    # volume sum (1 - eps) V equals the sphere's 4/3 pi r^3 (analytical)
+    run("postProcess", case, env, args=("-func", "writeCellVolumes", "-time", "0.01"))
+    eps = np.asarray(read_internal(os.path.join(case, "0.01", "voidFraction")))
+    vol = np.asarray(read_internal(os.path.join(case, "0.01", "V")))
+    assert np.sum((1 - eps) * vol) == pytest.approx(4 / 3 * math.pi * 0.002**3, rel=1e-10)
 
 
 def warp_box(case, degrees, width, height):
