@@ -201,7 +201,10 @@ Foam::grainCloud::grainCloud
     setHeartbeat();
 
     readGravity();
-    selectDecomposition(readState ? notDecomposable : string("grain deposition"));
+    selectDecomposition
+    (
+        readState ? notDecomposable : string("grain deposition")
+    );
 
     if (!mesh.foundObject<regIOobject>(registryName))
     {
@@ -223,7 +226,8 @@ Foam::grainCloud::grainCloud
         );
     }
 
-    Info<< "grainCloud: " << nGrainsTotal() << (dimension_ == 2 ? " discs" : " spheres")
+    Info<< "grainCloud: " << nGrainsTotal()
+        << (dimension_ == 2 ? " discs" : " spheres")
         << ", " << system_->nWalls() << " walls from "
         << patchWalls_.size() << " wall patches, "
         << movingWalls_.size() << " moving, " << gates_.size()
@@ -333,10 +337,16 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
     for (const nscd::Vec3& x : system_->positions())
     {
         // not Eigen's allFinite: inf - inf raises FE_INVALID (SIGFPE)
-        if (!std::isfinite(x.x()) || !std::isfinite(x.y()) || !std::isfinite(x.z()))
+        if
+        (
+            !std::isfinite(x.x())
+         || !std::isfinite(x.y())
+         || !std::isfinite(x.z())
+        )
         {
             FatalErrorInFunction
-                << "Non-finite grain position at time " << mesh_.time().timeName()
+                << "Non-finite grain position at time "
+                << mesh_.time().timeName()
                 << ". The last written time holds the last good state." << nl
                 << "    Fix: reduce deltaT or maxDisplacementFraction."
                 << exit(FatalError);
@@ -384,7 +394,8 @@ Foam::scalar Foam::grainCloud::kineticEnergy() const
     {
         if (system_->fixed(i) || !owned(i)) continue;
         e += 0.5*system_->mass(i)*system_->velocities()[i].squaredNorm()
-           + 0.5*system_->inertia(i)*system_->angularVelocities()[i].squaredNorm();
+           + 0.5*system_->inertia(i)
+            *system_->angularVelocities()[i].squaredNorm();
     }
     return decomposed_ ? returnReduce(e, sumOp<scalar>()) : e;
 }

@@ -186,10 +186,12 @@ void Foam::grainCloud::writeStateFile
         addXdmfDatasets(tmp);
         if (std::rename(tmp.c_str(), path.c_str()) != 0)
         {
-            what = std::string("cannot rename ") + tmp + ": " + std::strerror(errno);
+            what =
+                std::string("cannot rename ") + tmp + ": "
+              + std::strerror(errno);
         }
     }
-    catch (const std::runtime_error& err)  // nscd::InputError, the XDMF datasets
+    catch (const std::runtime_error& err) // nscd::InputError, the XDMF datasets
     {
         what = err.what();
         if (errno != 0)
@@ -403,7 +405,9 @@ void Foam::grainCloud::computeCellClearance() const
     {
         const pointIndexHit hit = tree.findNearest(clearCentres_[celli], span2);
         clearRadiusSqr_[celli] =
-            hit.hit() ? sqr(0.9)*magSqr(hit.hitPoint() - clearCentres_[celli]) : 0;
+            hit.hit()
+          ? sqr(0.9)*magSqr(hit.hitPoint() - clearCentres_[celli])
+          : 0;
     }
 }
 

@@ -46,7 +46,8 @@ bool Foam::grainCloud::partStart(const string& notDecomposable) const
         Pstream::parRun()
      && notDecomposable.empty()
      && !dict_.found("outletPatches")
-     && dict_.getOrDefault<word>("grainDecomposition", "decomposed") == "decomposed";
+     && dict_.getOrDefault<word>("grainDecomposition", "decomposed")
+        == "decomposed";
 }
 
 
@@ -179,13 +180,17 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
     const double halo = 6*rMax;
     try
     {
-        auto owner = [this](const nscd::Vec3& x, long id) { return ownerOf(x, id); };
+        auto owner = [this](const nscd::Vec3& x, long id)
+        {
+            return ownerOf(x, id);
+        };
         decomposed_.reset
         (
             partRead
           ? new nscd::mpi::DecomposedSystem
             (
-                std::move(*whole_), long(startIds_.size()), MPI_COMM_WORLD, owner, halo
+                std::move(*whole_), long(startIds_.size()), MPI_COMM_WORLD,
+                owner, halo
             )
           : new nscd::mpi::DecomposedSystem
             (
@@ -337,7 +342,11 @@ Foam::scalar Foam::grainCloud::heatContent() const
     {
         return system_->heatContent();
     }
-    return returnReduce(system_->heatContent(&decomposed_->owned()), sumOp<scalar>());
+    return returnReduce
+    (
+        system_->heatContent(&decomposed_->owned()),
+        sumOp<scalar>()
+    );
 }
 
 
@@ -392,7 +401,10 @@ Foam::List<Type> Foam::grainCloud::gatherInStateOrder
     {
         if (owned(i))
         {
-            mine.append(Tuple2<label, Type>(label(system_->grainIds()[i]), list[i]));
+            mine.append
+            (
+                Tuple2<label, Type>(label(system_->grainIds()[i]), list[i])
+            );
         }
     }
     perRank[Pstream::myProcNo()].transfer(mine);

@@ -115,16 +115,31 @@ void Foam::grainCloud::writeCloud
     {
         if (cells[i] >= 0 && owner[i] == Pstream::myProcNo())
         {
-            cloud.addParticle(new passiveParticle(mesh_, meshPosition(i), cells[i]));
+            cloud.addParticle
+            (
+                new passiveParticle(mesh_, meshPosition(i), cells[i])
+            );
             ids.append(i);
         }
     }
 
     IOField<scalar> d(cloud.fieldIOobject("d", IOobject::NO_READ), ids.size());
     IOField<vector> U(cloud.fieldIOobject("U", IOobject::NO_READ), ids.size());
-    IOField<vector> omega(cloud.fieldIOobject("omega", IOobject::NO_READ), ids.size());
-    IOField<label> grainId(cloud.fieldIOobject("grainId", IOobject::NO_READ), ids.size());
-    IOField<label> fixed(cloud.fieldIOobject("fixed", IOobject::NO_READ), ids.size());
+    IOField<vector> omega
+    (
+        cloud.fieldIOobject("omega", IOobject::NO_READ),
+        ids.size()
+    );
+    IOField<label> grainId
+    (
+        cloud.fieldIOobject("grainId", IOobject::NO_READ),
+        ids.size()
+    );
+    IOField<label> fixed
+    (
+        cloud.fieldIOobject("fixed", IOobject::NO_READ),
+        ids.size()
+    );
     forAll(ids, k)
     {
         const label i = ids[k];
@@ -146,7 +161,8 @@ void Foam::grainCloud::writeCloud
         if (Pstream::master())
         {
             const scalar mean = scalar(sum(perRank))/perRank.size();
-            Info<< "grainCloud: grains per rank " << perRank << ", largest/mean "
+            Info<< "grainCloud: grains per rank " << perRank
+                << ", largest/mean "
                 << (mean > 0 ? max(perRank)/mean : 0) << endl;
         }
     }
@@ -158,7 +174,11 @@ void Foam::grainCloud::writeCloud
     fixed.write(valid);
     for (const auto& ex : extra)
     {
-        IOField<vector> f(cloud.fieldIOobject(ex.first, IOobject::NO_READ), ids.size());
+        IOField<vector> f
+        (
+            cloud.fieldIOobject(ex.first, IOobject::NO_READ),
+            ids.size()
+        );
         forAll(ids, k)
         {
             f[k] = (*ex.second)[ids[k]];
@@ -167,7 +187,11 @@ void Foam::grainCloud::writeCloud
     }
     for (const auto& ex : extraScalars)
     {
-        IOField<scalar> f(cloud.fieldIOobject(ex.first, IOobject::NO_READ), ids.size());
+        IOField<scalar> f
+        (
+            cloud.fieldIOobject(ex.first, IOobject::NO_READ),
+            ids.size()
+        );
         forAll(ids, k)
         {
             f[k] = (*ex.second)[ids[k]];

@@ -74,7 +74,9 @@ void Foam::grainCloud::readOutletPatches()
     fileName path(runTime.timePath()/"uniform"/outletCountsName);
     if (Pstream::parRun() && !isFile(path))
     {
-        path = runTime.globalPath()/runTime.timeName()/"uniform"/outletCountsName;
+        path =
+            runTime.globalPath()/runTime.timeName()/"uniform"
+           /outletCountsName;
     }
     if (isFile(path))
     {
@@ -202,7 +204,8 @@ void Foam::grainCloud::writeOutletCounts() const
     std::ostringstream os;
     os.precision(17);
     os  << "FoamFile\n{\n    version     2.0;\n    format      ascii;\n"
-        << "    class       dictionary;\n    location    \"" << runTime.timeName()
+        << "    class       dictionary;\n    location    \""
+        << runTime.timeName()
         << "/uniform\";\n    object      " << outletCountsName << ";\n}\n\n";
     os  << "// grains removed through the outlet patches since the case"
         << " started (grainCloud\n// outletPatches); mass [kg] (2D: over"

@@ -45,7 +45,8 @@ Choice contactSolverChoice
     }
     FatalIOErrorInFunction(cs)
         << "unknown contactSolver " << key << " " << w
-        << "; " << key << "s: " << list.str().c_str() << Foam::exit(Foam::FatalIOError);
+        << "; " << key << "s: " << list.str().c_str()
+        << Foam::exit(Foam::FatalIOError);
     return names.begin()->second;
 }
 }
@@ -59,7 +60,8 @@ void Foam::grainCloud::readSettings()
     (
         dict_,
         {
-            "materials", "wallPatches", "wallFriction", "maxDisplacementFraction",
+            "materials", "wallPatches", "wallFriction",
+            "maxDisplacementFraction",
             "contactSolver", "movingWalls", "initialTemperature",
             "wallTemperatures", "gates", "frontRearWalls", "outletPatches",
             "grainDecomposition"
@@ -169,7 +171,10 @@ void Foam::grainCloud::applySolverSettings()
             );
         }
         s.rmsTolerance =
-            grainTools::getPositiveOrDefault(cs, "rmsTolerance", s.rmsTolerance);
+            grainTools::getPositiveOrDefault
+            (
+                cs, "rmsTolerance", s.rmsTolerance
+            );
         if (cs.found("method"))
         {
             using Method = nscd::System::Settings::Method;
@@ -216,7 +221,10 @@ void Foam::grainCloud::applySolverSettings()
                 if
                 (
                     !(e.dict().getOrDefault<scalar>("compliance", 0) > 0)
-                 && !(e.dict().getOrDefault<scalar>("relativeCompliance", 0) > 0)
+                 && !(
+                        e.dict().getOrDefault<scalar>("relativeCompliance", 0)
+                      > 0
+                    )
                 )
                 {
                     FatalIOErrorInFunction(cs)
@@ -248,7 +256,8 @@ void Foam::grainCloud::applySolverSettings()
         }
         s.tolerance =
             grainTools::getPositiveOrDefault(cs, "tolerance", s.tolerance);
-        s.maxIterations = cs.getOrDefault<label>("maxIterations", s.maxIterations);
+        s.maxIterations =
+            cs.getOrDefault<label>("maxIterations", s.maxIterations);
         s.overlapTolerance =
             grainTools::getPositiveOrDefault
             (
@@ -370,7 +379,12 @@ void Foam::grainCloud::applyDictionaryMaterials(const fileName& statePath)
         note("conductivity", old.conductivity, m.conductivity);
         note("heatCapacity", old.heatCapacity, m.heatCapacity);
         note("compliance", old.compliance, m.compliance);
-        note("relativeCompliance", old.relativeCompliance, m.relativeCompliance);
+        note
+        (
+            "relativeCompliance",
+            old.relativeCompliance,
+            m.relativeCompliance
+        );
         if (changes.str().empty())
         {
             continue;

@@ -27,7 +27,11 @@ using Foam::grainTools::toVector;
 
 namespace
 {
-    Foam::labelList wallPatchIds(const Foam::fvMesh& mesh, const Foam::dictionary& dict)
+    Foam::labelList wallPatchIds
+    (
+        const Foam::fvMesh& mesh,
+        const Foam::dictionary& dict
+    )
     {
         using namespace Foam;
         const polyBoundaryMesh& pbm = mesh.boundaryMesh();
@@ -41,7 +45,8 @@ namespace
             if (ids.empty())
             {
                 FatalIOErrorInFunction(dict)
-                    << "wallPatches " << flatOutput(dict.get<wordRes>("wallPatches"))
+                    << "wallPatches "
+                    << flatOutput(dict.get<wordRes>("wallPatches"))
                     << " in "
                     << dict.name() << " matches no patch of the mesh. Patches: "
                     << flatOutput(pbm.names()) << exit(FatalIOError);
@@ -78,7 +83,11 @@ namespace
     )
     {
         using namespace Foam;
-        struct line { nscd::Vec3 o, t; std::vector<std::pair<double, double>> iv; };
+        struct line
+        {
+            nscd::Vec3 o, t;
+            std::vector<std::pair<double, double>> iv;
+        };
         std::vector<line> lines;
         const scalar tol = 1e-9*mag(mesh.bounds().span());
 
@@ -167,7 +176,10 @@ namespace
         }
         // canonical order, independent of the face order and decomposition
         const scalar q = 1e-6*mag(mesh.bounds().span());
-        auto key = [q](const nscd::Vec3& v) { return std::llround(v.x()/q)*1000003LL + std::llround(v.y()/q); };
+        auto key = [q](const nscd::Vec3& v)
+        {
+            return std::llround(v.x()/q)*1000003LL + std::llround(v.y()/q);
+        };
         std::sort
         (
             segs.begin(), segs.end(),
@@ -259,7 +271,8 @@ void Foam::grainCloud::readMovingWalls()
             FatalIOErrorInFunction(mw)
                 << "movingWalls entry '" << e.keyword() << "' in "
                 << mw.name() << " must be a dictionary named after a wall"
-                << " patch. Wall patches: " << flatOutput(patchWalls_.sortedToc())
+                << " patch. Wall patches: "
+                << flatOutput(patchWalls_.sortedToc())
                 << exit(FatalIOError);
         }
         const dictionary& d = e.dict();
@@ -361,7 +374,8 @@ void Foam::grainCloud::readGates(const label nMeshWalls)
                     << g.start << " and end " << g.end << " coincide in the"
                     << " x-y plane. Fix: give two distinct points (2D: the"
                     << " segment; 3D: the rectangle's bottom and top edge"
-                    << " ends, swept over the mesh depth)." << exit(FatalIOError);
+                    << " ends, swept over the mesh depth)."
+                    << exit(FatalIOError);
             }
             if (!(g.endTime > g.startTime))
             {

@@ -55,8 +55,16 @@ struct h5Handle
     hid_t id = -1;
     H5E_auto2_t oldFunc = nullptr;
     void* oldData = nullptr;
-    h5Handle() { H5Eget_auto2(H5E_DEFAULT, &oldFunc, &oldData); H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
-    ~h5Handle() { if (id >= 0) H5Fclose(id); H5Eset_auto2(H5E_DEFAULT, oldFunc, oldData); }
+    h5Handle()
+    {
+        H5Eget_auto2(H5E_DEFAULT, &oldFunc, &oldData);
+        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    }
+    ~h5Handle()
+    {
+        if (id >= 0) H5Fclose(id);
+        H5Eset_auto2(H5E_DEFAULT, oldFunc, oldData);
+    }
 };
 
 
@@ -108,7 +116,9 @@ std::vector<T> readDataset
     std::vector<T> out(d[0]*width);
     const hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
     const herr_t st =
-        out.empty() ? 0 : H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+        out.empty()
+      ? 0
+      : H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
     H5Dclose(ds);
     if (st < 0)
     {
@@ -136,8 +146,10 @@ void writeDataset
     const hid_t space = H5Screate_simple(cols > 0 ? 2 : 1, dims, nullptr);
     const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
     H5Pset_obj_track_times(dcpl, 0);
-    const hid_t ds =
-        H5Dcreate2(f, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    const hid_t ds = H5Dcreate2
+    (
+        f, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT
+    );
     H5Pclose(dcpl);
     herr_t st = ds >= 0 ? 0 : -1;
     if (ds >= 0 && rows > 0)
@@ -151,7 +163,10 @@ void writeDataset
     H5Sclose(space);
     if (st < 0)
     {
-        throw std::runtime_error(path + ": cannot write dataset '" + name + "'");
+        throw std::runtime_error
+        (
+            path + ": cannot write dataset '" + name + "'"
+        );
     }
 }
 
@@ -168,7 +183,8 @@ std::string dataItem
 {
     return
         "<DataItem Dimensions=\"" + dims + "\" NumberType=\"" + number
-      + "\" Precision=\"" + precision + "\" Format=\"HDF\">" + ref + "</DataItem>";
+      + "\" Precision=\"" + precision + "\" Format=\"HDF\">" + ref
+      + "</DataItem>";
 }
 
 const char* const gridMark = "<Grid Name=\"t=";
@@ -232,10 +248,22 @@ void Foam::grainCloud::addXdmfDatasets(const std::string& path)
         }
     }
     const hsize_t m = pairs.size()/2;
-    writeDataset(h.id, path, "xdmfVertices", vertices.data(), n, 0, H5T_NATIVE_INT);
-    writeDataset(h.id, path, "xdmfContactPairs", pairs.data(), m, 2, H5T_NATIVE_INT);
-    writeDataset(h.id, path, "xdmfNormalForce", fn.data(), m, 3, H5T_NATIVE_DOUBLE);
-    writeDataset(h.id, path, "xdmfTangentialForce", ft.data(), m, 3, H5T_NATIVE_DOUBLE);
+    writeDataset
+    (
+        h.id, path, "xdmfVertices", vertices.data(), n, 0, H5T_NATIVE_INT
+    );
+    writeDataset
+    (
+        h.id, path, "xdmfContactPairs", pairs.data(), m, 2, H5T_NATIVE_INT
+    );
+    writeDataset
+    (
+        h.id, path, "xdmfNormalForce", fn.data(), m, 3, H5T_NATIVE_DOUBLE
+    );
+    writeDataset
+    (
+        h.id, path, "xdmfTangentialForce", ft.data(), m, 3, H5T_NATIVE_DOUBLE
+    );
     if (H5Fflush(h.id, H5F_SCOPE_LOCAL) < 0)
     {
         throw std::runtime_error(path + ": cannot flush the XDMF datasets");
@@ -264,8 +292,10 @@ void Foam::grainCloud::writeXdmf(const fileName& statePath) const
             T = datasetDims(h.id, "temperatures");
             try
             {
-                const std::vector<double> t =
-                    readDataset<double>(h.id, statePath, "time", H5T_NATIVE_DOUBLE, 1);
+                const std::vector<double> t = readDataset<double>
+                (
+                    h.id, statePath, "time", H5T_NATIVE_DOUBLE, 1
+                );
                 dt = t.size() > 1 ? t[1] : 0;
             }
             catch (const std::runtime_error&)
@@ -307,14 +337,19 @@ void Foam::grainCloud::writeXdmf(const fileName& statePath) const
     };
     for (const auto& a : nodeAttrs)
     {
-        if (std::string(a[0]) == "temperature" && (T.size() != 1 || T[0] != x[0]))
+        if
+        (
+            std::string(a[0]) == "temperature"
+         && (T.size() != 1 || T[0] != x[0])
+        )
         {
             continue;
         }
         const bool vec = std::string(a[1]) == "Vector";
         line<< "<Attribute Name=\"" << a[0] << "\" AttributeType=\"" << a[1]
             << "\" Center=\"Node\">"
-            << dataItem(h5 + ":/" + a[2], vec ? N + " 3" : N, a[3]) << "</Attribute>";
+            << dataItem(h5 + ":/" + a[2], vec ? N + " 3" : N, a[3])
+            << "</Attribute>";
     }
     line<< "</Grid>";
     // no contacts grid without contacts: VTK's XDMF reader fails on an
@@ -325,12 +360,14 @@ void Foam::grainCloud::writeXdmf(const fileName& statePath) const
         line<< "<Grid Name=\"contacts\" GridType=\"Uniform\">"
             << "<Topology TopologyType=\"Polyline\" NumberOfElements=\"" << M
             << "\" NodesPerElement=\"2\">"
-            << dataItem(h5 + ":/xdmfContactPairs", M + " 2", "Int", "4") << "</Topology>"
+            << dataItem(h5 + ":/xdmfContactPairs", M + " 2", "Int", "4")
+            << "</Topology>"
             << "<Geometry GeometryType=\"XYZ\">"
             << dataItem(h5 + ":/positions", N + " 3", "Float") << "</Geometry>"
             << "<Attribute Name=\"normal" << unit
             << "\" AttributeType=\"Vector\" Center=\"Cell\">"
-            << dataItem(h5 + ":/xdmfNormalForce", M + " 3", "Float") << "</Attribute>"
+            << dataItem(h5 + ":/xdmfNormalForce", M + " 3", "Float")
+            << "</Attribute>"
             << "<Attribute Name=\"tangential" << unit
             << "\" AttributeType=\"Vector\" Center=\"Cell\">"
             << dataItem(h5 + ":/xdmfTangentialForce", M + " 3", "Float")
@@ -359,7 +396,11 @@ void Foam::grainCloud::writeXdmf(const fileName& statePath) const
             (
                 v == std::string::npos || name == timeName
              || !isFile(caseDir/name/stateFileName)
-             || !readScalar(l.substr(v + 13, l.find('"', v + 13) - v - 13), value)
+             || !readScalar
+                (
+                    l.substr(v + 13, l.find('"', v + 13) - v - 13),
+                    value
+                )
              || value > runTime.value()
             )
             {
@@ -374,7 +415,8 @@ void Foam::grainCloud::writeXdmf(const fileName& statePath) const
         std::ofstream out(tmp);
         out << "<?xml version=\"1.0\" ?>\n"
             << "<!-- nscdFoam grains for ParaView (grainCloudXdmf.C): every"
-            << " array is in <time>/grainState.h5; rewritten at each write -->\n"
+            << " array is in <time>/grainState.h5; rewritten at each write"
+               " -->\n"
             << "<Xdmf Version=\"3.0\">\n<Domain>\n"
             << "<Grid Name=\"grainState\" GridType=\"Collection\""
             << " CollectionType=\"Temporal\">\n";

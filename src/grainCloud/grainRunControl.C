@@ -67,7 +67,11 @@ void Foam::grainRunControl::checkControlDict
     }
     const dictionary dict(is);
     scalar writeInterval = 1;
-    if (dict.readIfPresent("writeInterval", writeInterval) && !(writeInterval > 0))
+    if
+    (
+        dict.readIfPresent("writeInterval", writeInterval)
+     && !(writeInterval > 0)
+    )
     {
         FatalIOErrorInFunction(dict)
             << "writeInterval " << writeInterval << " in " << path
@@ -371,7 +375,10 @@ bool Foam::grainRunControl::writeStep(const std::function<void()>& writeGrains)
     const label sig = signalReceived();
     const bool stop = sig != 0;
     const bool last =
-        !(runTime_.value() < runTime_.endTime().value() - 0.5*runTime_.deltaTValue());
+        !(
+            runTime_.value()
+          < runTime_.endTime().value() - 0.5*runTime_.deltaTValue()
+        );
     const bool scheduled = runTime_.writeTime();
     const bool written = scheduled || last || stop;
     if (written)
@@ -390,7 +397,9 @@ bool Foam::grainRunControl::writeStep(const std::function<void()>& writeGrains)
     {
         const scalar span = runTime_.endTime().value() - startTime_;
         scalar f =
-            span > 0 ? min(max((runTime_.value() - startTime_)/span, scalar(0)), scalar(1)) : 1;
+            span > 0
+          ? min(max((runTime_.value() - startTime_)/span, scalar(0)), scalar(1))
+          : 1;
         if (last)
         {
             f = 1;
@@ -408,14 +417,24 @@ bool Foam::grainRunControl::writeStep(const std::function<void()>& writeGrains)
         }
         else
         {
-            std::snprintf(line, sizeof(line), "Progress: %.1f %% of the run", 100*f);
+            std::snprintf
+            (
+                line, sizeof(line), "Progress: %.1f %% of the run", 100*f
+            );
         }
         Info<< line;
         Info<< nl;
     }
     if (stop)
     {
-        Info<< nl << "Stop signal " << sig << (sig == SIGTERM ? " (SIGTERM)" : sig == SIGUSR1 ? " (SIGUSR1)" : "") << " received: wrote"
+        Info<< nl << "Stop signal " << sig
+            <<
+            (
+                sig == SIGTERM ? " (SIGTERM)"
+              : sig == SIGUSR1 ? " (SIGUSR1)"
+              : ""
+            )
+            << " received: wrote"
             << " time " << runTime_.timeName() << " (continue with startFrom"
             << " latestTime) and stopped." << nl << endl;
         return false;

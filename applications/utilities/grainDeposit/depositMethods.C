@@ -60,10 +60,19 @@ std::vector<nscd::Vec3> latticeNodes
     const double nz = dim == 3 ? std::floor((hi.z() - lo.z())/spacing) : 1;
     const std::pair<long, long> range[3] =
     {
-        nodeRange(lo.x(), nx, spacing, meshBounds.min().x(), meshBounds.max().x()),
-        nodeRange(lo.y(), ny, spacing, meshBounds.min().y(), meshBounds.max().y()),
+        nodeRange
+        (
+            lo.x(), nx, spacing, meshBounds.min().x(), meshBounds.max().x()
+        ),
+        nodeRange
+        (
+            lo.y(), ny, spacing, meshBounds.min().y(), meshBounds.max().y()
+        ),
         dim == 3
-      ? nodeRange(lo.z(), nz, spacing, meshBounds.min().z(), meshBounds.max().z())
+      ? nodeRange
+        (
+            lo.z(), nz, spacing, meshBounds.min().z(), meshBounds.max().z()
+        )
       : std::pair<long, long>(0, 1)
     };
     auto tryNode = [&](const long i, const long j, const long k)
@@ -303,7 +312,8 @@ label grainNumber
 {
     const scalar meanVolume = dim == 2
       ? constant::mathematical::pi/4*sqr(dMin)*(1 + lambda + sqr(lambda))/3
-      : constant::mathematical::pi/6*pow3(dMin)*(1 + lambda)*(1 + sqr(lambda))/4;
+      : constant::mathematical::pi/6*pow3(dMin)
+       *(1 + lambda)*(1 + sqr(lambda))/4;
     label number = 0;
     if (depositDict.found("number"))
     {
@@ -311,7 +321,8 @@ label grainNumber
     }
     else
     {
-        const scalar frac = grainTools::getPositive(depositDict, "solidFraction");
+        const scalar frac =
+            grainTools::getPositive(depositDict, "solidFraction");
         scalar regionVolume = (hi.x() - lo.x())*(hi.y() - lo.y());
         if (dim == 3) regionVolume *= hi.z() - lo.z();
         number = label(frac*regionVolume/meanVolume);
@@ -456,13 +467,16 @@ std::vector<grainSpec> rainGrains
             << " largest grain (" << lambda*dMin << " m)."
             << exit(FatalIOError);
     }
-    const label number = grainNumber(depositDict, region.lo, region.hi, dim, dMin, lambda);
+    const label number =
+        grainNumber(depositDict, region.lo, region.hi, dim, dMin, lambda);
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> uni(0, 1);
     std::vector<double> diameters(std::max(label(0), number));
     for (double& d : diameters) d = dMin*(1 + (lambda - 1)*uni(rng));
-    std::vector<grainSpec> specs =
-        rainDeposit(region.lo.x(), region.hi.x(), region.lo.y(), diameters, rng);
+    std::vector<grainSpec> specs = rainDeposit
+    (
+        region.lo.x(), region.hi.x(), region.lo.y(), diameters, rng
+    );
     scalar top = region.lo.y();
     for (const grainSpec& s : specs) top = max(top, s.x.y() + 0.5*s.d);
     if (top > region.hi.y())

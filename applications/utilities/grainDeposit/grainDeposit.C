@@ -23,7 +23,8 @@ Description
     box         { min (0 0 0); max (0.1 0.2 0); }   // method box, rain
     cellZone    column;             // method cellZone
     grains      ((x y z d) ...);    // method list
-    fixed       no;                 // method list: yes = all listed grains fixed
+    fixed       no;                 // method list: yes = all listed grains
+                                    // fixed
     replicate                       // method replicate: a settled column
     {                               // copied across the mesh (x), every
         source  "../column/0/grainState.h5";  // other copy mirrored, with
@@ -44,7 +45,8 @@ Description
     dMin        2e-3;               // [m]
     sizeRatio   1.2;                // lambda = d_max/d_min (>= 1)
     seed        1;
-    fixedRow    { from (0 0.001 0); to (0.5 0.001 0); diameter 2e-3; } // optional rough floor
+    fixedRow    { from (0 0.001 0); to (0.5 0.001 0); diameter 2e-3; }
+                                    // optional rough floor
     writeContactImpulses no;        // yes: the settled contact impulses are
                                     // written with the grains (warm start of
                                     // the run; needed by a replicate source)
@@ -174,7 +176,8 @@ std::vector<wallPlane> temporaryPlanes
     )
     {
         temporaryWalls =
-            depositDict.subDict("settle").get<List<dictionary>>("temporaryWalls");
+            depositDict.subDict("settle")
+                .get<List<dictionary>>("temporaryWalls");
     }
     std::vector<wallPlane> planes;
     for (const dictionary& w : temporaryWalls)
@@ -188,7 +191,10 @@ std::vector<wallPlane> temporaryPlanes
         }
         planes.push_back
         (
-            {settling.toSystem(w.get<vector>("point")), settling.toSystem(n/mag(n))}
+            {
+                settling.toSystem(w.get<vector>("point")),
+                settling.toSystem(n/mag(n))
+            }
         );
     }
     return planes;
@@ -469,7 +475,7 @@ int main(int argc, char *argv[])
     argList::noParallel();
 
     #include "setRootCase.H"
-    grainRunControl::checkControlDict(args);   // writeInterval 0: SIGFPE in Time
+    grainRunControl::checkControlDict(args);  // writeInterval 0: SIGFPE in Time
     #include "createTime.H"
     #include "createMesh.H"
 
@@ -505,7 +511,8 @@ int main(int argc, char *argv[])
     std::vector<grainSpec> fixedSpecs =
         addMovableGrains(depositDict, method, dep.specs, settling, matId);
     addFixedRow(depositDict, settling, fixedSpecs);
-    const std::vector<wallPlane> planes = temporaryPlanes(depositDict, settling);
+    const std::vector<wallPlane> planes =
+        temporaryPlanes(depositDict, settling);
     const fixedPlacement placement =
         addFixedGrainsAndWalls(fixedSpecs, planes, settling, matId);
 
@@ -531,7 +538,8 @@ int main(int argc, char *argv[])
     grainCloud initial(mesh, false);
     writeInitialState(depositDict, settling, placement, matId, initial);
 
-    Info<< "Wrote " << initial.system().size() << " grains to " << runTime.timePath() << nl
+    Info<< "Wrote " << initial.system().size() << " grains to "
+        << runTime.timePath() << nl
         << "End\n" << endl;
     return 0;
 }

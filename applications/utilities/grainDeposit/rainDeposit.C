@@ -31,7 +31,10 @@ public:
     {
         return std::min(nx_ - 1, std::max(0, int(std::floor((x - x0_)/h_))));
     }
-    int row(double y) const { return std::max(0, int(std::floor((y - y0_)/h_))); }
+    int row(double y) const
+    {
+        return std::max(0, int(std::floor((y - y0_)/h_)));
+    }
     int rows() const { return int(cells_.size())/nx_; }
 
     void add(int id, double x, double y)
@@ -74,12 +77,20 @@ public:
     //- Highest centre height <= yStart [m] at which a disc of radius r
     //  falling at abscissa x first touches a laid disc (not `exclude`) or
     //  the floor; sets `support` (-1: the floor)
-    double land(double x, double r, double yStart, int exclude, int& support) const
+    double land
+    (
+        double x,
+        double r,
+        double yStart,
+        int exclude,
+        int& support
+    ) const
     {
         double best = y0_ + r;
         support = -1;
         const int c = grid_.col(x);
-        const int rTop = std::isfinite(yStart) ? grid_.row(yStart) + 1 : grid_.rows() - 1;
+        const int rTop =
+            std::isfinite(yStart) ? grid_.row(yStart) + 1 : grid_.rows() - 1;
         grid_.visit(c - 1, c + 1, 0, rTop, [&](int k)
         {
             if (k == exclude) return;
@@ -109,7 +120,13 @@ public:
         {
             if (phi < -0.5*M_PI) phi += 2*M_PI;
             const double p = s > 0 ? t0 - phi : phi - t0;
-            if (p > 1e-12 && p < first) { first = p; angle = phi; what = type; k = id; }
+            if (p > 1e-12 && p < first)
+            {
+                first = p;
+                angle = phi;
+                what = type;
+                k = id;
+            }
         };
         if (length > 0)
         {
@@ -118,7 +135,8 @@ public:
             for (double xw : {x0_ + r, x1_ - r})
             {
                 const double c = (xw - J.x)/R;
-                if (std::abs(c) <= 1) consider(std::acos(c), stop::floorOrWall, -1);
+                if (std::abs(c) <= 1)
+                    consider(std::acos(c), stop::floorOrWall, -1);
             }
             const double sn = (y0_ + r - J.y)/R;
             if (std::abs(sn) <= 1)
@@ -138,8 +156,14 @@ public:
                 const double a = (R*R - Rk*Rk + dd*dd)/(2*dd);
                 const double hh = std::sqrt(std::max(0.0, R*R - a*a));
                 const double bx = a*dx/dd, by = a*dy/dd;
-                consider(std::atan2(by + hh*dx/dd, bx - hh*dy/dd), stop::disc, id);
-                consider(std::atan2(by - hh*dx/dd, bx + hh*dy/dd), stop::disc, id);
+                consider
+                (
+                    std::atan2(by + hh*dx/dd, bx - hh*dy/dd), stop::disc, id
+                );
+                consider
+                (
+                    std::atan2(by - hh*dx/dd, bx + hh*dy/dd), stop::disc, id
+                );
             });
         }
         else
@@ -156,7 +180,8 @@ public:
     void lay(double x, double r, std::mt19937_64& rng)
     {
         int support = -1;
-        double y = land(x, r, std::numeric_limits<double>::infinity(), -1, support);
+        double y =
+            land(x, r, std::numeric_limits<double>::infinity(), -1, support);
         std::uniform_int_distribution<int> side(0, 1);
         for (int n = 0; n < 100000 && support >= 0; ++n)
         {
@@ -174,10 +199,13 @@ public:
                 continue;
             }
             // on j and k: at rest if its centre is between theirs
-            const double lo = std::min(d_[j].x, d_[k].x), hi = std::max(d_[j].x, d_[k].x);
+            const double lo = std::min(d_[j].x, d_[k].x),
+                hi = std::max(d_[j].x, d_[k].x);
             if (x >= lo && x <= hi) break;
             // else it rolls on over the outer one of the two
-            support = x < lo ? (d_[j].x < d_[k].x ? j : k) : (d_[j].x > d_[k].x ? j : k);
+            support = x < lo
+              ? (d_[j].x < d_[k].x ? j : k)
+              : (d_[j].x > d_[k].x ? j : k);
         }
         grid_.add(int(d_.size()), x, y);
         d_.push_back({x, y, r});

@@ -46,8 +46,10 @@ double Foam::vapourDroplet::lensOverlap
     }
     if (twoD)
     {
-        const double a1 = std::acos(std::clamp((d*d + r*r - R*R)/(2*d*r), -1.0, 1.0));
-        const double a2 = std::acos(std::clamp((d*d + R*R - r*r)/(2*d*R), -1.0, 1.0));
+        const double a1 =
+            std::acos(std::clamp((d*d + r*r - R*R)/(2*d*r), -1.0, 1.0));
+        const double a2 =
+            std::acos(std::clamp((d*d + R*R - r*r)/(2*d*R), -1.0, 1.0));
         const double k = (-d + r + R)*(d + r - R)*(d - r + R)*(d + r + R);
         return r*r*a1 + R*R*a2 - 0.5*std::sqrt(std::max(k, 0.0));
     }
@@ -70,7 +72,8 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     ),
     rhoL_(0), L_(0), Td_(0), rhoV_(0), moving_(false), blowing_(true),
     penalisationFactor_(100),
-    grainDrag_(true), muL_(2.82e-4), sigma_(0), localRelease_(false), film_(false), muV_(0), kappaF_(0), porosity_(0), drag_(nullptr),
+    grainDrag_(true), muL_(2.82e-4), sigma_(0), localRelease_(false),
+    film_(false), muV_(0), kappaF_(0), porosity_(0), drag_(nullptr),
     rhoF_(0), CpF_(0), diffusivity_(0),
     x_(Zero), u_(Zero), m_(0), y0_(0), mdot_(0), Qf_(0), Qp_(0), Ff_(Zero),
     Vdot_(0), pendingVapour_(0), Vp_(0), Fp_(Zero), Fw_(Zero),

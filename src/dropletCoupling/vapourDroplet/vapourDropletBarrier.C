@@ -117,14 +117,19 @@ void Foam::vapourDroplet::afterGrainStep()
     computeFilmHeat(sys, dt);
 
     // capillary force on the droplet over the step [N] (2D: over the depth)
-    Fc_ = vector(d.impulse.x(), d.impulse.y(), twoD ? 0.0 : d.impulse.z())*depth/dt;
+    Fc_ =
+        vector(d.impulse.x(), d.impulse.y(), twoD ? 0.0 : d.impulse.z())
+       *depth/dt;
     meshTools::constrainDirection(mesh_, mesh_.solutionD(), Fc_);
 
     if (moving_ && m_ > 0)
     {
         vector u(d.velocity.x(), d.velocity.y(), twoD ? 0.0 : d.velocity.z());
         meshTools::constrainDirection(mesh_, mesh_.solutionD(), u);
-        const vector xNew(d.centre.x(), d.centre.y(), twoD ? x_.z() : d.centre.z());
+        const vector xNew
+        (
+            d.centre.x(), d.centre.y(), twoD ? x_.z() : d.centre.z()
+        );
         // the walls stay impenetrable: the capillary impulse may push the
         // droplet towards a wall (x_ is still x^n here)
         vector uc = u;

@@ -95,7 +95,9 @@ void Foam::vapourDroplet::restoreGrainHistory(const nscd::System& sys)
     const List<vector> v2(second ? h.get<List<vector>>("velocity2") : v1);
     const List<vector> dG
     (
-        second ? h.get<List<vector>>("gasForceChange") : List<vector>(v1.size(), Zero)
+        second
+      ? h.get<List<vector>>("gasForceChange")
+      : List<vector>(v1.size(), Zero)
     );
     if
     (
@@ -200,7 +202,11 @@ void Foam::vapourDroplet::writeRestart() const
         dictionary h;
         h.add("dt", prevDt_);
         h.add("grains", labelList(grains));
-        h.add("velocity", List<vector>(UIndirectList<vector>(prevVelocity_, grains)));
+        h.add
+        (
+            "velocity",
+            List<vector>(UIndirectList<vector>(prevVelocity_, grains))
+        );
         h.add("force", List<vector>(UIndirectList<vector>(prevForce_, grains)));
         if (second)
         {

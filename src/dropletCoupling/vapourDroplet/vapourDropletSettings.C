@@ -87,8 +87,14 @@ void Foam::vapourDroplet::readDict()
       ? grainTools::getPositive(dict_, "radius")
       : 0.5*grainTools::getPositive(dict_, "diameter");
 
-    rhoL_ = requirePositive(dict_, "liquidDensity", "liquid density rho_l [kg/m^3]");
-    L_ = requirePositive(dict_, "latentHeat", "latent heat of vaporisation L [J/kg]");
+    rhoL_ = requirePositive
+    (
+        dict_, "liquidDensity", "liquid density rho_l [kg/m^3]"
+    );
+    L_ = requirePositive
+    (
+        dict_, "latentHeat", "latent heat of vaporisation L [J/kg]"
+    );
     Td_ = requirePositive
     (
         dict_, "vapourisationTemperature", "vaporisation temperature T_d [K]"
@@ -130,7 +136,8 @@ void Foam::vapourDroplet::readModelOptions()
 
     // where the vapour leaves the surface (vapourDroplet.H, "Blowing")
     {
-        const word release = dict_.getOrDefault<word>("vapourRelease", "uniform");
+        const word release =
+            dict_.getOrDefault<word>("vapourRelease", "uniform");
         if (release != "uniform" && release != "heatFlux")
         {
             FatalIOErrorInFunction(dict_)
@@ -163,7 +170,8 @@ void Foam::vapourDroplet::readModelOptions()
         FatalIOErrorInFunction(dict_)
             << "filmConduction yes in " << dict_.name() << ": the film model"
             << " is derived for discs (2D, one-cell-thick mesh) only." << nl
-            << "    Fix: filmConduction no for a 3D mesh." << exit(FatalIOError);
+            << "    Fix: filmConduction no for a 3D mesh."
+            << exit(FatalIOError);
     }
 }
 

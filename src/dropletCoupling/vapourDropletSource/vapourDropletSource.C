@@ -308,7 +308,11 @@ bool Foam::fv::vapourDropletSource::read(const dictionary& dict)
     grainTools::checkKeywords(dict, allowed);
     if (dict.isDict(typeName + "Coeffs"))
     {
-        grainTools::checkKeywords(dict.subDict(typeName + "Coeffs"), wordList{});
+        grainTools::checkKeywords
+        (
+            dict.subDict(typeName + "Coeffs"),
+            wordList{}
+        );
     }
 
     return true;

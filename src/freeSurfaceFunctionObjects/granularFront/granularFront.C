@@ -83,7 +83,10 @@ bool Foam::functionObjects::granularFront::read(const dictionary& dict)
     direction_ =
         freeSurfaceTools::getDirection(dict, "frontDirection", vector(1, 0, 0));
     vertical_ =
-        freeSurfaceTools::getDirection(dict, "verticalDirection", vector(0, 1, 0));
+        freeSurfaceTools::getDirection
+        (
+            dict, "verticalDirection", vector(0, 1, 0)
+        );
     return true;
 }
 
@@ -152,7 +155,10 @@ bool Foam::functionObjects::granularFront::execute()
         if (first > 0)
         {
             const scalarList tk(SubList<scalar>(t_, t_.size() - first, first));
-            const scalarList xk(SubList<scalar>(xf_, xf_.size() - first, first));
+            const scalarList xk
+            (
+                SubList<scalar>(xf_, xf_.size() - first, first)
+            );
             t_ = tk;
             xf_ = xk;
         }

@@ -78,7 +78,7 @@ void Foam::functionObjects::waveGauges::buildColumns()
                 }
                 else
                 {
-                    const scalar s = -d/nv;   // where the line crosses the plane
+                    const scalar s = -d/nv;  // where the line crosses the plane
                     if (nv > 0)
                     {
                         shi = min(shi, s);

@@ -192,7 +192,8 @@ void Foam::overlapMeshAdapter::mapHalo
     {
         const om::Vec3& bc = m.boundCentre(j);
         const double R = m.boundRadius(j) + r;
-        double d2 = (bc[0] - c[0])*(bc[0] - c[0]) + (bc[1] - c[1])*(bc[1] - c[1]);
+        double d2 =
+            (bc[0] - c[0])*(bc[0] - c[0]) + (bc[1] - c[1])*(bc[1] - c[1]);
         if (!twoD_)
         {
             d2 += (bc[2] - c[2])*(bc[2] - c[2]);
@@ -240,7 +241,12 @@ void Foam::overlapMeshAdapter::mapHalo
         entryGrain_.push_back(g);
         entryCell_.push_back(k);
         entryVolume_.push_back(vol);
-        for (const om::label* nb = m.neighboursBegin(k); nb != m.neighboursEnd(k); ++nb)
+        for
+        (
+            const om::label* nb = m.neighboursBegin(k);
+            nb != m.neighboursEnd(k);
+            ++nb
+        )
         {
             if (visited_[*nb] != stamp_)
             {

@@ -83,7 +83,8 @@ void Foam::resolvedGrains::mark()
         if (nSum[i] > 0)
         {
             const scalar h = hSum[i]/nSum[i];
-            resolved_[i] = 2*s.radii()[i] >= settings_.resolvedCellsPerDiameter*h;
+            resolved_[i] =
+                2*s.radii()[i] >= settings_.resolvedCellsPerDiameter*h;
         }
     }
 }

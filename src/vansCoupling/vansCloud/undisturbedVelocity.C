@@ -192,7 +192,8 @@ void Foam::undisturbedVelocity::updateKernelWidths
     forAll(sigma_, i)
     {
         // sigma^2 = 2 s^2, s^2 = (x2 - |xBar|^2)/3
-        sigma_[i] = std::sqrt(Foam::max(2.0/3.0*(x2[i] - magSqr(xBar[i])), 0.0));
+        sigma_[i] =
+            std::sqrt(Foam::max(2.0/3.0*(x2[i] - magSqr(xBar[i])), 0.0));
     }
 }
 

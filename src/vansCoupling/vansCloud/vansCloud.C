@@ -32,8 +32,12 @@ namespace
         return types;
     }
 
-    Foam::IOobject fieldIO(const Foam::fvMesh& mesh, const Foam::word& name,
-                           Foam::IOobject::writeOption w = Foam::IOobject::NO_WRITE)
+    Foam::IOobject fieldIO
+    (
+        const Foam::fvMesh& mesh,
+        const Foam::word& name,
+        Foam::IOobject::writeOption w = Foam::IOobject::NO_WRITE
+    )
     {
         return Foam::IOobject
         (
@@ -148,7 +152,9 @@ Foam::vansCloud::vansCloud
     adapter_
     (
         mesh,
-        dict_.found("voidFraction") ? dict_.subDict("voidFraction") : dictionary::null
+        dict_.found("voidFraction")
+      ? dict_.subDict("voidFraction")
+      : dictionary::null
     ),
     drag_(nullptr),
     undisturbed_(dict_, adapter_.twoD()),

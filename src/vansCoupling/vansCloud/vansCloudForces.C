@@ -141,7 +141,9 @@ void Foam::vansCloud::updateGrainImpulses
             dt*(m*g + F0 + s.fluidDragCoefficient(i)*(u - v0[i]));
         const scalar P2 = magSqr(P);
         heldFraction_[i] =
-            P2 > 0 ? min(max(-(contactImpulse_[i] & P)/P2, scalar(0)), scalar(1)) : 0;
+            P2 > 0
+          ? min(max(-(contactImpulse_[i] & P)/P2, scalar(0)), scalar(1))
+          : 0;
     }
 }
 

@@ -65,7 +65,12 @@ void Foam::vansCloud::rotationalSolidVelocity(const scalar dt)
         // with the local fluid velocity (which the penalisation drives
         // to v** + omega x r)
         scalar a = 1;
-        if (!s.fixed(gi) && resolved_.size() == label(s.size()) && resolved_[gi])
+        if
+        (
+            !s.fixed(gi)
+         && resolved_.size() == label(s.size())
+         && resolved_[gi]
+        )
         {
             const scalar Wdg = W[gi]/depth*dt*gamma_[gi];
             a = 1/(1 + Wdg*fluidInverseMass(gi));
@@ -114,7 +119,8 @@ void Foam::vansCloud::addRotationalForces
         const label gi = eg[e];
         const label c = ec[e];
         const vector r = leverArm(e);
-        const scalar cp = s.fixed(gi) ? 0 : dt_*W[gi]/depth*fluidInverseMass(gi)*rhoK;
+        const scalar cp =
+            s.fixed(gi) ? 0 : dt_*W[gi]/depth*fluidInverseMass(gi)*rhoK;
         const vector vs = vss_[gi] - cp*gI[c] + (omega_[gi] ^ r);
         const vector f =
             ev[e]/depth*(-rhoK*gI[c] + gammaStar_[gi]*(UI[c] - vs));

@@ -188,8 +188,11 @@ void Foam::vapourCohesion::lookupVapour()
         {
             p.z() = grains_.meshPosition(c.i).z();
         }
-        const label cell =
-            cm.findCell(overlapMapping::Vec3(p.x(), p.y(), p.z()), cellHint_[c.i]);
+        const label cell = cm.findCell
+        (
+            overlapMapping::Vec3(p.x(), p.y(), p.z()),
+            cellHint_[c.i]
+        );
         if (cell >= 0)
         {
             cellHint_[c.i] = cell;
@@ -226,7 +229,8 @@ void Foam::vapourCohesion::lookupVapour()
     {
         const bool dry = state[k] == 1;
         // several contacts of a grain with one wall (a crease): dry if all are
-        const auto ins = dryPairs_.emplace(pairKeyOfIndices(cs[k].i, cs[k].j), dry);
+        const auto ins =
+            dryPairs_.emplace(pairKeyOfIndices(cs[k].i, cs[k].j), dry);
         if (!ins.second)
         {
             ins.first->second = ins.first->second && dry;
@@ -271,7 +275,8 @@ void Foam::vapourCohesion::resolveElsewhere
         forAll(all[r], n)
         {
             const point& x = all[r][n];
-            const label cell = cm.findCell(overlapMapping::Vec3(x.x(), x.y(), x.z()));
+            const label cell =
+                cm.findCell(overlapMapping::Vec3(x.x(), x.y(), x.z()));
             if (cell >= 0)
             {
                 answer[offset[r] + n] = psiI[cell] < vapourThreshold_ ? 1 : 0;

@@ -32,7 +32,8 @@ Foam::scalar Foam::dragModels::Gidaspow::gamma
     const scalar epsRe = eps*Re;
     if (epsRe < 1000)
     {
-        // 0.75 C_d eps rho |u-v| / d with C_d = 24/(eps Re)(1 + 0.15 (eps Re)^0.687)
+        // 0.75 C_d eps rho |u-v| / d
+        // with C_d = 24/(eps Re)(1 + 0.15 (eps Re)^0.687)
         return 18*mu/sqr(d)*(1 + 0.15*pow(epsRe, 0.687))*pow(eps, -2.65);
     }
     return 0.75*0.44*eps*rho*slip*pow(eps, -2.65)/d;

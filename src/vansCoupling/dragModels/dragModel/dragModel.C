@@ -18,7 +18,10 @@ namespace
     )
     {
         using namespace Foam;
-        const word c(dict.getOrDefault<word>("twoDimensionalDrag", "perUnitDepth"));
+        const word c
+        (
+            dict.getOrDefault<word>("twoDimensionalDrag", "perUnitDepth")
+        );
         if (c == "perUnitDepth")
         {
             return dragModel::discConvention::perUnitDepth;
@@ -122,5 +125,8 @@ Foam::scalar Foam::dragModel::thesisEq3_32
 
 Foam::word Foam::dragModel::discConventionName() const
 {
-    return disc_ == discConvention::thesisEq3_32 ? "thesisEq3.32" : "perUnitDepth";
+    return
+        disc_ == discConvention::thesisEq3_32
+      ? "thesisEq3.32"
+      : "perUnitDepth";
 }
