@@ -94,6 +94,36 @@ def test_vansFoam_blown_up_fluid_stops(tmp_path, env):
     assert digest(case, "0") == before
 
 
+def test_vansFoam_diverging_momentum_solve_stops_with_cause(tmp_path, env):
+    """A coupled momentum solve that diverges (30 discs settling with a
+    fixed time step of 0.2 s, 100x what maxCo 0.5 allows: cell Courant
+    number 31 after the first step, and the smoothSolver's Gauss-Seidel
+    iteration on the far from diagonally dominant matrix of the second
+    step overflows) stops with a FatalError naming the equation, its
+    residuals, the Courant number and the fix; it ended in a SIGFPE inside
+    the smoother before (stack trace only).  The write of the first step
+    is intact."""
+    from test_vansFoam import small_sedimentation
+
+    case = str(tmp_path / "diverge")
+    small_sedimentation(case, env, end=2.0, write=0.2)
+    set_control(case, deltaT=0.2, adjustTimeStep="no")
+    p = run("vansFoam", case, env, check=False)
+    fails_with(
+        p,
+        "The momentum predictor diverged at time 0.4",
+        "not finite",
+        "final residual (nan",
+        "Courant number",
+        "last written time",
+        "Fix",
+        "adjustTimeStep yes",
+    )
+    assert times(case) == ["0", "0.2"]
+    assert os.path.isfile(os.path.join(case, "0.2", "grainState.h5"))
+    assert os.path.isfile(os.path.join(case, "0.2", "U"))
+
+
 # ---- rows 8-10, 13: solver health and time control --------------------------
 
 

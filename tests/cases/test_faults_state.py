@@ -176,6 +176,43 @@ def test_sigterm_writes_and_stops(tmp_path, env):
     assert "Create time" in out and "End" in out
 
 
+# ---- the write grid kept when a run continues from an off-grid time ----------
+
+
+def test_continued_run_writes_on_the_write_grid(tmp_path, env):
+    """grainFoam with writeInterval 0.01 stopped at 0.025 (the state of the
+    last step is always written, as after a stop signal) and continued to
+    0.05: the continued run writes at 0.03, 0.04, 0.05, the multiples of
+    writeInterval, not at 0.035, 0.045 (writeGridTime)."""
+    case = stack(tmp_path, "grid", end=0.025, dt=1e-3, write_interval=0.01)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    run("grainFoam", case, env)
+    assert times(case) == ["0", "0.01", "0.02", "0.025"]
+    set_control(case, endTime=0.05)
+    out = run("grainFoam", case, env).stdout
+    assert "writeGridTime: the start time 0.025 is off the write grid" in out
+    assert times(case) == ["0", "0.01", "0.02", "0.025", "0.03", "0.04", "0.05"]
+
+
+def test_vansFoam_continued_run_writes_on_the_write_grid(tmp_path, env):
+    """The same with vansFoam's adjustable time step (maxCo): stopped near
+    0.045 (the last step, off the grid of writeInterval 0.02) and continued
+    to 0.1: writes at 0.06, 0.08, 0.1 (the time step shortened to land on
+    them)."""
+    from test_vansFoam import small_sedimentation
+
+    case = str(tmp_path / "grid")
+    small_sedimentation(case, env, end=0.045, write=0.02)
+    run("vansFoam", case, env)
+    first = times(case)
+    assert first[:3] == ["0", "0.02", "0.04"] and 0.04 < float(first[-1]) < 0.05
+    set_control(case, endTime=0.1)
+    out = run("vansFoam", case, env).stdout
+    assert "is off the write grid" in out
+    assert times(case) == first + ["0.06", "0.08", "0.1"]
+
+
 # ---- row 5: restart from a write that is not the first ----------------------
 
 

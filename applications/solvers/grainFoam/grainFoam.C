@@ -32,6 +32,7 @@ Usage
 
 #include "grainCloud.H"
 #include "grainRunControl.H"
+#include "writeGridTime.H"
 #include "fvCFD.H"
 
 int main(int argc, char *argv[])
@@ -44,7 +45,7 @@ int main(int argc, char *argv[])
 
     #include "setRootCase.H"
     grainRunControl::checkControlDict(args);
-    #include "createTime.H"
+    #include "createWriteGridTime.H"
     #include "createMesh.H"
     grainRunControl runControl(runTime);
 

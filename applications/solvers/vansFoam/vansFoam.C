@@ -39,6 +39,7 @@ Usage
 #include "vansCloud.H"
 #include "couplingStepTools.H"
 #include "grainRunControl.H"
+#include "writeGridTime.H"
 #include "fvCFD.H"
 #include "pimpleControl.H"
 #include "fixedFluxPressureFvPatchScalarField.H"
@@ -59,7 +60,7 @@ int main(int argc, char *argv[])
     #include "addCheckCaseOptions.H"
     #include "setRootCaseLists.H"
     grainRunControl::checkControlDict(args, {"grainState.h5", "U", "p"});
-    #include "createTime.H"
+    #include "createWriteGridTime.H"
     #include "createMesh.H"
     #include "createControl.H"
     #include "createTimeControls.H"

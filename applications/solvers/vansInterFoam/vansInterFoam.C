@@ -67,6 +67,7 @@ Usage
 #include "pimpleControl.H"
 #include "fvOptions.H"
 #include "grainRunControl.H"
+#include "writeGridTime.H"
 #include "wallFvPatch.H"
 
 #include <sstream>
@@ -84,7 +85,7 @@ int main(int argc, char *argv[])
     #include "addCheckCaseOptions.H"
     #include "setRootCaseLists.H"
     grainRunControl::checkControlDict(args, {"grainState.h5", "U", "p_rgh"});
-    #include "createTime.H"
+    #include "createWriteGridTime.H"
     #include "createMesh.H"
     #include "createControl.H"
     #include "createTimeControls.H"
