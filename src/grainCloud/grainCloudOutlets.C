@@ -99,34 +99,6 @@ void Foam::grainCloud::readOutletPatches()
 
     outletStepCount_.setSize(outletPatches_.size(), 0);
     outletStepMass_.setSize(outletPatches_.size(), 0);
-    List<stepDataFile::column> columns;
-    for (const label patchi : outletPatches_)
-    {
-        const std::string name(pbm[patchi].name());
-        const std::string mass("their mass (2D: over the mesh depth)");
-        columns.append
-        ({
-            name + "_grains", "1",
-            "grains removed through " + name + " in the step"
-        });
-        columns.append({name + "_mass", "kg", mass});
-        columns.append
-        ({
-            name + "_totalGrains", "1",
-            "grains removed through " + name + " since the case started"
-        });
-        columns.append({name + "_totalMass", "kg", mass});
-    }
-    outletFile_.reset
-    (
-        new stepDataFile
-        (
-            runTime, outletCountsName,
-            "grains removed through the outlet patches (grainCloud"
-            " outletPatches)",
-            columns
-        )
-    );
 }
 
 
@@ -245,19 +217,55 @@ void Foam::grainCloud::writeOutletCounts() const
 
 void Foam::grainCloud::writeOutletRow()
 {
-    if (!outletFile_)
+    if (outletPatches_.empty())
     {
         return;
     }
-    scalarList row(4*outletPatches_.size());
-    forAll(outletPatches_, slot)
+    // a solver's cloud (writeStepStatistics), not grainDeposit's
+    if (statisticsFile_)
     {
-        row[4*slot] = outletStepCount_[slot];
-        row[4*slot + 1] = outletStepMass_[slot];
-        row[4*slot + 2] = outletCount_[slot];
-        row[4*slot + 3] = outletMass_[slot];
+        if (!outletFile_)
+        {
+            // created at the first step of a solver
+            List<stepDataFile::column> columns;
+            for (const label patchi : outletPatches_)
+            {
+                const std::string name(mesh_.boundaryMesh()[patchi].name());
+                const std::string mass("their mass (2D: over the mesh depth)");
+                columns.append
+                ({
+                    name + "_grains", "1",
+                    "grains removed through " + name + " in the step"
+                });
+                columns.append({name + "_mass", "kg", mass});
+                columns.append
+                ({
+                    name + "_totalGrains", "1",
+                    "grains removed through " + name + " since the case started"
+                });
+                columns.append({name + "_totalMass", "kg", mass});
+            }
+            outletFile_.reset
+            (
+                new stepDataFile
+                (
+                    mesh_.time(), outletCountsName,
+                    "grains removed through the outlet patches (grainCloud"
+                    " outletPatches)",
+                    columns
+                )
+            );
+        }
+        scalarList row(4*outletPatches_.size());
+        forAll(outletPatches_, slot)
+        {
+            row[4*slot] = outletStepCount_[slot];
+            row[4*slot + 1] = outletStepMass_[slot];
+            row[4*slot + 2] = outletCount_[slot];
+            row[4*slot + 3] = outletMass_[slot];
+        }
+        outletFile_->write(row);
     }
-    outletFile_->write(row);
     outletStepCount_ = 0;
     outletStepMass_ = 0;
 }
