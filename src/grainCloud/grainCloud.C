@@ -382,8 +382,58 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
         << ", max overlap/d_min "
         << report_.maxOverlap/max(minDiameter(), VSMALL)
         << endl;
+    if (statisticsFile_)
+    {
+        const scalarList row
+        ({
+            scalar(nGrainsTotal()),
+            scalar(report_.contacts),
+            scalar(report_.substeps),
+            scalar(report_.sweeps),
+            report_.residual,
+            scalar(report_.converged),
+            report_.maxOverlap/max(minDiameter(), VSMALL),
+            kineticEnergy()
+        });
+        statisticsFile_->write(row);
+    }
+    writeOutletRow();
 
     return report_;
+}
+
+
+void Foam::grainCloud::writeStepStatistics()
+{
+    const std::string perDepth(dimension_ == 2 ? " (2D: per unit depth)" : "");
+    statisticsFile_.reset
+    (
+        new stepDataFile
+        (
+            mesh_.time(), "grainStatistics",
+            "grains and contact solver per time step (the log's \"NSCD:\""
+            " line)",
+            {
+                {"grains", "1", "grains in the domain"},
+                {"contacts", "1", "contacts (max over the sub-steps)"},
+                {"subSteps", "1", "NSCD sub-steps of the time step"},
+                {"sweeps", "1", "Gauss-Seidel sweeps (summed over sub-steps)"},
+                {
+                    "residual", "1",
+                    "final residual |W dr| dt/d_min (max over sub-steps)"
+                },
+                {"converged", "1", "1: the contact solve converged, 0: not"},
+                {
+                    "maxOverlap", "1",
+                    "largest overlap at the end of the step / d_min"
+                },
+                {
+                    "kineticEnergy", "J",
+                    "grain kinetic energy (translation + rotation)" + perDepth
+                }
+            }
+        )
+    );
 }
 
 

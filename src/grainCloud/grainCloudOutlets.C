@@ -9,8 +9,9 @@ Description
     removeGrains: per-grain state compacted, its contacts dropped, ids not
     reused) and counted per patch: number and mass [kg] (2D: over the mesh
     depth), in the log, in postProcessing/grainOutlets/<startTime>/
-    grainOutlets.dat (master) and, at every write, in <time>/uniform/
-    grainOutlets, from which a restart continues the counts.
+    grainOutlets.dat (a row per step, stepDataFile) and, at every write,
+    in <time>/uniform/grainOutlets, from which a restart continues the
+    counts.
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
@@ -98,21 +99,8 @@ void Foam::grainCloud::readOutletPatches()
         }
     }
 
-    if (Pstream::master())
-    {
-        const fileName dir
-        (
-            runTime.globalPath()/"postProcessing"/outletCountsName
-           /runTime.timeName()
-        );
-        mkDir(dir);
-        outletFile_.reset(new std::ofstream(dir/"grainOutlets.dat"));
-        *outletFile_
-            << "# grains removed through the outlet patches (grainCloud"
-            << " outletPatches); mass [kg] (2D: over the mesh depth)\n"
-            << "# time patch grains mass totalGrains totalMass\n";
-        outletFile_->precision(12);
-    }
+    outletStepCount_.setSize(outletPatches_.size(), 0);
+    outletStepMass_.setSize(outletPatches_.size(), 0);
 }
 
 
@@ -167,6 +155,8 @@ void Foam::grainCloud::removeOutletGrains
         }
         outletCount_[slot] += count[slot];
         outletMass_[slot] += mass[slot];
+        outletStepCount_[slot] += count[slot];
+        outletStepMass_[slot] += mass[slot];
         const word& name = mesh_.boundaryMesh()[outletPatches_[slot]].name();
         Info<< "grainOutlets: " << count[slot] << " grains (mass "
             << mass[slot] << " kg) left through " << name << " at time " << t
@@ -182,14 +172,6 @@ void Foam::grainCloud::removeOutletGrains
         }
         Info<< "; total through " << name << ": " << outletCount_[slot]
             << " grains, " << outletMass_[slot] << " kg" << endl;
-        if (outletFile_)
-        {
-            *outletFile_
-                << t << ' ' << name << ' ' << count[slot] << ' ' << mass[slot]
-                << ' ' << outletCount_[slot] << ' ' << outletMass_[slot]
-                << '\n';
-            outletFile_->flush();
-        }
     }
 }
 
@@ -233,6 +215,62 @@ void Foam::grainCloud::writeOutletCounts() const
     {
         put(runTime.globalPath()/runTime.timeName()/"uniform");
     }
+}
+
+
+void Foam::grainCloud::writeOutletRow()
+{
+    if (outletPatches_.empty())
+    {
+        return;
+    }
+    // a solver's cloud (writeStepStatistics), not grainDeposit's
+    if (statisticsFile_)
+    {
+        if (!outletFile_)
+        {
+            // created at the first step of a solver
+            List<stepDataFile::column> columns;
+            for (const label patchi : outletPatches_)
+            {
+                const std::string name(mesh_.boundaryMesh()[patchi].name());
+                const std::string mass("their mass (2D: over the mesh depth)");
+                columns.append
+                ({
+                    name + "_grains", "1",
+                    "grains removed through " + name + " in the step"
+                });
+                columns.append({name + "_mass", "kg", mass});
+                columns.append
+                ({
+                    name + "_totalGrains", "1",
+                    "grains removed through " + name + " since the case started"
+                });
+                columns.append({name + "_totalMass", "kg", mass});
+            }
+            outletFile_.reset
+            (
+                new stepDataFile
+                (
+                    mesh_.time(), outletCountsName,
+                    "grains removed through the outlet patches (grainCloud"
+                    " outletPatches)",
+                    columns
+                )
+            );
+        }
+        scalarList row(4*outletPatches_.size());
+        forAll(outletPatches_, slot)
+        {
+            row[4*slot] = outletStepCount_[slot];
+            row[4*slot + 1] = outletStepMass_[slot];
+            row[4*slot + 2] = outletCount_[slot];
+            row[4*slot + 3] = outletMass_[slot];
+        }
+        outletFile_->write(row);
+    }
+    outletStepCount_ = 0;
+    outletStepMass_ = 0;
 }
 
 

@@ -17,8 +17,10 @@ with the other tools of src/python by `pip install -e src/python`
   read_h5(path, dataset)       -> one dataset of an HDF5 file (grainState.h5) with h5py
   write_xdmf(h5path)           -> XDMF 3 file of the grains and contacts of one
                                 grainState.h5 for ParaView
-  read_droplet_history(case), heat_log_history(case) -> droplet.dat / vansFoam heat
-                                lines of a run continued from its writes, joined
+  read_droplet_history(case), heat_history(case) -> droplet.dat / vansFoam
+                                heatBudget.dat of a run continued from its writes, joined
+  read_step_data(case, name)   -> a solver's run-time file postProcessing/<name>/
+                                <start>/<name>.dat (columns by name, restarts joined)
 """
 
 import importlib.util
@@ -28,7 +30,7 @@ import re
 import shutil
 
 import numpy as np
-from foamlib import FoamFieldFile, FoamFile
+from foamlib import FoamCase, FoamFieldFile, FoamFile
 
 _FLOAT = r"[-+0-9.eE]+"
 
@@ -112,24 +114,21 @@ def read_scalar_field(path):
 def numeric_dirs(path):
     """(t, name) of the entries of PATH whose name is a number (time
     directories, postProcessing/<fo>/<start time>), sorted by t; [] if PATH
-    is not a directory."""
+    is not a directory.  foamlib's FoamCase lists them."""
     if not os.path.isdir(path):
         return []
-    out = []
-    for name in os.listdir(path):
-        try:
-            out.append((float(name), name))
-        except ValueError:
-            continue
-    return sorted(out)
+    return [(t.time, t.name) for t in FoamCase(path)]
 
 
 def time_dirs(case):
-    """Time directories of a case that hold a grains cloud, sorted by time."""
+    """Time directories of a case that hold a grains cloud, sorted by time
+    (foamlib's FoamCase)."""
+    if not os.path.isdir(case):
+        return []
     return [
-        (t, name)
-        for t, name in numeric_dirs(case)
-        if os.path.isfile(os.path.join(case, name, "lagrangian", "grains", "positions"))
+        (t.time, t.name)
+        for t in FoamCase(case)
+        if os.path.isfile(os.path.join(t.path, "lagrangian", "grains", "positions"))
     ]
 
 
@@ -188,11 +187,56 @@ def read_dat_history(case, name, file_name):
     parts = numeric_dirs(root) or [(0.0, "0")]
     out = []
     for k, (_t0, time_name) in enumerate(parts):
-        a = np.loadtxt(os.path.join(root, time_name, file_name), ndmin=2)
+        a = np.loadtxt(_dat_path(root, time_name, file_name), ndmin=2)
         if k + 1 < len(parts):
             a = a[a[:, 0] <= parts[k + 1][0] * (1 + 1e-12)]
         out.append(a)
     return np.concatenate(out)
+
+
+def _dat_path(root, time_name, file_name):
+    """root/time_name/file_name, or the <stem>_<time_name>.dat that
+    OpenFOAM's functionObjects::writeFile writes beside it when a second run
+    starts from the same time, whichever is newer; FileNotFoundError if
+    neither exists."""
+    stem = file_name[:-4] if file_name.endswith(".dat") else file_name
+    paths = [
+        os.path.join(root, time_name, file_name),
+        os.path.join(root, time_name, f"{stem}_{time_name}.dat"),
+    ]
+    paths = [p for p in paths if os.path.isfile(p)]
+    if not paths:
+        raise FileNotFoundError(os.path.join(root, time_name, file_name))
+    return max(paths, key=os.path.getmtime)
+
+
+def dat_columns(path):
+    """Column names of a .dat file: the words of its last "#" header line
+    (OpenFOAM's function-object files and the solvers' run-time files,
+    src/grainCloud/stepDataFile.H: "# Time <name> ...")."""
+    names = []
+    with open(path) as f:
+        for line in f:
+            if not line.startswith("#"):
+                break
+            names = line[1:].split()
+    return names
+
+
+def read_step_data(case, name):
+    """A run-time file of the solvers, postProcessing/<name>/<start time>/
+    <name>.dat (src/grainCloud/stepDataFile.H: heatBudget,
+    continuityErrors, waterVolume, vapour, grainStatistics, grainOutlets,
+    grainHeat; the columns and units in the solvers' README.md), restarts
+    joined (read_dat_history), as a dict mapping each column name of the
+    header ("Time" first) to an (n,) array.  Raises FileNotFoundError."""
+    root = os.path.join(case, "postProcessing", name)
+    parts = numeric_dirs(root) or [(0.0, "0")]
+    cols = dat_columns(_dat_path(root, parts[0][1], name + ".dat"))
+    a = read_dat_history(case, name, name + ".dat")
+    if a.shape[1] != len(cols):
+        raise ValueError(f"{root}: {a.shape[1]} columns, header names {len(cols)}")
+    return {c: a[:, k] for k, c in enumerate(cols)}
 
 
 def read_droplet_history(case):
@@ -202,53 +246,50 @@ def read_droplet_history(case):
     return read_dat_history(case, "droplet", "droplet.dat")
 
 
-def heat_log(log):
-    """Per time step of a vansFoam log (text) with heat on: dict of arrays
-    from the "heat:" lines, `time` [s] (of the preceding "Time =" line),
-    `grain_T`, `fluid_T` [K] (means), `Q` [J] (exchanged), `E` [J] (fluid +
-    grains energy), and from the "heat budget:" lines `budget` (n, 6) [J]
-    (fluid boundary, advected, sources, grain walls, fixed grains,
-    continuity defect: 0 in logs without it) and
-    `patches`, a list with one dict per budget line mapping each patch of
-    the preceding "heat patch" lines to its (conduction, advected) rates [W]."""
-    t, heat, bud, patches, current = None, [], [], [], {}
-    for line in log.splitlines():
-        m = re.match(r"^Time = (\S+)", line)
-        if m:
-            t = float(m.group(1))
-            continue
-        m = re.match(r"^heat patch (\S+): conduction = (\S+) W, advected = (\S+) W", line)
-        if m:
-            current[m.group(1)] = (float(m.group(2)), float(m.group(3)))
-            continue
-        m = re.match(
-            r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
-            r"energy fluid \+ grains = (\S+) J",
-            line,
-        )
-        if m:
-            heat.append((t,) + tuple(float(v) for v in m.groups()))
-            continue
-        m = re.match(
-            r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, "
-            r"sources = (\S+) J, grain walls = (\S+) J, fixed grains = (\S+) J"
-            r"(?:, continuity defect = (\S+) J)?",
-            line,
-        )
-        if m:
-            bud.append([float(v) if v is not None else 0.0 for v in m.groups()])
-            patches.append(current)
-            current = {}
-    h = np.array(heat, dtype=float).reshape(-1, 5)
+HEAT_BUDGET_TERMS = (
+    "fluidBoundary",
+    "advected",
+    "sources",
+    "grainWalls",
+    "fixedGrains",
+    "continuityDefect",
+)
+
+
+def heat_history(case):
+    """Per time step of a vansFoam run with heat on, from its heatBudget.dat
+    (postProcessing/heatBudget/<start time>/heatBudget.dat, restarts
+    joined; applications/solvers/vansFoam/README.md): dict of arrays `time`
+    [s], `dt` [s] (the step), `grain_T`, `fluid_T` [K] (means), `Q` [J]
+    (exchanged), `E` [J] (fluid + grains energy), `budget` (n, 6) [J]
+    (HEAT_BUDGET_TERMS: fluid boundary, advected, sources, grain walls,
+    fixed grains, continuity defect) and `patches`, a list with one dict
+    per step mapping each budget patch to its (conduction, advected) rates
+    [W].  Raises FileNotFoundError."""
+    d = read_step_data(case, "heatBudget")
+    names = [c[: -len("_conduction")] for c in d if c.endswith("_conduction")]
+    n = len(d["Time"])
     return {
-        "time": h[:, 0],
-        "grain_T": h[:, 1],
-        "fluid_T": h[:, 2],
-        "Q": h[:, 3],
-        "E": h[:, 4],
-        "budget": np.array(bud, dtype=float).reshape(-1, 6),
-        "patches": patches,
+        "time": d["Time"],
+        "dt": d["deltaT"],
+        "grain_T": d["grainMeanT"],
+        "fluid_T": d["fluidMeanT"],
+        "Q": d["exchangedQ"],
+        "E": d["energy"],
+        "budget": np.column_stack([d[k] for k in HEAT_BUDGET_TERMS]).reshape(n, 6),
+        "patches": [
+            {p: (float(d[p + "_conduction"][i]), float(d[p + "_advected"][i])) for p in names}
+            for i in range(n)
+        ],
     }
+
+
+def heat_log_history(case, app="vansFoam"):
+    """heat_history(case) (the name from when it read the logs; app: only
+    vansFoam writes heatBudget.dat)."""
+    if app != "vansFoam":
+        raise ValueError(f"{app} writes no heatBudget.dat")
+    return heat_history(case)
 
 
 def log_paths(case, app="vansFoam"):
@@ -259,50 +300,6 @@ def log_paths(case, app="vansFoam"):
         for n in sorted(os.listdir(case))
         if n == f"log.{app}" or n.startswith(f"log.{app}.")
     ]
-
-
-def heat_log_history(case, app="vansFoam"):
-    """heat_log of a run continued from its writes, the parts joined: the
-    logs `log.<app>` and `log.<app>.<anything>` (e.g. log.vansFoam.ext of a
-    restart with a later endTime) of `case`, ordered by their start time
-    (first "Time =" minus the "deltaT =" before it), each cut to the steps
-    up to the next part's start time, to within half of that part's first
-    step (the "Time =" lines have timePrecision digits; the later part repeats the steps
-    after its restart write).  Same arrays as heat_log (`patches` joined
-    too), cut to the steps that have both a "heat:" and a "heat budget:"
-    line.  Raises FileNotFoundError if
-    there is no log with a "heat:" line."""
-    parts = []
-    for path in log_paths(case, app):
-        with open(path) as f:
-            text = f.read()
-        h = heat_log(text)
-        if not len(h["time"]):
-            continue
-        # the "Time =" line has timePrecision digits only: the start is
-        # known to within a fraction of the first step, which is all the
-        # cut below needs
-        m = re.search(r"^deltaT = (\S+)\s*\nTime = (\S+)", text, re.M)
-        dt = float(m.group(1)) if m else 0.0
-        start = float(m.group(2)) - dt if m else h["time"][0]
-        parts.append((start, dt, h))
-    if not parts:
-        raise FileNotFoundError(f"{case}: no log.{app}* with heat lines")
-    parts.sort(key=lambda p: p[0])
-    keys = ("time", "grain_T", "fluid_T", "Q", "E")
-    out = {k: [] for k in keys + ("budget",)}
-    patches = []
-    for k, (_start, _dt, h) in enumerate(parts):
-        n = min(len(h["time"]), len(h["budget"]))  # steps with both lines
-        keep = np.arange(n)
-        if k + 1 < len(parts):
-            keep = keep[h["time"][:n] < parts[k + 1][0] + 0.5 * parts[k + 1][1]]
-        for key in keys + ("budget",):
-            out[key].append(h[key][keep])
-        patches += [h["patches"][i] for i in keep]
-    res = {key: np.concatenate(out[key]) for key in keys + ("budget",)}
-    res["patches"] = patches
-    return res
 
 
 def trapezoid(y, x):
@@ -329,11 +326,12 @@ def write_json(path, obj):
 
 
 def instantiate_case(base, case, subs):
-    """Copy the template case directory `base` to `case` (replacing it) and
-    substitute every key of `subs` (e.g. "@ENDTIME@") by its value in all files."""
+    """Copy the template case directory `base` to `case` (replacing it;
+    foamlib's FoamCase.copy) and substitute every key of `subs` (e.g.
+    "@ENDTIME@") by its value in all files."""
     if os.path.exists(case):
         shutil.rmtree(case)
-    shutil.copytree(base, case)
+    FoamCase(base).copy(case)
     for root, _, files in os.walk(case):
         for f in files:
             p = os.path.join(root, f)

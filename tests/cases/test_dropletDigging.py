@@ -66,7 +66,7 @@ import re
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import run, tutorial_modules
+from foamcase import heat_log, run, tutorial_modules
 
 pytestmark = pytest.mark.slow
 
@@ -125,8 +125,8 @@ def test_energy_budget_through_restart(sweep, env):
     run("vansFoam", case, env)  # writes log.vansFoam: the continuation
     h = nscdpost.heat_log_history(case)
     d = post.read_droplet(case)
-    first = nscdpost.heat_log(open(os.path.join(case, "log.vansFoam.first")).read())
-    rest = nscdpost.heat_log(open(os.path.join(case, "log.vansFoam")).read())
+    first = heat_log(open(os.path.join(case, "log.vansFoam.first")).read())
+    rest = heat_log(open(os.path.join(case, "log.vansFoam")).read())
     assert abs(rest["time"][0] - 0.05) < 0.01 and abs(h["time"][-1] - END) < 1e-9
     assert np.all(np.diff(h["time"]) > 0)
     assert len(rest["time"]) < len(h["time"]) < len(first["time"]) + len(rest["time"])

@@ -52,7 +52,7 @@ from dropletcase import (
     droplet_case,
     read_droplet,
 )
-from foamcase import run
+from foamcase import heat_log, run
 
 # Measured (w/D = 4, steady state): D/dx -> mdot/(Q_ref/L) - 1, for the
 # default penalisationFactor 100 (src/dropletCoupling/README.md has 10 and 1e4).
@@ -122,7 +122,7 @@ def test_fixed_droplet_mesh_convergence(tmp_path, env):
 def budget_lines(log):
     """Per step: (fluid boundary, advected, sources) [J] of vansFoam's heat
     budget, energy E [J] of the "heat:" line, global continuity error."""
-    h = nscdpost.heat_log(log)
+    h = heat_log(log)
     cont = []
     for line in log.splitlines():
         m = re.match(r"^mixture continuity errors : sum local = \S+, global = (\S+)", line)
@@ -422,7 +422,7 @@ def test_leidenfrost_film_heat(tmp_path, env):
     open(cd, "w").write(txt)
     log = run("vansFoam", case, env).stdout
     d = read_droplet(case)
-    h = nscdpost.heat_log(log)
+    h = heat_log(log)
     Tg = np.array([float(v) for v in re.findall(r"^heat: grain mean T = (\S+),", log, re.M)])
     assert len(d) == n_steps and len(Tg) == n_steps and d.shape[1] == 25
     Qfilm = d[:, 24]

@@ -167,9 +167,18 @@ def disc_mass(d):
 
 
 def outlet_rows(case, start):
+    """(time, patch, grains, mass, total grains, total mass) of the steps in
+    which grains left through the (one) outlet patch, from grainOutlets.dat
+    (a row per step, the columns <patch>_grains, _mass, _totalGrains,
+    _totalMass)."""
+    import nscdpost
+
     path = os.path.join(case, "postProcessing", "grainOutlets", start, "grainOutlets.dat")
-    rows = [ln.split() for ln in open(path) if not ln.startswith("#")]
-    return [(float(t), p, int(n), float(m), int(tn), float(tm)) for t, p, n, m, tn, tm in rows]
+    cols = nscdpost.dat_columns(path)
+    assert cols[0] == "Time" and len(cols) == 5 and cols[1].endswith("_grains"), cols
+    p = cols[1][: -len("_grains")]
+    a = np.loadtxt(path, ndmin=2)
+    return [(float(r[0]), p, int(r[1]), float(r[2]), int(r[3]), float(r[4])) for r in a if r[1] > 0]
 
 
 def remaining(case, t):

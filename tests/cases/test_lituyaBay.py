@@ -63,7 +63,7 @@ def reduced(tmp_path_factory, env):
 
 def test_water_volume(reduced):
     case, res = reduced
-    vols = lituya.water_volumes(open(os.path.join(case, "log.vansInterFoam")).read())
+    vols = lituya.water_volumes(case)
     out = lituya.atmosphere_outflow(case)
     H, L = res["water_depth"], 1342.0
     v_exact = (L * H - H * H) * 1.0

@@ -35,6 +35,7 @@ import pytest
 from foamcase import (
     add_fluid,
     add_scalar_transport,
+    heat_log,
     make_box_case,
     read_internal,
     run,
@@ -52,7 +53,7 @@ def nusselt_difelice_colburn_re(eps, Re, Pr):
 
 def heat_lines(log):
     """(time, grain mean T, fluid mean T, Q, E) per step from the vansFoam log."""
-    h = nscdpost.heat_log(log)
+    h = heat_log(log)
     return [
         tuple(float(v) for v in r)
         for r in zip(h["time"], h["grain_T"], h["fluid_T"], h["Q"], h["E"])
@@ -205,7 +206,7 @@ def check_energy(log, E0):
     defect of the advective form; 0 in the conservative form) to 1e-6 of
     the heat exchanged (and of E0); returns the log's steps and the summed
     continuity defect [J]."""
-    h = nscdpost.heat_log(log)
+    h = heat_log(log)
     steps = heat_lines(log)
     assert len(h["budget"]) == len(steps)
     budget = np.cumsum(h["budget"].sum(axis=1))

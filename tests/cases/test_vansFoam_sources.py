@@ -44,9 +44,8 @@ import os
 import re
 import shutil
 
-import nscdpost
 import pytest
-from foamcase import add_fluid, make_box_case, read_internal, run, run_parallel, write
+from foamcase import add_fluid, heat_log, make_box_case, read_internal, run, run_parallel, write
 from test_vansFoam_heat import add_heat, heat_lines, set_materials
 
 pytestmark = pytest.mark.fast
@@ -108,8 +107,8 @@ def read_patch_value(path, patch):
 
 def budget_lines(log):
     """Per step: dict of the 'heat budget' line [J] and the 'heat patch' rates [W]
-    (parsed by nscdpost.heat_log)."""
-    h = nscdpost.heat_log(log)
+    (parsed by foamcase.heat_log)."""
+    h = heat_log(log)
     keys = ("boundary", "advected", "sources", "grainWalls", "fixedGrains")
     return [
         dict(zip(keys, v), total=float(sum(v)), patches=p)

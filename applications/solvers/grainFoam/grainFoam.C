@@ -56,6 +56,11 @@ int main(int argc, char *argv[])
     // the start time's lagrangian output located on this mesh (the state
     // may have been written on another mesh)
     grains.writeCloud();
+    // a row per step in postProcessing/grainStatistics/<startTime>/
+    // grainStatistics.dat and, heat on, grainHeat/<startTime>/
+    // grainHeat.dat (stepDataFile; README.md "Run-time files")
+    grains.writeStepStatistics();
+    autoPtr<stepDataFile> heatFile;
     const bool heat = grains.heatOn();
     if (heat)
     {
@@ -74,18 +79,63 @@ int main(int argc, char *argv[])
 
         if (heat)
         {
-            Info<< "heat: grain mean T = " << grains.meanTemperature()
+            const scalar meanT = grains.meanTemperature();
+            const auto rates = grains.wallHeatRates(runTime.deltaTValue());
+            Info<< "heat: grain mean T = " << meanT
                 << " K, wall heat = " << rep.wallHeat << " J";
             if (rep.exchangeHeat != 0)
             {
                 // grainProperties frontRearWalls (2D Hele-Shaw cell)
                 Info<< ", front/rear walls = " << rep.exchangeHeat << " J";
             }
-            for (const auto& r : grains.wallHeatRates(runTime.deltaTValue()))
+            for (const auto& r : rates)
             {
                 Info<< ", " << r.first << " " << r.second << " W";
             }
             Info<< ", CG iterations " << rep.heatIterations << endl;
+
+            // the same values, a row of grainHeat.dat
+            if (!heatFile.valid())
+            {
+                List<stepDataFile::column> columns
+                ({
+                    {"grainMeanT", "K", "mean grain temperature"},
+                    {"wallHeat", "J", "heat from the walls into the grains"},
+                    {
+                        "frontRearHeat", "J",
+                        "from the front and rear walls (frontRearWalls)"
+                    },
+                    {"CGIterations", "1", "conduction solver iterations"}
+                });
+                for (const auto& r : rates)
+                {
+                    columns.append
+                    ({
+                        std::string(r.first) + "_rate", "W",
+                        "heat rate from wall patch " + std::string(r.first)
+                    });
+                }
+                heatFile.reset
+                (
+                    new stepDataFile
+                    (
+                        runTime, "grainHeat",
+                        "grain heat per step (the log's \"heat:\" line;"
+                        " 2D: per unit depth)",
+                        columns
+                    )
+                );
+            }
+            scalarList row
+            ({
+                meanT, rep.wallHeat, rep.exchangeHeat,
+                scalar(rep.heatIterations)
+            });
+            for (const auto& r : rates)
+            {
+                row.append(r.second);
+            }
+            heatFile->write(row);
         }
 
         const bool go = runControl.writeStep

@@ -71,6 +71,7 @@ int main(int argc, char *argv[])
     // vapourDropletSource) are coupled to the cloud through typed hooks
     cloud.addCouplingSources(fvOptions);
     #include "createHeatBudget.H"
+    #include "createStepFiles.H"
     #include "initContinuityErrs.H"
     grainRunControl runControl(runTime);
     // the start time's lagrangian output located on this mesh (the state

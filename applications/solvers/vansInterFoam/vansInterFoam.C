@@ -101,6 +101,7 @@ int main(int argc, char *argv[])
     {
         cloudPtr->grains().writeCloud();
     }
+    #include "createStepFiles.H"
 
     #include "createCouplingStepTimer.H"
 

@@ -4,15 +4,15 @@
 
 usage: postProcess.py CASEDIR
 
-From log.grainFoam (one `heat:` line per step): the mean grain temperature vs
-time; the time is the physical time S t of glass (S = timeScale of
+From postProcessing/grainHeat/<start>/grainHeat.dat (one row per step, the
+values of the log's `heat:` line): the mean grain temperature vs time; the
+time is the physical time S t of glass (S = timeScale of
 caseParameters, see setupCase.py). From the last written time: the grain
 temperatures (lagrangian field T) for a temperature-coloured snapshot and the
 mean temperature of each horizontal layer of one mean diameter.
 """
 
 import os
-import re
 import sys
 
 import nscdpost
@@ -23,17 +23,11 @@ def main():
     case = sys.argv[1] if len(sys.argv) > 1 else "case"
     params = dict(l.split() for l in open(os.path.join(case, "caseParameters")))
     S = float(params["timeScale"])
-    t, Tm, Qw = [], [], []
-    step_t = None
-    for line in open(os.path.join(case, "log.grainFoam")):
-        m = re.match(r"^Time = (\S+)", line)
-        if m:
-            step_t = float(m.group(1))
-        m = re.match(r"^heat: grain mean T = (\S+) K, wall heat = (\S+) J", line)
-        if m and step_t is not None:
-            t.append(step_t * S)
-            Tm.append(float(m.group(1)))
-            Qw.append(float(m.group(2)))
+    # postProcessing/grainHeat/<start>/grainHeat.dat: a row per step
+    h = nscdpost.read_step_data(case, "grainHeat")
+    t = list(h["Time"] * S)
+    Tm = list(h["grainMeanT"])
+    Qw = list(h["wallHeat"])
     times = nscdpost.time_dirs(case)
     tl, name = times[-1]
     g = nscdpost.read_grains(case, name)

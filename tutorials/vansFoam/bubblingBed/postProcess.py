@@ -35,7 +35,6 @@ well-mixed air-only time constant.
 import json
 import math
 import os
-import re
 import sys
 
 import nscdpost
@@ -48,29 +47,21 @@ SAMPLE = 0.05  # simulated seconds between stored samples
 
 
 def log_series(case):
-    """(t_sim, grain mean T) per step and the summed budget terms."""
-    t, out, budget = None, [], {}
-    with open(os.path.join(case, "log.vansFoam")) as f:
-        for line in f:
-            m = re.match(r"^Time = (\S+)", line)
-            if m:
-                t = float(m.group(1))
-                continue
-            m = re.match(
-                r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
-                r"energy fluid \+ grains = (\S+) J",
-                line,
-            )
-            if m:
-                out.append((t, float(m.group(1)), float(m.group(4))))
-                continue
-            if line.startswith("heat budget:"):
-                for key, val in re.findall(
-                    r"([a-z][a-z ]*?) = (\S+) J", line[len("heat budget:") :]
-                ):
-                    key = key.strip().replace(" ", "_")
-                    budget[key] = budget.get(key, 0.0) + float(val)
-    return np.array(out), budget
+    """(t_sim, grain mean T, energy) per step and the summed budget terms
+    [J], from postProcessing/heatBudget/<start>/heatBudget.dat (the values
+    of the log's "heat:" and "heat budget:" lines; nscdpost.heat_history)."""
+    h = nscdpost.heat_history(case)
+    out = np.column_stack([h["time"], h["grain_T"], h["E"]])
+    keys = (
+        "fluid_boundary",
+        "advected",
+        "sources",
+        "grain_walls",
+        "fixed_grains",
+        "continuity_defect",
+    )
+    budget = {k: float(np.sum(h["budget"][:, i])) for i, k in enumerate(keys)}
+    return out, budget
 
 
 def cell_centres(case, tname):
@@ -79,10 +70,9 @@ def cell_centres(case, tname):
 
 def maps(case, info, png):
     tdirs = [
-        d
-        for d in os.listdir(case)
-        if re.match(r"^[0-9.eE+-]+$", d)
-        and os.path.isfile(os.path.join(case, d, "voidFractionMean"))
+        name
+        for _t, name in nscdpost.numeric_dirs(case)
+        if os.path.isfile(os.path.join(case, name, "voidFractionMean"))
     ]
     if not tdirs:
         return None
@@ -154,7 +144,7 @@ def main(cases):
         S, T0, Tin, v = info["heat_time_scale"], info["T0"], info["T_in"], info["inflow_velocity"]
         data, budget = log_series(case)
         if len(data) == 0:
-            print(f"{case}: no heat lines in log.vansFoam")
+            print(f"{case}: no rows in postProcessing/heatBudget")
             continue
         # sample every SAMPLE simulated seconds
         keep, nxt = [], 0.0

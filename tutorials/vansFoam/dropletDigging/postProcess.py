@@ -10,12 +10,14 @@ usage: postProcess.py [-o OUTDIR] [--snap] CASE1 [CASE2 ...]   (cases made by se
 Reads per case `case.json` (setupCase.py), the droplet history
 `postProcessing/droplet/<start>/droplet.dat` (src/dropletCoupling: time x y u v m
 mdot Q_f Q_p R depth Vdot V_p ...; 2D: m, mdot, Q, Vdot over the mesh depth l)
-and the vansFoam log (`log.vansFoam`, and `log.vansFoam.*` of a run continued
-from its writes, e.g. with a later endTime: the parts are joined, droplet.dat
-by nscdpost.read_droplet_history, the logs by nscdpost.heat_log_history;
-per step the "heat:" line with the mean
-grain temperature and the energy E = rho Cp sum(eps T V) + sum(m c T), the
-"heat budget:" line).  Writes OUTDIR/results.json (default: this directory):
+and vansFoam's run-time files `postProcessing/heatBudget/<start>/heatBudget.dat`
+(per step the mean grain temperature, the energy E = rho Cp sum(eps T V) +
+sum(m c T) and the budget terms) and `postProcessing/vapour/<start>/vapour.dat`
+(psi range); a run continued from its writes (e.g. with a later endTime)
+writes a new <start> folder, the parts are joined (nscdpost.read_droplet_history,
+nscdpost.heat_history, nscdpost.read_step_data).  Only why a run stopped early
+comes from the log (`log.vansFoam`, `log.vansFoam.*`: the FOAM FATAL ERROR
+text exists nowhere else).  Writes OUTDIR/results.json (default: this directory):
 
 - `bed_temperature` [C] (list), `final_depth` [m] (list, depth of the droplet
   centre below its initial position at the end of the run = penetration of
@@ -117,13 +119,13 @@ def read_droplet(case):
 
 
 def read_log(case):
-    """Per time step of the vansFoam log: dict of arrays `time` [s],
+    """Per time step of the run: dict of arrays `time` [s],
     `grain_T` [K] (mean grain temperature), `E` [J] (fluid + grain energy of
     the "heat:" line), `budget` (n, 5) [J] (fluid boundary, advected,
     sources, grain walls, fixed grains of the "heat budget:" line)
-    (nscdpost.heat_log_history: log.vansFoam and the logs log.vansFoam.* of
-    its continuations joined, cut to the steps that have both lines)."""
-    h = nscdpost.heat_log_history(case)
+    (nscdpost.heat_history: postProcessing/heatBudget/<start>/heatBudget.dat
+    of the run and its continuations joined)."""
+    h = nscdpost.heat_history(case)
     return {"time": h["time"], "grain_T": h["grain_T"], "E": h["E"], "budget": h["budget"]}
 
 
@@ -243,11 +245,14 @@ def stop_reason(case):
 
 
 def psi_max(case):
-    """Largest vapour fraction psi over the run (log.vansFoam and its
-    continuations), from the "psi min/max = a b" lines (vansFoam psiEqn.H);
-    None if there are none."""
-    v = [float(b) for txt in log_texts(case) for b in re.findall(r"psi min/max = \S+ (\S+)", txt)]
-    return max(v) if v else None
+    """Largest vapour fraction psi over the run, restarts joined, from
+    postProcessing/vapour/<start>/vapour.dat (the values of vansFoam's
+    "vapour:" log line, psiEqn.H); None without it."""
+    try:
+        v = nscdpost.read_step_data(case, "vapour")["psiMax"]
+    except FileNotFoundError:
+        return None
+    return float(v.max()) if len(v) else None
 
 
 def cohesion_threshold(case):

@@ -81,19 +81,11 @@ def surface_series(case, name):
 
 
 def heat_log(case):
-    """(time, dt, grain mean T, exchanged Q into the grains [J]) per step."""
-    out, t, dt = [], None, None
-    for line in open(os.path.join(case, "log.vansFoam")):
-        if line.startswith("Time = "):
-            t = float(line.split()[2])
-        elif line.startswith("deltaT = "):
-            dt = float(line.split()[2])
-        elif line.startswith("heat: grain mean T"):
-            m = re.match(
-                r"heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J", line
-            )
-            out.append((t, dt, float(m.group(1)), float(m.group(3))))
-    return np.array(out)
+    """(time, dt, grain mean T, exchanged Q into the grains [J]) per step,
+    from postProcessing/heatBudget/<start>/heatBudget.dat (the values of
+    the log's "heat:" line; nscdpost.heat_history)."""
+    h = nscdpost.heat_history(case)
+    return np.column_stack([h["time"], h["dt"], h["grain_T"], h["Q"]])
 
 
 def solid_fraction_profile(y, yc, d, A):

@@ -18,6 +18,7 @@ import sys
 
 import nscdpost
 import numpy as np
+from foamlib import FoamCase
 
 
 def measure(case):
@@ -31,8 +32,11 @@ def measure(case):
     method = open(os.path.join(case, "constant", "couplingProperties")).read()
     method = "centroid" if "method      centroid" in method else "overlap"
     out = {"time": t, "front_height": front, "top_height": top, "completed": True}
-    log = os.path.join(case, "log.vansFoam")
-    if os.path.exists(log) and "FOAM FATAL" in open(log).read():
+    # a run that stopped (the time step collapsed) has its last row of the
+    # run-time file postProcessing/continuityErrors before endTime
+    end = float(FoamCase(case).control_dict["endTime"])
+    last = nscdpost.read_step_data(case, "continuityErrors")["Time"]
+    if not len(last) or last[-1] < end * (1 - 1e-5):
         out["completed"] = False
         out["stopped"] = "unstable: the time step collapsed (see log.vansFoam)"
     return method, out

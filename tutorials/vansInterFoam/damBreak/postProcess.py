@@ -35,10 +35,11 @@ of the time origin).
 import json
 import math
 import os
-import re
 import sys
 
+import nscdpost
 import numpy as np
+from foamlib import FoamFile
 
 A = 0.05715  # column width [m]
 N2 = 2.0  # column height / width
@@ -89,28 +90,34 @@ def front_speed(T, Z, lo=T_SPEED, hi=T_REF[-1]):
 
 
 def log_numbers(case):
-    """Water volume (first, last) and wall-clock time from log.vansInterFoam."""
+    """Water volume (first, last, largest relative change) and the number of
+    steps from postProcessing/waterVolume/<start>/waterVolume.dat (the
+    values of the log's "water volume" line), the wall-clock time from the
+    timeInfo function object's postProcessing/timeInfo/<start>/timeInfo.dat,
+    the cell count from the mesh (foamlib)."""
     out = {}
-    log = os.path.join(case, "log.vansInterFoam")
-    if not os.path.exists(log):
+    try:
+        vol = nscdpost.read_step_data(case, "waterVolume")["waterVolume"]
+    except FileNotFoundError:
         return out
-    txt = open(log).read()
-    vol = [float(v) for v in re.findall(r"water volume sum\(eps alpha V\) = (\S+) m\^3", txt)]
-    if vol:
-        out["water_volume_initial"] = vol[0]
-        out["water_volume_final"] = vol[-1]
-        out["water_volume_max_relative_change"] = max(abs(v - vol[0]) for v in vol) / vol[0]
-    clock = re.findall(r"ClockTime = (\S+) s", txt)
-    if clock:
-        out["wall_seconds"] = float(clock[-1])
-    out["steps"] = len(re.findall(r"^Time = ", txt, re.M))
-    cells = (
-        re.search(r"nCells: (\d+)", open(os.path.join(case, "log.blockMesh")).read())
-        if os.path.exists(os.path.join(case, "log.blockMesh"))
-        else None
-    )
-    if cells:
-        out["cells"] = int(cells.group(1))
+    if len(vol):
+        out["water_volume_initial"] = float(vol[0])
+        out["water_volume_final"] = float(vol[-1])
+        out["water_volume_max_relative_change"] = float(np.max(np.abs(vol - vol[0])) / vol[0])
+    out["steps"] = len(vol)
+    try:
+        clock = nscdpost.read_step_data(case, "timeInfo")["clockTime"]
+        if len(clock):
+            out["wall_seconds"] = float(clock[-1])
+    except FileNotFoundError:
+        pass
+    owner = os.path.join(case, "constant", "polyMesh", "owner")
+    if os.path.isfile(owner):
+        # the FoamFile note of owner: "nPoints:... nCells:... nFaces:..."
+        note = str(FoamFile(owner)["FoamFile"].get("note", ""))
+        for item in note.split():
+            if item.startswith("nCells:"):
+                out["cells"] = int(item[len("nCells:") :])
     return out
 
 

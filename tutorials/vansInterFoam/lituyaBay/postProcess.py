@@ -46,7 +46,6 @@ available to us: it is not plotted.
 import json
 import math
 import os
-import re
 import sys
 
 import nscdpost
@@ -61,11 +60,11 @@ RUNUP_HISTORICAL = 524.0  # [m] Miller (1960), thesis section 5.3
 RUNUP_THESIS = (500.0, 750.0)  # [m] thesis section 5.3.2, Fig. 5.11
 
 
-def water_volumes(log_text):
-    """(n,) sum(eps alpha V) [m^3] of every step of a vansInterFoam log."""
-    return np.array(
-        [float(v) for v in re.findall(r"water volume sum\(eps alpha V\) = (\S+)", log_text)]
-    )
+def water_volumes(case):
+    """(n,) sum(eps alpha V) [m^3] of every step of a vansInterFoam run,
+    from postProcessing/waterVolume/<start>/waterVolume.dat (the values of
+    the log's "water volume" line)."""
+    return nscdpost.read_step_data(case, "waterVolume")["waterVolume"]
 
 
 def atmosphere_outflow(case):
@@ -159,10 +158,12 @@ def main():
     case = sys.argv[1] if len(sys.argv) > 1 else "full"
     p = json.load(open(os.path.join(case, "caseParameters.json")))
     H = p["water_depth"]
-    vols = water_volumes(open(os.path.join(case, "log.vansInterFoam")).read())
+    vols = water_volumes(case)
     out = atmosphere_outflow(case)
     if len(out) != len(vols):
-        raise RuntimeError(f"{case}: {len(vols)} steps in the log, {len(out)} in atmosphereFlux")
+        raise RuntimeError(
+            f"{case}: {len(vols)} steps in waterVolume, {len(out)} in atmosphereFlux"
+        )
     tg, eta = gauge_history(case, H)
     h = histories(case, p)
     vf, fr, t_imp = front_froude(h, H)

@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/*---------------------------------------------------------------------------*\
+  nscdFoam: stepDataFile (stepDataFile.H)
+\*---------------------------------------------------------------------------*/
+
+#include "stepDataFile.H"
+#include "Time.H"
+
+#include <cmath>
+#include <cstdint>
+
+// * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
+
+Foam::stepDataFile::stepDataFile
+(
+    const objectRegistry& obr,
+    const word& name,
+    const string& title,
+    const List<column>& columns
+)
+:
+    functionObjects::writeFile(obr, name, name),
+    nColumns_(columns.size())
+{
+    // 17 significant digits (scientific: 16 after the point)
+    writePrecision_ = 16;
+    writeToFile_ = Pstream::master();
+    if (!writeToFile_)
+    {
+        return;
+    }
+    filePtr_ = createFile(name);
+    OFstream& os = file();
+    writeHeader(os, std::string(name) + ": " + title);
+    writeHeader(os, "Time [s]: the time step's end time");
+    for (const column& c : columns)
+    {
+        writeHeader
+        (
+            os,
+            std::string(c.name) + " [" + c.unit + "]: " + c.description
+        );
+    }
+    writeCommented(os, "Time");
+    for (const column& c : columns)
+    {
+        writeTabbed(os, c.name);
+    }
+    os  << endl;
+}
+
+
+// * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
+
+void Foam::stepDataFile::write(const UList<scalar>& values)
+{
+    if (values.size() != nColumns_)
+    {
+        FatalErrorInFunction
+            << fileName_ << ": " << values.size() << " values for "
+            << nColumns_ << " columns" << exit(FatalError);
+    }
+    if (!writeToFile_)
+    {
+        return;
+    }
+    OFstream& os = file();
+    writeCurrentTime(os);
+    for (const scalar v : values)
+    {
+        os  << tab << setw(charWidth());
+        if (std::isfinite(v) && v == std::round(v) && mag(v) < 1e15)
+        {
+            os  << std::int64_t(v);
+        }
+        else
+        {
+            os  << v;
+        }
+    }
+    os  << endl;
+}
+
+
+// ************************************************************************* //
