@@ -33,6 +33,8 @@ namespace Foam
     defineTypeNameAndDebug(grainCloudReference, 0);
 }
 
+const Foam::word Foam::grainCloud::cellHintColumn("grainCellHint");
+
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
 
@@ -205,6 +207,8 @@ Foam::grainCloud::grainCloud
     (
         readState ? notDecomposable : string("grain deposition")
     );
+    // (a search hint: it stays on this rank with its grain, -1 elsewhere)
+    addColumn<label>(cellHintColumn, 0u, -1);
 
     if (!mesh.foundObject<regIOobject>(registryName))
     {

@@ -427,10 +427,7 @@ void Foam::grainCloud::checkInsideMesh()
         }
     } timer{start};
     const label n = system_->size();
-    if (cellHint_.size() != n)
-    {
-        cellHint_.setSize(n, -1);
-    }
+    UList<label> cellHint(column<label>(cellHintColumn));
     // this rank's own bounds (polyMesh::bounds() is global in parallel)
     const boundBox local(mesh_.points(), false);
     // the search-free test first (clearCentres_): most grains stay within
@@ -448,7 +445,7 @@ void Foam::grainCloud::checkInsideMesh()
     bool allLocal = true;
     for (label i = 0; i < n; ++i)
     {
-        label& c = cellHint_[i];
+        label& c = cellHint[i];
         c = findLocalCell(meshPosition(i), c, local);
         found[i] = c >= 0 ? 1 : 0;
         allLocal = allLocal && found[i];

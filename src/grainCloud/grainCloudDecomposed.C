@@ -368,22 +368,6 @@ void Foam::grainCloud::sumOverCopies
 }
 
 
-std::vector<double>& Foam::grainCloud::carriedValues(const int width)
-{
-    if (!decomposed_)
-    {
-        FatalErrorInFunction
-            << "carriedValues: the grains are not decomposed"
-            << abort(FatalError);
-    }
-    if (decomposed_->grainDataWidth() != width)
-    {
-        decomposed_->setGrainDataWidth(width);
-    }
-    return decomposed_->grainData();
-}
-
-
 template<class Type>
 Foam::List<Type> Foam::grainCloud::gatherInStateOrder
 (

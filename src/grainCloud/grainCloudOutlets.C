@@ -130,7 +130,6 @@ void Foam::grainCloud::removeOutletGrains
     {
         lastRemoved_[k] = label(removed[k]);
     }
-    compactRemoved(cellHint_);
     {
         // positions before the step, for the checks of the other grains
         std::size_t k = 0, r = 0;

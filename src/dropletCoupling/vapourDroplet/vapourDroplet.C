@@ -57,6 +57,13 @@ double Foam::vapourDroplet::lensOverlap
     return pi*h*h*(d*d + 2*d*r - 3*r*r + 2*d*R + 6*r*R - 3*R*R)/(12*d);
 }
 
+const Foam::word Foam::vapourDroplet::historyColumns[4] =
+{
+    "dropletPrevVelocity", "dropletPrevForce", "dropletPrevVelocity2",
+    "dropletGasForceChange"
+};
+
+
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
 Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
@@ -81,11 +88,7 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     wallClamped_(false), S_(Zero), nGrainsIn_(0), Mp_(0), Fc_(Zero),
     barrierId_(-1), barrierActive_(false),
     grainForce_(),
-    prevVelocity_(),
-    prevForce_(),
     prevDt_(0),
-    prevVelocity2_(),
-    gasForceChange_(),
     adapter_(mesh),
     chi_(mesh.nCells(), Zero),
     ring_(mesh.nCells(), Zero),

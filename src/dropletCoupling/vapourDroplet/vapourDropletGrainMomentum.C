@@ -95,18 +95,14 @@ Foam::vector Foam::vapourDroplet::otherForcePredictor
 ) const
 {
     // other forces of the previous step (contacts, gas), eq. 3.46 p^n
-    vector P =
-        mi*(v - prevVelocity_[g])/prevDt_ - mi*lf.gGrain - prevForce_[g];
+    vector P = mi*(v - lf.v1[g])/prevDt_ - mi*lf.gGrain - lf.F1[g];
     // change of vansCloud's gas force over the step
     // (vapourDroplet.H, "Gas drag of the grains inside"):
     //   G^n - G^{n-1} = b_i (G^{n-1} - G^{n-2}
     //     - m_i (2 dv^n - dv^{n-1})/dt),  dv^n = v^n - v^{n-1}
-    const vector dvn = v - prevVelocity_[g];
-    const vector dvp =
-        lf.history2
-      ? vector(prevVelocity_[g] - prevVelocity2_[g])
-      : vector(Zero);
-    const vector dGp = lf.history2 ? gasForceChange_[g] : vector(Zero);
+    const vector dvn = v - lf.v1[g];
+    const vector dvp = lf.history2 ? vector(lf.v1[g] - lf.v2[g]) : vector(Zero);
+    const vector dGp = lf.history2 ? lf.dG[g] : vector(Zero);
     gasChange = b*(dGp - mi*(2*dvn - dvp)/lf.dt);
     if (lf.twoD)
     {
@@ -196,6 +192,12 @@ void Foam::vapourDroplet::addGrainCoefficients
 }
 
 
+Foam::UList<Foam::vector> Foam::vapourDroplet::history(const label k) const
+{
+    return cloud_->grains().column<vector>(historyColumns[k]);
+}
+
+
 void Foam::vapourDroplet::grainForceCoefficients
 (
     const grainCloud& cloud,
@@ -206,12 +208,20 @@ void Foam::vapourDroplet::grainForceCoefficients
     lf.sys = &sys;
     lf.n = sys.size();
     const label n = lf.n;
-    // grains that left through outlet patches in the last grain step
-    // (grainCloud outletPatches): the predictor history follows them
-    cloud.compactRemoved(prevVelocity_);
-    cloud.compactRemoved(prevForce_);
-    cloud.compactRemoved(prevVelocity2_);
-    cloud.compactRemoved(gasForceChange_);
+    // the predictor history: columns that follow the grains (grains that
+    // left through outlet patches, grainCloud outletPatches)
+    if (!historyDeclared_)
+    {
+        for (const word& name : historyColumns)
+        {
+            cloud_->grains().addColumn<vector>(name, 0u, Zero);
+        }
+        historyDeclared_ = true;
+    }
+    lf.v1.shallowCopy(cloud.column<vector>(historyColumns[0]));
+    lf.F1.shallowCopy(cloud.column<vector>(historyColumns[1]));
+    lf.v2.shallowCopy(cloud.column<vector>(historyColumns[2]));
+    lf.dG.shallowCopy(cloud.column<vector>(historyColumns[3]));
     if (!restartHistory_.empty())
     {
         restoreGrainHistory(sys);
@@ -226,10 +236,8 @@ void Foam::vapourDroplet::grainForceCoefficients
     lf.epsL = max(1 - (1 - porosity_)*Vp_/lf.V, scalar(1e-3));
     lf.gGrain = vector(sys.gravity()[0], sys.gravity()[1], sys.gravity()[2]);
     // other forces of the previous step (contacts, gas), eq. 3.46 p^n
-    lf.history =
-        prevVelocity_.size() == n && prevForce_.size() == n && prevDt_ > 0;
-    lf.history2 =
-        lf.history && prevVelocity2_.size() == n && gasForceChange_.size() == n;
+    lf.history = history_ && prevDt_ > 0;
+    lf.history2 = lf.history && history2_;
     lf.gasChange.setSize(n, Zero);
 
     const List<scalar> bGas(gasRelaxationFactors(sys, lf.history));
@@ -334,14 +342,17 @@ void Foam::vapourDroplet::applyGrainForces
     }
 
     // history for the predictor P of the next step
-    prevVelocity2_ = prevVelocity_;
-    gasForceChange_ = lf.gasChange;
-    prevVelocity_.setSize(n);
+    // (v^{n-2} of a step without a history: whatever v1 held, unused)
+    UList<vector> v1(history(0));
+    history(2).deepCopy(v1);
+    history(3).deepCopy(lf.gasChange);
     for (label g = 0; g < n; ++g)
     {
-        prevVelocity_[g] = vector(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
+        v1[g] = vector(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
     }
-    prevForce_ = grainForce_;
+    history(1).deepCopy(grainForce_);
+    history2_ = history_;
+    history_ = true;
     prevDt_ = lf.dt;
 }
 
@@ -385,10 +396,8 @@ void Foam::vapourDroplet::exchangeGrainMomentum
     else
     {
         grainForce_.clear();
-        prevVelocity_.clear();
-        prevForce_.clear();
-        prevVelocity2_.clear();
-        gasForceChange_.clear();
+        history_ = false;
+        history2_ = false;
     }
 
     solveDropletVelocity(move, gVec, lf, u);

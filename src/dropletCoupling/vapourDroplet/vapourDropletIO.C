@@ -117,27 +117,27 @@ void Foam::vapourDroplet::restoreGrainHistory(const nscd::System& sys)
     }
     const auto& vel = sys.velocities();
     const bool twoD = adapter_.twoD();
-    prevVelocity_.setSize(n);
-    forAll(prevVelocity_, g)
+    UList<vector> prevVelocity(history(0));
+    UList<vector> prevForce(history(1));
+    UList<vector> prevVelocity2(history(2));
+    UList<vector> gasForceChange(history(3));
+    forAll(prevVelocity, g)
     {
-        prevVelocity_[g] =
+        prevVelocity[g] =
             vector(vel[g][0], vel[g][1], twoD ? 0.0 : vel[g][2]);
     }
-    prevVelocity2_ = prevVelocity_;
-    prevForce_ = List<vector>(n, Zero);
-    gasForceChange_ = List<vector>(n, Zero);
+    prevVelocity2.deepCopy(prevVelocity);
+    prevForce = Zero;
+    gasForceChange = Zero;
     forAll(grains, j)
     {
-        prevVelocity_[grains[j]] = v1[j];
-        prevVelocity2_[grains[j]] = v2[j];
-        prevForce_[grains[j]] = F1[j];
-        gasForceChange_[grains[j]] = dG[j];
+        prevVelocity[grains[j]] = v1[j];
+        prevVelocity2[grains[j]] = v2[j];
+        prevForce[grains[j]] = F1[j];
+        gasForceChange[grains[j]] = dG[j];
     }
-    if (!second)
-    {
-        prevVelocity2_.clear();
-        gasForceChange_.clear();
-    }
+    history_ = true;
+    history2_ = second;
     prevDt_ = h.get<scalar>("dt");
 }
 
@@ -171,16 +171,15 @@ void Foam::vapourDroplet::writeRestart() const
     }
     // predictor history of the grains near the droplet (vapourDroplet.H,
     // "Gas drag of the grains inside", Restart)
-    const label n = prevVelocity_.size();
-    if
-    (
-        n > 0 && prevForce_.size() == n && prevDt_ > 0
-     && cloud_
-    )
+    if (history_ && prevDt_ > 0 && cloud_ && cloud_->grains().system().size())
     {
         const nscd::System& sys = cloud_->grains().system();
-        const bool second =
-            prevVelocity2_.size() == n && gasForceChange_.size() == n;
+        const label n = sys.size();
+        const bool second = history2_;
+        const UList<vector> prevVelocity(history(0));
+        const UList<vector> prevForce(history(1));
+        const UList<vector> prevVelocity2(history(2));
+        const UList<vector> gasForceChange(history(3));
         const bool twoD = adapter_.twoD();
         const scalar R = radius();
         DynamicList<label> grains;
@@ -205,20 +204,23 @@ void Foam::vapourDroplet::writeRestart() const
         h.add
         (
             "velocity",
-            List<vector>(UIndirectList<vector>(prevVelocity_, grains))
+            List<vector>(UIndirectList<vector>(prevVelocity, grains))
         );
-        h.add("force", List<vector>(UIndirectList<vector>(prevForce_, grains)));
+        h.add
+        (
+            "force", List<vector>(UIndirectList<vector>(prevForce, grains))
+        );
         if (second)
         {
             h.add
             (
                 "velocity2",
-                List<vector>(UIndirectList<vector>(prevVelocity2_, grains))
+                List<vector>(UIndirectList<vector>(prevVelocity2, grains))
             );
             h.add
             (
                 "gasForceChange",
-                List<vector>(UIndirectList<vector>(gasForceChange_, grains))
+                List<vector>(UIndirectList<vector>(gasForceChange, grains))
             );
         }
         d.add("grainHistory", h);

@@ -3,6 +3,10 @@
 #include "zeroGradientFvPatchFields.H"
 #include "mathematicalConstants.H"
 
+const Foam::word
+    Foam::grainHeatExchange::TfluidColumn("vansFluidTemperature");
+
+
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
 Foam::grainHeatExchange::grainHeatExchange
@@ -129,8 +133,11 @@ void Foam::grainHeatExchange::readProperties
 
     Hstar_.setSize(n, Zero);
     Tgrain0_.setSize(n, Zero);
-    Tfluid_.setSize(n, Zero);
     Qgrain_.setSize(n, Zero);
+    grains_.addColumn<scalar>
+    (
+        TfluidColumn, nscd::ColumnMigrate | nscd::ColumnGhost, 0
+    );
 }
 
 
@@ -176,7 +183,7 @@ void Foam::grainHeatExchange::predict
 (
     const scalar dt,
     const volScalarField& voidFraction,
-    const List<scalar>& ReP
+    const UList<scalar>& ReP
 )
 {
     const nscd::System& s = grains_.system();
@@ -252,7 +259,12 @@ void Foam::grainHeatExchange::setSources
     nscd::System& s = grains_.system();
     const label n = s.size();
     const scalar depth = adapter_.depth();
-    adapter_.gather(T, Tfluid_);
+    UList<scalar> Tf(Tfluid());
+    {
+        List<scalar> gathered;
+        adapter_.gather(T, gathered);
+        Tf.deepCopy(gathered);
+    }
     Qgrain_.setSize(n);
     Qstep_ = 0;
     const bool film = filmHeat.size() == n;
@@ -267,7 +279,7 @@ void Foam::grainHeatExchange::setSources
             }
             // exactly the heat the fluid lost to grain i (the same weights
             // spread KT, KTTp and gather T)
-            Qgrain_[i] = Hstar_[i]*(Tfluid_[i] - Tgrain0_[i]);
+            Qgrain_[i] = Hstar_[i]*(Tf[i] - Tgrain0_[i]);
             if (grains_.owned(i))
             {
                 Qstep_ += dt*Qgrain_[i];
@@ -289,12 +301,6 @@ void Foam::grainHeatExchange::setSources
 }
 
 
-void Foam::grainHeatExchange::setTfluid(List<scalar>&& Tf)
-{
-    Tfluid_.transfer(Tf);
-}
-
-
 Foam::scalar Foam::grainHeatExchange::grainHeatContent() const
 {
     return grains_.heatContent()*adapter_.depth();
@@ -305,15 +311,6 @@ Foam::scalar Foam::grainHeatExchange::grainMeanTemperature() const
 {
     // every grain, fixed-temperature ones included
     return grains_.meanTemperature(false);
-}
-
-
-void Foam::grainHeatExchange::compactRemoved()
-{
-    grains_.compactRemoved(Hstar_);
-    grains_.compactRemoved(Tgrain0_);
-    grains_.compactRemoved(Tfluid_);
-    grains_.compactRemoved(Qgrain_);
 }
 
 

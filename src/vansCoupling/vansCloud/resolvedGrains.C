@@ -155,10 +155,4 @@ Foam::resolvedGrains::rigidViscosityf() const
 }
 
 
-void Foam::resolvedGrains::compactRemoved()
-{
-    grains_.compactRemoved(resolved_);
-}
-
-
 // ************************************************************************* //

@@ -250,8 +250,7 @@ Foam::vansCloud::vansCloud
             }
         );
     }
-    contactImpulse_.setSize(grains_.system().size(), Zero);
-    dragImpulseDefect_.setSize(grains_.system().size(), Zero);
+    addGrainColumns();
 
     mapGrains();
     readRestart();
@@ -283,12 +282,14 @@ void Foam::vansCloud::predictGrains
     gammaStar_.setSize(n);
     vss_.setSize(n);
     vStar_.setSize(n);
-    ReP_.setSize(n);
+    UList<scalar> ReP(scalars(columns::grainReynolds));
 
     const vector g(foamTools::toVector(s.gravity()));
     const std::vector<double>& W = adapter_.grainMappedVolume();
     resolved_.mark();
     initHeldFraction();
+    const UList<scalar> held(scalars(columns::heldFraction));
+    const UList<vector> contactImpulse(vectors(columns::contactImpulse));
 
     undisturbed_.updateKernelWidths(mesh_, adapter_);
 
@@ -297,7 +298,7 @@ void Foam::vansCloud::predictGrains
         const vector v(foamTools::toVector(s.velocities()[i]));
         const scalar d = 2*s.radii()[i];
         const scalar slip = mag(Ug_[i] - v);
-        ReP_[i] = slip*d/nug_[i];
+        ReP[i] = slip*d/nug_[i];
         const scalar eps = max(epsg_[i], adapter_.epsMin());
         const scalar mu = rhog_[i]*nug_[i];
         if (!(W[i] > 0))
@@ -306,17 +307,17 @@ void Foam::vansCloud::predictGrains
         }
         else if (undisturbed_.on())
         {
-            // the drag law at the undisturbed slip (ReP_ becomes its
+            // the drag law at the undisturbed slip (ReP becomes its
             // Reynolds number), coefficient gamma/(1 - kappa) on u_g - v
             gamma_[i] = undisturbed_.gamma
             (
-                i, drag_(), eps, ReP_[i], d, mu, rhog_[i], W[i], ReP_[i]
+                i, drag_(), eps, ReP[i], d, mu, rhog_[i], W[i], ReP[i]
             );
         }
         else
         {
             gamma_[i] =
-                drag_->gamma(eps, ReP_[i], d, mu, rhog_[i], adapter_.twoD());
+                drag_->gamma(eps, ReP[i], d, mu, rhog_[i], adapter_.twoD());
         }
 
         if (s.fixed(i))
@@ -327,10 +328,10 @@ void Foam::vansCloud::predictGrains
             continue;
         }
         const scalar m = s.mass(i);
-        const scalar im = fluidInverseMass(i);
+        const scalar im = fluidInverseMass(i, held);
         const scalar Wdg = W[i]/depth*dt*gamma_[i];
         // v**_0: v** without its (implicit) pressure-gradient part
-        vss_[i] = v + im*(m*dt*g + contactImpulse_[i]);
+        vss_[i] = v + im*(m*dt*g + contactImpulse[i]);
         gammaStar_[i] = gamma_[i]/(1 + Wdg*im);
         vStar_[i] = (vss_[i] + Wdg*im*Ug_[i])/(1 + Wdg*im);
     }
@@ -340,7 +341,6 @@ void Foam::vansCloud::predictGrains
 void Foam::vansCloud::spreadDragFields(const scalar dt)
 {
     const nscd::System& s = grains_.system();
-    const label n = s.size();
     const scalar depth = adapter_.depth();
     const std::vector<double>& W = adapter_.grainMappedVolume();
     const scalar rhoK = fluid_->rhoK();
@@ -366,6 +366,8 @@ void Foam::vansCloud::spreadDragFields(const scalar dt)
     const auto& eg = adapter_.entryGrain();
     const auto& ec = adapter_.entryCell();
     const auto& ev = adapter_.entryVolume();
+    const UList<scalar> held(scalars(columns::heldFraction));
+    const UList<vector> defect(vectors(columns::dragImpulseDefect));
     for (std::size_t e = 0; e < ec.size(); ++e)
     {
         const label gi = eg[e];
@@ -386,14 +388,11 @@ void Foam::vansCloud::spreadDragFields(const scalar dt)
         sp[c] += ev[e]*gradpg_[gi];
         if (!s.fixed(gi))
         {
-            const scalar im = fluidInverseMass(gi);
+            const scalar im = fluidInverseMass(gi, held);
             const scalar Wi = W[gi]/depth;
             // the drag impulse the grain received beyond what the fluid gave
             // last step, taken from the fluid now (its share V_pc/W_p)
-            if (dragImpulseDefect_.size() == n)
-            {
-                KU[c] -= ev[e]*dragImpulseDefect_[gi]/(Wi*dt*rhoK);
-            }
+            KU[c] -= ev[e]*defect[gi]/(Wi*dt*rhoK);
             D[c] += ev[e]*Wi*dt*rhoK*im/(1 + Wi*dt*gamma_[gi]*im);
             Kp[c] += ev[e]*gammaStar_[gi]*Wi*dt*im;
             if (resolved_[gi])
@@ -525,10 +524,11 @@ Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::solidFlux
     const scalar depth = adapter_.depth();
     const std::vector<double>& W = adapter_.grainMappedVolume();
     adapter_.gather(U, Ug_);
+    const UList<scalar> held(scalars(columns::heldFraction));
     for (label i = 0; i < label(s.size()); ++i)
     {
         if (s.fixed(i)) continue;
-        const scalar im = fluidInverseMass(i);
+        const scalar im = fluidInverseMass(i, held);
         const scalar Wdg = W[i]/depth*dt*gamma_[i];
         // resolved grain: only the v** part, a_p v**_0; its fluid part
         // b_p U is added per cell with the cell's own, pressure-dependent
@@ -552,7 +552,7 @@ Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::solidFlux
 
 void Foam::vansCloud::predictHeat(const scalar dt)
 {
-    heat_.predict(dt, voidFraction_, ReP_);
+    heat_.predict(dt, voidFraction_, scalars(columns::grainReynolds));
 }
 
 
@@ -573,11 +573,12 @@ void Foam::vansCloud::setHeatSources(const volScalarField& T, const scalar dt)
 Foam::scalar Foam::vansCloud::maxGrainReynolds() const
 {
     scalar m = 0;
-    forAll(ReP_, i)
+    const UList<scalar> ReP(scalars(columns::grainReynolds));
+    forAll(ReP, i)
     {
         if (grains_.owned(i))
         {
-            m = max(m, ReP_[i]);
+            m = max(m, ReP[i]);
         }
     }
     return grains_.decomposed() ? returnReduce(m, maxOp<scalar>()) : m;
@@ -587,11 +588,12 @@ Foam::scalar Foam::vansCloud::maxGrainReynolds() const
 Foam::scalar Foam::vansCloud::meanGrainReynolds() const
 {
     scalar s = 0;
-    forAll(ReP_, i)
+    const UList<scalar> ReP(scalars(columns::grainReynolds));
+    forAll(ReP, i)
     {
         if (grains_.owned(i))
         {
-            s += ReP_[i];
+            s += ReP[i];
         }
     }
     const label n = grains_.nGrainsTotal();

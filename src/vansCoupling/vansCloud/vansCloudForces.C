@@ -17,13 +17,51 @@ Description
 #include "fvmSup.H"
 #include "fvMatrices.H"
 
+// * * * * * * * * * * * * * * * Static Data  * * * * * * * * * * * * * * * //
+
+const Foam::word Foam::vansCloud::columns::heldFraction("grainHeldFraction");
+const Foam::word
+    Foam::vansCloud::columns::contactImpulse("grainContactImpulse");
+const Foam::word
+    Foam::vansCloud::columns::fluidDragGiven("vansFluidDragGiven");
+const Foam::word
+    Foam::vansCloud::columns::dragImpulseDefect("grainDragImpulseDefect");
+const Foam::word
+    Foam::vansCloud::columns::explicitFluidForce("vansExplicitFluidForce");
+const Foam::word Foam::vansCloud::columns::fluidForce("vansFluidForce");
+const Foam::word Foam::vansCloud::columns::fluidVelocity("vansFluidVelocity");
+const Foam::word Foam::vansCloud::columns::fluidTorque("vansFluidTorque");
+const Foam::word Foam::vansCloud::columns::grainReynolds("vansGrainReynolds");
+const Foam::word
+    Foam::vansCloud::columns::stepStartVelocity("vansStepStartVelocity");
+
+
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+void Foam::vansCloud::addGrainColumns()
+{
+    // the state of a grain step's start travels with the grains that
+    // change ranks or ghosts in the step (read back after it by
+    // updateGrainImpulses, the step log and the output)
+    const unsigned carried = nscd::ColumnMigrate | nscd::ColumnGhost;
+    grains_.addColumn<scalar>(columns::heldFraction, 0u, 0);
+    grains_.addColumn<vector>(columns::contactImpulse, 0u, Zero);
+    grains_.addColumn<vector>(columns::dragImpulseDefect, 0u, Zero);
+    grains_.addColumn<vector>(columns::fluidDragGiven, carried, Zero);
+    grains_.addColumn<vector>(columns::explicitFluidForce, carried, Zero);
+    grains_.addColumn<vector>(columns::fluidForce, carried, Zero);
+    grains_.addColumn<vector>(columns::fluidVelocity, carried, Zero);
+    grains_.addColumn<vector>(columns::fluidTorque, 0u, Zero);
+    grains_.addColumn<scalar>(columns::grainReynolds, carried, 0);
+    grains_.addColumn<vector>(columns::stepStartVelocity, carried, Zero);
+}
+
 
 void Foam::vansCloud::initHeldFraction()
 {
     const nscd::System& s = grains_.system();
     const label n = s.size();
-    bool missing = heldFraction_.size() != n;
+    bool missing = !heldFractionSet_;
     if (grains_.decomposed())
     {
         reduce(missing, orOp<bool>());   // (the same decision on every rank)
@@ -50,20 +88,25 @@ void Foam::vansCloud::initHeldFraction()
     {
         grains_.sumOverCopies(held, 1);
     }
-    heldFraction_.setSize(n);
-    forAll(heldFraction_, i)
+    UList<scalar> heldFraction(scalars(columns::heldFraction));
+    forAll(heldFraction, i)
     {
-        heldFraction_[i] = min(held[i], scalar(1));
+        heldFraction[i] = min(held[i], scalar(1));
     }
+    heldFractionSet_ = true;
 }
 
 
-Foam::scalar Foam::vansCloud::fluidInverseMass(const label i) const
+Foam::scalar Foam::vansCloud::fluidInverseMass
+(
+    const label i,
+    const UList<scalar>& held
+) const
 {
     // a held grain is seen 1e4 times heavier, not infinitely: where eps is
     // clipped at epsMin the drag coefficient is astronomical and gamma*
     // must stay bounded (<= 1e4 m/(W dt)) for a well-posed pressure equation
-    const scalar theta = resolved_[i] ? 0 : heldFraction_[i];
+    const scalar theta = resolved_[i] ? 0 : held[i];
     return (1 - theta*(1 - 1e-4))/grains_.system().mass(i);
 }
 
@@ -74,32 +117,31 @@ void Foam::vansCloud::applyGrainForces(const UList<vector>& extra)
     const label n = s.size();
     const scalar depth = adapter_.depth();
     const std::vector<double>& W = adapter_.grainMappedVolume();
-    const bool torque = settings_.rotation && fluidTorque_.size() == n;
+    const bool torque = settings_.rotation;
+    const UList<vector> explicitForce(vectors(columns::explicitFluidForce));
+    const UList<vector> fluidTorque(vectors(columns::fluidTorque));
+    const UList<vector> fluidVelocity(vectors(columns::fluidVelocity));
     for (label i = 0; i < n; ++i)
     {
-        vector F = explicitFluidForce_[i];
+        vector F = explicitForce[i];
         if (extra.size() == n)
         {
             F += extra[i];
         }
-        const vector T = torque ? fluidTorque_[i] : vector(Zero);
+        const vector T = torque ? fluidTorque[i] : vector(Zero);
         s.setExternalForce(i, foamTools::toVec3(F), foamTools::toVec3(T));
         // drag coefficient W gamma [kg/s] (2D: per unit depth)
         s.setFluidDrag
         (
             i,
             s.fixed(i) ? 0.0 : W[i]/depth*gamma_[i],
-            foamTools::toVec3(fluidVelocity_[i])
+            foamTools::toVec3(fluidVelocity[i])
         );
     }
 }
 
 
-void Foam::vansCloud::updateGrainImpulses
-(
-    const UList<vector>& v0,
-    const scalar dt
-)
+void Foam::vansCloud::updateGrainImpulses(const scalar dt)
 {
     // Contact impulse of the whole step (all sub-steps), p^n of eq. 3.46:
     // what changed the momentum besides gravity and the fluid force; the
@@ -109,40 +151,45 @@ void Foam::vansCloud::updateGrainImpulses
     const label n = s.size();
     const vector g(foamTools::toVector(s.gravity()));
     const std::vector<nscd::Vec3>& J = s.fluidDragImpulses();
-    const bool coupled =
-        explicitFluidForce_.size() == n && fluidDragGiven_.size() == n
-     && fluidForce_.size() == n;
-    dragImpulseDefect_.setSize(n);
-    heldFraction_.setSize(n);
+    const bool coupled = fluidForcesSet_;
+    const UList<vector> v0(vectors(columns::stepStartVelocity));
+    const UList<vector> explicitForce(vectors(columns::explicitFluidForce));
+    const UList<vector> dragGiven(vectors(columns::fluidDragGiven));
+    const UList<vector> fluidVelocity(vectors(columns::fluidVelocity));
+    UList<vector> fluidForce(vectors(columns::fluidForce));
+    UList<vector> defect(vectors(columns::dragImpulseDefect));
+    UList<vector> contactImpulse(vectors(columns::contactImpulse));
+    UList<scalar> held(scalars(columns::heldFraction));
+    heldFractionSet_ = true;
     for (label i = 0; i < n; ++i)
     {
-        dragImpulseDefect_[i] = Zero;
+        defect[i] = Zero;
         if (s.fixed(i))
         {
-            heldFraction_[i] = 0;
-            contactImpulse_[i] = Zero;
+            held[i] = 0;
+            contactImpulse[i] = Zero;
             continue;
         }
         const scalar m = s.mass(i);
         const vector Jd(foamTools::toVector(J[i]));
         // rotation on: F0 includes the rotational drag part
-        const vector F0 = coupled ? explicitFluidForce_[i] : vector::zero;
-        contactImpulse_[i] =
+        const vector F0 = coupled ? explicitForce[i] : vector::zero;
+        contactImpulse[i] =
             m*(foamTools::toVector(s.velocities()[i]) - v0[i])
           - dt*(m*g + F0) - Jd;
         if (coupled)
         {
-            fluidForce_[i] = F0 + Jd/dt;
-            dragImpulseDefect_[i] = Jd - fluidDragGiven_[i];
+            fluidForce[i] = F0 + Jd/dt;
+            defect[i] = Jd - dragGiven[i];
         }
         // held fraction: how much of the free drift P the contacts cancelled
-        const vector u = fluidVelocity_.size() == n ? fluidVelocity_[i] : v0[i];
+        const vector u = coupled ? fluidVelocity[i] : v0[i];
         const vector P =
             dt*(m*g + F0 + s.fluidDragCoefficient(i)*(u - v0[i]));
         const scalar P2 = magSqr(P);
-        heldFraction_[i] =
+        held[i] =
             P2 > 0
-          ? min(max(-(contactImpulse_[i] & P)/P2, scalar(0)), scalar(1))
+          ? min(max(-(contactImpulse[i] & P)/P2, scalar(0)), scalar(1))
           : 0;
     }
 }
@@ -186,10 +233,13 @@ void Foam::vansCloud::setFluidForces
     const volVectorField gradp(fvc::grad(p));
     adapter_.gather(gradp, gradpg_);
     const label nGrains = s.size();
-    fluidForce_.setSize(nGrains);
-    explicitFluidForce_.setSize(nGrains);
-    fluidDragGiven_.setSize(nGrains);
-    fluidVelocity_ = Ug_;
+    const UList<scalar> held(scalars(columns::heldFraction));
+    UList<vector> fluidForce(vectors(columns::fluidForce));
+    UList<vector> explicitForce(vectors(columns::explicitFluidForce));
+    UList<vector> dragGiven(vectors(columns::fluidDragGiven));
+    vectors(columns::fluidVelocity).deepCopy(Ug_);
+    // (rotation on: the fluid torque of addRotationalForces)
+    fluidForcesSet_ = true;
     for (label i = 0; i < nGrains; ++i)
     {
         const scalar Wi = W[i]/depth;
@@ -197,14 +247,14 @@ void Foam::vansCloud::setFluidForces
         const vector vss =
             s.fixed(i)
           ? vss_[i]
-          : vss_[i] - (dt_*Wi*fluidInverseMass(i)*rhoK)*gradpg_[i];
+          : vss_[i] - (dt_*Wi*fluidInverseMass(i, held)*rhoK)*gradpg_[i];
         // the drag the fluid took from its own equation, W gamma (U - v*)
         // with the predicted v* (eq. 3.48); the grains get W gamma (U - v)
         // with their velocity after the contact solve (evolve)
         const vector drag = Wi*gammaStar_[i]*(Ug_[i] - vss);
-        explicitFluidForce_[i] = -Wi*rhoK*gradpg_[i];
-        fluidForce_[i] = explicitFluidForce_[i] + drag;
-        fluidDragGiven_[i] = dt_*drag;
+        explicitForce[i] = -Wi*rhoK*gradpg_[i];
+        fluidForce[i] = explicitForce[i] + drag;
+        dragGiven[i] = dt_*drag;
     }
     if (!settings_.rotation)
     {
@@ -224,11 +274,12 @@ void Foam::vansCloud::addExternalForces(const UList<vector>& F)
     {
         return;
     }
-    if (F.size() != n || explicitFluidForce_.size() != n)
+    if (F.size() != n || !fluidForcesSet_)
     {
         FatalErrorInFunction
             << "addExternalForces: " << F.size() << " forces for " << n
-            << " grains (" << explicitFluidForce_.size() << " fluid forces):"
+            << " grains (fluid forces "
+            << (fluidForcesSet_ ? "set" : "not set") << "):"
             << " call it after setFluidForces with one force per grain."
             << exit(FatalError);
     }
@@ -236,112 +287,41 @@ void Foam::vansCloud::addExternalForces(const UList<vector>& F)
 }
 
 
-void Foam::vansCloud::evolveDecomposed(const scalar dt)
+void Foam::vansCloud::evolve(const scalar dt)
 {
-    // the grains change ranks and ghosts in the step: the per-grain state
-    // of its start that updateGrainImpulses needs travels with them
-    // (v^n, the explicit fluid force, the drag impulse the fluid gave, the
-    // gathered fluid velocity, Re_p for the log, the gathered fluid
-    // temperature for the output)
-    const nscd::System& s = grains_.system();
-    constexpr int width = 14;
-    label n = s.size();
-    const bool coupled =
-        explicitFluidForce_.size() == n && fluidDragGiven_.size() == n
-     && fluidVelocity_.size() == n && ReP_.size() == n;
-    const bool heat = heat_.Tfluid().size() == n;
+    // v^n for updateGrainImpulses (a column: it follows the grains that
+    // leave through outlets or change ranks in the step)
     {
-        std::vector<double>& carried = grains_.carriedValues(width);
-        std::fill(carried.begin(), carried.end(), 0.0);
-        for (label i = 0; i < n; ++i)
+        const nscd::System& s = grains_.system();
+        UList<vector> v0(vectors(columns::stepStartVelocity));
+        forAll(v0, i)
         {
-            double* c = carried.data() + std::size_t(i)*width;
-            const vector v(foamTools::toVector(s.velocities()[i]));
-            const vector zero(Zero);
-            const vector* parts[4] =
-            {
-                &v,
-                coupled ? &explicitFluidForce_[i] : &zero,
-                coupled ? &fluidDragGiven_[i] : &zero,
-                coupled ? &fluidVelocity_[i] : &zero
-            };
-            for (int k = 0; k < 4; ++k)
-            {
-                for (direction d = 0; d < 3; ++d)
-                {
-                    c[3*k + d] = (*parts[k])[d];
-                }
-            }
-            c[12] = coupled ? ReP_[i] : 0;
-            c[13] = heat ? heat_.Tfluid()[i] : 0;
+            v0[i] = foamTools::toVector(s.velocities()[i]);
         }
     }
 
-    // vapour-switched cohesion: each rank looks psi up at the contacts it
-    // solves (across a processor boundary: where the point lies)
-    cohesion_.beforeGrainStep();
-    grains_.evolve(dt);
-    cohesion_.report();
-
-    n = s.size();
-    const std::vector<double>& carried = grains_.carriedValues(width);
-    List<vector> v0(n);
-    explicitFluidForce_.setSize(n);
-    fluidDragGiven_.setSize(n);
-    fluidVelocity_.setSize(n);
-    fluidForce_.setSize(n);
-    ReP_.setSize(n);
-    contactImpulse_.setSize(n);
-    List<scalar> Tfluid(n);
-    for (label i = 0; i < n; ++i)
-    {
-        const double* c = carried.data() + std::size_t(i)*width;
-        v0[i] = vector(c[0], c[1], c[2]);
-        explicitFluidForce_[i] = vector(c[3], c[4], c[5]);
-        fluidDragGiven_[i] = vector(c[6], c[7], c[8]);
-        fluidVelocity_[i] = vector(c[9], c[10], c[11]);
-        ReP_[i] = c[12];
-        Tfluid[i] = c[13];
-    }
-    if (heat_.on())
-    {
-        heat_.setTfluid(std::move(Tfluid));
-    }
-    updateGrainImpulses(v0, dt);
-}
-
-
-void Foam::vansCloud::evolve(const scalar dt)
-{
-    if (grains_.decomposed())
-    {
-        evolveDecomposed(dt);
-        return;
-    }
-    nscd::System& s = grains_.system();
-    const label n = s.size();
-    List<vector> v0(n);
-    for (label i = 0; i < n; ++i)
-    {
-        v0[i] = foamTools::toVector(s.velocities()[i]);
-    }
-
+    // vapour-switched cohesion (decomposed: each rank looks psi up at the
+    // contacts it solves; across a processor boundary: where the point
+    // lies)
     cohesion_.beforeGrainStep();
 
     grains_.evolve(dt);
-    // bodies that moved inside the NSCD step read their state back
-    for (grainCouplingSource* src : couplingSources_)
+    if (!grains_.decomposed())
     {
-        src->afterGrainStep();
+        // bodies that moved inside the NSCD step read their state back
+        for (grainCouplingSource* src : couplingSources_)
+        {
+            src->afterGrainStep();
+        }
     }
-    if (grains_.removedGrains().size())   // grains left through outlets
+    else
     {
-        grains_.compactRemoved(v0);
-        compactRemovedGrains();
+        // (the carried fluid forces are those of the step start)
+        fluidForcesSet_ = true;
     }
 
     cohesion_.report();
-    updateGrainImpulses(v0, dt);
+    updateGrainImpulses(dt);
 }
 
 

@@ -48,31 +48,40 @@ namespace
         );
     }
 
-    //- Read <time>/uniform/<name> into list (one entry per grain of
-    //  system()) if it exists with one entry per grain of the state (else
-    //  list is left as it is)
+    //- Read <time>/uniform/<name> into column (one entry per grain of
+    //  system()) if it exists with one entry per grain of the state;
+    //  false (column unchanged) otherwise
     template<class Type>
-    void readGrainList
+    bool readGrainList
     (
         const Foam::grainCloud& grains,
         const Foam::word& name,
-        Foam::List<Type>& list
+        Foam::UList<Type> column
     )
     {
         using namespace Foam;
         IOobject io(grainListIO(grains, name, IOobject::MUST_READ));
-        if (io.typeHeaderOk<IOList<Type>>(true))
+        if (!io.typeHeaderOk<IOList<Type>>(true))
         {
-            const IOList<Type> read(io);
-            if (grains.decomposed())
-            {
-                grains.fromStartOrder(read, list);
-            }
-            else if (read.size() == label(grains.system().size()))
-            {
-                list = read;
-            }
+            return false;
         }
+        const IOList<Type> read(io);
+        if (grains.decomposed())
+        {
+            List<Type> local;
+            if (!grains.fromStartOrder(read, local))
+            {
+                return false;
+            }
+            column.deepCopy(local);
+            return true;
+        }
+        if (read.size() != label(grains.system().size()))
+        {
+            return false;
+        }
+        column.deepCopy(read);
+        return true;
     }
 
     //- Write list (one entry per grain of system()) to
@@ -83,7 +92,7 @@ namespace
     (
         const Foam::grainCloud& grains,
         const Foam::word& name,
-        const Foam::List<Type>& list
+        const Foam::UList<Type>& list
     )
     {
         using namespace Foam;
@@ -127,9 +136,20 @@ void Foam::vansCloud::readRestart()
         voidFraction_.correctBoundaryConditions();
     }
     voidFraction_.oldTime();
-    readGrainList(grains_, "grainContactImpulse", contactImpulse_);
-    readGrainList(grains_, "grainDragImpulseDefect", dragImpulseDefect_);
-    readGrainList(grains_, "grainHeldFraction", heldFraction_);
+    readGrainList
+    (
+        grains_, "grainContactImpulse", vectors(columns::contactImpulse)
+    );
+    readGrainList
+    (
+        grains_, "grainDragImpulseDefect",
+        vectors(columns::dragImpulseDefect)
+    );
+    heldFractionSet_ =
+        readGrainList
+        (
+            grains_, "grainHeldFraction", scalars(columns::heldFraction)
+        );
 }
 
 
@@ -207,14 +227,29 @@ void Foam::vansCloud::write() const
 {
     // the grains' coupling state for the exact restart (read back by the
     // constructor), binary
-    writeGrainList(grains_, "grainContactImpulse", contactImpulse_);
-    writeGrainList(grains_, "grainDragImpulseDefect", dragImpulseDefect_);
-    if (grains_.decomposed() || heldFraction_.size())   // (collective)
+    writeGrainList
+    (
+        grains_, "grainContactImpulse", vectors(columns::contactImpulse)
+    );
+    writeGrainList
+    (
+        grains_, "grainDragImpulseDefect",
+        vectors(columns::dragImpulseDefect)
+    );
+    // (collective; serial: once it holds values for some grain)
+    if
+    (
+        grains_.decomposed()
+     || (heldFractionSet_ && grains_.system().size())
+    )
     {
-        writeGrainList(grains_, "grainHeldFraction", heldFraction_);
+        writeGrainList
+        (
+            grains_, "grainHeldFraction", scalars(columns::heldFraction)
+        );
     }
     const label n = grains_.system().size();
-    if (fluidForce_.size() != n || fluidVelocity_.size() != n)
+    if (!fluidForcesSet_)
     {
         grains_.write();
         return;
@@ -222,13 +257,16 @@ void Foam::vansCloud::write() const
     // per-grain coupling output: fluid force and velocity; with rotation
     // the fluid torque `torqueFluid`; with heat the grain temperature `T`
     // and the gathered fluid temperature `Tfluid`
-    std::vector<std::pair<word, const List<vector>*>> vectors
+    const List<vector> F(vectors(columns::fluidForce));
+    const List<vector> Uf(vectors(columns::fluidVelocity));
+    const List<vector> torque(vectors(columns::fluidTorque));
+    std::vector<std::pair<word, const List<vector>*>> outputs
     {
-        {"Ffluid", &fluidForce_}, {"Ufluid", &fluidVelocity_}
+        {"Ffluid", &F}, {"Ufluid", &Uf}
     };
-    if (settings_.rotation && fluidTorque_.size() == n)
+    if (settings_.rotation)
     {
-        vectors.emplace_back("torqueFluid", &fluidTorque_);
+        outputs.emplace_back("torqueFluid", &torque);
     }
     if (heatOn())
     {
@@ -239,11 +277,11 @@ void Foam::vansCloud::write() const
         }
         List<scalar> Tf(heat_.Tfluid());
         Tf.setSize(n, Zero);
-        grains_.write(vectors, {{"T", &Tg}, {"Tfluid", &Tf}});
+        grains_.write(outputs, {{"T", &Tg}, {"Tfluid", &Tf}});
     }
     else
     {
-        grains_.write(vectors);
+        grains_.write(outputs);
     }
 }
 

@@ -58,6 +58,7 @@ void Foam::vansCloud::rotationalSolidVelocity(const scalar dt)
     const auto& eg = adapter_.entryGrain();
     const auto& ec = adapter_.entryCell();
     const auto& ev = adapter_.entryVolume();
+    const UList<scalar> held(scalars(columns::heldFraction));
     for (std::size_t e = 0; e < ec.size(); ++e)
     {
         const label gi = eg[e];
@@ -73,7 +74,7 @@ void Foam::vansCloud::rotationalSolidVelocity(const scalar dt)
         )
         {
             const scalar Wdg = W[gi]/depth*dt*gamma_[gi];
-            a = 1/(1 + Wdg*fluidInverseMass(gi));
+            a = 1/(1 + Wdg*fluidInverseMass(gi, held));
         }
         f[ec[e]] +=
             ev[e]*(vStar_[gi] + a*(omega_[gi] ^ leverArm(e)));
@@ -108,8 +109,8 @@ void Foam::vansCloud::addRotationalForces
     const vectorField& UI = U.primitiveField();
     const vectorField& gI = gradp.primitiveField();
     List<vector> Frot(n, Zero);
-    fluidTorque_.setSize(n);
-    fluidTorque_ = Zero;
+    List<vector> torque(n, Zero);
+    const UList<scalar> held(scalars(columns::heldFraction));
     // and the drag angular momentum the grains gain about the origin,
     // sum_pc x_c x (drag part of f_pc) (mesh units), logged with the
     // fluid's by logDragAngularMomentum
@@ -120,11 +121,12 @@ void Foam::vansCloud::addRotationalForces
         const label c = ec[e];
         const vector r = leverArm(e);
         const scalar cp =
-            s.fixed(gi) ? 0 : dt_*W[gi]/depth*fluidInverseMass(gi)*rhoK;
+            s.fixed(gi)
+          ? 0 : dt_*W[gi]/depth*fluidInverseMass(gi, held)*rhoK;
         const vector vs = vss_[gi] - cp*gI[c] + (omega_[gi] ^ r);
         const vector f =
             ev[e]/depth*(-rhoK*gI[c] + gammaStar_[gi]*(UI[c] - vs));
-        fluidTorque_[gi] += r ^ f;
+        torque[gi] += r ^ f;
         Frot[gi] -= ev[e]/depth*gammaStar_[gi]*(omega_[gi] ^ r);
         vector xc = mesh_.C()[c];
         if (adapter_.twoD())
@@ -135,20 +137,24 @@ void Foam::vansCloud::addRotationalForces
     }
     if (Pstream::parRun())
     {
-        Pstream::listCombineGather(fluidTorque_, plusEqOp<vector>());
-        Pstream::listCombineScatter(fluidTorque_);
+        Pstream::listCombineGather(torque, plusEqOp<vector>());
+        Pstream::listCombineScatter(torque);
         Pstream::listCombineGather(Frot, plusEqOp<vector>());
         Pstream::listCombineScatter(Frot);
     }
+    UList<vector> fluidForce(vectors(columns::fluidForce));
+    UList<vector> explicitForce(vectors(columns::explicitFluidForce));
+    UList<vector> fluidTorque(vectors(columns::fluidTorque));
     for (label i = 0; i < n; ++i)
     {
         // the rotational drag -gamma* omega x sum V_pc r_pc: explicit
-        fluidForce_[i] += Frot[i];
-        explicitFluidForce_[i] += Frot[i];
+        fluidForce[i] += Frot[i];
+        explicitForce[i] += Frot[i];
+        fluidTorque[i] = torque[i];
         if (adapter_.twoD())
         {
-            fluidTorque_[i].x() = 0;
-            fluidTorque_[i].y() = 0;
+            fluidTorque[i].x() = 0;
+            fluidTorque[i].y() = 0;
         }
     }
 }
@@ -190,7 +196,10 @@ void Foam::vansCloud::logDragAngularMomentum
         dragTorqueFluid_.x() = dragTorqueFluid_.y() = 0;
     }
     scalar Tmax = 0;
-    forAll(fluidTorque_, i) Tmax = max(Tmax, mag(fluidTorque_[i]));
+    for (const vector& T : vectors(columns::fluidTorque))
+    {
+        Tmax = max(Tmax, mag(T));
+    }
     Info<< "rotationCoupling: max |fluid torque| " << Tmax
         << ", drag angular momentum rate lost by the fluid "
         << dragTorqueFluid_.z() << " gained by the grains "

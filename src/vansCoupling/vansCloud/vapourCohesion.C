@@ -6,6 +6,9 @@
 
 #include <cmath>
 
+const Foam::word Foam::vapourCohesion::cellHintColumn("cohesionCellHint");
+
+
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
 Foam::vapourCohesion::vapourCohesion
@@ -93,7 +96,7 @@ void Foam::vapourCohesion::read(const IOdictionary& dict, const bool vapourOn)
     }
 
     s.settings().cohesionMinAge = minAge_;
-    cellHint_.setSize(s.size(), -1);
+    grains_.addColumn<label>(cellHintColumn, 0u, -1);
     try
     {
         if (byVapour_)
@@ -159,7 +162,7 @@ void Foam::vapourCohesion::lookupVapour()
     const label nc = cs.size();
     const bool twoD = s.dimension() == 2;
     const overlapMapping::CellMesh& cm = adapter_.cellMesh();
-    cellHint_.setSize(s.size(), -1);
+    UList<label> cellHint(grains_.column<label>(cellHintColumn));
 
     // 1 dry, 0 wet, -1 contact point not in a local cell
     labelList state(nc, -1);
@@ -188,14 +191,14 @@ void Foam::vapourCohesion::lookupVapour()
         {
             p.z() = grains_.meshPosition(c.i).z();
         }
-        const label cell = cm.findCell
-        (
-            overlapMapping::Vec3(p.x(), p.y(), p.z()),
-            cellHint_[c.i]
-        );
+        const label cell =
+            cm.findCell
+            (
+                overlapMapping::Vec3(p.x(), p.y(), p.z()), cellHint[c.i]
+            );
         if (cell >= 0)
         {
-            cellHint_[c.i] = cell;
+            cellHint[c.i] = cell;
             state[k] = psiI[cell] < vapourThreshold_ ? 1 : 0;
         }
         else if (grains_.decomposed())
@@ -315,12 +318,6 @@ void Foam::vapourCohesion::report() const
         Info<< ", pairs looked up dry " << nDry << " wet " << nWet;
     }
     Info<< endl;
-}
-
-
-void Foam::vapourCohesion::compactRemoved()
-{
-    grains_.compactRemoved(cellHint_);
 }
 
 
