@@ -14,6 +14,16 @@ DIR/<case name>_<field>_t<time>.png (DIR defaults to CASE), one per time.
 2D cases (grains in one plane) are seen from +z with a parallel projection;
 3D cases are cut by the plane z = mid-depth, on which the field is drawn
 with the grains that cut that plane, seen from +z too.
+
+Force chains (`--chains`): the grains as discs and every grain-grain
+contact that carries a normal force as a segment between the two centres,
+its width and colour proportional to that force, drawn with matplotlib
+from the grain state <time>/grainState.h5 itself (no foamToVTK needed):
+
+    python3 -m nscdrender --chains CASE [-n N | -t T1,T2] [-o DIR]
+
+writes DIR/<case name>_forceChains_t<time>.png for times whose state has
+stepped (the state grainDeposit writes at 0 holds no contacts).
 """
 
 import argparse
@@ -21,6 +31,7 @@ import json
 import os
 import sys
 
+import nscdpost
 import numpy as np
 
 #: cell fields tried in this order when none is asked for
@@ -221,6 +232,140 @@ def render_case(case, field=None, grains="speed", n=3, times=None, out=None, wid
     return written
 
 
+#: colour map of the normal contact force in a force-chain picture
+CHAIN_CMAP = "inferno_r"
+#: line width of the largest force, as a fraction of the mean grain diameter
+CHAIN_WIDTH = 0.5
+
+
+def read_force_chains(h5):
+    """The grains and the force-carrying grain-grain contacts of one grain
+    state file (nscd's layout, src/nscd/src/IO.cpp, read with h5py through
+    nscdpost): dict with 'x' (N x 3 centres [m]), 'r' (N radii [m]),
+    'fixed' (N bool), 'pairs' (m x 2 grain indices), 'fn' (m normal forces
+    rn / dt [N; 2D: N per unit depth]), 'time' [s], 'dim' (2 or 3) and
+    'unit' (the force's unit).  Kept: the grain-grain rows of
+    /contactBodies (wall contacts have no second centre) whose normal
+    impulse rn is positive; dt is the last sub-step's (/time[1]).  A state
+    that has not stepped (dt = 0) holds no contacts."""
+    r = nscdpost.read_h5(h5, "/radii").astype(float)
+    x = nscdpost.read_h5(h5, "/positions", 3).astype(float)
+    try:
+        fixed = nscdpost.read_h5(h5, "/fixed") > 0
+    except KeyError:  # optional: no fixed grain
+        fixed = np.zeros(len(r), dtype=bool)
+    try:
+        dim = int(nscdpost.read_h5(h5, "/dimension")[0])
+    except KeyError:
+        dim = 3
+    c = nscdpost.read_state_contacts(h5)
+    keep = (c["j"] >= 0) & (c["rn"] > 0)
+    dt = c["dt"] if c["dt"] > 0 else 1.0
+    return {
+        "x": x,
+        "r": r,
+        "fixed": fixed,
+        "pairs": np.column_stack((c["i"][keep], c["j"][keep])),
+        "fn": c["rn"][keep] / dt,
+        "time": float(nscdpost.read_h5(h5, "/time")[0]),
+        "dim": dim,
+        "unit": "N/m" if dim == 2 else "N",
+    }
+
+
+def draw_force_chains(h5, png, title=None, width=1200, dpi=100):
+    """Write the force-chain picture of the grain state file h5 to png (see
+    the module doc), seen from +z (a 3D state is projected on z = const),
+    framed on the grains, `width` pixels wide.  Returns the number of
+    segments drawn (the force-carrying grain-grain contacts of
+    read_force_chains)."""
+    from matplotlib.collections import EllipseCollection, LineCollection
+    from matplotlib.colors import Normalize
+    from matplotlib.figure import Figure
+
+    s = read_force_chains(h5)
+    x, r, fn = s["x"][:, :2], s["r"], s["fn"]
+    lo, hi = (x - r[:, None]).min(axis=0), (x + r[:, None]).max(axis=0)
+    pad = 0.02 * (hi - lo).max()
+    lo, hi = lo - pad, hi + pad
+    lx, ly = hi - lo
+    # axes: the full width, the height of the grains' extent (at most 1.6
+    # x the width); BAR_PX below for the colour bar, TITLE_PX above
+    ax_w = width / dpi
+    ax_h = min(ax_w * ly / lx, 1.6 * ax_w)
+    fig_h = ax_h + (BAR_PX + TITLE_PX) / dpi
+    fig = Figure(figsize=(ax_w, fig_h), dpi=dpi)
+    ax = fig.add_axes((0.0, BAR_PX / dpi / fig_h, 1.0, ax_h / fig_h))
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_axis_off()
+    faces = np.where(s["fixed"][:, None], [[0.55, 0.55, 0.55, 1.0]], [[0.86, 0.86, 0.86, 1.0]])
+    ax.add_collection(
+        EllipseCollection(
+            2 * r,
+            2 * r,
+            np.zeros(len(r)),
+            units="xy",
+            offsets=x,
+            offset_transform=ax.transData,
+            facecolors=faces,
+            edgecolors=(0.6, 0.6, 0.6, 1.0),
+            linewidths=0.3,
+        )
+    )
+    fmax = float(fn.max()) if len(fn) else 1.0
+    # width of the largest force: CHAIN_WIDTH of the mean diameter [points]
+    pt_per_m = min(ax_w / lx, ax_h / ly) * 72.0
+    chains = LineCollection(
+        x[s["pairs"]].reshape(-1, 2, 2),
+        linewidths=CHAIN_WIDTH * 2 * float(np.mean(r)) * pt_per_m * fn / fmax,
+        cmap=CHAIN_CMAP,
+        norm=Normalize(0.0, fmax),
+        capstyle="round",
+    )
+    chains.set_array(fn)
+    ax.add_collection(chains)
+    cax = fig.add_axes((0.3, 0.45 * BAR_PX / dpi / fig_h, 0.4, 0.15 * BAR_PX / dpi / fig_h))
+    bar = fig.colorbar(chains, cax=cax, orientation="horizontal")
+    bar.set_label(f"normal contact force [{s['unit']}]")
+    fig.text(
+        0.01,
+        1.0 - 0.7 * TITLE_PX / dpi / fig_h,
+        f"{title or ''}   t = {s['time']:.4g} s   {len(fn)} force-carrying contacts".strip(),
+        fontsize=10,
+    )
+    fig.savefig(png, dpi=dpi, facecolor="white")
+    return len(chains.get_segments())
+
+
+def render_force_chains(case, n=3, times=None, out=None, width=1200):
+    """Force-chain PNGs (draw_force_chains) of n evenly spaced times of CASE
+    whose grain state has stepped, or of the times nearest to `times` [s];
+    returns their paths.  Raises FileNotFoundError when no time directory
+    of CASE holds a stepped grainState.h5."""
+    states = [
+        (t, os.path.join(case, name, "grainState.h5"))
+        for t, name in nscdpost.numeric_dirs(case)
+        if os.path.isfile(os.path.join(case, name, "grainState.h5"))
+    ]
+    states = [(t, h5) for t, h5 in states if nscdpost.read_h5(h5, "/time")[1] > 0]
+    if not states:
+        raise FileNotFoundError(
+            f"{case}: no <time>/grainState.h5 of a stepped state; run the solver (grainFoam, ...) first"
+        )
+    out = out or case
+    os.makedirs(out, exist_ok=True)
+    name = os.path.basename(os.path.abspath(case))
+    written = []
+    for i in pick_times([t for t, _ in states], n, times):
+        t, h5 = states[i]
+        png = os.path.join(out, f"{name}_forceChains_t{t:.4g}.png")
+        draw_force_chains(h5, png, name, width)
+        written.append(png)
+    return written
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m nscdrender", description=__doc__.split("\n\n")[0])
     ap.add_argument("cases", nargs="+", help="case directories holding VTK/ (foamToVTK)")
@@ -237,11 +382,21 @@ def main(argv=None):
     ap.add_argument("-n", type=int, default=3, help="number of evenly spaced times (default 3)")
     ap.add_argument("-t", "--times", help="comma-separated times [s] (nearest written)")
     ap.add_argument("-o", "--out", help="output directory (default: each case)")
+    ap.add_argument(
+        "-c",
+        "--chains",
+        action="store_true",
+        help="force chains from <time>/grainState.h5 instead of the VTK snapshots",
+    )
     a = ap.parse_args(argv)
     times = [float(v) for v in a.times.split(",")] if a.times else None
     for case in a.cases:
         try:
-            for png in render_case(case, a.field, a.grains, a.n, times, a.out):
+            if a.chains:
+                pngs = render_force_chains(case, a.n, times, a.out)
+            else:
+                pngs = render_case(case, a.field, a.grains, a.n, times, a.out)
+            for png in pngs:
                 print(png)
         except (FileNotFoundError, KeyError) as e:  # bad input: say which and why
             print(f"nscdrender: {case}: {e}", file=sys.stderr)
