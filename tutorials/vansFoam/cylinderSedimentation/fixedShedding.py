@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Vortex shedding of the penalised cylinder held fixed in the frame of the
-falling cylinder (companion of the falling-cylinder tutorial, issue 7).
+falling cylinder (companion of the falling-cylinder tutorial).
 
 The free falling cylinder of this tutorial (thesis 3.3.3) drifts to a wall
-instead of oscillating about the axis (see README note in results.json /
-the issue 7 report), so its lateral velocity gives no shedding frequency.
+instead of oscillating about the axis (see the note in results.json and
+the README), so its lateral velocity gives no shedding frequency.
 This case measures the shedding frequency of the same resolved (volume
 penalised) cylinder with the lateral motion suppressed: the frame of a
 cylinder falling at U_t = 2.501 cm/s between fixed walls 8 D apart, i.e. a

@@ -19,8 +19,7 @@ below 1 % of D (the discs touch: NSCD contact).
 reference_kissing_time: None.  No published kissing time for exactly this
 set-up (Glowinski et al. 2001 JCP 169:363 / Int J Multiphase Flow 25 (1999);
 Wan & Turek 2006; Feng, Hu & Joseph 1994) could be verified from the stored
-literature, and no number is written here from memory.  Searched (issue 7,
-engineers I and K, 2026-11-21): thesis 3.3.4 (cites Feng et al. [102] for
+literature, and no number is written here from memory.  Searched: thesis 3.3.4 (cites Feng et al. [102] for
 the set-up, figures only, no number); the stored papers' texts (Li et al.
 2022 Energies 15:3297, Tofighi et al. 2015 JCP 297:207, Ghosh & Stockie
 2013 arXiv:1304.0804, Zhang et al. 2014 arXiv:1407.6704: only their
@@ -37,8 +36,8 @@ and contact_time gap < D/100.  min_gap [m] and min_gap_time [s]: the
 smallest gap and when; inversion_time [s]: the first time y1 < y2 (the pair
 has tumbled), with or without kissing.  Until a
 number is verified the comparison is a self-convergence one: the kissing
-time at D/h = 6 and 12.5 (see the issue 7 reports), REFERENCE_KISSING_TIME
-below to fill in.
+time at D/h = 6 and 12.5 (the tutorial's README, "Measured"),
+REFERENCE_KISSING_TIME below to fill in.
 """
 
 import json

@@ -15,7 +15,7 @@ usage: setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [ROTATION yes|no] [MAXDT] [S
   SCHEME resolved: couplingProperties `resolvedCellsPerDiameter 4;`, the
   resolved-regime scheme of vansCloud.H (grain velocity out of the pressure
   solve, added mass C_A = 1); SCHEME default: no keyword (the unresolved
-  scheme for every grain).  Measured at D/h = 12.5 (issue 7): with the
+  scheme for every grain).  Measured at D/h = 12.5: with the
   default scheme the pair is unstable at maxDeltaT 1e-3 and 5e-4 s from the
   start, and at 2.5e-4 s it blows up when the gap closes to ~3 h (t = 1.147
   s: max grain Reynolds number 0.018 -> 50 within 0.03 s), with or without

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Post-process the dropletDigging cases (issue 8; thesis section 4.3.3,
+"""Post-process the dropletDigging cases (thesis section 4.3.3,
 Figures 4.13-4.19).
 
 usage: postProcess.py [-o OUTDIR] [--snap] CASE1 [CASE2 ...]   (cases made by setupCase.py)
@@ -140,7 +140,7 @@ def log_texts(case):
 
 
 def energy_budget(case, info=None):
-    """Energy budget of droplet + gas + grains + walls over the run (issue 8).
+    """Energy budget of droplet + gas + grains + walls over the run.
 
     Between the end of the first step and the end of the run,
         (E_N - E_1) + L (m_1 - m_N)
@@ -264,7 +264,7 @@ def cohesion_threshold(case):
 
 
 def bed_diagnostics(case, info, d, umf):
-    """Bed-side digging diagnostics at every written time t > 0 (issue 8):
+    """Bed-side digging diagnostics at every written time t > 0:
 
     - `ring_speed` [m/s]: mean superficial gas speed eps |u| over the cells
       with R + dx < r < R + 3 dx from the droplet centre, below its equator
@@ -521,8 +521,8 @@ def case_results(case):
     res["summary"] = summary(d, uv, res.get("U_mf"))
     res["forces"] = force_balance(d)
     res["stopped"] = stop_reason(case)
-    # droplet on the bottom wall (wall contact, droplet.dat Fw_y > 0, third
-    # increment of src/dropletCoupling): first time, None if never
+    # droplet on the bottom wall (wall contact of src/dropletCoupling,
+    # droplet.dat Fw_y > 0): first time, None if never
     on_wall = np.nonzero(d[:, 19] > 0)[0] if d.shape[1] > 19 else []
     res["bottom_reached_time"] = float(d[on_wall[0], 0]) if len(on_wall) else None
     try:

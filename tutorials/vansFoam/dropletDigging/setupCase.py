@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Set up the dropletDigging cases (issue 8; thesis section 4.3, Table 4.2).
+"""Set up the dropletDigging cases (thesis section 4.3, Table 4.2).
 
 usage: setupCase.py deposit [D_GRAIN]   the bed: grains of diameter D_GRAIN
                                          [m] (default 1e-3, reduced; tutorial
@@ -79,8 +79,8 @@ def similarity_factors(d_grain, d_ref, permeability_ratio=1.0):
     rho_s d^2/(18 eta_g) and the 2D bed tensile strength ~ F_c/d.
     permeability_ratio: U_mf measured in vansFoam on this bed (umf.py) over
     Ergun's U_mf at the same gas, i.e. how much more permeable the 2D
-    porous-disc bed is than Ergun's packing of spheres (1: Ergun's U_mf, the
-    scaling before issue 54; measured 1.75 on the 0.2 mm bed); with it the
+    porous-disc bed is than Ergun's packing of spheres (1: Ergun's U_mf;
+    measured 1.75 on the 0.2 mm bed); with it the
     scaled bed's measured U_mf is the reference bed's Ergun U_mf.  Not kept:
     the droplet's gas Reynolds number (/ s), the gas Prandtl number (x s), the
     grain-gas thermal relaxation time (~ d^2/k_f), the grain Bond number and D/d.

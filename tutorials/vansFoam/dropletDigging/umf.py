@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Minimum fluidisation velocity U_mf of the dropletDigging bed, measured in
-vansFoam (issue 54 item 1).
+vansFoam.
 
 usage: umf.py setup CASE DEPOSIT_ROOT [SIMILARITY [PERMEABILITY_RATIO [U_MAX [RAMP]]]]
        umf.py post CASE [CASE ...]
