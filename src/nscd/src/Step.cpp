@@ -26,6 +26,9 @@ namespace nscd
 
 namespace
 {
+/// Re-detections of one step (detectAndSolve).
+constexpr int maxRedetections = 4;
+
 /// Largest residual weight k of a contact (SolverContact::residualWeight2)
 constexpr double maxResidualWeight = 1e3;
 
@@ -157,29 +160,75 @@ StepReport System::step(double dt)
         if (d.grainImpulse.size() != I.x.size()) d.grainImpulse.assign(I.x.size(), 0.0);
     const bool heat = I.heatCheck(); // throws before anything is changed
     StepReport rep;
+    Impl::StepHooks undecomposed(I);
+    I.runStages(dt, I.rMin(), heat, rep, undecomposed); // one scan of the radii for the step
+    return rep;
+}
+
+void System::Impl::runStages(double dt, double rMinStep, bool heat, StepReport& rep, StepHooks& H)
+{
     rep.substeps = 1;
-    const Impl::StepRMin stepRMin(I, I.rMin()); // one scan of the radii for the step
-
-    I.syncKeptContacts(); // after grains were added
-    I.maybeReorder();     // internal slot order along the Morton curve (Reorder.cpp)
-    I.freeVelocities(dt);
+    const StepRMin stepRMin(*this, rMinStep);
+    syncKeptContacts(); // after grains were added
+    maybeReorder();     // internal slot order along the Morton curve (Reorder.cpp)
+    freeVelocities(dt);
     // detect, prepareContacts (+ warm start), buildAdjacency, solveContacts;
-    // again with larger reaches if a grain leaves its reach (SystemExtra.cpp)
-    const int NC0 = I.detectAndSolve(dt, rep);
-    I.relaxPushOut(dt, rep);      // overlap correction without velocity
-    I.limitCappedEnergy(dt, rep); // a capped solve may not raise the kinetic energy
-
-    I.integrate(dt, NC0);
-    I.storeImpulses(dt, NC0, rep);
-
-    if (heat)
+    // again with larger reaches if a grain leaves its reach
+    const int NC0 = detectAndSolve(dt, rep, H);
+    relaxPushOut(dt, rep, H); // overlap correction without velocity
+    H.limitEnergy(dt, rep);   // a capped solve may not raise the kinetic energy
+    H.integrate(dt, NC0);
+    H.storeImpulses(dt, NC0, rep);
+    if (H.any(heat))
     {
         using clock = std::chrono::steady_clock;
         const auto t2 = clock::now();
-        I.heatStep(dt, rep);
+        H.heat(dt, rep);
         rep.heatSeconds = std::chrono::duration<double>(clock::now() - t2).count();
     }
-    return rep;
+}
+
+int System::Impl::detectAndSolve(double dt, StepReport& rep, StepHooks& H)
+{
+    using clock = std::chrono::steady_clock;
+    const int N = int(x.size());
+    reachFloor.clear();
+    const long builds = verlet.builds;
+    int sweeps = 0;
+    long solves = 0;
+    for (int redo = 0;; ++redo)
+    {
+        const auto t0 = clock::now();
+        detect(dt);
+        const int NCd = int(newContacts.size()); // grain-grain and grain-wall contacts
+        detectDroplets(dt);                      // then grain-droplet ones
+        const int NC0 = H.ownContacts(NCd);
+        const auto t1 = clock::now();
+        rep.detectSeconds += std::chrono::duration<double>(t1 - t0).count();
+        rep.verletBuilds = int(verlet.builds - builds);
+
+        H.shareMasses();
+        prepareContacts(dt, NC0); // warm start and adjacency counts included
+        buildAdjacency();
+        H.warmStartInterface();
+        if (redo > 0) rep.residualHistory.clear();
+        H.solve(dt, rep, nullptr);
+        rep.solveSeconds += std::chrono::duration<double>(clock::now() - t1).count();
+        sweeps += rep.sweeps;
+        solves += rep.localSolves;
+        if (redo == maxRedetections || !H.any(raiseReaches(dt)))
+        {
+            rep.sweeps = sweeps;
+            rep.localSolves = solves;
+            return NC0;
+        }
+        ++rep.redetections;
+        // the bodies as before the solve, with the raised reaches (none
+        // here when another system raised them)
+        freeVelocities(dt);
+        if (!reachFloor.empty())
+            for (int i = 0; i < N; ++i) speed[i] = std::max(speed[i], reachFloor[i]);
+    }
 }
 
 // ---- free velocity (eq. 2.11, with the implicit drag of setFluidDrag) ----
@@ -483,17 +532,17 @@ void System::Impl::integrate(double dt, int NC0)
 }
 
 // ---- relax stage: the overlap correction moves grains, gives no velocity ----
-void System::Impl::relaxPushOut(double dt, StepReport& rep)
+void System::Impl::relaxPushOut(double dt, StepReport& rep, StepHooks& H)
 {
     relaxPositionVelocity.clear();
-    if (relaxSeed.empty()) return; // (filled by prepareContacts)
+    if (!H.any(!relaxSeed.empty())) return; // (filled by prepareContacts)
     holdPositionVelocities();
     for (int k : relaxSeed) rows[k].bias = 0.0;
     // the solve continues from the rows' impulses and the bodies' velocities;
     // after a converged solve only the push-out rows have a new law (the
     // others are converged at these velocities): they alone are queued
     StepReport relax;
-    solveContacts(dt, relax, rep.converged ? &relaxSeed : nullptr);
+    H.solve(dt, relax, rep.converged ? &relaxSeed : nullptr);
     mergeRelaxReport(rep, relax);
 }
 

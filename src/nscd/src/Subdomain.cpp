@@ -10,7 +10,6 @@
 #include "SystemImpl.H"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -46,9 +45,6 @@ struct Subdomain::InterfaceImpulses
 
 namespace
 {
-/// Re-detections of one step, as System::step (SystemExtra.cpp).
-constexpr int maxRedetections = 4;
-
 /// Queue prefetch distances, as the undecomposed NLGS (ContactSolver.cpp).
 constexpr int rowsAhead = 16, bodiesAhead = 8;
 
@@ -438,13 +434,17 @@ void Subdomain::setGrainId(std::size_t i, long id)
     I.nextId = std::max(I.nextId, id + 1);
 }
 
-StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std::vector<long>& globalId)
+namespace
 {
-    using clock = std::chrono::steady_clock;
-    System::Impl& I = *sys_.impl_;
+/**
+ * The input checks of Subdomain::step, collective: if one subdomain refuses
+ * the step, all do (none is left waiting in a collective of the step).
+ * @return true if some temperature is integrated here (heatCheck).
+ */
+bool checkStep(System::Impl& I, SubdomainCoupling& coupling, double dt, const std::vector<char>& owned,
+               const std::vector<long>& globalId)
+{
     const int N = int(I.x.size());
-    // input checks, collective: if one subdomain refuses the step, all do
-    // (none is left waiting in a collective of the step)
     std::string refused;
     bool heat = false;
     try
@@ -470,150 +470,175 @@ StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std:
     {
         refused = e.what();
     }
-    if (coupling_.maxOverSubdomains(refused.empty() ? 0.0 : 1.0) > 0)
+    if (coupling.maxOverSubdomains(refused.empty() ? 0.0 : 1.0) > 0)
         throw InputError(refused.empty() ? "nscd::Subdomain::step: another subdomain refused the step"
                                            " (its error names the input)"
                                          : refused);
+    return heat;
+}
 
-    Scratch& X = *scratch_;
-    for (System::Droplet& d : I.droplets)
-        if (d.grainImpulse.size() != std::size_t(N)) d.grainImpulse.assign(N, 0.0);
-    const int NW = int(I.walls.size()), ND = int(I.droplets.size());
-    X.dropletBodies.clear();
-    for (int k = 0; k < ND; ++k)
-        if (I.droplets[k].mass > 0) X.dropletBodies.push_back(N + NW + k);
-    const double warmScale = I.settings.warmStart && I.lastDt > 0 ? dt / I.lastDt : 0.0;
-    StepReport rep;
-    rep.substeps = 1;
-    rep.method = int(System::Settings::Method::NLGS);
-    // the tolerance scale d_min of the undecomposed system
-    const double dmin = -2 * coupling_.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
-    // the lengths scaled by r_min are the undecomposed system's for the
-    // step (System::Impl::rMinOfStep), restored however the step ends
-    const System::Impl::StepRMin sharedRMin(I, 0.5 * dmin);
-
-    I.syncKeptContacts(); // after grains were added (migrants, ghosts)
-    I.maybeReorder();
-    I.freeVelocities(dt);
-    I.reachFloor.clear();
-    const long builds = I.verlet.builds;
-    std::vector<char>& inContact = X.inContact;
-    std::vector<int>& copies = X.copies;
-    inContact.resize(N);
-    int NC0 = 0;
-    for (int redo = 0;; ++redo)
+/**
+ * The decomposed step's work at the stages of System::Impl::runStages: the
+ * contacts this subdomain owns, the copy masses of the interface bodies,
+ * the interface warm start, the interface-averaged solve, the decisions
+ * taken together, the interface grains' drag and the droplets' impulses
+ * summed over the subdomains, the interface impulses kept for the next
+ * step, and the heat step of the owned grains. No energy limit of a
+ * capped solve (Subdomain.H).
+ */
+class DecomposedStages : public System::Impl::StepHooks
+{
+public:
+    DecomposedStages(System::Impl& I, SubdomainCoupling& coupling, Subdomain::Scratch& scratch,
+                     Subdomain::InterfaceImpulses& last, const std::vector<char>& owned,
+                     const std::vector<long>& globalId, double dt)
+        : StepHooks(I), C(coupling), X(scratch), last(last), owned(owned), globalId(globalId),
+          N(int(I.x.size())), NW(int(I.walls.size())), ND(int(I.droplets.size())),
+          warmScale(I.settings.warmStart && I.lastDt > 0 ? dt / I.lastDt : 0.0)
     {
-        const auto t0 = clock::now();
-        I.detect(dt);
-        // the contacts this subdomain owns: the owner of the grain with the
-        // smaller global id solves a grain pair, the grain's owner a wall
-        // contact; their grains flagged in inContact (one pass over the
-        // contacts, which are memory-bound)
-        std::vector<Contact>& C = I.newContacts;
-        std::fill(inContact.begin(), inContact.end(), 0);
-        std::size_t m = 0;
-        for (std::size_t k = 0; k < C.size(); ++k)
-        {
-            const Contact& c = C[k];
-            const int gi = I.order[c.i];
-            const int gj = c.j < N ? I.order[c.j] : -1;
-            if (!owned[gj < 0 || globalId[gi] < globalId[gj] ? gi : gj]) continue;
-            inContact[gi] = 1;
-            if (gj >= 0) inContact[gj] = 1;
-            if (m != k) C[m] = c;
-            ++m;
-        }
-        C.resize(m);
-        NC0 = int(m);
-        // grain-droplet contacts: the grain's owner solves them
-        I.detectDroplets(dt);
-        X.dropletShared.assign(ND, 0);
-        for (std::size_t k = std::size_t(NC0); k < C.size(); ++k)
-        {
-            const Contact& c = C[k];
-            const int gi = I.order[c.i];
-            if (!owned[gi]) continue;
-            inContact[gi] = 1;
-            X.dropletShared[c.j - N - NW] = 1;
-            C[m++] = c;
-        }
-        C.resize(m);
-        rep.detectSeconds += std::chrono::duration<double>(clock::now() - t0).count();
-        rep.verletBuilds = int(I.verlet.builds - builds);
+        X.dropletBodies.clear();
+        for (int k = 0; k < ND; ++k)
+            if (I.droplets[k].mass > 0) X.dropletBodies.push_back(N + NW + k);
+        // the tolerance scale d_min of the undecomposed system (collective)
+        dmin = -2 * C.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
+        X.inContact.resize(N);
+    }
 
-        // copies: the interface grains' masses are shared among their copies
-        coupling_.countCopies(inContact, copies);
+    /// The undecomposed system's tolerance scale d_min (twice its r_min).
+    double dmin = 0;
+
+    /// The contacts this subdomain owns: the owner of the grain with the
+    /// smaller global id solves a grain pair, the grain's owner a wall or
+    /// droplet contact; their grains flagged in inContact (one pass over the
+    /// contacts, which are memory-bound), the droplets in dropletShared.
+    int ownContacts(int NC0) override
+    {
+        std::vector<Contact>& Cs = I.newContacts;
+        std::fill(X.inContact.begin(), X.inContact.end(), 0);
+        X.dropletShared.assign(ND, 0);
+        std::size_t m = 0;
+        auto keep = [&](std::size_t from, std::size_t to, bool droplets)
+        {
+            for (std::size_t k = from; k < to; ++k)
+            {
+                const Contact& c = Cs[k];
+                const int gi = I.order[c.i];
+                const int gj = !droplets && c.j < N ? I.order[c.j] : -1;
+                if (!owned[gj < 0 || globalId[gi] < globalId[gj] ? gi : gj]) continue;
+                X.inContact[gi] = 1;
+                if (gj >= 0) X.inContact[gj] = 1;
+                if (droplets) X.dropletShared[c.j - N - NW] = 1;
+                if (m != k) Cs[m] = c;
+                ++m;
+            }
+        };
+        keep(0, std::size_t(NC0), false);
+        const int kept = int(m);
+        keep(std::size_t(NC0), Cs.size(), true);
+        Cs.resize(m);
+        return kept;
+    }
+
+    /// The interface grains' masses shared among their copies (m/n, J/n for
+    /// n copies); a droplet with mass: a copy of mass m/n on each of the n
+    /// subdomains that solve one of its contacts.
+    void shareMasses() override
+    {
+        std::vector<int>& copies = X.copies;
+        C.countCopies(X.inContact, copies);
         for (int i = 0; i < N; ++i)
         {
-            if (!(owned[i] || inContact[i]) || copies[i] <= 1) continue;
+            if (!(owned[i] || X.inContact[i]) || copies[i] <= 1) continue;
             Body& B = I.body[I.slotOf[i]];
             B.im *= copies[i];
             B.im0 *= copies[i];
             B.ii *= copies[i];
         }
-        // a droplet with mass: a copy of mass m/n on each of the n
-        // subdomains that solve one of its contacts
         for (int b : X.dropletBodies)
         {
-            const double n = coupling_.sumOverSubdomains(X.dropletShared[b - N - NW] ? 1.0 : 0.0);
+            const double n = C.sumOverSubdomains(X.dropletShared[b - N - NW] ? 1.0 : 0.0);
             if (!X.dropletShared[b - N - NW] || !(n > 1)) continue;
             I.body[b].im *= n;
             I.body[b].im0 *= n;
         }
-
-        const auto t1 = clock::now();
-        I.prepareContacts(dt, NC0);
-        I.buildAdjacency();
-        warmStartInterface(I, coupling_, X, owned, globalId, *interface_, warmScale);
-        solveDecomposed(I, coupling_, X, dt, dmin, rep, nullptr);
-        rep.solveSeconds += std::chrono::duration<double>(clock::now() - t1).count();
-        const bool again =
-            redo < maxRedetections && coupling_.maxOverSubdomains(I.raiseReaches(dt) ? 1.0 : 0.0) > 0;
-        if (!again) break;
-        ++rep.redetections;
-        rep.converged = true;
-        rep.residual = 0;
-        I.freeVelocities(dt);
-        for (int s = 0; s < N; ++s)
-            if (!I.reachFloor.empty()) I.speed[s] = std::max(I.speed[s], I.reachFloor[s]);
     }
 
-    // relax stage (Step.cpp, relaxPushOut), on every subdomain if one needs it
-    I.relaxPositionVelocity.clear();
-    if (coupling_.maxOverSubdomains(I.relaxSeed.empty() ? 0.0 : 1.0) > 0)
+    void warmStartInterface() override
     {
-        I.holdPositionVelocities();
-        for (int k : I.relaxSeed) I.rows[k].bias = 0.0;
-        StepReport relax;
-        solveDecomposed(I, coupling_, X, dt, dmin, relax, rep.converged ? &I.relaxSeed : nullptr);
-        mergeRelaxReport(rep, relax);
+        nscd::warmStartInterface(I, C, X, owned, globalId, last, warmScale);
     }
 
-    // the drag impulse of an interface grain from its whole contact impulse
-    // (its copies' contacts here and elsewhere: n (local + interface))
-    X.dragTerms.resize(X.iface.size());
-    for (std::size_t k = 0; k < X.iface.size(); ++k)
-        X.dragTerms[k] = {X.iface[k], copies[X.iface[k]], X.lambda[2 * k]};
-    I.dragInterface = &X.dragTerms;
-    std::vector<Vec3> dropletImpulse0(ND);
-    for (int k = 0; k < ND; ++k) dropletImpulse0[k] = I.droplets[k].impulse;
-    I.integrate(dt, NC0);
-    for (int k = 0; k < ND; ++k) // the impulse of the contacts of every subdomain
+    /// The interface-averaged solve; rep's solver fields as solveContacts
+    /// sets them (the contacts: the most of the step's solves).
+    void solve(double dt, StepReport& rep, const std::vector<int>* seed) override
     {
-        Vec3& J = I.droplets[k].impulse;
-        const Vec3 dJ = J - dropletImpulse0[k];
-        for (int c = 0; c < 3; ++c) J[c] = dropletImpulse0[k][c] + coupling_.sumOverSubdomains(dJ[c]);
+        StepReport r;
+        solveDecomposed(I, C, X, dt, dmin, r, seed);
+        rep.contacts = std::max(rep.contacts, r.contacts);
+        rep.localSolves = r.localSolves;
+        rep.sweeps = r.sweeps;
+        rep.residual = r.residual;
+        rep.converged = r.converged;
     }
-    I.dragInterface = nullptr;
-    I.storeImpulses(dt, NC0, rep);
-    keepInterface(X, globalId, *interface_);
 
-    if (coupling_.maxOverSubdomains(heat ? 1.0 : 0.0) > 0)
+    bool any(bool flag) override { return C.maxOverSubdomains(flag ? 1.0 : 0.0) > 0; }
+
+    void limitEnergy(double, StepReport&) override {}
+
+    /// integrate, with the drag impulse of an interface grain from its whole
+    /// contact impulse (its copies' contacts here and elsewhere: n (local +
+    /// interface)) and a droplet's impulse from the contacts of every
+    /// subdomain.
+    void integrate(double dt, int NC0) override
     {
-        const auto t2 = clock::now();
-        decomposedHeatStep(I, coupling_, owned, dt, rep);
-        rep.heatSeconds = std::chrono::duration<double>(clock::now() - t2).count();
+        X.dragTerms.resize(X.iface.size());
+        for (std::size_t k = 0; k < X.iface.size(); ++k)
+            X.dragTerms[k] = {X.iface[k], X.copies[X.iface[k]], X.lambda[2 * k]};
+        I.dragInterface = &X.dragTerms;
+        std::vector<Vec3> dropletImpulse0(ND);
+        for (int k = 0; k < ND; ++k) dropletImpulse0[k] = I.droplets[k].impulse;
+        I.integrate(dt, NC0);
+        for (int k = 0; k < ND; ++k)
+        {
+            Vec3& J = I.droplets[k].impulse;
+            const Vec3 dJ = J - dropletImpulse0[k];
+            for (int c = 0; c < 3; ++c) J[c] = dropletImpulse0[k][c] + C.sumOverSubdomains(dJ[c]);
+        }
+        I.dragInterface = nullptr;
     }
+
+    /// storeImpulses, and the interface impulses kept for the next step.
+    void storeImpulses(double dt, int NC0, StepReport& rep) override
+    {
+        I.storeImpulses(dt, NC0, rep);
+        keepInterface(X, globalId, last);
+    }
+
+    void heat(double dt, StepReport& rep) override { decomposedHeatStep(I, C, owned, dt, rep); }
+
+private:
+    SubdomainCoupling& C;
+    Subdomain::Scratch& X;
+    Subdomain::InterfaceImpulses& last;
+    const std::vector<char>& owned;
+    const std::vector<long>& globalId;
+    const int N, NW, ND;
+    const double warmScale; ///< dt/lastDt of the warm start (0: none)
+};
+} // namespace
+
+StepReport Subdomain::step(double dt, const std::vector<char>& owned, const std::vector<long>& globalId)
+{
+    System::Impl& I = *sys_.impl_;
+    const bool heat = checkStep(I, coupling_, dt, owned, globalId);
+    for (System::Droplet& d : I.droplets)
+        if (d.grainImpulse.size() != I.x.size()) d.grainImpulse.assign(I.x.size(), 0.0);
+    DecomposedStages stages(I, coupling_, *scratch_, *interface_, owned, globalId, dt);
+    StepReport rep;
+    rep.method = int(System::Settings::Method::NLGS);
+    // the lengths scaled by r_min are the undecomposed system's for the
+    // step (System::Impl::rMinOfStep), restored however the step ends
+    I.runStages(dt, 0.5 * stages.dmin, heat, rep, stages);
     return rep;
 }
 
