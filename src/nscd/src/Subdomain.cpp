@@ -5,6 +5,7 @@
 // whose sweeps alternate with the averaging of the copies' velocities.
 #include "nscd/Subdomain.H"
 
+#include "StepHooks.H"
 #include "SubdomainHeat.H"
 #include "SubdomainSolve.H"
 #include "SystemImpl.H"

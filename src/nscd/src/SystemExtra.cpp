@@ -443,6 +443,10 @@ System::ContactView System::Impl::contactView(const Contact& c) const
     return v;
 }
 
+// Units: eq. 4.2 is dimensionally inconsistent (the 1/4 power gives
+// W m^-1/2 K^-1); it is evaluated literally in SI with L = 1 m and the value
+// is taken as [W/K] in 3D and [W/(m K)] per unit depth in 2D (the thesis'
+// cylinder formula is used for spheres as well).
 double System::contactConductance(const ContactView& c, double dt) const
 {
     const Impl& I = *impl_;
