@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // nscd::Subdomain: the step of one subdomain of a decomposed grain system
-// (Subdomain.H): the stages of System::step (Step.cpp) with the contacts
-// this subdomain owns, copy masses for the interface grains and an NLGS
-// whose sweeps alternate with the averaging of the copies' velocities.
+// (Subdomain.H): the stages of System::step (System::Impl::runStages,
+// Step.cpp) with the decomposed work at their hooks (DecomposedStages: the
+// contacts this subdomain owns, copy masses for the interface grains, the
+// interface-averaged solve of SubdomainSolve.cpp, decisions taken together,
+// the heat step of SubdomainHeat.cpp); the grain rows of migrations and ghosts.
 #include "nscd/Subdomain.H"
 
 #include "StepHooks.H"
