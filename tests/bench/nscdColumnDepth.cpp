@@ -32,6 +32,56 @@
 
 using namespace nscd;
 
+namespace
+{
+/// The solver settings of the command line (TOLERANCE MAX_ITERATIONS
+/// [METHOD]) and of the environment (see the usage above).
+void setSolver(System::Settings& S, int argc, char** argv)
+{
+    S.tolerance = std::atof(argv[3]);
+    S.maxIterations = std::atoi(argv[4]);
+    if (argc > 5) S.method = System::Settings::Method(std::atoi(argv[5]));
+    // env NSCD_RELAX: Settings::relaxation (over-relaxation factor of the NLGS update)
+    if (const char* e = std::getenv("NSCD_RELAX")) S.relaxation = std::atof(e);
+    // env NSCD_CONVERGENCE=rms, NSCD_RMS_TOL: Settings::convergence, rmsTolerance
+    if (const char* e = std::getenv("NSCD_CONVERGENCE"))
+        S.convergence =
+            std::string(e) == "rms" ? System::Settings::Convergence::RMS : System::Settings::Convergence::Max;
+    if (const char* e = std::getenv("NSCD_RMS_TOL")) S.rmsTolerance = std::atof(e);
+    // env NSCD_NEWTON_TOL, NSCD_SIGMA, NSCD_LINEAR=cg: Settings::newtonTolerance,
+    // tangentialRegularisation, newtonLinearSolver (METHOD 4, Newton)
+    if (const char* e = std::getenv("NSCD_NEWTON_TOL")) S.newtonTolerance = std::atof(e);
+    if (const char* e = std::getenv("NSCD_SIGMA")) S.tangentialRegularisation = std::atof(e);
+    if (const char* e = std::getenv("NSCD_LINEAR"))
+        S.newtonLinearSolver = std::string(e) == "cg"
+                                   ? System::Settings::NewtonLinearSolver::ConjugateGradient
+                                   : System::Settings::NewtonLinearSolver::Cholesky;
+}
+
+/// One line of the column's state after step k (report r): max speed,
+/// kinetic energy, centre-of-mass vertical velocity, the walls' vertical
+/// impulse / (weight dt), contacts, sweeps, sub-steps, residual, max overlap.
+void printColumn(const System& s, int k, const StepReport& r, double dt, double rho, double weight)
+{
+    double vmax = 0, ke = 0, p = 0, M = 0;
+    for (std::size_t i = 0; i < s.size(); ++i)
+    {
+        const double mi = rho * M_PI * s.radii()[i] * s.radii()[i], v = s.velocities()[i].norm();
+        vmax = std::max(vmax, v);
+        ke += 0.5 * mi * v * v;
+        p += mi * s.velocities()[i].y();
+        M += mi;
+    }
+    double lift = 0;
+    for (const auto& c : s.contacts())
+        if (c.j < 0) lift += c.impulse.y();
+    std::printf("step %d t %.3f vmax %.2e KE %.3e vycm %.2e lift/W %.4f contacts %d sweeps %d sub %d "
+                "res %.2e ov %.2e\n",
+                k + 1, (k + 1) * dt, vmax, ke, p / M, lift / dt / weight, r.contacts, r.sweeps, r.substeps,
+                r.residual, r.maxOverlap);
+}
+} // namespace
+
 int main(int argc, char** argv)
 {
     if (argc < 5)
@@ -51,24 +101,7 @@ int main(int argc, char** argv)
     // env NSCD_MU: the grains' (and the floor's) friction coefficient (default 0.3)
     if (const char* e = std::getenv("NSCD_MU")) mat.friction = std::atof(e);
     const int m = s.addMaterial(mat);
-    s.settings().tolerance = std::atof(argv[3]);
-    s.settings().maxIterations = std::atoi(argv[4]);
-    if (argc > 5) s.settings().method = System::Settings::Method(std::atoi(argv[5]));
-    // env NSCD_RELAX: Settings::relaxation (over-relaxation factor of the NLGS update)
-    if (const char* e = std::getenv("NSCD_RELAX")) s.settings().relaxation = std::atof(e);
-    // env NSCD_CONVERGENCE=rms, NSCD_RMS_TOL: Settings::convergence, rmsTolerance
-    if (const char* e = std::getenv("NSCD_CONVERGENCE"))
-        s.settings().convergence =
-            std::string(e) == "rms" ? System::Settings::Convergence::RMS : System::Settings::Convergence::Max;
-    if (const char* e = std::getenv("NSCD_RMS_TOL")) s.settings().rmsTolerance = std::atof(e);
-    // env NSCD_NEWTON_TOL, NSCD_SIGMA, NSCD_LINEAR=cg: Settings::newtonTolerance,
-    // tangentialRegularisation, newtonLinearSolver (METHOD 4, Newton)
-    if (const char* e = std::getenv("NSCD_NEWTON_TOL")) s.settings().newtonTolerance = std::atof(e);
-    if (const char* e = std::getenv("NSCD_SIGMA")) s.settings().tangentialRegularisation = std::atof(e);
-    if (const char* e = std::getenv("NSCD_LINEAR"))
-        s.settings().newtonLinearSolver = std::string(e) == "cg"
-                                              ? System::Settings::NewtonLinearSolver::ConjugateGradient
-                                              : System::Settings::NewtonLinearSolver::Cholesky;
+    setSolver(s.settings(), argc, argv);
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(0, 1);
     const double sp = 1.3 * d;
@@ -134,22 +167,7 @@ int main(int argc, char** argv)
         solveSeconds += r.solveSeconds;
         unconverged += r.converged ? 0 : 1;
         if (k % 10 != 9) continue;
-        double vmax = 0, ke = 0, p = 0, M = 0;
-        for (std::size_t i = 0; i < s.size(); ++i)
-        {
-            const double mi = rho * M_PI * s.radii()[i] * s.radii()[i], v = s.velocities()[i].norm();
-            vmax = std::max(vmax, v);
-            ke += 0.5 * mi * v * v;
-            p += mi * s.velocities()[i].y();
-            M += mi;
-        }
-        double lift = 0;
-        for (const auto& c : s.contacts())
-            if (c.j < 0) lift += c.impulse.y();
-        std::printf("step %d t %.3f vmax %.2e KE %.3e vycm %.2e lift/W %.4f contacts %d sweeps %d sub %d "
-                    "res %.2e ov %.2e\n",
-                    k + 1, (k + 1) * dt, vmax, ke, p / M, lift / dt / weight, r.contacts, r.sweeps,
-                    r.substeps, r.residual, r.maxOverlap);
+        printColumn(s, k, r, dt, rho, weight);
     }
     std::printf(
         "total sweeps %ld steps %d unconverged %ld beta %g compliance %g method %d linear %ld solve_s %.3f "

@@ -541,6 +541,9 @@ std::vector<double> System::grainRadiiHDF5(const std::string& file)
     return r.d("radii", 0);
 }
 
+// Memory of a partial read: the part, plus the radii and one chunk of 65,536
+// rows while the grains are picked, and one int per grain of the file while
+// the contacts are.
 System System::readHDF5(const std::string& file, const std::function<bool(const Vec3&, double)>& keep,
                         const std::function<void(System&)>& declare)
 {

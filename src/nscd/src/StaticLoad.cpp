@@ -104,39 +104,36 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b)
     }
     return x;
 }
-} // namespace
 
-StaticLoad staticLoad(const System& sys, const std::vector<System::ContactView>& touching, double dt,
-                      const std::vector<int>& order, double mu)
+/// The input checks of staticLoad (InputError).
+void checkInput(const System& sys, const std::vector<System::ContactView>& touching, double dt, double mu)
 {
     if (!(dt > 0) || !std::isfinite(dt))
         throw InputError("nscd::staticLoad: dt must be > 0 and finite, got " + std::to_string(dt));
     if (!(mu >= 0) || !std::isfinite(mu))
         throw InputError("nscd::staticLoad: friction mu must be >= 0 and finite, got " + std::to_string(mu));
-    const Vec3 g = sys.gravity();
-    const double gn = g.norm();
-    if (!(gn > 0)) throw InputError("nscd::staticLoad: gravity is zero: no weight to carry");
+    if (!(sys.gravity().norm() > 0))
+        throw InputError("nscd::staticLoad: gravity is zero: no weight to carry");
     const int N = int(sys.size());
     const int NW = sys.nWalls();
     for (const System::ContactView& c : touching)
         if (c.i < 0 || c.i >= N || c.j >= N || (c.j < 0 && -c.j - 1 >= NW) || c.i == c.j)
             throw InputError("nscd::staticLoad: contact (" + std::to_string(c.i) + ", " + std::to_string(c.j)
                              + ") names an unknown grain or wall");
+}
 
-    // the contacts of each grain
-    std::vector<std::vector<int>> of(N);
-    for (int k = 0; k < int(touching.size()); ++k)
-    {
-        of[touching[k].i].push_back(k);
-        if (touching[k].j >= 0) of[touching[k].j].push_back(k);
-    }
-    // movable grains from the top down (visit rank; fixed grains: never)
-    const Vec3 up = -g / gn;
+/// The movable grains in visit order (order, or from the top down along
+/// -g), and each grain's rank in it (fixed grains: N + 1, never visited).
+std::vector<int> visitOrder(const System& sys, const std::vector<int>& order, std::vector<long>& rank)
+{
+    const int N = int(sys.size());
+    const Vec3 g = sys.gravity();
+    const Vec3 up = -g / g.norm();
     const std::vector<Vec3>& x = sys.positions();
     std::vector<int> byHeight;
     for (int i = 0; i < N; ++i)
         if (!sys.fixed(i)) byHeight.push_back(i);
-    std::vector<long> rank(N, long(N) + 1);
+    rank.assign(N, long(N) + 1);
     if (order.empty())
     {
         std::sort(byHeight.begin(), byHeight.end(),
@@ -157,6 +154,28 @@ StaticLoad staticLoad(const System& sys, const std::vector<System::ContactView>&
         byHeight = order;
     }
     for (std::size_t r = 0; r < byHeight.size(); ++r) rank[byHeight[r]] = long(r);
+    return byHeight;
+}
+} // namespace
+
+StaticLoad staticLoad(const System& sys, const std::vector<System::ContactView>& touching, double dt,
+                      const std::vector<int>& order, double mu)
+{
+    checkInput(sys, touching, dt, mu);
+    const Vec3 g = sys.gravity();
+    const double gn = g.norm();
+    const int N = int(sys.size());
+
+    // the contacts of each grain
+    std::vector<std::vector<int>> of(N);
+    for (int k = 0; k < int(touching.size()); ++k)
+    {
+        of[touching[k].i].push_back(k);
+        if (touching[k].j >= 0) of[touching[k].j].push_back(k);
+    }
+    // movable grains from the top down (visit rank; fixed grains: never)
+    std::vector<long> rank;
+    const std::vector<int> byHeight = visitOrder(sys, order, rank);
 
     StaticLoad out;
     out.contacts = touching;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // nscd::System: construction, grain/wall/droplet state and accessors.
-// (Detection: Detect.cpp; the step in stages: Step.cpp; contact solve:
-// ContactSolver.cpp; sub-steps and views: SystemExtra.cpp.)
+// (Detection: Detect.cpp; the step in stages: Step.cpp, its solver rows
+// ContactRows.cpp, contact solve ContactSolver*.cpp, end of step
+// Integrate.cpp; sub-steps and views: SystemExtra.cpp.)
 #include "SystemImpl.H"
 
 #include <algorithm>
@@ -74,6 +75,13 @@ int System::addMaterial(const Material& m)
     return int(impl_->materials.size()) - 1;
 }
 
+// The masses and inertias follow the new density (2D: rho pi r^2 per unit
+// depth, r^2/2; 3D: rho 4/3 pi r^3, 2 r^2/5). The warm-start impulses of the
+// contacts whose movable grains are all of this material are scaled by the
+// density ratio: the contact forces of a packing at rest under gravity alone
+// are proportional to the grain masses, so a bed settled with one density
+// stays a converged warm start with another (the solution of the next step
+// does not depend on the warm start, only its number of sweeps).
 void System::setMaterial(int id, const Material& m)
 {
     if (id < 0 || id >= int(impl_->materials.size()))

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Sub-stepping (advance), detection with re-detection of grains that leave
-// their reach (detectAndSolve), checks, contact views, conductance.
+// Sub-stepping (advance), the reach check of the re-detection of grains
+// that leave their reach (raiseReaches), checks, contact views, conductance.
 #include "SystemImpl.H"
 
 #include <algorithm>
@@ -17,8 +17,6 @@ namespace
 /// Displacement bound per (sub-)step, in d_min, of a body at its free
 /// velocity (advance(): only for absurd velocities, see System.H).
 constexpr double maxTravelDiameters = 100;
-/// Re-detections of one step (System::Impl::detectAndSolve).
-constexpr int maxRedetections = 4;
 
 /// The bodies that set the sub-step of advance() over dt: the largest
 /// change of a body's velocity over dt from the forces of the step,
@@ -226,44 +224,6 @@ StepReport System::advance(double dt, double fraction)
         total.addSubStep(r);
     }
     return total;
-}
-
-int System::Impl::detectAndSolve(double dt, StepReport& rep)
-{
-    using clock = std::chrono::steady_clock;
-    const int N = int(x.size());
-    reachFloor.clear();
-    const long builds = verlet.builds;
-    int sweeps = 0;
-    long solves = 0;
-    for (int redo = 0;; ++redo)
-    {
-        const auto t0 = clock::now();
-        detect(dt);
-        const int NC0 = int(newContacts.size()); // grain-grain and grain-wall contacts
-        detectDroplets(dt);                      // then grain-droplet ones
-        const auto t1 = clock::now();
-        rep.detectSeconds += std::chrono::duration<double>(t1 - t0).count();
-        rep.verletBuilds = int(verlet.builds - builds);
-
-        prepareContacts(dt, NC0); // warm start and adjacency counts included
-        buildAdjacency();
-        if (redo > 0) rep.residualHistory.clear();
-        solveContacts(dt, rep);
-        rep.solveSeconds += std::chrono::duration<double>(clock::now() - t1).count();
-        sweeps += rep.sweeps;
-        solves += rep.localSolves;
-        if (redo == maxRedetections || !raiseReaches(dt))
-        {
-            rep.sweeps = sweeps;
-            rep.localSolves = solves;
-            return NC0;
-        }
-        ++rep.redetections;
-        // the bodies as before the solve, with the raised reaches
-        freeVelocities(dt);
-        for (int i = 0; i < N; ++i) speed[i] = std::max(speed[i], reachFloor[i]);
-    }
 }
 
 bool System::Impl::raiseReaches(double dt)
@@ -483,6 +443,10 @@ System::ContactView System::Impl::contactView(const Contact& c) const
     return v;
 }
 
+// Units: eq. 4.2 is dimensionally inconsistent (the 1/4 power gives
+// W m^-1/2 K^-1); it is evaluated literally in SI with L = 1 m and the value
+// is taken as [W/K] in 3D and [W/(m K)] per unit depth in 2D (the thesis'
+// cylinder formula is used for spheres as well).
 double System::contactConductance(const ContactView& c, double dt) const
 {
     const Impl& I = *impl_;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// nscdBench reorder: the cache effect of the grain order (issue 26 item 4).
+// nscdBench reorder: the cache effect of the grain order.
 //
 // Beds at rest of 1,000 / 10,000 / 70,000 / 200,000 discs (mirror tilings of
 // one settled 500-disc block, as tests/bench/nscdDeposit, warm-started from

@@ -5,7 +5,7 @@
 // would be), stepped without the fluid for a few steps with each method, one
 // core, thread CPU time. Tolerance and maxIterations are the run's (saved in
 // the state) unless given. Used by tests/bench/contactMethods on the moving
-// beds of the tutorials (Rayleigh-Taylor, droplet bed): issue 26 item 3.
+// beds of the tutorials (Rayleigh-Taylor, droplet bed).
 //   nscdBench state <grainState.h5> <dt [s]> <steps> <out.json> [tolerance [maxIterations]]
 #include "benchBeds.H"
 

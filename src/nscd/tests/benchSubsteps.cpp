@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Sub-steps of System::advance on the nscdDeposit beds (issue 26 item 2).
+// Sub-steps of System::advance on the nscdDeposit beds.
 //   nscdBench substeps <out.json> [quick]
 // Cases (d = 230 um beds of benchSuite.cpp, one core):
 //  - block: the 500-disc block settling from its layered lattice, advanced

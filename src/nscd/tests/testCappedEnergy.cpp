@@ -3,9 +3,10 @@
 // inject energy: for the dissipative law (inelastic Signorini, Coulomb
 // friction, static walls) the kinetic energy after the step may not exceed
 // that of the free velocities v + dt F/m (System::Impl::limitCappedEnergy,
-// src/Step.cpp). Before, a warm-started Gauss-Seidel stopped at the cap in
-// a deep frictionless column raised it 40-fold in one step
-// (docs/validation/dropletDigging.md, "Eighteenth session").
+// src/Integrate.cpp): without the limit, a warm-started Gauss-Seidel
+// stopped at the cap in a deep frictionless column raises it 40-fold in one
+// step (docs/validation/dropletDigging.md: why no deep bed of these grains
+// comes to rest at tolerance 1e-3).
 #include "nscd/System.H"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Fast grains without global sub-steps (issue 26 item 2): per-pair alert
+// Fast grains without global sub-steps: per-pair alert
 // distances, the separate broad-phase pass of fast grains, the swept normal
 // of far-moving pairs and the re-detection of grains that leave their reach.
 #include "nscd/System.H"
@@ -116,7 +116,7 @@ TEST(FastGrains, NoTunnellingThroughAWall)
 // row), no pair passes into another along a step and no overlap exceeds
 // overlapTolerance. (Stopping a grain at 60 m/s on a jammed lattice is a
 // hard problem for the Gauss-Seidel solver: the second step may stop at
-// maxIterations with ~0.2 m/s left in the lattice, issue 26 item 3.)
+// maxIterations with ~0.2 m/s left in the lattice.)
 TEST(FastGrains, NoTunnellingThroughAConfinedLayer)
 {
     for (int dim : {2, 3})

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// advance() faults (issue 27): the sub-step cap and the heartbeat.
+// advance() faults: the sub-step cap and the heartbeat.
 #include "nscd/System.H"
 
 #include <gtest/gtest.h>

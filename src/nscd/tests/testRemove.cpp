@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// System::removeGrains (issue 27 item 4: grains leaving through outlets):
+// System::removeGrains (grains leaving through outlets):
 // per-grain state, contact records and warm start after a removal, ids.
 #include "nscd/System.H"
 

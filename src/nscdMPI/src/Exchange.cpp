@@ -30,19 +30,15 @@ void DecomposedSystem::Impl::exchange()
         renumberAlongSlots();
         return;
     }
-    // 1. migration: owned grains whose centre left the region go to their
-    // owner; here they stay as ghosts (with their contacts) until the ghost
-    // refresh below keeps or drops them. The contacts the new owner will
-    // solve (the grain's walls, and its grain pairs where it has the smaller
-    // id) go with it, so that their warm start is not lost: a contact of a
-    // deep bed restarted from zero costs the solve the sweeps that carry the
-    // weight of the grains above it down again.
+    const std::vector<std::vector<ContactRecord>> contacts = migrate();
+    refreshGhosts();
+    seedMigratedContacts(contacts);
+    renumberAlongSlots();
+}
+
+std::vector<int> DecomposedSystem::Impl::migrationDestinations()
+{
     const int N0 = int(owned.size());
-    // grain records (appendRecord): their columns ColumnMigrate, then ColumnGhost
-    std::size_t bytes = recordBytes(ColumnMigrate);
-    std::vector<std::vector<char>> send(P), recv;
-    std::vector<std::vector<double>> sendD(P), recvD;
-    std::vector<std::vector<ContactRecord>> sendC(P), recvC;
     std::vector<int> dest(N0, -1);
     std::vector<int> leaving; // owner unknown here (a local owner function)
     for (int i = 0; i < N0; ++i)
@@ -63,8 +59,42 @@ void DecomposedSystem::Impl::exchange()
             dest[leaving[k]] = claimed[k];
     }
     counters.unclaimed = long(unclaimed.size());
+    return dest;
+}
+
+void DecomposedSystem::Impl::migratingContacts(const std::vector<int>& dest,
+                                               std::vector<std::vector<ContactRecord>>& sendC) const
+{
+    for (const System::ContactView& c : sys.contacts())
+    {
+        // as seen from grain a (the migrant): partner b (grain id, or a wall -(w+1))
+        for (int side = 0; side < 2; ++side)
+        {
+            const int a = side == 0 ? c.i : c.j;
+            const int b = side == 0 ? c.j : c.i;
+            if (a < 0 || dest[a] < 0) continue;
+            if (b >= 0 && !(gid[a] < gid[b])) continue; // the partner's owner keeps it
+            ContactRecord k;
+            k.grain = gid[a];
+            k.partner = b >= 0 ? gid[b] : long(b);
+            const double sgn = side == 0 ? 1.0 : -1.0;
+            put(k.n, sgn * c.normal);
+            put(k.impulse, sgn * c.impulse);
+            k.age = c.age;
+            sendC[dest[a]].push_back(k);
+        }
+    }
+}
+
+std::vector<std::vector<ContactRecord>> DecomposedSystem::Impl::migrate()
+{
+    const std::vector<int> dest = migrationDestinations();
+    const std::size_t bytes = recordBytes(ColumnMigrate);
+    std::vector<std::vector<char>> send(P), recv;
+    std::vector<std::vector<double>> sendD(P), recvD;
+    std::vector<std::vector<ContactRecord>> sendC(P), recvC;
     bool any = false;
-    for (int i = 0; i < N0; ++i)
+    for (int i = 0; i < int(dest.size()); ++i)
     {
         if (dest[i] < 0) continue;
         appendRecord(i, ColumnMigrate, send[dest[i]]);
@@ -73,47 +103,28 @@ void DecomposedSystem::Impl::exchange()
         any = true;
         ++counters.migratedOut;
     }
-    if (any)
-        for (const System::ContactView& c : sys.contacts())
-        {
-            // as seen from grain a (the migrant): partner b (grain id, or a wall -(w+1))
-            for (int side = 0; side < 2; ++side)
-            {
-                const int a = side == 0 ? c.i : c.j;
-                const int b = side == 0 ? c.j : c.i;
-                if (a < 0 || dest[a] < 0) continue;
-                if (b >= 0 && !(gid[a] < gid[b])) continue; // the partner's owner keeps it
-                ContactRecord k;
-                k.grain = gid[a];
-                k.partner = b >= 0 ? gid[b] : long(b);
-                const double sgn = side == 0 ? 1.0 : -1.0;
-                put(k.n, sgn * c.normal);
-                put(k.impulse, sgn * c.impulse);
-                k.age = c.age;
-                sendC[dest[a]].push_back(k);
-            }
-        }
+    if (any) migratingContacts(dest, sendC);
     counters.bytesSent += exchangeLists(comm, TagRecords, send, recv);
     counters.bytesSent += exchangeData(sendD, recv, bytes, recvD);
     counters.bytesSent += exchangeLists(comm, TagContacts, sendC, recvC);
-    {
-        std::unordered_map<long, int> local; // the ghosts here (a migrant may be one)
-        for (int i = 0; i < int(gid.size()); ++i)
-            if (!owned[i]) local[gid[i]] = i;
-        for (int r = 0; r < P; ++r)
-            for (std::size_t k = 0; k < recv[r].size() / bytes; ++k)
-            {
-                const char* g = recv[r].data() + k * bytes;
-                auto it = local.find(recordId(g)); // a ghost here becomes owned (keeps its contacts)
-                place(it == local.end() ? -1 : it->second, g, ColumnMigrate,
-                      recvD[r].data() + k * std::size_t(travelWidth()), true);
-            }
-    }
+    std::unordered_map<long, int> local; // the ghosts here (a migrant may be one)
+    for (int i = 0; i < int(gid.size()); ++i)
+        if (!owned[i]) local[gid[i]] = i;
+    for (int r = 0; r < P; ++r)
+        for (std::size_t k = 0; k < recv[r].size() / bytes; ++k)
+        {
+            const char* g = recv[r].data() + k * bytes;
+            auto it = local.find(recordId(g)); // a ghost here becomes owned (keeps its contacts)
+            place(it == local.end() ? -1 : it->second, g, ColumnMigrate,
+                  recvD[r].data() + k * std::size_t(travelWidth()), true);
+        }
+    return recvC;
+}
 
-    // 2. ghosts: owned grains within halo of another rank's owned box
-    const int N = int(owned.size());
+std::vector<double> DecomposedSystem::Impl::ownedBoxes() const
+{
     double box[6] = {1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
-    for (int i = 0; i < N; ++i)
+    for (int i = 0; i < int(owned.size()); ++i)
         if (owned[i])
             for (int k = 0; k < 3; ++k)
             {
@@ -128,10 +139,17 @@ void DecomposedSystem::Impl::exchange()
         }
     std::vector<double> boxes(6 * P);
     MPI_Allgather(box, 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, comm);
+    return boxes;
+}
+
+void DecomposedSystem::Impl::refreshGhosts()
+{
+    const int N = int(owned.size());
+    const std::vector<double> boxes = ownedBoxes();
+    std::vector<std::vector<char>> send(P), recv;
+    std::vector<std::vector<double>> sendD(P), recvD;
     sendTo.assign(P, {});
-    send.assign(P, {});
-    bytes = recordBytes(ColumnGhost);
-    sendD.assign(P, {});
+    const std::size_t bytes = recordBytes(ColumnGhost);
     const double h2 = halo * halo;
     for (int i = 0; i < N; ++i)
     {
@@ -172,24 +190,26 @@ void DecomposedSystem::Impl::exchange()
                 keep[i] = 1;
             ghostFrom[r].push_back(i);
         }
-    // ghosts not refreshed are dropped; the indices kept shift down
-    std::vector<char> drop2(keep.size());
+    dropStaleGhosts(keep);
+}
+
+void DecomposedSystem::Impl::dropStaleGhosts(const std::vector<char>& keep)
+{
+    std::vector<char> drop(keep.size());
     std::vector<int> newIndex(keep.size(), -1);
     int n = 0;
     for (std::size_t i = 0; i < keep.size(); ++i)
     {
-        drop2[i] = !keep[i];
-        counters.ghostsDropped += drop2[i];
+        drop[i] = !keep[i];
+        counters.ghostsDropped += drop[i];
         if (keep[i]) newIndex[i] = n++;
     }
-    removeFlagged(drop2);
+    removeFlagged(drop);
     for (auto& L : ghostFrom)
         for (int& i : L) i = newIndex[i];
     for (auto& L : sendTo)
         for (int& i : L) i = newIndex[i];
     for (int& i : unclaimed) i = newIndex[i]; // owned: kept
-    seedMigratedContacts(recvC);
-    renumberAlongSlots();
 }
 
 std::vector<int> DecomposedSystem::Impl::claimLeavers(const std::vector<int>& leaving)

@@ -78,48 +78,43 @@ std::vector<double> gather(double x, int P)
     MPI_Gather(&x, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     return all;
 }
-} // namespace
-
-int main(int argc, char** argv)
+/// System::step of the whole state: median thread CPU per step, resident
+/// memory and proportional set size while it holds the state.
+struct Undecomposed
 {
-    MPI_Init(&argc, &argv);
-    int rank = 0, P = 1;
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &P);
-    if (argc < 4)
-    {
-        if (rank == 0) std::fprintf(stderr, "usage: nscdMPIBench state.h5 steps out.json [serial]\n");
-        MPI_Finalize();
-        return 1;
-    }
-    const std::string state = argv[1];
-    const int steps = std::atoi(argv[2]);
-    const bool serial = argc > 4 && std::string(argv[4]) == "serial" && P == 1;
+    double cpu = 0, rss = 0, pss = 0;
+};
 
-    double serialCpu = 0, serialRss = 0, serialPss = 0;
-    if (serial)
+Undecomposed timeUndecomposed(const std::string& state, int steps)
+{
+    Undecomposed U;
+    System S = System::readHDF5(state);
+    const double dt = S.lastStepDt() > 0 ? S.lastStepDt() : 1e-4;
+    for (int n = 0; n < 3; ++n) S.step(dt);
+    std::vector<double> t;
+    for (int n = 0; n < steps; ++n)
     {
-        System S = System::readHDF5(state);
-        const double dt = S.lastStepDt() > 0 ? S.lastStepDt() : 1e-4;
-        for (int n = 0; n < 3; ++n) S.step(dt);
-        std::vector<double> t;
-        for (int n = 0; n < steps; ++n)
-        {
-            const double t0 = threadCpu();
-            const StepReport rep = S.step(dt);
-            t.push_back(threadCpu() - t0);
-            if (std::getenv("NSCD_VERBOSE"))
-                std::printf("undecomposed step %d: sweeps %d (relax solve %d), local solves %ld, contacts "
-                            "%d, residual %.3g, cpu %.4f s\n",
-                            n, rep.sweeps, rep.relaxSolves, rep.localSolves, rep.contacts, rep.residual,
-                            t.back());
-        }
-        serialCpu = median(t);
-        serialRss = rssMB(); // (the undecomposed system held, after its steps)
-        serialPss = rssMB("Pss:", "/proc/self/smaps_rollup");
+        const double t0 = threadCpu();
+        const StepReport rep = S.step(dt);
+        t.push_back(threadCpu() - t0);
+        if (std::getenv("NSCD_VERBOSE"))
+            std::printf("undecomposed step %d: sweeps %d (relax solve %d), local solves %ld, contacts "
+                        "%d, residual %.3g, cpu %.4f s\n",
+                        n, rep.sweeps, rep.relaxSolves, rep.localSolves, rep.contacts, rep.residual,
+                        t.back());
     }
-    malloc_trim(0);
+    U.cpu = median(t);
+    U.rss = rssMB(); // (the undecomposed system held, after its steps)
+    U.pss = rssMB("Pss:", "/proc/self/smaps_rollup");
+    return U;
+}
 
+/// The state decomposed on P x slabs of equal grain counts (this rank's
+/// slab), read whole or (NSCD_PARTREAD=1) as the slab grown by the halo;
+/// N: the grains of the state, dt: its last step's.
+std::unique_ptr<mpi::DecomposedSystem> decompose(const std::string& state, int P, int rank, std::size_t& N,
+                                                 double& dt)
+{
     const bool partRead = std::getenv("NSCD_PARTREAD") && std::string(std::getenv("NSCD_PARTREAD")) == "1";
     // the centres along x and the largest radius: from the whole state, or
     // (partRead) from a pass over the file that keeps no grain
@@ -143,7 +138,7 @@ int main(int argc, char** argv)
             rmax = std::max(rmax, whole.radii()[i]);
         }
     }
-    const std::size_t N = xs.size();
+    N = xs.size();
     std::sort(xs.begin(), xs.end());
     std::vector<double> cut(P + 1); // slab bounds at the grain-count quantiles
     cut[0] = -1e300;
@@ -156,10 +151,37 @@ int main(int argc, char** argv)
     if (partRead)
         whole = System::readHDF5(state, [&](const Vec3& x, double)
                                  { return x.x() >= cut[rank] - halo && x.x() < cut[rank + 1] + halo; });
-    const double dt = whole.lastStepDt() > 0 ? whole.lastStepDt() : 1e-4;
+    dt = whole.lastStepDt() > 0 ? whole.lastStepDt() : 1e-4;
     std::unique_ptr<mpi::DecomposedSystem> decomposed(
         partRead ? new mpi::DecomposedSystem(std::move(whole), long(N), MPI_COMM_WORLD, ownerOf, halo)
                  : new mpi::DecomposedSystem(std::move(whole), MPI_COMM_WORLD, ownerOf, halo));
+    return decomposed;
+}
+} // namespace
+
+int main(int argc, char** argv)
+{
+    MPI_Init(&argc, &argv);
+    int rank = 0, P = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &P);
+    if (argc < 4)
+    {
+        if (rank == 0) std::fprintf(stderr, "usage: nscdMPIBench state.h5 steps out.json [serial]\n");
+        MPI_Finalize();
+        return 1;
+    }
+    const std::string state = argv[1];
+    const int steps = std::atoi(argv[2]);
+    const bool serial = argc > 4 && std::string(argv[4]) == "serial" && P == 1;
+
+    Undecomposed U;
+    if (serial) U = timeUndecomposed(state, steps);
+    malloc_trim(0);
+
+    std::size_t N = 0;
+    double dt = 0;
+    std::unique_ptr<mpi::DecomposedSystem> decomposed = decompose(state, P, rank, N, dt);
     mpi::DecomposedSystem& D = *decomposed;
     malloc_trim(0);
 
@@ -209,15 +231,14 @@ int main(int argc, char** argv)
           << ",\n  \"bytes_sent_per_step\": " << list(mBytes) << ",\n  \"rss_mb\": " << list(rss)
           << ",\n  \"peak_rss_mb\": " << list(peak) << ",\n  \"pss_mb\": " << list(pss);
         if (serial)
-            o << ",\n  \"undecomposed_cpu_seconds_per_step\": " << serialCpu
-              << ",\n  \"undecomposed_rss_mb\": " << serialRss
-              << ",\n  \"undecomposed_pss_mb\": " << serialPss;
+            o << ",\n  \"undecomposed_cpu_seconds_per_step\": " << U.cpu
+              << ",\n  \"undecomposed_rss_mb\": " << U.rss << ",\n  \"undecomposed_pss_mb\": " << U.pss;
         o << "\n}\n";
         std::printf(
             "np %d: owned %s, work CPU %s s/step, collectives %s, exchange %s, averagings %s, rss %s MB\n", P,
             list(owned).c_str(), list(mWork).c_str(), list(mComm).c_str(), list(mExch).c_str(),
             list(mAvg).c_str(), list(rss).c_str());
-        if (serial) std::printf("undecomposed System::step: %.4f CPU s/step\n", serialCpu);
+        if (serial) std::printf("undecomposed System::step: %.4f CPU s/step\n", U.cpu);
     }
     MPI_Finalize();
     return 0;
