@@ -171,6 +171,21 @@ def difelice_gamma(eps, Re, d, mu, two_d=True):
     return g * correlations.DISC_PER_UNIT_DEPTH if two_d else g
 
 
+def water_droplet_case(case, env, dt, n, grains, fixed_grains=False, rho_l=RHO_W, **kw):
+    """droplet_case of a liquid droplet (rho_l, default water) at the walls'
+    temperature (T_w = T_D), no blowing, 8 cells per D, with grains (free
+    unless fixed_grains), n steps of dt; kw: droplet_case's other keywords."""
+    kw.update(blowing=False, rho_l=rho_l, T_w=T_D, grains=grains, fixed_grains=fixed_grains)
+    droplet_case(case, env, 8, end_time=dt * n, dt=dt, **kw)
+
+
+def blowing_droplet_case(case, env, n_per_d, dt, n, rho_l=1000.0, **kw):
+    """droplet_case of an evaporating (blowing) droplet in the box with the
+    open top (outlet), n steps of dt; kw: droplet_case's other keywords."""
+    kw.update(blowing=True, rho_l=rho_l, outlet=True)
+    droplet_case(case, env, n_per_d, end_time=dt * n, dt=dt, **kw)
+
+
 def held_suspension_case(case, env, r_frac, n, write_every, nu_gas, dg=5e-5):
     """A HELD droplet (D, water, gravity on, no heat) of diameter D at
     (2D, 2D) whose inner disc r < r_frac R is filled with a square lattice of
@@ -186,17 +201,12 @@ def held_suspension_case(case, env, r_frac, n, write_every, nu_gas, dg=5e-5):
         if math.hypot(i * a, j * a) < r_frac * R0
     ]
     dt = 5e-4
-    droplet_case(
+    water_droplet_case(
         case,
         env,
-        8,
-        end_time=dt * n,
-        dt=dt,
-        blowing=False,
-        rho_l=RHO_W,
-        T_w=T_D,
+        dt,
+        n,
         grains=grains,
-        fixed_grains=False,
         write_interval=dt * write_every,
         gravity=9.81,
         nu=nu_gas,

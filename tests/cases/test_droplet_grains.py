@@ -22,6 +22,7 @@ from dropletcase import (
     droplet_case,
     held_suspension_case,
     read_droplet,
+    water_droplet_case,
 )
 from foamcase import run
 
@@ -180,17 +181,12 @@ def test_grain_relaxes_in_held_droplet(tmp_path, env, porosity):
     R0, c, dg, G = D / 2, 2 * D, 1e-4, 9.81
     dt, n = 5e-4, 24
     case = str(tmp_path / "relax")
-    droplet_case(
+    water_droplet_case(
         case,
         env,
-        8,
-        end_time=dt * n,
-        dt=dt,
-        blowing=False,
-        rho_l=RHO_W,
-        T_w=T_D,
+        dt,
+        n,
         grains=[(c, c, DEPTH / 2, dg)],
-        fixed_grains=False,
         write_interval=dt * n / 6,
         nu=1e-9,
         gravity=G,
@@ -249,17 +245,12 @@ def test_grain_droplet_momentum_exchange(tmp_path, env):
     ]
     dt, n = 5e-4, 6
     case = str(tmp_path / "momentum")
-    droplet_case(
+    water_droplet_case(
         case,
         env,
-        8,
-        end_time=dt * n,
-        dt=dt,
-        blowing=False,
-        rho_l=RHO_W,
-        T_w=T_D,
+        dt,
+        n,
         grains=grains,
-        fixed_grains=False,
         write_interval=dt,
         gravity=G,
         extra="velocity (0.05 -0.02 0);\n",
@@ -325,17 +316,12 @@ def test_supported_grain_gets_full_drag(tmp_path, env):
     y_fix = y_free - (dg + df) / 2 * 1.0001
     dt, n = 1e-3, 30
     case = str(tmp_path / "support")
-    droplet_case(
+    water_droplet_case(
         case,
         env,
-        8,
-        end_time=dt * n,
-        dt=dt,
-        blowing=False,
-        rho_l=RHO_W,
-        T_w=T_D,
+        dt,
+        n,
         grains=[(c, y_free, DEPTH / 2, dg)],
-        fixed_grains=False,
         gravity=G,
         nu=1e-9,
         extra=f"velocity (0 {-u} 0);\nliquidViscosity {MU_W};\n",

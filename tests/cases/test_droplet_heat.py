@@ -49,8 +49,10 @@ from dropletcase import (
     T_W,
     D,
     W,
+    blowing_droplet_case,
     droplet_case,
     read_droplet,
+    water_droplet_case,
 )
 from foamcase import heat_log, run
 
@@ -138,17 +140,7 @@ def test_energy_and_vapour_budget(tmp_path, env, release):
     (where the vapour leaves the surface must not change any budget)."""
     case = str(tmp_path / "budget")
     dt, n_steps = 0.01, 20
-    droplet_case(
-        case,
-        env,
-        8,
-        end_time=dt * n_steps,
-        dt=dt,
-        blowing=True,
-        rho_l=1000.0,
-        outlet=True,
-        extra=f"vapourRelease {release};\n",
-    )
+    blowing_droplet_case(case, env, 8, dt, n_steps, extra=f"vapourRelease {release};\n")
     log = run("vansFoam", case, env).stdout
     d = read_droplet(case)
     bud, E, cont = budget_lines(log)
@@ -213,9 +205,7 @@ def test_bounded_vapour_fraction_with_blowing_droplet(tmp_path, env):
     vapour is there)."""
     case = str(tmp_path / "bounded")
     dt, n_steps = 0.01, 20
-    droplet_case(
-        case, env, 8, end_time=dt * n_steps, dt=dt, blowing=True, rho_l=1000.0, outlet=True
-    )
+    blowing_droplet_case(case, env, 8, dt, n_steps)
     tp = os.path.join(case, "constant", "transportProperties")
     txt = open(tp).read()
     assert "vapour { D 2.5e-5;" in txt
@@ -264,15 +254,13 @@ def test_vapour_released_where_heat_enters(tmp_path, env, release):
     case = str(tmp_path / release)
     w = 4 * D
     centre = (w / 2, 0.7 * D)
-    droplet_case(
+    blowing_droplet_case(
         case,
         env,
         n_per_d,
-        end_time=dt * n_steps,
-        dt=dt,
-        blowing=True,
+        dt,
+        n_steps,
         rho_l=1e6,
-        outlet=True,
         centre=centre,
         write_interval=dt,
         extra=f"vapourRelease {release};\n",
@@ -323,17 +311,8 @@ def test_grain_heat_to_droplet(tmp_path, env):
     case = str(tmp_path / "hotgrains")
     T0 = T_D + 200
     dt, n_steps = 0.01, 10
-    droplet_case(
-        case,
-        env,
-        8,
-        end_time=dt * n_steps,
-        dt=dt,
-        blowing=False,
-        rho_l=1000.0,
-        T_w=T_D,
-        grains=grains,
-        T_grains=T0,
+    water_droplet_case(
+        case, env, dt, n_steps, rho_l=1000.0, grains=grains, fixed_grains=True, T_grains=T0
     )
     log = run("vansFoam", case, env).stdout
     d = read_droplet(case)
@@ -401,18 +380,14 @@ def test_leidenfrost_film_heat(tmp_path, env):
     case = str(tmp_path / "film")
     T0 = T_D + 300
     dt, n_steps = 1e-3, 20
-    droplet_case(
+    water_droplet_case(
         case,
         env,
-        8,
-        end_time=dt * n_steps,
-        dt=dt,
-        blowing=False,
+        dt,
+        n_steps,
         rho_l=1000.0,
-        T_w=T_D,
         grains=[(c, c + R0 + r, DEPTH / 2, 2 * r)],
         T_grains=T0,
-        fixed_grains=False,
         gravity=9.81,
         write_interval=10 * dt,
         extra="surfaceTension 0.05891;\nfilmConduction yes;\n",

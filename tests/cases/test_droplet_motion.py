@@ -20,6 +20,7 @@ from dropletcase import (
     difelice_gamma,
     droplet_case,
     read_droplet,
+    water_droplet_case,
 )
 from foamcase import run
 
@@ -114,15 +115,11 @@ def seepage_run(tmp_path, env, dg):
     ]
     dt, n = 5e-4, 16
     case = str(tmp_path / f"seep{dg:g}")
-    droplet_case(
+    water_droplet_case(
         case,
         env,
-        8,
-        end_time=dt * n,
-        dt=dt,
-        blowing=False,
-        rho_l=RHO_W,
-        T_w=T_D,
+        dt,
+        n,
         grains=grains,
         fixed_grains=True,
         gravity=G,
@@ -227,19 +224,14 @@ def test_droplet_lands_on_wall(tmp_path, env, with_grain):
     case = str(tmp_path / "land")
     dg = 4e-4
     grains = [(W / 2, gap0 + dg / 2, DEPTH / 2, dg)] if with_grain else ()
-    droplet_case(
+    water_droplet_case(
         case,
         env,
-        8,
-        end_time=dt * n,
-        dt=dt,
-        blowing=False,
-        rho_l=RHO_W,
-        T_w=T_D,
+        dt,
+        n,
         gravity=G,
         extra=f"liquidViscosity {MU_W};\n",
         grains=grains,
-        fixed_grains=False,
         moving=True,
         centre=(W / 2, R0 + gap0),
     )
@@ -314,17 +306,12 @@ def test_free_droplet_is_weightless_inside(tmp_path, env):
     ]
     dt, n = 5e-4, 20
     case = str(tmp_path / "weightless")
-    droplet_case(
+    water_droplet_case(
         case,
         env,
-        8,
-        end_time=dt * n,
-        dt=dt,
-        blowing=False,
-        rho_l=RHO_W,
-        T_w=T_D,
+        dt,
+        n,
         grains=grains,
-        fixed_grains=False,
         write_interval=dt * n / 4,
         gravity=G,
         rho_f=rho_f,

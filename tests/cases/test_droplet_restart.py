@@ -10,7 +10,7 @@ import re
 import nscdpost
 import numpy as np
 import pytest
-from dropletcase import D, W, droplet_case, held_suspension_case, read_droplet
+from dropletcase import D, W, blowing_droplet_case, held_suspension_case, read_droplet
 from foamcase import run
 
 pytestmark = pytest.mark.fast
@@ -29,15 +29,12 @@ def test_restart_continues_exactly(tmp_path, env, release):
 
     dt = 0.01
     case = str(tmp_path / "full")
-    droplet_case(
+    blowing_droplet_case(
         case,
         env,
         6,
-        end_time=10 * dt,
-        dt=dt,
-        blowing=True,
-        rho_l=1000.0,
-        outlet=True,
+        dt,
+        10,
         extra=f"velocity (0.004 -0.01 0);\nvapourRelease {release};\n",
         moving=True,
     )
@@ -150,17 +147,8 @@ def test_parallel_matches_serial(tmp_path, env, release):
     dt, n_steps = 0.01, 5
     case = str(tmp_path / "serial")
     centre = None if release == "uniform" else (2 * D, 0.8 * D)
-    droplet_case(
-        case,
-        env,
-        6,
-        end_time=dt * n_steps,
-        dt=dt,
-        blowing=True,
-        rho_l=1000.0,
-        outlet=True,
-        centre=centre,
-        extra=f"vapourRelease {release};\n",
+    blowing_droplet_case(
+        case, env, 6, dt, n_steps, centre=centre, extra=f"vapourRelease {release};\n"
     )
     par = str(tmp_path / "par")
     shutil.copytree(case, par)
