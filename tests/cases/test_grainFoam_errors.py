@@ -4,30 +4,15 @@
 import os
 
 import pytest
-from foamcase import fails_with, make_box_case, run
+from faultcase import box
+from foamcase import fails_with, run
 
 pytestmark = pytest.mark.fast
 
-G = 9.81
-MAT = {"glass": {"density": 2500, "friction": 0.4}}
-
 
 def base(tmp_path, name, grains, **kw):
-    case = str(tmp_path / name)
-    make_box_case(
-        case,
-        (0, 0, 0),
-        (0.1, 0.1, 0.01),
-        (4, 4, 1),
-        (0, -G, 0),
-        MAT,
-        grains=grains,
-        end_time=0.01,
-        dt=1e-3,
-        write_interval=0.01,
-        **kw,
-    )
-    return case
+    """faultcase.box ending at t = 0.01 (one write)."""
+    return box(tmp_path, name, grains, end=0.01, **kw)
 
 
 def replace_in(case, rel, old, new):
