@@ -503,3 +503,14 @@ def heat_log(log):
         "budget": np.array(bud, dtype=float).reshape(-1, 6),
         "patches": patches,
     }
+
+
+def heat_cell_case(case, grains, rhop, depth, end_time):
+    """make_box_case of the grain heat tests' 2D cell: 0.04 x 0.06 m, depth,
+    9 x 13 cells, gravity -9.81 y, the grains of density rhop (friction 0.3),
+    dt = 1e-3 s, written once at end_time."""
+    material = {"grains": {"density": rhop, "friction": 0.3}}
+    box = ((0, 0, 0), (0.04, 0.06, depth), (9, 13, 1), (0, -9.81, 0))
+    make_box_case(
+        case, *box, material, grains=grains, end_time=end_time, dt=1e-3, write_interval=end_time
+    )

@@ -35,6 +35,7 @@ import pytest
 from foamcase import (
     add_fluid,
     add_scalar_transport,
+    heat_cell_case,
     heat_log,
     make_box_case,
     read_internal,
@@ -167,18 +168,7 @@ def closed_box_case(case, env, end_time=0.05, top=0.055):
         for j in range(2)
         for i in range(8)
     ]
-    make_box_case(
-        case,
-        (0, 0, 0),
-        (0.04, 0.06, depth),
-        (9, 13, 1),
-        (0, -9.81, 0),
-        {"grains": {"density": rhop, "friction": 0.3}},
-        grains=grains,
-        end_time=end_time,
-        dt=1e-3,
-        write_interval=end_time,
-    )
+    heat_cell_case(case, grains, rhop, depth, end_time)
     set_materials(
         case,
         f"grains {{ density {rhop}; friction 0.3; conductivity 1; heatCapacity {cp}; }}",

@@ -45,7 +45,16 @@ import re
 import shutil
 
 import pytest
-from foamcase import add_fluid, heat_log, make_box_case, read_internal, run, run_parallel, write
+from foamcase import (
+    add_fluid,
+    heat_cell_case,
+    heat_log,
+    make_box_case,
+    read_internal,
+    run,
+    run_parallel,
+    write,
+)
 from test_vansFoam_heat import add_heat, heat_lines, set_materials
 
 pytestmark = pytest.mark.fast
@@ -437,18 +446,7 @@ def budget_box(case, env, end=0.05):
         for j in range(2)
         for i in range(8)
     ]
-    make_box_case(
-        case,
-        (0, 0, 0),
-        (0.04, 0.06, depth),
-        (9, 13, 1),
-        (0, -9.81, 0),
-        {"grains": {"density": rhop, "friction": 0.3}},
-        grains=grains,
-        end_time=end,
-        dt=1e-3,
-        write_interval=end,
-    )
+    heat_cell_case(case, grains, rhop, depth, end)
     set_materials(
         case,
         f"grains {{ density {rhop}; friction 0.3; conductivity 1; heatCapacity {cp};"
