@@ -102,7 +102,7 @@ nscd::System Foam::grainCloud::readStateFile
     try
     {
         checkStateFileExists(statePath);
-        return nscd::System::readHDF5(statePath, keep);
+        return nscd::System::readHDF5(statePath, keep, declareColumns_);
     }
     catch (const nscd::InputError& err)
     {

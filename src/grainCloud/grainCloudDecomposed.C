@@ -369,55 +369,6 @@ void Foam::grainCloud::sumOverCopies
 
 
 template<class Type>
-Foam::List<Type> Foam::grainCloud::gatherInStateOrder
-(
-    const UList<Type>& list
-) const
-{
-    if (!decomposed_)
-    {
-        return List<Type>(list);
-    }
-    // (id, value) of the owned grains, gathered and sorted by id
-    List<List<Tuple2<label, Type>>> perRank(Pstream::nProcs());
-    DynamicList<Tuple2<label, Type>> mine;
-    forAll(list, i)
-    {
-        if (owned(i))
-        {
-            mine.append
-            (
-                Tuple2<label, Type>(label(system_->grainIds()[i]), list[i])
-            );
-        }
-    }
-    perRank[Pstream::myProcNo()].transfer(mine);
-    Pstream::gatherList(perRank);
-    List<Type> out;
-    if (Pstream::master())
-    {
-        List<Tuple2<label, Type>> all;
-        for (const auto& l : perRank)
-        {
-            all.append(l);
-        }
-        std::sort
-        (
-            all.begin(), all.end(),
-            [](const Tuple2<label, Type>& a, const Tuple2<label, Type>& b)
-            { return a.first() < b.first(); }
-        );
-        out.setSize(all.size());
-        forAll(all, k)
-        {
-            out[k] = all[k].second();
-        }
-    }
-    return out;
-}
-
-
-template<class Type>
 bool Foam::grainCloud::fromStartOrder
 (
     const UList<Type>& whole,
@@ -454,11 +405,7 @@ bool Foam::grainCloud::fromStartOrder
 }
 
 
-// the per-grain list types of the coupling's restart state
-template Foam::List<Foam::scalar>
-Foam::grainCloud::gatherInStateOrder(const UList<scalar>&) const;
-template Foam::List<Foam::vector>
-Foam::grainCloud::gatherInStateOrder(const UList<vector>&) const;
+// the per-grain list types of the coupling's old restart lists
 template bool
 Foam::grainCloud::fromStartOrder(const UList<scalar>&, List<scalar>&) const;
 template bool

@@ -24,6 +24,8 @@ Description
     Wall contacts are left out (the state holds no point of the wall).
     nscd's reader ignores these datasets.
 
+    Also startStateHas: whether the start state holds a dataset.
+
     The .xmf lives in the case directory, not beside each grainState.h5:
     a file without a FoamFile header in a time directory makes foamToVTK,
     decomposePar and reconstructPar warn, and XML cannot carry that header.
@@ -435,6 +437,18 @@ void Foam::grainCloud::writeXdmf(const fileName& statePath) const
                 << " the run continues" << endl;
         }
     }
+}
+
+
+bool Foam::grainCloud::startStateHas(const word& dataset) const
+{
+    if (startStatePath_.empty())
+    {
+        return false;
+    }
+    h5Handle h;
+    h.id = H5Fopen(startStatePath_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    return h.id >= 0 && H5Lexists(h.id, dataset.c_str(), H5P_DEFAULT) > 0;
 }
 
 // ************************************************************************* //

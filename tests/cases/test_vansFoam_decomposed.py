@@ -16,7 +16,7 @@ References, independent of the decomposition:
     boundary is counted once, its parts on each rank);
   - no grain lost or duplicated: the reconstructed cloud holds every id once;
   - restart: a run stopped on 2 ranks continues on 4 from the gathered
-    state and the coupling's per-grain restart lists written whole.
+    state, with the coupling's per-grain restart columns.
 """
 
 import math
@@ -24,6 +24,7 @@ import os
 import re
 import shutil
 
+import h5py
 import nscdpost
 import numpy as np
 import pytest
@@ -102,16 +103,18 @@ def test_sedimentation_matches_serial(runs, n):
 
 @pytest.mark.mpi
 def test_restart_on_4_ranks_continues_a_2_rank_run(runs, env, tmp_path):
-    """The 2-rank run's state at 0.1 s (grainState.h5 and the coupling's
-    restart lists, written whole into the case), reconstructed and
+    """The 2-rank run's state at 0.1 s (grainState.h5 with the coupling's
+    restart columns, written whole into the case), reconstructed and
     decomposed again over 4 ranks, continues to 0.15 s as the uninterrupted
     2-rank run does: every grain within 1e-4 d (measured 2026-11-24:
     1.3e-6 d; 2.1e-3 d when the restart lists are removed, so they are read
     and placed on the right grains)."""
     restart = str(tmp_path / "restart")
     shutil.copytree(runs[2], restart, ignore=shutil.ignore_patterns("processor*", "0.15"))
-    for name in ("grainContactImpulse", "grainDragImpulseDefect", "grainHeldFraction"):
-        assert os.path.isfile(os.path.join(restart, "0.1", "uniform", name)), name
+    with h5py.File(os.path.join(restart, "0.1", "grainState.h5"), "r") as f:
+        for name in ("grainContactImpulse", "grainDragImpulseDefect", "grainHeldFraction"):
+            assert f[name].shape[0] == N_GRAINS, name
+            assert not os.path.exists(os.path.join(restart, "0.1", "uniform", name)), name
     shutil.rmtree(os.path.join(restart, "0.05"))
     p = run_parallel("vansFoam", restart, env, n=4, split=(2, 2, 1))
     assert "grains decomposed over 4 ranks" in p.stdout
