@@ -8,8 +8,8 @@ Description
     plane and the mesh mid-plane, the start-state check and evolve(), one
     NSCD step.  Settings, walls, thermal walls, output, outlets and run
     checks are in grainCloudSettings.C, grainCloudWalls.C,
-    grainCloudThermalWalls.C, grainCloudIO.C, grainCloudOutlets.C and
-    grainCloudChecks.C.
+    grainCloudThermalWalls.C, grainCloudIO.C, grainCloudOutlets.C,
+    grainCloudChecks.C and grainCloudLeaving.C.
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"

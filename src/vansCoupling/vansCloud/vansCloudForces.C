@@ -19,21 +19,21 @@ Description
 
 // * * * * * * * * * * * * * * * Static Data  * * * * * * * * * * * * * * * //
 
-const Foam::word Foam::vansCloud::columns::heldFraction("grainHeldFraction");
+const Foam::word Foam::vansCloudColumns::heldFraction("grainHeldFraction");
 const Foam::word
-    Foam::vansCloud::columns::contactImpulse("grainContactImpulse");
+    Foam::vansCloudColumns::contactImpulse("grainContactImpulse");
 const Foam::word
-    Foam::vansCloud::columns::fluidDragGiven("vansFluidDragGiven");
+    Foam::vansCloudColumns::fluidDragGiven("vansFluidDragGiven");
 const Foam::word
-    Foam::vansCloud::columns::dragImpulseDefect("grainDragImpulseDefect");
+    Foam::vansCloudColumns::dragImpulseDefect("grainDragImpulseDefect");
 const Foam::word
-    Foam::vansCloud::columns::explicitFluidForce("vansExplicitFluidForce");
-const Foam::word Foam::vansCloud::columns::fluidForce("vansFluidForce");
-const Foam::word Foam::vansCloud::columns::fluidVelocity("vansFluidVelocity");
-const Foam::word Foam::vansCloud::columns::fluidTorque("vansFluidTorque");
-const Foam::word Foam::vansCloud::columns::grainReynolds("vansGrainReynolds");
+    Foam::vansCloudColumns::explicitFluidForce("vansExplicitFluidForce");
+const Foam::word Foam::vansCloudColumns::fluidForce("vansFluidForce");
+const Foam::word Foam::vansCloudColumns::fluidVelocity("vansFluidVelocity");
+const Foam::word Foam::vansCloudColumns::fluidTorque("vansFluidTorque");
+const Foam::word Foam::vansCloudColumns::grainReynolds("vansGrainReynolds");
 const Foam::word
-    Foam::vansCloud::columns::stepStartVelocity("vansStepStartVelocity");
+    Foam::vansCloudColumns::stepStartVelocity("vansStepStartVelocity");
 
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
