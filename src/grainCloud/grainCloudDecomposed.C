@@ -36,6 +36,69 @@ Description
 #include <algorithm>
 #include <unordered_map>
 
+// * * * * * * * * * * * * * * * Local Functions * * * * * * * * * * * * * * //
+
+namespace
+{
+    //- Whether a parallel run keeps every grain on every rank (logged:
+    //  why) for mode (grainDecomposition), notDecomposable (the solver's
+    //  reasons) and outlets (outletPatches); FatalIOError if
+    //  grainDecomposition decomposed was asked for explicitly, FatalError
+    //  if the state was already read in parts (partRead)
+    bool replicatedBecause
+    (
+        const Foam::dictionary& dict,
+        const Foam::word& mode,
+        const Foam::string& notDecomposable,
+        const bool outlets,
+        const bool partRead
+    )
+    {
+        using namespace Foam;
+        // what the decomposed system does not follow yet
+        DynamicList<string> why;
+        if (!notDecomposable.empty())
+        {
+            why.append(notDecomposable);
+        }
+        if (outlets)
+        {
+            why.append("outletPatches");
+        }
+        if (why.size() || mode == "replicated")
+        {
+            if (partRead)
+            {
+                FatalErrorInFunction
+                    << "The grain state was read in parts for a decomposed"
+                    << " run, but the grains are replicated (partStart and"
+                    << " selectDecomposition disagree): report this."
+                    << exit(FatalError);
+            }
+            OStringStream os;
+            forAll(why, k)
+            {
+                os << (k ? "; " : "") << why[k].c_str();
+            }
+            if (dict.found("grainDecomposition"))
+            {
+                FatalIOErrorInFunction(dict)
+                    << "grainDecomposition decomposed: not available with "
+                    << os.str().c_str() << "." << nl
+                    << "    Fix: use grainDecomposition replicated (every rank"
+                    << " holds every grain), or remove the keyword."
+                    << exit(FatalIOError);
+            }
+            Info<< "grainCloud: every rank holds every grain"
+                << " (grainDecomposition replicated: " << os.str().c_str()
+                << ")" << endl;
+            return true;
+        }
+        return false;
+    }
+}
+
+
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
 
 bool Foam::grainCloud::partStart(const string& notDecomposable) const
@@ -112,42 +175,14 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
     {
         return;
     }
-    // what the decomposed system does not follow yet
-    DynamicList<string> why;
-    if (!notDecomposable.empty())
+    if
+    (
+        replicatedBecause
+        (
+            dict_, mode, notDecomposable, outletPatches_.size() > 0, partRead
+        )
+    )
     {
-        why.append(notDecomposable);
-    }
-    if (outletPatches_.size())
-    {
-        why.append("outletPatches");
-    }
-    if (why.size() || mode == "replicated")
-    {
-        if (partRead)
-        {
-            FatalErrorInFunction
-                << "The grain state was read in parts for a decomposed run,"
-                << " but the grains are replicated (partStart and"
-                << " selectDecomposition disagree): report this."
-                << exit(FatalError);
-        }
-        OStringStream os;
-        forAll(why, k)
-        {
-            os << (k ? "; " : "") << why[k].c_str();
-        }
-        if (dict_.found("grainDecomposition"))
-        {
-            FatalIOErrorInFunction(dict_)
-                << "grainDecomposition decomposed: not available with "
-                << os.str().c_str() << "." << nl
-                << "    Fix: use grainDecomposition replicated (every rank"
-                << " holds every grain), or remove the keyword."
-                << exit(FatalIOError);
-        }
-        Info<< "grainCloud: every rank holds every grain (grainDecomposition"
-            << " replicated: " << os.str().c_str() << ")" << endl;
         return;
     }
 
