@@ -8,8 +8,8 @@ Description
     plane and the mesh mid-plane, the start-state check and evolve(), one
     NSCD step.  Settings, walls, thermal walls, output, outlets and run
     checks are in grainCloudSettings.C, grainCloudWalls.C,
-    grainCloudThermalWalls.C, grainCloudIO.C, grainCloudOutlets.C and
-    grainCloudChecks.C.
+    grainCloudThermalWalls.C, grainCloudIO.C, grainCloudOutlets.C,
+    grainCloudChecks.C and grainCloudLeaving.C.
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
@@ -67,6 +67,7 @@ Foam::fileName Foam::grainCloud::createSystem
                 whole_.reset(new nscd::System(readStateFile(statePath)));
             }
             system_ = whole_.get();
+            startStatePath_ = statePath;
             if (system_->dimension() != dimension_)
             {
                 FatalErrorInFunction
@@ -80,6 +81,10 @@ Foam::fileName Foam::grainCloud::createSystem
         {
             whole_.reset(new nscd::System(dimension_));
             system_ = whole_.get();
+            if (declareColumns_)
+            {
+                declareColumns_(*system_);
+            }
             for (const nscd::Material& m : dictionaryMaterials())
             {
                 system_->addMaterial(m);
@@ -136,7 +141,8 @@ Foam::grainCloud::grainCloud
 (
     const fvMesh& mesh,
     bool readState,
-    const string& notDecomposable
+    const string& notDecomposable,
+    const std::function<void(nscd::System&)>& declareColumns
 )
 :
     mesh_(mesh),
@@ -154,7 +160,8 @@ Foam::grainCloud::grainCloud
     dimension_(mesh.nSolutionD()),
     zMid_(0.5*(mesh.bounds().min().z() + mesh.bounds().max().z())),
     depth_(mesh.bounds().max().z() - mesh.bounds().min().z()),
-    maxDisplacementFraction_(0.1)
+    maxDisplacementFraction_(0.1),
+    declareColumns_(declareColumns)
 {
     if (dimension_ == 2 && mesh.solutionD()[vector::Z] != -1)
     {

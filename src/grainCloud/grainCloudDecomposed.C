@@ -36,6 +36,69 @@ Description
 #include <algorithm>
 #include <unordered_map>
 
+// * * * * * * * * * * * * * * * Local Functions * * * * * * * * * * * * * * //
+
+namespace
+{
+    //- Whether a parallel run keeps every grain on every rank (logged:
+    //  why) for mode (grainDecomposition), notDecomposable (the solver's
+    //  reasons) and outlets (outletPatches); FatalIOError if
+    //  grainDecomposition decomposed was asked for explicitly, FatalError
+    //  if the state was already read in parts (partRead)
+    bool replicatedBecause
+    (
+        const Foam::dictionary& dict,
+        const Foam::word& mode,
+        const Foam::string& notDecomposable,
+        const bool outlets,
+        const bool partRead
+    )
+    {
+        using namespace Foam;
+        // what the decomposed system does not follow yet
+        DynamicList<string> why;
+        if (!notDecomposable.empty())
+        {
+            why.append(notDecomposable);
+        }
+        if (outlets)
+        {
+            why.append("outletPatches");
+        }
+        if (why.size() || mode == "replicated")
+        {
+            if (partRead)
+            {
+                FatalErrorInFunction
+                    << "The grain state was read in parts for a decomposed"
+                    << " run, but the grains are replicated (partStart and"
+                    << " selectDecomposition disagree): report this."
+                    << exit(FatalError);
+            }
+            OStringStream os;
+            forAll(why, k)
+            {
+                os << (k ? "; " : "") << why[k].c_str();
+            }
+            if (dict.found("grainDecomposition"))
+            {
+                FatalIOErrorInFunction(dict)
+                    << "grainDecomposition decomposed: not available with "
+                    << os.str().c_str() << "." << nl
+                    << "    Fix: use grainDecomposition replicated (every rank"
+                    << " holds every grain), or remove the keyword."
+                    << exit(FatalIOError);
+            }
+            Info<< "grainCloud: every rank holds every grain"
+                << " (grainDecomposition replicated: " << os.str().c_str()
+                << ")" << endl;
+            return true;
+        }
+        return false;
+    }
+}
+
+
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
 
 bool Foam::grainCloud::partStart(const string& notDecomposable) const
@@ -112,42 +175,14 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
     {
         return;
     }
-    // what the decomposed system does not follow yet
-    DynamicList<string> why;
-    if (!notDecomposable.empty())
+    if
+    (
+        replicatedBecause
+        (
+            dict_, mode, notDecomposable, outletPatches_.size() > 0, partRead
+        )
+    )
     {
-        why.append(notDecomposable);
-    }
-    if (outletPatches_.size())
-    {
-        why.append("outletPatches");
-    }
-    if (why.size() || mode == "replicated")
-    {
-        if (partRead)
-        {
-            FatalErrorInFunction
-                << "The grain state was read in parts for a decomposed run,"
-                << " but the grains are replicated (partStart and"
-                << " selectDecomposition disagree): report this."
-                << exit(FatalError);
-        }
-        OStringStream os;
-        forAll(why, k)
-        {
-            os << (k ? "; " : "") << why[k].c_str();
-        }
-        if (dict_.found("grainDecomposition"))
-        {
-            FatalIOErrorInFunction(dict_)
-                << "grainDecomposition decomposed: not available with "
-                << os.str().c_str() << "." << nl
-                << "    Fix: use grainDecomposition replicated (every rank"
-                << " holds every grain), or remove the keyword."
-                << exit(FatalIOError);
-        }
-        Info<< "grainCloud: every rank holds every grain (grainDecomposition"
-            << " replicated: " << os.str().c_str() << ")" << endl;
         return;
     }
 
@@ -369,55 +404,6 @@ void Foam::grainCloud::sumOverCopies
 
 
 template<class Type>
-Foam::List<Type> Foam::grainCloud::gatherInStateOrder
-(
-    const UList<Type>& list
-) const
-{
-    if (!decomposed_)
-    {
-        return List<Type>(list);
-    }
-    // (id, value) of the owned grains, gathered and sorted by id
-    List<List<Tuple2<label, Type>>> perRank(Pstream::nProcs());
-    DynamicList<Tuple2<label, Type>> mine;
-    forAll(list, i)
-    {
-        if (owned(i))
-        {
-            mine.append
-            (
-                Tuple2<label, Type>(label(system_->grainIds()[i]), list[i])
-            );
-        }
-    }
-    perRank[Pstream::myProcNo()].transfer(mine);
-    Pstream::gatherList(perRank);
-    List<Type> out;
-    if (Pstream::master())
-    {
-        List<Tuple2<label, Type>> all;
-        for (const auto& l : perRank)
-        {
-            all.append(l);
-        }
-        std::sort
-        (
-            all.begin(), all.end(),
-            [](const Tuple2<label, Type>& a, const Tuple2<label, Type>& b)
-            { return a.first() < b.first(); }
-        );
-        out.setSize(all.size());
-        forAll(all, k)
-        {
-            out[k] = all[k].second();
-        }
-    }
-    return out;
-}
-
-
-template<class Type>
 bool Foam::grainCloud::fromStartOrder
 (
     const UList<Type>& whole,
@@ -454,11 +440,7 @@ bool Foam::grainCloud::fromStartOrder
 }
 
 
-// the per-grain list types of the coupling's restart state
-template Foam::List<Foam::scalar>
-Foam::grainCloud::gatherInStateOrder(const UList<scalar>&) const;
-template Foam::List<Foam::vector>
-Foam::grainCloud::gatherInStateOrder(const UList<vector>&) const;
+// the per-grain list types of the coupling's old restart lists
 template bool
 Foam::grainCloud::fromStartOrder(const UList<scalar>&, List<scalar>&) const;
 template bool

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*---------------------------------------------------------------------------*\
-  nscdFoam: grainCloud outlet patches (issue 27, item 4)
+  nscdFoam: grainCloud outlet patches
 
 Description
-    outletPatches: open patches through which grains leave the domain.  A
-    grain whose centre crossed one during a step (grainCloud::
-    checkInsideMesh) is removed from the nscd system (nscd::System::
+    outletPatches: open patches through which grains leave the domain (a
+    silo's orifice, an open top), so that a run goes on, with the grains
+    counted, where leaving grains would otherwise stop it.  A grain whose
+    centre crossed one during a step (grainCloud::checkInsideMesh,
+    grainCloudLeaving.C) is removed from the nscd system (nscd::System::
     removeGrains: per-grain state compacted, its contacts dropped, ids not
     reused) and counted per patch: number and mass [kg] (2D: over the mesh
     depth), in the log, in postProcessing/grainOutlets/<startTime>/

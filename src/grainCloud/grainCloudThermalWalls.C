@@ -255,6 +255,9 @@ Foam::List<Foam::scalar> Foam::grainCloud::temperatures() const
 Foam::List<std::pair<Foam::word, Foam::scalar>>
 Foam::grainCloud::wallHeatRates(scalar dt) const
 {
+    // from the contacts and temperatures after the last (sub-)step: exact
+    // for the last sub-step; with several sub-steps per time step the
+    // sub-step length is taken as dt/substeps
     List<std::pair<word, scalar>> rates(wallTemperatures_.size());
     HashTable<label> wallSlot;
     forAll(wallTemperatures_, k)

@@ -296,6 +296,9 @@ void Foam::grainCloud::readMovingWalls()
 
 void Foam::grainCloud::readWallFriction()
 {
+    // a friction saved in a state is replaced (the dictionary rules);
+    // FatalIOError naming the entry: not '<patch> <mu>;', mu negative or
+    // not finite, or an entry matching no wall patch
     const wordList patches(patchWalls_.sortedToc());
     HashTable<scalar> mu;
     if (dict_.found("wallFriction"))

@@ -24,6 +24,8 @@ Description
     Wall contacts are left out (the state holds no point of the wall).
     nscd's reader ignores these datasets.
 
+    Also startStateHas: whether the start state holds a dataset.
+
     The .xmf lives in the case directory, not beside each grainState.h5:
     a file without a FoamFile header in a time directory makes foamToVTK,
     decomposePar and reconstructPar warn, and XML cannot carry that header.
@@ -189,6 +191,129 @@ std::string dataItem
 
 const char* const gridMark = "<Grid Name=\"t=";
 
+
+//- The XDMF grids of the state h5 (path relative to the case) at time
+//  timeName (value time), on one line: the grains (nGrains; their
+//  temperature if withTemperature) and, if any, the nPairs grain-grain
+//  contacts (forces if the last sub-step dt > 0, else impulses)
+std::string timeLine
+(
+    const std::string& h5,
+    const Foam::word& timeName,
+    const double time,
+    const hsize_t nGrains,
+    const hsize_t nPairs,
+    const bool withTemperature,
+    const double dt
+)
+{
+    const std::string N(std::to_string(nGrains));
+    const std::string M(std::to_string(nPairs));
+    std::ostringstream line;
+    line<< std::setprecision(15)
+        << gridMark << timeName
+        << "\" GridType=\"Collection\" CollectionType=\"Spatial\">"
+        << "<Time Value=\"" << time << "\"/>"
+        << "<Grid Name=\"grains\" GridType=\"Uniform\">"
+        << "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N
+        << "\" NodesPerElement=\"1\">"
+        << dataItem(h5 + ":/xdmfVertices", N, "Int", "4") << "</Topology>"
+        << "<Geometry GeometryType=\"XYZ\">"
+        << dataItem(h5 + ":/positions", N + " 3", "Float") << "</Geometry>";
+    const char* nodeAttrs[][4] =
+    {
+        {"radius", "Scalar", "radii", "Float"},
+        {"velocity", "Vector", "velocities", "Float"},
+        {"angularVelocity", "Vector", "angularVelocities", "Float"},
+        {"id", "Scalar", "grainIds", "Int"},
+        {"temperature", "Scalar", "temperatures", "Float"}
+    };
+    for (const auto& a : nodeAttrs)
+    {
+        if (std::string(a[0]) == "temperature" && !withTemperature)
+        {
+            continue;
+        }
+        const bool vec = std::string(a[1]) == "Vector";
+        line<< "<Attribute Name=\"" << a[0] << "\" AttributeType=\"" << a[1]
+            << "\" Center=\"Node\">"
+            << dataItem(h5 + ":/" + a[2], vec ? N + " 3" : N, a[3])
+            << "</Attribute>";
+    }
+    line<< "</Grid>";
+    // no contacts grid without contacts: VTK's XDMF reader fails on an
+    // empty grid
+    if (nPairs > 0)
+    {
+        const std::string unit(dt > 0 ? "Force" : "Impulse");
+        line<< "<Grid Name=\"contacts\" GridType=\"Uniform\">"
+            << "<Topology TopologyType=\"Polyline\" NumberOfElements=\"" << M
+            << "\" NodesPerElement=\"2\">"
+            << dataItem(h5 + ":/xdmfContactPairs", M + " 2", "Int", "4")
+            << "</Topology>"
+            << "<Geometry GeometryType=\"XYZ\">"
+            << dataItem(h5 + ":/positions", N + " 3", "Float") << "</Geometry>"
+            << "<Attribute Name=\"normal" << unit
+            << "\" AttributeType=\"Vector\" Center=\"Cell\">"
+            << dataItem(h5 + ":/xdmfNormalForce", M + " 3", "Float")
+            << "</Attribute>"
+            << "<Attribute Name=\"tangential" << unit
+            << "\" AttributeType=\"Vector\" Center=\"Cell\">"
+            << dataItem(h5 + ":/xdmfTangentialForce", M + " 3", "Float")
+            << "</Attribute></Grid>";
+    }
+    line<< "</Grid>";
+    return line.str();
+}
+
+
+//- The lines of the time grids of the file xmf kept by a write at time
+//  timeName (value time): those whose state file exists and that
+//  precede this time (a restart from an earlier time drops the lines of
+//  the times it rewrites)
+std::vector<std::string> keptTimeLines
+(
+    const Foam::fileName& xmf,
+    const Foam::fileName& caseDir,
+    const Foam::word& timeName,
+    const double time
+)
+{
+    using namespace Foam;
+    std::vector<std::string> kept;
+    {
+        std::ifstream in(xmf);
+        std::string l;
+        while (std::getline(in, l))
+        {
+            if (l.rfind(gridMark, 0) != 0)
+            {
+                continue;
+            }
+            const std::size_t a = std::char_traits<char>::length(gridMark);
+            const std::string name(l.substr(a, l.find('"', a) - a));
+            const std::size_t v = l.find("<Time Value=\"");
+            double value = 0;
+            if
+            (
+                v == std::string::npos || name == timeName
+             || !isFile(caseDir/name/grainCloud::stateFileName)
+             || !readScalar
+                (
+                    l.substr(v + 13, l.find('"', v + 13) - v - 13),
+                    value
+                )
+             || value > time
+            )
+            {
+                continue;
+            }
+            kept.push_back(l);
+        }
+    }
+    return kept;
+}
+
 } // End anonymous namespace
 
 
@@ -312,103 +437,20 @@ void Foam::grainCloud::writeXdmf(const fileName& statePath) const
             << " /xdmfContactPairs" << endl;
         return;
     }
-    const std::string N(std::to_string(x[0]));
-    const std::string M(std::to_string(pairs[0]));
-
-    // this time's grids, on one line (the line is what the next write keeps)
-    std::ostringstream line;
-    line<< std::setprecision(15)
-        << gridMark << timeName
-        << "\" GridType=\"Collection\" CollectionType=\"Spatial\">"
-        << "<Time Value=\"" << runTime.value() << "\"/>"
-        << "<Grid Name=\"grains\" GridType=\"Uniform\">"
-        << "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N
-        << "\" NodesPerElement=\"1\">"
-        << dataItem(h5 + ":/xdmfVertices", N, "Int", "4") << "</Topology>"
-        << "<Geometry GeometryType=\"XYZ\">"
-        << dataItem(h5 + ":/positions", N + " 3", "Float") << "</Geometry>";
-    const char* nodeAttrs[][4] =
-    {
-        {"radius", "Scalar", "radii", "Float"},
-        {"velocity", "Vector", "velocities", "Float"},
-        {"angularVelocity", "Vector", "angularVelocities", "Float"},
-        {"id", "Scalar", "grainIds", "Int"},
-        {"temperature", "Scalar", "temperatures", "Float"}
-    };
-    for (const auto& a : nodeAttrs)
-    {
-        if
+    // this time's grids, on one line (the line is what the next write
+    // keeps), after the earlier times' lines of the file
+    const std::string line
+    (
+        timeLine
         (
-            std::string(a[0]) == "temperature"
-         && (T.size() != 1 || T[0] != x[0])
+            h5, timeName, runTime.value(), x[0], pairs[0],
+            T.size() == 1 && T[0] == x[0], dt
         )
-        {
-            continue;
-        }
-        const bool vec = std::string(a[1]) == "Vector";
-        line<< "<Attribute Name=\"" << a[0] << "\" AttributeType=\"" << a[1]
-            << "\" Center=\"Node\">"
-            << dataItem(h5 + ":/" + a[2], vec ? N + " 3" : N, a[3])
-            << "</Attribute>";
-    }
-    line<< "</Grid>";
-    // no contacts grid without contacts: VTK's XDMF reader fails on an
-    // empty grid
-    if (pairs[0] > 0)
-    {
-        const std::string unit(dt > 0 ? "Force" : "Impulse");
-        line<< "<Grid Name=\"contacts\" GridType=\"Uniform\">"
-            << "<Topology TopologyType=\"Polyline\" NumberOfElements=\"" << M
-            << "\" NodesPerElement=\"2\">"
-            << dataItem(h5 + ":/xdmfContactPairs", M + " 2", "Int", "4")
-            << "</Topology>"
-            << "<Geometry GeometryType=\"XYZ\">"
-            << dataItem(h5 + ":/positions", N + " 3", "Float") << "</Geometry>"
-            << "<Attribute Name=\"normal" << unit
-            << "\" AttributeType=\"Vector\" Center=\"Cell\">"
-            << dataItem(h5 + ":/xdmfNormalForce", M + " 3", "Float")
-            << "</Attribute>"
-            << "<Attribute Name=\"tangential" << unit
-            << "\" AttributeType=\"Vector\" Center=\"Cell\">"
-            << dataItem(h5 + ":/xdmfTangentialForce", M + " 3", "Float")
-            << "</Attribute></Grid>";
-    }
-    line<< "</Grid>";
-
-    // the earlier times' lines of the file: kept while their state file
-    // exists and they precede this time (a restart from an earlier time
-    // drops the lines of the times it rewrites)
-    std::vector<std::string> kept;
-    {
-        std::ifstream in(xmf);
-        std::string l;
-        while (std::getline(in, l))
-        {
-            if (l.rfind(gridMark, 0) != 0)
-            {
-                continue;
-            }
-            const std::size_t a = std::char_traits<char>::length(gridMark);
-            const std::string name(l.substr(a, l.find('"', a) - a));
-            const std::size_t v = l.find("<Time Value=\"");
-            double value = 0;
-            if
-            (
-                v == std::string::npos || name == timeName
-             || !isFile(caseDir/name/stateFileName)
-             || !readScalar
-                (
-                    l.substr(v + 13, l.find('"', v + 13) - v - 13),
-                    value
-                )
-             || value > runTime.value()
-            )
-            {
-                continue;
-            }
-            kept.push_back(l);
-        }
-    }
+    );
+    const std::vector<std::string> kept
+    (
+        keptTimeLines(xmf, caseDir, timeName, runTime.value())
+    );
 
     const std::string tmp(xmf + ".tmp");
     {
@@ -424,7 +466,7 @@ void Foam::grainCloud::writeXdmf(const fileName& statePath) const
         {
             out << l << '\n';
         }
-        out << line.str() << '\n'
+        out << line << '\n'
             << "</Grid>\n</Domain>\n</Xdmf>\n";
         out.close();
         if (!out || std::rename(tmp.c_str(), xmf.c_str()) != 0)
@@ -435,6 +477,18 @@ void Foam::grainCloud::writeXdmf(const fileName& statePath) const
                 << " the run continues" << endl;
         }
     }
+}
+
+
+bool Foam::grainCloud::startStateHas(const word& dataset) const
+{
+    if (startStatePath_.empty())
+    {
+        return false;
+    }
+    h5Handle h;
+    h.id = H5Fopen(startStatePath_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    return h.id >= 0 && H5Lexists(h.id, dataset.c_str(), H5P_DEFAULT) > 0;
 }
 
 // ************************************************************************* //

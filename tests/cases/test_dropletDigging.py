@@ -28,12 +28,12 @@ section 4.3.3).
     (1.78, 2.51, 3.58e-6 with minAge 0) since the porous
     grains have their density (1-n) rho_s and contact conduction its Table
     4.2 E and nu; 1.92, 2.65, 3.68e-6 with the deposit's solid density and
-    no contact conduction, the fourth increment's liquid pressure; 2.02,
+    no contact conduction, the liquid pressure on the grains; 2.02,
     2.79, 3.97e-6 with the former hydrostatic buoyancy).
 (c) The three regimes (thesis Figure 4.13: no digging below ~350 C, maximum
     depth near 400 C, droplet held near the surface above ~500 C): strict
     xfail with the numbers measured on the reduced bed (`./Allrun reduced
-    1.0`, fourth increment: the grains inside the droplet feel the liquid's
+    1.0`, liquid pressure on the grains: the grains inside the droplet feel the liquid's
     pressure -S/V, src/dropletCoupling/README.md): in 1 s the droplet sinks
     to 15.4, 12.1, 9.3 mm at 300, 400, 600 C (bed top 20.8 mm; before, with
     the hydrostatic buoyancy, it reached the bottom at 0.66, 0.79, 0.95 s),
@@ -55,7 +55,7 @@ section 4.3.3).
     through a packing that does not move (dropletDigging/README.md,
     "contact-tolerance study"): the reason regime (i) is missing.
 (f) With the capillary entry barrier (dropletProperties surfaceTension,
-    src/dropletCoupling/README.md "Fifth increment") the droplet at T_d
+    docs/validation/vapourDroplet.md "Capillary entry barrier") the droplet at T_d
     rests on the bed and the grains carry its weight (statics).
 """
 

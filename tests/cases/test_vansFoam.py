@@ -79,6 +79,73 @@ def test_restart_is_exact(tmp_path, env):
     assert np.max(np.abs(g["U"][:, 1])) > 1e-3, "grains should be falling"
 
 
+RESTART_COLUMNS = {
+    "grainContactImpulse": "vectorList",
+    "grainDragImpulseDefect": "vectorList",
+    "grainHeldFraction": "scalarList",
+}
+
+
+def _to_old_restart_format(time_dir, lists=True):
+    """Turn a time directory into what versions before the restart columns
+    wrote: grainState.h5 without the coupling's datasets, the per-grain
+    lists in <time>/uniform/ (ASCII, shortest round-trip digits: the same
+    doubles)."""
+    import h5py
+
+    values = {}
+    with h5py.File(os.path.join(time_dir, "grainState.h5"), "r+") as f:
+        for name in RESTART_COLUMNS:
+            values[name] = f[name][()]
+            del f[name]
+    if not lists:
+        return
+    uniform = os.path.join(time_dir, "uniform")
+    for name, cls in RESTART_COLUMNS.items():
+        rows = [
+            "(" + " ".join(repr(float(c)) for c in v) + ")" if v.ndim else repr(float(v))
+            for v in values[name]
+        ]
+        with open(os.path.join(uniform, name), "w") as out:
+            out.write(
+                "FoamFile\n{\n    version     2.0;\n    format      ascii;\n"
+                f"    class       {cls};\n    object      {name};\n}}\n"
+                f"{len(rows)}\n(\n" + "\n".join(rows) + "\n)\n"
+            )
+
+
+def test_restart_from_an_old_format_case_is_exact(tmp_path, env):
+    """A case written before the coupling's restart state moved into the
+    grain state (grainState.h5 without grainContactImpulse,
+    grainDragImpulseDefect, grainHeldFraction; those as uniform/ lists)
+    continues exactly as the uninterrupted run: its lists are read.  The
+    same state without the lists continues differently (so the lists
+    matter in this case)."""
+    case = str(tmp_path / "full")
+    small_sedimentation(case, env)
+    run("vansFoam", case, env)
+    import h5py
+
+    with h5py.File(os.path.join(case, "0.05", "grainState.h5"), "r") as f:
+        assert all(f[n].shape[0] == 30 for n in RESTART_COLUMNS)
+    for name in RESTART_COLUMNS:
+        assert not os.path.exists(os.path.join(case, "0.05", "uniform", name))
+    out = {}
+    for variant, lists in (("old", True), ("none", False)):
+        restart = str(tmp_path / variant)
+        shutil.copytree(case, restart)
+        shutil.rmtree(os.path.join(restart, "0.1"))
+        _to_old_restart_format(os.path.join(restart, "0.05"), lists)
+        run("vansFoam", restart, env)
+        out[variant] = {
+            f: open(os.path.join(restart, "0.1", f)).read()
+            for f in ("U", "p", os.path.join("lagrangian", "grains", "positions"))
+        }
+    for f, text in out["old"].items():
+        assert text == open(os.path.join(case, "0.1", f)).read(), f
+    assert out["none"] != out["old"], "the restart lists made no difference"
+
+
 @pytest.mark.parametrize("method", ["overlap", "centroid"])
 def test_sedimentation_volume_conservation(tmp_path, env, method):
     """Mixture volume conservation over a sedimentation run: the continuity

@@ -147,7 +147,8 @@ Foam::vansCloud::vansCloud
     fluid_(std::move(fluid)),
     grains_
     (
-        mesh, true, replicatedReasons(dict_, settings_, validFluid(fluid_))
+        mesh, true, replicatedReasons(dict_, settings_, validFluid(fluid_)),
+        &vansCloud::declareGrainColumns
     ),
     adapter_
     (
@@ -250,8 +251,6 @@ Foam::vansCloud::vansCloud
             }
         );
     }
-    addGrainColumns();
-
     mapGrains();
     readRestart();
     warnClosedPores();

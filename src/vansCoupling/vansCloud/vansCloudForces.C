@@ -19,41 +19,48 @@ Description
 
 // * * * * * * * * * * * * * * * Static Data  * * * * * * * * * * * * * * * //
 
-const Foam::word Foam::vansCloud::columns::heldFraction("grainHeldFraction");
+const Foam::word Foam::vansCloudColumns::heldFraction("grainHeldFraction");
 const Foam::word
-    Foam::vansCloud::columns::contactImpulse("grainContactImpulse");
+    Foam::vansCloudColumns::contactImpulse("grainContactImpulse");
 const Foam::word
-    Foam::vansCloud::columns::fluidDragGiven("vansFluidDragGiven");
+    Foam::vansCloudColumns::fluidDragGiven("vansFluidDragGiven");
 const Foam::word
-    Foam::vansCloud::columns::dragImpulseDefect("grainDragImpulseDefect");
+    Foam::vansCloudColumns::dragImpulseDefect("grainDragImpulseDefect");
 const Foam::word
-    Foam::vansCloud::columns::explicitFluidForce("vansExplicitFluidForce");
-const Foam::word Foam::vansCloud::columns::fluidForce("vansFluidForce");
-const Foam::word Foam::vansCloud::columns::fluidVelocity("vansFluidVelocity");
-const Foam::word Foam::vansCloud::columns::fluidTorque("vansFluidTorque");
-const Foam::word Foam::vansCloud::columns::grainReynolds("vansGrainReynolds");
+    Foam::vansCloudColumns::explicitFluidForce("vansExplicitFluidForce");
+const Foam::word Foam::vansCloudColumns::fluidForce("vansFluidForce");
+const Foam::word Foam::vansCloudColumns::fluidVelocity("vansFluidVelocity");
+const Foam::word Foam::vansCloudColumns::fluidTorque("vansFluidTorque");
+const Foam::word Foam::vansCloudColumns::grainReynolds("vansGrainReynolds");
 const Foam::word
-    Foam::vansCloud::columns::stepStartVelocity("vansStepStartVelocity");
+    Foam::vansCloudColumns::stepStartVelocity("vansStepStartVelocity");
 
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
 
-void Foam::vansCloud::addGrainColumns()
+void Foam::vansCloud::declareGrainColumns(nscd::System& s)
 {
+    // the impulses of the last grain step and the held fraction: in the
+    // grain state (their own datasets) and with a grain that changes
+    // ranks; a state without them takes the defaults (readRestart then
+    // reads the per-grain lists older runs wrote)
+    const unsigned restart =
+        nscd::ColumnRestart | nscd::ColumnMigrate | nscd::ColumnOptional;
     // the state of a grain step's start travels with the grains that
     // change ranks or ghosts in the step (read back after it by
     // updateGrainImpulses, the step log and the output)
     const unsigned carried = nscd::ColumnMigrate | nscd::ColumnGhost;
-    grains_.addColumn<scalar>(columns::heldFraction, 0u, 0);
-    grains_.addColumn<vector>(columns::contactImpulse, 0u, Zero);
-    grains_.addColumn<vector>(columns::dragImpulseDefect, 0u, Zero);
-    grains_.addColumn<vector>(columns::fluidDragGiven, carried, Zero);
-    grains_.addColumn<vector>(columns::explicitFluidForce, carried, Zero);
-    grains_.addColumn<vector>(columns::fluidForce, carried, Zero);
-    grains_.addColumn<vector>(columns::fluidVelocity, carried, Zero);
-    grains_.addColumn<vector>(columns::fluidTorque, 0u, Zero);
-    grains_.addColumn<scalar>(columns::grainReynolds, carried, 0);
-    grains_.addColumn<vector>(columns::stepStartVelocity, carried, Zero);
+    using grainColumns::add;
+    add<scalar>(s, columns::heldFraction, restart, 0);
+    add<vector>(s, columns::contactImpulse, restart, Zero);
+    add<vector>(s, columns::dragImpulseDefect, restart, Zero);
+    add<vector>(s, columns::fluidDragGiven, carried, Zero);
+    add<vector>(s, columns::explicitFluidForce, carried, Zero);
+    add<vector>(s, columns::fluidForce, carried, Zero);
+    add<vector>(s, columns::fluidVelocity, carried, Zero);
+    add<vector>(s, columns::fluidTorque, 0u, Zero);
+    add<scalar>(s, columns::grainReynolds, carried, 0);
+    add<vector>(s, columns::stepStartVelocity, carried, Zero);
 }
 
 

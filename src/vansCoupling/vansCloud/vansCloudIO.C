@@ -3,20 +3,19 @@
   nscdFoam: vansCloud, restart state, output and start-up checks
 
 Description
-    The per-grain coupling state that makes a restarted run identical to an
-    uninterrupted one (uniform/grainContactImpulse, grainDragImpulseDefect,
-    grainHeldFraction, binary IOLists, one entry per grain; a list of
-    another size is ignored; grains decomposed over the ranks: written
-    whole by the master into the undecomposed case, in the order of the
-    grain state written there, and read back from it on any number of
-    ranks), the grain output with the coupling fields, and the start-up
-    warning about closed pores in 2D packings.
+    The restart state read at the start (the void fraction of the start
+    time; the grains' coupling state is in the grain state file, restart
+    columns of vansCloud::declareGrainColumns, except for a state written
+    by an older version: then from the per-grain lists it wrote,
+    uniform/grainContactImpulse, grainDragImpulseDefect, grainHeldFraction,
+    binary IOLists, one entry per grain in the order of the grain state,
+    in the undecomposed case when the grains were decomposed; a list of
+    another size is ignored), the grain output with the coupling fields,
+    and the start-up warning about closed pores in 2D packings.
 \*---------------------------------------------------------------------------*/
 
 #include "vansCloud.H"
 #include "IOList.H"
-#include "OFstream.H"
-#include "OSspecific.H"
 
 // * * * * * * * * * * * * * * * Local Functions  * * * * * * * * * * * * * //
 
@@ -83,40 +82,6 @@ namespace
         column.deepCopy(read);
         return true;
     }
-
-    //- Write list (one entry per grain of system()) to
-    //  <time>/uniform/<name>, binary; grains decomposed: gathered in the
-    //  state's order and written by the master (collective)
-    template<class Type>
-    void writeGrainList
-    (
-        const Foam::grainCloud& grains,
-        const Foam::word& name,
-        const Foam::UList<Type>& list
-    )
-    {
-        using namespace Foam;
-        const List<Type> whole(grains.gatherInStateOrder(list));
-        IOList<Type> io(grainListIO(grains, name, IOobject::NO_READ), whole);
-        if (!grains.decomposed())
-        {
-            io.writeObject
-            (
-                IOstream::BINARY, IOstream::currentVersion,
-                IOstream::UNCOMPRESSED, true
-            );
-        }
-        else if (Pstream::master())
-        {
-            // (regIOobject::writeObject would move an absolute instance
-            // into the processor directory's time)
-            mkDir(io.path());
-            OFstream os(io.objectPath(), IOstream::BINARY);
-            io.writeHeader(os);
-            os << static_cast<const List<Type>&>(io);
-            io.writeEndDivider(os);
-        }
-    }
 }
 
 
@@ -136,19 +101,28 @@ void Foam::vansCloud::readRestart()
         voidFraction_.correctBoundaryConditions();
     }
     voidFraction_.oldTime();
-    readGrainList
-    (
-        grains_, "grainContactImpulse", vectors(columns::contactImpulse)
-    );
-    readGrainList
-    (
-        grains_, "grainDragImpulseDefect",
-        vectors(columns::dragImpulseDefect)
-    );
-    heldFractionSet_ =
+    // the restart columns were read with the grain state; a state written
+    // by an older version lacks them: its per-grain lists
+    if (!grains_.startStateHas(columns::contactImpulse))
+    {
         readGrainList
         (
-            grains_, "grainHeldFraction", scalars(columns::heldFraction)
+            grains_, columns::contactImpulse, vectors(columns::contactImpulse)
+        );
+    }
+    if (!grains_.startStateHas(columns::dragImpulseDefect))
+    {
+        readGrainList
+        (
+            grains_, columns::dragImpulseDefect,
+            vectors(columns::dragImpulseDefect)
+        );
+    }
+    heldFractionSet_ =
+        grains_.startStateHas(columns::heldFraction)
+     || readGrainList
+        (
+            grains_, columns::heldFraction, scalars(columns::heldFraction)
         );
 }
 
@@ -225,29 +199,6 @@ void Foam::vansCloud::logSettings() const
 
 void Foam::vansCloud::write() const
 {
-    // the grains' coupling state for the exact restart (read back by the
-    // constructor), binary
-    writeGrainList
-    (
-        grains_, "grainContactImpulse", vectors(columns::contactImpulse)
-    );
-    writeGrainList
-    (
-        grains_, "grainDragImpulseDefect",
-        vectors(columns::dragImpulseDefect)
-    );
-    // (collective; serial: once it holds values for some grain)
-    if
-    (
-        grains_.decomposed()
-     || (heldFractionSet_ && grains_.system().size())
-    )
-    {
-        writeGrainList
-        (
-            grains_, "grainHeldFraction", scalars(columns::heldFraction)
-        );
-    }
     const label n = grains_.system().size();
     if (!fluidForcesSet_)
     {
