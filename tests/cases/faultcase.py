@@ -8,7 +8,7 @@ import hashlib
 import os
 import re
 
-from foamcase import make_box_case
+from foamcase import add_fluid, make_box_case, run, uniform_inflow
 
 G = 9.81
 MAT = {"glass": {"density": 2500, "friction": 0.4}}
@@ -67,3 +67,29 @@ def stack(tmp_path, name, **kw):
         for j in range(3)
     ]
     return box(tmp_path, name, grains, **kw)
+
+
+def open_bottom_cube(case, env, grains, end, write_interval, outlet=False):
+    """A 40 mm cube of water at rest (4 x 4 x 4 cells, vansFoam) whose
+    bottom is the open patch `inlet` (foamcase.uniform_inflow with 0 m/s:
+    p fixed at the top `outlet`), grains (x, y, z, d) of MAT; outlet: grains
+    may leave through `inlet` (grainProperties outletPatches).  Runs
+    blockMesh and grainDeposit."""
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.04, 0.04, 0.04),
+        (4, 4, 4),
+        (0, -G, 0),
+        MAT,
+        grains=grains,
+        end_time=end,
+        dt=1e-3,
+        write_interval=write_interval,
+        two_d=False,
+        extra_props="outletPatches (inlet);\n" if outlet else "",
+    )
+    add_fluid(case, 1000, 1e-6, max_dt=1e-3)
+    uniform_inflow(case, 0.0)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)

@@ -10,8 +10,8 @@ import re
 
 import numpy as np
 import pytest
-from faultcase import MAT, G, box, set_control, times
-from foamcase import add_fluid, fails_with, make_box_case, run
+from faultcase import MAT, G, box, open_bottom_cube, set_control, times
+from foamcase import fails_with, run
 
 pytestmark = pytest.mark.fast
 
@@ -89,26 +89,8 @@ def test_grain_through_open_patch_not_in_wallPatches(tmp_path, env):
 def test_vansFoam_grain_through_open_patch(tmp_path, env):
     """vansFoam (3D): a grain sinking through the open bottom patch `inlet`
     is reported as such (it was 'move the grain inside the domain')."""
-    from foamcase import uniform_inflow
-
     case = str(tmp_path / "vopen")
-    make_box_case(
-        case,
-        (0, 0, 0),
-        (0.04, 0.04, 0.04),
-        (4, 4, 4),
-        (0, -G, 0),
-        MAT,
-        grains=[(0.02, 0.012, 0.02, 0.01)],
-        end_time=0.5,
-        dt=1e-3,
-        write_interval=0.05,
-        two_d=False,
-    )
-    add_fluid(case, 1000, 1e-6, max_dt=1e-3)
-    uniform_inflow(case, 0.0)
-    run("blockMesh", case, env)
-    run("grainDeposit", case, env)
+    open_bottom_cube(case, env, [(0.02, 0.012, 0.02, 0.01)], end=0.5, write_interval=0.05)
     p = run("vansFoam", case, env, check=False)
     fails_with(p, "Grain 0 (grainId 0) left the mesh", "open patch inlet", "type patch")
     assert "0.05" in times(case)
@@ -278,29 +260,12 @@ def test_grains_leave_through_outlet_in_parallel(tmp_path, env):
 def test_vansFoam_grain_leaves_through_outlet(tmp_path, env):
     """vansFoam (3D): with outletPatches (inlet) the grain sinking through
     the open bottom is removed and the run goes on (vansCloud compacts its
-    per-grain lists: the remaining grain's fluid force is written); exit 0,
+    per-grain columns follow the grains: the remaining grain's fluid force is
+    written); exit 0,
     grains remaining + removed = initial."""
-    from foamcase import uniform_inflow
-
     case = str(tmp_path / "voutlet")
-    make_box_case(
-        case,
-        (0, 0, 0),
-        (0.04, 0.04, 0.04),
-        (4, 4, 4),
-        (0, -G, 0),
-        MAT,
-        grains=[(0.01, 0.012, 0.02, 0.01), (0.03, 0.033, 0.02, 0.01)],
-        end_time=0.09,
-        dt=1e-3,
-        write_interval=0.03,
-        two_d=False,
-        extra_props="outletPatches (inlet);\n",
-    )
-    add_fluid(case, 1000, 1e-6, max_dt=1e-3)
-    uniform_inflow(case, 0.0)
-    run("blockMesh", case, env)
-    run("grainDeposit", case, env)
+    grains = [(0.01, 0.012, 0.02, 0.01), (0.03, 0.033, 0.02, 0.01)]
+    open_bottom_cube(case, env, grains, end=0.09, write_interval=0.03, outlet=True)
     out = run("vansFoam", case, env).stdout
     assert re.search(
         r"grainOutlets: 1 grains \(mass \S+ kg\) left through inlet at time \S+, ids 0;", out

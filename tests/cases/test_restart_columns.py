@@ -13,8 +13,8 @@ import re
 import h5py
 import numpy as np
 import pytest
-from faultcase import MAT, G
-from foamcase import add_fluid, make_box_case, run, uniform_inflow
+from faultcase import MAT, G, open_bottom_cube
+from foamcase import run
 
 pytestmark = pytest.mark.fast
 
@@ -46,24 +46,7 @@ def test_restart_columns_follow_their_grains_through_removal_and_restart(tmp_pat
     is not held (theta < 1e-9).  A restart from the write after the removal ends as the
     uninterrupted run: fields, grains and the columns bit for bit."""
     case = str(tmp_path / "full")
-    make_box_case(
-        case,
-        (0, 0, 0),
-        (0.04, 0.04, 0.04),
-        (4, 4, 4),
-        (0, -G, 0),
-        MAT,
-        grains=GRAINS,
-        end_time=0.09,
-        dt=1e-3,
-        write_interval=0.03,
-        two_d=False,
-        extra_props="outletPatches (inlet);\n",
-    )
-    add_fluid(case, 1000, 1e-6, max_dt=1e-3)
-    uniform_inflow(case, 0.0)
-    run("blockMesh", case, env)
-    run("grainDeposit", case, env)
+    open_bottom_cube(case, env, GRAINS, end=0.09, write_interval=0.03, outlet=True)
     out = run("vansFoam", case, env).stdout
     left = re.findall(
         r"grainOutlets: 1 grains \(mass \S+ kg\) left through inlet at time (\S+), ids 0;", out

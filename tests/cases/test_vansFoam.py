@@ -29,13 +29,21 @@ pytestmark = pytest.mark.fast
 G = 9.81
 
 
-def small_sedimentation(case, env, method="overlap", end=0.1, write=0.05, nrow=3, ncol=10):
+def small_sedimentation(
+    case, env, method="overlap", end=0.1, write=0.05, nrow=3, ncol=10, shear=0.0, mesh_hook=None
+):
+    """nrow x ncol discs of 3 mm (1500 kg/m^3) in a square lattice near the
+    top of a 2D box of water 40 x 60 mm, 9 x 13 cells; shear: the box
+    sheared by it (shear_box; grains moved with it); mesh_hook(case): called
+    after blockMesh.  Runs blockMesh and grainDeposit; returns the grains
+    (x, y, z, d)."""
     r = 1.5e-3
     grains = [
         (0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001, 0, 2 * r)
         for j in range(nrow)
         for i in range(ncol)
     ]
+    grains = [(x + shear * y, y, z, d) for x, y, z, d in grains]
     make_box_case(
         case,
         (0, 0, 0),
@@ -49,8 +57,13 @@ def small_sedimentation(case, env, method="overlap", end=0.1, write=0.05, nrow=3
         write_interval=write,
     )
     add_fluid(case, 1000.0, 1e-6, void_method=method, max_dt=2e-3)
+    if shear:
+        shear_box(case, shear)
     run("blockMesh", case, env)
+    if mesh_hook is not None:
+        mesh_hook(case)
     run("grainDeposit", case, env)
+    return grains
 
 
 def test_restart_is_exact(tmp_path, env):
@@ -510,34 +523,20 @@ def test_sedimentation_on_non_orthogonal_meshes(tmp_path, env, mesh, degrees, re
 
     def fall(deg):
         case = str(tmp_path / f"{mesh}{deg}")
-        sh = math.tan(math.radians(deg)) if mesh == "sheared" else 0.0
-        r = 1.5e-3
-        rows = [
-            (0.005 + (2 * i + 1) * r * 1.0001, 0.055 - (2 * j + 1) * r * 1.0001)
-            for j in range(6)
-            for i in range(10)
-        ]
-        make_box_case(
+        grains = small_sedimentation(
             case,
-            (0, 0, 0),
-            (0.04, 0.06, 0.003),
-            (9, 13, 1),
-            (0, -G, 0),
-            {"grains": {"density": 1500, "friction": 0.3}},
-            grains=[(x + sh * y, y, 0, 2 * r) for x, y in rows],
-            end_time=0.3,
-            dt=1e-3,
-            write_interval=0.3,
+            env,
+            end=0.3,
+            write=0.3,
+            nrow=6,
+            shear=math.tan(math.radians(deg)) if mesh == "sheared" else 0.0,
+            mesh_hook=(lambda c: warp_box(c, deg, 0.04, 0.06))
+            if mesh == "warped" and deg
+            else None,
         )
-        add_fluid(case, 1000.0, 1e-6, max_dt=2e-3)
-        shear_box(case, sh)
-        run("blockMesh", case, env)
-        if mesh == "warped" and deg:
-            warp_box(case, deg, 0.04, 0.06)
-        run("grainDeposit", case, env)
         log = run("vansFoam", case, env).stdout
         assert ("cellGradient" if deg else "faceForces") in log
-        y0 = np.mean([y for _, y in rows])
+        y0 = np.mean([y for _, y, _, _ in grains])
         return y0 - np.mean(nscdpost.read_grains(case, "0.3")["x"][:, 1])
 
     ref, got = fall(0), fall(degrees)
