@@ -49,7 +49,9 @@ Description
                                     // optional rough floor
     writeContactImpulses no;        // yes: the settled contact impulses are
                                     // written with the grains (warm start of
-                                    // the run; needed by a replicate source)
+                                    // the run; needed by a replicate source);
+                                    // default yes with a compliant material
+                                    // (its overlaps carry those impulses)
     settle                          // optional: no settling without it
     {
         maxTime     5;              // [s] simulated
@@ -405,8 +407,9 @@ void settle(const dictionary& sd, grainCloud& settling)
 //- Fills initial (an empty grainCloud of the mesh: mesh walls only) with
 //  the initial state and writes it (grainState.h5 and lagrangian/grains of
 //  the start time): the settled movable grains at rest, then the fixed
-//  grains of placement (material matId).  With writeContactImpulses yes,
-//  the settled contact impulses [N s] go with the grains (renumbered by
+//  grains of placement (material matId).  With writeContactImpulses yes
+//  (the default with a compliant material), the settled contact impulses
+//  [N s] go with the grains (renumbered by
 //  placement.writtenIndex; contacts with temporary walls dropped).
 //  Errors: those of grainCloud::checkState.
 void writeInitialState
@@ -441,7 +444,17 @@ void writeInitialState
     // iteration-capped solve started from them ends elsewhere than one
     // started cold (the granularCollapse regimes, tests/cases/
     // test_granularCollapse.py, moved from nonlinear transition to bore)
-    if (depositDict.getOrDefault<bool>("writeContactImpulses", false))
+    // a compliant material carries the settled load by overlaps: without
+    // their impulses the written bed would hold overlaps that nothing
+    // carries (rejected by checkState), hence yes by default then
+    bool compliant = false;
+    for (int m = 0; m < s.nMaterials(); ++m)
+    {
+        const nscd::Material& mat = s.material(m);
+        compliant = compliant
+            || mat.compliance > 0 || mat.relativeCompliance > 0;
+    }
+    if (depositDict.getOrDefault<bool>("writeContactImpulses", compliant))
     {
         const int nMeshWalls = initial.system().nWalls();
         std::vector<nscd::System::ContactView> kept;

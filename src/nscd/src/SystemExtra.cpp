@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Sub-stepping (advance), the reach check of the re-detection of grains
 // that leave their reach (raiseReaches), checks, contact views, conductance.
+#include "ContactLaws.H"
 #include "SystemImpl.H"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 #include <unordered_map>
 
@@ -246,12 +248,68 @@ bool System::Impl::raiseReaches(double dt)
     return any;
 }
 
+namespace
+{
+
+/// Key of a grain pair (i, j >= 0) or of a grain and a wall (j < 0).
+long long pairKey(int i, int j) { return (static_cast<long long>(i) << 32) | static_cast<std::uint32_t>(j); }
+
+} // namespace
+
+// The overlap [m] each loaded compliant contact of the state's contact
+/// list carries under its impulse: at rest the compliant law holds the gap
+/// at g = -eps dt r_n (CompliantSignorini, eps = c/dt^2 + beta W_nn), so a
+// state the solver left loaded (a restart, a settled bed written with its
+// contact impulses) has overlaps of that size. Keyed by pairKey(i, j),
+// grains i < j or a wall j < 0; empty without a compliant material or a
+// step's impulses.
+std::unordered_map<long long, double> System::Impl::compliantOverlaps() const
+{
+    const Impl& I = *this;
+    std::unordered_map<long long, double> out;
+    const int N = int(I.x.size());
+    const double dt = I.lastDt;
+    if (!(dt > 0) || !I.anyCompliance()) return out;
+    auto inverseMass = [&](int g) { return I.fix[g] ? 0.0 : 1.0 / I.mass[g]; };
+    for (const Contact& c : I.contacts)
+    {
+        const int cj = I.keptBody(c);
+        if (!(c.rn > 0) || cj >= N + int(I.walls.size())) continue; // unloaded, or a droplet
+        int gi = I.order[c.i];
+        int gj = cj < N ? I.order[cj] : -(cj - N + 1);
+        const Material& a = I.materials[I.mat[gi]];
+        double cc = a.compliance, beta = a.relativeCompliance;
+        double wnn = inverseMass(gi);
+        if (gj >= 0)
+        {
+            const Material& b = I.materials[I.mat[gj]];
+            cc = law::CompliantSignorini::pair(cc, b.compliance);
+            beta = law::CompliantSignorini::pair(beta, b.relativeCompliance);
+            wnn += inverseMass(gj);
+            if (gj < gi) std::swap(gi, gj);
+        }
+        if (c.wnn > 0) wnn = c.wnn; // the step's own W_nn (effective masses)
+        const double eps = law::CompliantSignorini::regularisation(cc, beta, wnn, 1.0 / (dt * dt));
+        if (eps > 0) out[pairKey(gi, gj)] = eps * dt * c.rn;
+    }
+    return out;
+}
+
 void System::checkInitialOverlaps() const
 {
     const Impl& I = *impl_;
     const int N = int(I.x.size());
     if (N == 0) return;
     const double tol = I.settings.overlapTolerance * I.rMin();
+    // a loaded compliant contact's overlap is its law's own: admitted on
+    // top of the tolerance
+    const std::unordered_map<long long, double> lawOverlap = I.compliantOverlaps();
+    auto admitted = [&](int i, int j)
+    {
+        if (lawOverlap.empty()) return tol;
+        const auto it = lawOverlap.find(pairKey(i, j));
+        return it == lawOverlap.end() ? tol : tol + it->second;
+    };
     std::vector<std::string> msgs;
     int count = 0;
     double worst = 0;
@@ -298,7 +356,7 @@ void System::checkInitialOverlaps() const
                         cellOf(I.x[j], cj);
                         if (cj[0] != a || cj[1] != b || cj[2] != z) continue; // hash collision
                         const double ov = I.rad[i] + I.rad[j] - (I.x[i] - I.x[j]).norm();
-                        if (ov > tol)
+                        if (ov > admitted(i, j))
                         {
                             std::ostringstream os;
                             os << "grains " << i << " and " << j;
@@ -337,7 +395,7 @@ void System::checkInitialOverlaps() const
                     ov = std::max(ov, I.rad[i] - (xl - cp).norm());
                 }
             }
-            if (ov > tol)
+            if (ov > admitted(i, -(wi + 1)))
             {
                 std::ostringstream os;
                 os << "grain " << i << " and wall " << wi;

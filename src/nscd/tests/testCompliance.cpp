@@ -255,6 +255,46 @@ TEST(Compliance, BadInputAndRestart)
     std::remove(file.c_str());
 }
 
+// A compliant column at rest carries its weight by overlaps (Hooke:
+// c x the weight above each contact) up to 5e-2 r, 50 times the default
+// overlapTolerance (1e-3 r_min):
+// the state is admitted by checkInitialOverlaps with its contact impulses
+// (and after an HDF5 restart), since each overlap is its contact's law
+// under its load; the same positions without impulses are an InputError
+// (a packing whose overlaps nothing carries).
+TEST(Compliance, LoadedCompliantOverlapsPassTheInitialCheck)
+{
+    const int n = 20;
+    const double mass = rho * M_PI * rad * rad; // [kg/m]
+    Material mat{rho, 0.3};
+    // bottom overlap 5e-2 r
+    mat.compliance = 5e-2 * rad / (n * mass * gAcc);
+    System s = column2D(n, mat);
+    for (int k = 0; k < 2000; ++k) ASSERT_TRUE(s.step(1e-4).converged) << "step " << k;
+    const std::vector<double> ov = overlaps(s);
+    ASSERT_GT(ov[0], 4 * s.settings().overlapTolerance * rad); // the floor contact
+    EXPECT_NO_THROW(s.checkInitialOverlaps());
+    const std::string file = "compliance_overlaps.h5";
+    s.writeHDF5(file);
+    System b = System::readHDF5(file);
+    std::remove(file.c_str());
+    EXPECT_NO_THROW(b.checkInitialOverlaps());
+
+    System unloaded(2);
+    const int m = unloaded.addMaterial(mat);
+    for (const Vec3& x : s.positions()) unloaded.addGrain(x, rad, m);
+    unloaded.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
+    try
+    {
+        unloaded.checkInitialOverlaps();
+        FAIL() << "no InputError";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("overlap"), std::string::npos);
+    }
+}
+
 // The RMS stopping test (Settings::Convergence::RMS, LMGC90's Quad norm) on
 // a frictionless column of 30 discs at rest on the floor, hard contacts:
 // each contact carries the weight of the discs above it (statics), checked
