@@ -96,6 +96,34 @@ def test_rain_deposit_settles_on_its_walls(tmp_path, env):
     assert wall_lift(case) == pytest.approx(weight(case), rel=5e-3)
 
 
+def test_compliant_rain_deposit_is_written_loaded(tmp_path, env):
+    """A compliant bed (relativeCompliance 5e-2) carries its weight by
+    overlaps of up to ~8 overlapTolerance r_min at its bottom: grainDeposit
+    writes it with its contact impulses by default (without `writeContactImpulses`) and
+    the written state passes the initial-overlap check (each overlap is its
+    contact's law under its load, nscd System::checkInitialOverlaps); the
+    walls hold the bed's weight (statics, as the hard bed above)."""
+    case = rain_case(tmp_path, env, "compliant")
+    for name, old, new in (
+        ("constant/grainProperties", "friction", "relativeCompliance 5e-2; friction"),
+        ("system/grainDepositDict", "writeContactImpulses yes;", ""),
+        ("system/grainDepositDict", "staticLoad yes;", ""),
+        # at rest to 2e-5 m/s: the compliant bed's slow mode (its weight
+        # loading the springs) outlasts the 2e-3 m/s of the hard bed
+        ("system/grainDepositDict", "maxTime 0.05;", "maxTime 0.5;"),
+        ("system/grainDepositDict", "speedTolerance 2e-3;", "speedTolerance 2e-5;"),
+    ):
+        path = os.path.join(case, name)
+        text = open(path).read()
+        assert old in text, (name, old)
+        open(path, "w").write(text.replace(old, new, 1))
+    run("grainDeposit", case, env)
+    g = nscdpost.read_grains(case, "0")
+    y, r = g["x"][:, 1], 0.5 * g["d"]
+    assert np.max(r - y) > 2e-3 * r.min()  # floor overlaps beyond overlapTolerance (1e-3 r_min)
+    assert wall_lift(case) == pytest.approx(weight(case), rel=5e-3)
+
+
 def test_rain_deposit_above_the_box_is_an_error(tmp_path, env):
     case = rain_case(tmp_path, env, "tall", settle=False, number=2000, height=0.02)
     out = run_fatal_io("grainDeposit", case, env)
