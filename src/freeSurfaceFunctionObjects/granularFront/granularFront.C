@@ -49,9 +49,9 @@ Foam::functionObjects::granularFront::granularFront
 
 bool Foam::functionObjects::granularFront::read(const dictionary& dict)
 {
-    freeSurfaceTools::readBase
+    freeSurfaceTools::readBase(*this, dict);
+    freeSurfaceTools::checkKeywords
     (
-        *this,
         dict,
         {
             "h0", "bottom", "bandHalfWidth", "frontDirection",

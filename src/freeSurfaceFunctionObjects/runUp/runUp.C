@@ -48,9 +48,9 @@ Foam::functionObjects::runUp::runUp
 
 bool Foam::functionObjects::runUp::read(const dictionary& dict)
 {
-    freeSurfaceTools::readBase
+    freeSurfaceTools::readBase(*this, dict);
+    freeSurfaceTools::checkKeywords
     (
-        *this,
         dict,
         {
             "alpha", "threshold", "patches", "xRange", "stillWaterLevel",

@@ -152,9 +152,9 @@ Foam::functionObjects::waveGauges::waveGauges
 
 bool Foam::functionObjects::waveGauges::read(const dictionary& dict)
 {
-    freeSurfaceTools::readBase
+    freeSurfaceTools::readBase(*this, dict);
+    freeSurfaceTools::checkKeywords
     (
-        *this,
         dict,
         {
             "alpha", "x", "stillWaterLevel", "horizontalDirection",
