@@ -409,6 +409,17 @@ def fixed_lattice_bed(
     return read_internal(os.path.join(case, name, "p")).reshape(nx, ny, nx, order="F")
 
 
+def add_solver(case, field, entry, extra=()):
+    """Insert the solver entry `field { entry }` first in the solvers of
+    system/fvSolution (text edit: the rest of the file unchanged); extra:
+    (old, new) replacements made in the same pass."""
+    fs = os.path.join(case, "system", "fvSolution")
+    txt = open(fs).read().replace("solvers {\n", f"solvers {{\n  {field} {{ {entry} }}\n")
+    for old, new in extra:
+        txt = txt.replace(old, new)
+    open(fs, "w").write(txt)
+
+
 def add_scalar_transport(
     case,
     field,

@@ -74,7 +74,7 @@ import re
 
 import numpy as np
 import pytest
-from foamcase import add_fluid, make_box_case, run, write
+from foamcase import add_fluid, add_solver, make_box_case, run, write
 
 pytestmark = pytest.mark.slow
 
@@ -180,16 +180,7 @@ def cavity_case(case, Ra, n, end_time, write_interval, ratio=4.0):
         "laplacianSchemes { default Gauss linear corrected; }\n"
         "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n",
     )
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = (
-        open(fs)
-        .read()
-        .replace(
-            "solvers {\n",
-            "solvers {\n  T { solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0; }\n",
-        )
-    )
-    open(fs, "w").write(txt)
+    add_solver(case, "T", "solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0;")
     return beta
 
 

@@ -76,6 +76,7 @@ from correlations import nusselt_difelice_colburn as nu_difelice_colburn
 from correlations import nusselt_gunn as nu_gunn
 from foamcase import (
     add_fluid,
+    add_solver,
     make_box_case,
     read_internal,
     run,
@@ -191,16 +192,13 @@ def lattice_case(case, model, Re, velocity_correction=None):
         f"boundaryField {{ inlet {{ type fixedValue; value uniform {T_IN}; }}\n"
         " outlet { type zeroGradient; } walls { type zeroGradient; } }\n",
     )
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = (
-        open(fs)
-        .read()
-        .replace(
-            "solvers {\n",
-            "solvers {\n  T { solver PBiCGStab; preconditioner DILU; tolerance 1e-13; relTol 0; }\n",
-        )
+    add_solver(
+        case,
+        "T",
+        "solver PBiCGStab; preconditioner DILU; tolerance 1e-13; relTol 0;",
+        extra=[("tolerance 1e-9", "tolerance 1e-11")],
     )
-    open(fs, "w").write(txt.replace("tolerance 1e-9", "tolerance 1e-11"))
+    fs = os.path.join(case, "system", "fvSolution")
     sc = os.path.join(case, "system", "fvSchemes")
     txt = open(sc).read().replace("div(phi,U)", "div(phi,T) Gauss upwind; div(phi,U)")
     if velocity_correction:
