@@ -106,9 +106,10 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     50 um grains in a held droplet (the case of
     test_dense_suspension_settles_steadily, inner quarter of the radius, gas
     nu = 2e-5), stopped at step 20 of 40 and restarted, ends as the
-    uninterrupted run bit for bit (reference: the uninterrupted run): every
-    dataset of the last grainState.h5, the history columns included, and
-    every droplet.dat column.  Without grainHistory the restart is NOT
+    uninterrupted run (reference: the uninterrupted run): every dataset of
+    the last grainState.h5, the history columns included, bit for bit, and
+    every droplet.dat column to 1e-9 relative (the droplet's state is read
+    back from ascii).  Without grainHistory the restart is NOT
     exact (asserted: grain velocities off by > 1e-6 relative; measured
     1.3e-4; the first step after the restart then runs without the
     predictor), so the test fails if the history is lost.  A restart file
@@ -163,10 +164,12 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     for name, edit in (("half", None), ("oldFormat", lambda h: _old_format(h, mid))):
         rest, _, state = restart(name, edit)
         assert len(rest) == n // 2
-        assert np.array_equal(rest, full[n // 2 :]), name
+        # the droplet's own state passes through ascii uniform/droplet
+        assert np.allclose(rest, full[n // 2 :], rtol=1e-9, atol=1e-15), name
         assert state.keys() == state_full.keys(), name
         for k, a in state_full.items():
-            assert np.array_equal(a, state[k]), (name, k)
+            nan = a.dtype.kind == "f"  # (adiabatic walls: NaN temperature)
+            assert np.array_equal(a, state[k], equal_nan=nan), (name, k)
         print(f"{len(grains)} grains, restart ({name}): grainState.h5 bit-identical")
     scale = np.abs(u_full[:, :2]).max()
     no_history = edit_droplet(lambda txt: txt[: txt.index("grainHistory")] + "\n")
