@@ -79,6 +79,7 @@ from foamcase import (
     add_solver,
     make_box_case,
     read_internal,
+    replace_in,
     run,
     tutorial_modules,
     uniform_inflow,
@@ -169,16 +170,15 @@ def lattice_case(case, model, Re, velocity_correction=None):
         two_d=False,
     )
     gp = os.path.join(case, "constant", "grainProperties")
-    txt = (
-        open(gp)
-        .read()
-        .replace(
+    replace_in(
+        gp,
+        (
             "glass { density 2500; friction 0.1; }",
             "glass { density 2500; friction 0.1; youngModulus 6e10; poissonRatio 0.22;"
             " conductivity 1.4; heatCapacity 8.4e8; }",
-        )
+        ),
     )
-    open(gp, "w").write(txt + f"initialTemperature {T_P};\n")
+    open(gp, "a").write(f"initialTemperature {T_P};\n")
     open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     add_fluid(case, RHO, NU, max_co=1.0, max_dt=1.0, extra_coupling=f"heatTransferModel {model};\n")
     uniform_inflow(case, Us)
