@@ -107,3 +107,23 @@ Foam::Pair<Foam::scalar> Foam::freeSurfaceTools::getRange
     }
     return r;
 }
+
+
+void Foam::freeSurfaceTools::writeColumnHeader
+(
+    functionObjects::writeFile& wf,
+    const string& title,
+    const List<string>& columns
+)
+{
+    if (wf.writeToFile() && Pstream::master())
+    {
+        wf.writeHeader(wf.file(), title);
+        wf.writeCommented(wf.file(), "Time");
+        for (const string& column : columns)
+        {
+            wf.writeTabbed(wf.file(), column);
+        }
+        wf.file() << endl;
+    }
+}

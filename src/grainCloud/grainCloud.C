@@ -161,7 +161,8 @@ Foam::grainCloud::grainCloud
     zMid_(0.5*(mesh.bounds().min().z() + mesh.bounds().max().z())),
     depth_(mesh.bounds().max().z() - mesh.bounds().min().z()),
     maxDisplacementFraction_(0.1),
-    declareColumns_(declareColumns)
+    declareColumns_(declareColumns),
+    exits_(mesh, dimension_, zMid_)
 {
     if (dimension_ == 2 && mesh.solutionD()[vector::Z] != -1)
     {

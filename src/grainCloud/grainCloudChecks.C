@@ -99,6 +99,24 @@ nscd::System Foam::grainCloud::readStateFile
 }
 
 
+bool Foam::grainCloud::readStartColumn(const word& name)
+{
+    if (startStatePath_.empty())
+    {
+        return false;
+    }
+    try
+    {
+        return system_->readColumnHDF5(startStatePath_, name);
+    }
+    catch (const nscd::InputError& err)
+    {
+        stateFileError(startStatePath_, err.what());
+    }
+    return false;  // not reached
+}
+
+
 std::vector<double> Foam::grainCloud::readStateRadii
 (
     const fileName& statePath,

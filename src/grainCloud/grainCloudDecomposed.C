@@ -11,7 +11,7 @@ Description
 
     Owner function: a grain stays with this rank while its centre lies in
     one of its cells, tested first against the clear ball of its last cell
-    (computeCellClearance, processor faces included), then pointInCell, then
+    (grainMeshExits, processor faces included), then pointInCell, then
     a search of this rank's cells; the owner of a grain that left them is the
     rank whose cells hold it (asked of every rank by the library).
 
@@ -186,10 +186,7 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
         return;
     }
 
-    if (!mesh_.changing())
-    {
-        computeCellClearance();
-    }
+    exits_.updateClearance();
     // findCell and pointInCell (the owner function) use the tet base points
     // of the faces, which the mesh builds at the first call by an exchange
     // over the processor patches (collective): built here on every rank, as
@@ -263,7 +260,7 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
 int Foam::grainCloud::ownerOf(const nscd::Vec3& x, const long id) const
 {
     auto hint = ownerCellHint_.find(id);
-    const label c = findLocalCell
+    const label c = exits_.findLocalCell
     (
         meshPoint(x),
         hint == ownerCellHint_.end() ? -1 : hint->second,
@@ -346,7 +343,7 @@ void Foam::grainCloud::checkDecomposedInsideMesh
         }
         all.append(paths[r]);
     }
-    const labelList exits(exitPatches(all));
+    const labelList exits(exits_.exitPatches(all, outletPatches_));
     forAll(mine, k)
     {
         const label i = lost[k];

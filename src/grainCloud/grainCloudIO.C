@@ -19,6 +19,57 @@ Description
 
 using Foam::grainTools::toVector;
 
+// * * * * * * * * * * * * * * * Local Functions * * * * * * * * * * * * * * //
+
+namespace
+{
+
+//- Write the field name of the cloud: values of the grains ids (per-grain
+//  values, one per grain of the system)
+template<class Type>
+void writeGrainField
+(
+    const Foam::passiveParticleCloud& cloud,
+    const Foam::word& name,
+    const Foam::UList<Type>& values,
+    const Foam::UList<Foam::label>& ids,
+    const bool valid
+)
+{
+    Foam::IOField<Type> f
+    (
+        cloud.fieldIOobject(name, Foam::IOobject::NO_READ),
+        ids.size()
+    );
+    forAll(ids, k)
+    {
+        f[k] = values[ids[k]];
+    }
+    f.write(valid);
+}
+
+
+//- Log the grains each rank's mesh holds (nWritten here: whose lagrangian
+//  output it writes; replicated: every rank still solves all grains'
+//  contacts), the load balance of a parallel run
+void logGrainsPerRank(const Foam::label nWritten)
+{
+    using namespace Foam;
+    labelList perRank(Pstream::nProcs(), 0);
+    perRank[Pstream::myProcNo()] = nWritten;
+    Pstream::gatherList(perRank);
+    if (Pstream::master())
+    {
+        const scalar mean = scalar(sum(perRank))/perRank.size();
+        Info<< "grainCloud: grains per rank " << perRank
+            << ", largest/mean "
+            << (mean > 0 ? max(perRank)/mean : 0) << endl;
+    }
+}
+
+} // End anonymous namespace
+
+
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
 
 void Foam::grainCloud::write
@@ -152,19 +203,7 @@ void Foam::grainCloud::writeCloud
     cloud.write();
     if (Pstream::parRun())
     {
-        // load balance: the grains each rank's mesh holds (whose lagrangian
-        // output it writes; replicated: every rank still solves all grains'
-        // contacts)
-        labelList perRank(Pstream::nProcs(), 0);
-        perRank[Pstream::myProcNo()] = ids.size();
-        Pstream::gatherList(perRank);
-        if (Pstream::master())
-        {
-            const scalar mean = scalar(sum(perRank))/perRank.size();
-            Info<< "grainCloud: grains per rank " << perRank
-                << ", largest/mean "
-                << (mean > 0 ? max(perRank)/mean : 0) << endl;
-        }
+        logGrainsPerRank(ids.size());
     }
     const bool valid = ids.size() > 0;
     d.write(valid);
@@ -174,29 +213,11 @@ void Foam::grainCloud::writeCloud
     fixed.write(valid);
     for (const auto& ex : extra)
     {
-        IOField<vector> f
-        (
-            cloud.fieldIOobject(ex.first, IOobject::NO_READ),
-            ids.size()
-        );
-        forAll(ids, k)
-        {
-            f[k] = (*ex.second)[ids[k]];
-        }
-        f.write(valid);
+        writeGrainField(cloud, ex.first, *ex.second, ids, valid);
     }
     for (const auto& ex : extraScalars)
     {
-        IOField<scalar> f
-        (
-            cloud.fieldIOobject(ex.first, IOobject::NO_READ),
-            ids.size()
-        );
-        forAll(ids, k)
-        {
-            f[k] = (*ex.second)[ids[k]];
-        }
-        f.write(valid);
+        writeGrainField(cloud, ex.first, *ex.second, ids, valid);
     }
 }
 

@@ -4,11 +4,9 @@
 
 Description
     After every grain step, each grain centre is located in this rank's
-    cells (its last cell, that cell's clear ball, pointInCell, then a
-    search); a grain no rank holds crossed the boundary in the step: the
-    face its path crossed first (exact point-in-face test, an outlet face
-    winning a tie with another face at a shared edge) says how.  Through
-    an outletPatches patch it is removed and counted
+    cells; a grain no rank holds crossed the boundary in the step: the
+    face its path crossed first says how (both searches: grainMeshExits).
+    Through an outletPatches patch it is removed and counted
     (grainCloudOutlets.C); through a grain wall patch, an open patch or a
     gap between wall patches the run stops (FatalError with the fix), so
     that grains never vanish silently.
@@ -18,105 +16,12 @@ Description
 #include "nscdMPI/DecomposedSystem.H"  // (unique_ptr member: complete type)
 #include "Time.H"
 #include "processorPolyPatch.H"
-#include "emptyPolyPatch.H"
-#include "indexedOctree.H"
-#include "treeDataFace.H"
-#include "Random.H"
 
 #include <chrono>
 #include <cmath>
 #include <limits>
 
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
-
-Foam::label Foam::grainCloud::findLocalCell
-(
-    const point& p,
-    const label hint,
-    const boundBox& local
-) const
-{
-    if (hint >= 0)
-    {
-        if
-        (
-            clearRadiusSqr_.size() == mesh_.nCells()
-         && magSqr(p - clearCentres_[hint]) < clearRadiusSqr_[hint]
-        )
-        {
-            return hint;
-        }
-        if (mesh_.pointInCell(p, hint))
-        {
-            return hint;
-        }
-    }
-    return local.contains(p) ? mesh_.findCell(p) : -1;
-}
-
-
-void Foam::grainCloud::computeCellClearance() const
-{
-    // Around an interior point, a ball that meets no boundary face lies in
-    // the mesh (it is connected and does not cross the boundary): each
-    // cell's centre and the distance from it to the nearest face of this
-    // rank's boundary (processor faces included, so "in the mesh" is "on
-    // this rank"), exact through an octree of the boundary faces, with a
-    // 10 % margin for warped faces (whose tet decomposition, which
-    // findCell uses, differs slightly from the face triangles the octree
-    // measures). In 2D the grains lie in the plane z = zMid_ and the empty
-    // front and back patches are no boundary for them: distances in that
-    // plane, to the other patches.
-    const polyBoundaryMesh& patches = mesh_.boundaryMesh();
-    DynamicList<label> faces(mesh_.nBoundaryFaces());
-    for (const polyPatch& pp : patches)
-    {
-        if (dimension_ == 2 && isA<emptyPolyPatch>(pp))
-        {
-            continue;
-        }
-        forAll(pp, i)
-        {
-            faces.append(pp.start() + i);
-        }
-    }
-    clearCentres_ = mesh_.cellCentres();
-    if (dimension_ == 2)
-    {
-        for (point& c : clearCentres_)
-        {
-            c.z() = zMid_;
-        }
-    }
-    clearRadiusSqr_.setSize(mesh_.nCells(), 0);
-    if (faces.empty())
-    {
-        clearRadiusSqr_ = GREAT;
-        return;
-    }
-    Random rndGen(123456);
-    treeBoundBox bb
-    (
-        treeBoundBox(mesh_.points()).extend(rndGen, 1e-4)
-    );
-    bb.min() -= point::uniform(ROOTVSMALL);
-    bb.max() += point::uniform(ROOTVSMALL);
-    const indexedOctree<treeDataFace> tree
-    (
-        treeDataFace(false, mesh_, labelList(faces)),
-        bb, 8, 10, 3.0
-    );
-    const scalar span2 = magSqr(bb.span());
-    forAll(clearCentres_, celli)
-    {
-        const pointIndexHit hit = tree.findNearest(clearCentres_[celli], span2);
-        clearRadiusSqr_[celli] =
-            hit.hit()
-          ? sqr(0.9)*magSqr(hit.hitPoint() - clearCentres_[celli])
-          : 0;
-    }
-}
-
 
 void Foam::grainCloud::checkInsideMesh()
 {
@@ -139,21 +44,13 @@ void Foam::grainCloud::checkInsideMesh()
     const boundBox local(mesh_.points(), false);
     // the search-free test first (clearCentres_): most grains stay within
     // the clear ball of their last cell from step to step
-    if (mesh_.changing())
-    {
-        clearCentres_.clear();
-        clearRadiusSqr_.clear();
-    }
-    else if (clearRadiusSqr_.size() != mesh_.nCells())
-    {
-        computeCellClearance();
-    }
+    exits_.updateClearance();
     labelList found(n, 0);
     bool allLocal = true;
     for (label i = 0; i < n; ++i)
     {
         label& c = cellHint[i];
-        c = findLocalCell(meshPosition(i), c, local);
+        c = exits_.findLocalCell(meshPosition(i), c, local);
         found[i] = c >= 0 ? 1 : 0;
         allLocal = allLocal && found[i];
     }
@@ -235,148 +132,7 @@ Foam::labelList Foam::grainCloud::exitPatches(const labelList& grains) const
             meshPosition(grains[k])
         );
     }
-    return exitPatches(paths);
-}
-
-
-Foam::labelList Foam::grainCloud::exitPatches
-(
-    const List<Pair<point>>& paths
-) const
-{
-    // first boundary face crossed by each path on this rank
-    scalarList tFirst(paths.size(), GREAT);
-    labelList patch(paths.size(), -1);
-    forAll(paths, k)
-    {
-        firstCrossing(paths[k].first(), paths[k].second(), tFirst[k], patch[k]);
-    }
-    // the rank whose face is crossed first names the patch (the indices of
-    // the non-processor patches are the same on every rank); on a tie
-    // (crossing points within exitTieDistance(), e.g. a point on an edge
-    // shared by faces of two ranks) an outlet patch wins, as in
-    // firstCrossing.  Two list reductions for all the grains.
-    scalarList tGlobal(tFirst);
-    Pstream::listCombineGather(tGlobal, minEqOp<scalar>());
-    Pstream::listCombineScatter(tGlobal);
-    const label nPatches = mesh_.boundaryMesh().size();
-    const scalar tie = exitTieDistance();
-    forAll(paths, k)
-    {
-        const scalar len = mag(paths[k].second() - paths[k].first());
-        if
-        (
-            !(tGlobal[k] < GREAT && (tFirst[k] - tGlobal[k])*len <= tie)
-         || patch[k] < 0
-        )
-        {
-            patch[k] = -1;
-        }
-        else if (outletPatches_.found(patch[k]))
-        {
-            patch[k] += nPatches;    // priority of the outlets on a tie
-        }
-    }
-    Pstream::listCombineGather(patch, maxEqOp<label>());
-    Pstream::listCombineScatter(patch);
-    for (label& p : patch)
-    {
-        if (p >= nPatches)
-        {
-            p -= nPatches;
-        }
-    }
-    return patch;
-}
-
-
-Foam::scalar Foam::grainCloud::exitTieDistance() const
-{
-    // round-off of the crossing points is ~1e-16 of the coordinates; 1e-9
-    // of the (global) mesh span is far above it and far below any grain
-    return 1e-9*mag(mesh_.bounds().span());
-}
-
-
-void Foam::grainCloud::firstCrossing
-(
-    const point& x0,
-    const point& x1,
-    scalar& tBest,
-    label& patchBest
-) const
-{
-    // Coupled and empty patches are skipped.  The crossing point must lie
-    // in the face polygon (face::intersection, exact point-in-polygon on
-    // the face-centre triangle fan, widened by 1e-6 of the face size so
-    // that an edge shared by two faces is in both).  On a tie (crossing
-    // points within exitTieDistance(), e.g. a point on the edge between an
-    // orifice face and a floor face) an outlet patch wins over any other
-    const vector dx(x1 - x0);
-    const scalar len = mag(dx);
-
-    // first boundary face crossed by the path x0 -> x1 on this rank
-    tBest = GREAT;
-    patchBest = -1;
-    if (len < VSMALL)
-    {
-        return;
-    }
-    // the path's crossing with a face: the exact point-in-polygon test of
-    // face::intersection (the face-centre triangle fan, barycentric bounds)
-    // widened by faceTol, relative to the face size (barycentric
-    // coordinates), so that a point on an edge shared by two faces is in
-    // both and no point between two faces is in none
-    const scalar faceTol = 1e-6;
-    // the path parameter t is in [0, 1] (x0 inside the mesh, x1 outside);
-    // tTol: exitTieDistance() in t, both the round-off allowed at x0 or x1
-    // and the tie of two crossings
-    const scalar tTol = exitTieDistance()/len;
-    const pointField& points = mesh_.points();
-    const polyBoundaryMesh& pbm = mesh_.boundaryMesh();
-    bool bestIsOutlet = false;
-    for (const polyPatch& pp : pbm)
-    {
-        if (pp.coupled() || isA<emptyPolyPatch>(pp))
-        {
-            continue;
-        }
-        const bool isOutlet = outletPatches_.found(pp.index());
-        const vectorField::subField Cf(pp.faceCentres());
-        const vectorField::subField Sf(pp.faceAreas());
-        forAll(pp, facei)
-        {
-            // outwards only (Sf points out of the mesh)
-            if ((dx & Sf[facei]) <= 0) continue;
-            const pointHit hit
-            (
-                pp[facei].intersection
-                (
-                    x0, dx, Cf[facei], points, intersection::FULL_RAY, faceTol
-                )
-            );
-            if (!hit.hit()) continue;
-            const scalar t = hit.distance();
-            if (t < -tTol || t > 1 + tTol) continue;
-            // the first face along the path; on a tie (the same crossing
-            // point to within exitTieDistance: an edge shared by two faces,
-            // or faces of two patches in one plane) an outlet patch wins
-            // over a wall or an open patch, so that a grain whose centre
-            // crosses the boundary on the rim of an orifice leaves through
-            // it; between two faces of one kind the first found stays
-            const bool tie = mag(t - tBest) <= tTol;
-            if
-            (
-                (!tie && t < tBest)
-             || (tie && isOutlet && !bestIsOutlet)
-            )
-            {
-                tBest = t;
-                patchBest = pp.index();
-                bestIsOutlet = isOutlet;
-            }
-        }
-    }
+    return exits_.exitPatches(paths, outletPatches_);
 }
 
 

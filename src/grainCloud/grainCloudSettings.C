@@ -24,15 +24,20 @@ Description
 namespace
 {
 // contactSolver.<key>: the value of the named choice, among names (in the
-// order the error message lists them)
+// order the error message lists them); current if key is not given
 template<class Choice>
 Choice contactSolverChoice
 (
     const Foam::dictionary& cs,
     const char* key,
+    const Choice current,
     std::initializer_list<std::pair<const char*, Choice>> names
 )
 {
+    if (!cs.found(key))
+    {
+        return current;
+    }
     const Foam::word w(cs.get<Foam::word>(key));
     for (const auto& n : names)
     {
@@ -145,6 +150,177 @@ void Foam::grainCloud::readSettings()
 }
 
 
+namespace
+{
+typedef nscd::System::Settings solverSettings;
+
+//- contactSolver: the method, its stopping test and the Newton options
+void readContactMethod(const Foam::dictionary& cs, solverSettings& s)
+{
+    using namespace Foam;
+    auto positive = [&cs](const char* key, const scalar value)
+    {
+        return grainTools::getPositiveOrDefault(cs, key, value);
+    };
+    using Convergence = nscd::System::Settings::Convergence;
+    s.convergence = contactSolverChoice<Convergence>
+    (
+        cs, "convergence", s.convergence,
+        {{"max", Convergence::Max}, {"rms", Convergence::RMS}}
+    );
+    s.rmsTolerance = positive("rmsTolerance", s.rmsTolerance);
+    using Method = nscd::System::Settings::Method;
+    s.method = contactSolverChoice<Method>
+    (
+        cs, "method", s.method,
+        {
+            {"NLGS", Method::NLGS},
+            {"overRelaxedNLGS", Method::OverRelaxedNLGS},
+            {"APGD", Method::APGD},
+            {"NNCG", Method::NNCG},
+            {"newton", Method::Newton}
+        }
+    );
+    s.newtonTolerance = positive("newtonTolerance", s.newtonTolerance);
+    s.tangentialRegularisation =
+        positive("tangentialRegularisation", s.tangentialRegularisation);
+    using Linear = nscd::System::Settings::NewtonLinearSolver;
+    s.newtonLinearSolver = contactSolverChoice<Linear>
+    (
+        cs, "newtonLinearSolver", s.newtonLinearSolver,
+        {
+            {"cholesky", Linear::Cholesky},
+            {"conjugateGradient", Linear::ConjugateGradient}
+        }
+    );
+}
+
+
+//- contactSolver method newton: FatalIOError unless every material of
+//  grainDict (constant/grainProperties) has a compliance
+void checkNewtonCompliance
+(
+    const Foam::dictionary& grainDict,
+    const Foam::dictionary& cs,
+    const solverSettings& s
+)
+{
+    using namespace Foam;
+    if (s.method == nscd::System::Settings::Method::Newton)
+    {
+        // the Newton solver solves the compliant (regularised) law
+        // only: every material needs a compliance
+        for (const entry& e : grainDict.subDict("materials"))
+        {
+            if
+            (
+                !(e.dict().getOrDefault<scalar>("compliance", 0) > 0)
+             && !(
+                    e.dict().getOrDefault<scalar>("relativeCompliance", 0)
+                  > 0
+                )
+            )
+            {
+                FatalIOErrorInFunction(cs)
+                    << "contactSolver method newton in " << grainDict.name()
+                    << " solves compliant contacts only, but material "
+                    << e.keyword() << " has neither compliance nor"
+                    << " relativeCompliance > 0 (the hard law)." << nl
+                    << "    Give materials." << e.keyword()
+                    << ".relativeCompliance (e.g. 2e-3) or compliance"
+                    << " [m/N], or use method NLGS" << exit(FatalIOError);
+            }
+        }
+    }
+}
+
+
+//- contactSolver: ordering, relaxation, tolerances, iteration and
+//  sub-step limits, reordering and the Verlet skin
+void readContactLimits(const Foam::dictionary& cs, solverSettings& s)
+{
+    using namespace Foam;
+    using Ordering = nscd::System::Settings::Ordering;
+    s.ordering = contactSolverChoice<Ordering>
+    (
+        cs, "ordering", s.ordering,
+        {{"fifo", Ordering::Fifo}, {"symmetric", Ordering::Symmetric}}
+    );
+    s.relaxation = cs.getOrDefault<scalar>("relaxation", s.relaxation);
+    if (!(s.relaxation > 0 && s.relaxation < 2))
+    {
+        FatalIOErrorInFunction(cs)
+            << "relaxation must be in (0, 2), got " << s.relaxation
+            << exit(FatalIOError);
+    }
+    s.tolerance =
+        grainTools::getPositiveOrDefault(cs, "tolerance", s.tolerance);
+    s.maxIterations =
+        cs.getOrDefault<label>("maxIterations", s.maxIterations);
+    s.overlapTolerance =
+        grainTools::getPositiveOrDefault
+        (
+            cs, "overlapTolerance", s.overlapTolerance
+        );
+    if (s.maxIterations < 1)
+    {
+        FatalIOErrorInFunction(cs)
+            << "maxIterations must be >= 1" << exit(FatalIOError);
+    }
+    s.maxSubSteps = cs.getOrDefault<label>("maxSubSteps", s.maxSubSteps);
+    if (s.maxSubSteps < 1)
+    {
+        FatalIOErrorInFunction(cs)
+            << "maxSubSteps must be >= 1" << exit(FatalIOError);
+    }
+    const label reorder =
+        cs.getOrDefault<label>("reorderInterval", s.reorderInterval);
+    if (reorder < 0)
+    {
+        FatalIOErrorInFunction(cs)
+            << "reorderInterval must be >= 0 (steps between two internal"
+            << " re-sorts of the grains along the Morton curve; 0: never),"
+            << " got " << reorder << exit(FatalIOError);
+    }
+    s.reorderInterval = int(reorder);
+    s.verletSkin = cs.getOrDefault<scalar>("verletSkin", s.verletSkin);
+    if (!(s.verletSkin >= 0) || !std::isfinite(s.verletSkin))
+    {
+        FatalIOErrorInFunction(cs)
+            << "verletSkin must be finite and >= 0 (skin of the Verlet"
+            << " list of candidate grain pairs, / r_min; 0: the grid scan"
+            << " every step), got " << s.verletSkin << exit(FatalIOError);
+    }
+}
+
+
+//- contactSolver convergence rms only with the Gauss-Seidel methods
+void checkConvergenceChoice
+(
+    const Foam::dictionary& cs,
+    const solverSettings& s
+)
+{
+    using namespace Foam;
+    if
+    (
+        s.convergence == nscd::System::Settings::Convergence::RMS
+     && (s.method == nscd::System::Settings::Method::APGD
+      || s.method == nscd::System::Settings::Method::NNCG
+      || s.method == nscd::System::Settings::Method::Newton)
+    )
+    {
+        FatalIOErrorInFunction(cs)
+            << "convergence rms in " << cs.name() << " is the stopping"
+            << " test of the Gauss-Seidel methods (method NLGS or"
+            << " overRelaxedNLGS); APGD and NNCG stop on convergence max,"
+            << " newton on newtonTolerance" << exit(FatalIOError);
+    }
+}
+
+} // End anonymous namespace
+
+
 void Foam::grainCloud::applySolverSettings()
 {
     nscd::System::Settings& s = system_->settings();
@@ -161,151 +337,10 @@ void Foam::grainCloud::applySolverSettings()
                 "tangentialRegularisation", "newtonLinearSolver"
             }
         );
-        if (cs.found("convergence"))
-        {
-            using Convergence = nscd::System::Settings::Convergence;
-            s.convergence = contactSolverChoice<Convergence>
-            (
-                cs, "convergence",
-                {{"max", Convergence::Max}, {"rms", Convergence::RMS}}
-            );
-        }
-        s.rmsTolerance =
-            grainTools::getPositiveOrDefault
-            (
-                cs, "rmsTolerance", s.rmsTolerance
-            );
-        if (cs.found("method"))
-        {
-            using Method = nscd::System::Settings::Method;
-            s.method = contactSolverChoice<Method>
-            (
-                cs, "method",
-                {
-                    {"NLGS", Method::NLGS},
-                    {"overRelaxedNLGS", Method::OverRelaxedNLGS},
-                    {"APGD", Method::APGD},
-                    {"NNCG", Method::NNCG},
-                    {"newton", Method::Newton}
-                }
-            );
-        }
-        s.newtonTolerance =
-            grainTools::getPositiveOrDefault
-            (
-                cs, "newtonTolerance", s.newtonTolerance
-            );
-        s.tangentialRegularisation =
-            grainTools::getPositiveOrDefault
-            (
-                cs, "tangentialRegularisation", s.tangentialRegularisation
-            );
-        if (cs.found("newtonLinearSolver"))
-        {
-            using Linear = nscd::System::Settings::NewtonLinearSolver;
-            s.newtonLinearSolver = contactSolverChoice<Linear>
-            (
-                cs, "newtonLinearSolver",
-                {
-                    {"cholesky", Linear::Cholesky},
-                    {"conjugateGradient", Linear::ConjugateGradient}
-                }
-            );
-        }
-        if (s.method == nscd::System::Settings::Method::Newton)
-        {
-            // the Newton solver solves the compliant (regularised) law
-            // only: every material needs a compliance
-            for (const entry& e : dict_.subDict("materials"))
-            {
-                if
-                (
-                    !(e.dict().getOrDefault<scalar>("compliance", 0) > 0)
-                 && !(
-                        e.dict().getOrDefault<scalar>("relativeCompliance", 0)
-                      > 0
-                    )
-                )
-                {
-                    FatalIOErrorInFunction(cs)
-                        << "contactSolver method newton in " << dict_.name()
-                        << " solves compliant contacts only, but material "
-                        << e.keyword() << " has neither compliance nor"
-                        << " relativeCompliance > 0 (the hard law)." << nl
-                        << "    Give materials." << e.keyword()
-                        << ".relativeCompliance (e.g. 2e-3) or compliance"
-                        << " [m/N], or use method NLGS" << exit(FatalIOError);
-                }
-            }
-        }
-        if (cs.found("ordering"))
-        {
-            using Ordering = nscd::System::Settings::Ordering;
-            s.ordering = contactSolverChoice<Ordering>
-            (
-                cs, "ordering",
-                {{"fifo", Ordering::Fifo}, {"symmetric", Ordering::Symmetric}}
-            );
-        }
-        s.relaxation = cs.getOrDefault<scalar>("relaxation", s.relaxation);
-        if (!(s.relaxation > 0 && s.relaxation < 2))
-        {
-            FatalIOErrorInFunction(cs)
-                << "relaxation must be in (0, 2), got " << s.relaxation
-                << exit(FatalIOError);
-        }
-        s.tolerance =
-            grainTools::getPositiveOrDefault(cs, "tolerance", s.tolerance);
-        s.maxIterations =
-            cs.getOrDefault<label>("maxIterations", s.maxIterations);
-        s.overlapTolerance =
-            grainTools::getPositiveOrDefault
-            (
-                cs, "overlapTolerance", s.overlapTolerance
-            );
-        if (s.maxIterations < 1)
-        {
-            FatalIOErrorInFunction(cs)
-                << "maxIterations must be >= 1" << exit(FatalIOError);
-        }
-        s.maxSubSteps = cs.getOrDefault<label>("maxSubSteps", s.maxSubSteps);
-        if (s.maxSubSteps < 1)
-        {
-            FatalIOErrorInFunction(cs)
-                << "maxSubSteps must be >= 1" << exit(FatalIOError);
-        }
-        const label reorder =
-            cs.getOrDefault<label>("reorderInterval", s.reorderInterval);
-        if (reorder < 0)
-        {
-            FatalIOErrorInFunction(cs)
-                << "reorderInterval must be >= 0 (steps between two internal"
-                << " re-sorts of the grains along the Morton curve; 0: never),"
-                << " got " << reorder << exit(FatalIOError);
-        }
-        s.reorderInterval = int(reorder);
-        s.verletSkin = cs.getOrDefault<scalar>("verletSkin", s.verletSkin);
-        if (!(s.verletSkin >= 0) || !std::isfinite(s.verletSkin))
-        {
-            FatalIOErrorInFunction(cs)
-                << "verletSkin must be finite and >= 0 (skin of the Verlet"
-                << " list of candidate grain pairs, / r_min; 0: the grid scan"
-                << " every step), got " << s.verletSkin << exit(FatalIOError);
-        }
-        if
-        (
-            s.convergence == nscd::System::Settings::Convergence::RMS
-         && (s.method == nscd::System::Settings::Method::APGD
-          || s.method == nscd::System::Settings::Method::NNCG
-          || s.method == nscd::System::Settings::Method::Newton)
-        )
-        {
-            FatalIOErrorInFunction(cs)
-                << "convergence rms in " << cs.name() << " is the stopping"
-                << " test of the Gauss-Seidel methods (method NLGS or"
-                << " overRelaxedNLGS); APGD and NNCG stop on convergence max,"
-                << " newton on newtonTolerance" << exit(FatalIOError);
-        }
+        readContactMethod(cs, s);
+        checkNewtonCompliance(dict_, cs, s);
+        readContactLimits(cs, s);
+        checkConvergenceChoice(cs, s);
     }
 }
 

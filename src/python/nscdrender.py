@@ -24,6 +24,9 @@ from the grain state <time>/grainState.h5 itself (no foamToVTK needed):
 
 writes DIR/<case name>_forceChains_t<time>.png for times whose state has
 stepped (the state grainDeposit writes at 0 holds no contacts).
+
+save_plot finishes and writes the line plots of the tutorials'
+postProcess.py (labels, legend, grid, layout), the same on every figure.
 """
 
 import argparse
@@ -337,6 +340,20 @@ def draw_force_chains(h5, png, title=None, width=1200, dpi=100):
     )
     fig.savefig(png, dpi=dpi, facecolor="white")
     return len(chains.get_segments())
+
+
+def save_plot(fig, ax, png, xlabel, ylabel=None, legend_size=8, dpi=120):
+    """Finish the one-axes matplotlib figure of a tutorial's postProcess.py
+    and write it to png: the axis labels (no ylabel when the legend says
+    what is plotted), the legend (font size legend_size), a light grid and
+    a tight layout, at dpi."""
+    ax.set_xlabel(xlabel)
+    if ylabel is not None:
+        ax.set_ylabel(ylabel)
+    ax.legend(fontsize=legend_size)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(png, dpi=dpi)
 
 
 def render_force_chains(case, n=3, times=None, out=None, width=1200):

@@ -10,7 +10,7 @@ import os
 
 import correlations
 import nscdpost
-from foamcase import add_fluid, add_scalar_transport, make_box_case, run, write
+from foamcase import add_fluid, add_scalar_transport, make_box_case, replace_in, run, write
 
 D = 2.5e-3
 W = 4 * D
@@ -67,15 +67,14 @@ def droplet_case(
         open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     if grains:
         gp = os.path.join(case, "constant", "grainProperties")
-        txt = (
-            open(gp)
-            .read()
-            .replace(
+        replace_in(
+            gp,
+            (
                 "glass { density 2500; friction 0.4; }",
                 "glass { density 2500; friction 0.4; conductivity 1; heatCapacity 800; }",
-            )
+            ),
         )
-        open(gp, "w").write(txt + f"initialTemperature {T_w if T_grains is None else T_grains};\n")
+        open(gp, "a").write(f"initialTemperature {T_w if T_grains is None else T_grains};\n")
     add_fluid(case, rho_f, nu, max_co=0.5, max_dt=dt)
     tp = os.path.join(case, "constant", "transportProperties")
     open(tp, "a").write(f"Cp {CP};\nkappa {KAPPA};\nvapour {{ D 2.5e-5; rho {RHO_V}; }}\n")

@@ -25,17 +25,41 @@ def vec(v):
     return "(" + " ".join(f"{x:.17g}" for x in v) + ")"
 
 
-def write_grain_numerics(case):
-    """fvSchemes and fvSolution of a case without fluid (grainFoam,
-    grainDeposit)."""
+def write_schemes(case, div=""):
+    """system/fvSchemes: Euler, Gauss linear gradients, corrected Gauss
+    linear laplacians and linear interpolation; divSchemes default none
+    plus div (the solver's convection terms, e.g. "div(phi,U) Gauss
+    linear;")."""
     write(
         os.path.join(case, "system", "fvSchemes"),
         "dictionary",
         "fvSchemes",
-        "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; }\n"
-        "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
-        "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n",
+        "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
+        "divSchemes { default none;" + (f" {div}" if div else "") + " }\n"
+        "laplacianSchemes { default Gauss linear corrected; }\n"
+        "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n",
     )
+
+
+def write_coupling(
+    case, drag="DallavalleDiFelice", force_model="A", void_method="overlap", extra=""
+):
+    """constant/couplingProperties of a vansFoam / vansInterFoam case: the
+    drag and force models, the void fraction method (epsMin 1e-8), then
+    extra (more entries, text)."""
+    write(
+        os.path.join(case, "constant", "couplingProperties"),
+        "dictionary",
+        "couplingProperties",
+        f"dragModel {drag};\nforceModel {force_model};\n"
+        f"voidFraction {{ method {void_method}; epsMin 1e-8; }}\n" + extra,
+    )
+
+
+def write_grain_numerics(case):
+    """fvSchemes and fvSolution of a case without fluid (grainFoam,
+    grainDeposit)."""
+    write_schemes(case)
     write(os.path.join(case, "system", "fvSolution"), "dictionary", "fvSolution", "solvers {}\n")
 
 
@@ -267,9 +291,6 @@ def add_fluid(
     0/U (no-slip walls), 0/p (fixedFluxPressure walls), transportProperties,
     couplingProperties, fvSchemes, fvSolution, and an adjustable time step."""
 
-    def bc(wall, empty="frontAndBack"):
-        return f"walls {{ {wall} }}\n    {empty} {{ type empty; }}\n"
-
     two_d = "frontAndBack" in open(os.path.join(case, "system", "blockMeshDict")).read()
     emp = "frontAndBack { type empty; }" if two_d else ""
     write(
@@ -292,22 +313,8 @@ def add_fluid(
         "transportProperties",
         f"rho {rho};\nnu {nu};\n",
     )
-    write(
-        os.path.join(case, "constant", "couplingProperties"),
-        "dictionary",
-        "couplingProperties",
-        f"dragModel {drag};\nforceModel {force_model};\n"
-        f"voidFraction {{ method {void_method}; epsMin 1e-8; }}\n" + extra_coupling,
-    )
-    write(
-        os.path.join(case, "system", "fvSchemes"),
-        "dictionary",
-        "fvSchemes",
-        "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
-        "divSchemes { default none; div(phi,U) Gauss limitedLinearV 1; }\n"
-        "laplacianSchemes { default Gauss linear corrected; }\n"
-        "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n",
-    )
+    write_coupling(case, drag, force_model, void_method, extra_coupling)
+    write_schemes(case, "div(phi,U) Gauss limitedLinearV 1;")
     write(
         os.path.join(case, "system", "fvSolution"),
         "dictionary",
@@ -407,6 +414,27 @@ def fixed_lattice_bed(
     run("vansFoam", case, env)
     t, name = nscdpost.time_dirs(case)[-1]
     return read_internal(os.path.join(case, name, "p")).reshape(nx, ny, nx, order="F")
+
+
+def add_solver(case, field, entry, extra=()):
+    """Insert the solver entry `field { entry }` first in the solvers of
+    system/fvSolution (text edit: the rest of the file unchanged); extra:
+    (old, new) replacements made in the same pass."""
+    fs = os.path.join(case, "system", "fvSolution")
+    replace_in(fs, ("solvers {\n", f"solvers {{\n  {field} {{ {entry} }}\n"), *extra)
+
+
+def replace_in(path, *pairs, count=-1):
+    """Text edit of the file path: each (old, new) of pairs in turn, the
+    first count occurrences (-1: all).  Each old must be in the file (an
+    AssertionError naming it otherwise: an edit that does nothing would
+    leave a case other than the test means)."""
+    txt = open(path).read()
+    for old, new in pairs:
+        assert old in txt, f"{old!r} not in {path}"
+        txt = txt.replace(old, new, count)
+    with open(path, "w") as f:
+        f.write(txt)
 
 
 def add_scalar_transport(

@@ -74,7 +74,7 @@ import re
 
 import numpy as np
 import pytest
-from foamcase import add_fluid, make_box_case, run, write
+from foamcase import add_fluid, add_solver, make_box_case, replace_in, run, write, write_schemes
 
 pytestmark = pytest.mark.slow
 
@@ -171,25 +171,8 @@ def cavity_case(case, Ra, n, end_time, write_interval, ratio=4.0):
     # heat on (no grains: the closure is never evaluated)
     with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
         f.write("heatTransferModel Gunn;\n")
-    write(
-        os.path.join(case, "system", "fvSchemes"),
-        "dictionary",
-        "fvSchemes",
-        "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
-        "divSchemes { default none; div(phi,U) Gauss linear; div(phi,T) Gauss linear; }\n"
-        "laplacianSchemes { default Gauss linear corrected; }\n"
-        "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n",
-    )
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = (
-        open(fs)
-        .read()
-        .replace(
-            "solvers {\n",
-            "solvers {\n  T { solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0; }\n",
-        )
-    )
-    open(fs, "w").write(txt)
+    write_schemes(case, "div(phi,U) Gauss linear; div(phi,T) Gauss linear;")
+    add_solver(case, "T", "solver PBiCGStab; preconditioner DILU; tolerance 1e-12; relTol 0;")
     return beta
 
 
@@ -230,16 +213,13 @@ def hydrostatic_p(case):
     spurious flow that takes ~L^2/nu to die out."""
     C = read_internal_vector(os.path.join(case, "0", "C"))
     vals = "\n".join(f"{-G * y:.17g}" for y in C[:, 1])
-    path = os.path.join(case, "0", "p")
-    txt = (
-        open(path)
-        .read()
-        .replace(
+    replace_in(
+        os.path.join(case, "0", "p"),
+        (
             "internalField uniform 0;",
             f"internalField nonuniform List<scalar> {len(C)}(\n{vals}\n);",
-        )
+        ),
     )
-    open(path, "w").write(txt)
 
 
 def run_cavity(case, env, Ra, n=40):

@@ -1,17 +1,19 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Immersed vaporising droplet: a run stopped at a write time and
 restarted, and a run on two ranks, reproduce the uninterrupted serial run
-(droplet state in <time>/uniform/droplet, global sums over the ranks).
+(droplet state in <time>/uniform/droplet, the grains' predictor history in
+<time>/grainState.h5, global sums over the ranks).
 Case set-up in dropletcase.py."""
 
 import os
 import re
 
+import h5py
 import nscdpost
 import numpy as np
 import pytest
 from dropletcase import D, W, blowing_droplet_case, held_suspension_case, read_droplet
-from foamcase import run
+from foamcase import fails_with, run
 
 pytestmark = pytest.mark.fast
 
@@ -59,22 +61,63 @@ def test_restart_continues_exactly(tmp_path, env, release):
     assert np.allclose(rest, full[5:], rtol=1e-9, atol=1e-15)
 
 
+HISTORY = (
+    "dropletPrevVelocity",
+    "dropletPrevForce",
+    "dropletPrevVelocity2",
+    "dropletGasForceChange",
+)
+
+
+def _h5(case, t):
+    """Every dataset of <t>/grainState.h5 (name -> array)."""
+    with h5py.File(os.path.join(case, t, "grainState.h5"), "r") as f:
+        return {k: f[k][()] for k in f if isinstance(f[k], h5py.Dataset)}
+
+
+def _old_format(case, t):
+    """Rewrite <t>/uniform/droplet and <t>/grainState.h5 as written before
+    the predictor history was a restart column: per-grain lists in
+    grainHistory (every grain, labels in the state's order, shortest
+    round-trip decimals) and no history datasets in the state."""
+    f = os.path.join(case, t, "uniform", "droplet")
+    txt = open(f).read()
+    dt = re.search(r"grainHistory\s*\{[^}]*\bdt\s+(\S+);", txt).group(1)
+    with h5py.File(os.path.join(case, t, "grainState.h5"), "a") as h:
+        cols = [h[c][()] for c in HISTORY]
+        for c in HISTORY:
+            del h[c]
+
+    def vectors(a):
+        return "(" + " ".join(f"({x!r} {y!r} {z!r})" for x, y, z in a.tolist()) + ")"
+
+    names = ("velocity", "force", "velocity2", "gasForceChange")
+    lists = "".join(f"{k} {vectors(c)};\n" for k, c in zip(names, cols))
+    n = len(cols[0])
+    old = f"grainHistory\n{{\ndt {dt};\ngrains {n}({' '.join(map(str, range(n)))});\n{lists}}}"
+    open(f, "w").write(re.sub(r"grainHistory\s*\{[^}]*\}", lambda _: old, txt))
+
+
 def test_restart_with_grains_continues_exactly(tmp_path, env):
     """The grains' contact predictor of the droplet (vapourDroplet.H, "Gas
     drag of the grains inside") has a history (v^{n-1}, v^{n-2}, F^{n-1},
-    dG^{n-1}, dt^{n-1}); it is written to <time>/uniform/droplet
-    (grainHistory, the grains within 2 R + r_i of the centre).  A dense
-    suspension of free 50 um grains in a held droplet (the case of
+    dG^{n-1} per grain: restart columns of grainState.h5; dt^{n-1}:
+    grainHistory of <time>/uniform/droplet).  A dense suspension of free
+    50 um grains in a held droplet (the case of
     test_dense_suspension_settles_steadily, inner quarter of the radius, gas
     nu = 2e-5), stopped at step 20 of 40 and restarted, ends as the
-    uninterrupted run: every droplet.dat column and every grain velocity
-    within 1e-9 relative (reference: the uninterrupted run; 17 digits
-    written).  Without grainHistory the restart is NOT exact (asserted:
-    grain velocities off by > 1e-6 relative; measured 1.3e-4, and 0 with
-    it: bit-identical; the first step after the restart then runs without
-    the predictor), so the test fails if the history is lost.  A history
-    that does not fit the case's grains (a label out of range) is a
-    FatalIOError naming grainHistory and the fix."""
+    uninterrupted run (reference: the uninterrupted run): every dataset of
+    the last grainState.h5, the history columns included, bit for bit, and
+    every droplet.dat column to 1e-9 relative (the droplet's state is read
+    back from ascii).  Without grainHistory the restart is NOT
+    exact (asserted: grain velocities off by > 1e-6 relative; measured
+    8.2e-4; the first step after the restart then runs without the
+    predictor), so the test fails if the history is lost.  A restart file
+    written before the history was a column (per-grain lists in
+    grainHistory, no datasets) still reads, bit for bit.  A list history
+    that does not fit the case's grains (a label out of range), or a
+    grainHistory whose state lacks the columns, is a FatalIOError naming
+    grainHistory and the fix."""
     import shutil
 
     n = 40
@@ -91,46 +134,64 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     assert abs(t1 - dt * n / 2) < 1e-12 and abs(t2 - dt * n) < 1e-12
     u_full = nscdpost.read_grains(case, last)["U"]
     hist = open(os.path.join(case, mid, "uniform", "droplet")).read()
-    assert "grainHistory" in hist
+    assert "grainHistory" in hist and "velocity2" not in hist
+    state_full = _h5(case, last)
+    assert all(state_full[c].shape == (len(grains), 3) for c in HISTORY)
+    assert np.abs(state_full["dropletPrevForce"]).max() > 0
 
-    def restart(name, edit_history=None, check=True):
+    def restart(name, edit=None, check=True):
         half = str(tmp_path / name)
         shutil.copytree(case, half)
         shutil.rmtree(os.path.join(half, last))
         shutil.rmtree(os.path.join(half, "postProcessing"))
-        if edit_history:
-            f = os.path.join(half, mid, "uniform", "droplet")
-            txt = edit_history(open(f).read())
-            open(f, "w").write(txt)
+        if edit:
+            edit(half)
         p = run("vansFoam", half, env, check=check)
         if not check:
             return p
         rest = np.loadtxt(
             os.path.join(half, "postProcessing", "droplet", mid, "droplet.dat"), ndmin=2
         )
-        return rest, nscdpost.read_grains(half, last)["U"]
+        return rest, nscdpost.read_grains(half, last)["U"], _h5(half, last)
 
-    rest, u_rest = restart("half")
+    def edit_droplet(f):
+        def edit(half):
+            path = os.path.join(half, mid, "uniform", "droplet")
+            txt = open(path).read()  # (read before open(path, "w") truncates it)
+            open(path, "w").write(f(txt))
+
+        return edit
+
+    for name, edit in (("half", None), ("oldFormat", lambda h: _old_format(h, mid))):
+        rest, _, state = restart(name, edit)
+        assert len(rest) == n // 2
+        # the droplet's own state passes through ascii uniform/droplet
+        assert np.allclose(rest, full[n // 2 :], rtol=1e-9, atol=1e-15), name
+        assert state.keys() == state_full.keys(), name
+        for k, a in state_full.items():
+            nan = a.dtype.kind == "f"  # (adiabatic walls: NaN temperature)
+            assert np.array_equal(a, state[k], equal_nan=nan), (name, k)
+        print(f"{len(grains)} grains, restart ({name}): grainState.h5 bit-identical")
     scale = np.abs(u_full[:, :2]).max()
-    err = np.abs(u_rest[:, :2] - u_full[:, :2]).max() / scale
-    print(
-        f"{len(grains)} grains, restart with history: max grain velocity error {err:.2e} "
-        f"(relative to {scale:.3e} m/s)"
-    )
-    assert len(rest) == n // 2
-    assert np.allclose(rest, full[n // 2 :], rtol=1e-9, atol=1e-15)
-    assert err < 1e-9
-    _, u_lost = restart("lost", lambda txt: txt[: txt.index("grainHistory")] + "\n")
+    no_history = edit_droplet(lambda txt: txt[: txt.index("grainHistory")] + "\n")
+    _, u_lost, _ = restart("lost", no_history)
     err_lost = np.abs(u_lost[:, :2] - u_full[:, :2]).max() / scale
     print(f"restart without grainHistory: max grain velocity error {err_lost:.2e}")
     assert err_lost > 1e-6
-    # a history that does not fit the grains of the case: a clear error
-    p = restart(
-        "bad", lambda txt: re.sub(r"\bgrains\b[^;]*;", "grains (99999);", txt, count=1), check=False
-    )
-    out = p.stdout + p.stderr
-    assert p.returncode != 0
-    assert "grainHistory" in out and "Fix" in out and "FOAM FATAL IO ERROR" in out, out[-2000:]
+
+    # a history that does not fit the grains of the case, or a state
+    # without the history columns: a clear error
+    def bad_label(half):
+        _old_format(half, mid)
+        edit_droplet(lambda t: re.sub(r"\bgrains\b[^;]*;", "grains (99999);", t, count=1))(half)
+
+    def no_columns(half):
+        with h5py.File(os.path.join(half, mid, "grainState.h5"), "a") as h:
+            del h[HISTORY[0]]
+
+    for edit, why in ((bad_label, "does not match"), (no_columns, "lacks them")):
+        p = restart(edit.__name__, edit, check=False)
+        fails_with(p, "grainHistory", why, "Fix:", banner="FOAM FATAL IO ERROR")
 
 
 @pytest.mark.mpi

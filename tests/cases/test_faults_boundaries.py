@@ -11,7 +11,7 @@ import re
 import numpy as np
 import pytest
 from faultcase import MAT, G, box, open_bottom_cube, set_control, times
-from foamcase import fails_with, run
+from foamcase import fails_with, replace_in, run
 
 pytestmark = pytest.mark.fast
 
@@ -34,13 +34,16 @@ def test_wallPatches_typo_is_an_error(tmp_path, env):
 
 def open_bottom(case):
     """Make the bottom (y = 0) of a 2D make_box_case box the open patch `bottom`."""
-    bm = os.path.join(case, "system", "blockMeshDict")
-    txt = open(bm).read()
-    txt = txt.replace(
-        "walls { type wall; faces ((1 5 4 0) ",
-        "bottom { type patch; faces ((1 5 4 0)); }\nwalls { type wall; faces (",
+    split_bottom(case, "bottom { type patch; faces ((1 5 4 0)); }")
+
+
+def split_bottom(case, patch):
+    """Take the bottom face (y = 0) of a 2D make_box_case box out of its
+    patch `walls` into patch (an entry of the blockMeshDict boundary)."""
+    replace_in(
+        os.path.join(case, "system", "blockMeshDict"),
+        ("walls { type wall; faces ((1 5 4 0) ", f"{patch}\nwalls {{ type wall; faces ("),
     )
-    open(bm, "w").write(txt)
 
 
 def test_grainFoam_grain_through_open_patch(tmp_path, env):
@@ -71,16 +74,7 @@ def test_grain_through_open_patch_not_in_wallPatches(tmp_path, env):
         write_interval=0.05,
         extra_props="wallPatches (walls);\n",
     )
-    bm = os.path.join(case, "system", "blockMeshDict")
-    txt = (
-        open(bm)
-        .read()
-        .replace(
-            "walls { type wall; faces ((1 5 4 0) ",
-            "floor { type wall; faces ((1 5 4 0)); }\nwalls { type wall; faces (",
-        )
-    )
-    open(bm, "w").write(txt)
+    split_bottom(case, "floor { type wall; faces ((1 5 4 0)); }")
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     fails_with(run("grainFoam", case, env, check=False), "open patch floor", "not in wallPatches")

@@ -21,7 +21,7 @@ import os
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import run, run_parallel, tutorial_modules
+from foamcase import replace_in, run, run_parallel, tutorial_modules
 
 pytestmark = pytest.mark.slow
 
@@ -32,16 +32,13 @@ def _reduced(tmp_path, env, name, ranks, velocity_correction=None, end=0.5):
     case = str(tmp_path / name)
     setup.setup(case, across=12, grains=2000, u0=0.07, end=end, ranks=ranks, write=0.1)
     if velocity_correction:
-        path = os.path.join(case, "system", "fvSolution")
-        txt = (
-            open(path)
-            .read()
-            .replace(
+        replace_in(
+            os.path.join(case, "system", "fvSolution"),
+            (
                 "nNonOrthogonalCorrectors 0;",
                 f"nNonOrthogonalCorrectors 0;\n    velocityCorrection {velocity_correction};",
-            )
+            ),
         )
-        open(path, "w").write(txt)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     if ranks > 1:

@@ -32,7 +32,7 @@ import re
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import make_box_case, run
+from foamcase import make_box_case, replace_in, run
 
 pytestmark = pytest.mark.fast
 
@@ -101,18 +101,15 @@ def column_case(tmp_path, env, name, deposit_material=None, extra_props=""):
         two_d=True,
         contact_tolerance=1e-10,
     )
-    bm = os.path.join(case, "system", "blockMeshDict")
-    txt = (
-        open(bm)
-        .read()
-        .replace(
+    replace_in(
+        os.path.join(case, "system", "blockMeshDict"),
+        (
             "walls { type wall; faces ((1 5 4 0) (0 4 7 3) (2 6 5 1) (3 7 6 2)); }",
             "bottom { type wall; faces ((1 5 4 0)); }\n"
             "right { type wall; faces ((2 6 5 1)); }\n"
             "walls { type wall; faces ((0 4 7 3) (3 7 6 2)); }",
-        )
+        ),
     )
-    open(bm, "w").write(txt)
     gp = os.path.join(case, "constant", "grainProperties")
     base = open(gp).read()
     own = (

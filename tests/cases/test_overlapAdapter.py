@@ -37,12 +37,10 @@ def check_coupling_log(text, tol=1e-12):
         assert all(float(e) < tol for e in errs), errs
 
 
-def grain_case(tmp_path, env, name, size, cells, grains, two_d, mapping_dict=None):
-    """Box [0, size] (2D: depth size[2]), uniform cells, grains (x y z d) by
-    grainDeposit method list, then grainVoidFraction. Returns (case, phi,
-    eps, V_cell)."""
-    case = str(tmp_path / name)
-    make_box_case(case, (0, 0, 0), size, cells, (0, -9.81, 0), MAT, grains=grains, two_d=two_d)
+def deposited_box(case, env, hi, cells, grains, two_d=True, lo=(0, 0, 0), mapping_dict=None):
+    """Box [lo, hi] (2D: one cell deep), uniform cells, grains (x y z d) by
+    grainDeposit method list: blockMesh and grainDeposit run."""
+    make_box_case(case, lo, hi, cells, (0, -9.81, 0), MAT, grains=grains, two_d=two_d)
     if mapping_dict is not None:
         write(
             os.path.join(case, "system", "overlapMappingDict"),
@@ -52,6 +50,14 @@ def grain_case(tmp_path, env, name, size, cells, grains, two_d, mapping_dict=Non
         )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
+
+
+def grain_case(tmp_path, env, name, size, cells, grains, two_d, mapping_dict=None):
+    """Box [0, size] (2D: depth size[2]), uniform cells, grains (x y z d) by
+    grainDeposit method list, then grainVoidFraction. Returns (case, phi,
+    eps, V_cell)."""
+    case = str(tmp_path / name)
+    deposited_box(case, env, size, cells, grains, two_d, mapping_dict=mapping_dict)
     p = run("grainVoidFraction", case, env, args=["-checkCoupling"])
     check_coupling_log(p.stdout)
     phi = read_internal(os.path.join(case, "0", "solidFraction"))
@@ -270,18 +276,7 @@ def test_2d_mesh_off_origin_in_z(tmp_path, env):
     the adapter maps on the mesh mid-plane; V_g = pi r^2 x depth."""
     case = str(tmp_path / "offz")
     grains = [(0.03, 0.04, 0.0, 0.01), (0.07, 0.05, 0.0, 0.012)]
-    make_box_case(
-        case,
-        (0, 0, 0.1),
-        (0.1, 0.1, 0.125),
-        (10, 10, 1),
-        (0, -9.81, 0),
-        MAT,
-        grains=grains,
-        two_d=True,
-    )
-    run("blockMesh", case, env)
-    run("grainDeposit", case, env)
+    deposited_box(case, env, (0.1, 0.1, 0.125), (10, 10, 1), grains, lo=(0, 0, 0.1))
     run("grainVoidFraction", case, env)
     phi = read_internal(os.path.join(case, "0", "solidFraction"))
     vcell = 0.01 * 0.01 * 0.025
@@ -294,18 +289,7 @@ def test_grain_outside_mesh_is_fatal(tmp_path, env):
     (here the mesh is shrunk after the grains were made)."""
     case = str(tmp_path / "outside")
     grains = [(0.02, 0.02, 0.0, 0.004), (0.09, 0.05, 0.0, 0.004)]
-    make_box_case(
-        case,
-        (0, 0, 0),
-        (0.1, 0.1, 0.01),
-        (10, 10, 1),
-        (0, -9.81, 0),
-        MAT,
-        grains=grains,
-        two_d=True,
-    )
-    run("blockMesh", case, env)
-    run("grainDeposit", case, env)
+    deposited_box(case, env, (0.1, 0.1, 0.01), (10, 10, 1), grains)
     make_box_case(case, (0, 0, 0), (0.08, 0.1, 0.01), (10, 10, 1), (0, -9.81, 0), MAT, two_d=True)
     run("blockMesh", case, env)
     p = run("grainVoidFraction", case, env, check=False)

@@ -76,8 +76,10 @@ from correlations import nusselt_difelice_colburn as nu_difelice_colburn
 from correlations import nusselt_gunn as nu_gunn
 from foamcase import (
     add_fluid,
+    add_solver,
     make_box_case,
     read_internal,
+    replace_in,
     run,
     tutorial_modules,
     uniform_inflow,
@@ -168,16 +170,15 @@ def lattice_case(case, model, Re, velocity_correction=None):
         two_d=False,
     )
     gp = os.path.join(case, "constant", "grainProperties")
-    txt = (
-        open(gp)
-        .read()
-        .replace(
+    replace_in(
+        gp,
+        (
             "glass { density 2500; friction 0.1; }",
             "glass { density 2500; friction 0.1; youngModulus 6e10; poissonRatio 0.22;"
             " conductivity 1.4; heatCapacity 8.4e8; }",
-        )
+        ),
     )
-    open(gp, "w").write(txt + f"initialTemperature {T_P};\n")
+    open(gp, "a").write(f"initialTemperature {T_P};\n")
     open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
     add_fluid(case, RHO, NU, max_co=1.0, max_dt=1.0, extra_coupling=f"heatTransferModel {model};\n")
     uniform_inflow(case, Us)
@@ -191,16 +192,13 @@ def lattice_case(case, model, Re, velocity_correction=None):
         f"boundaryField {{ inlet {{ type fixedValue; value uniform {T_IN}; }}\n"
         " outlet { type zeroGradient; } walls { type zeroGradient; } }\n",
     )
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = (
-        open(fs)
-        .read()
-        .replace(
-            "solvers {\n",
-            "solvers {\n  T { solver PBiCGStab; preconditioner DILU; tolerance 1e-13; relTol 0; }\n",
-        )
+    add_solver(
+        case,
+        "T",
+        "solver PBiCGStab; preconditioner DILU; tolerance 1e-13; relTol 0;",
+        extra=[("tolerance 1e-9", "tolerance 1e-11")],
     )
-    open(fs, "w").write(txt.replace("tolerance 1e-9", "tolerance 1e-11"))
+    fs = os.path.join(case, "system", "fvSolution")
     sc = os.path.join(case, "system", "fvSchemes")
     txt = open(sc).read().replace("div(phi,U)", "div(phi,T) Gauss upwind; div(phi,U)")
     if velocity_correction:

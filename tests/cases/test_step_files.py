@@ -14,10 +14,10 @@ import nscdpost
 import numpy as np
 import pytest
 from foamcase import run
+from interfoamcase import dam_break
 from test_faults_boundaries import outlet_case
 from test_grainHeat import column_case
 from test_vansFoam_sources import budget_box
-from test_vansInterFoam import dam_break
 
 NUM = r"([-+0-9.eEnaif]+)"
 

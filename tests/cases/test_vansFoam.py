@@ -18,6 +18,7 @@ from foamcase import (
     gmsh_box,
     make_box_case,
     read_internal,
+    replace_in,
     run,
     run_fatal_io,
     run_parallel,
@@ -428,16 +429,13 @@ def test_closed_tet_box_flow_matches_pimpleFoam(tmp_path, env):
         "turbulenceProperties",
         "simulationType laminar;\n",
     )
-    sch = os.path.join(ref, "system", "fvSchemes")
-    txt = (
-        open(sch)
-        .read()
-        .replace(
+    replace_in(
+        os.path.join(ref, "system", "fvSchemes"),
+        (
             "div(phi,U) Gauss limitedLinearV 1;",
             "div(phi,U) Gauss limitedLinearV 1; div((nuEff*dev2(T(grad(U))))) Gauss linear;",
-        )
+        ),
     )
-    open(sch, "w").write(txt)
     cd = os.path.join(ref, "system", "controlDict")
     txt = re.sub(r"functions.*", "", open(cd).read(), flags=re.S)
     open(cd, "w").write(txt)

@@ -28,59 +28,29 @@
   bounded, water volume + water out through the boundaries constant to
   round-off; alpha out of [0, 1] by 0.25 stops the run with a FatalError.
 - Keyword checks.
+Case set-up in interfoamcase.py.
 """
 
 import math
 import os
 import re
 import shutil
-import subprocess
-import sys
 
 import correlations
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import add_fluid, fails_with, make_box_case, run, tutorial_modules, write
+from foamcase import (
+    add_fluid,
+    fails_with,
+    make_box_case,
+    read_internal,
+    run,
+    tutorial_modules,
+)
+from interfoamcase import G, add_two_phase, basin, basin_box, dam_break, interfoam_case, zero_grains
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-TUT = os.path.join(ROOT, "tutorials", "vansInterFoam", "damBreak")
 (damBreakPost,) = tutorial_modules("vansInterFoam", "damBreak", names=("postProcess",))
-
-G = 9.81
-
-
-def read_internal(path):
-    """internalField of a volScalarField/volVectorField file (ascii)."""
-    txt = open(path).read()
-    m = re.search(
-        r"internalField\s+nonuniform\s+List<(scalar|vector)>\s*(\d+)\s*\((.*?)\n\)\s*;", txt, re.S
-    )
-    if m:
-        body = m.group(3).replace("(", " ").replace(")", " ")
-        a = np.array(body.split(), dtype=float)
-        return a.reshape(int(m.group(2)), -1) if m.group(1) == "vector" else a
-    m = re.search(r"internalField\s+uniform\s+\(?([^;]*?)\)?;", txt)
-    return np.array(m.group(1).split(), dtype=float)
-
-
-def dam_break(case, env, n=16, end=None, precision=None):
-    subprocess.run(
-        [sys.executable, os.path.join(TUT, "setupCase.py"), case, str(n)],
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    cd = os.path.join(case, "system", "controlDict")
-    txt = open(cd).read()
-    if end is not None:
-        txt = re.sub(r"endTime\s+\S+;", f"endTime {end};", txt)
-        txt = re.sub(r"writeInterval\s+0\.01;", f"writeInterval {end};", txt)
-    if precision is not None:
-        txt = re.sub(r"writePrecision\s+\d+;", f"writePrecision {precision};", txt)
-    open(cd, "w").write(txt)
-    run("blockMesh", case, env)
-    run("setFields", case, env)
 
 
 def water_volumes(stdout):
@@ -110,63 +80,6 @@ def test_dam_break_martin_moyce(tmp_path, env):
         assert k in res
 
 
-def interfoam_case(case):
-    """The extra files interFoam needs (laminar model, pcorr solver, its name
-    of the viscous transpose term)."""
-    write(
-        os.path.join(case, "constant", "turbulenceProperties"),
-        "dictionary",
-        "turbulenceProperties",
-        "simulationType laminar;\n",
-    )
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = (
-        open(fs)
-        .read()
-        .replace(
-            "    p_rgh\n",
-            '    "pcorr.*" { solver PCG; preconditioner DIC; tolerance 1e-8; relTol 0; }\n'
-            "    p_rgh\n",
-            1,
-        )
-    )
-    open(fs, "w").write(txt)
-    sc = os.path.join(case, "system", "fvSchemes")
-    txt = (
-        open(sc)
-        .read()
-        .replace(
-            "div((muEff*dev2(T(grad(U))))) Gauss linear;",
-            "div((muEff*dev2(T(grad(U))))) Gauss linear;\n"
-            "    div(((rho*nuEff)*dev2(T(grad(U))))) Gauss linear;",
-        )
-    )
-    open(sc, "w").write(txt)
-
-
-def zero_grains(case):
-    """grainProperties + couplingProperties + a state with no grain."""
-    write(
-        os.path.join(case, "constant", "grainProperties"),
-        "dictionary",
-        "grainProperties",
-        "materials { glass { density 2500; friction 0.3; } }\n",
-    )
-    write(
-        os.path.join(case, "constant", "couplingProperties"),
-        "dictionary",
-        "couplingProperties",
-        "dragModel DallavalleDiFelice;\nforceModel A;\n"
-        "voidFraction { method overlap; epsMin 1e-8; }\n",
-    )
-    write(
-        os.path.join(case, "system", "grainDepositDict"),
-        "dictionary",
-        "grainDepositDict",
-        "material glass;\nmethod list;\ngrains ();\n",
-    )
-
-
 @pytest.mark.fast
 def test_reduces_to_interfoam(tmp_path, env):
     """No grains / zero grains: the fields of interFoam after 0.05 s (58
@@ -193,143 +106,6 @@ def test_reduces_to_interfoam(tmp_path, env):
         assert scale > 0
         assert np.max(np.abs(a - b)) < 1e-9 * scale, f
         assert np.array_equal(a, c), f
-
-
-def add_two_phase(
-    case,
-    env,
-    level,
-    fixed=False,
-    dt=None,
-    max_co=0.5,
-    p_tol="tolerance 1e-10; relTol 0.01;",
-    nu_water=1e-6,
-    open_top=None,
-):
-    """Turn a make_box_case case (walls `walls`) into a vansInterFoam case:
-    water below y = level, air above (the drag sees the local mixture
-    density and viscosity); blockMesh, setFields, grainDeposit.  open_top:
-    the alpha.water flowing in through the top, which becomes the open
-    patch `top` (p_rgh 0, pressureInletOutletVelocity); None: a wall."""
-    if fixed:
-        open(os.path.join(case, "system", "grainDepositDict"), "a").write("fixed yes;\n")
-    bm = os.path.join(case, "system", "blockMeshDict")
-    two_d = "frontAndBack" in open(bm).read()
-    emp = "frontAndBack { type empty; }" if two_d else ""
-    if open_top is not None:
-        txt = open(bm).read().replace(" (3 7 6 2)", "")
-        open(bm, "w").write(
-            txt.replace("boundary (\n", "boundary (\ntop { type patch; faces ((3 7 6 2)); }\n")
-        )
-    top = (
-        {"U": "", "p_rgh": "", "alpha.water": ""}
-        if open_top is None
-        else {
-            "U": "top { type pressureInletOutletVelocity; value uniform (0 0 0); }",
-            "p_rgh": "top { type totalPressure; p0 uniform 0; value uniform 0; }",
-            "alpha.water": f"top {{ type inletOutlet; inletValue uniform {open_top}; "
-            f"value uniform {open_top}; }}",
-        }
-    )
-    write(
-        os.path.join(case, "0", "U"),
-        "volVectorField",
-        "U",
-        "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
-        f"boundaryField {{ walls {{ type noSlip; }} {emp} {top['U']} }}\n",
-    )
-    write(
-        os.path.join(case, "0", "p_rgh"),
-        "volScalarField",
-        "p_rgh",
-        "dimensions [1 -1 -2 0 0 0 0];\ninternalField uniform 0;\n"
-        f"boundaryField {{ walls {{ type fixedFluxPressure; value uniform 0; }} {emp} {top['p_rgh']} }}\n",
-    )
-    write(
-        os.path.join(case, "0", "alpha.water"),
-        "volScalarField",
-        "alpha.water",
-        "dimensions [0 0 0 0 0 0 0];\ninternalField uniform 0;\n"
-        f"boundaryField {{ walls {{ type zeroGradient; }} {emp} {top['alpha.water']} }}\n",
-    )
-    write(
-        os.path.join(case, "system", "setFieldsDict"),
-        "dictionary",
-        "setFieldsDict",
-        "defaultFieldValues ( volScalarFieldValue alpha.water 0 );\n"
-        f"regions ( boxToCell {{ box (-1 -1 -1) (1 {level} 1);\n"
-        "  fieldValues ( volScalarFieldValue alpha.water 1 ); } );\n",
-    )
-    write(
-        os.path.join(case, "constant", "transportProperties"),
-        "dictionary",
-        "transportProperties",
-        "phases (water air);\n"
-        f"water {{ transportModel Newtonian; nu {nu_water}; rho 1000; }}\n"
-        "air { transportModel Newtonian; nu 1.48e-5; rho 1; }\n"
-        "sigma 0.072;\n",
-    )
-    write(
-        os.path.join(case, "constant", "couplingProperties"),
-        "dictionary",
-        "couplingProperties",
-        "dragModel DallavalleDiFelice;\nforceModel A;\n"
-        "voidFraction { method overlap; epsMin 1e-8; }\n",
-    )
-    write(
-        os.path.join(case, "system", "fvSchemes"),
-        "dictionary",
-        "fvSchemes",
-        "ddtSchemes { default Euler; }\ngradSchemes { default Gauss linear; }\n"
-        "divSchemes { default none; div(rhoPhi,U) Gauss linearUpwind grad(U);\n"
-        "  div(phi,alpha) Gauss vanLeer; div(phirb,alpha) Gauss linear;\n"
-        "  div((muEff*dev2(T(grad(U))))) Gauss linear; }\n"
-        "laplacianSchemes { default Gauss linear corrected; }\n"
-        "interpolationSchemes { default linear; }\nsnGradSchemes { default corrected; }\n",
-    )
-    write(
-        os.path.join(case, "system", "fvSolution"),
-        "dictionary",
-        "fvSolution",
-        "solvers {\n"
-        '  "alpha.water.*" { nAlphaCorr 2; nAlphaSubCycles 1; cAlpha 1; MULESCorr no;\n'
-        "    nLimiterIter 3; }\n"
-        f"  p_rgh {{ solver PCG; preconditioner DIC; {p_tol} }}\n"
-        "  psiEps { solver PCG; preconditioner DIC; tolerance 1e-12; relTol 0; }\n"
-        "  p_rghFinal { $p_rgh; relTol 0; }\n"
-        '  "(U|UFinal)" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-10; relTol 0; }\n'
-        "}\n"
-        "PIMPLE { momentumPredictor no; nOuterCorrectors 1; nCorrectors 3;\n"
-        "  nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n",
-    )
-    cd = os.path.join(case, "system", "controlDict")
-    txt = open(cd).read().replace("application grainFoam;", "application vansInterFoam;")
-    if dt is None:
-        txt += f"adjustTimeStep yes; maxCo {max_co}; maxAlphaCo {max_co}; maxDeltaT 1e-3;\n"
-    else:
-        txt += "adjustTimeStep no; maxAlphaCo 1;\n"
-    open(cd, "w").write(txt)
-    run("blockMesh", case, env)
-    run("setFields", case, env)
-    run("grainDeposit", case, env)
-
-
-def basin(case, env, grains, fixed, end, dt=None, write_interval=None, **kw):
-    """Closed 2D box 0.04 x 0.06 m, 16 x 24 cells (2.5 mm), water below
-    y = 0.03 m, air above, grains from a list (2 mm glass discs)."""
-    make_box_case(
-        case,
-        (0, 0, 0),
-        (0.04, 0.06, 0.0025),
-        (16, 24, 1),
-        (0, -G, 0),
-        {"glass": {"density": 2500, "friction": 0.3}},
-        grains=grains,
-        end_time=end,
-        dt=dt or 1e-3,
-        write_interval=write_interval or end,
-    )
-    add_two_phase(case, env, 0.03, fixed=fixed, dt=dt, **kw)
 
 
 @pytest.mark.fast
@@ -407,19 +183,8 @@ def risers(tmp_path, env, level, inflow):
     case = str(tmp_path / "risers")
     # (the 4th straddles x = 0.02, the ranks' boundary of the parallel run)
     grains = [(0.0065 + 0.0045 * i, 0.047 + 0.004 * (i % 2), 0, 2e-3) for i in range(8)]
-    make_box_case(
-        case,
-        (0, 0, 0),
-        (0.04, 0.06, 0.0025),
-        (16, 24, 1),
-        (0, -G, 0),
-        {"light": {"density": 400, "friction": 0.3}},
-        grains=grains,
-        end_time=0.2,
-        dt=1e-3,
-        write_interval=0.05,
-        extra_props="outletPatches (top);\n",
-    )
+    light = {"light": {"density": 400, "friction": 0.3}}
+    basin_box(case, grains, 0.2, 1e-3, 0.05, light, extra_props="outletPatches (top);\n")
     add_two_phase(case, env, level, open_top=inflow)
     return case
 

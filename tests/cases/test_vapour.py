@@ -45,7 +45,7 @@ import os
 import re
 
 import pytest
-from foamcase import add_fluid, make_box_case, read_internal, run, write
+from foamcase import add_fluid, add_solver, make_box_case, read_internal, run, write
 
 VAPOUR_RE = re.compile(
     r"^vapour: sum\(eps psi V\) = (\S+) m\^3, mass = (\S+) kg, "
@@ -78,15 +78,12 @@ def add_vapour(case, D, rho_v, psi_body, scheme="Gauss linear", solver=True, sch
         "psi",
         "dimensions [0 0 0 0 0 0 0];\n" + psi_body,
     )
-    fs = os.path.join(case, "system", "fvSolution")
-    txt = open(fs).read()
     if solver:
-        txt = txt.replace(
-            "solvers {\n",
-            "solvers {\n  psi { solver PBiCGStab; preconditioner DILU; "
-            "tolerance 1e-16; relTol 0; maxIter 200; }\n",
+        add_solver(
+            case,
+            "psi",
+            "solver PBiCGStab; preconditioner DILU; tolerance 1e-16; relTol 0; maxIter 200;",
         )
-    open(fs, "w").write(txt)
     if scheme_entry:
         sc = os.path.join(case, "system", "fvSchemes")
         txt = open(sc).read().replace("div(phi,U)", f"div(phi,psi) {scheme}; div(phi,U)")

@@ -208,16 +208,8 @@ void Foam::vapourDroplet::grainForceCoefficients
     lf.sys = &sys;
     lf.n = sys.size();
     const label n = lf.n;
-    // the predictor history: columns that follow the grains (grains that
-    // left through outlet patches, grainCloud outletPatches)
-    if (!historyDeclared_)
-    {
-        for (const word& name : historyColumns)
-        {
-            cloud_->grains().addColumn<vector>(name, 0u, Zero);
-        }
-        historyDeclared_ = true;
-    }
+    // the predictor history: columns that follow the grains (declareGrain
+    // History: removal at outlet patches, renumbering, grainState.h5)
     lf.v1.shallowCopy(cloud.column<vector>(historyColumns[0]));
     lf.F1.shallowCopy(cloud.column<vector>(historyColumns[1]));
     lf.v2.shallowCopy(cloud.column<vector>(historyColumns[2]));

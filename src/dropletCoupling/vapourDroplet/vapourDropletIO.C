@@ -3,9 +3,11 @@
   nscdFoam: vapourDroplet restart and output (see vapourDroplet.H)
 
 Description
-    The restart file <time>/uniform/droplet (droplet state, the grain
-    predictor's history near the droplet, film heat and heat-sink
-    directions), read at the start and written at the write times, and the
+    The restart file <time>/uniform/droplet (droplet state, the step of
+    the grain predictor's history, film heat and heat-sink directions),
+    read at the start and written at the write times; the predictor's
+    per-grain history as restart columns of the grain state (attach; a
+    file written before holds it as per-grain lists, still read); and the
     per-step line of postProcessing/droplet/<startTime>/droplet.dat.
 \*---------------------------------------------------------------------------*/
 
@@ -80,6 +82,49 @@ void Foam::vapourDroplet::readRestart()
         readListPair(d, "sinkDirection", "sinkHeat", sinkDirection_, sinkHeat_);
     }
     Info<< "vapourDroplet: restart from " << d.objectPath() << endl;
+}
+
+
+void Foam::vapourDroplet::attach(vansCloud& cloud)
+{
+    cloud_ = &cloud;
+    if (grainDrag_ && drag_.valid())
+    {
+        declareGrainHistory();
+    }
+}
+
+
+void Foam::vapourDroplet::declareGrainHistory()
+{
+    grainCloud& grains = cloud_->grains();
+    bool read = true;
+    for (const word& name : historyColumns)
+    {
+        read = grains.addStartColumn<vector>(name, 0u, Zero) && read;
+    }
+    if (restartHistory_.empty() || restartHistory_.found("grains"))
+    {
+        return;     // none, or per-grain lists: restoreGrainHistory
+    }
+    const dictionary h(restartHistory_);
+    restartHistory_.clear();
+    if (!read)
+    {
+        FatalIOErrorInFunction(h)
+            << "grainHistory of the droplet restart file needs the grain"
+            << " columns " << FixedList<word, 4>(historyColumns)
+            << " in the grain state of time " << mesh_.time().timeName()
+            << ", which lacks them." << nl
+            << "    Fix: restart from a time written by the same case"
+            << " (uniform/droplet with its grainState.h5), or delete"
+            << " grainHistory from <time>/uniform/droplet (the first step"
+            << " then runs without the contact predictor)."
+            << exit(FatalIOError);
+    }
+    history_ = true;
+    history2_ = h.get<bool>("second");
+    prevDt_ = h.get<scalar>("dt");
 }
 
 
@@ -169,60 +214,13 @@ void Foam::vapourDroplet::writeRestart() const
         d.add("sinkDirection", sinkDirection_);
         d.add("sinkHeat", sinkHeat_);
     }
-    // predictor history of the grains near the droplet (vapourDroplet.H,
-    // "Gas drag of the grains inside", Restart)
+    // the predictor's step and whether it has a second step (its per-grain
+    // values: columns of grainState.h5, vapourDroplet.H historyColumns)
     if (history_ && prevDt_ > 0 && cloud_ && cloud_->grains().system().size())
     {
-        const nscd::System& sys = cloud_->grains().system();
-        const label n = sys.size();
-        const bool second = history2_;
-        const UList<vector> prevVelocity(history(0));
-        const UList<vector> prevForce(history(1));
-        const UList<vector> prevVelocity2(history(2));
-        const UList<vector> gasForceChange(history(3));
-        const bool twoD = adapter_.twoD();
-        const scalar R = radius();
-        DynamicList<label> grains;
-        if (label(sys.size()) == n)
-        {
-            const auto& pos = sys.positions();
-            const auto& rad = sys.radii();
-            for (label g = 0; g < n; ++g)
-            {
-                const scalar dx = pos[g][0] - x_.x();
-                const scalar dy = pos[g][1] - x_.y();
-                const scalar dz = twoD ? 0.0 : pos[g][2] - x_.z();
-                if (sqrt(dx*dx + dy*dy + dz*dz) < 2*R + rad[g])
-                {
-                    grains.append(g);
-                }
-            }
-        }
         dictionary h;
         h.add("dt", prevDt_);
-        h.add("grains", labelList(grains));
-        h.add
-        (
-            "velocity",
-            List<vector>(UIndirectList<vector>(prevVelocity, grains))
-        );
-        h.add
-        (
-            "force", List<vector>(UIndirectList<vector>(prevForce, grains))
-        );
-        if (second)
-        {
-            h.add
-            (
-                "velocity2",
-                List<vector>(UIndirectList<vector>(prevVelocity2, grains))
-            );
-            h.add
-            (
-                "gasForceChange",
-                List<vector>(UIndirectList<vector>(gasForceChange, grains))
-            );
-        }
+        h.add("second", history2_);
         d.add("grainHistory", h);
     }
     d.regIOobject::write();

@@ -37,24 +37,19 @@ Foam::functionObjects::granularFront::granularFront
     found_(false)
 {
     read(dict);
-    if (writeToFile() && Pstream::master())
-    {
-        writeHeader(file(), "Granular front at y = bottom + h0 = "
-            + Foam::name(bottom_ + h0_) + " m; Fr_f = v_f/sqrt(|g| h0)");
-        writeCommented(file(), "Time");
-        writeTabbed(file(), "frontPosition");
-        writeTabbed(file(), "frontVelocity");
-        writeTabbed(file(), "maxFrontVelocity");
-        writeTabbed(file(), "froudeNumber");
-        file() << endl;
-    }
+    freeSurfaceTools::writeColumnHeader
+    (
+        *this,
+        "Granular front at y = bottom + h0 = "
+      + Foam::name(bottom_ + h0_) + " m; Fr_f = v_f/sqrt(|g| h0)",
+        {"frontPosition", "frontVelocity", "maxFrontVelocity", "froudeNumber"}
+    );
 }
 
 
 bool Foam::functionObjects::granularFront::read(const dictionary& dict)
 {
-    fvMeshFunctionObject::read(dict);
-    writeFile::read(dict);
+    freeSurfaceTools::readBase(*this, dict);
     freeSurfaceTools::checkKeywords
     (
         dict,

@@ -36,23 +36,19 @@ Foam::functionObjects::runUp::runUp
     // restart: the maximum so far is kept in the function-object state
     // (<time>/uniform/functionObjects/functionObjectProperties)
     getProperty("maxRunUp", maxRunUp_);
-    if (writeToFile() && Pstream::master())
-    {
-        writeHeader(file(), "Run-up [m] (" + alphaName_ + " >= "
-            + Foam::name(threshold_) + ") minus stillWaterLevel "
-            + Foam::name(stillWaterLevel_));
-        writeCommented(file(), "Time");
-        writeTabbed(file(), "runUp");
-        writeTabbed(file(), "maxRunUp");
-        file() << endl;
-    }
+    freeSurfaceTools::writeColumnHeader
+    (
+        *this,
+        "Run-up [m] (" + alphaName_ + " >= " + Foam::name(threshold_)
+      + ") minus stillWaterLevel " + Foam::name(stillWaterLevel_),
+        {"runUp", "maxRunUp"}
+    );
 }
 
 
 bool Foam::functionObjects::runUp::read(const dictionary& dict)
 {
-    fvMeshFunctionObject::read(dict);
-    writeFile::read(dict);
+    freeSurfaceTools::readBase(*this, dict);
     freeSurfaceTools::checkKeywords
     (
         dict,

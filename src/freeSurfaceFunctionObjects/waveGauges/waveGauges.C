@@ -135,25 +135,24 @@ Foam::functionObjects::waveGauges::waveGauges
     vMax_(GREAT)
 {
     read(dict);
-    if (writeToFile() && Pstream::master())
+    List<string> columns(x_.size());
+    forAll(x_, gi)
     {
-        writeHeader(file(), "Free-surface elevation [m] (column integral of "
-            + alphaName_ + ") minus stillWaterLevel "
-            + Foam::name(stillWaterLevel_));
-        writeCommented(file(), "Time");
-        for (const scalar x : x_)
-        {
-            writeTabbed(file(), "eta(" + Foam::name(x) + ")");
-        }
-        file() << endl;
+        columns[gi] = "eta(" + Foam::name(x_[gi]) + ")";
     }
+    freeSurfaceTools::writeColumnHeader
+    (
+        *this,
+        "Free-surface elevation [m] (column integral of " + alphaName_
+      + ") minus stillWaterLevel " + Foam::name(stillWaterLevel_),
+        columns
+    );
 }
 
 
 bool Foam::functionObjects::waveGauges::read(const dictionary& dict)
 {
-    fvMeshFunctionObject::read(dict);
-    writeFile::read(dict);
+    freeSurfaceTools::readBase(*this, dict);
     freeSurfaceTools::checkKeywords
     (
         dict,

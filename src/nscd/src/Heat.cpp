@@ -36,34 +36,38 @@ std::string grainText(std::size_t i) { return "grain " + std::to_string(i); }
 // state
 // ============================================================================
 
-const std::vector<double>& System::temperatures() const { return impl_->T; }
-std::vector<double>& System::temperatures() { return impl_->T; }
+System& SystemHeat::self() { return static_cast<System&>(*this); }
+const System& SystemHeat::self() const { return static_cast<const System&>(*this); }
 
-void System::setDefaultTemperature(double T)
+const std::vector<double>& SystemHeat::temperatures() const { return self().impl_->T; }
+std::vector<double>& SystemHeat::temperatures() { return self().impl_->T; }
+
+void SystemHeat::setDefaultTemperature(double T)
 {
     if (!std::isfinite(T)) throw InputError("nscd::System::setDefaultTemperature: non-finite temperature");
-    impl_->temperatureColumn().setDefault(T);
+    self().impl_->temperatureColumn().setDefault(T);
 }
 
-double System::defaultTemperature() const { return impl_->temperatureColumn().defaultValue(); }
+double SystemHeat::defaultTemperature() const { return self().impl_->temperatureColumn().defaultValue(); }
 
-void System::setHeatSource(std::size_t i, double Q)
+void SystemHeat::setHeatSource(std::size_t i, double Q)
 {
-    if (i >= impl_->x.size()) throw InputError("nscd::System::setHeatSource: unknown " + grainText(i));
+    if (i >= self().impl_->x.size()) throw InputError("nscd::System::setHeatSource: unknown " + grainText(i));
     if (!std::isfinite(Q))
         throw InputError("nscd::System::setHeatSource: non-finite heat rate for " + grainText(i));
-    impl_->heatQ[i] = Q;
+    self().impl_->heatQ[i] = Q;
 }
 
-double System::heatSource(std::size_t i) const
+double SystemHeat::heatSource(std::size_t i) const
 {
-    if (i >= impl_->x.size()) throw InputError("nscd::System::heatSource: unknown " + grainText(i));
-    return impl_->heatQ[i];
+    if (i >= self().impl_->x.size()) throw InputError("nscd::System::heatSource: unknown " + grainText(i));
+    return self().impl_->heatQ[i];
 }
 
-void System::setHeatExchange(std::size_t i, double h, double Tf)
+void SystemHeat::setHeatExchange(std::size_t i, double h, double Tf)
 {
-    if (i >= impl_->x.size()) throw InputError("nscd::System::setHeatExchange: unknown " + grainText(i));
+    if (i >= self().impl_->x.size())
+        throw InputError("nscd::System::setHeatExchange: unknown " + grainText(i));
     if (!(h >= 0) || !std::isfinite(h) || !std::isfinite(Tf))
     {
         std::ostringstream os;
@@ -71,31 +75,33 @@ void System::setHeatExchange(std::size_t i, double h, double Tf)
            << ", Tf = " << Tf << " for " << grainText(i);
         throw InputError(os.str());
     }
-    impl_->heatH[i] = h;
-    impl_->heatTf[i] = Tf;
+    self().impl_->heatH[i] = h;
+    self().impl_->heatTf[i] = Tf;
 }
 
-std::pair<double, double> System::heatExchange(std::size_t i) const
+std::pair<double, double> SystemHeat::heatExchange(std::size_t i) const
 {
-    if (i >= impl_->x.size()) throw InputError("nscd::System::heatExchange: unknown " + grainText(i));
-    return {impl_->heatH[i], impl_->heatTf[i]};
+    if (i >= self().impl_->x.size()) throw InputError("nscd::System::heatExchange: unknown " + grainText(i));
+    return {self().impl_->heatH[i], self().impl_->heatTf[i]};
 }
 
-void System::setFixedTemperature(std::size_t i, bool fixedT)
+void SystemHeat::setFixedTemperature(std::size_t i, bool fixedT)
 {
-    if (i >= impl_->x.size()) throw InputError("nscd::System::setFixedTemperature: unknown " + grainText(i));
-    impl_->fixT[i] = fixedT ? 1 : 0;
+    if (i >= self().impl_->x.size())
+        throw InputError("nscd::System::setFixedTemperature: unknown " + grainText(i));
+    self().impl_->fixT[i] = fixedT ? 1 : 0;
 }
 
-bool System::fixedTemperature(std::size_t i) const
+bool SystemHeat::fixedTemperature(std::size_t i) const
 {
-    if (i >= impl_->x.size()) throw InputError("nscd::System::fixedTemperature: unknown " + grainText(i));
-    return impl_->fixT[i] != 0;
+    if (i >= self().impl_->x.size())
+        throw InputError("nscd::System::fixedTemperature: unknown " + grainText(i));
+    return self().impl_->fixT[i] != 0;
 }
 
-double System::heatContent(const std::vector<char>* counted) const
+double SystemHeat::heatContent(const std::vector<char>* counted) const
 {
-    const Impl& I = *impl_;
+    const System::Impl& I = *self().impl_;
     if (counted && counted->size() != I.x.size())
         throw InputError("nscd::System::heatContent: " + std::to_string(counted->size()) + " flags for "
                          + std::to_string(I.x.size()) + " grains");
@@ -108,35 +114,35 @@ double System::heatContent(const std::vector<char>* counted) const
     return e;
 }
 
-void System::setWallTemperature(int wall, double T)
+void SystemHeat::setWallTemperature(int wall, double T)
 {
-    if (wall < 0 || wall >= int(impl_->walls.size()))
+    if (wall < 0 || wall >= int(self().impl_->walls.size()))
         throw InputError("nscd::System::setWallTemperature: unknown wall " + std::to_string(wall));
     if (!std::isfinite(T))
         throw InputError("nscd::System::setWallTemperature: non-finite temperature for wall "
                          + std::to_string(wall) + " (use setWallAdiabatic)");
-    impl_->walls[wall].temperature = T;
+    self().impl_->walls[wall].temperature = T;
 }
 
-void System::setWallAdiabatic(int wall)
+void SystemHeat::setWallAdiabatic(int wall)
 {
-    if (wall < 0 || wall >= int(impl_->walls.size()))
+    if (wall < 0 || wall >= int(self().impl_->walls.size()))
         throw InputError("nscd::System::setWallAdiabatic: unknown wall " + std::to_string(wall));
-    impl_->walls[wall].temperature = std::numeric_limits<double>::quiet_NaN();
+    self().impl_->walls[wall].temperature = std::numeric_limits<double>::quiet_NaN();
 }
 
-bool System::wallAdiabatic(int wall) const
+bool SystemHeat::wallAdiabatic(int wall) const
 {
-    if (wall < 0 || wall >= int(impl_->walls.size()))
+    if (wall < 0 || wall >= int(self().impl_->walls.size()))
         throw InputError("nscd::System::wallAdiabatic: unknown wall " + std::to_string(wall));
-    return std::isnan(impl_->walls[wall].temperature);
+    return std::isnan(self().impl_->walls[wall].temperature);
 }
 
-double System::wallTemperature(int wall) const
+double SystemHeat::wallTemperature(int wall) const
 {
-    if (wall < 0 || wall >= int(impl_->walls.size()))
+    if (wall < 0 || wall >= int(self().impl_->walls.size()))
         throw InputError("nscd::System::wallTemperature: unknown wall " + std::to_string(wall));
-    return impl_->walls[wall].temperature;
+    return self().impl_->walls[wall].temperature;
 }
 
 // ============================================================================

@@ -20,6 +20,7 @@ namespace
 {
 constexpr int formatVersion = 1;
 using h5::H5File;
+using h5::openState;
 using h5::Reader;
 using h5::Writer;
 
@@ -503,10 +504,7 @@ void readHeat(Reader& r, System::Impl& I)
 
 System System::readHDF5(const std::string& file) { return readHDF5(file, nullptr); }
 
-namespace
-{
-/// Open file (H5File h) for reading: a Reader, or InputError naming the cause.
-Reader openState(H5File& h, const std::string& file)
+Reader h5::openState(H5File& h, const std::string& file)
 {
     if (H5Fis_hdf5(file.c_str()) <= 0)
         throw InputError("nscd::System::readHDF5: " + file
@@ -521,7 +519,6 @@ Reader openState(H5File& h, const std::string& file)
     if (r.i("format", 0, 1)[0] != formatVersion) r.fail("unsupported format version");
     return r;
 }
-} // namespace
 
 std::vector<long> System::grainIdsHDF5(const std::string& file)
 {

@@ -4,7 +4,10 @@
 #include "ColumnsHDF5.H"
 #include "SystemImpl.H"
 
+#include <algorithm>
 #include <map>
+#include <memory>
+#include <utility>
 
 namespace nscd
 {
@@ -138,25 +141,41 @@ void writeDataset(h5::Writer& w, const GrainColumns& c, const DatasetColumns& d,
     w.write(d.name, buf.data(), N, d.oneD ? 0 : hsize_t(d.width), type);
 }
 
+/// Rows 0 ... of col from the rows of buf (rows of dataset d).
+template <class S>
+void fillColumn(GrainColumn& col, const std::vector<S>& buf, const DatasetColumns& d)
+{
+    const std::size_t NK = buf.size() / std::size_t(d.width);
+    const ColumnDataset& ds = col.dataset();
+    for (std::size_t i = 0; i < NK; ++i)
+    {
+        const S* row = &buf[i * d.width];
+        if constexpr (std::is_same<S, double>::value)
+            for (int e = 0; e < col.components(); ++e) col.setReal(i, e, row[ds.offset + e]);
+        else
+            col.setInteger(i, ds.bit >= 0 ? (long(row[ds.offset]) >> ds.bit) & 1L : long(row[ds.offset]));
+    }
+}
+
 template <class S>
 void readDataset(h5::Reader& r, GrainColumns& c, const DatasetColumns& d, long N,
                  const std::vector<long>* pick, hid_t type)
 {
     const std::vector<S> buf = r.read<S>(d.name, type, d.oneD ? 0 : hsize_t(d.width), N, pick);
-    const std::size_t NK = buf.size() / std::size_t(d.width);
-    for (int k : d.columns)
-    {
-        GrainColumn& col = c[k];
-        const ColumnDataset& ds = col.dataset();
-        for (std::size_t i = 0; i < NK; ++i)
-        {
-            const S* row = &buf[i * d.width];
-            if constexpr (std::is_same<S, double>::value)
-                for (int e = 0; e < col.components(); ++e) col.setReal(i, e, row[ds.offset + e]);
-            else
-                col.setInteger(i, ds.bit >= 0 ? (long(row[ds.offset]) >> ds.bit) & 1L : long(row[ds.offset]));
-        }
-    }
+    for (int k : d.columns) fillColumn(c[k], buf, d);
+}
+
+/// Rows pick (ascending) of dataset d into rows 0 ... of col.
+void readPicked(h5::Reader& r, GrainColumn& col, const DatasetColumns& d, long N,
+                const std::vector<long>& pick)
+{
+    const hsize_t cols = d.oneD ? 0 : hsize_t(d.width);
+    if (d.storage == DatasetColumns::Real)
+        fillColumn(col, r.read<double>(d.name, H5T_NATIVE_DOUBLE, cols, N, &pick), d);
+    else if (d.storage == DatasetColumns::Int)
+        fillColumn(col, r.read<int>(d.name, H5T_NATIVE_INT, cols, N, &pick), d);
+    else
+        fillColumn(col, r.read<long>(d.name, H5T_NATIVE_LONG, cols, N, &pick), d);
 }
 } // namespace
 
@@ -196,6 +215,47 @@ std::vector<std::string> readColumns(h5::Reader& r, GrainColumns& c, long N, con
             readDataset<long>(r, c, d, N, pick, H5T_NATIVE_LONG);
     }
     return missing;
+}
+
+bool System::readColumnHDF5(const std::string& file, const std::string& name)
+{
+    const std::string where = "nscd::System::readColumnHDF5: " + file;
+    GrainColumns& c = columnRegistry();
+    const int k = c.find(name);
+    if (k < 0 || !c[k].has(ColumnRestart))
+        throw InputError(where + ": '" + name + "' is not a declared ColumnRestart column");
+    DatasetColumns d;
+    for (const DatasetColumns& e : restartDatasets(c, where))
+        for (int j : e.columns)
+            if (j == k) d = e;
+    h5::H5File h;
+    h5::Reader r = h5::openState(h, file);
+    if (H5Lexists(r.f, d.name.c_str(), H5P_DEFAULT) <= 0) return false;
+    // each grain's row in the file: the row of its grain id
+    const std::vector<long> fileIds = grainIdsHDF5(file);
+    std::map<long, long> rowOf;
+    for (std::size_t i = 0; i < fileIds.size(); ++i) rowOf[fileIds[i]] = long(i);
+    std::vector<std::pair<long, std::size_t>> at; // (row, grain), by row
+    for (std::size_t g = 0; g < size(); ++g)
+    {
+        const auto it = rowOf.find(grainIds()[g]);
+        if (it == rowOf.end())
+            throw InputError(where + ": grain id " + std::to_string(grainIds()[g]) + " is not in the file");
+        at.emplace_back(it->second, g);
+    }
+    std::sort(at.begin(), at.end());
+    std::vector<long> pick(at.size());
+    for (std::size_t j = 0; j < at.size(); ++j) pick[j] = at[j].first;
+    std::unique_ptr<GrainColumn> rows = c[k].clone();
+    rows->resize(pick.size());
+    readPicked(r, *rows, d, long(fileIds.size()), pick);
+    std::vector<char> buf(rows->elementBytes());
+    for (std::size_t j = 0; j < at.size(); ++j)
+    {
+        rows->pack(j, buf.data());
+        c[k].unpack(at[j].second, buf.data());
+    }
+    return true;
 }
 
 } // namespace nscd

@@ -218,6 +218,33 @@ TEST(Columns, ValuesSurviveAnHDF5Restart)
     std::remove(file.c_str());
 }
 
+// A restart column declared after the state was read (a part of the program
+// made later, e.g. an fvOption of the OpenFOAM side) reads its dataset with
+// readColumnHDF5: each grain the row of its id, whole or partial read.
+TEST(Columns, ColumnsDeclaredAfterTheReadReadTheirRowsById)
+{
+    System s = shuffledBed(60);
+    declareColumns(s);
+    setValues(s);
+    for (int k = 0; k < 6; ++k) s.step(2e-4); // reordered at step 5
+    s.removeGrains({2, 17});
+    const std::string file = tmpFile("lateColumns.h5");
+    s.writeHDF5(file);
+    for (const bool part : {false, true})
+    {
+        System r = System::readHDF5(file, [part](const Vec3& x, double) { return !part || x.x() > 9e-3; });
+        declareColumns(r);
+        for (const char* c : {"wetness", "slip", "frame", "cell", "tag", "inside"})
+            EXPECT_TRUE(r.readColumnHDF5(file, c)) << c;
+        expectValues(r, part ? "late, part" : "late, whole");
+        r.addColumn<double>("porosity", ColumnRestart | ColumnOptional, 0.4);
+        EXPECT_FALSE(r.readColumnHDF5(file, "porosity"));
+        EXPECT_EQ(r.column<double>("porosity"), std::vector<double>(r.size(), 0.4));
+        EXPECT_THROW(r.readColumnHDF5(file, "masses"), InputError); // not a restart column
+    }
+    std::remove(file.c_str());
+}
+
 // Columns sharing a dataset (ColumnDataset), as the System's own "fixed"
 // flags and "heatExchange" pairs do: each reads back its part.
 TEST(Columns, ColumnsSharingADatasetReadBackTheirParts)

@@ -228,17 +228,7 @@ Foam::vansCloud::vansCloud
     }
 
     grains_.checkState();
-    heat_.read(dict_, td, *fluid_);
-    const vapourSettings& vap = settings_.vapour;
-    settings_.vapour.read(td);
-    if (vap.on)
-    {
-        Info<< "vansCloud: vapour transport on, D_v " << vap.D
-            << " m^2/s, rho_v " << vap.rho << " kg/m^3, "
-            << (vap.bounded ? "bounded (advective) form" : "conservative form")
-            << endl;
-    }
-    cohesion_.read(dict_, vap.on);
+    readSubModels(td);
     if (grains_.decomposed())
     {
         // the grains' overlap sums over several ranks' cells are completed
@@ -260,6 +250,22 @@ Foam::vansCloud::vansCloud
 
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
+
+void Foam::vansCloud::readSubModels(const dictionary& transport)
+{
+    heat_.read(dict_, transport, *fluid_);
+    const vapourSettings& vap = settings_.vapour;
+    settings_.vapour.read(transport);
+    if (vap.on)
+    {
+        Info<< "vansCloud: vapour transport on, D_v " << vap.D
+            << " m^2/s, rho_v " << vap.rho << " kg/m^3, "
+            << (vap.bounded ? "bounded (advective) form" : "conservative form")
+            << endl;
+    }
+    cohesion_.read(dict_, vap.on);
+}
+
 
 void Foam::vansCloud::predictGrains
 (
@@ -475,77 +481,6 @@ void Foam::vansCloud::predictDrag
     {
         pressureCoefficient_ = dimensionedScalar("one", dimless, 1.0) + Kp_;
     }
-}
-
-
-Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::faceForces
-(
-    const surfaceScalarField& fluidWeightFlux,
-    const uniformDimensionedVectorField& g,
-    const surfaceScalarField& snGradpSf
-) const
-{
-    return
-        fluidWeightFlux
-      + fvc::interpolate(Kg())*(g & mesh_.Sf())
-      - fvc::interpolate(pressureCoefficient_)*snGradpSf;
-}
-
-
-Foam::tmp<Foam::volVectorField> Foam::vansCloud::cellForces
-(
-    const volScalarField& w,
-    const uniformDimensionedVectorField& g,
-    const volVectorField& gradp
-) const
-{
-    return w*g + Kg()*g - pressureCoefficient_*gradp;
-}
-
-
-Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::weightFlux
-(
-    const volScalarField& rAU,
-    const uniformDimensionedVectorField& g
-) const
-{
-    return fvc::interpolate(Kg()*rAU)*(g & mesh_.Sf());
-}
-
-
-Foam::tmp<Foam::surfaceScalarField> Foam::vansCloud::solidFlux
-(
-    const volVectorField& U,
-    const scalar dt
-)
-{
-    const nscd::System& s = grains_.system();
-    const scalar depth = adapter_.depth();
-    const std::vector<double>& W = adapter_.grainMappedVolume();
-    adapter_.gather(U, Ug_);
-    const UList<scalar> held(scalars(columns::heldFraction));
-    for (label i = 0; i < label(s.size()); ++i)
-    {
-        if (s.fixed(i)) continue;
-        const scalar im = fluidInverseMass(i, held);
-        const scalar Wdg = W[i]/depth*dt*gamma_[i];
-        // resolved grain: only the v** part, a_p v**_0; its fluid part
-        // b_p U is added per cell with the cell's own, pressure-dependent
-        // velocity by the solver (B_f, pEqn.H)
-        const scalar b =
-            resolved_.size() == label(s.size()) && resolved_[i]
-          ? 0 : Wdg*im;
-        vStar_[i] = (vss_[i] + b*Ug_[i])/(1 + Wdg*im);
-    }
-    if (!settings_.rotation)
-    {
-        adapter_.solidVelocity(vStar_, phiVs_);
-    }
-    else
-    {
-        rotationalSolidVelocity(dt);
-    }
-    return fvc::flux(phiVs_);
 }
 
 

@@ -31,6 +31,7 @@ import os
 import sys
 
 import nscdpost
+import nscdrender
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -161,11 +162,7 @@ def main():
             f"St = {st:.3f} ({sh['periods']:.1f} periods); Williamson (1996) {sr:.3f}",
             fontsize=9,
         )
-        ax.set_xlabel("t [s]")
-        ax.legend(fontsize=7)
-        ax.grid(alpha=0.3)
-        fig.tight_layout()
-        fig.savefig("shedding.png", dpi=120)
+        nscdrender.save_plot(fig, ax, "shedding.png", "t [s]", legend_size=7)
     except ImportError:
         print("matplotlib missing: no shedding.png")
 

@@ -35,6 +35,7 @@ import os
 import sys
 
 import nscdpost
+import nscdrender
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -325,12 +326,7 @@ def main():
             ),
             fontsize=9,
         )
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel("velocity / $U_t$")
-        ax.legend(fontsize=7)
-        ax.grid(alpha=0.3)
-        fig.tight_layout()
-        fig.savefig("velocity.png", dpi=120)
+        nscdrender.save_plot(fig, ax, "velocity.png", "t [s]", "velocity / $U_t$", legend_size=7)
     except ImportError:
         print("matplotlib missing: no velocity.png")
 

@@ -17,6 +17,7 @@ import os
 import sys
 
 import nscdpost
+import nscdrender
 import numpy as np
 from foamlib import FoamCase
 
@@ -58,12 +59,7 @@ def main():
                 r["time"], r["front_height"], "-o", color=f"C{k}", label=f"{m}: leading edge{tag}"
             )
             ax.plot(r["time"], r["top_height"], "--", color=f"C{k}", label=f"{m}: top of layer")
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel("height [m]")
-        ax.legend(fontsize=8)
-        ax.grid(alpha=0.3)
-        fig.tight_layout()
-        fig.savefig("front.png", dpi=120)
+        nscdrender.save_plot(fig, ax, "front.png", "t [s]", "height [m]")
     except ImportError:
         print("matplotlib missing: no front.png")
     for m, r in res.items():

@@ -10,6 +10,7 @@ a dense cloud (solid fraction ~0.3-0.5) falls slower than a lone grain
 
 import correlations
 import nscdpost
+import nscdrender
 import numpy as np
 
 
@@ -46,12 +47,7 @@ def main():
         fig, ax = plt.subplots(figsize=(5, 3.5))
         ax.plot(t, v, "o-", label="vansFoam, 1,500 spheres")
         ax.axhline(-wt, color="k", ls="--", label="single-grain terminal velocity")
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel("mean vertical grain velocity [m/s]")
-        ax.legend(fontsize=8)
-        ax.grid(alpha=0.3)
-        fig.tight_layout()
-        fig.savefig("settling.png", dpi=120)
+        nscdrender.save_plot(fig, ax, "settling.png", "t [s]", "mean vertical grain velocity [m/s]")
     except ImportError:
         pass
     print("min mean velocity", min(v), "single-grain terminal", -wt)
