@@ -5,6 +5,8 @@
 #include "OSspecific.H"
 #include "TimePaths.H"
 #include "PstreamReduceOps.H"
+#include "error.H"
+#include "functionObject.H"
 
 #include <csignal>
 #include <fstream>
@@ -26,12 +28,70 @@ namespace
     //  FatalError ends the process without unwinding the stack)
     std::string lockAtExit;
 
-    extern "C" void removeLockAtExit()
+    //- postProcessing/runEnd/<startTime>/runEnd of this process's run
+    //  (master; empty: none), the time name of its last completed step,
+    //  and whether the run returned from its time loop: at exit() without
+    //  it, the run ended on a FatalError (no stack unwinding)
+    std::string runEndFile;
+    std::string lastStepTime;
+    bool runReturned = false;
+    const char* returnReason = "endTime";
+
+    //- Write runEndFile: an OpenFOAM dictionary of the reason the run
+    //  ended, the last completed step's time and the error's message as a
+    //  list of its non-empty lines (quotes and backslashes escaped)
+    void writeRunEnd(const char* reason, const std::string& message)
+    {
+        std::ofstream os(runEndFile.c_str());
+        os  << "FoamFile\n{\n    version     2.0;\n    format      ascii;\n"
+            << "    class       dictionary;\n    object      runEnd;\n}\n\n"
+            << "// How the run ended (grainRunControl): reason running (not"
+            << " ended, or killed),\n// endTime, stopSignal or fatalError;"
+            << " time: its last completed step\n\n"
+            << "reason      " << reason << ";\n"
+            << "time        " << lastStepTime << ";\n"
+            << "message\n(\n";
+        std::size_t begin = 0;
+        while (begin < message.size())
+        {
+            std::size_t end = message.find('\n', begin);
+            if (end == std::string::npos) end = message.size();
+            const std::string line = message.substr(begin, end - begin);
+            if (line.find_first_not_of(" \t") != std::string::npos)
+            {
+                os  << "    \"";
+                for (const char c : line)
+                {
+                    if (c == '"' || c == '\\') os << '\\';
+                    os  << c;
+                }
+                os  << "\"\n";
+            }
+            begin = end + 1;
+        }
+        os  << ");\n";
+    }
+
+    extern "C" void atRunExit()
     {
         if (!lockAtExit.empty())
         {
             std::remove(lockAtExit.c_str());
         }
+        if (!runEndFile.empty() && !runReturned)
+        {
+            const std::string m = Foam::FatalIOError.message();
+            writeRunEnd
+            (
+                "fatalError", m.empty() ? Foam::FatalError.message() : m
+            );
+        }
+    }
+
+    void registerAtRunExit()
+    {
+        static const bool registered = (std::atexit(atRunExit) == 0);
+        (void)registered;
     }
 
     extern "C" void onStopSignal(int sig)
@@ -218,6 +278,7 @@ Foam::grainRunControl::grainRunControl(Time& runTime)
     }
     checkLaterWrites();
     lockCase();
+    startRunEnd();
     stopSignal = 0;
     std::signal(SIGTERM, onStopSignal);
     std::signal(SIGUSR1, onStopSignal);
@@ -226,6 +287,12 @@ Foam::grainRunControl::grainRunControl(Time& runTime)
 
 Foam::grainRunControl::~grainRunControl()
 {
+    if (!runEndFile.empty())
+    {
+        runReturned = true;
+        writeRunEnd(returnReason, "");
+        runEndFile.clear();
+    }
     if (!lockFile_.empty())
     {
         std::remove(lockFile_.c_str());
@@ -352,9 +419,29 @@ void Foam::grainRunControl::lockCase()
             << '\n';
     }
     lockFile_ = lock;
-    static const bool registered = (std::atexit(removeLockAtExit) == 0);
-    (void)registered;
+    registerAtRunExit();
     lockAtExit = lock;
+}
+
+
+void Foam::grainRunControl::startRunEnd()
+{
+    if (!Pstream::master())
+    {
+        return;
+    }
+    const fileName dir
+    (
+        runTime_.globalPath()/functionObject::outputPrefix/"runEnd"
+       /runTime_.timeName(runTime_.startTime().value())
+    );
+    mkDir(dir);
+    runEndFile = dir/"runEnd";
+    lastStepTime = runTime_.timeName();
+    runReturned = false;
+    returnReason = "endTime";
+    registerAtRunExit();
+    writeRunEnd("running", "");
 }
 
 
@@ -379,6 +466,7 @@ bool Foam::grainRunControl::writeStep(const std::function<void()>& writeGrains)
             runTime_.value()
           < runTime_.endTime().value() - 0.5*runTime_.deltaTValue()
         );
+    lastStepTime = runTime_.timeName();
     const bool scheduled = runTime_.writeTime();
     const bool written = scheduled || last || stop;
     if (written)
@@ -427,6 +515,7 @@ bool Foam::grainRunControl::writeStep(const std::function<void()>& writeGrains)
     }
     if (stop)
     {
+        returnReason = "stopSignal";
         Info<< nl << "Stop signal " << sig
             <<
             (

@@ -284,22 +284,41 @@ def heat_history(case):
     }
 
 
-def heat_log_history(case, app="vansFoam"):
-    """heat_history(case) (the name from when it read the logs; app: only
-    vansFoam writes heatBudget.dat)."""
-    if app != "vansFoam":
-        raise ValueError(f"{app} writes no heatBudget.dat")
-    return heat_history(case)
+def _unquote(text):
+    """An OpenFOAM string as foamlib returns it ("..." with \\" and \\\\
+    escapes) without its quotes and escapes."""
+    text = str(text)
+    if len(text) >= 2 and text[0] == text[-1] == '"':
+        text = text[1:-1]
+    return re.sub(r"\\(.)", r"\1", text)
 
 
-def log_paths(case, app="vansFoam"):
-    """Paths of `log.<app>` and of the logs `log.<app>.<anything>` of its
-    continuations (e.g. log.vansFoam.ext) in `case`, in name order."""
-    return [
-        os.path.join(case, n)
-        for n in sorted(os.listdir(case))
-        if n == f"log.{app}" or n.startswith(f"log.{app}.")
-    ]
+def read_run_end(case):
+    """How each run of a case ended, from the solvers'
+    postProcessing/runEnd/<start time>/runEnd (src/grainCloud/
+    grainRunControl.H), in start-time order: a list of dicts `start` [s],
+    `reason` ("endTime", "stopSignal", "fatalError", or "running": not
+    ended, killed, or a parallel run aborted by its error), `time` [s] (the
+    last completed step) and `message` (the error's non-empty lines; [] but
+    for fatalError).  [] if the case has none."""
+    root = os.path.join(case, "postProcessing", "runEnd")
+    out = []
+    for t0, name in numeric_dirs(root):
+        path = os.path.join(root, name, "runEnd")
+        if not os.path.isfile(path):
+            continue
+        f = _foam_file(path)
+        msg = f.get("message", [])
+        msg = [msg] if isinstance(msg, str) else list(msg or [])
+        out.append(
+            {
+                "start": t0,
+                "reason": str(f["reason"]),
+                "time": float(f["time"]),
+                "message": [_unquote(m) for m in msg],
+            }
+        )
+    return out
 
 
 def trapezoid(y, x):

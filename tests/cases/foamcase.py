@@ -8,7 +8,6 @@ import shutil
 import subprocess
 
 import nscdpost
-import numpy as np
 from foamlib import FoamFile
 
 HEADER = "FoamFile { version 2.0; format ascii; class %s; object %s; }\n"
@@ -197,6 +196,21 @@ def run(app, case, env, args=(), check=True, cwd=None):
     if check and p.returncode != 0:
         raise AssertionError(f"{app} failed in {case}:\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}")
     return p
+
+
+def log_message(text, pattern, every=False):
+    """A message of a tool's output that a user reads: a FATAL ERROR or
+    warning naming a keyword, a start-up report of the settings, an end of
+    run summary, a utility's report.  The re.Match of `pattern` (re.M) in
+    `text`, asserted to be there; every=True: all matches (re.findall).
+    The numbers of the time steps (budgets, statistics, solver health) are
+    not read from the log but from postProcessing/<name>/<start>/<name>.dat
+    (nscdpost.read_step_data); this helper keeps the two apart."""
+    if every:
+        return re.findall(pattern, text, re.M)
+    m = re.search(pattern, text, re.M)
+    assert m, f"no {pattern!r} in the output:\n{text[-3000:]}"
+    return m
 
 
 def fails_with(p, *words, banner="FOAM FATAL"):
@@ -480,57 +494,6 @@ def copy_tutorial(solver, case, dst):
         os.makedirs(os.path.join(dst, os.path.dirname(f)), exist_ok=True)
         shutil.copy2(os.path.join(src, f), os.path.join(dst, f))
     return dst
-
-
-def heat_log(log):
-    """Per time step of a vansFoam log (text) with heat on (the log lines
-    themselves; nscdpost.heat_history reads the same values from
-    postProcessing/heatBudget): dict of arrays
-    from the "heat:" lines, `time` [s] (of the preceding "Time =" line),
-    `grain_T`, `fluid_T` [K] (means), `Q` [J] (exchanged), `E` [J] (fluid +
-    grains energy), and from the "heat budget:" lines `budget` (n, 6) [J]
-    (fluid boundary, advected, sources, grain walls, fixed grains,
-    continuity defect: 0 in logs without it) and
-    `patches`, a list with one dict per budget line mapping each patch of
-    the preceding "heat patch" lines to its (conduction, advected) rates [W]."""
-    t, heat, bud, patches, current = None, [], [], [], {}
-    for line in log.splitlines():
-        m = re.match(r"^Time = (\S+)", line)
-        if m:
-            t = float(m.group(1))
-            continue
-        m = re.match(r"^heat patch (\S+): conduction = (\S+) W, advected = (\S+) W", line)
-        if m:
-            current[m.group(1)] = (float(m.group(2)), float(m.group(3)))
-            continue
-        m = re.match(
-            r"^heat: grain mean T = (\S+), fluid mean T = (\S+), exchanged Q = (\S+) J, "
-            r"energy fluid \+ grains = (\S+) J",
-            line,
-        )
-        if m:
-            heat.append((t,) + tuple(float(v) for v in m.groups()))
-            continue
-        m = re.match(
-            r"^heat budget: fluid boundary = (\S+) J, advected = (\S+) J, "
-            r"sources = (\S+) J, grain walls = (\S+) J, fixed grains = (\S+) J"
-            r"(?:, continuity defect = (\S+) J)?",
-            line,
-        )
-        if m:
-            bud.append([float(v) if v is not None else 0.0 for v in m.groups()])
-            patches.append(current)
-            current = {}
-    h = np.array(heat, dtype=float).reshape(-1, 5)
-    return {
-        "time": h[:, 0],
-        "grain_T": h[:, 1],
-        "fluid_T": h[:, 2],
-        "Q": h[:, 3],
-        "E": h[:, 4],
-        "budget": np.array(bud, dtype=float).reshape(-1, 6),
-        "patches": patches,
-    }
 
 
 def heat_cell_case(case, grains, rhop, depth, end_time):

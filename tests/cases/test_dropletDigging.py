@@ -66,7 +66,7 @@ import re
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import heat_log, run, tutorial_modules
+from foamcase import run, tutorial_modules
 
 pytestmark = pytest.mark.slow
 
@@ -108,9 +108,9 @@ def test_energy_budget_closes(sweep):
 def test_energy_budget_through_restart(sweep, env):
     """(a') The budget of (a) over a run continued from a write (the digging
     runs are extended this way: a later endTime, startFrom latestTime): the
-    400 C case restarted from its 0.05 s write to 0.1 s.  The heat lines of
-    the two logs (nscdpost.heat_log_history, ordered by their start times,
-    the first cut at the restart) and the two droplet.dat parts join into
+    400 C case restarted from its 0.05 s write to 0.1 s.  The heatBudget.dat
+    rows of the two runs (nscdpost.heat_history, ordered by their start
+    times, the first cut at the restart) and the two droplet.dat parts join into
     one step sequence, and the energy of droplet + gas + grains + walls
     closes over 0-0.1 s within 1e-4 of the droplet's heat (issue 8; measured
     ~1e-10, the state written with 12 digits): the restart loses no energy
@@ -123,10 +123,13 @@ def test_energy_budget_through_restart(sweep, env):
     shutil.rmtree(os.path.join(case, "0.1"))
     os.rename(os.path.join(case, "log.vansFoam"), os.path.join(case, "log.vansFoam.first"))
     run("vansFoam", case, env)  # writes log.vansFoam: the continuation
-    h = nscdpost.heat_log_history(case)
+    h = nscdpost.heat_history(case)
     d = post.read_droplet(case)
-    first = heat_log(open(os.path.join(case, "log.vansFoam.first")).read())
-    rest = heat_log(open(os.path.join(case, "log.vansFoam")).read())
+    first, rest = (
+        np.loadtxt(os.path.join(case, "postProcessing", "heatBudget", t, "heatBudget.dat"), ndmin=2)
+        for t in ("0", "0.05")
+    )
+    first, rest = {"time": first[:, 0]}, {"time": rest[:, 0]}
     assert abs(rest["time"][0] - 0.05) < 0.01 and abs(h["time"][-1] - END) < 1e-9
     assert np.all(np.diff(h["time"]) > 0)
     assert len(rest["time"]) < len(h["time"]) < len(first["time"]) + len(rest["time"])
@@ -187,7 +190,7 @@ def test_front_rear_walls_heat_the_bed(sweep, env):
     log = run("vansFoam", case, env).stdout
     assert "front and rear walls (Hele-Shaw cell) at 673.15 K" in log
     b = post.energy_budget(case)
-    lg, ref = post.read_log(case), post.read_log(cases[400.0])
+    lg, ref = post.read_heat(case), post.read_heat(cases[400.0])
     walls = lg["budget"][:, 3].sum()
     T_end, T_ref = lg["grain_T"][-1], ref["grain_T"][-1]
     print(

@@ -54,7 +54,7 @@ from dropletcase import (
     read_droplet,
     water_droplet_case,
 )
-from foamcase import heat_log, run
+from foamcase import run
 
 # Measured (w/D = 4, steady state): D/dx -> mdot/(Q_ref/L) - 1, for the
 # default penalisationFactor 100 (src/dropletCoupling/README.md has 10 and 1e4).
@@ -121,16 +121,13 @@ def test_fixed_droplet_mesh_convergence(tmp_path, env):
     assert abs(errs[32]) < abs(errs[8])
 
 
-def budget_lines(log):
+def budget_lines(case):
     """Per step: (fluid boundary, advected, sources) [J] of vansFoam's heat
-    budget, energy E [J] of the "heat:" line, global continuity error."""
-    h = heat_log(log)
-    cont = []
-    for line in log.splitlines():
-        m = re.match(r"^mixture continuity errors : sum local = \S+, global = (\S+)", line)
-        if m:
-            cont.append(float(m.group(1)))
-    return h["budget"][:, :3], h["E"], np.array(cont)
+    budget, energy E [J] (heatBudget.dat), global continuity error of the
+    step's last pressure corrector (continuityErrors.dat)."""
+    h = nscdpost.heat_history(case)
+    cont = nscdpost.read_step_data(case, "continuityErrors")["global"]
+    return h["budget"][:, :3], h["E"], cont
 
 
 @pytest.mark.fast
@@ -141,9 +138,9 @@ def test_energy_and_vapour_budget(tmp_path, env, release):
     case = str(tmp_path / "budget")
     dt, n_steps = 0.01, 20
     blowing_droplet_case(case, env, 8, dt, n_steps, extra=f"vapourRelease {release};\n")
-    log = run("vansFoam", case, env).stdout
+    run("vansFoam", case, env)
     d = read_droplet(case)
-    bud, E, cont = budget_lines(log)
+    bud, E, cont = budget_lines(case)
     n = len(d)  # >= n_steps: the Courant limit may shorten dt
     assert n >= n_steps and len(bud) == n and len(E) == n
     t = d[:, 0]
@@ -181,7 +178,7 @@ def test_energy_and_vapour_budget(tmp_path, env, release):
     # pressure solver tolerance, and the outflow through the outlet at the
     # end equals the volume source of the last step
     Vtot = W * W * DEPTH
-    err = np.abs(cont.reshape(n, -1)[:, -1]) * Vtot / dts  # last corrector [m^3/s]
+    err = np.abs(cont) * Vtot / dts  # last corrector [m^3/s]
     assert np.all(err < 1e-6 * Vdot[1:].min())
     outflow = patch_sum(os.path.join(case, f"{dt * n_steps:g}", "phi"), "outlet")
     print(f"outflow {outflow:.9e} m^3/s, Vdot {Vdot[-1]:.9e} m^3/s")
@@ -210,8 +207,9 @@ def test_bounded_vapour_fraction_with_blowing_droplet(tmp_path, env):
     txt = open(tp).read()
     assert "vapour { D 2.5e-5;" in txt
     open(tp, "w").write(txt.replace("vapour { D 2.5e-5;", "vapour { bounded yes; D 2.5e-5;"))
-    log = run("vansFoam", case, env).stdout
-    rng = np.array([[float(a), float(b)] for a, b in re.findall(r"psi min/max = (\S+) (\S+)", log)])
+    run("vansFoam", case, env)
+    v = nscdpost.read_step_data(case, "vapour")
+    rng = np.column_stack([v["psiMin"], v["psiMax"]])
     assert len(rng) >= n_steps
     print(
         f"bounded psi: min {rng[:, 0].min():.3e}, max {rng[:, 1].max():.6f} over {len(rng)} steps"
@@ -314,9 +312,9 @@ def test_grain_heat_to_droplet(tmp_path, env):
     water_droplet_case(
         case, env, dt, n_steps, rho_l=1000.0, grains=grains, fixed_grains=True, T_grains=T0
     )
-    log = run("vansFoam", case, env).stdout
+    run("vansFoam", case, env)
     d = read_droplet(case)
-    Tg = [float(v) for v in re.findall(r"^heat: grain mean T = (\S+),", log, re.M)]
+    Tg = nscdpost.heat_history(case)["grain_T"]
     assert len(d) == n_steps and len(Tg) == n_steps
     Qf, Qp = d[:, 7], d[:, 8]
     mg = 2500 * math.pi * r * r * DEPTH  # 2D disc x mesh depth
@@ -395,10 +393,10 @@ def test_leidenfrost_film_heat(tmp_path, env):
     cd = os.path.join(case, "system", "controlDict")
     txt = open(cd).read().replace("adjustTimeStep yes;", "adjustTimeStep no;")
     open(cd, "w").write(txt)
-    log = run("vansFoam", case, env).stdout
+    run("vansFoam", case, env)
     d = read_droplet(case)
-    h = heat_log(log)
-    Tg = np.array([float(v) for v in re.findall(r"^heat: grain mean T = (\S+),", log, re.M)])
+    h = nscdpost.heat_history(case)
+    Tg = h["grain_T"]
     assert len(d) == n_steps and len(Tg) == n_steps and d.shape[1] == 25
     Qfilm = d[:, 24]
     assert Qfilm[0] == 0

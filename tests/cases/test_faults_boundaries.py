@@ -6,12 +6,11 @@ outletPatches are removed and counted (item 4).  Small 2D cases (seconds
 each) and two small 3D vansFoam cases; helpers in faultcase.py."""
 
 import os
-import re
 
 import numpy as np
 import pytest
 from faultcase import MAT, G, box, open_bottom_cube, set_control, times
-from foamcase import fails_with, replace_in, run
+from foamcase import fails_with, log_message, replace_in, run
 
 pytestmark = pytest.mark.fast
 
@@ -179,10 +178,11 @@ def test_grains_leave_through_outlet_and_are_counted(tmp_path, env):
     case = outlet_case(tmp_path, "outlet", env, end=0.1)
     p = run("grainFoam", case, env)
     out = p.stdout
-    removed = re.findall(
+    removed = log_message(
+        out,
         r"grainOutlets: (\d+) grains \(mass (\S+) kg\) left through bottom"
         r" at time (\S+), ids ([\d ]+);",
-        out,
+        every=True,
     )
     assert len(removed) == 3, out[-3000:]
     m0 = [disc_mass(g[3]) for g in OUTLET_GRAINS]
@@ -261,9 +261,9 @@ def test_vansFoam_grain_leaves_through_outlet(tmp_path, env):
     grains = [(0.01, 0.012, 0.02, 0.01), (0.03, 0.033, 0.02, 0.01)]
     open_bottom_cube(case, env, grains, end=0.09, write_interval=0.03, outlet=True)
     out = run("vansFoam", case, env).stdout
-    assert re.search(
-        r"grainOutlets: 1 grains \(mass \S+ kg\) left through inlet at time \S+, ids 0;", out
-    ), out[-3000:]
+    log_message(
+        out, r"grainOutlets: 1 grains \(mass \S+ kg\) left through inlet at time \S+, ids 0;"
+    )
     last = times(case)[-1]
     ids, ds = remaining(case, last)
     assert ids == [1]

@@ -13,9 +13,10 @@ import signal
 import subprocess
 import time
 
+import nscdpost
 import pytest
 from faultcase import MAT, G, box, set_control, stack, times
-from foamcase import fails_with, make_box_case, run, write
+from foamcase import fails_with, log_message, make_box_case, run, write
 
 pytestmark = pytest.mark.fast
 
@@ -170,10 +171,14 @@ def test_sigterm_writes_and_stops(tmp_path, env):
     last = times(case)[-1]
     assert float(last) >= 0.05
     assert os.path.isfile(os.path.join(case, last, "grainState.h5"))
+    # postProcessing/runEnd says why the run ended, and at which step
+    (end,) = nscdpost.read_run_end(case)
+    assert end["reason"] == "stopSignal" and end["time"] == float(last), end
     # and the run continues from it
     set_control(case, endTime=float(last) + 0.002)
     out = run("grainFoam", case, env).stdout
     assert "Create time" in out and "End" in out
+    assert [e["reason"] for e in nscdpost.read_run_end(case)] == ["stopSignal", "endTime"]
 
 
 # ---- the write grid kept when a run continues from an off-grid time ----------
@@ -345,10 +350,10 @@ def test_sigusr1_to_mpirun_writes_and_stops(tmp_path, env):
         proc.send_signal(signal.SIGUSR1)
         assert proc.wait(timeout=60) == 0
     out = open(logp).read()
-    m = re.search(r"Stop signal 10 \(SIGUSR1\) received: wrote time (\S+) ", out)
-    assert m, out[-2000:]
+    m = log_message(out, r"Stop signal 10 \(SIGUSR1\) received: wrote time (\S+) ")
     t = m.group(1)
     assert os.path.isfile(os.path.join(case, t, "grainState.h5"))
+    assert nscdpost.read_run_end(case)[-1]["reason"] == "stopSignal"  # the master's
     for d in ("processor0", "processor1"):
         assert os.path.isdir(os.path.join(case, d, t, "lagrangian")), d
 

@@ -14,12 +14,11 @@ the code:
 """
 
 import os
-import re
 
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import run, run_fatal_io, write
+from foamcase import log_message, run, run_fatal_io, write
 from test_grainDeposit_replicate import WIDTH, D, box_case, wall_lift, weight
 
 pytestmark = pytest.mark.fast
@@ -91,8 +90,8 @@ def test_rain_deposit_settles_on_its_walls(tmp_path, env):
     log reports the seeded static load."""
     case = rain_case(tmp_path, env, "settled")
     log = run("grainDeposit", case, env).stdout
-    m = re.search(r"Static load: (\d+) contacts seeded, (\d+) grains not balanced", log)
-    assert m and int(m.group(1)) >= NUMBER
+    m = log_message(log, r"Static load: (\d+) contacts seeded, (\d+) grains not balanced")
+    assert int(m.group(1)) >= NUMBER
     assert wall_lift(case) == pytest.approx(weight(case), rel=5e-3)
 
 

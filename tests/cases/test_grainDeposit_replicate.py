@@ -20,7 +20,7 @@ import re
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import run, write, write_grain_numerics
+from foamcase import log_message, run, write, write_grain_numerics
 
 D = 1e-3  # largest grain diameter [m]
 WIDTH = 10 * D  # column width: ten grains
@@ -236,7 +236,7 @@ def test_noisy_settle_names_the_contact_tolerance(tmp_path, env):
     out = log.stdout + log.stderr
     assert "Settled after" not in out and "Stopped settling at maxTime" in out
     assert "tighten contactSolver.tolerance" in out, out[-1500:]
-    noise = float(re.search(r"a noise of about (\S+) m/s", out).group(1))
+    noise = float(log_message(out, r"a noise of about (\S+) m/s").group(1))
     assert 1e-3 < noise < 1e-2
 
 

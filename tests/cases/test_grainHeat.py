@@ -27,7 +27,6 @@ Steady state: the ladder network  H_f (T_hot - T_1) + sum_j H_kj (T_j - T_k)
 
 import math
 import os
-import re
 
 import nscdpost
 import numpy as np
@@ -130,14 +129,11 @@ def column_case(tmp_path, env, name, deposit_material=None, extra_props=""):
 def check_column(case, log):
     assert "wall patch bottom at 400 K (1 walls)" in log
     assert "wall patch right at 300 K (1 walls)" in log
-    heat = re.findall(
-        r"^heat: grain mean T = (\S+) K, wall heat = (\S+) J, "
-        r"bottom (\S+) W, right (\S+) W",
-        log,
-        flags=re.M,
+    heat = nscdpost.read_step_data(case, "grainHeat")
+    assert len(heat["Time"]) == 600
+    Tm, Qstep, qb, qr = (
+        heat[k][-1] for k in ("grainMeanT", "wallHeat", "bottom_rate", "right_rate")
     )
-    assert len(heat) == 600
-    Tm, Qstep, qb, qr = (float(v) for v in heat[-1])
 
     T_exp, q_hot, q_cold = steady_profile()
     assert q_hot > 0 and abs(q_hot + q_cold) < 1e-9 * q_hot
@@ -221,14 +217,11 @@ def test_column_front_rear_walls(tmp_path, env):
     case, _ = column_case(tmp_path, env, "bath", extra_props=props)
     log = run("grainFoam", case, env).stdout
     assert f"front and rear walls (Hele-Shaw cell) at {Tw:g} K" in log
-    heat = re.findall(
-        r"^heat: grain mean T = \S+ K, wall heat = (\S+) J, front/rear walls = "
-        r"(\S+) J, bottom (\S+) W, right (\S+) W",
-        log,
-        flags=re.M,
+    heat = nscdpost.read_step_data(case, "grainHeat")
+    assert len(heat["Time"]) == 600
+    Qwall, Qbath, qb, qr = (
+        heat[k][-1] for k in ("wallHeat", "frontRearHeat", "bottom_rate", "right_rate")
     )
-    assert len(heat) == 600
-    Qwall, Qbath, qb, qr = (float(v) for v in heat[-1])
     T_exp, q_hot, q_cold = steady_profile((G, Tw))
     q_bath = G * (Tw - T_exp).sum()
     g = nscdpost.read_grains(case, "0.6")

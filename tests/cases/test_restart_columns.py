@@ -8,13 +8,12 @@ parallel for these columns: test_vansFoam_decomposed.py; a case written
 before they were columns (uniform/ lists): test_vansFoam.py."""
 
 import os
-import re
 
 import h5py
 import numpy as np
 import pytest
 from faultcase import MAT, G, open_bottom_cube
-from foamcase import run
+from foamcase import log_message, run
 
 pytestmark = pytest.mark.fast
 
@@ -48,8 +47,10 @@ def test_restart_columns_follow_their_grains_through_removal_and_restart(tmp_pat
     case = str(tmp_path / "full")
     open_bottom_cube(case, env, GRAINS, end=0.09, write_interval=0.03, outlet=True)
     out = run("vansFoam", case, env).stdout
-    left = re.findall(
-        r"grainOutlets: 1 grains \(mass \S+ kg\) left through inlet at time (\S+), ids 0;", out
+    left = log_message(
+        out,
+        r"grainOutlets: 1 grains \(mass \S+ kg\) left through inlet at time (\S+), ids 0;",
+        every=True,
     )
     assert len(left) == 1 and 0.03 < float(left[0]) < 0.06, out[-3000:]
     ids, cols = state(case, "0.03")

@@ -17,14 +17,13 @@ uniform blockMesh grid.  A rank owns the grains whose centre lies in its cells
 """
 
 import os
-import re
 import shutil
 import subprocess
 
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import mpirun_could_not_start, read_internal, run, write
+from foamcase import log_message, mpirun_could_not_start, read_internal, run, write
 from foamlib import FoamFile
 
 pytestmark = pytest.mark.fast
@@ -187,7 +186,7 @@ def test_scotch_parallel_run_keeps_every_grain(tmp_path, env):
         pytest.skip("mpirun cannot start here: " + p.stderr[-300:])
     assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
     # load balance logged at each write: the grains of each rank's mesh part
-    logged = re.findall(r"grains per rank 2\((\d+) (\d+)\)", p.stdout)
+    logged = log_message(p.stdout, r"grains per rank 2\((\d+) (\d+)\)", every=True)
     assert logged, "no 'grains per rank' line in the log"
     assert [sum(map(int, x)) for x in logged] == [len(xy)] * len(logged)
     assert min(map(int, logged[-1])) > 0

@@ -9,6 +9,7 @@ here because the test is of the files against them."""
 
 import os
 import re
+import subprocess
 
 import nscdpost
 import numpy as np
@@ -180,4 +181,34 @@ def test_vansInterFoam_files_match_log(tmp_path, env):
     same(w["waterOut"], out)
     # the header: OpenFOAM's writeFile layout, the last "#" line the keys
     path = os.path.join(case, "postProcessing", "waterVolume", "0", "waterVolume.dat")
-    assert nscdpost.dat_columns(path) == ["Time", "waterVolume", "alphaMin", "alphaMax", "waterOut"]
+    assert nscdpost.read_run_end(case) == [
+        {"start": 0.0, "reason": "endTime", "time": 0.01, "message": []}
+    ]
+    keys = ["Time", "waterVolume", "alphaMin", "alphaMax", "waterOut"]
+    assert nscdpost.dat_columns(path) == keys
+    assert foam_monitor_plot(path, env) == [(k, name) for k, name in enumerate(keys[1:], 2)]
+
+
+def foam_monitor_plot(path, env):
+    """Run OpenFOAM's own foamMonitor ($WM_PROJECT_DIR/bin) on the .dat file
+    path with a stand-in gnuplot (none is installed here) that keeps the
+    gnuplot script foamMonitor writes; returns its plotted curves [(column,
+    title)] (foamMonitor takes the keys from the last "#" line: "# Time
+    <name> ..." and plots every column after the time against it)."""
+    bindir = os.path.join(os.path.dirname(path), "stub")
+    os.makedirs(bindir)
+    script = os.path.join(bindir, "plot.gp")
+    with open(os.path.join(bindir, "gnuplot"), "w") as f:
+        f.write(f'#!/bin/sh\ncp "$1" "{script}"\n')
+    os.chmod(os.path.join(bindir, "gnuplot"), 0o755)
+    monitor = os.path.join(env["WM_PROJECT_DIR"], "bin", "foamMonitor")
+    e = dict(env, PATH=bindir + os.pathsep + env["PATH"])
+    subprocess.run(
+        [monitor, "-i", "2", "-r", "1", path], env=e, check=True, capture_output=True, timeout=60
+    )
+    plot = open(script).read()
+    assert 'set xlabel "Time"' in plot  # the first key after "#"
+    return [
+        (int(c), t)
+        for c, t in re.findall(rf'"{re.escape(path)}" using 1:(\d+) with lines title "(\S+)"', plot)
+    ]

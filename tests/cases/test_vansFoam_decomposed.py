@@ -293,7 +293,7 @@ def test_heat_exchange_decomposed_matches_serial(tmp_path, env, n, split):
     shutil.copytree(serial, par)
     p = run_parallel("vansFoam", par, env, n=n, split=split)
     assert f"grains decomposed over {n} ranks" in p.stdout
-    check_energy(p.stdout, E0)
+    check_energy(par, E0)
     run("vansFoam", serial, env)
     run("reconstructPar", par, env, args=("-latestTime",))
     fields = {}

@@ -36,7 +36,6 @@ from foamcase import (
     add_fluid,
     add_scalar_transport,
     heat_cell_case,
-    heat_log,
     make_box_case,
     read_internal,
     run,
@@ -52,9 +51,10 @@ def nusselt_difelice_colburn_re(eps, Re, Pr):
     return correlations.nusselt_difelice_colburn(eps, eps * Re, Pr)
 
 
-def heat_lines(log):
-    """(time, grain mean T, fluid mean T, Q, E) per step from the vansFoam log."""
-    h = heat_log(log)
+def heat_lines(case):
+    """(time, grain mean T, fluid mean T, Q, E) per step of the case's run,
+    from its heatBudget.dat (nscdpost.heat_history)."""
+    h = nscdpost.heat_history(case)
     return [
         tuple(float(v) for v in r)
         for r in zip(h["time"], h["grain_T"], h["fluid_T"], h["Q"], h["E"])
@@ -122,8 +122,8 @@ def test_single_grain_lumped_exponential(tmp_path, env):
     )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
-    log = run("vansFoam", case, env).stdout
-    steps = heat_lines(log)
+    run("vansFoam", case, env)
+    steps = heat_lines(case)
     assert len(steps) >= 290
     tdir = os.path.join(case, "0.3", "lagrangian", "grains")
     assert os.path.isfile(os.path.join(tdir, "T"))
@@ -190,14 +190,14 @@ def closed_box_case(case, env, end_time=0.05, top=0.055):
     return rho * Cp * Tf0 * (0.04 * 0.06 * depth - n * Vp) + n * rhop * Vp * cp * T0
 
 
-def check_energy(log, E0):
-    """Fluid + grain energy of every step's "heat:" line equal to E0 plus
-    the heat budget's terms so far (in the closed box only the continuity
-    defect of the advective form; 0 in the conservative form) to 1e-6 of
-    the heat exchanged (and of E0); returns the log's steps and the summed
+def check_energy(case, E0):
+    """Fluid + grain energy of every step (heatBudget.dat `energy`) equal to
+    E0 plus the heat budget's terms so far (in the closed box only the
+    continuity defect of the advective form; 0 in the conservative form) to
+    1e-6 of the heat exchanged (and of E0); returns the steps and the summed
     continuity defect [J]."""
-    h = heat_log(log)
-    steps = heat_lines(log)
+    h = nscdpost.heat_history(case)
+    steps = heat_lines(case)
     assert len(h["budget"]) == len(steps)
     budget = np.cumsum(h["budget"].sum(axis=1))
     assert np.all(np.abs(h["budget"][:, :5]) < 1e-12 * E0)  # closed, adiabatic
@@ -225,7 +225,8 @@ def test_closed_box_energy_conservation(tmp_path, env):
     not removed: the budget has none)."""
     case = str(tmp_path / "box")
     E0 = closed_box_case(case, env)
-    steps, defect = check_energy(run("vansFoam", case, env).stdout, E0)
+    run("vansFoam", case, env)
+    steps, defect = check_energy(case, E0)
     assert len(steps) >= 20
     Tmin, Tmax = fluid_temperature_range(case, "0.05")
     Tg = nscdpost.read_scalar_field(os.path.join(case, "0.05", "lagrangian", "grains", "T"))
@@ -241,7 +242,7 @@ def test_closed_box_energy_conservation(tmp_path, env):
     )
     log = run("vansFoam", cons, env).stdout
     assert "energy equation in conservative form" in log
-    steps, defect = check_energy(log, E0)
+    steps, defect = check_energy(cons, E0)
     assert defect == 0
 
 
@@ -253,7 +254,8 @@ def test_fluid_temperature_bounded_where_grains_of_the_cell_size_move(tmp_path, 
     fluid to 201-706 K and the grains to 378 K here, measured 2026-11-24)."""
     case = str(tmp_path / "low")
     E0 = closed_box_case(case, env, end_time=0.06, top=0.035)
-    steps, _ = check_energy(run("vansFoam", case, env).stdout, E0)
+    run("vansFoam", case, env)
+    steps, _ = check_energy(case, E0)
     Tmin, Tmax = fluid_temperature_range(case, "0.06")
     Tg_mean = np.array([s[1] for s in steps])
     print(f"fluid T {Tmin:.6f}-{Tmax:.6f} K, grain mean T {Tg_mean[0]:.3f} -> {Tg_mean[-1]:.3f} K")

@@ -44,15 +44,22 @@ import math
 import os
 import re
 
+import nscdpost
 import pytest
-from foamcase import add_fluid, add_solver, make_box_case, read_internal, run, write
+from foamcase import add_fluid, add_solver, log_message, make_box_case, read_internal, run, write
 
-VAPOUR_RE = re.compile(
-    r"^vapour: sum\(eps psi V\) = (\S+) m\^3, mass = (\S+) kg, "
-    r"psi min/max = (\S+) (\S+)$",
-    re.M,
-)
-VAPOUR0_RE = re.compile(r"^vapour: initial sum\(eps psi V\) = (\S+) m\^3$", re.M)
+
+def vapour_steps(case):
+    """(sum(eps psi V) [m^3], mass [kg], psi min, psi max) per step (vapour.dat)."""
+    v = nscdpost.read_step_data(case, "vapour")
+    return list(zip(v["vapourVolume"], v["vapourMass"], v["psiMin"], v["psiMax"]))
+
+
+def initial_vapour(log):
+    """sum(eps psi V) [m^3] at the start: the start-up report's
+    "vapour: initial" line (no time step has run; vapour.dat starts after
+    the first)."""
+    return float(log_message(log, r"^vapour: initial sum\(eps psi V\) = (\S+) m\^3$").group(1))
 
 
 def ogata_banks(x, t, u, D):
@@ -173,12 +180,12 @@ def test_front_against_ogata_banks(tmp_path, env, grains):
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     log = run("vansFoam", case, env).stdout
-    m = re.search(r"vansCloud: vapour transport on, D_v (\S+) m\^2/s, rho_v (\S+) kg/m\^3", log)
+    m = log_message(log, r"vansCloud: vapour transport on, D_v (\S+) m\^2/s, rho_v (\S+) kg/m\^3")
     assert float(m.group(1)) == pytest.approx(D, rel=1e-12)
     assert float(m.group(2)) == pytest.approx(0.6, rel=1e-12)
-    eps_line = re.findall(r"voidFraction min/max = (\S+) (\S+),", log)[-1]
-    assert float(eps_line[0]) == pytest.approx(eps, rel=1e-9)
-    assert float(eps_line[1]) == pytest.approx(eps, rel=1e-9)
+    c = nscdpost.read_step_data(case, "couplingStatistics")
+    assert c["epsMin"][-1] == pytest.approx(eps, rel=1e-9)
+    assert c["epsMax"][-1] == pytest.approx(eps, rel=1e-9)
     psi = read_internal(os.path.join(case, "5", "psi"))
     assert len(psi) == N
     x = [(i + 0.5) * L / N for i in range(N)]
@@ -242,14 +249,14 @@ def test_closed_box_conservation(tmp_path, env):
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
     log = run("vansFoam", case, env).stdout
-    S0 = float(VAPOUR0_RE.search(log).group(1))
-    steps = [tuple(float(v) for v in m) for m in VAPOUR_RE.findall(log)]
+    S0 = initial_vapour(log)
+    steps = vapour_steps(case)
     assert len(steps) >= 40
     drift = max(abs(s[0] - S0) for s in steps) / S0
     psi_min = min(s[2] for s in steps)
     psi_max = max(s[3] for s in steps)
     # the grains moved (the void fraction changed under psi)
-    vmax = max(float(v) for v in re.findall(r"max grain Reynolds number = (\S+)", log))
+    vmax = nscdpost.read_step_data(case, "couplingStatistics")["maxGrainRe"].max()
     print(
         f"S0 {S0:.12g} m^3, max relative drift {drift:.2e}, psi in [{psi_min:.3g}, {psi_max:.6g}],"
         f" max grain Re {vmax:.3g}"
@@ -299,12 +306,12 @@ def test_uniform_psi_resolved_falling_disc(tmp_path, env, bounded):
     run("grainDeposit", case, env)
     log = run("vansFoam", case, env).stdout
     assert ("bounded (advective) form" if bounded else "conservative form") in log
-    S0 = float(VAPOUR0_RE.search(log).group(1))
-    steps = [tuple(float(v) for v in m) for m in VAPOUR_RE.findall(log)]
+    S0 = initial_vapour(log)
+    steps = vapour_steps(case)
     assert len(steps) >= 490
     drift = max(abs(s[0] - S0) for s in steps) / S0
     dev = max(max(abs(s[2] - 0.5), abs(s[3] - 0.5)) for s in steps)
-    g = re.findall(r"max grain Reynolds number = (\S+)", log)
+    g = nscdpost.read_step_data(case, "couplingStatistics")["maxGrainRe"]
     print(
         f"{'bounded' if bounded else 'conservative'}: max |psi - 0.5| {dev:.3e}, "
         f"relative drift of sum(eps psi V) {drift:.3e}, final grain Re {float(g[-1]):.3g}"
@@ -364,13 +371,9 @@ def test_input_errors(tmp_path, env, what):
         return
     assert p.returncode != 0
     if what == "noSolver":
-        assert re.search(r"Entry 'psi' not found in dictionary .*fvSolution\.solvers", out), out[
-            -2000:
-        ]
+        log_message(out, r"Entry 'psi' not found in dictionary .*fvSolution\.solvers")
     elif what == "noScheme":
-        assert re.search(
-            r"Entry 'div\(phi,psi\)' not found in dictionary .*fvSchemes\.divSchemes", out
-        ), out[-2000:]
+        log_message(out, r"Entry 'div\(phi,psi\)' not found in dictionary .*fvSchemes\.divSchemes")
     elif what == "noD":
         assert "Missing keyword D in" in out and "transportProperties" in out
         assert "Fix: give the vapour diffusion coefficient D_v [m^2/s]" in out

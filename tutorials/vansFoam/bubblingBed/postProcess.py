@@ -9,7 +9,7 @@ Writes results.json:
   time                       per case: physical time [s] = S * simulated time
                              (S: the heat time-scale factor, setupCase.py)
   mean_particle_temperature  per case: mean grain temperature [K] (vansFoam
-                             log, every step, sampled every 0.05 s x S)
+                             heatBudget.dat, sampled every 0.05 s x S)
   excess_temperature         per case: (T - T_in)/(T0 - T_in)
   cooling_time               per case: physical time at which the excess
                              temperature falls to 1/e [s] (None if not reached)

@@ -15,9 +15,10 @@ and vansFoam's run-time files `postProcessing/heatBudget/<start>/heatBudget.dat`
 sum(m c T) and the budget terms) and `postProcessing/vapour/<start>/vapour.dat`
 (psi range); a run continued from its writes (e.g. with a later endTime)
 writes a new <start> folder, the parts are joined (nscdpost.read_droplet_history,
-nscdpost.heat_history, nscdpost.read_step_data).  Only why a run stopped early
-comes from the log (`log.vansFoam`, `log.vansFoam.*`: the FOAM FATAL ERROR
-text exists nowhere else).  Writes OUTDIR/results.json (default: this directory):
+nscdpost.heat_history, nscdpost.read_step_data).  Why a run stopped early
+comes from `postProcessing/runEnd/<start>/runEnd` (the solver's reason and
+error message, nscdpost.read_run_end); none of it from the log.  Writes
+OUTDIR/results.json (default: this directory):
 
 - `bed_temperature` [C] (list), `final_depth` [m] (list, depth of the droplet
   centre below its initial position at the end of the run = penetration of
@@ -37,8 +38,8 @@ text exists nowhere else).  Writes OUTDIR/results.json (default: this directory)
   closure of the energy budget, `energy_budget`), `stopped` (None, or why
   the run stopped early, `stop_reason`), `bottom_reached_time` [s] (first
   time the droplet rests on the bottom wall, wall reaction > 0; None if
-  never), `psi_max` (largest vapour fraction of the log's "psi min/max"
-  lines), `Re_mf` (rho U_mf d/eta) and `ergun_inertial_fraction` (share of
+  never), `psi_max` (largest vapour fraction, vapour.dat `psiMax`),
+  `Re_mf` (rho U_mf d/eta) and `ergun_inertial_fraction` (share of
   Ergun's inertial term in the pressure gradient at U_mf), `summary` (depth
   at 0.1/0.3/0.6/1.0/1.5 s, end sinking speed, U_v/U_mf over 0.1-0.3 s, R,
   grains inside, m/mdot at 0.01 s and at the end) and `bed` (per written time,
@@ -118,7 +119,7 @@ def read_droplet(case):
     return nscdpost.read_droplet_history(case)
 
 
-def read_log(case):
+def read_heat(case):
     """Per time step of the run: dict of arrays `time` [s],
     `grain_T` [K] (mean grain temperature), `E` [J] (fluid + grain energy of
     the "heat:" line), `budget` (n, 5) [J] (fluid boundary, advected,
@@ -127,16 +128,6 @@ def read_log(case):
     of the run and its continuations joined)."""
     h = nscdpost.heat_history(case)
     return {"time": h["time"], "grain_T": h["grain_T"], "E": h["E"], "budget": h["budget"]}
-
-
-def log_texts(case):
-    """Texts of log.vansFoam and its continuations log.vansFoam.*
-    (nscdpost.log_paths, name order)."""
-    out = []
-    for path in nscdpost.log_paths(case):
-        with open(path) as f:
-            out.append(f.read())
-    return out
 
 
 def energy_budget(case, info=None):
@@ -156,15 +147,15 @@ def energy_budget(case, info=None):
 
     Returns dict: `defect` [J], `relative` (defect / droplet heat),
     `droplet_heat` [J], `source_mismatch` (max relative difference of the
-    two integrations of the droplet sink).  Raises ValueError if the log and
+    two integrations of the droplet sink).  Raises ValueError if heatBudget.dat and
     droplet.dat do not have one line per step."""
     if info is None:
         info = json.load(open(os.path.join(case, "case.json")))
     d = read_droplet(case)
-    lg = read_log(case)
+    lg = read_heat(case)
     n = len(d)
     if len(lg["E"]) != n or not np.allclose(lg["time"], d[:, 0], rtol=1e-5, atol=1e-12):
-        raise ValueError(f"{case}: {n} droplet.dat lines but {len(lg['E'])} heat log lines")
+        raise ValueError(f"{case}: {n} droplet.dat lines but {len(lg['E'])} heatBudget.dat rows")
     rhoCp = info["rho"] * info["Cp"]
     Td, L = info["T_d"], info["latent_heat"]
     dts = np.diff(np.concatenate(([0.0], d[:, 0])))
@@ -233,14 +224,16 @@ def bed_void_fraction(case, info):
 
 
 def stop_reason(case):
-    """None if the run (log.vansFoam and its continuations) ended normally,
-    else the first line of a FOAM FATAL ERROR message (e.g. the droplet
-    centre left the mesh)."""
-    for txt in log_texts(case):
-        i = txt.find("FOAM FATAL")
-        if i >= 0:
-            lines = [ln.strip() for ln in txt[i:].splitlines()[1:] if ln.strip()]
-            return lines[0] if lines else "FOAM FATAL ERROR"
+    """None if the run and its continuations reached their endTime (or were
+    stopped by a signal), else why one stopped: the first line of its FOAM
+    FATAL ERROR message (e.g. the droplet centre left the mesh), from the
+    solver's postProcessing/runEnd/<start>/runEnd (nscdpost.read_run_end;
+    a run that never ended: killed, or still running)."""
+    for r in nscdpost.read_run_end(case):
+        if r["reason"] == "fatalError":
+            return r["message"][0] if r["message"] else "FOAM FATAL ERROR"
+        if r["reason"] == "running":
+            return f"did not end (killed, or still running) after t = {r['time']:g} s"
     return None
 
 
@@ -468,7 +461,7 @@ def case_results(case):
     history."""
     info = json.load(open(os.path.join(case, "case.json")))
     d = read_droplet(case)
-    lg = read_log(case)
+    lg = read_heat(case)
     depth = d[:, COL["depth"]]
     mdot = d[:, COL["mdot"]]
     m = d[:, COL["m"]]

@@ -10,8 +10,7 @@ usage: postProcess.py CASEDIR [CASEDIR ...]     one per inflow velocity:
                                                 sizes: results_mesh.json,
                                                 packedBedHeat_mesh.png
 
-Per case (bed.json written by setupCase.py, the run's log and
-postProcessing/):
+Per case (bed.json written by setupCase.py and postProcessing/):
   Q      = rho Cp U_s A (T_out - T_in)       heat picked up by the air [W],
            T_in, T_out the flux-weighted (mixed-cup) temperatures of the
            inlet and outlet patches (surfaceFieldValue), last step;
@@ -31,7 +30,7 @@ Diagnostic: the closure as vansFoam applies it, averaged over the grains
 mapping effects (closure mean vs correlation at the bed's eps and U_s) from
 the temperature-field effects (measured vs closure mean).
 Checks printed per case: the steady state (T_out over the last flow-through
-time), the energy balance Q vs the heat the grains gave (log, `heat:` line)
+time), the energy balance Q vs the heat the grains gave (heatBudget.dat)
 and the grain temperature drift (the grains are a finite, very large heat
 capacity).
 """
@@ -80,7 +79,7 @@ def surface_series(case, name):
     return np.array(rows, dtype=float)
 
 
-def heat_log(case):
+def heat_steps(case):
     """(time, dt, grain mean T, exchanged Q into the grains [J]) per step,
     from postProcessing/heatBudget/<start>/heatBudget.dat (the values of
     the log's "heat:" line; nscdpost.heat_history)."""
@@ -188,7 +187,7 @@ def measure(case):
     Tin_s = surface_series(case, "inletT")
     Tout_s = surface_series(case, "outletT")
     T_in, T_out = Tin_s[-1, 1], Tout_s[-1, 1]
-    hl = heat_log(case)
+    hl = heat_steps(case)
     T_p = hl[-1, 2]
     Q = rho * cp * Us * A * (T_out - T_in)
     Q_grains = -hl[-1, 3] / hl[-1, 1]  # heat the grains gave in the last step [W]
