@@ -43,7 +43,7 @@ Usage
 #include "fvCFD.H"
 #include "pimpleControl.H"
 #include "fixedFluxPressureFvPatchScalarField.H"
-#include "polyMeshTools.H"
+#include "faceReconstruct.H"
 #include "fvOptions.H"
 
 #include <sstream>

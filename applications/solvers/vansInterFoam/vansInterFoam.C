@@ -56,6 +56,7 @@ Usage
 #include "vansCloud.H"
 #include "localMixtureFluidProperties.H"
 #include "couplingStepTools.H"
+#include "faceReconstruct.H"
 #include "grainDictionaryTools.H"
 #include "fvCFD.H"
 #include "CMULES.H"
