@@ -33,7 +33,6 @@ Case set-up in interfoamcase.py.
 
 import math
 import os
-import re
 import shutil
 
 import correlations
