@@ -13,6 +13,7 @@ Description
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
+#include "contactSolverColumns.H"
 #include "nscdMPI/DecomposedSystem.H"  // (unique_ptr member: complete type)
 #include "grainVectorTools.H"
 #include "uniformDimensionedFields.H"
@@ -378,12 +379,19 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
     if (gates_.size())
     {
         const label oldPrecision = Info().precision(17);
+        scalarList row;
         forAll(gates_, gatei)
         {
-            Info<< "gate " << gates_[gatei].name << " displacement "
-                << gateDisplacement(gatei) << nl;
+            const vector d(gateDisplacement(gatei));
+            Info<< "gate " << gates_[gatei].name << " displacement " << d
+                << nl;
+            row.append(scalarList({d.x(), d.y(), d.z()}));
         }
         Info().precision(oldPrecision);
+        if (gatesFile_)
+        {
+            gatesFile_->write(row);
+        }
     }
 
     Info<< "NSCD: contacts " << report_.contacts
@@ -396,17 +404,9 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
         << endl;
     if (statisticsFile_)
     {
-        const scalarList row
-        ({
-            scalar(nGrainsTotal()),
-            scalar(report_.contacts),
-            scalar(report_.substeps),
-            scalar(report_.sweeps),
-            report_.residual,
-            scalar(report_.converged),
-            report_.maxOverlap/max(minDiameter(), VSMALL),
-            kineticEnergy()
-        });
+        scalarList row({scalar(nGrainsTotal())});
+        row.append(grainTools::contactSolverValues(report_, minDiameter()));
+        row.append(kineticEnergy());
         statisticsFile_->write(row);
     }
     writeOutletRow();
@@ -418,6 +418,16 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
 void Foam::grainCloud::writeStepStatistics()
 {
     const std::string perDepth(dimension_ == 2 ? " (2D: per unit depth)" : "");
+    List<stepDataFile::column> columns
+    ({
+        {"grains", "1", "grains in the domain"}
+    });
+    columns.append(grainTools::contactSolverColumns());
+    columns.append
+    ({
+        "kineticEnergy", "J",
+        "grain kinetic energy (translation + rotation)" + perDepth
+    });
     statisticsFile_.reset
     (
         new stepDataFile
@@ -425,27 +435,35 @@ void Foam::grainCloud::writeStepStatistics()
             mesh_.time(), "grainStatistics",
             "grains and contact solver per time step (the log's \"NSCD:\""
             " line)",
-            {
-                {"grains", "1", "grains in the domain"},
-                {"contacts", "1", "contacts (max over the sub-steps)"},
-                {"subSteps", "1", "NSCD sub-steps of the time step"},
-                {"sweeps", "1", "Gauss-Seidel sweeps (summed over sub-steps)"},
-                {
-                    "residual", "1",
-                    "final residual |W dr| dt/d_min (max over sub-steps)"
-                },
-                {"converged", "1", "1: the contact solve converged, 0: not"},
-                {
-                    "maxOverlap", "1",
-                    "largest overlap at the end of the step / d_min"
-                },
-                {
-                    "kineticEnergy", "J",
-                    "grain kinetic energy (translation + rotation)" + perDepth
-                }
-            }
+            columns
         )
     );
+    if (gates_.size())
+    {
+        List<stepDataFile::column> gateColumns;
+        for (const gate& g : gates_)
+        {
+            for (const char* c : {"x", "y", "z"})
+            {
+                gateColumns.append
+                ({
+                    g.name + "_" + c, "m",
+                    "displacement of gate " + g.name + " from its start, "
+                    + c
+                });
+            }
+        }
+        gatesFile_.reset
+        (
+            new stepDataFile
+            (
+                mesh_.time(), "gates",
+                "gate displacements at the end of the step (the log's"
+                " \"gate <name> displacement\" lines)",
+                gateColumns
+            )
+        );
+    }
 }
 
 

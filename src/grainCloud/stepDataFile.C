@@ -52,7 +52,7 @@ Foam::stepDataFile::stepDataFile
 
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
 
-void Foam::stepDataFile::write(const UList<scalar>& values)
+void Foam::stepDataFile::checkCount(const UList<scalar>& values) const
 {
     if (values.size() != nColumns_)
     {
@@ -60,12 +60,11 @@ void Foam::stepDataFile::write(const UList<scalar>& values)
             << fileName_ << ": " << values.size() << " values for "
             << nColumns_ << " columns" << exit(FatalError);
     }
-    if (!writeToFile_)
-    {
-        return;
-    }
-    OFstream& os = file();
-    writeCurrentTime(os);
+}
+
+
+void Foam::stepDataFile::writeValues(OFstream& os, const UList<scalar>& values)
+{
     for (const scalar v : values)
     {
         os  << tab << setw(charWidth());
@@ -79,6 +78,28 @@ void Foam::stepDataFile::write(const UList<scalar>& values)
         }
     }
     os  << endl;
+}
+
+
+void Foam::stepDataFile::write(const UList<scalar>& values)
+{
+    checkCount(values);
+    if (writeToFile_)
+    {
+        writeCurrentTime(file());
+        writeValues(file(), values);
+    }
+}
+
+
+void Foam::stepDataFile::write(const scalar time, const UList<scalar>& values)
+{
+    checkCount(values);
+    if (writeToFile_)
+    {
+        file() << setw(charWidth()) << time;
+        writeValues(file(), values);
+    }
 }
 
 

@@ -21,6 +21,7 @@ with the other tools of src/python by `pip install -e src/python`
                                 heatBudget.dat of a run continued from its writes, joined
   read_step_data(case, name)   -> a solver's run-time file postProcessing/<name>/
                                 <start>/<name>.dat (columns by name, restarts joined)
+  step_timing(case)            -> steps, CPU/clock/split totals of stepTiming.dat
 """
 
 import importlib.util
@@ -237,6 +238,24 @@ def read_step_data(case, name):
     if a.shape[1] != len(cols):
         raise ValueError(f"{root}: {a.shape[1]} columns, header names {len(cols)}")
     return {c: a[:, k] for k, c in enumerate(cols)}
+
+
+def step_timing(case):
+    """Computing time of a solver run from its stepTiming.dat
+    (src/grainCloud/stepTimingFile.H; the log's ExecutionTime, ClockTime and
+    "Timing [s]:" lines): 'steps' (rows), for each column summed from the
+    start of a run (executionTime, clockTime, insideMeshChecks; coupled:
+    mapping, fluid, contacts) its total over the run and its restarts, and
+    'cpu_per_step' (differences of executionTime within a run, the first
+    step of each run left out)."""
+    t = read_step_data(case, "stepTiming")
+    exe = t["executionTime"]
+    out = {"steps": len(exe), "cpu_per_step": np.diff(exe)[np.diff(exe) >= 0]}
+    ends = np.append(np.nonzero(np.diff(exe) < 0)[0], len(exe) - 1)  # each run's last row
+    for k in t:
+        if k not in ("Time", "deltaT"):
+            out[k] = float(t[k][ends].sum()) if len(exe) else 0.0
+    return out
 
 
 def read_droplet_history(case):

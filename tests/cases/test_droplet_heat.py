@@ -397,7 +397,7 @@ def test_leidenfrost_film_heat(tmp_path, env):
     d = read_droplet(case)
     h = nscdpost.heat_history(case)
     Tg = h["grain_T"]
-    assert len(d) == n_steps and len(Tg) == n_steps and d.shape[1] == 25
+    assert len(d) == n_steps and len(Tg) == n_steps and d.shape[1] == 28
     Qfilm = d[:, 24]
     assert Qfilm[0] == 0
     assert np.all(Qfilm[1:] > 0)

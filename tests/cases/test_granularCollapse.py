@@ -23,7 +23,6 @@ References:
 import json
 import math
 import os
-import re
 
 import nscdpost
 import numpy as np
@@ -80,20 +79,12 @@ def test_gate_holds_then_lifts_exactly(tmp_path, env):
     g = nscdpost.read_grains(case, "0.2")
     speed = np.linalg.norm(g["U"], axis=1)
     assert np.mean(speed < 1e-4) > 0.9 and speed.max() < 0.1, speed
-    # kinematics: displacement after every step
-    # (a solver warning, e.g. a non-converged contact step, may come
-    # between the step's time line and its gate line)
-    steps = re.findall(
-        r"^Time = (\S+)\n(?:(?!Time = ).*\n)*?gate gate displacement "
-        r"\((\S+) (\S+) (\S+)\)",
-        p.stdout,
-        re.M,
-    )
-    assert len(steps) == 400
-    for t, dx, dy, dz in steps:
-        t = float(t)
+    # kinematics: displacement after every step (gates.dat)
+    gd = nscdpost.read_step_data(case, "gates")
+    assert len(gd["Time"]) == 400
+    for t, dx, dy, dz in zip(gd["Time"], gd["gate_x"], gd["gate_y"], gd["gate_z"]):
         expected = v * min(max(t - t0, 0.0), t1 - t0)
-        assert abs(float(dy) - expected) < 1e-12 and float(dx) == 0 and float(dz) == 0, t
+        assert abs(dy - expected) < 1e-12 and dx == 0 and dz == 0, t
     # released: the column collapses through the opening
     g = nscdpost.read_grains(case, "0.4")
     assert np.max(g["x"][:, 0]) > GATE + 2 * D
@@ -114,9 +105,9 @@ def test_gate_state_restart(tmp_path, env):
     open(cd, "w").write(txt.replace("endTime 0.4;", "endTime 0.1;"))
     run("grainFoam", case, env)
     open(cd, "w").write(txt.replace("endTime 0.4;", "endTime 0.12;"))
-    p = run("grainFoam", case, env)
-    last = re.findall(r"gate gate displacement \((\S+) (\S+) (\S+)\)", p.stdout)[-1]
-    assert float(last[1]) == pytest.approx(0.05, abs=1e-12)
+    run("grainFoam", case, env)
+    # the restarted run's rows (read_step_data joins them after the first's)
+    assert nscdpost.read_step_data(case, "gates")["gate_y"][-1] == pytest.approx(0.05, abs=1e-12)
 
 
 @pytest.mark.parametrize(
@@ -202,11 +193,10 @@ def test_gate_3d_rectangle(tmp_path, env):
     )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
-    p = run("grainFoam", case, env)
+    run("grainFoam", case, env)
     g = nscdpost.read_grains(case, "0.1")
     assert g["x"][0, 0] + r < 0.05 + 1e-6 * 2 * r
     assert g["x"][0, 0] + r > 0.05 - 1e-6  # it reached the gate
-    last = re.findall(r"gate gate displacement \((\S+) (\S+) (\S+)\)", p.stdout)[-1]
-    assert float(last[1]) == pytest.approx(0.1, abs=1e-12)
+    assert nscdpost.read_step_data(case, "gates")["gate_y"][-1] == pytest.approx(0.1, abs=1e-12)
     g = nscdpost.read_grains(case, "0.3")
     assert g["x"][0, 0] > 0.05 + r

@@ -145,7 +145,7 @@ def test_spinning_fixed_disc_torque(spin):
     # N m/m, inside the Couette bounds (-3.206e-3, -3.272e-3).  (Before the
     # rAtU of resolved fixed grains, pEqn.H: 208 Courant-limited steps,
     # +-15 % step-to-step noise, mean -3.36e-3, +3 to +5 % of Couette.)
-    tq = [float(v) for v in re.findall(r"max \|fluid torque\| (\S+),", out)]
+    tq = list(nscdpost.read_step_data(case, "rotationCoupling")["maxFluidTorque"])
     assert len(tq) >= 8  # dt 0.05 s to 0.4 s
     assert tq[-1] == pytest.approx(tq[-2], rel=1e-3), tq[-5:]
     T = -tq[-1]
@@ -212,8 +212,8 @@ def test_free_disc_newton_third_law(spin_down):
     """At every step the drag angular-momentum rate lost by the fluid equals
     that gained by the grain, to round-off (1e-9 of the largest)."""
     case, out, omega = spin_down
-    lost = [float(v) for v in re.findall(r"lost by the fluid (\S+) gained", out)]
-    gained = [float(v) for v in re.findall(r"gained by the grains (\S+)", out)]
+    r = nscdpost.read_step_data(case, "rotationCoupling")
+    lost, gained = r["fluidAngularMomentumRate"], r["grainAngularMomentumRate"]
     # 5 steps to 0.05 s (dt 0.02 s, shortened to hit the write times)
     assert len(lost) == len(gained) >= 4
     scale = max(abs(v) for v in lost)

@@ -32,6 +32,7 @@ Usage
 
 #include "grainCloud.H"
 #include "grainRunControl.H"
+#include "stepTimingFile.H"
 #include "writeGridTime.H"
 #include "fvCFD.H"
 
@@ -60,6 +61,8 @@ int main(int argc, char *argv[])
     // grainStatistics.dat and, heat on, grainHeat/<startTime>/
     // grainHeat.dat (stepDataFile; README.md "Run-time files")
     grains.writeStepStatistics();
+    // computing time per step: stepTiming.dat (stepTimingFile.H)
+    stepTimingFile timingFile(runTime, false);
     autoPtr<stepDataFile> heatFile;
     const bool heat = grains.heatOn();
     if (heat)
@@ -159,6 +162,7 @@ int main(int argc, char *argv[])
             break;
         }
 
+        timingFile.write(&grains, UList<scalar>());
         runTime.printExecutionTime(Info);
     }
 

@@ -112,6 +112,11 @@ int main(int argc, char *argv[])
             break;
         }
 
+        timingFile.write
+        (
+            &cloud.grains(),
+            scalarList({timer.mapping, timer.fluid, timer.contacts})
+        );
         runTime.printExecutionTime(Info);
     }
 

@@ -146,6 +146,11 @@ int main(int argc, char *argv[])
             break;
         }
 
+        timingFile.write
+        (
+            cloudPtr.valid() ? &cloudPtr->grains() : nullptr,
+            scalarList({timer.mapping, timer.fluid, timer.contacts})
+        );
         runTime.printExecutionTime(Info);
     }
 

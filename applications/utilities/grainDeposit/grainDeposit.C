@@ -66,6 +66,7 @@ Description
 #include "depositMethods.H"
 #include "nscd/StaticLoad.H"
 #include "grainDictionaryTools.H"
+#include "contactSolverColumns.H"
 #include "grainRunControl.H"
 #include "fvCFD.H"
 
@@ -342,8 +343,10 @@ double solverSpeedNoise(const nscd::System& sys, const double dt)
 //- Lets the grains settle under gravity, settle { maxTime [s]; deltaT [s];
 //  speedTolerance [m/s]; }: steps of deltaT until maxTime, or until the
 //  largest grain speed falls below speedTolerance (after 20 steps); logs
-//  the first steps and every 100th.  Errors: FatalIOError for an unknown
-//  keyword or a value not positive; a warning if not at rest at maxTime.
+//  the first steps and every 100th, writes every step to postProcessing/
+//  grainDepositSettle/<startTime>/grainDepositSettle.dat (stepDataFile).
+//  Errors: FatalIOError for an unknown keyword or a value not positive; a
+//  warning if not at rest at maxTime.
 void settle(const dictionary& sd, grainCloud& settling)
 {
     grainTools::checkKeywords
@@ -356,6 +359,20 @@ void settle(const dictionary& sd, grainCloud& settling)
     scalar t = 0;
     label step = 0;
     scalar vmax = GREAT;
+    // a row per settling step (the log shows the first and every 100th)
+    List<stepDataFile::column> columns
+    ({
+        {"maxSpeed", "m/s", "largest grain speed"}
+    });
+    columns.append(grainTools::contactSolverColumns());
+    stepDataFile file
+    (
+        settling.mesh().time(), "grainDepositSettle",
+        "grainDeposit's settling steps (the log's \"settling:\" lines);"
+        " Time: the settling time from its start",
+        columns
+    );
+    const scalar dMin = settling.system().minDiameter();
     while (t < maxTime)
     {
         const nscd::StepReport r = settling.system().advance(dt, 0.1);
@@ -366,6 +383,9 @@ void settle(const dictionary& sd, grainCloud& settling)
         {
             vmax = max(vmax, v.norm());
         }
+        scalarList row({vmax});
+        row.append(grainTools::contactSolverValues(r, dMin));
+        file.write(t, row);
         if (step <= 3 || step % 100 == 0)
         {
             Info<< "settling: t = " << t << " s, max speed " << vmax

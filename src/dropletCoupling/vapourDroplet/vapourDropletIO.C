@@ -250,9 +250,17 @@ void Foam::vapourDroplet::finishStep()
             datPtr_() << nl
                 << "# time x y u v m mdot Q_f Q_p R depth Vdot V_p"
                    " Fp_x Fp_y Fpen_x Fpen_y nGrainsIn Fw_x Fw_y S_x S_y"
-                   " Fc_x Fc_y Q_film"
+                   " Fc_x Fc_y Q_film Fg_x Fg_y Fg_z"
                 << nl;
         }
+        // the force of the droplet on the grains, summed (the log's
+        // "droplet-grain force" line, fv::vapourDropletSource)
+        vector Fg(Zero);
+        for (const vector& F : grainForce_)
+        {
+            Fg += F;
+        }
+        Fg *= adapter_.depth();
         std::ostringstream os;
         os.precision(16);
         os  << runTime.value() << ' ' << x_.x() << ' ' << x_.y() << ' '
@@ -262,7 +270,8 @@ void Foam::vapourDroplet::finishStep()
             << Fp_.y() << ' ' << Ff_.x() << ' ' << Ff_.y() << ' '
             << nGrainsIn_ << ' ' << Fw_.x() << ' ' << Fw_.y() << ' '
             << S_.x() << ' ' << S_.y() << ' ' << Fc_.x() << ' ' << Fc_.y()
-            << ' ' << Qfilm_;
+            << ' ' << Qfilm_ << ' ' << Fg.x() << ' ' << Fg.y() << ' '
+            << Fg.z();
         datPtr_() << os.str().c_str() << nl;
         datPtr_().flush();
     }

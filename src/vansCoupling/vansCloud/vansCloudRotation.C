@@ -204,6 +204,42 @@ void Foam::vansCloud::logDragAngularMomentum
         << ", drag angular momentum rate lost by the fluid "
         << dragTorqueFluid_.z() << " gained by the grains "
         << dragTorqueGrains_.z() << endl;
+    if (!rotationFile_)
+    {
+        const bool twoD = adapter_.twoD();
+        const std::string perDepth(twoD ? " (2D: per unit depth)" : "");
+        const std::string overDepth(twoD ? " (2D: over the mesh depth)" : "");
+        rotationFile_.reset
+        (
+            new stepDataFile
+            (
+                mesh_.time(), "rotationCoupling",
+                "fluid torque and drag angular momentum exchange about the"
+                " z axis through the origin (the log's \"rotationCoupling:\""
+                " line)",
+                {
+                    {
+                        "maxFluidTorque", "N m",
+                        "largest |fluid torque| on a grain" + perDepth
+                    },
+                    {
+                        "fluidAngularMomentumRate", "N m",
+                        "drag angular momentum rate lost by the fluid, z"
+                        + overDepth
+                    },
+                    {
+                        "grainAngularMomentumRate", "N m",
+                        "drag angular momentum rate gained by the grains, z"
+                        + overDepth
+                    }
+                }
+            )
+        );
+    }
+    rotationFile_->write
+    (
+        scalarList({Tmax, dragTorqueFluid_.z(), dragTorqueGrains_.z()})
+    );
 }
 
 

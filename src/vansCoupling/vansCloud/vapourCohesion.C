@@ -132,6 +132,29 @@ void Foam::vapourCohesion::read(const IOdictionary& dict, const bool vapourOn)
         Info<< "everywhere (dry)";
     }
     Info<< endl;
+
+    List<stepDataFile::column> columns
+    ({
+        {"cohesiveContacts", "1", "contacts where cohesion acted (last NSCD"
+         " sub-step)"},
+        {"contacts", "1", "contacts of the grains"}
+    });
+    if (byVapour_)
+    {
+        columns.append
+        ({"dryPairs", "1", "contact pairs looked up dry (psi < psi^0)"});
+        columns.append({"wetPairs", "1", "contact pairs looked up wet"});
+    }
+    file_.reset
+    (
+        new stepDataFile
+        (
+            mesh_.time(), "cohesion",
+            "cohesion (thesis eq. 4.18) after the grain step (the log's"
+            " \"cohesion:\" line)",
+            columns
+        )
+    );
 }
 
 
@@ -311,13 +334,16 @@ void Foam::vapourCohesion::report() const
         reduce(nDry, sumOp<label>());
         reduce(nWet, sumOp<label>());
     }
-    Info<< "cohesion: cohesive contacts " << grains_.report().cohesiveContacts
-        << " of " << nContacts;
+    const label nCohesive = grains_.report().cohesiveContacts;
+    Info<< "cohesion: cohesive contacts " << nCohesive << " of " << nContacts;
+    scalarList row({scalar(nCohesive), scalar(nContacts)});
     if (byVapour_)
     {
         Info<< ", pairs looked up dry " << nDry << " wet " << nWet;
+        row.append(scalarList({scalar(nDry), scalar(nWet)}));
     }
     Info<< endl;
+    file_->write(row);
 }
 
 

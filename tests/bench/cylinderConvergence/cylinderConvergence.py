@@ -65,7 +65,6 @@ from 12-15-20; p = 2.6 from 15-20-25).
 import argparse
 import math
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -263,18 +262,18 @@ def run_level(work, cpd, end, walls=None, height=None):
 def grid_and_cost(case):
     """(nx, cells) of the case's blockMeshDict (setupCase.mesh_layout: nx
     across the uniform block of width setupCase.WIDTH, cells over all
-    blocks) and the per-step CPU seconds of log.vansFoam (restarts
-    concatenated: the resets dropped), with the log."""
+    blocks) and the per-step CPU seconds of the solver's stepTiming.dat
+    (restarts joined: the resets dropped), with its columns."""
     nx, cells, _, _ = setupCase.mesh_layout(case)
-    log = open(os.path.join(case, "log.vansFoam")).read()
-    exe = [float(v) for v in re.findall(r"^ExecutionTime = (\S+) s", log, re.M)]
+    timing = nscdpost.read_step_data(case, "stepTiming")
+    exe = timing["executionTime"]
     dexe = np.diff(exe)
-    return nx, cells, exe, dexe[dexe > 0], log
+    return nx, cells, exe, dexe[dexe > 0], timing
 
 
 def measure_level(case):
     """The measures of one case directory (see the module docstring) and its
-    cost from log.vansFoam; raises ValueError if it did not reach the end
+    cost from its stepTiming.dat; raises ValueError if it did not reach the end
     of PLATEAU_WINDOW."""
     t, x, u = postProcess.grain_history(case)
     ustr, ulat, xc = -u[0, :, 1], u[0, :, 0], x[0, :, 0]
@@ -283,11 +282,10 @@ def measure_level(case):
     sel = (t >= PLATEAU_WINDOW[0] - 1e-9) & (t <= PLATEAU_WINDOW[1] + 1e-9)
     upto = t <= PLATEAU_WINDOW[1] + 1e-9  # same span at every level
     on = np.nonzero(upto & (np.abs(ulat) >= ONSET_FRACTION * UT_REF))[0]
-    nx, cells, exe, dexe, log = grid_and_cost(case)
+    nx, cells, exe, dexe, timing = grid_and_cost(case)
     cpd = setupCase.D / (setupCase.WIDTH / nx)
-    times = [float(v) for v in re.findall(r"^Time = (\S+)", log, re.M)]
-    clock = [float(v) for v in re.findall(r"ClockTime = (\S+) s", log)]
-    steps = sum(1 for tt in times if tt <= PLATEAU_WINDOW[1] + 1e-9)
+    clock = timing["clockTime"]
+    steps = int(np.sum(timing["Time"] <= PLATEAU_WINDOW[1] + 1e-9))
     ipk = int(np.argmax(ustr[upto]))
     return {
         "case": os.path.abspath(case),
@@ -297,8 +295,8 @@ def measure_level(case):
         "end_time": float(t[-1]),
         "steps_to_3.5s": steps,
         "cpu_seconds_per_step_median": float(np.median(dexe)) if dexe.size else None,
-        "cpu_seconds_total_log": float(exe[-1]) if exe else None,
-        "clock_seconds_total_log": float(clock[-1]) if clock else None,
+        "cpu_seconds_total_log": float(exe[-1]) if len(exe) else None,
+        "clock_seconds_total_log": float(clock[-1]) if len(clock) else None,
         "plateau_velocity": float(np.mean(ustr[sel])),
         "plateau_samples": int(sel.sum()),
         "plateau_std": float(np.std(ustr[sel])),
