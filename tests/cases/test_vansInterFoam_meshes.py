@@ -20,8 +20,9 @@ import nscdpost
 import numpy as np
 import pytest
 from foamcase import gmsh_box, make_box_case, read_internal, run
+from interfoamcase import G, add_two_phase, basin
 from test_vansFoam import shear_box
-from test_vansInterFoam import G, add_two_phase, basin, ode_fall
+from test_vansInterFoam import ode_fall
 
 pytestmark = pytest.mark.fast
 
@@ -42,7 +43,7 @@ def test_still_basin_on_a_sheared_mesh(tmp_path, env, monkeypatch):
         shear_box(case, math.tan(math.radians(10)))
         return add_two_phase(case, env, *a, **kw)
 
-    monkeypatch.setattr("test_vansInterFoam.add_two_phase", sheared)
+    monkeypatch.setattr("interfoamcase.add_two_phase", sheared)
     basin(case, env, [], fixed=False, end=0.1)
     log = run("vansInterFoam", case, env).stdout
     assert "reconstruction faceReconstruct" in log
@@ -70,7 +71,7 @@ def tet_basin(case, env, level, monkeypatch):
             return gmsh_box(c, e, lo, hi, 0.004)
         return foamcase.run(app, c, e, *a, **kw)
 
-    monkeypatch.setattr("test_vansInterFoam.run", tet_mesh)
+    monkeypatch.setattr("interfoamcase.run", tet_mesh)
     make_box_case(
         case,
         lo,
@@ -128,7 +129,7 @@ def settle(case, env, degrees, monkeypatch):
         shear_box(c, s)
         return add_two_phase(c, e, *a, **kw)
 
-    monkeypatch.setattr("test_vansInterFoam.add_two_phase", sheared)
+    monkeypatch.setattr("interfoamcase.add_two_phase", sheared)
     basin(case, env, grains, fixed=False, end=0.25, write_interval=0.05)
     run("vansInterFoam", case, env)
     series = [
