@@ -9,6 +9,7 @@ here because the test is of the files against them."""
 
 import os
 import re
+import shutil
 import subprocess
 
 import nscdpost
@@ -191,15 +192,26 @@ def test_vansInterFoam_files_match_log(tmp_path, env):
 
 def foam_monitor_plot(path, env):
     """Run OpenFOAM's own foamMonitor ($WM_PROJECT_DIR/bin) on the .dat file
-    path with a stand-in gnuplot (none is installed here) that keeps the
-    gnuplot script foamMonitor writes; returns its plotted curves [(column,
-    title)] (foamMonitor takes the keys from the last "#" line: "# Time
-    <name> ..." and plots every column after the time against it)."""
-    bindir = os.path.join(os.path.dirname(path), "stub")
+    path and draw the gnuplot script it writes with the real gnuplot
+    (gnuplot-nox, etc/installDependencies).  foamMonitor asks for the x11
+    terminal and re-reads its script forever; headless, a wrapper first on
+    PATH keeps the script and hands it to gnuplot once, in the dumb (text)
+    terminal.  Returns the plotted curves [(column, title)] of the script
+    (foamMonitor takes the keys from the last "#" line: "# Time <name> ..."
+    and plots every column after the time against it); asserts that gnuplot
+    drew them without an error, each title in the plot's key."""
+    gnuplot = shutil.which("gnuplot", path=env["PATH"])
+    assert gnuplot, "gnuplot not found: etc/installDependencies installs gnuplot-nox"
+    bindir = os.path.join(os.path.dirname(path), "headlessGnuplot")
     os.makedirs(bindir)
     script = os.path.join(bindir, "plot.gp")
+    drawn = os.path.join(bindir, "plot.txt")
     with open(os.path.join(bindir, "gnuplot"), "w") as f:
-        f.write(f'#!/bin/sh\ncp "$1" "{script}"\n')
+        f.write(
+            "#!/bin/sh\n"
+            f'sed -e "s/^set term x11.*/set term dumb size 120,40/" -e "/^pause/d" -e "/^reread/d" "$1" > "{script}"\n'
+            f'exec "{gnuplot}" "{script}" > "{drawn}" 2>&1\n'
+        )
     os.chmod(os.path.join(bindir, "gnuplot"), 0o755)
     monitor = os.path.join(env["WM_PROJECT_DIR"], "bin", "foamMonitor")
     e = dict(env, PATH=bindir + os.pathsep + env["PATH"])
@@ -208,7 +220,12 @@ def foam_monitor_plot(path, env):
     )
     plot = open(script).read()
     assert 'set xlabel "Time"' in plot  # the first key after "#"
-    return [
+    curves = [
         (int(c), t)
         for c, t in re.findall(rf'"{re.escape(path)}" using 1:(\d+) with lines title "(\S+)"', plot)
     ]
+    picture = open(drawn).read()
+    assert "Data Monitoring" in picture and "rror" not in picture, picture
+    for _, title in curves:
+        assert title in picture, f"{title} not in gnuplot's key:\n{picture}"
+    return curves
