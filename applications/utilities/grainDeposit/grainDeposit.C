@@ -470,9 +470,7 @@ void writeInitialState
     bool compliant = false;
     for (int m = 0; m < s.nMaterials(); ++m)
     {
-        const nscd::Material& mat = s.material(m);
-        compliant = compliant
-            || mat.compliance > 0 || mat.relativeCompliance > 0;
+        compliant = compliant || s.material(m).compliant();
     }
     if (depositDict.getOrDefault<bool>("writeContactImpulses", compliant))
     {

@@ -56,14 +56,8 @@ inline void startRow(SolverContact& s, const Contact& c, const Body& A, const Bo
 inline double compliantEps(const std::vector<std::array<double, 2>>& slotCompliance, const Contact& c, int N,
                            double wnn, double idt2)
 {
-    const std::array<double, 2>& a = slotCompliance[c.i];
-    double cc = a[0], beta = a[1];
-    if (c.j < N)
-    {
-        cc = law::CompliantSignorini::pair(cc, slotCompliance[c.j][0]);
-        beta = law::CompliantSignorini::pair(beta, slotCompliance[c.j][1]);
-    }
-    return law::CompliantSignorini::regularisation(cc, beta, wnn, idt2);
+    return law::CompliantSignorini::contactRegularisation(
+        slotCompliance[c.i], c.j < N ? &slotCompliance[c.j] : nullptr, wnn, idt2);
 }
 
 /// The same contact as c in the previous step's records P: same bodies,

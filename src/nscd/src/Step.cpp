@@ -97,7 +97,7 @@ void System::Impl::checkComplianceMethod(const char* where) const
     for (int i = 0; i < N; ++i)
     {
         const Material& m = materials[mat[i]];
-        if (!(m.compliance > 0 || m.relativeCompliance > 0))
+        if (!m.compliant())
             throw InputError(
                 std::string(where)
                 + ": the Newton contact solver needs a contact compliance on "

@@ -257,40 +257,38 @@ long long pairKey(int i, int j) { return (static_cast<long long>(i) << 32) | sta
 } // namespace
 
 // The overlap [m] each loaded compliant contact of the state's contact
-/// list carries under its impulse: at rest the compliant law holds the gap
-/// at g = -eps dt r_n (CompliantSignorini, eps = c/dt^2 + beta W_nn), so a
+// list carries under its impulse: at rest the compliant law holds the gap
+// at g = -eps dt r_n (CompliantSignorini, eps = c/dt^2 + beta W_nn), so a
 // state the solver left loaded (a restart, a settled bed written with its
 // contact impulses) has overlaps of that size. Keyed by pairKey(i, j),
 // grains i < j or a wall j < 0; empty without a compliant material or a
 // step's impulses.
 std::unordered_map<long long, double> System::Impl::compliantOverlaps() const
 {
-    const Impl& I = *this;
     std::unordered_map<long long, double> out;
-    const int N = int(I.x.size());
-    const double dt = I.lastDt;
-    if (!(dt > 0) || !I.anyCompliance()) return out;
-    auto inverseMass = [&](int g) { return I.fix[g] ? 0.0 : 1.0 / I.mass[g]; };
-    for (const Contact& c : I.contacts)
+    const int N = int(x.size());
+    const double dt = lastDt;
+    if (!(dt > 0) || !anyCompliance()) return out;
+    auto inverseMass = [&](int g) { return fix[g] ? 0.0 : 1.0 / mass[g]; };
+    auto complianceOf = [&](int g)
     {
-        const int cj = I.keptBody(c);
-        if (!(c.rn > 0) || cj >= N + int(I.walls.size())) continue; // unloaded, or a droplet
-        int gi = I.order[c.i];
-        int gj = cj < N ? I.order[cj] : -(cj - N + 1);
-        const Material& a = I.materials[I.mat[gi]];
-        double cc = a.compliance, beta = a.relativeCompliance;
-        double wnn = inverseMass(gi);
-        if (gj >= 0)
-        {
-            const Material& b = I.materials[I.mat[gj]];
-            cc = law::CompliantSignorini::pair(cc, b.compliance);
-            beta = law::CompliantSignorini::pair(beta, b.relativeCompliance);
-            wnn += inverseMass(gj);
-            if (gj < gi) std::swap(gi, gj);
-        }
-        if (c.wnn > 0) wnn = c.wnn; // the step's own W_nn (effective masses)
-        const double eps = law::CompliantSignorini::regularisation(cc, beta, wnn, 1.0 / (dt * dt));
-        if (eps > 0) out[pairKey(gi, gj)] = eps * dt * c.rn;
+        const Material& m = materials[mat[g]];
+        return std::array<double, 2>{m.compliance, m.relativeCompliance};
+    };
+    for (const Contact& c : contacts)
+    {
+        const int cj = keptBody(c);
+        if (!(c.rn > 0) || cj >= N + int(walls.size())) continue; // unloaded, or a droplet
+        const int gi = order[c.i];
+        const int gj = cj < N ? order[cj] : -(cj - N + 1);
+        const std::array<double, 2> a = complianceOf(gi);
+        const std::array<double, 2> b = gj >= 0 ? complianceOf(gj) : a;
+        // the step's own W_nn (effective masses); a seeded contact has none
+        const double wnn = c.wnn > 0 ? c.wnn : inverseMass(gi) + (gj >= 0 ? inverseMass(gj) : 0.0);
+        const double eps =
+            law::CompliantSignorini::contactRegularisation(a, gj >= 0 ? &b : nullptr, wnn, 1.0 / (dt * dt));
+        if (eps > 0)
+            out[gj >= 0 ? pairKey(std::min(gi, gj), std::max(gi, gj)) : pairKey(gi, gj)] = eps * dt * c.rn;
     }
     return out;
 }
