@@ -25,8 +25,10 @@ from the grain state <time>/grainState.h5 itself (no foamToVTK needed):
 writes DIR/<case name>_forceChains_t<time>.png for times whose state has
 stepped (the state grainDeposit writes at 0 holds no contacts).
 
-save_plot finishes and writes the line plots of the tutorials'
-postProcess.py (labels, legend, grid, layout), the same on every figure.
+pyplot gives the tutorials' and benches' plotting scripts matplotlib in
+the Agg backend (or None where it is not installed), save_plot finishes and
+writes their one-axes line plots (labels, legend, grid, layout), the same on
+every figure.
 """
 
 import argparse
@@ -340,6 +342,22 @@ def draw_force_chains(h5, png, title=None, width=1200, dpi=100):
     )
     fig.savefig(png, dpi=dpi, facecolor="white")
     return len(chains.get_segments())
+
+
+def pyplot(png):
+    """matplotlib.pyplot in the Agg backend (files only, no display) for a
+    script about to draw png; None, after printing "matplotlib missing: no
+    <png>", where matplotlib is not installed (the script then skips the
+    figure, its numbers are written all the same)."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print(f"matplotlib missing: no {png}")
+        return None
+    return plt
 
 
 def save_plot(fig, ax, png, xlabel, ylabel=None, legend_size=8, dpi=120):

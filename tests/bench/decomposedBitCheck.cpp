@@ -13,6 +13,7 @@
 //        -I/usr/include/eigen3 tests/bench/decomposedBitCheck.cpp -L<lib>
 //        -lnscdMPI -lnscd -Wl,-rpath,<lib> -o dbitcheck
 //        mpirun -np 2 ./dbitcheck > out.txt
+#include "benchBox.H"
 #include "nscdMPI/DecomposedSystem.H"
 
 #include <algorithm>
@@ -43,14 +44,7 @@ int main(int argc, char** argv)
         mat.conductivity = 1.0;
         mat.heatCapacity = 1.0;
         const int m = s.addMaterial(mat);
-        s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-        s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
-        s.addPlane(Vec3(w, 0, 0), Vec3(-1, 0, 0));
-        if (dim == 3)
-        {
-            s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1));
-            s.addPlane(Vec3(0, 0, 4e-3), Vec3(0, 0, -1));
-        }
+        benchBox::addBoxPlanes(s, dim, w);
         s.setWallTemperature(0, 400);
         s.setGravity(Vec3(0, -9.81, 0));
         s.setCohesion([](int a, int b) { return (a + b) % 5 == 0; }, 1e-4);

@@ -8,6 +8,7 @@
 // (BETA needs a library with the compliance fields.)
 // usage: g++ -O2 -std=c++17 -Isrc/nscd/include -I/usr/include/eigen3
 //        tests/bench/hardLawBitCheck.cpp -L<lib> -lnscd -Wl,-rpath,<lib> -o bitcheck
+#include "benchBox.H"
 #include "nscd/System.H"
 #include <cstdio>
 #include <cstdlib>
@@ -31,14 +32,7 @@ int main()
                     s.addGrain(Vec3((i + 0.5) * sp + 0.1 * d * (2 * u(rng) - 1), (j + 0.5) * sp,
                                     dim == 3 ? (kz + 0.5) * sp : 0.0),
                                (0.9 * d + 0.1 * d * u(rng)) / 2, m);
-        s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-        s.addPlane(Vec3(0, 0, 0), Vec3(1, 0, 0));
-        s.addPlane(Vec3(w, 0, 0), Vec3(-1, 0, 0));
-        if (dim == 3)
-        {
-            s.addPlane(Vec3(0, 0, 0), Vec3(0, 0, 1));
-            s.addPlane(Vec3(0, 0, 4e-3), Vec3(0, 0, -1));
-        }
+        benchBox::addBoxPlanes(s, dim, w);
         s.setGravity(Vec3(0, -9.81, 0));
         for (int k = 0; k < 400; ++k) s.advance(5e-4, 0.1);
         for (std::size_t i = 0; i < s.size(); ++i)

@@ -11,6 +11,7 @@
 //
 // Usage: overlapMapBench [output.json] [repetitions] [2d|3d]
 // (the third argument runs one case only and writes no JSON)
+#include "benchMachine.H"
 #include "overlapMapping/overlapMapping.hpp"
 
 #include <sys/resource.h>
@@ -52,18 +53,9 @@ double peakRssMb()
 
 std::string machineNote()
 {
-    std::ifstream f("/proc/cpuinfo");
-    std::string line, model = "unknown CPU";
-    while (std::getline(f, line))
-    {
-        if (line.rfind("model name", 0) == 0)
-        {
-            model = line.substr(line.find(':') + 2);
-            break;
-        }
-    }
     std::ostringstream s;
-    s << model << ", 1 core (single-threaded), GCC " << __GNUC__ << "." << __GNUC_MINOR__ << " -O3";
+    s << benchMachine::cpuModel() << ", 1 core (single-threaded), GCC " << __GNUC__ << "." << __GNUC_MINOR__
+      << " -O3";
     return s.str();
 }
 

@@ -369,17 +369,19 @@ def inlet_outlet_box(case):
                     del f["PIMPLE", key]
 
 
-def uniform_inflow(case, Us):
-    """inlet_outlet_box with a uniform upward flow Us [m/s] everywhere at the
-    start: fixedValue inlet, zeroGradient outlet, slip side walls for U; p
-    fixed (0) at the outlet, zeroGradient elsewhere."""
+def inflow_fields(case, velocity, side_u, side_p):
+    """0/U and 0/p of a case with an `inlet` and an `outlet` patch: U
+    uniform and fixed at the inlet to `velocity` (an OpenFOAM vector, e.g.
+    "(0 0.1 0)" [m/s]), zeroGradient at the outlet; p fixed (0) at the
+    outlet, zeroGradient at the inlet. side_u, side_p: the boundaryField
+    entries of the other patches for U and for p."""
     write(
         os.path.join(case, "0", "U"),
         "volVectorField",
         "U",
-        "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 %g 0);\n"
-        "boundaryField { inlet { type fixedValue; value uniform (0 %g 0); }\n"
-        " outlet { type zeroGradient; } walls { type slip; } }\n" % (Us, Us),
+        f"dimensions [0 1 -1 0 0 0 0];\ninternalField uniform {velocity};\n"
+        f"boundaryField {{ inlet {{ type fixedValue; value uniform {velocity}; }}\n"
+        f" outlet {{ type zeroGradient; }} {side_u} }}\n",
     )
     write(
         os.path.join(case, "0", "p"),
@@ -387,8 +389,15 @@ def uniform_inflow(case, Us):
         "p",
         "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
         "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
-        " walls { type zeroGradient; } }\n",
+        f" {side_p} }}\n",
     )
+
+
+def uniform_inflow(case, Us):
+    """inlet_outlet_box with a uniform upward flow Us [m/s] everywhere at the
+    start: fixedValue inlet, zeroGradient outlet, slip side walls for U; p
+    fixed (0) at the outlet, zeroGradient elsewhere."""
+    inflow_fields(case, f"(0 {Us:g} 0)", "walls { type slip; }", "walls { type zeroGradient; }")
     inlet_outlet_box(case)
 
 

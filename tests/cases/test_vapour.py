@@ -46,7 +46,16 @@ import re
 
 import nscdpost
 import pytest
-from foamcase import add_fluid, add_solver, log_message, make_box_case, read_internal, run, write
+from foamcase import (
+    add_fluid,
+    add_solver,
+    inflow_fields,
+    log_message,
+    make_box_case,
+    read_internal,
+    run,
+    write,
+)
 
 
 def vapour_steps(case):
@@ -131,22 +140,7 @@ def make_channel(case, N, L, Us, dt, end_time, grains, psi_outlet):
     )
     open(bm, "w").write(txt)
     side = '"(top|bottom)" { type symmetryPlane; } frontAndBack { type empty; }'
-    write(
-        os.path.join(case, "0", "U"),
-        "volVectorField",
-        "U",
-        f"dimensions [0 1 -1 0 0 0 0];\ninternalField uniform ({Us} 0 0);\n"
-        f"boundaryField {{ inlet {{ type fixedValue; value uniform ({Us} 0 0); }}\n"
-        f" outlet {{ type zeroGradient; }} {side} }}\n",
-    )
-    write(
-        os.path.join(case, "0", "p"),
-        "volScalarField",
-        "p",
-        "dimensions [0 2 -2 0 0 0 0];\ninternalField uniform 0;\n"
-        "boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }\n"
-        f" {side} }}\n",
-    )
+    inflow_fields(case, f"({Us} 0 0)", side, side)
     fs = os.path.join(case, "system", "fvSolution")
     txt = open(fs).read().replace("pRefCell 0; pRefValue 0;", "")
     # U is uniform (the residual normalisation of a uniform field is

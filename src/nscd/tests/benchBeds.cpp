@@ -4,6 +4,7 @@
 // settled block (the construction: benchSuite.cpp's header), settling to
 // rest, timers and the machine note of the JSON reports.
 #include "benchBeds.H"
+#include "benchMachine.H"
 
 #include <time.h>
 
@@ -271,16 +272,8 @@ SettleResult settle(System& s, int maxSteps, const char* tag)
 
 std::string machineNote()
 {
-    std::ifstream f("/proc/cpuinfo");
-    std::string line, model = "unknown CPU";
-    while (std::getline(f, line))
-        if (line.rfind("model name", 0) == 0)
-        {
-            model = line.substr(line.find(':') + 2);
-            break;
-        }
     std::ostringstream o;
-    o << model
+    o << benchMachine::cpuModel()
       << ", 1 core (single-threaded, pinned with taskset when available; machine shared with other jobs), "
 #ifdef __GNUC__
       << "GCC " << __GNUC__ << "." << __GNUC_MINOR__

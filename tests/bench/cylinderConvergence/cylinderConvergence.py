@@ -72,6 +72,7 @@ import tempfile
 import time
 
 import nscdpost
+import nscdrender
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -387,13 +388,8 @@ def convergence(levels, key):
 
 
 def plot(levels, conv):
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib missing: no PNG")
+    plt = nscdrender.pyplot("PNG")
+    if plt is None:
         return
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
     for i, L in enumerate(sorted(levels, key=lambda L: L["h"])):

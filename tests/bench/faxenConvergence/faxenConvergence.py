@@ -54,6 +54,7 @@ sys.path.insert(0, os.path.join(ROOT, "tests", "cases"))
 
 import conftest  # noqa: E402  (paths + foam_env)
 import nscdpost  # noqa: E402
+import nscdrender  # noqa: E402
 import test_resolvedRegime as trr  # noqa: E402
 
 
@@ -195,12 +196,8 @@ def main():
         f"Richardson fit p = {p_r:.2f}, F_inf = {f_inf:.4f} ({100 * (f_inf - ref) / ref:+.2f} % "
         f"vs Faxen)\n-> {a.out}"
     )
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
+    plt = nscdrender.pyplot("png")
+    if plt is not None:
         fig, ax = plt.subplots(1, 2, figsize=(9, 3.8))
         for lv in levels:
             ax[0].plot([lv["cells_per_diameter"]] * len(lv["drag"]), lv["drag"], "C0.", alpha=0.5)
@@ -225,8 +222,6 @@ def main():
         fig.suptitle("Fixed disc between walls, k = 0.2, Re = 0.01 (vansFoam resolved regime)")
         fig.tight_layout()
         fig.savefig(os.path.join(HERE, "faxenConvergence.png"), dpi=120)
-    except ImportError:
-        print("matplotlib missing: no png")
 
 
 if __name__ == "__main__":

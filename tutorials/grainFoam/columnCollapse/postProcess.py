@@ -22,6 +22,7 @@ import os
 import sys
 
 import nscdpost
+import nscdrender
 import numpy as np
 
 REFERENCE = {
@@ -103,12 +104,8 @@ def main():
     results = [measure(c) for c in cases]
     out = {"cases": results, "reference": REFERENCE}
     nscdpost.write_json("results.json", out)
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
+    plt = nscdrender.pyplot("runout.png")
+    if plt is not None:
         a = np.linspace(0.2, 8, 200)
         fig, ax = plt.subplots(figsize=(5, 4))
         ax.loglog(a, runout_law(a), "k-", label="Lube et al. 2005 (2D)")
@@ -125,8 +122,6 @@ def main():
         ax.grid(True, which="both", alpha=0.3)
         fig.tight_layout()
         fig.savefig("runout.png", dpi=120)
-    except ImportError:
-        print("matplotlib missing: no runout.png")
     for c in results:
         print(
             f"a = {c['aspect_ratio']:.2f}: (L_f-L_i)/L_i = {c['normalised_runout']:.2f} "

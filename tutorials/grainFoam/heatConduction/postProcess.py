@@ -16,6 +16,7 @@ import os
 import sys
 
 import nscdpost
+import nscdrender
 import numpy as np
 
 
@@ -75,16 +76,12 @@ def main():
         f"wall heat (simulated c) {res['total_wall_heat_J_per_m']:.4g} J/m vs grain heat gain "
         f"{res['heat_gained_J_per_m_from_T']:.4g} J/m"
     )
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        from matplotlib.collections import PatchCollection
-        from matplotlib.patches import Circle
-    except ImportError:
-        print("matplotlib missing: no PNG")
+    plt = nscdrender.pyplot("heatConduction PNGs")
+    if plt is None:
         return
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import Circle
+
     fig, ax = plt.subplots(figsize=(5, 3.5))
     ax.plot(np.array(t) / 3600, Tm)
     ax.set_xlabel("time [h] (glass beads)")

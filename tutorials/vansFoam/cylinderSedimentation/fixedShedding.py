@@ -143,12 +143,8 @@ def main():
         f"St = {st:.4f} vs {sr:.4f} (Williamson 1996) ({100 * (st - sr) / sr:+.1f} %), "
         f"C_D = {res['fixed_cylinder_mean_drag_coefficient']:.3f}"
     )
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
+    plt = nscdrender.pyplot("shedding.png")
+    if plt is not None:
         rhoU2D = 0.5 * setupCase.RHO_F * setupCase.UT_REF**2 * setupCase.D
         fig, ax = plt.subplots(figsize=(7, 3.6))
         ax.plot(t, F[:, 1] / rhoU2D, "C3", label="$C_L$ (lift of the penalised disc)")
@@ -163,8 +159,6 @@ def main():
             fontsize=9,
         )
         nscdrender.save_plot(fig, ax, "shedding.png", "t [s]", legend_size=7)
-    except ImportError:
-        print("matplotlib missing: no shedding.png")
 
 
 if __name__ == "__main__":

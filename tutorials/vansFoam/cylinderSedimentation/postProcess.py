@@ -280,12 +280,8 @@ def main():
         f"{sh['streamwise_fft_frequency_half']:.3f} Hz), St = {res['strouhal_number']:.3f}; "
         f"reference St {st_ref:.3f}, f {f_ref:.3f} Hz"
     )
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
+    plt = nscdrender.pyplot("velocity.png")
+    if plt is not None:
         fig, ax = plt.subplots(figsize=(7, 4))
         ax.plot(t, ustr / ref, "C0-", label=r"$u_{str}/U_t$ (vansFoam)")
         ax.plot(t, ulat / ref, "C3-", label=r"$u_{lat}/U_t$ (vansFoam)")
@@ -327,8 +323,6 @@ def main():
             fontsize=9,
         )
         nscdrender.save_plot(fig, ax, "velocity.png", "t [s]", "velocity / $U_t$", legend_size=7)
-    except ImportError:
-        print("matplotlib missing: no velocity.png")
 
 
 if __name__ == "__main__":

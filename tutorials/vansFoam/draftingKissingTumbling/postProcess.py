@@ -45,6 +45,7 @@ import os
 import sys
 
 import nscdpost
+import nscdrender
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -146,12 +147,8 @@ def main():
     print(
         f"kissing at t = {kiss} s, tumbling (y1 < y2) at t = {tumble} s, min gap {gap.min():.2e} m"
     )
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
+    plt = nscdrender.pyplot("positions.png")
+    if plt is not None:
         fig, ax = plt.subplots(1, 2, figsize=(9, 4))
         ax[0].plot(t, 100 * x[0, :, 0], "C0", label="disc 1 (upper at t = 0)")
         ax[0].plot(t, 100 * x[1, :, 0], "C3", label="disc 2")
@@ -202,8 +199,6 @@ def main():
         )
         fig.tight_layout()
         fig.savefig("positions.png", dpi=120)
-    except ImportError:
-        print("matplotlib missing: no positions.png")
 
 
 if __name__ == "__main__":

@@ -23,6 +23,7 @@ import os
 import sys
 
 import nscdpost
+import nscdrender
 import numpy as np
 
 G, RHO, RHO_P = 9.81, 1000.0, 2630.0
@@ -104,12 +105,8 @@ def main():
             f"heave head {hh if hh is None else round(hh, 5)} m (bed buoyant weight "
             f"{r['buoyant_weight_head']:.5f} m)"
         )
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
+    plt = nscdrender.pyplot("fluidisation.png")
+    if plt is not None:
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
         for k, r in sorted(res.items(), key=lambda kv: float(kv[0])):
             a1.plot(r["time"], r["mobilised_mass_fraction"], label=f"h/d = {k}")
@@ -131,8 +128,6 @@ def main():
         fig.suptitle("Fluidisation of a granular layer (thesis Fig. 3.17)")
         fig.tight_layout()
         fig.savefig("fluidisation.png", dpi=120)
-    except ImportError:
-        print("matplotlib missing: no fluidisation.png")
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ import os
 import sys
 
 import nscdpost
+import nscdrender
 import numpy as np
 
 
@@ -61,12 +62,8 @@ def main():
     nscdpost.write_json("results.json", res)
     for a, b, c in zip(t, front, count):
         print(f"t = {a:.3f} s: mean lower edge {b * 1e3:.2f} mm, fingers {c}")
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
+    plt = nscdrender.pyplot("fingers.png")
+    if plt is not None:
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
         xs = (np.arange(len(edges[0])) + 0.5) * W / len(edges[0])
         for k, (ti, e) in enumerate(zip(t, edges)):
@@ -85,8 +82,6 @@ def main():
         fig.suptitle("Granular Rayleigh-Taylor instability (thesis 3.3.1)")
         fig.tight_layout()
         fig.savefig("fingers.png", dpi=120)
-    except ImportError:
-        print("matplotlib missing: no fingers.png")
 
 
 if __name__ == "__main__":

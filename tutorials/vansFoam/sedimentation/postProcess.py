@@ -46,12 +46,8 @@ def measure(case):
 def main():
     res = dict(measure(c) for c in sys.argv[1:])
     nscdpost.write_json("results.json", res)
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
+    plt = nscdrender.pyplot("front.png")
+    if plt is not None:
         fig, ax = plt.subplots(figsize=(5, 4))
         for k, (m, r) in enumerate(sorted(res.items())):
             tag = "" if r["completed"] else f" (unstable, stopped after t = {r['time'][-1]:g} s)"
@@ -60,8 +56,6 @@ def main():
             )
             ax.plot(r["time"], r["top_height"], "--", color=f"C{k}", label=f"{m}: top of layer")
         nscdrender.save_plot(fig, ax, "front.png", "t [s]", "height [m]")
-    except ImportError:
-        print("matplotlib missing: no front.png")
     for m, r in res.items():
         print(
             f"{m}: front {r['front_height'][0]:.4f} -> {r['front_height'][-1]:.4f} m, "

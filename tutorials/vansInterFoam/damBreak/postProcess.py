@@ -38,6 +38,7 @@ import os
 import sys
 
 import nscdpost
+import nscdrender
 import numpy as np
 from foamlib import FoamFile
 
@@ -156,13 +157,8 @@ def measure(case):
 
 
 def plot(res, path):
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib missing: no front.png")
+    plt = nscdrender.pyplot("front.png")
+    if plt is None:
         return
     T, Z = np.array(res["T"]), np.array(res["Z"])
     dT = res["time_origin_shift"]
