@@ -236,11 +236,11 @@ def run_fatal_io(app, case, env):
     return fails_with(run(app, case, env, check=False), banner="FOAM FATAL IO ERROR")
 
 
-def run_parallel(app, case, env, n=2, delta=0.001, split=None):
+def run_parallel(app, case, env, n=2, delta=0.001, split=None, args=()):
     """decomposePar the case into n x 1 x 1 slabs (simple method; split:
-    another (nx, ny, nz)) and run `mpirun -np n app -parallel`; writes
-    log.<app>, skips the test when mpirun cannot start here, fails on a
-    non-zero exit.  Returns the CompletedProcess (stdout + stderr)."""
+    another (nx, ny, nz)) and run `mpirun -np n app -parallel [args]`;
+    writes log.<app>, skips the test when mpirun cannot start here, fails on
+    a non-zero exit.  Returns the CompletedProcess (stdout + stderr)."""
     import pytest
 
     nx, ny, nz = split or (n, 1, 1)
@@ -254,7 +254,7 @@ def run_parallel(app, case, env, n=2, delta=0.001, split=None):
     # that time directory relative to the working directory)
     run("decomposePar", case, env, args=("-force",), cwd=case)
     p = subprocess.run(
-        ["mpirun", "-np", str(n), app, "-parallel", "-case", case],
+        ["mpirun", "-np", str(n), app, "-parallel", "-case", case, *args],
         env=env,
         capture_output=True,
         text=True,

@@ -32,7 +32,7 @@ import shutil
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import make_box_case, mpirun_could_not_start, run, write, write_schemes
+from foamcase import make_box_case, run, run_parallel, write, write_schemes
 
 pytestmark = pytest.mark.fast
 
@@ -172,24 +172,7 @@ def test_wave_gauges_parallel_equals_serial(tmp_path, env):
     run("postProcess", case, env, ["-time", "0"])
     serial = read_dat(case, "gauges", "waveGauges.dat")[0, 1:]
     shutil.rmtree(os.path.join(case, "postProcessing"))
-    write(
-        os.path.join(case, "system", "decomposeParDict"),
-        "dictionary",
-        "decomposeParDict",
-        "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (1 2 1); delta 0.001; }\n",
-    )
-    run("decomposePar", case, env)
-    import subprocess
-
-    p = subprocess.run(
-        ["mpirun", "-np", "2", "postProcess", "-parallel", "-case", case, "-time", "0"],
-        env=env,
-        capture_output=True,
-        text=True,
-    )
-    if mpirun_could_not_start(p):
-        pytest.skip("mpirun cannot start here")
-    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    run_parallel("postProcess", case, env, split=(1, 2, 1), args=("-time", "0"))
     par = read_dat(case, "gauges", "waveGauges.dat")[0, 1:]
     assert np.allclose(par, serial, rtol=0, atol=1e-12), (par, serial)
 

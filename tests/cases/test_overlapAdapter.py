@@ -15,11 +15,10 @@ Checks, in 2D (discs, volume pi r^2 x mesh depth) and 3D (spheres):
 import math
 import os
 import shutil
-import subprocess
 
 import numpy as np
 import pytest
-from foamcase import log_message, make_box_case, read_internal, run, write
+from foamcase import log_message, make_box_case, read_internal, run, run_parallel, write
 
 pytestmark = pytest.mark.fast
 
@@ -234,32 +233,9 @@ def test_parallel_matches_serial(tmp_path, env, two_d):
             (0.04, 0.04, 0.04, 0.006),
         ]
     case, phi_s, eps_s, vcell = grain_case(tmp_path, env, "par", size, cells, grains, two_d)
-    write(
-        os.path.join(case, "system", "decomposeParDict"),
-        "dictionary",
-        "decomposeParDict",
-        "numberOfSubdomains 2;\nmethod simple;\ncoeffs { n (2 1 1); }\n"
-        "simpleCoeffs { n (2 1 1); delta 0.001; }\n",
-    )
     for f in ("solidFraction", "voidFraction"):
         os.remove(os.path.join(case, "0", f))
-    run("decomposePar", case, env, args=["-force"])
-    p = subprocess.run(
-        ["mpirun", "-np", "2", "grainVoidFraction", "-case", case, "-parallel", "-checkCoupling"],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    with open(os.path.join(case, "log.grainVoidFraction.parallel"), "w") as f:
-        f.write(p.stdout + p.stderr)
-    if p.returncode != 0 and (
-        "orte" in p.stderr.lower()
-        or "not enough slots" in p.stderr.lower()
-        or "mpi_init" in p.stderr.lower()
-    ):
-        pytest.skip(f"mpirun unusable here: {p.stderr[-500:]}")
-    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
+    p = run_parallel("grainVoidFraction", case, env, args=("-checkCoupling",))
     check_coupling_log(p.stdout)
     for k in range(2):
         assert os.path.exists(os.path.join(case, f"processor{k}", "0", "solidFraction"))

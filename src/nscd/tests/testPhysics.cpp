@@ -181,27 +181,22 @@ void pile(int dim, int nx, int nz, double& creep, double& overlap, double rmin)
     for (std::size_t k = 0; k < s.size(); ++k) creep = std::max(creep, (s.positions()[k] - x0[k]).norm());
     EXPECT_NO_THROW(s.checkInitialOverlaps());
 }
-} // namespace
 
 // Reference: static equilibrium of a dense deposit; after settling, no grain
 // moves by more than 1e-3 r_min in 0.5 s (no creep), overlaps < 1e-3 r_min.
-TEST(Rest, DensePileStaysAtRest2D)
+void expectPileAtRest(int dim, int nx, int nz)
 {
     double creep, overlap;
     const double rmin = 0.002;
-    pile(2, 12, 1, creep, overlap, rmin);
+    pile(dim, nx, nz, creep, overlap, rmin);
     EXPECT_LT(creep, 1e-3 * rmin);
     EXPECT_LT(overlap, 1e-3 * rmin);
 }
+} // namespace
 
-TEST(Rest, DensePileStaysAtRest3D)
-{
-    double creep, overlap;
-    const double rmin = 0.002;
-    pile(3, 5, 5, creep, overlap, rmin);
-    EXPECT_LT(creep, 1e-3 * rmin);
-    EXPECT_LT(overlap, 1e-3 * rmin);
-}
+TEST(Rest, DensePileStaysAtRest2D) { expectPileAtRest(2, 12, 1); }
+
+TEST(Rest, DensePileStaysAtRest3D) { expectPileAtRest(3, 5, 5); }
 
 // Moving wall: a plane pushing a grain at constant speed (no gravity) carries it.
 TEST(Walls, MovingPlanePushesGrain)

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace overlapMapping
 {
@@ -21,6 +22,31 @@ namespace
 {
 
 inline overlap::Vector ov(const Vec3& v) { return overlap::Vector(v[0], v[1], v[2]); }
+
+/// Scratch array of n elements of T for a face's vertices: on the stack up
+/// to N (the faces of hex, tet and most polyhedral cells), on the heap beyond.
+template <class T, int N = 64>
+class ScratchArray
+{
+public:
+    explicit ScratchArray(std::size_t n) : data_(stack_)
+    {
+        if (n > std::size_t(N))
+        {
+            heap_.resize(n);
+            data_ = heap_.data();
+        }
+    }
+    ScratchArray(const ScratchArray&) = delete;
+    ScratchArray& operator=(const ScratchArray&) = delete;
+    T& operator[](std::size_t k) { return data_[k]; }
+    const T* data() const { return data_; }
+
+private:
+    T stack_[N];
+    std::vector<T> heap_;
+    T* data_;
+};
 
 /// Sphere AABB vs points AABB.
 template <int N>
@@ -55,21 +81,13 @@ inline void addFaceMoment(Vec3& M, const Vec3& c, double r2, const Vec3& N, cons
         return;
     }
     const Vec3 e2 = n.cross(e1);
-    constexpr int maxStack = 64;
-    Vec2 stackPoly[maxStack];
-    std::vector<Vec2> heapPoly;
-    Vec2* poly = stackPoly;
-    if (np > maxStack)
-    {
-        heapPoly.resize(np);
-        poly = heapPoly.data();
-    }
+    ScratchArray<Vec2> poly(np);
     for (int k = 0; k < np; ++k)
     {
         const Vec3 d = pts[k] - c;
         poly[k] = Vec2(d.dot(e1), d.dot(e2));
     }
-    const DiscPolygonMoments m = discPolygonMoments(Vec2::Zero(), std::sqrt(rho2), poly, np, true);
+    const DiscPolygonMoments m = discPolygonMoments(Vec2::Zero(), std::sqrt(rho2), poly.data(), np, true);
     M += N * (0.5 * (m.polar - rho2 * m.area));
 }
 
@@ -237,20 +255,12 @@ Vec3 sphereCellFirstMoment(const CellMesh& mesh, label cell, const Vec3& c, doub
             {
                 continue;
             }
-            constexpr int maxStack = 64;
-            Vec3 stackPts[maxStack];
-            std::vector<Vec3> heapPts;
-            Vec3* pts = stackPts;
-            if (n > maxStack)
-            {
-                heapPts.resize(n);
-                pts = heapPts.data();
-            }
+            ScratchArray<Vec3> pts(n);
             for (label k = 0; k < n; ++k)
             {
                 pts[k] = m.points[m.faceVertices[b + k]];
             }
-            addFaceMoment(M, c, r2, Vec3(sign * nf), nf, mesh.faceTangent(f), F, pts, int(n));
+            addFaceMoment(M, c, r2, Vec3(sign * nf), nf, mesh.faceTangent(f), F, pts.data(), int(n));
         }
         else
         {
