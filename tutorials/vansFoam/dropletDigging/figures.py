@@ -2,9 +2,10 @@
 """Figures of the dropletDigging tutorial (thesis Figures 4.13-4.19) drawn
 from the results of postProcess.py: the final depth against the bed
 temperature, the depth, velocity, mean grain temperature and lifetime
-against t/t_ff, the vertical forces and the heat rates on the droplet.
-Pure functions of results.json's `cases` entries and case.json (no case
-files are read here); used by postProcess.main.
+against t/t_ff, the vertical forces and the heat rates on the droplet, and
+the `--snap` snapshots of the grains around the droplet.  Pure functions of
+results.json's `cases` entries, case.json and grains already read (no case
+files are read here); used by postProcess.py.
 """
 
 import math
@@ -186,3 +187,47 @@ def plot_cohesion_sweep(data, outdir):
     ax.set_title(f"T_bed {data[0][1]['bed_temperature_C']:g} C, cohesion sweep")
     ax.legend(fontsize=8)
     save_figure(fig, outdir, "dropletDigging_cohesion.png")
+
+
+def plot_snapshot(g, droplet, t, info, out):
+    """PNG out of the grains g (nscdpost.read_grains: x [m], d [m], U [m/s])
+    at time t [s], coloured by speed [mm/s], with the droplet circle
+    droplet = (x, y, R) [m] and the initial bed top of info (case.json,
+    dashed); left the whole cell, right a zoom of 3 R around the droplet."""
+    plt = pyplot()
+    from matplotlib.collections import EllipseCollection
+
+    xd, yd, R = droplet[0] * 1e3, droplet[1] * 1e3, droplet[2] * 1e3
+    sp = np.linalg.norm(g["U"], axis=1) * 1e3
+    fig, axs = plt.subplots(1, 2, figsize=(10, 6))
+    for ax, zoom in zip(axs, (False, True)):
+        ec = EllipseCollection(
+            g["d"] * 1e3,
+            g["d"] * 1e3,
+            0,
+            units="xy",
+            offsets=g["x"][:, :2] * 1e3,
+            transOffset=ax.transData,
+            array=sp,
+            cmap="viridis",
+        )
+        ec.set_clim(0, max(5.0, float(np.percentile(sp, 99.5))))
+        ax.add_collection(ec)
+        ax.add_patch(plt.Circle((xd, yd), R, fill=False, color="r", lw=1.5))
+        ax.axhline(info["bed_top"] * 1e3, color="k", ls="--", lw=0.8)
+        ax.set_aspect("equal")
+        if zoom:
+            ax.set_xlim(xd - 3 * R, xd + 3 * R)
+            ax.set_ylim(yd - 3 * R, yd + 3 * R)
+        else:
+            ax.set_xlim(0, info["width"] * 1e3)
+            ax.set_ylim(0, info["height"] * 1e3)
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+    fig.colorbar(ec, ax=axs, label="grain speed [mm/s]")
+    axs[0].set_title(
+        f"T_bed {info['bed_temperature_C']:g} C, d {info['grain_diameter'] * 1e3:.3f} mm,"
+        f" t = {t:g} s"
+    )
+    fig.savefig(out, dpi=100)
+    plt.close(fig)

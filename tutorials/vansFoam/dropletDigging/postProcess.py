@@ -399,54 +399,14 @@ def force_balance(d, window=0.2):
 
 
 def snapshot(case, time_name, out):
-    """PNG of the grains at one written time, coloured by speed [mm/s], with
-    the droplet circle (droplet.dat at the nearest step) and the initial bed
-    top (dashed); left the whole cell, right a zoom of 3 R around the droplet."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.collections import EllipseCollection
-
+    """PNG out of the grains of the case at one written time with the
+    droplet at the nearest step of droplet.dat (figures.plot_snapshot)."""
     info = json.load(open(os.path.join(case, "case.json")))
-    g = nscdpost.read_grains(case, time_name)
     d = read_droplet(case)
     t = float(time_name)
     k = int(np.argmin(np.abs(d[:, 0] - t)))
-    xd, yd, R = d[k, COL["x"]] * 1e3, d[k, COL["y"]] * 1e3, d[k, COL["R"]] * 1e3
-    sp = np.linalg.norm(g["U"], axis=1) * 1e3
-    fig, axs = plt.subplots(1, 2, figsize=(10, 6))
-    for ax, zoom in zip(axs, (False, True)):
-        ec = EllipseCollection(
-            g["d"] * 1e3,
-            g["d"] * 1e3,
-            0,
-            units="xy",
-            offsets=g["x"][:, :2] * 1e3,
-            transOffset=ax.transData,
-            array=sp,
-            cmap="viridis",
-        )
-        ec.set_clim(0, max(5.0, float(np.percentile(sp, 99.5))))
-        ax.add_collection(ec)
-        ax.add_patch(plt.Circle((xd, yd), R, fill=False, color="r", lw=1.5))
-        ax.axhline(info["bed_top"] * 1e3, color="k", ls="--", lw=0.8)
-        ax.set_aspect("equal")
-        if zoom:
-            ax.set_xlim(xd - 3 * R, xd + 3 * R)
-            ax.set_ylim(yd - 3 * R, yd + 3 * R)
-        else:
-            ax.set_xlim(0, info["width"] * 1e3)
-            ax.set_ylim(0, info["height"] * 1e3)
-        ax.set_xlabel("x [mm]")
-        ax.set_ylabel("y [mm]")
-    fig.colorbar(ec, ax=axs, label="grain speed [mm/s]")
-    axs[0].set_title(
-        f"T_bed {info['bed_temperature_C']:g} C, d {info['grain_diameter'] * 1e3:.3f} mm,"
-        f" t = {t:g} s"
-    )
-    fig.savefig(out, dpi=100)
-    plt.close(fig)
+    droplet = (d[k, COL["x"]], d[k, COL["y"]], d[k, COL["R"]])
+    figures.plot_snapshot(nscdpost.read_grains(case, time_name), droplet, t, info, out)
 
 
 def case_results(case):

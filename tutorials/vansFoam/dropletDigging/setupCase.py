@@ -63,8 +63,18 @@ CELL = D_DROP / int(os.environ.get("CELLS_PER_DROPLET", "8"))
 D_GRAIN_REDUCED = 1e-3
 PHI_BED = 0.4  # solid fraction of the real bed (thesis 4.3.2)
 MU_L = 2.82e-4  # liquid (water, 100 C) viscosity [Pa s]: dropletProperties default
-# surface tension of water at 100 C [N/m]: IAPWS R1-76(2014), 58.91 mN/m
-SIGMA_WATER = 0.05891
+# the environment switches (contact solver, cohesion, droplet options), a
+# sibling module loaded by path like postProcess.py's figures
+settings = nscdpost.load_module("dropletDigging_runSettings", os.path.join(here, "runSettings.py"))
+SIGMA_WATER = settings.SIGMA_WATER
+contact_tolerance = settings.contact_tolerance
+contact_max_iterations = settings.contact_max_iterations
+contact_compliance = settings.contact_compliance
+cohesion_settings = settings.cohesion_settings
+surface_tension = settings.surface_tension
+vapour_release = settings.vapour_release
+yes_no = settings.yes_no
+film_conduction = settings.film_conduction
 
 
 def similarity_factors(d_grain, d_ref, permeability_ratio=1.0):
@@ -106,71 +116,6 @@ def write(case, rel, cls, body):
     os.makedirs(os.path.dirname(path), exist_ok=True)
     with open(path, "w") as f:
         f.write(header(cls, os.path.basename(rel)) + body)
-
-
-def contact_tolerance(d_grain):
-    """NSCD contact tolerance (relative to d_min, src/nscd/README.md) of the
-    bed: 1e-4 for the 0.5 and 1 mm beds; 1e-3 for finer beds, where the
-    agitated 6000-grain bed (0.2 mm) hits maxIterations 1000 at every step
-    with 1e-4 (0.5 s/step, NSCD 87 % of the time, perf) and needs 60-400
-    sweeps with 1e-3 (max overlap 1.05e-3 d_min; velocity error ~1e-3
-    d/dt ~ 0.7 mm/s, well below the droplet's seepage speed ~2 cm/s).
-    Env CONTACT_TOL=<tol> overrides it (docs/validation/dropletDigging.md "Measured, contact-tolerance
-    study"); raises ValueError if it is not a number in (0, 0.1]."""
-    env = os.environ.get("CONTACT_TOL")
-    if env:
-        tol = float(env)
-        if not 0 < tol <= 0.1:
-            raise ValueError(
-                f"CONTACT_TOL={env}: the contact tolerance (relative to d_min) must be in (0, 0.1]"
-            )
-        return tol
-    return 1e-4 if d_grain >= 0.45e-3 else 1e-3
-
-
-def contact_max_iterations():
-    """NSCD maxIterations (sweeps per step): 1000, or env CONTACT_MAXITER
-    (e.g. 3000 with CONTACT_TOL=1e-4); raises ValueError if it is not a
-    positive integer."""
-    n = int(os.environ.get("CONTACT_MAXITER", "1000"))
-    if n < 1:
-        raise ValueError(f"CONTACT_MAXITER={n}: must be a positive integer")
-    return n
-
-
-def contact_compliance():
-    """(relativeCompliance, relaxation) of the grains' contacts (nscd
-    Material::relativeCompliance, Settings::relaxation): env
-    CONTACT_COMPLIANCE=<beta> (default 0: hard contacts) and
-    CONTACT_RELAXATION=<omega> (default 1), e.g. 2e-3 and 1.5 to settle the
-    55 um bed (docs/validation/contactCompliance.md); raises ValueError if
-    beta < 0 or omega is not in (0, 2)."""
-    beta = float(os.environ.get("CONTACT_COMPLIANCE", "0"))
-    omega = float(os.environ.get("CONTACT_RELAXATION", "1"))
-    if not beta >= 0:
-        raise ValueError(f"CONTACT_COMPLIANCE={beta}: the relative contact compliance must be >= 0")
-    if not 0 < omega < 2:
-        raise ValueError(
-            f"CONTACT_RELAXATION={omega}: the over-relaxation factor must be in (0, 2)"
-        )
-    return beta, omega
-
-
-def cohesion_settings():
-    """(minAge, factor) of the grains' vapour cohesion (couplingProperties
-    cohesion): minAge, the NSCD steps a contact must persist before it is
-    cohesive (the thesis, section 4.3.2: cohesive once the contact "persists
-    for several time steps"), env COHESION_MIN_AGE (default 5); factor, a
-    multiplier of F_c^0 for the cohesion sweep (env COHESION_FACTOR, default
-    1; F_c^0 must stay > 0, couplingProperties has no zero cohesion).  Raises
-    ValueError if minAge < 0 or factor <= 0."""
-    min_age = int(os.environ.get("COHESION_MIN_AGE", "5"))
-    factor = float(os.environ.get("COHESION_FACTOR", "1"))
-    if min_age < 0:
-        raise ValueError(f"COHESION_MIN_AGE={min_age}: must be a non-negative number of steps")
-    if not factor > 0:
-        raise ValueError(f"COHESION_FACTOR={factor}: the cohesion multiplier must be > 0")
-    return min_age, factor
 
 
 def mesh_and_grains(case, d_grain, rho_grain=RHO_P, inlet=False):
@@ -359,58 +304,6 @@ def resting_height(g, x_c, radius):
 def packing_2d(g, top):
     """Area fraction of the discs in the bed 0 < y < top, w wide."""
     return float(np.sum(np.pi / 4 * g["d"] ** 2) / (W * top))
-
-
-def surface_tension(value=None):
-    """Surface tension [N/m] of the droplet's capillary entry barrier
-    (dropletProperties surfaceTension, src/dropletCoupling/README.md
-    "Capillary entry barrier"): value if given, else env SURFACE_TENSION
-    (a number, or "water" for SIGMA_WATER), else 0 (no barrier, thesis eq.
-    4.17).  Raises ValueError if it is not a number >= 0."""
-    if value is None:
-        env = os.environ.get("SURFACE_TENSION", "")
-        try:
-            value = SIGMA_WATER if env == "water" else float(env or 0)
-        except ValueError:
-            raise ValueError(
-                f"SURFACE_TENSION={env}: give the surface tension in N/m (e.g. 0.05891) or 'water'"
-            ) from None
-    value = float(value)
-    if not value >= 0:
-        raise ValueError(f"surface tension {value} N/m must be >= 0 (SURFACE_TENSION)")
-    return value
-
-
-def vapour_release(value=None):
-    """Where the droplet's vapour leaves its surface (dropletProperties
-    vapourRelease, src/dropletCoupling/vapourDroplet/vapourDroplet.H):
-    value if given, else env VAPOUR_RELEASE, else "uniform" (the thesis'
-    uniform blowing); "heatFlux": where the heat entered.  Raises ValueError
-    for anything else."""
-    value = value or os.environ.get("VAPOUR_RELEASE") or "uniform"
-    if value not in ("uniform", "heatFlux"):
-        raise ValueError(f"VAPOUR_RELEASE={value}: give 'uniform' (thesis, default) or 'heatFlux'")
-    return value
-
-
-def yes_no(value, env_name):
-    """bool(value) if value is not None, else the environment variable
-    env_name, "yes" or "no" (default "no").  Raises ValueError for another
-    word."""
-    if value is not None:
-        return bool(value)
-    env = os.environ.get(env_name, "no")
-    if env not in ("yes", "no"):
-        raise ValueError(f"{env_name}={env}: give 'yes' or 'no'")
-    return env == "yes"
-
-
-def film_conduction(value=None):
-    """Leidenfrost film conduction from the grains pressed on the droplet
-    (dropletProperties filmConduction, vapourDroplet.H; needs the capillary
-    barrier): value if given, else env FILM_CONDUCTION ("yes"/"no"), else
-    False.  Raises ValueError for another word."""
-    return yes_no(value, "FILM_CONDUCTION")
 
 
 def zehner_schlunder(k_s, k_f, eps):
