@@ -427,6 +427,10 @@ bool CellMesh::contains(label c, const Vec3& x) const
         }
         return wn != 0;
     }
+    if (!mesh_.twoD && !convex_[c])
+    {
+        return containsByTets(c, x);
+    }
     return outsideDistance(c, x) <= tol(c);
 }
 

@@ -302,25 +302,54 @@ void CellMesh::prepare3D()
     }
 }
 
+template <class Fn>
+void CellMesh::forEachFaceTriangle(label c, Fn&& fn) const
+{
+    for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1]; ++i)
+    {
+        const label f = mesh_.cellFaces[i];
+        const label fb = mesh_.faceOffsets[f];
+        const label n = mesh_.faceOffsets[f + 1] - fb;
+        for (label k = 0; k < n; ++k)
+        {
+            fn(faceCentre_[f], mesh_.points[mesh_.faceVertices[fb + k]],
+               mesh_.points[mesh_.faceVertices[fb + (k + 1) % n]], cellFaceSign_[i]);
+        }
+    }
+}
+
 double CellMesh::decompositionVolume(label c) const
 {
     // volume of the tet decomposition (cell centre, face centre, edge)
     const Vec3& C = mesh_.cellCentres[c];
     double vol = 0.0;
-    for (label i = mesh_.cellOffsets[c]; i < mesh_.cellOffsets[c + 1]; ++i)
-    {
-        const label f = mesh_.cellFaces[i];
-        const Vec3& F = faceCentre_[f];
-        const label fb = mesh_.faceOffsets[f];
-        const label n = mesh_.faceOffsets[f + 1] - fb;
-        for (label k = 0; k < n; ++k)
-        {
-            const Vec3& p = mesh_.points[mesh_.faceVertices[fb + k]];
-            const Vec3& q = mesh_.points[mesh_.faceVertices[fb + (k + 1) % n]];
-            vol += cellFaceSign_[i] * (p - F).cross(q - F).dot(F - C) / 6.0;
-        }
-    }
+    forEachFaceTriangle(c, [&](const Vec3& F, const Vec3& p, const Vec3& q, double sign)
+                        { vol += sign * (p - F).cross(q - F).dot(F - C) / 6.0; });
     return vol;
+}
+
+bool CellMesh::containsByTets(label c, const Vec3& x) const
+{
+    // signed volume x 6 of the tet (a, b, d, e)
+    auto vol6 = [](const Vec3& a, const Vec3& b, const Vec3& d, const Vec3& e)
+    { return (b - a).cross(d - a).dot(e - a); };
+    const Vec3& C = mesh_.cellCentres[c];
+    const double r = boundRadius_[c];
+    bool inside = false;
+    forEachFaceTriangle(c,
+                        [&](const Vec3& F, const Vec3& p, const Vec3& q, double)
+                        {
+                            const double v = vol6(C, F, p, q);
+                            if (inside || std::abs(v) <= 1e-14 * r * r * r)
+                            {
+                                return; // found, or degenerate (a face centre on an edge)
+                            }
+                            // barycentric coordinates of x: each vertex replaced by x
+                            const double s = v > 0 ? 1.0 : -1.0, tolV = -1e-9 * std::abs(v);
+                            inside = s * vol6(x, F, p, q) >= tolV && s * vol6(C, x, p, q) >= tolV
+                                     && s * vol6(C, F, x, q) >= tolV && s * vol6(C, F, p, x) >= tolV;
+                        });
+    return inside;
 }
 
 bool CellMesh::convex3D(label c) const

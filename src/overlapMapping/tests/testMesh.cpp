@@ -3,6 +3,7 @@
 // preparation (shapes, 2D polygons), point location and error reporting.
 #include "overlapMapping/CellMesh.hpp"
 #include "overlapMapping/MeshBuilders.hpp"
+#include "overlapMapping/MeshView.hpp"
 
 #include <gtest/gtest.h>
 
@@ -129,6 +130,39 @@ TEST(CellMesh, FindCell)
         EXPECT_EQ(m.findCell(Vec3(1.5, 0.5, 0.5)), -1);
         EXPECT_EQ(m.findCell(Vec3(-0.2, 0.5, 0.05), 0), -1);
     }
+}
+
+// A non-convex polyhedron (the cells of OpenFOAM's polyDualMesh are such):
+// the unit cube whose top is four triangles meeting at (0.5, 0.5, 0.6), a
+// dent. Reference: the cell by construction. (0.9, 0.5, 0.8) lies inside,
+// under the dent's face over x > 0.5 (z = 0.92 there) but outside the plane of
+// the opposite dent face, which the face-plane test took as outside;
+// (0.5, 0.5, 0.8) lies in the dent, outside the cell.
+TEST(CellMesh, NonConvexPolyhedronByTets)
+{
+    MeshView mv;
+    mv.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0),      Vec3(0, 0, 1),
+                 Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1), Vec3(0.5, 0.5, 0.6)};
+    mv.addFace({0, 3, 2, 1}, 0, -1); // bottom, normal -z
+    mv.addFace({0, 1, 5, 4}, 0, -1); // y = 0
+    mv.addFace({1, 2, 6, 5}, 0, -1); // x = 1
+    mv.addFace({2, 3, 7, 6}, 0, -1); // y = 1
+    mv.addFace({3, 0, 4, 7}, 0, -1); // x = 0
+    mv.addFace({4, 5, 8}, 0, -1);    // the dent, outward normals up
+    mv.addFace({5, 6, 8}, 0, -1);
+    mv.addFace({6, 7, 8}, 0, -1);
+    mv.addFace({7, 4, 8}, 0, -1);
+    computeCellGeometry(mv);
+    EXPECT_NEAR(mv.cellVolumes[0], 1 - 0.4 / 3, 1e-12);
+    CellMesh m(mv);
+    EXPECT_TRUE(m.contains(0, Vec3(0.9, 0.5, 0.8)));
+    EXPECT_TRUE(m.contains(0, Vec3(0.1, 0.5, 0.8)));
+    EXPECT_TRUE(m.contains(0, Vec3(0.5, 0.5, 0.55)));
+    EXPECT_FALSE(m.contains(0, Vec3(0.5, 0.5, 0.8)));
+    EXPECT_FALSE(m.contains(0, Vec3(0.5, 0.5, 1.01)));
+    EXPECT_FALSE(m.contains(0, Vec3(1.01, 0.5, 0.5)));
+    EXPECT_EQ(m.findCell(Vec3(0.9, 0.5, 0.8)), 0);
+    EXPECT_EQ(m.findCell(Vec3(0.5, 0.5, 0.8)), -1);
 }
 
 // Errors: empty mesh, bad vertex index, 2D cell without a back face.

@@ -167,7 +167,8 @@ public:
     /**
      * @brief Whether @p x lies in cell @p c (face-plane test, tolerance
      *        1e-9 x bounding radius; 2D uses xy only, non-convex 2D polygons
-     *        use a winding-number test).
+     *        use a winding-number test, non-convex 3D cells their tet
+     *        decomposition).
      */
     bool contains(label c, const Vec3& x) const;
 
@@ -213,10 +214,22 @@ private:
     /// classify3D() stage 5: element volume from the `overlap` library;
     /// false if not positive (or a tet is inverted).
     bool elementVolume(CellShape s, const label* v, double& vol) const;
+    /// Calls fn(F, p, q, sign) for every triangle (face centre F, face edge
+    /// p-q) of the faces of cell @p c, sign = +1 where the face points out of
+    /// c (-1 otherwise): with the cell centre, the cell's tet decomposition.
+    /// Defined and used in CellMesh3D.cpp.
+    template <class Fn>
+    void forEachFaceTriangle(label c, Fn&& fn) const;
     /// Volume of the tet decomposition (cell centre, face centre, edge).
     double decompositionVolume(label c) const;
     /// True if all faces are planar and all vertices behind all face planes.
     bool convex3D(label c) const;
+    /// 3D: whether @p x lies in one of the tets (cell centre, face centre,
+    /// face edge) that decompose cell @p c (the decomposition of
+    /// decompositionVolume(), OpenFOAM's cell tets), barycentric tolerance
+    /// 1e-9: the exact test for non-convex cells and warped faces (the
+    /// polyhedra of polyDualMesh), whose face planes cut off parts of the cell.
+    bool containsByTets(label c, const Vec3& x) const;
     label walk(const Vec3& x, label start) const;
     label searchBins(const Vec3& x) const;
     double tol(label c) const { return 1e-9 * boundRadius_[c]; }
