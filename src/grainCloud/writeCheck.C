@@ -134,6 +134,17 @@ void Foam::checkTimeWrite(const Time& runTime, const std::string& failure)
         rmDir(moved);
     }
     const bool renamed = isDir(dir) && Foam::mv(dir, moved);
+    // parallel: the grain state of this time in the case directory too
+    // (else a restart would be refused as starting before it)
+    const fileName global(runTime.globalPath()/runTime.timeName());
+    if (Pstream::parRun() && Pstream::master() && isDir(global))
+    {
+        if (isDir(global + ".incomplete"))
+        {
+            rmDir(global + ".incomplete");
+        }
+        Foam::mv(global, global + ".incomplete");
+    }
     const std::string hint(noSpaceHint(runTime.path()));
     FatalErrorInFunction
         << "Writing the time directory " << runTime.timeName() << " failed"

@@ -27,7 +27,7 @@ from faultcase import (
     times,
     umount_small_disk,
 )
-from foamcase import fails_with, log_message, make_box_case, run, write
+from foamcase import fails_with, log_message, make_box_case, run, run_parallel, write
 
 pytestmark = pytest.mark.fast
 
@@ -334,6 +334,55 @@ def test_full_disk_at_every_write_point(tmp_path, env):
             umount_small_disk(disk)
     print("write point hit by the free space:", hit)
     assert sorted(hit.values()) == sorted(WRITE_POINTS), hit
+
+
+@pytest.mark.mpi
+def test_full_disk_at_a_parallel_write(tmp_path, env):
+    """Two ranks, the disk full during the fields of time 0.02: FatalError
+    naming the file and "no space left on device", every processor's 0.02
+    and the case's (the grain state) moved to 0.02.incomplete, the earlier
+    writes untouched; once the space is freed and the aborted ranks are gone
+    (MPI_Abort leaves the lock file, whose process then no longer runs) the
+    run takes the lock over and continues to its end."""
+    base = box(tmp_path, "base", [(0.02, 0.05, 0, 0.01), (0.07, 0.05, 0, 0.01)], end=0.01)
+    run("blockMesh", base, env)
+    run("grainDeposit", base, env)
+    run_parallel("grainFoam", base, env)
+    disk = str(tmp_path / "disk")
+    mount_small_disk(disk, "6m")
+    try:
+        case = os.path.join(disk, "case")
+        shutil.copytree(base, case)
+        set_control(case, endTime=0.03)
+        proc = [os.path.join(case, f"processor{i}") for i in range(2)]
+        before = [digest(d, "0.01") for d in proc]
+        filler = fill_disk(disk, 80000)
+
+        def mpirun():
+            return subprocess.run(
+                ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+                env=env,
+                capture_output=True,
+                text=True,
+            )
+
+        fails_with(mpirun(), WRITE_POINTS["time directory"], "no space left on device")
+        for d in [case] + proc:
+            assert os.path.isdir(os.path.join(d, "0.02.incomplete")) and times(d)[-1] == "0.01"
+        assert [digest(d, "0.01") for d in proc] == before
+        os.remove(filler)
+        holder = int(open(os.path.join(case, ".nscdFoam.lock")).read().split()[0])
+        for _ in range(100):
+            try:
+                os.kill(holder, 0)
+            except ProcessLookupError:
+                break
+            time.sleep(0.1)
+        p = mpirun()
+        assert p.returncode == 0 and "taking over the lock file" in p.stdout + p.stderr
+        assert times(proc[0])[-1] == "0.03"
+    finally:
+        umount_small_disk(disk)
 
 
 # ---- row 6: parallel state ---------------------------------------------------
