@@ -22,6 +22,7 @@ Description
 #include "OSspecific.H"
 #include "IFstream.H"
 #include "OFstream.H"
+#include "writeCheck.H"
 #include "emptyPolyPatch.H"
 
 #include <sstream>
@@ -204,11 +205,14 @@ void Foam::grainCloud::writeOutletCounts() const
         mkDir(dir);
         std::ofstream f(dir/outletCountsName);
         f << os.str();
-        if (!f.good())
+        f.close();
+        if (!f)
         {
             FatalErrorInFunction
                 << "Cannot write " << dir/outletCountsName
-                << " (no space left on device?)" << exit(FatalError);
+                << noSpaceHint(dir).c_str() << "." << nl
+                << "    Fix: free disk space (or check the quota), then"
+                << " continue with startFrom latestTime." << exit(FatalError);
         }
     };
     put(runTime.timePath()/"uniform");

@@ -61,6 +61,7 @@ Choice contactSolverChoice
 
 void Foam::grainCloud::readSettings()
 {
+    grainTools::checkUniqueKeywords(dict_);
     grainTools::checkKeywords
     (
         dict_,

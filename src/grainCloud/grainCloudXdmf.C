@@ -34,6 +34,7 @@ Description
 #include "grainCloud.H"
 #include "Time.H"
 #include "OSspecific.H"
+#include "writeCheck.H"
 
 #include <hdf5.h>
 
@@ -49,6 +50,14 @@ Description
 
 namespace
 {
+
+//- HDF5 frees the library at exit (atexit): a file it could not close (a
+//  write that failed on a full disk, then reported by a FatalError) makes
+//  it loop there ("HDF5: infinite loop closing library") and crash at the
+//  exit of the run.  Every HDF5 file of the project is closed by its
+//  handle, so that clean-up is not needed: turned off when the library is
+//  loaded, before any HDF5 call.
+[[maybe_unused]] const bool hdf5NoAtExit = (H5dont_atexit() >= 0);
 
 //- HDF5 file handle that silences HDF5's own error printing while open
 //  (the errors are reported as exceptions naming the file)
@@ -473,8 +482,9 @@ void Foam::grainCloud::writeXdmf(const fileName& statePath) const
         {
             std::remove(tmp.c_str());
             WarningInFunction
-                << "Cannot write " << xmf << " (the grains for ParaView);"
-                << " the run continues" << endl;
+                << "Cannot write " << xmf << " (the grains for ParaView)"
+                << noSpaceHint(fileName(xmf).path()).c_str()
+                << "; the run continues" << endl;
         }
     }
 }

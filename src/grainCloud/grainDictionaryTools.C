@@ -3,8 +3,51 @@
 #include "IOstreams.H"
 #include "FlatOutput.H"
 #include "wordRes.H"
+#include "IFstream.H"
 
 #include <cmath>
+
+
+void Foam::grainTools::checkUniqueKeywords(const IOdictionary& dict)
+{
+    const fileName file(dict.filePath());
+    if (file.empty())
+    {
+        return;
+    }
+    const entry::inputMode mode = entry::globalInputMode;
+    const bool throwing = FatalIOError.throwExceptions();
+    string what;
+    label line = -1;
+    try
+    {
+        IFstream is(file);
+        dictionary again(file);
+        // dictionary(Istream&) would reset the mode to merge
+        entry::globalInputMode = entry::inputMode::ERROR;
+        again.read(is);
+    }
+    catch (const IOerror& err)
+    {
+        // the file was read before: a duplicated keyword is the only error
+        what = err.message();
+        line = err.ioStartLineNumber();
+    }
+    entry::globalInputMode = mode;
+    FatalIOError.throwExceptions(throwing);
+    if (!what.empty())
+    {
+        FatalIOError
+        (
+            FUNCTION_NAME, __FILE__, __LINE__, file, line
+        )   << "In " << file << " at line " << line << ": " << what.c_str()
+            << " (a keyword given twice in one dictionary: OpenFOAM merges"
+            << " the two entries, the later values winning)." << nl
+            << "    Fix: give every entry of a dictionary (e.g. every"
+            << " material) its own name, or remove the repeated one."
+            << exit(FatalIOError);
+    }
+}
 
 void Foam::grainTools::checkKeywords
 (

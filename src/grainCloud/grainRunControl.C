@@ -7,6 +7,7 @@
 #include "PstreamReduceOps.H"
 #include "error.H"
 #include "functionObject.H"
+#include "writeCheck.H"
 
 #include <csignal>
 #include <fstream>
@@ -417,6 +418,16 @@ void Foam::grainRunControl::lockCase()
                    )
                )
             << '\n';
+        os.close();
+        if (!os)
+        {
+            std::remove(lock.c_str());
+            FatalErrorInFunction
+                << "Cannot write the lock file " << lock
+                << noSpaceHint(lock.path()).c_str() << "." << nl
+                << "    Fix: free disk space (or check the case directory's"
+                << " permissions and quota)." << exit(FatalError);
+        }
     }
     lockFile_ = lock;
     registerAtRunExit();
@@ -469,17 +480,33 @@ bool Foam::grainRunControl::writeStep(const std::function<void()>& writeGrains)
     lastStepTime = runTime_.timeName();
     const bool scheduled = runTime_.writeTime();
     const bool written = scheduled || last || stop;
-    if (written)
+    // OpenFOAM's streams stop on a write that failed (a full disk) with a
+    // bare "error in IOstream": caught, and reported by checkTimeWrite
+    std::string failure;
+    const bool throwing = FatalIOError.throwExceptions();
+    try
     {
-        writeGrains();
+        if (written)
+        {
+            writeGrains();
+        }
+        if (written && !scheduled)
+        {
+            runTime_.writeNow();
+        }
+        else
+        {
+            runTime_.write();
+        }
     }
-    if (written && !scheduled)
+    catch (const IOerror& err)
     {
-        runTime_.writeNow();
+        failure = err.message();
     }
-    else
+    FatalIOError.throwExceptions(throwing);
+    if (written || !failure.empty())
     {
-        runTime_.write();
+        checkTimeWrite(runTime_, failure);
     }
     if (written)
     {

@@ -5,6 +5,7 @@
 
 #include "stepDataFile.H"
 #include "Time.H"
+#include "writeCheck.H"
 
 #include <cmath>
 #include <cstdint>
@@ -31,15 +32,20 @@ Foam::stepDataFile::stepDataFile
     }
     filePtr_ = createFile(name);
     OFstream& os = file();
-    writeHeader(os, std::string(name) + ": " + title);
-    writeHeader(os, "Time [s]: the time step's end time");
+    checkStreamWrite(os, os.name());
+    // each line flushed and checked before the next one's output, which
+    // OpenFOAM's stream checks would stop with a bare "error in IOstream"
+    auto header = [&](const std::string& line)
+    {
+        writeHeader(os, line);
+        os.flush();
+        checkStreamWrite(os, os.name());
+    };
+    header(std::string(name) + ": " + title);
+    header("Time [s]: the time step's end time");
     for (const column& c : columns)
     {
-        writeHeader
-        (
-            os,
-            std::string(c.name) + " [" + c.unit + "]: " + c.description
-        );
+        header(std::string(c.name) + " [" + c.unit + "]: " + c.description);
     }
     writeCommented(os, "Time");
     for (const column& c : columns)
@@ -47,6 +53,7 @@ Foam::stepDataFile::stepDataFile
         writeTabbed(os, c.name);
     }
     os  << endl;
+    checkStreamWrite(os, os.name());
 }
 
 
@@ -78,6 +85,7 @@ void Foam::stepDataFile::writeValues(OFstream& os, const UList<scalar>& values)
         }
     }
     os  << endl;
+    checkStreamWrite(os, os.name());
 }
 
 

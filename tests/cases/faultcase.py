@@ -7,6 +7,7 @@ foamcase.fails_with)."""
 import hashlib
 import os
 import re
+import subprocess
 
 from foamcase import add_fluid, make_box_case, run, uniform_inflow
 
@@ -93,3 +94,40 @@ def open_bottom_cube(case, env, grains, end, write_interval, outlet=False):
     uniform_inflow(case, 0.0)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
+
+
+def mount_small_disk(path, size):
+    """Mount a tmpfs of `size` (e.g. "2m") at path, a file system that fills
+    up as a real disk does (ENOSPC); skips the calling test when it cannot
+    be mounted (mount needs root, or CAP_SYS_ADMIN in a container).  The
+    caller unmounts it (umount_small_disk)."""
+    import pytest
+
+    os.makedirs(path, exist_ok=True)
+    p = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", path],
+        capture_output=True,
+        text=True,
+    )
+    if p.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs to fill ({p.stderr.strip()}): needs root")
+
+
+def umount_small_disk(path):
+    subprocess.run(["umount", "-l", path], check=True)
+
+
+def fill_disk(path, free):
+    """Fill the file system of path with the file path/filler, leaving
+    `free` bytes (rounded by the file system to its pages)."""
+    filler = os.path.join(path, "filler")
+    with open(filler, "wb", buffering=0) as f:
+        chunk = b"\0" * (1 << 16)
+        try:
+            while True:
+                f.write(chunk)
+        except OSError:
+            pass
+    size = os.path.getsize(filler)
+    os.truncate(filler, max(0, size - free))
+    return filler

@@ -5,6 +5,7 @@ fails loudly (exit status, the message's key words) or does what is
 documented; the earlier results of the case stay intact.  Small 2D cases
 (seconds each); helpers in faultcase.py."""
 
+import math
 import os
 import shutil
 import subprocess
@@ -342,3 +343,85 @@ def test_deposit_few_small_grains_in_a_large_box(tmp_path, env):
     p = run("grainDeposit", case, env)
     assert time.time() - t0 < 30
     assert "Placed 2 grains" in p.stdout, p.stdout[-2000:]
+
+
+def test_deposit_region_errors_name_the_keyword(tmp_path, env):
+    """A box with min and max swapped, `number 0` and an empty cellZone
+    each stop grainDeposit with a FatalIOError naming grainDepositDict, the
+    keyword and the fix (they gave "holds 0 grains" and a region "in mm on
+    a mesh in m"); the deposit written before stays."""
+    cases = [
+        (
+            "swapped",
+            deposit_box("(0.1 0.1 0)", "(0 0 0.01)"),
+            ("max.x is not above min.x", "swap them"),
+        ),
+        ("none", deposit_box("(0 0 0)", "(0.1 0.1 0.01)", n=0), ("number 0", "at least one grain")),
+        (
+            "emptyZone",
+            deposit_box("(0 0 0)", "(0.1 0.1 0.01)").replace(
+                "method box;", "method cellZone;\ncellZone empty;"
+            ),
+            ("cellZone empty", "holds no cells", "topoSet"),
+        ),
+    ]
+    for name, deposit, words in cases:
+        case = box(tmp_path, name, [(0.05, 0.05, 0, 0.01)])
+        run("blockMesh", case, env)
+        run("grainDeposit", case, env)
+        before = digest(case, "0")
+        if name == "emptyZone":
+            deposit = deposit.replace("box { min (0 0 0); max (0.1 0.1 0.01); }\n", "")
+            write(
+                os.path.join(case, "constant", "polyMesh", "cellZones"),
+                "regIOobject",
+                "cellZones",
+                "1\n(\nempty\n{\n    type cellZone;\n    cellLabels List<label> 0();\n}\n)\n",
+            )
+        write(
+            os.path.join(case, "system", "grainDepositDict"),
+            "dictionary",
+            "grainDepositDict",
+            deposit,
+        )
+        fails_with(
+            run("grainDeposit", case, env, check=False),
+            "grainDepositDict",
+            "Fix",
+            *words,
+            banner="FOAM FATAL IO ERROR",
+        )
+        assert digest(case, "0") == before, name
+
+
+def test_deposit_against_slanted_walls(tmp_path, env):
+    """A box deposit over a 2D box whose side walls lean by 30 deg (the
+    region is the mesh's bounding box): every grain clears both slanted
+    walls (distance from its centre >= its radius; grainDeposit used to
+    test only that the centre was in a cell, and placed grains across the
+    walls).  Reference: the walls' lines x = s y and x = W + s y."""
+    from test_vansFoam import shear_box
+
+    s = math.tan(math.radians(30))
+    width, height = 0.1, 0.1
+    case = box(
+        tmp_path,
+        "slanted",
+        [],
+        deposit=deposit_box("(0 0 0)", f"({width + s * height} {height} 0.01)", n=40, dmin=8e-3)
+        .replace("seed 3;", "seed 3;\nsizeRatio 1.25;")
+        .replace("settle { maxTime 0.5; deltaT 5e-4; speedTolerance 2e-3; }\n", ""),
+    )
+    shear_box(case, s)
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    state = os.path.join(case, "0", "grainState.h5")
+    x = nscdpost.read_h5(state, "/positions", 3)
+    r = nscdpost.read_h5(state, "/radii")
+    assert len(r) == 40
+    left = (x[:, 0] - s * x[:, 1]) / math.hypot(1, s)
+    right = (width + s * x[:, 1] - x[:, 0]) / math.hypot(1, s)
+    assert (left >= r * (1 - 1e-9)).all(), (left / r).min()
+    assert (right >= r * (1 - 1e-9)).all(), (right / r).min()
+    # the lattice still reaches the walls: the nearest grain is within a spacing
+    assert min(left.min(), right.min()) < 2 * r.max()

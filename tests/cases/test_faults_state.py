@@ -15,8 +15,19 @@ import time
 
 import nscdpost
 import pytest
-from faultcase import MAT, G, box, set_control, stack, times
-from foamcase import fails_with, log_message, make_box_case, run, write
+from faultcase import (
+    MAT,
+    G,
+    box,
+    digest,
+    fill_disk,
+    mount_small_disk,
+    set_control,
+    stack,
+    times,
+    umount_small_disk,
+)
+from foamcase import fails_with, log_message, make_box_case, run, run_parallel, write
 
 pytestmark = pytest.mark.fast
 
@@ -274,6 +285,104 @@ def test_disk_full_during_write(tmp_path, env):
     run("grainFoam", case, env)
     assert times(case) == ["0", "0.01", "0.02"]
     assert not any(f.endswith(".tmp") for f in os.listdir(os.path.join(case, "0.02")))
+
+
+# the messages of the write points, in the order a step reaches them
+WRITE_POINTS = {
+    "lock file": "Cannot write the lock file",
+    ".dat row": '.dat" failed',
+    "grainState.h5": "Writing the grain state",
+    "time directory": "Writing the time directory 0.02 failed",
+}
+
+
+def test_full_disk_at_every_write_point(tmp_path, env):
+    """A real full disk (a small tmpfs filled by a file, leaving 0 to 80 kB):
+    each amount stops grainFoam at another write point (the lock file, a
+    row of a postProcessing .dat file, grainState.h5, the fields of the time
+    directory), each with a FatalError naming the file and "no space left
+    on device", no signal or HDF5 loop at exit (HDF5 used to loop closing
+    the file it could not write: "infinite loop closing library", then a
+    crash), the earlier writes untouched and no incomplete time directory
+    left for startFrom latestTime; with the space freed the run continues
+    to its end.  Needs root (mount); skipped otherwise."""
+    base = box(tmp_path, "base", [(0.05, 0.05, 0, 0.01)], end=0.01)
+    run("blockMesh", base, env)
+    run("grainDeposit", base, env)
+    run("grainFoam", base, env)
+    hit = {}
+    for free in (0, 8192, 20000, 80000):
+        disk = str(tmp_path / f"disk{free}")
+        mount_small_disk(disk, "4m")
+        try:
+            case = os.path.join(disk, "case")
+            shutil.copytree(base, case)
+            set_control(case, endTime=0.03)
+            before = {t: digest(case, t) for t in times(case)}
+            filler = fill_disk(disk, free)
+            out = fails_with(run("grainFoam", case, env, check=False), "no space left on device")
+            assert "infinite loop" not in out and "HDF5-DIAG" not in out
+            points = [k for k, m in WRITE_POINTS.items() if m in out]
+            assert len(points) == 1, out[-3000:]
+            hit[free] = points[0]
+            assert times(case) == ["0", "0.01"]
+            assert {t: digest(case, t) for t in times(case)} == before
+            os.remove(filler)
+            run("grainFoam", case, env)
+            assert times(case) == ["0", "0.01", "0.02", "0.03"]
+        finally:
+            umount_small_disk(disk)
+    print("write point hit by the free space:", hit)
+    assert sorted(hit.values()) == sorted(WRITE_POINTS), hit
+
+
+@pytest.mark.mpi
+def test_full_disk_at_a_parallel_write(tmp_path, env):
+    """Two ranks, the disk full during the fields of time 0.02: FatalError
+    naming the file and "no space left on device", every processor's 0.02
+    and the case's (the grain state) moved to 0.02.incomplete, the earlier
+    writes untouched; once the space is freed and the aborted ranks are gone
+    (MPI_Abort leaves the lock file, whose process then no longer runs) the
+    run takes the lock over and continues to its end."""
+    base = box(tmp_path, "base", [(0.02, 0.05, 0, 0.01), (0.07, 0.05, 0, 0.01)], end=0.01)
+    run("blockMesh", base, env)
+    run("grainDeposit", base, env)
+    run_parallel("grainFoam", base, env)
+    disk = str(tmp_path / "disk")
+    mount_small_disk(disk, "6m")
+    try:
+        case = os.path.join(disk, "case")
+        shutil.copytree(base, case)
+        set_control(case, endTime=0.03)
+        proc = [os.path.join(case, f"processor{i}") for i in range(2)]
+        before = [digest(d, "0.01") for d in proc]
+        filler = fill_disk(disk, 80000)
+
+        def mpirun():
+            return subprocess.run(
+                ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+                env=env,
+                capture_output=True,
+                text=True,
+            )
+
+        fails_with(mpirun(), WRITE_POINTS["time directory"], "no space left on device")
+        for d in [case] + proc:
+            assert os.path.isdir(os.path.join(d, "0.02.incomplete")) and times(d)[-1] == "0.01"
+        assert [digest(d, "0.01") for d in proc] == before
+        os.remove(filler)
+        holder = int(open(os.path.join(case, ".nscdFoam.lock")).read().split()[0])
+        for _ in range(100):
+            try:
+                os.kill(holder, 0)
+            except ProcessLookupError:
+                break
+            time.sleep(0.1)
+        p = mpirun()
+        assert p.returncode == 0 and "taking over the lock file" in p.stdout + p.stderr
+        assert times(proc[0])[-1] == "0.03"
+    finally:
+        umount_small_disk(disk)
 
 
 # ---- row 6: parallel state ---------------------------------------------------

@@ -177,3 +177,32 @@ def test_unknown_grain_decomposition(tmp_path, env):
         "decomposed",
         "replicated",
     )
+
+
+def test_duplicated_material_name(tmp_path, env):
+    """Two materials of one name in grainProperties: OpenFOAM's reading
+    merges them (the later values winning, silently); grainDeposit and
+    grainFoam stop with a FatalIOError naming the file, the line, the name
+    and the fix; the deposit written before stays."""
+    case = base(tmp_path, "twice", [(0.05, 0.01, 0, 0.01)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    state = open(os.path.join(case, "0", "grainState.h5"), "rb").read()
+    replace_in(
+        case,
+        "constant/grainProperties",
+        "friction 0.4;",
+        "friction 0.4; }\n    glass { density 2600; friction 0.3;",
+    )
+    for app in ("grainDeposit", "grainFoam"):
+        fails_with(
+            run(app, case, env, check=False),
+            "duplicate entry: glass",
+            "grainProperties",
+            "at line",
+            "Fix",
+            "its own name",
+            banner="FOAM FATAL IO ERROR",
+        )
+    assert open(os.path.join(case, "0", "grainState.h5"), "rb").read() == state
+    assert sorted(os.listdir(case)).count("0.01") == 0

@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vansInterFoam on non-orthogonal and tetrahedral meshes.
+"""vansInterFoam on non-orthogonal, tetrahedral and polyhedral meshes.
 
 Still water under air in the closed basin of test_vansInterFoam (40 x 60 mm,
-water below 30 mm) on a mesh sheared by 10 deg (side walls tilted), and in
-a gmsh tetrahedral box; the reference is hydrostatics (U = 0, the water
+water below 30 mm) on a mesh sheared by 10, 30 and 60 deg (side walls
+tilted), and in a gmsh tetrahedral box and its polyhedral dual; the reference is hydrostatics (U = 0, the water
 volume constant).  Grains settling into the sheared basin against the same
 run on the orthogonal mesh.  Before faceReconstruct
 (src/vansCoupling/solverTools/faceReconstruct.H) the runs blew up at the
@@ -27,12 +27,29 @@ from test_vansInterFoam import ode_fall
 pytestmark = pytest.mark.fast
 
 
-def test_still_basin_on_a_sheared_mesh(tmp_path, env, monkeypatch):
-    """10 deg shear, no grains, 0.1 s at adjustable time step: the run ends,
-    the water volume sum(eps alpha V) of waterVolume.dat stays constant to
-    1e-12 (measured 1e-16), alpha in [0, 1] to 1e-6, and the water stays
-    nearly at rest: |U| < 0.1 m/s where alpha > 0.99 (measured 0.06 m/s;
-    air 1.25 m/s).  The light air above the surface carries a spurious current of
+@pytest.mark.parametrize(
+    "degrees",
+    [
+        10,
+        30,
+        pytest.param(
+            60,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="60 deg: water |U| 0.33 m/s at 0.1 s (0.28-0.45 from 0.02 s, not"
+                " growing), the surface current of the corrected schemes and surface"
+                " tension; uncorrected schemes and sigma 0: 1.4e-5 m/s",
+            ),
+        ),
+    ],
+)
+def test_still_basin_on_a_sheared_mesh(tmp_path, env, monkeypatch, degrees):
+    """Shear of 10, 30 and 60 deg, no grains, 0.1 s at adjustable time
+    step: the run ends, the water volume sum(eps alpha V) of waterVolume.dat
+    stays constant to 1e-12 (measured 1e-16), alpha in [0, 1] to 1e-6, and
+    the water stays nearly at rest: |U| < 0.1 m/s where alpha > 0.99
+    (measured 0.06 m/s at 10 deg, air 1.25 m/s; 30 deg: 0.082, air 2.7; 60
+    deg: 0.33, air 3.3, the strict xfail).  The light air above the surface carries a spurious current of
     ~1 m/s next to the surface (the explicit non-orthogonal correction of
     ghf snGrad(rho) in the interface rows is not balanced by p_rgh's; README,
     not bounded here: with uncorrected snGrad and laplacian schemes and
@@ -40,7 +57,7 @@ def test_still_basin_on_a_sheared_mesh(tmp_path, env, monkeypatch):
     case = str(tmp_path / "sheared")
 
     def sheared(case, env, *a, **kw):
-        shear_box(case, math.tan(math.radians(10)))
+        shear_box(case, math.tan(math.radians(degrees)))
         return add_two_phase(case, env, *a, **kw)
 
     monkeypatch.setattr("interfoamcase.add_two_phase", sheared)
@@ -55,12 +72,13 @@ def test_still_basin_on_a_sheared_mesh(tmp_path, env, monkeypatch):
     U = np.linalg.norm(np.asarray(read_internal(os.path.join(case, "0.1", "U"))), axis=1)
     a = np.asarray(read_internal(os.path.join(case, "0.1", "alpha.water")))
     print(
-        f"sheared basin at 0.1 s: water |U| max {U[a > 0.99].max():.3g}, air {U[a < 0.01].max():.3g}"
+        f"basin sheared by {degrees} deg at 0.1 s: water |U| max {U[a > 0.99].max():.3g},"
+        f" air {U[a < 0.01].max():.3g}"
     )
     assert U[a > 0.99].max() < 0.1
 
 
-def tet_basin(case, env, level, monkeypatch):
+def tet_basin(case, env, level, monkeypatch, polyhedral=False):
     """A closed 20 x 40 x 20 mm box meshed by gmsh in tetrahedra (1,385
     tets, faces up to 55 deg off orthogonal), water below y = level, air
     above, no grains, 0.1 s at adjustable time step."""
@@ -68,7 +86,7 @@ def tet_basin(case, env, level, monkeypatch):
 
     def tet_mesh(app, c, e, *a, **kw):
         if app == "blockMesh":
-            return gmsh_box(c, e, lo, hi, 0.004)
+            return gmsh_box(c, e, lo, hi, 0.004, polyhedral=polyhedral)
         return foamcase.run(app, c, e, *a, **kw)
 
     monkeypatch.setattr("interfoamcase.run", tet_mesh)
@@ -163,3 +181,21 @@ def test_grains_settle_on_a_sheared_mesh_as_on_the_orthogonal_one(tmp_path, env,
     print(f"mean fall speed 0.05-0.15 s: {speeds[0]:.4f} m/s orthogonal, {speeds[10]:.4f} sheared")
     assert 0.3 * terminal < speeds[0] < terminal
     assert speeds[10] == pytest.approx(speeds[0], rel=0.05)
+
+
+def test_still_water_on_polyhedra(tmp_path, env, monkeypatch):
+    """Hydrostatics (U = 0) on the tet box's dual mesh (polyDualMesh 70:
+    polyhedral cells).  Water alone filling the box, and water below air
+    (surface at 20 mm), 0.1 s, bounds as on tets."""
+    U, _, _ = tet_basin(str(tmp_path / "full"), env, 1.0, monkeypatch, polyhedral=True)
+    print(f"water alone on polyhedra at 0.1 s: |U| max {U.max():.3g}")
+    assert U.max() < 1e-10
+    U, a, d = tet_basin(str(tmp_path / "surface"), env, 0.02, monkeypatch, polyhedral=True)
+    vol = d["waterVolume"]
+    print(
+        f"polyhedral basin at 0.1 s: water |U| max {U[a > 0.99].max():.3g},"
+        f" air {U[a < 0.01].max():.3g}, volume drift {np.max(np.abs(vol - vol[0])) / vol[0]:.3g}"
+    )
+    assert np.max(np.abs(vol - vol[0])) < 1e-12 * vol[0]
+    assert d["alphaMin"].min() > -1e-6 and d["alphaMax"].max() < 1 + 1e-6
+    assert U[a > 0.99].max() < 0.2

@@ -4,6 +4,7 @@
 #include "grainDictionaryTools.H"
 #include "cellZone.H"
 #include "mathematicalConstants.H"
+#include "boundaryDistance.H"
 
 #include <cmath>
 #include <utility>
@@ -223,6 +224,21 @@ depositRegion readRegion
         grainTools::checkKeywords(b, {"min", "max"});
         lo = b.get<vector>("min");
         hi = b.get<vector>("max");
+        for (direction c = 0; c < dim; ++c)
+        {
+            if (!(hi[c] > lo[c]))
+            {
+                FatalIOErrorInFunction(b)
+                    << "box { min " << lo << "; max " << hi << "; } in "
+                    << depositDict.name() << ": max."
+                    << vector::componentNames[c] << " is not above min."
+                    << vector::componentNames[c]
+                    << " (the box is empty)." << nl << "    Fix: give the"
+                    << " lower corner as min and the upper corner as max"
+                    << (hi[c] < lo[c] ? " (swap them)." : ".")
+                    << exit(FatalIOError);
+            }
+        }
     }
     else
     {
@@ -234,6 +250,17 @@ depositRegion readRegion
                 << "cellZone " << zoneName << " not found. Zones: "
                 << flatOutput(mesh.cellZones().names()) << nl
                 << "    Fix: create it with topoSet/setsToZones"
+                << exit(FatalIOError);
+        }
+        const label nZoneCells =
+            returnReduce(mesh.cellZones()[zonei].size(), sumOp<label>());
+        if (nZoneCells == 0)
+        {
+            FatalIOErrorInFunction(depositDict)
+                << "cellZone " << zoneName << " of " << depositDict.name()
+                << " holds no cells, so no grain can be placed in it." << nl
+                << "    Fix: check the selection that made it (topoSet,"
+                << " setsToZones) against the mesh, or use method box."
                 << exit(FatalIOError);
         }
         region.zoneCells.insert(mesh.cellZones()[zonei]);
@@ -318,6 +345,15 @@ label grainNumber
     if (depositDict.found("number"))
     {
         number = depositDict.get<label>("number");
+        if (number < 1)
+        {
+            FatalIOErrorInFunction(depositDict)
+                << "number " << number << " in " << depositDict.name()
+                << ": grainDeposit places at least one grain." << nl
+                << "    Fix: give number >= 1 (a case without grains needs"
+                << " no grainDeposit)."
+                << exit(FatalIOError);
+        }
     }
     else
     {
@@ -326,6 +362,15 @@ label grainNumber
         scalar regionVolume = (hi.x() - lo.x())*(hi.y() - lo.y());
         if (dim == 3) regionVolume *= hi.z() - lo.z();
         number = label(frac*regionVolume/meanVolume);
+        if (number < 1)
+        {
+            FatalIOErrorInFunction(depositDict)
+                << "solidFraction " << frac << " of the region "
+                << lo << " - " << hi << " in " << depositDict.name()
+                << " gives " << number << " grains of dMin " << dMin
+                << " m." << nl << "    Fix: enlarge the region, raise"
+                << " solidFraction or give number." << exit(FatalIOError);
+        }
     }
     return number;
 }
@@ -384,13 +429,17 @@ std::vector<grainSpec> latticeGrains
         -system.gravity().z()
     );
     const scalar zMid = 0.5*(mesh.bounds().min().z() + mesh.bounds().max().z());
+    // a node is taken when the largest grain centred on it clears the
+    // boundary; the jittered grain is checked again below
+    const boundaryDistance wallDistance(mesh);
+    const scalar tol = 1e-9*spacing;
     auto accept = [&](const vector& p) -> bool
     {
         const vector pm(p.x(), p.y(), dim == 2 ? zMid : p.z());
         const label celli = mesh.findCell(pm);
         if (celli < 0) return false;
         if (method == "cellZone" && !zoneCells.found(celli)) return false;
-        return true;
+        return wallDistance(pm, spacing) >= 0.5*dMax - tol;
     };
     const boundBox& mb = mesh.bounds();
     checkRegionInMesh(depositDict, lo, hi, mb, dim);
@@ -417,6 +466,18 @@ std::vector<grainSpec> latticeGrains
         x.y() += jitter*(2*uni(rng) - 1);
         if (dim == 3) x.z() += jitter*(2*uni(rng) - 1);
         else x.z() = 0;
+        // a jitter towards a slanted wall may bring the grain across it
+        // (never along the lattice: the node then lies half a spacing, the
+        // largest grain's radius plus the jitter, from the wall): halve it
+        // until the grain clears the boundary (the node itself does)
+        const nscd::Vec3& node = nodes[n];
+        for (int halve = 0; halve < 4; ++halve)
+        {
+            const point c(x.x(), x.y(), dim == 2 ? zMid : x.z());
+            if (wallDistance(c, spacing) >= 0.5*d - tol) break;
+            x = halve == 3 ? node : nscd::Vec3(0.5*(x + node));
+            if (dim == 2) x.z() = 0;
+        }
         specs.push_back({x, d});
     }
     return specs;
