@@ -288,7 +288,12 @@ std::unordered_map<long long, double> System::Impl::compliantOverlaps() const
         const double eps =
             law::CompliantSignorini::contactRegularisation(a, gj >= 0 ? &b : nullptr, wnn, 1.0 / (dt * dt));
         if (eps > 0)
-            out[gj >= 0 ? pairKey(std::min(gi, gj), std::max(gi, gj)) : pairKey(gi, gj)] = eps * dt * c.rn;
+        {
+            // a grain may touch one wall (a mesh patch) at several faces:
+            // the check takes its largest overlap, so admit the largest
+            double& admitted = out[gj >= 0 ? pairKey(std::min(gi, gj), std::max(gi, gj)) : pairKey(gi, gj)];
+            admitted = std::max(admitted, eps * dt * c.rn);
+        }
     }
     return out;
 }

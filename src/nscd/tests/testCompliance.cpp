@@ -295,6 +295,37 @@ TEST(Compliance, LoadedCompliantOverlapsPassTheInitialCheck)
     }
 }
 
+// A compliant sphere at rest in the corner of one triangulated wall (floor and
+// side face of the same surface) touches it twice; the initial-overlap check
+// takes the grain's largest overlap with the wall, so it must admit the law's
+// largest overlap of the two contacts, whichever comes last (the second run
+// swaps which face carries the larger load).
+TEST(Compliance, LoadedCornerOfOneWallPassesTheInitialCheck)
+{
+    for (const Vec3 g : {Vec3(-2, -9, 0), Vec3(-9, -2, 0)})
+    {
+        System s(3);
+        Material mat{rho, 0.0};
+        const double mass = rho * 4.0 / 3.0 * M_PI * rad * rad * rad;
+        mat.compliance = 0.05 * rad / (mass * 9.0); // ~5 % r under the larger load
+        const int m = s.addMaterial(mat);
+        s.addGrain(Vec3(rad, rad, 5 * rad), rad, m);
+        const double L = 10 * rad;
+        // floor y = 0 and side x = 0, one surface, normals into the domain
+        s.addTriangulatedSurface(
+            {Vec3(0, 0, 0), Vec3(L, 0, 0), Vec3(L, 0, L), Vec3(0, 0, L), Vec3(0, L, 0), Vec3(0, L, L)},
+            {{0, 3, 2}, {0, 2, 1}, {0, 4, 5}, {0, 5, 3}});
+        s.setGravity(g);
+        for (int k = 0; k < 500; ++k) ASSERT_TRUE(s.step(1e-4).converged) << "step " << k;
+        const Vec3 x = s.positions()[0];
+        const double big = rad - std::min(x.x(), x.y()), small = rad - std::max(x.x(), x.y());
+        ASSERT_GT(small, 0);                                     // two loaded contacts,
+        ASSERT_GT(big, 2 * small);                               // unequal,
+        ASSERT_GT(big, 4 * s.settings().overlapTolerance * rad); // above the tolerance
+        EXPECT_NO_THROW(s.checkInitialOverlaps());
+    }
+}
+
 // The RMS stopping test (Settings::Convergence::RMS, LMGC90's Quad norm) on
 // a frictionless column of 30 discs at rest on the floor, hard contacts:
 // each contact carries the weight of the discs above it (statics), checked
