@@ -184,7 +184,9 @@ def test_granular_collapse_matches_serial_scatter(tmp_path, env):
     front_band = max(s[2] for s in scatter)
     for n in (2, 4):
         p = _run_decomposed(cases[n], env, n, SPLITS[n])
-        owned = [int(v) for v in re.search(r"owned per rank \d+\(([\d ]+)\)", p.stdout)[1].split()]
+        owned = [
+            int(v) for v in log_message(p.stdout, r"owned per rank \d+\(([\d ]+)\)")[1].split()
+        ]
         assert sum(owned) == n_grains and sum(o > 0 for o in owned) >= 2, owned
         rms, eta, front = _measures(base, cases[n], n_grains, times)
         print(
