@@ -247,6 +247,12 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
         toSystem(lo),
         toSystem(hi)
     );
+    // those ghosts now (the box counts from the next exchange on): the
+    // coupling maps the grains before the first step (vansCloud's
+    // constructor and the first step's mapping), and a grain overlapping
+    // this rank's cells from another's would be missing there, then appear
+    // after the first step, a jump of eps that no flux carries
+    decomposed_->exchange();
     labelList perRank(Pstream::nProcs(), 0);
     perRank[Pstream::myProcNo()] = label(decomposed_->nOwned());
     Pstream::gatherList(perRank);

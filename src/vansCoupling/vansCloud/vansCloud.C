@@ -48,20 +48,17 @@ namespace
     //- Why the coupling needs every grain on every rank (empty: it runs
     //  with the grains decomposed, grainProperties grainDecomposition):
     //  the sub-models whose per-grain sums are not yet made over the
-    //  grains' copies on several ranks
+    //  grains' copies on several ranks.  (The local mixture of
+    //  vansInterFoam is not one: its rho_p and mu_p are overlap gathers,
+    //  completed over the copies as U and eps are.)
     Foam::string replicatedReasons
     (
         const Foam::dictionary& dict,
-        const Foam::vansCloudSettings& s,
-        const Foam::fluidProperties& fluid
+        const Foam::vansCloudSettings& s
     )
     {
         using namespace Foam;
         DynamicList<word> why;
-        if (!fluid.kinematic())
-        {
-            why.append("vansInterFoam");
-        }
         if (s.rotation)
         {
             why.append("rotationCoupling");
@@ -147,7 +144,7 @@ Foam::vansCloud::vansCloud
     fluid_(std::move(fluid)),
     grains_
     (
-        mesh, true, replicatedReasons(dict_, settings_, validFluid(fluid_)),
+        mesh, true, replicatedReasons(dict_, settings_),
         &vansCloud::declareGrainColumns
     ),
     adapter_
@@ -210,7 +207,8 @@ Foam::vansCloud::vansCloud
     ),
     resolved_
     (
-        mesh, grains_, adapter_, settings_, *fluid_, solidFluxPatchTypes(mesh)
+        mesh, grains_, adapter_, settings_, validFluid(fluid_),
+        solidFluxPatchTypes(mesh)
     ),
     heat_(mesh, grains_, adapter_),
     cohesion_(mesh, grains_, adapter_)
