@@ -60,13 +60,33 @@ def test_water_layer_thickness_and_runup():
     assert np.allclose(h[inner], 3.0, rtol=1e-12), h[inner]
     beyond = (s > s_end + 10) & (s < 850)
     assert np.allclose(h[beyond], 0.5, rtol=1e-12), h[beyond]
-    top = sm.layer_runup(s, h, 122 * SQ2, 1.0)
+    top = sm.layer_runup(s, h, 1.0)
     assert abs(top - s_end) <= ds, (top, s_end)
     # a gap breaks the layer: the run-up stops below it
     h2 = h.copy()
     h2[(s > 300) & (s < 310)] = 0.0
-    assert sm.layer_runup(s, h2, 122 * SQ2, 1.0) < 300
-    assert sm.layer_runup(s, np.zeros_like(h), 122 * SQ2, 1.0) is None
+    assert sm.layer_runup(s, h2, 1.0) < 300
+    assert sm.layer_runup(s, np.zeros_like(h), 1.0) is None
+
+
+def test_water_layer_at_rest():
+    """Still water y < 0 against the shore from the toe at depth H: the
+    layer along the 45 deg normal at along-shore distance s is H sqrt 2 - s
+    (0 at the shoreline), so the >= 1 m layer ends 1 m below the shoreline,
+    i.e. at -1/sqrt 2 m height, within a bin (ds/sqrt 2 in height)."""
+    H, h, sub, ds = 122.0, 3.0, 20, 5.0
+    toe = np.array([1220.0, -H])
+    sc = np.arange(0.7 - h, 400, h) + h / 2
+    xc = np.arange(0, 60, h) + h / 2
+    S, X = (a.ravel() for a in np.meshgrid(sc, xc))
+    off = (np.arange(sub) + 0.5) / sub * h - h / 2
+    os_, ox = (a.ravel() for a in np.meshgrid(off, off))
+    y = -H + ((S[:, None] + os_) + (X[:, None] + ox)) / SQ2  # sub-points' heights
+    alpha = (y < 0).mean(axis=1)
+    C = toe + np.outer(S, [1, 1]) / SQ2 + np.outer(X, [-1, 1]) / SQ2
+    s, lay = sm.shore_layer(C, alpha, np.full(len(S), h * h), toe, ds=ds, xi_max=60.0)
+    top = sm.layer_runup(s, lay, 1.0) / SQ2 - H
+    assert abs(top - (-1 / SQ2)) <= ds / SQ2, top
 
 
 def test_centre_of_mass_impact():

@@ -82,11 +82,7 @@ def atmosphere_outflow(case):
     """(n,) cumulative water volume [m^3] that left through the atmosphere
     after each step: sum_n F_n dt_n, F_n the `atmosphereFlux` function object's
     sum of alphaPhi0.water over the patch (m^3/s, outflow > 0)."""
-    d = np.loadtxt(
-        os.path.join(case, "postProcessing", "atmosphereFlux", "0", "surfaceFieldValue.dat"),
-        comments="#",
-        ndmin=2,
-    )
+    d = nscdpost.read_dat_history(case, "atmosphereFlux", "surfaceFieldValue.dat")
     dt = np.diff(np.concatenate([[0.0], d[:, 0]]))
     return np.cumsum(d[:, 1] * dt)
 
@@ -150,10 +146,10 @@ def layer_runup(C, alpha, V, p, min_thickness=1.0):
     """Run-up height [m] above still water of the water layer on the right
     shore: the highest point of an unbroken layer >= min_thickness thick
     (int alpha along the shore's normal, slideMetrics.shore_layer, bins of
-    the fine cell size), or -H when the still-water shoreline is dry."""
+    the fine cell size) from the toe up; -H if the toe is dry."""
     L, H = p["bay_length"], p["water_depth"]
     s, h = slideMetrics.shore_layer(C, alpha, V, (L - H, -H), depth=p["thickness"], ds=p["h_fine"])
-    top = slideMetrics.layer_runup(s, h, H * math.sqrt(2), min_thickness)
+    top = slideMetrics.layer_runup(s, h, min_thickness)
     return -H if top is None else top / math.sqrt(2) - H
 
 
@@ -191,13 +187,13 @@ def impact_measures(case, h, p):
 
 
 def fo_table(case, name):
-    """(n, k) table of a function object's <name>/0/*.dat (first .dat file),
-    or None when the function object did not run."""
+    """(n, k) table of a function object's <name>/<start>/<type>.dat, restarts
+    joined (nscdpost.read_dat_history), or None when it did not run."""
     root = os.path.join(case, "postProcessing", name, "0")
     if not os.path.isdir(root):
         return None
     dats = sorted(f for f in os.listdir(root) if f.endswith(".dat"))
-    return np.loadtxt(os.path.join(root, dats[0]), comments="#", ndmin=2) if dats else None
+    return nscdpost.read_dat_history(case, name, dats[0]) if dats else None
 
 
 def front_froude(h, H):

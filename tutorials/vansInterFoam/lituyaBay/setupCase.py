@@ -171,25 +171,29 @@ def write_packing(case, n):
 
 
 def packed_block(packing):
-    """(x, d, phi): the rain deposit of the packing case scaled to the slide
-    mass (positions and diameters by the same factor: the contacts are kept;
-    the positions by 1e-5 more, so that touching discs keep a gap above the
-    written round-off) and rotated onto the slope, its floor 1 mm off it;
-    phi the solid fraction of the deposit's interior (centres between d_max
-    and the 10th percentile of the tops less d_max)."""
+    """(x, d, phi, thickness): the rain deposit of the packing case scaled
+    to the slide mass (positions and diameters by the same factor: the
+    contacts are kept; the positions by 1e-5 more, so that touching discs
+    keep a gap above the written round-off) and rotated onto the slope, its
+    floor 1 mm off it; phi the solid fraction of the deposit's interior
+    (centres from d_max above the floor to d_max below the lowest point of
+    its surface, the highest grain top of each 10 m column), thickness the
+    surface's mean height."""
     g = nscdpost.read_grains(packing, "0")
     xy, d = g["x"][:, :2], g["d"]
     k = math.sqrt(SLIDE_MASS / RHO_S / (math.pi / 4 * np.sum(d**2)))
     d, xy = k * d, k * (1 + 1e-5) * xy
-    top = np.percentile(xy[:, 1] + d / 2, 10) - d.max()
-    inner = (xy[:, 1] > d.max()) & (xy[:, 1] < top)
-    phi = float(np.sum(math.pi / 4 * d[inner] ** 2) / (k * SLIDE_LENGTH * (top - d.max())))
+    column = (xy[:, 0] // 10).astype(int)
+    surface = np.full(column.max() + 1, -np.inf)
+    np.maximum.at(surface, column, xy[:, 1] + d / 2)
+    lo, hi = d.max(), surface.min() - d.max()
+    inner = (xy[:, 1] > lo) & (xy[:, 1] < hi)
+    phi = float(np.sum(math.pi / 4 * d[inner] ** 2) / (k * SLIDE_LENGTH * (hi - lo)))
     t = np.array([-1.0, 1.0]) / math.sqrt(2)
     nrm = np.array([1.0, 1.0]) / math.sqrt(2)
     p0 = np.array([-SLIDE_HEIGHT, SLIDE_HEIGHT]) + 1e-3 * nrm
-    order = np.argsort(d)[::-1]
-    xy, d = xy[order], d[order]
-    return p0 + np.outer(xy[:, 0], t) + np.outer(xy[:, 1], nrm), d, phi
+    x = p0 + np.outer(xy[:, 0], t) + np.outer(xy[:, 1], nrm)
+    return x, d, phi, float(surface.mean())
 
 
 def main():
@@ -211,11 +215,12 @@ def main():
                 f"setupCase.py: no rain deposit in {packing} (setupCase.py --packing {packing},"
                 " blockMesh and grainDeposit there first; ./Allrun thesis does it)"
             )
-        x, d, phi = packed_block(packing)
+        x, d, phi, thickness = packed_block(packing)
     else:
         d, _dmin = grain_diameters(m["grains"], rng)
         x = place_block(d, rng)
         phi = float(np.pi / 4 * np.sum(d**2) / (SLIDE_LENGTH * SLIDE_THICKNESS))
+        thickness = SLIDE_THICKNESS
     grains = "\n".join(
         f"({xi:.10g} {yi:.10g} {0.5 * DZ:.10g} {di:.10g})" for (xi, yi), di in zip(x, d)
     )
@@ -239,7 +244,7 @@ def main():
         "gauge_x": GAUGE_X,
         "thickness": DZ,
         "slide_length": SLIDE_LENGTH,
-        "slide_thickness": SLIDE_THICKNESS,
+        "slide_thickness": thickness,
         "slide_height": SLIDE_HEIGHT,
         "grain_count": int(len(d)),
         "grain_d_min": float(d.min()),

@@ -17,7 +17,7 @@ data with known answers; postProcess.py applies them to a run.
   water normal to the right shore, int alpha dxi along the inward normal,
   averaged over bins of the along-shore coordinate; the run-up is the
   highest shore point reached by an unbroken layer at least 1 m thick from
-  the still-water shoreline up.
+  the shore's toe up.
 - Energy: the water's potential-energy rise must not exceed the slide's
   potential-energy drop (`energy_budget`).
 """
@@ -94,17 +94,17 @@ def shore_layer(C, alpha, V, toe, depth=1.0, ds=5.0, xi_max=200.0):
     return (np.arange(nbin) + 0.5) * ds, h / (ds * depth)
 
 
-def layer_runup(s, h, s_shore, min_thickness=1.0):
+def layer_runup(s, h, min_thickness=1.0):
     """Highest along-shore distance s (bin centre) reached by an unbroken
-    layer h >= min_thickness that starts at the still-water shoreline
-    s_shore (the first bin at or above it); None if that bin is dry."""
-    s, h = np.asarray(s), np.asarray(h)
-    start = int(np.searchsorted(s, s_shore))
-    wet = h[start:] >= min_thickness
+    layer h >= min_thickness from the toe up (below the still-water line the
+    bay's water makes the layer); None if the toe's bin is dry.  At rest it
+    is within a bin of the still-water shoreline (the layer's thickness along
+    the 45 deg normal at distance u below the shoreline is u)."""
+    wet = np.asarray(h) >= min_thickness
     if len(wet) == 0 or not wet[0]:
         return None
     n = len(wet) if wet.all() else int(np.argmin(wet))
-    return float(s[start + n - 1])
+    return float(np.asarray(s)[n - 1])
 
 
 def energy_budget(water_rise, slide_drop):
