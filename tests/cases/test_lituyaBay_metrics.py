@@ -21,17 +21,23 @@ References (exact results of the constructions):
   and the weighted speed sum m_i v_i / sum m_i (each grain's steps in the
   band share the sampling error of numerator and denominator: exact).
 - Froude: 110 m/s in h = 122 m is 3.18 (thesis 5.3.1).
+- Thesis-grains slide (setupCase.py --packing, grainDeposit method rain,
+  packed_block): geometry only, no run: the rock area is the stated mass
+  98.5e6 kg / 2640 kg/m^3 to round-off, the mean radius 1.35 m within the
+  sampling of 6,015 uniform diameters (2 %), no two discs overlap, none
+  crosses the slope, and the interior's solid fraction is that of a dense
+  2D disc packing (0.75-0.86: random close packing of discs ~0.82).
 """
 
 import math
 
 import numpy as np
 import pytest
-from foamcase import tutorial_modules
+from foamcase import run, tutorial_modules
 
 pytestmark = pytest.mark.fast
 
-(sm,) = tutorial_modules("vansInterFoam", "lituyaBay", names=("slideMetrics",))
+sm, setup = tutorial_modules("vansInterFoam", "lituyaBay", names=("slideMetrics", "setupCase"))
 
 SQ2 = math.sqrt(2.0)
 
@@ -130,3 +136,33 @@ def test_froude_and_energy_budget():
     assert b["water_to_slide_energy_ratio"] == pytest.approx(3 / 8)
     assert b["energy_bound_excess"] == pytest.approx(-0.0)
     assert sm.energy_budget([0.0, 6.0], [0.0, 5.0])["energy_bound_excess"] > 0
+
+
+def test_thesis_packing(tmp_path, env):
+    packing = str(tmp_path / "thesis_packing")
+    setup.write_packing(packing, setup.MODES["thesis"]["grains"])
+    run("blockMesh", packing, env)
+    run("grainDeposit", packing, env)
+    x, d, phi, thickness = setup.packed_block(packing)
+    assert len(d) == 6015
+    area = np.sum(math.pi / 4 * d**2)
+    assert area == pytest.approx(98.5e6 / 2640, rel=1e-12)
+    assert np.mean(d) / 2 == pytest.approx(1.35, rel=0.02)
+    assert 0.75 < phi < 0.86, phi
+    assert 40 < thickness < 60, thickness
+    # distance of each centre from the slope x + y = 0 (normal (1, 1)/sqrt 2)
+    assert np.all((x[:, 0] + x[:, 1]) / SQ2 >= d / 2), "a disc crosses the slope"
+    # no overlaps: neighbours on a grid of side d_max
+    cell = d.max()
+    keys = np.floor(x / cell).astype(int)
+    grid = {}
+    for i, k in enumerate(map(tuple, keys)):
+        grid.setdefault(k, []).append(i)
+    worst = np.inf
+    for i, (kx, ky) in enumerate(map(tuple, keys)):
+        near = [j for a in (-1, 0, 1) for b in (-1, 0, 1) for j in grid.get((kx + a, ky + b), ())]
+        near = np.array([j for j in near if j > i], dtype=int)
+        if len(near):
+            gap = np.linalg.norm(x[near] - x[i], axis=1) - 0.5 * (d[near] + d[i])
+            worst = min(worst, gap.min())
+    assert worst > 0, worst
