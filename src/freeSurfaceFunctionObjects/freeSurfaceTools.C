@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "freeSurfaceTools.H"
 #include "grainDictionaryTools.H"
+#include "grainCloud.H"
 
 void Foam::freeSurfaceTools::checkKeywords
 (
@@ -126,4 +127,23 @@ void Foam::freeSurfaceTools::writeColumnHeader
         }
         wf.file() << endl;
     }
+}
+
+
+const Foam::grainCloud& Foam::freeSurfaceTools::grainsOf
+(
+    const fvMesh& mesh,
+    const functionObject& fo
+)
+{
+    const grainCloudReference* ref =
+        mesh.findObject<grainCloudReference>(grainCloud::registryName);
+    if (!ref)
+    {
+        FatalErrorInFunction
+            << fo.type() << " " << fo.name() << ": no grainCloud on mesh "
+            << mesh.name() << nl << "    Fix: use it with grainFoam, vansFoam"
+            << " or vansInterFoam." << exit(FatalError);
+    }
+    return ref->cloud();
 }

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Measurement function objects of libfreeSurfaceFunctionObjects:
-waveGauges, runUp, granularFront (src/freeSurfaceFunctionObjects).
+waveGauges, runUp, granularFront, grainCentreOfMass
+(src/freeSurfaceFunctionObjects).
 
 References (exact results, no fitted numbers):
 - waveGauges: for a prescribed alpha field that is the exact cell-volume
@@ -21,6 +22,14 @@ References (exact results, no fitted numbers):
   sqrt(|g| h0) within a dt / (a T) = dt/T.  A smaller disc ahead of it that
   does not reach the band y = h0 is ignored (thesis 5.2.3, "the furthest
   grain at a height y = h0").
+- grainCentreOfMass: two discs falling freely (no contact) from heights
+  y0_i: the centre of mass of the symplectic Euler step has U_c = -g t
+  exactly and y_c = sum m y0 / M - g t^2/2 - g t dt/2 (the step's sum
+  of dt^2 n); each disc crosses the plane y = yp at the free-fall speed
+  sqrt(2 g (y0_i - yp)) (energy conservation), so the mass that crossed is
+  int mdot dt = M (within v dt/(2 w) of the band's step sampling) and the
+  flux-weighted speed sum m_i v_i / M (within the speed's variation across
+  the band, (w/dz)^2 ~ 1e-3).
 The library must be built (Allwmake, src/freeSurfaceFunctionObjects).
 """
 
@@ -327,3 +336,71 @@ def test_granular_front_sliding_disc(tmp_path, env):
     assert s[2] == pytest.approx(a * (T - 0.01), abs=a * dt)
     g = nscdpost.read_grains(case, nscdpost.time_dirs(case)[-1][1])
     assert g["x"][1, 0] + r > xf  # the small disc is ahead, not counted
+
+
+def falling_case(tmp_path, env, name, grains, T, dt, fo):
+    """A 1 x 2 m 2D box of rock discs (x, y, 0, d) released at rest,
+    grainFoam to T with the function-object entry fo; returns the case."""
+    case = str(tmp_path / name)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (1.0, 2.0, 0.01),
+        (10, 20, 1),
+        (0, -G, 0),
+        {"rock": {"density": 2640, "friction": 0.9}},
+        grains=grains,
+        end_time=T,
+        dt=dt,
+        write_interval=T,
+    )
+    with open(os.path.join(case, "system", "controlDict"), "a") as f:
+        f.write(
+            "functions {\n com { type grainCentreOfMass; libs (freeSurfaceFunctionObjects);\n"
+            f"  {fo} }}\n}}\n"
+        )
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    return case
+
+
+def test_grain_centre_of_mass_free_fall(tmp_path, env):
+    T, dt, yp, w = 0.5, 1e-3, 1.0, 0.1
+    falls = [(0.3, 1.8, 0.04), (0.7, 1.6, 0.08)]  # x, y0, d
+    case = falling_case(
+        tmp_path,
+        env,
+        "com",
+        [(x, y0, 0, d) for x, y0, d in falls],
+        T,
+        dt,
+        f"fluxPoint (0 {yp} 0); fluxNormal (0 -1 0); fluxBandHalfWidth {w};",
+    )
+    run("grainFoam", case, env)
+    d = read_dat(case, "com", "grainCentreOfMass.dat")
+    t = d[:, 0]
+    m = np.array([2640 * math.pi / 4 * dd**2 for _x, _y, dd in falls])
+    M = m.sum()
+    y0 = np.array([y for _x, y, _d in falls])
+    assert np.allclose(d[:, 1], M, rtol=1e-12)
+    assert np.allclose(d[:, 2], np.sum(m * [x for x, _y, _d in falls]) / M, atol=1e-12)
+    yc = np.sum(m * y0) / M - 0.5 * G * t**2 - 0.5 * G * t * dt
+    assert np.allclose(d[:, 3], yc, atol=1e-9), np.max(np.abs(d[:, 3] - yc))
+    assert np.allclose(d[:, 6], -G * t, atol=1e-9)
+    assert np.allclose(d[:, 5], 0, atol=1e-12)
+    dts = np.diff(np.concatenate([[0.0], t]))
+    crossed = np.sum(d[:, 8] * dts)
+    v = np.sqrt(2 * G * (y0 - yp))
+    assert crossed == pytest.approx(M, rel=v.max() * dt / (2 * w)), (crossed, M)
+    speed = np.sum(d[:, 9] * dts) / crossed
+    assert speed == pytest.approx(np.sum(m * v) / M, rel=1e-2), (speed, np.sum(m * v) / M)
+
+
+def test_grain_centre_of_mass_keyword(tmp_path, env):
+    """fluxPoint without fluxBandHalfWidth: FatalIOError naming both."""
+    case = falling_case(
+        tmp_path, env, "comkw", [(0.5, 0.5, 0, 0.1)], 0.01, 1e-3, "fluxPoint (0 0.5 0);"
+    )
+    p = run("grainFoam", case, env, check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0 and "fluxBandHalfWidth" in out and "FOAM FATAL" in out, out[-1500:]

@@ -34,9 +34,10 @@ LOOKUP = re.compile(
 ALLOWED = {
     ("src/grainCloud/grainCloud.C", "registryName"): "grainCloud registers its own reference once",
     (
-        "src/freeSurfaceFunctionObjects/granularFront/granularFront.C",
+        "src/freeSurfaceFunctionObjects/freeSurfaceTools.C",
         "grainCloud::registryName",
-    ): "a function object gets only the registry (OpenFOAM idiom)",
+    ): "a function object gets only the registry (OpenFOAM idiom): granularFront and"
+    " grainCentreOfMass find the grains through freeSurfaceTools::grainsOf",
     (
         "src/freeSurfaceFunctionObjects/freeSurfaceTools.C",
         "name",
@@ -64,6 +65,7 @@ HIGHER_NAMES = {
         "dropletVolumeSource",
         "dropletHeatSink",
         "granularFront",
+        "grainCentreOfMass",
         "waveGauges",
     ],
 }

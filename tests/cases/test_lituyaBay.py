@@ -27,6 +27,16 @@ Checks (each against a conservation law or a stated reference):
 - Run-up on the right shore: 0 < max_runup < m_s g (z_s0 + H) / (m_w g)
   (the slide's whole potential-energy drop to the bay bottom per unit weight
   of water: 484 m here; measured 255 m).
+- Impact (slideMetrics.py; its arithmetic is checked on synthetic data in
+  test_lituyaBay_metrics.py): the centre of mass crosses y = 0 no faster
+  than the frictionless drop of its height, sqrt(2 g z_c0) (energy
+  conservation: its kinetic energy is part of the grains'); the grains
+  crossing y = 0 carry (almost) the whole slide (crossed mass fraction
+  0.5-1.05: the band sampling); each Froude number is its speed over
+  sqrt(g H).  The water-layer run-up reaches at least the alpha >= 0.5
+  run-up at the write times less one cell (a cell centre with alpha >= 0.5
+  holds a layer >= h/2) and stays below the energy ceiling; the water's
+  potential-energy rise stays below the slide's drop (2 % margin as above).
 """
 
 import json
@@ -101,3 +111,23 @@ def test_energy_bounds_and_runup(reduced):
         res["max_runup"],
         res["runup_energy_bound"],
     )
+
+
+def test_impact_and_layer_measures(reduced):
+    case, res = reduced
+    H = res["water_depth"]
+    z0 = res["slide_centre_height_initial"]
+    v_max = math.sqrt(2 * G * z0)
+    v_com = res["impact_speed_centre_of_mass"]
+    assert 0 < v_com < v_max, (v_com, v_max)
+    assert 0 < res["impact_speed_flux_weighted"] < v_max
+    assert 0.5 < res["impact_crossed_mass_fraction"] < 1.05, res["impact_crossed_mass_fraction"]
+    fr = res["impact_froude_numbers"]
+    assert res["impact_froude_number"] == pytest.approx(v_com / math.sqrt(G * H), rel=1e-12)
+    for key in ("front", "flux_weighted", "centre_of_mass"):
+        assert fr[key] > 0.87, fr  # bore regime (thesis 5.2)
+    lay = res["max_runup_layer"]
+    assert res["max_runup_write_times"] - res["cell_size_fine"] <= lay < res["runup_energy_bound"]
+    assert len(res["runup_layer"]) == len(res["water_com_rise"])
+    assert res["energy_bound_excess"] <= 0.02, res["energy_bound_excess"]
+    assert 0 < res["water_to_slide_energy_ratio"] <= 1.02

@@ -88,17 +88,8 @@ bool Foam::functionObjects::granularFront::read(const dictionary& dict)
 
 bool Foam::functionObjects::granularFront::execute()
 {
-    const grainCloudReference* ref =
-        mesh_.findObject<grainCloudReference>(grainCloud::registryName);
-    if (!ref)
-    {
-        FatalErrorInFunction
-            << "granularFront " << name() << ": no grainCloud on mesh "
-            << mesh_.name() << nl << "    Fix: use it with grainFoam, vansFoam"
-            << " or vansInterFoam." << exit(FatalError);
-    }
-    const nscd::System& s = ref->cloud().system();
-    const grainCloud& cloud = ref->cloud();
+    const grainCloud& cloud = freeSurfaceTools::grainsOf(mesh_, *this);
+    const nscd::System& s = cloud.system();
     const nscd::Vec3& gv = s.gravity();
     const vector g(gv.x(), gv.y(), gv.z());
     const scalar magG = mag(g);

@@ -26,6 +26,14 @@ usage: postProcess.py CASEDIR
   the write time just before that crossing (and just after, the larger of the
   two), Fr_f = v_f / sqrt(g H) (thesis section 5.3.1: 110 m/s, Fr = 3.18;
   bore regime Fr_f > 0.87, Sarlin et al., thesis section 5.2).
+- Impact speed three ways (slideMetrics.py): the front's (above), the
+  mass-flux-weighted speed of the grains crossing y = 0 and the centre of
+  mass's speed as its height crosses y = 0, both per step from the
+  `grainCentreOfMass` function object; F = v / sqrt(g H) for each
+  (`impact_froude_number`: the centre of mass's, thesis 3.18).
+- Run-up as a water layer: the highest point of the right shore reached by
+  an unbroken layer >= 1 m thick measured along the shore's normal
+  (`max_runup_layer`, write times), beside the alpha >= 0.5 run-up.
 - Water volume sum(eps alpha V) from the solver log (every step); the water
   balance adds the volume that left with spray through the atmosphere
   (`atmosphereFlux`): sum(eps alpha V) + outflow = const to round-off.
@@ -35,7 +43,9 @@ usage: postProcess.py CASEDIR
   grains up to t, m_w the water mass.  The run-up bound of the issue is the
   same ratio with the slide's whole drop down to the bay bottom,
   R_E = m_s g (z_s0 + H) / (m_w g)  (order-of-magnitude ceiling; a thin film
-  can in principle exceed it, the centre-of-mass check cannot).
+  can in principle exceed it, the centre-of-mass check cannot).  The same
+  check in energies: `water_potential_energy_rise_max` against
+  `slide_potential_energy_drop_then` and `energy_bound_excess` <= 0.
 
 References plotted: the thesis' stated numbers (section 5.3): ~60 m initial
 wave, 524 m historical run-up, 500-750 m for the thesis' 2D PFEM run.  The
@@ -52,6 +62,7 @@ import nscdpost
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
+slideMetrics = nscdpost.load_module("lituyaBay_slideMetrics", os.path.join(here, "slideMetrics.py"))
 
 G = 9.81
 RHO_W = 1000.0
@@ -71,11 +82,7 @@ def atmosphere_outflow(case):
     """(n,) cumulative water volume [m^3] that left through the atmosphere
     after each step: sum_n F_n dt_n, F_n the `atmosphereFlux` function object's
     sum of alphaPhi0.water over the patch (m^3/s, outflow > 0)."""
-    d = np.loadtxt(
-        os.path.join(case, "postProcessing", "atmosphereFlux", "0", "surfaceFieldValue.dat"),
-        comments="#",
-        ndmin=2,
-    )
+    d = nscdpost.read_dat_history(case, "atmosphereFlux", "surfaceFieldValue.dat")
     dt = np.diff(np.concatenate([[0.0], d[:, 0]]))
     return np.cumsum(d[:, 1] * dt)
 
@@ -109,7 +116,8 @@ def histories(case, p):
     n = len(V)
     L, H = p["bay_length"], p["water_depth"]
     shore = C[:, 0] > L - H
-    out = {k: [] for k in ("t", "runup", "zw", "mw", "dE", "front_y", "front_v")}
+    keys = ("t", "runup", "layer_runup", "zw", "mw", "dE", "front_y", "front_v")
+    out = {k: [] for k in keys}
     g0 = None
     for t, name in nscdpost.time_dirs(case):
         alpha = np.clip(field(case, name, "alpha.water", n), 0, 1)
@@ -119,6 +127,7 @@ def histories(case, p):
         wet = shore & (alpha >= 0.5)
         out["t"].append(t)
         out["runup"].append(float(C[wet, 1].max()) if wet.any() else -H)
+        out["layer_runup"].append(layer_runup(C, alpha, V, p))
         out["mw"].append(RHO_W * float(w.sum()))
         out["zw"].append(float(np.sum(w * C[:, 1]) / w.sum()))
         g = nscdpost.read_grains(case, name)
@@ -133,14 +142,58 @@ def histories(case, p):
     return {k: np.array(v) for k, v in out.items()}
 
 
+def layer_runup(C, alpha, V, p, min_thickness=1.0):
+    """Run-up height [m] above still water of the water layer on the right
+    shore: the highest point of an unbroken layer >= min_thickness thick
+    (int alpha along the shore's normal, slideMetrics.shore_layer, bins of
+    the fine cell size) from the toe up; -H if the toe is dry."""
+    L, H = p["bay_length"], p["water_depth"]
+    s, h = slideMetrics.shore_layer(C, alpha, V, (L - H, -H), depth=p["thickness"], ds=p["h_fine"])
+    top = slideMetrics.layer_runup(s, h, min_thickness)
+    return -H if top is None else top / math.sqrt(2) - H
+
+
+def impact_measures(case, h, p):
+    """Impact speeds from the grainCentreOfMass function object (per step):
+    the centre of mass's speed as its height crosses y = 0 and the
+    mass-flux-weighted speed of the grains crossing y = 0; with their Froude
+    numbers F = v / sqrt(g H) (thesis 3.18) and the front's."""
+    H = p["water_depth"]
+    vf, _fr, t_front = front_froude(h, H)
+    d = nscdpost.read_step_data(case, "grainCentreOfMass")
+    speed = np.sqrt(d["Ux"] ** 2 + d["Uy"] ** 2 + d["Uz"] ** 2)
+    t_com, v_com = slideMetrics.centre_of_mass_impact(d["Time"], d["y"], speed)
+    v_flux, m_in = slideMetrics.flux_weighted_speed(d["Time"], d["massFlux"], d["speedMassFlux"])
+    return {
+        "impact_speed_front": vf,
+        "impact_speed_flux_weighted": v_flux,
+        "impact_speed_centre_of_mass": v_com,
+        "impact_time_centre_of_mass": t_com,
+        "impact_crossed_mass_fraction": m_in / d["mass"][0],
+        "impact_froude_number": slideMetrics.froude(v_com, H),
+        "impact_froude_numbers": {
+            "front": slideMetrics.froude(vf, H),
+            "flux_weighted": slideMetrics.froude(v_flux, H),
+            "centre_of_mass": slideMetrics.froude(v_com, H),
+        },
+        "impact_froude_definition": "F = v_s / sqrt(g h), h = bay depth at impact = 122 m"
+        " (thesis 5.3.1: 110 m/s -> 3.18)",
+        "slide_centre_height_initial": float(d["y"][0]),
+        "slide_centre_height_min": float(d["y"].min()),
+        "slide_potential_energy_drop_per_step_max": float(
+            G * d["mass"][0] * (d["y"][0] - d["y"].min())
+        ),
+    }
+
+
 def fo_table(case, name):
-    """(n, k) table of a function object's <name>/0/*.dat (first .dat file),
-    or None when the function object did not run."""
+    """(n, k) table of a function object's <name>/<start>/<type>.dat, restarts
+    joined (nscdpost.read_dat_history), or None when it did not run."""
     root = os.path.join(case, "postProcessing", name, "0")
     if not os.path.isdir(root):
         return None
     dats = sorted(f for f in os.listdir(root) if f.endswith(".dat"))
-    return np.loadtxt(os.path.join(root, dats[0]), comments="#", ndmin=2) if dats else None
+    return nscdpost.read_dat_history(case, name, dats[0]) if dats else None
 
 
 def front_froude(h, H):
@@ -172,6 +225,8 @@ def main():
     ebound = h["dE"] / (mw * G)
     runup_bound = p["slide_mass"] * G * (p["slide_centre_height"] + H) / (mw * G)
     i = int(np.argmax(h["runup"]))
+    j = int(np.argmax(h["layer_runup"]))
+    budget = slideMetrics.energy_budget(mw * G * dzw, h["dE"])
     # engineer B's function objects (src/freeSurfaceFunctionObjects), when present
     ru, wg, gf = fo_table(case, "runUp"), fo_table(case, "gauges"), fo_table(case, "front")
     if ru is not None:
@@ -194,6 +249,12 @@ def main():
         if ru is not None
         else "postProcess.py (write times)",
         "max_runup_write_times": float(h["runup"][i]),
+        "max_runup_layer": float(h["layer_runup"][j]),
+        "max_runup_layer_time": float(h["t"][j]),
+        "runup_layer": h["layer_runup"].tolist(),
+        "runup_layer_definition": "highest point of an unbroken water layer >= 1 m thick"
+        " (int alpha along the shore normal, bins of the fine cell size) on the right shore,"
+        " write times",
         "waveGauges_eta_initial": float(wg[0, 1]) if wg is not None else None,
         "waveGauges_eta_max": float(wg[:, 1].max()) if wg is not None else None,
         "granularFront_froude_number": float(gf[-1, 4]) if gf is not None else None,
@@ -206,6 +267,8 @@ def main():
         "water_balance_relative_error": float(np.max(np.abs(vols + out - vols[0])) / vols[0]),
         "water_com_rise": dzw.tolist(),
         "water_com_energy_bound": ebound.tolist(),
+        **budget,
+        **impact_measures(case, h, p),
         "water_depth": H,
         "grain_count": p["grain_count"],
         "grain_mean_radius": p["grain_mean_radius"],
@@ -216,6 +279,8 @@ def main():
             "runup_historical": RUNUP_HISTORICAL,
             "runup_thesis_2d": list(RUNUP_THESIS),
             "front_froude_number_thesis": 3.18,
+            "impact_speed_fritz": 110.0,
+            "impact_froude_number_thesis": 3.18,
             "source": "thesis section 5.3 (Fritz et al. 2001 1:675 model, Miller 1960);"
             " gauge record of Fritz et al. not digitised here",
         },

@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Create the Lituya Bay case (thesis section 5.3, Fig. 5.9) from base/.
 
-usage: setupCase.py CASEDIR [full|medium|reduced]
+usage: setupCase.py CASEDIR [full|medium|reduced|thesis]
+       setupCase.py --packing DIR   (thesis: the packing case for grainDeposit)
 
 Geometry (our reading of thesis Fig. 5.9 and section 5.3.1; x = 0 at the
 initial left shoreline, y = 0 at the still-water level, both shores at 45 deg):
@@ -24,6 +25,16 @@ the mass with 150 grains on a coarse mesh (CI, < 60 s).
 
 The grains are placed by random sequential addition (largest first, seeded)
 in the block, d/2 off the slope, and written as grainDeposit's `list`.
+
+`thesis` keeps the thesis' grain size and mass instead of its grain count:
+6,015 discs of mean radius 1.35 m (d uniform in [1.35, 4.05] m) are the
+stated 98.5e3 t/m, packed densely as the thesis did (a space-filling
+packing): grainDeposit `method rain` lays them in a 970 m wide box
+(packing/, instantiated in CASEDIR_packing by --packing; solid fraction
+~0.8, a block ~48 m thick), whose deposit is scaled to the exact mass
+(factor ~1 +- 1 %) and rotated onto the slope.  5 m cells over the slide
+path, the bay (and 150 m of air above it) and a 60 m band along the whole
+run-up shore.
 Writes CASEDIR/caseParameters.json (read by postProcess.py) and
 CASEDIR/gmshArgs (the -setnumber arguments of lituyaBay.geo).
 """
@@ -66,6 +77,19 @@ MODES = {
         gaugeInterval=0.1,
         contactIter=1000,
         ytop=1050.0,
+    ),
+    "thesis": dict(
+        hFine=5.0,
+        hCoarse=40.0,
+        grains=6015,
+        endTime=100.0,
+        writeInterval=0.5,
+        gaugeInterval=0.1,
+        contactIter=1000,
+        ytop=1050.0,
+        yFine=150.0,
+        bandRight=60.0,
+        packing="rain",
     ),
     "reduced": dict(
         hFine=25.0,
@@ -128,17 +152,75 @@ def place_block(d, rng, max_tries=20000):
     return p0 + np.outer(ab[:, 0], t) + np.outer(ab[:, 1], nrm)
 
 
+THESIS_DMIN, PACK_HEIGHT = 1.35, 120.0  # [m] (mean radius 1.35 m); packing box height
+
+
+def write_packing(case, n):
+    """The packing case (packing/): n discs of d in [THESIS_DMIN, 3
+    THESIS_DMIN] for grainDeposit method rain in a SLIDE_LENGTH wide box."""
+    subs = {
+        "@LENGTH@": f"{SLIDE_LENGTH:g}",
+        "@HEIGHT@": f"{PACK_HEIGHT:g}",
+        "@NX@": str(int(SLIDE_LENGTH / 10)),
+        "@NY@": str(int(PACK_HEIGHT / 10)),
+        "@NUMBER@": str(n),
+        "@DMIN@": f"{THESIS_DMIN:g}",
+    }
+    nscdpost.instantiate_case(os.path.join(here, "packing"), case, subs)
+    print(f"{case}: run blockMesh and grainDeposit here (method rain, {n} grains)")
+
+
+def packed_block(packing):
+    """(x, d, phi, thickness): the rain deposit of the packing case scaled
+    to the slide mass (positions and diameters by the same factor: the
+    contacts are kept; the positions by 1e-5 more, so that touching discs
+    keep a gap above the written round-off) and rotated onto the slope, its
+    floor 1 mm off it; phi the solid fraction of the deposit's interior
+    (centres from d_max above the floor to d_max below the lowest point of
+    its surface, the highest grain top of each 10 m column), thickness the
+    surface's mean height."""
+    g = nscdpost.read_grains(packing, "0")
+    xy, d = g["x"][:, :2], g["d"]
+    k = math.sqrt(SLIDE_MASS / RHO_S / (math.pi / 4 * np.sum(d**2)))
+    d, xy = k * d, k * (1 + 1e-5) * xy
+    column = (xy[:, 0] // 10).astype(int)
+    surface = np.full(column.max() + 1, -np.inf)
+    np.maximum.at(surface, column, xy[:, 1] + d / 2)
+    lo, hi = d.max(), surface.min() - d.max()
+    inner = (xy[:, 1] > lo) & (xy[:, 1] < hi)
+    phi = float(np.sum(math.pi / 4 * d[inner] ** 2) / (k * SLIDE_LENGTH * (hi - lo)))
+    t = np.array([-1.0, 1.0]) / math.sqrt(2)
+    nrm = np.array([1.0, 1.0]) / math.sqrt(2)
+    p0 = np.array([-SLIDE_HEIGHT, SLIDE_HEIGHT]) + 1e-3 * nrm
+    x = p0 + np.outer(xy[:, 0], t) + np.outer(xy[:, 1], nrm)
+    return x, d, phi, float(surface.mean())
+
+
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
+    if sys.argv[1] == "--packing":
+        write_packing(sys.argv[2], MODES["thesis"]["grains"])
+        return
     case = sys.argv[1]
     mode = sys.argv[2] if len(sys.argv) > 2 else "full"
     if mode not in MODES:
         sys.exit(f"setupCase.py: mode must be one of {sorted(MODES)}")
     m = MODES[mode]
     rng = np.random.default_rng(1958)
-    d, dmin = grain_diameters(m["grains"], rng)
-    x = place_block(d, rng)
+    if m.get("packing") == "rain":
+        packing = case.rstrip("/") + "_packing"
+        if not os.path.isdir(os.path.join(packing, "0", "lagrangian")):
+            sys.exit(
+                f"setupCase.py: no rain deposit in {packing} (setupCase.py --packing {packing},"
+                " blockMesh and grainDeposit there first; ./Allrun thesis does it)"
+            )
+        x, d, phi, thickness = packed_block(packing)
+    else:
+        d, _dmin = grain_diameters(m["grains"], rng)
+        x = place_block(d, rng)
+        phi = float(np.pi / 4 * np.sum(d**2) / (SLIDE_LENGTH * SLIDE_THICKNESS))
+        thickness = SLIDE_THICKNESS
     grains = "\n".join(
         f"({xi:.10g} {yi:.10g} {0.5 * DZ:.10g} {di:.10g})" for (xi, yi), di in zip(x, d)
     )
@@ -162,7 +244,7 @@ def main():
         "gauge_x": GAUGE_X,
         "thickness": DZ,
         "slide_length": SLIDE_LENGTH,
-        "slide_thickness": SLIDE_THICKNESS,
+        "slide_thickness": thickness,
         "slide_height": SLIDE_HEIGHT,
         "grain_count": int(len(d)),
         "grain_d_min": float(d.min()),
@@ -171,7 +253,7 @@ def main():
         "grain_density": RHO_S,
         "slide_mass": mass,
         "slide_centre_height": zc,
-        "solid_fraction_block": float(np.pi / 4 * np.sum(d**2) / (SLIDE_LENGTH * SLIDE_THICKNESS)),
+        "solid_fraction_block": phi,
         "h_fine": m["hFine"],
         "h_coarse": m["hCoarse"],
         "y_top": m["ytop"],
@@ -182,11 +264,13 @@ def main():
         fh.write(
             f"-setnumber H {H:g} -setnumber L {L:g} -setnumber Ytop {m['ytop']:g} "
             f"-setnumber dz {DZ:g} -setnumber hFine {m['hFine']:g} "
-            f"-setnumber hCoarse {m['hCoarse']:g}\n"
+            f"-setnumber hCoarse {m['hCoarse']:g} -setnumber yFine {m.get('yFine', 250):g} "
+            f"-setnumber bandRight {m.get('bandRight', 0):g}\n"
         )
     print(
         f"{case}: {mode}, {len(d)} grains d in [{d.min():.3g}, {d.max():.3g}] m, "
-        f"slide {mass / 1e3:.4g} t/m (thesis 98.5e3 t/m), solid fraction in the block "
+        f"slide {mass / 1e3:.4g} t/m (thesis 98.5e3 t/m), mean radius {d.mean() / 2:.3g} m,"
+        " solid fraction in the block "
         f"{params['solid_fraction_block']:.3f}, cells ~{m['hFine']:g} m"
     )
 
