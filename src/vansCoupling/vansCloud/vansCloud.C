@@ -48,31 +48,16 @@ namespace
     //- Why the coupling needs every grain on every rank (empty: it runs
     //  with the grains decomposed, grainProperties grainDecomposition):
     //  the sub-models whose per-grain sums are not yet made over the
-    //  grains' copies on several ranks
-    Foam::string replicatedReasons
-    (
-        const Foam::dictionary& dict,
-        const Foam::vansCloudSettings& s,
-        const Foam::fluidProperties& fluid
-    )
+    //  grains' copies on several ranks.  rotationCoupling,
+    //  resolvedCellsPerDiameter and undisturbedVelocity sum over the
+    //  copies (overlapMeshAdapter::sumOverRanks, gather)
+    Foam::string replicatedReasons(const Foam::fluidProperties& fluid)
     {
         using namespace Foam;
         DynamicList<word> why;
         if (!fluid.kinematic())
         {
             why.append("vansInterFoam");
-        }
-        if (s.rotation)
-        {
-            why.append("rotationCoupling");
-        }
-        if (s.resolvedCellsPerDiameter < GREAT)
-        {
-            why.append("resolvedCellsPerDiameter");
-        }
-        if (dict.getOrDefault<word>("undisturbedVelocity", "none") != "none")
-        {
-            why.append("undisturbedVelocity");
         }
         string out;
         forAll(why, k)
@@ -147,7 +132,7 @@ Foam::vansCloud::vansCloud
     fluid_(std::move(fluid)),
     grains_
     (
-        mesh, true, replicatedReasons(dict_, settings_, validFluid(fluid_)),
+        mesh, true, replicatedReasons(validFluid(fluid_)),
         &vansCloud::declareGrainColumns
     ),
     adapter_
