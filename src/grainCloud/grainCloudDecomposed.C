@@ -41,16 +41,15 @@ Description
 namespace
 {
     //- Whether a parallel run keeps every grain on every rank (logged:
-    //  why) for mode (grainDecomposition), notDecomposable (the solver's
-    //  reasons) and outlets (outletPatches); FatalIOError if
-    //  grainDecomposition decomposed was asked for explicitly, FatalError
-    //  if the state was already read in parts (partRead)
+    //  why) for mode (grainDecomposition) and notDecomposable (the
+    //  solver's reasons); FatalIOError if grainDecomposition decomposed was
+    //  asked for explicitly, FatalError if the state was already read in
+    //  parts (partRead)
     bool replicatedBecause
     (
         const Foam::dictionary& dict,
         const Foam::word& mode,
         const Foam::string& notDecomposable,
-        const bool outlets,
         const bool partRead
     )
     {
@@ -60,10 +59,6 @@ namespace
         if (!notDecomposable.empty())
         {
             why.append(notDecomposable);
-        }
-        if (outlets)
-        {
-            why.append("outletPatches");
         }
         if (why.size() || mode == "replicated")
         {
@@ -108,7 +103,6 @@ bool Foam::grainCloud::partStart(const string& notDecomposable) const
     return
         Pstream::parRun()
      && notDecomposable.empty()
-     && !dict_.found("outletPatches")
      && dict_.getOrDefault<word>("grainDecomposition", "decomposed")
         == "decomposed";
 }
@@ -173,14 +167,16 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
     }
     if ((!Pstream::parRun() || mode == "replicated") && !partRead)
     {
+        if (Pstream::parRun())
+        {
+            Info<< "grainCloud: every rank holds every grain"
+                << " (grainDecomposition replicated)" << endl;
+        }
         return;
     }
     if
     (
-        replicatedBecause
-        (
-            dict_, mode, notDecomposable, outletPatches_.size() > 0, partRead
-        )
+        replicatedBecause(dict_, mode, notDecomposable, partRead)
     )
     {
         return;
@@ -350,19 +346,26 @@ void Foam::grainCloud::checkDecomposedInsideMesh
         all.append(paths[r]);
     }
     const labelList exits(exits_.exitPatches(all, outletPatches_));
+    DynamicList<label> outGrains, outPatches;
     forAll(mine, k)
     {
         const label i = lost[k];
+        const label patch = exits[first + k];
+        if (patch >= 0 && outletPatches_.found(patch))
+        {
+            outGrains.append(i);
+            outPatches.append(patch);
+            continue;
+        }
+        // the rank of the lost grain stops the run (FatalError: MPI_Abort)
         grainLeftMesh
         (
-            i,
-            system_->grainIds()[i],
-            mine[k].first(),
-            mine[k].second(),
-            exits[first + k]
+            i, system_->grainIds()[i], mine[k].first(), mine[k].second(), patch
         );
     }
-    // the rank of the lost grain stops the run (FatalError: MPI_Abort)
+    // removed by their owners, counted over the ranks (collective: every
+    // rank is here when some grain of some rank left)
+    removeOutletGrains(outGrains, outPatches);
 }
 
 

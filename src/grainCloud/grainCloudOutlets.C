@@ -13,10 +13,14 @@ Description
     depth), in the log, in postProcessing/grainOutlets/<startTime>/
     grainOutlets.dat (a row per step, stepDataFile) and, at every write,
     in <time>/uniform/grainOutlets, from which a restart continues the
-    counts.
+    counts.  Decomposed grains: the rank that owns a leaving grain removes
+    it (nscd::mpi::DecomposedSystem::removeOwned drops its ghost copies on
+    the other ranks) and the counts are summed over the ranks, so every
+    rank holds the totals.
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
+#include "nscdMPI/DecomposedSystem.H"  // (removeOwned)
 #include "grainDictionaryTools.H"
 #include "Time.H"
 #include "OSspecific.H"
@@ -116,7 +120,7 @@ void Foam::grainCloud::removeOutletGrains
     const scalar depth = dimension_ == 2 ? depth_ : 1;
     labelList count(outletPatches_.size(), Zero);
     scalarList mass(outletPatches_.size(), Zero);
-    List<DynamicList<label>> ids(outletPatches_.size());
+    List<labelList> ids(outletPatches_.size());
     std::vector<std::size_t> indices;
     forAll(grains, k)
     {
@@ -126,13 +130,37 @@ void Foam::grainCloud::removeOutletGrains
         ids[slot].append(label(system_->grainIds()[grains[k]]));
         indices.push_back(std::size_t(grains[k]));
     }
+    if (decomposed_)
+    {
+        // each grain is removed by its owner: the counts are summed over
+        // the ranks, the ids gathered for the log
+        Pstream::listCombineGather(count, plusEqOp<label>());
+        Pstream::listCombineScatter(count);
+        Pstream::listCombineGather(mass, plusEqOp<scalar>());
+        Pstream::listCombineScatter(mass);
+        forAll(ids, slot)
+        {
+            List<labelList> perRank(Pstream::nProcs());
+            perRank[Pstream::myProcNo()] = ids[slot];
+            Pstream::gatherList(perRank);
+            ids[slot].clear();
+            for (const labelList& l : perRank)
+            {
+                ids[slot].append(l);
+            }
+        }
+    }
 
-    const std::vector<std::size_t> removed = system_->removeGrains(indices);
+    const std::vector<std::size_t> removed =
+        decomposed_
+      ? decomposed_->removeOwned(indices)
+      : system_->removeGrains(indices);
     lastRemoved_.setSize(label(removed.size()));
     forAll(lastRemoved_, k)
     {
         lastRemoved_[k] = label(removed[k]);
     }
+    if (!decomposed_)
     {
         // positions before the step, for the checks of the other grains
         std::size_t k = 0, r = 0;
@@ -163,6 +191,7 @@ void Foam::grainCloud::removeOutletGrains
         Info<< "grainOutlets: " << count[slot] << " grains (mass "
             << mass[slot] << " kg) left through " << name << " at time " << t
             << ", ids";
+        Foam::sort(ids[slot]);
         forAll(ids[slot], k)
         {
             if (k == 10)
@@ -291,7 +320,7 @@ void Foam::grainCloud::logOutletSummary() const
         Info<< ' ' << mesh_.boundaryMesh()[outletPatches_[k]].name() << ' '
             << outletCount_[k] << " grains " << outletMass_[k] << " kg;";
     }
-    Info<< " grains left " << label(system_->size()) << nl;
+    Info<< " grains left " << nGrainsTotal() << nl;
 }
 
 

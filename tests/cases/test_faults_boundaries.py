@@ -232,9 +232,9 @@ def test_outlet_patch_must_be_open(tmp_path, env):
 
 @pytest.mark.mpi
 def test_grains_leave_through_outlet_in_parallel(tmp_path, env):
-    """The outlet case on 2 ranks (x slabs: each grain crosses the bottom on
-    one rank): every rank removes the same grains, the counts and times are
-    those of the serial run."""
+    """The outlet case on 2 ranks (x slabs, the grains decomposed: each
+    grain crosses the bottom on one rank, which removes it): the counts and
+    times are those of the serial run, and every rank writes the totals."""
     from foamcase import run_parallel
 
     serial = outlet_case(tmp_path, "serial", env, end=0.15)

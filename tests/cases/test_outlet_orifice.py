@@ -122,14 +122,12 @@ def test_grains_grazing_the_orifice_rim_3d(tmp_path, env):
     )
 
 
-@pytest.mark.fast
-def test_small_silo_discharge_runs_to_its_end(tmp_path, env):
-    """A 2D silo 6 cm wide, 5 mm cells, a 2 cm central orifice in its floor,
-    288 discs of 2.7-3.3 mm (fixed pseudo-random sizes) in a loose lattice:
-    0.25 s of discharge runs to its end (exit 0, no grain 'left the mesh'),
-    grains leave only through the orifice, and removed + remaining =
-    initial by number and mass (input diameters)."""
-    case = str(tmp_path / "silo")
+def small_silo(case, env, end, write_interval=0.05):
+    """The 2D silo of test_small_silo_discharge_runs_to_its_end: 6 cm wide,
+    5 mm cells, a 2 cm central orifice (x 0.02-0.04) in its floor, 288
+    discs of 2.7-3.3 mm (fixed pseudo-random sizes) in a loose lattice, dt
+    5e-4 s, to end.  Runs blockMesh, topoSet, createPatch and grainDeposit;
+    returns the grains (x, y, z, d)."""
     rng = np.random.default_rng(60)
     grains = []
     for j in range(18):
@@ -146,13 +144,25 @@ def test_small_silo_discharge_runs_to_its_end(tmp_path, env):
         (0, -G, 0),
         MAT,
         grains=grains,
-        end_time=0.25,
+        end_time=end,
         dt=5e-4,
-        write_interval=0.05,
+        write_interval=write_interval,
         extra_props="outletPatches (orifice);\n",
     )
     carve_orifice(case, env, (0.02, -1, -1), (0.04, 1e-6, 1))
     run("grainDeposit", case, env)
+    return grains
+
+
+@pytest.mark.fast
+def test_small_silo_discharge_runs_to_its_end(tmp_path, env):
+    """A 2D silo 6 cm wide, 5 mm cells, a 2 cm central orifice in its floor,
+    288 discs of 2.7-3.3 mm (fixed pseudo-random sizes) in a loose lattice:
+    0.25 s of discharge runs to its end (exit 0, no grain 'left the mesh'),
+    grains leave only through the orifice, and removed + remaining =
+    initial by number and mass (input diameters)."""
+    case = str(tmp_path / "silo")
+    grains = small_silo(case, env, 0.25)
     out = run("grainFoam", case, env).stdout
     assert "left the mesh" not in out
     assert times(case)[-1] == "0.25"

@@ -157,43 +157,6 @@ def test_restart_on_4_ranks_continues_a_2_rank_run(runs, env, tmp_path):
 
 
 @pytest.mark.mpi
-def test_rotation_coupling_keeps_every_grain_on_every_rank(tmp_path, env):
-    """A coupling sub-model whose per-grain sums are not yet completed over
-    the grains' copies (here rotationCoupling): by default the run says so
-    and replicates the grains; an explicit grainDecomposition decomposed
-    stops with the reason and the fix."""
-    import subprocess
-
-    from foamcase import mpirun_could_not_start
-
-    case = str(tmp_path / "rotation")
-    _case(case, env, 0.002)
-    path = os.path.join(case, "constant", "couplingProperties")
-    text = open(path).read()
-    open(path, "w").write(text.replace("forceModel", "rotationCoupling yes;\nforceModel", 1))
-    p = run_parallel("vansFoam", case, env, n=2)
-    assert (
-        "every rank holds every grain (grainDecomposition replicated:"
-        " couplingProperties rotationCoupling)"
-    ) in p.stdout
-    with open(os.path.join(case, "constant", "grainProperties"), "a") as f:
-        f.write("grainDecomposition decomposed;\n")
-    p = subprocess.run(
-        ["mpirun", "-np", "2", "vansFoam", "-parallel", "-case", case],
-        env=env,
-        capture_output=True,
-        text=True,
-    )
-    if mpirun_could_not_start(p):
-        pytest.skip("mpirun cannot start here")
-    out = p.stdout + p.stderr
-    assert p.returncode != 0
-    assert (
-        "grainDecomposition decomposed: not available with couplingProperties rotationCoupling"
-    ) in out, out[-2000:]
-
-
-@pytest.mark.mpi
 def test_bed_at_rest_across_ranks_matches_serial(tmp_path, env):
     """A bed of 40 discs settled by grainFoam (its contacts carry the
     weight) then immersed: vansFoam from that state on 2 ranks split across

@@ -47,7 +47,12 @@ void Subdomain::unpackGrain(std::size_t i, unsigned flags, const char* in)
 
 std::size_t Subdomain::addGrain(unsigned flags, const char* in)
 {
+    // the grain comes with its id (setGrainId): the system's next id is
+    // not advanced, so that a decomposed system's nextGrainId stays that
+    // of the whole system, however many ghosts a rank adds
+    const long next = sys_.impl_->nextId;
     const std::size_t i = sys_.impl_->appendRow();
+    sys_.impl_->nextId = next;
     try
     {
         unpackGrain(i, flags, in);
@@ -143,8 +148,11 @@ public:
         X.dropletBodies.clear();
         for (int k = 0; k < ND; ++k)
             if (I.droplets[k].mass > 0) X.dropletBodies.push_back(N + NW + k);
-        // the tolerance scale d_min of the undecomposed system (collective)
-        dmin = -2 * C.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
+        // the tolerance scale d_min of the undecomposed system (collective;
+        // no grain anywhere, e.g. all left through an outlet: 0, as rMin of
+        // an empty system, not 2e300, whose square overflows)
+        const double m = C.maxOverSubdomains(N > 0 ? -I.rMin() : -1e300);
+        dmin = m > -1e300 ? -2 * m : 0.0;
         X.inContact.resize(N);
     }
 

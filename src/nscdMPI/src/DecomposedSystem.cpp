@@ -161,6 +161,18 @@ StepReport DecomposedSystem::advance(double dt, double fraction)
 
 const std::vector<int>& DecomposedSystem::unclaimed() const { return impl_->unclaimed; }
 
+std::vector<std::size_t> DecomposedSystem::removeOwned(const std::vector<std::size_t>& indices)
+{
+    try
+    {
+        return impl_->removeOwned(indices);
+    }
+    catch (const std::exception& e)
+    {
+        impl_->abortAll("removeOwned", e);
+    }
+}
+
 void DecomposedSystem::setRegionBox(const Vec3& lo, const Vec3& hi)
 {
     impl_->regionLo = lo;

@@ -212,6 +212,60 @@ void DecomposedSystem::Impl::dropStaleGhosts(const std::vector<char>& keep)
     for (int& i : unclaimed) i = newIndex[i]; // owned: kept
 }
 
+std::vector<std::size_t> DecomposedSystem::Impl::removeOwned(const std::vector<std::size_t>& indices)
+{
+    const std::size_t N = owned.size();
+    std::vector<char> drop(N, 0);
+    for (std::size_t i : indices)
+    {
+        if (i >= N || !owned[i])
+            throw InputError("nscd::mpi::DecomposedSystem::removeOwned: local grain " + std::to_string(i)
+                             + (i >= N ? " out of range" : " is a ghost here (remove it on its owner)"));
+        drop[i] = 1;
+    }
+    // the ranks holding a ghost of a removed grain (its send lists) drop it
+    std::vector<std::vector<long>> send(P), recv(P);
+    for (int r = 0; r < P; ++r)
+        for (int i : sendTo[r])
+            if (drop[i]) send[r].push_back(gid[i]);
+    if (P > 1) counters.bytesSent += exchangeLists(comm, TagRemoved, send, recv);
+    std::unordered_set<long> gone;
+    for (const auto& L : recv) gone.insert(L.begin(), L.end());
+    for (int r = 0; r < P && !gone.empty(); ++r)
+        for (int i : ghostFrom[r])
+            if (gone.count(gid[i])) drop[i] = 1;
+    std::vector<int> newIndex(N, -1);
+    std::vector<std::size_t> removed;
+    int n = 0;
+    for (std::size_t i = 0; i < N; ++i)
+    {
+        if (drop[i])
+            removed.push_back(i);
+        else
+            newIndex[i] = n++;
+    }
+    removeFlagged(drop);
+    // the lists keep the remaining grains in their order (the two sides of
+    // each ghost list stay aligned)
+    auto remap = [&newIndex](std::vector<int>& L)
+    {
+        std::size_t m = 0;
+        for (int i : L)
+            if (newIndex[i] >= 0) L[m++] = newIndex[i];
+        L.resize(m);
+    };
+    for (auto& L : ghostFrom) remap(L);
+    for (auto& L : sendTo) remap(L);
+    remap(unclaimed);
+    counters.unclaimed = long(unclaimed.size());
+    // (the last solve's interface lists: rebuilt by the next step)
+    ifaceGhost.assign(P, {});
+    ifaceOwned.assign(P, {});
+    ownedShared.clear();
+    copies.clear();
+    return removed;
+}
+
 std::vector<int> DecomposedSystem::Impl::claimLeavers(const std::vector<int>& leaving)
 {
     struct Leaver

@@ -35,12 +35,7 @@ void throwGrains(const DecomposedSystem::OwnerFunction& ownerOf, double advanceD
     const std::vector<Grain> G = gasCase();
     DecomposedSystem D(2, MPI_COMM_WORLD, ownerOf, 3e-3);
     System& S = D.system();
-    const int m = S.addMaterial({2500, 0.3});
-    for (std::size_t k = 0; k < G.size(); ++k)
-    {
-        const std::size_t i = D.addGrain(long(k), G[k].x, G[k].r, m);
-        if (i != std::size_t(-1)) S.velocities()[i] = G[k].v;
-    }
+    addGrains(D, G);
     D.exchange();
     // total momentum, sum m |v| (its scale) and kinetic energy of the owned grains
     auto momentum = [&](double& scale, double& energy)
@@ -113,12 +108,7 @@ TEST(Decomposed, DragImpulsesAndTravellingValuesFollowTheGrains)
     const std::vector<Grain> G = gasCase();
     DecomposedSystem D(2, MPI_COMM_WORLD, localSlabs(0, -2e-3, 36e-3), 3e-3);
     System& S = D.system();
-    const int m = S.addMaterial({2500, 0.3});
-    for (std::size_t k = 0; k < G.size(); ++k)
-    {
-        const std::size_t i = D.addGrain(long(k), G[k].x, G[k].r, m);
-        if (i != std::size_t(-1)) S.velocities()[i] = G[k].v;
-    }
+    addGrains(D, G);
     D.setGrainDataWidth(2);
     for (std::size_t i = 0; i < S.size(); ++i) D.grainData()[2 * i] = double(D.globalIds()[i]);
     D.exchange();
@@ -205,6 +195,44 @@ TEST(Decomposed, GhostValuesSumToTheirOwnersAndLostGrainsAreReported)
     EXPECT_EQ(sumAll(lost), 1.0);
     EXPECT_EQ(sumAll(double(D.counters().unclaimed)), 1.0);
     EXPECT_EQ(ownedIdsEverywhere(D).size(), G.size());
+}
+
+// Grains removed by their owners (e.g. through an outlet:
+// DecomposedSystem::removeOwned): their ghost copies leave every rank, the
+// sums over the copies and the next steps run on the remaining grains alone.
+TEST(Decomposed, RemovedGrainsLeaveEveryRank)
+{
+    const std::vector<Grain> G = gasCase();
+    DecomposedSystem D(2, MPI_COMM_WORLD, localSlabs(0, -2e-3, 36e-3), 3e-3);
+    System& S = D.system();
+    addGrains(D, G);
+    D.exchange();
+    D.step(1e-4);
+    // every third grain, removed by its owner
+    std::vector<std::size_t> mine;
+    for (std::size_t i = 0; i < S.size(); ++i)
+        if (D.owned()[i] && D.globalIds()[i] % 3 == 0) mine.push_back(i);
+    const std::size_t before = S.size();
+    const std::vector<std::size_t> removed = D.removeOwned(mine);
+    EXPECT_EQ(S.size(), before - removed.size());
+    EXPECT_TRUE(std::is_sorted(removed.begin(), removed.end()));
+    for (long id : S.grainIds()) EXPECT_NE(id % 3, 0);
+    if (worldSize() > 1) EXPECT_GT(sumAll(double(removed.size() - mine.size())), 0.0); // ghosts went too
+    std::vector<long> kept;
+    for (long k = 0; k < long(G.size()); ++k)
+        if (k % 3 != 0) kept.push_back(k);
+    EXPECT_EQ(ownedIdsEverywhere(D), kept);
+    // every copy of a grain counts its copies: the ghost lists stayed aligned
+    std::vector<double> ones(S.size(), 1.0);
+    D.sumToOwners(ones, 1);
+    D.copyToGhosts(ones, 1);
+    double owned = 0;
+    for (std::size_t i = 0; i < S.size(); ++i) owned += D.owned()[i] ? ones[i] : 0.0;
+    EXPECT_EQ(sumAll(owned), sumAll(double(S.size())));
+    for (int k = 0; k < 5; ++k) EXPECT_TRUE(D.step(1e-4).converged);
+    EXPECT_EQ(ownedIdsEverywhere(D), kept);
+    std::unique_ptr<System> whole = D.gatherWhole(0);
+    if (worldRank() == 0) EXPECT_EQ(whole->size(), kept.size());
 }
 
 // The restart of DepositCarriesItsWeightAcrossTheInterfaces without any

@@ -3,7 +3,7 @@
 #include "fvc.H"
 #include "fvMatrices.H"
 #include "zeroGradientFvPatchFields.H"
-#include "PstreamCombineReduceOps.H"
+#include "PstreamReduceOps.H"
 
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
@@ -49,11 +49,13 @@ void Foam::resolvedGrains::mark()
     const label n = s.size();
     resolved_.setSize(n);
     resolved_ = false;
+    fixedResolved_ = false;
     // without constant properties (vansInterFoam) the solver does not add
-    // the B part of the solid flux: keep every grain unresolved
+    // the B part of the solid flux: keep every grain unresolved (decomposed:
+    // a rank without grains goes on, the sums below are collective)
     if
     (
-        !fluid_.kinematic() || n == 0
+        !fluid_.kinematic()
      || !(settings_.resolvedCellsPerDiameter < GREAT)
     )
     {
@@ -63,48 +65,35 @@ void Foam::resolvedGrains::mark()
     const bool twoD = adapter_.twoD();
     const auto& eg = adapter_.entryGrain();
     const auto& ec = adapter_.entryCell();
-    List<scalar> hSum(n, Zero);
-    List<scalar> nSum(n, Zero);
+    // per grain: the sum of its cells' sizes and their number (its cells
+    // may be on several ranks: summed over the copies or the ranks)
+    std::vector<double> sums(2*n, 0.0);
     for (std::size_t e = 0; e < ec.size(); ++e)
     {
         const scalar Vc = mesh_.V()[ec[e]];
-        hSum[eg[e]] += twoD ? std::sqrt(Vc/depth) : std::cbrt(Vc);
-        nSum[eg[e]] += 1;
+        sums[2*eg[e]] += twoD ? std::sqrt(Vc/depth) : std::cbrt(Vc);
+        sums[2*eg[e] + 1] += 1;
     }
     if (Pstream::parRun())
     {
-        Pstream::listCombineGather(hSum, plusEqOp<scalar>());
-        Pstream::listCombineScatter(hSum);
-        Pstream::listCombineGather(nSum, plusEqOp<scalar>());
-        Pstream::listCombineScatter(nSum);
+        adapter_.sumOverRanks(sums, 2);
     }
     for (label i = 0; i < n; ++i)
     {
-        if (nSum[i] > 0)
+        if (sums[2*i + 1] > 0)
         {
-            const scalar h = hSum[i]/nSum[i];
+            const scalar h = sums[2*i]/sums[2*i + 1];
             resolved_[i] =
                 2*s.radii()[i] >= settings_.resolvedCellsPerDiameter*h;
         }
     }
-}
-
-
-bool Foam::resolvedGrains::fixedResolved() const
-{
-    const nscd::System& s = grains_.system();
-    if (resolved_.size() != label(s.size()))
-    {
-        return false;
-    }
+    fixedResolved_ = false;
     forAll(resolved_, i)
     {
-        if (resolved_[i] && s.fixed(i))
-        {
-            return true;
-        }
+        fixedResolved_ = fixedResolved_ || (resolved_[i] && s.fixed(i));
     }
-    return false;
+    // (decomposed: the same pressure scheme on every rank)
+    reduce(fixedResolved_, orOp<bool>());
 }
 
 

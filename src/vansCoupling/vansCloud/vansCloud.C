@@ -45,40 +45,6 @@ namespace
         );
     }
 
-    //- Why the coupling needs every grain on every rank (empty: it runs
-    //  with the grains decomposed, grainProperties grainDecomposition):
-    //  the sub-models whose per-grain sums are not yet made over the
-    //  grains' copies on several ranks.  (The local mixture of
-    //  vansInterFoam is not one: its rho_p and mu_p are overlap gathers,
-    //  completed over the copies as U and eps are.)
-    Foam::string replicatedReasons
-    (
-        const Foam::dictionary& dict,
-        const Foam::vansCloudSettings& s
-    )
-    {
-        using namespace Foam;
-        DynamicList<word> why;
-        if (s.rotation)
-        {
-            why.append("rotationCoupling");
-        }
-        if (s.resolvedCellsPerDiameter < GREAT)
-        {
-            why.append("resolvedCellsPerDiameter");
-        }
-        if (dict.getOrDefault<word>("undisturbedVelocity", "none") != "none")
-        {
-            why.append("undisturbedVelocity");
-        }
-        string out;
-        forAll(why, k)
-        {
-            out += (k ? ", " : "") + why[k];
-        }
-        return out.empty() ? out : "couplingProperties " + out;
-    }
-
     Foam::dictionary transportDict(const Foam::fvMesh& mesh)
     {
         using namespace Foam;
@@ -144,7 +110,10 @@ Foam::vansCloud::vansCloud
     fluid_(std::move(fluid)),
     grains_
     (
-        mesh, true, replicatedReasons(dict_, settings_),
+        // every sub-model makes its per-grain sums over the grains' copies
+        // on several ranks (vansFoam and vansInterFoam): the grains may be
+        // decomposed (grainProperties grainDecomposition)
+        mesh, true, string(),
         &vansCloud::declareGrainColumns
     ),
     adapter_

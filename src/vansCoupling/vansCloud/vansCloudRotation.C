@@ -7,12 +7,12 @@ Description
     overlapped cell is the rigid-body velocity v_p + omega_p x r_pc in K v**
     and in the solid flux, and the fluid torque T_p = sum_c r_pc x f_pc of
     the overlap-distributed force is handed to the grains (see vansCloud.H,
-    "Rotation coupling").
+    "Rotation coupling").  Decomposed grains: a grain's torque is summed
+    over its copies on the ranks whose cells it overlaps, as the drag.
 \*---------------------------------------------------------------------------*/
 
 #include "vansCloud.H"
 #include "foamTools.H"
-#include "PstreamCombineReduceOps.H"
 #include "PstreamReduceOps.H"
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
@@ -137,10 +137,26 @@ void Foam::vansCloud::addRotationalForces
     }
     if (Pstream::parRun())
     {
-        Pstream::listCombineGather(torque, plusEqOp<vector>());
-        Pstream::listCombineScatter(torque);
-        Pstream::listCombineGather(Frot, plusEqOp<vector>());
-        Pstream::listCombineScatter(Frot);
+        // the entries of a grain lie in the cells of several ranks: summed
+        // over its copies (decomposed grains) or over the ranks (replicated)
+        std::vector<double> sums(6*n);
+        for (label i = 0; i < n; ++i)
+        {
+            for (direction d = 0; d < 3; ++d)
+            {
+                sums[6*i + d] = torque[i][d];
+                sums[6*i + 3 + d] = Frot[i][d];
+            }
+        }
+        adapter_.sumOverRanks(sums, 6);
+        for (label i = 0; i < n; ++i)
+        {
+            for (direction d = 0; d < 3; ++d)
+            {
+                torque[i][d] = sums[6*i + d];
+                Frot[i][d] = sums[6*i + 3 + d];
+            }
+        }
     }
     UList<vector> fluidForce(vectors(columns::fluidForce));
     UList<vector> explicitForce(vectors(columns::explicitFluidForce));
@@ -200,6 +216,7 @@ void Foam::vansCloud::logDragAngularMomentum
     {
         Tmax = max(Tmax, mag(T));
     }
+    reduce(Tmax, maxOp<scalar>());   // (decomposed: each rank its grains)
     Info<< "rotationCoupling: max |fluid torque| " << Tmax
         << ", drag angular momentum rate lost by the fluid "
         << dragTorqueFluid_.z() << " gained by the grains "
