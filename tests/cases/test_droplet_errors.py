@@ -25,6 +25,7 @@ pytestmark = pytest.mark.fast
         ),
         (lambda s: s + "liquidViscosity -2e-4;\n", ["liquidViscosity", "positive"]),
         (lambda s: s + "vapourRelease bottom;\n", ["vapourRelease", "heatFlux"]),
+        (lambda s: s + "absorbedGrains rigid;\n", ["absorbedGrains", "carried"]),
     ],
 )
 def test_keyword_errors(tmp_path, env, edit, words):

@@ -80,6 +80,7 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     rhoL_(0), L_(0), Td_(0), rhoV_(0), moving_(false), blowing_(true),
     penalisationFactor_(100),
     grainDrag_(true), muL_(2.82e-4), sigma_(0), localRelease_(false),
+    carryGrains_(false),
     film_(false), muV_(0), kappaF_(0), porosity_(0), drag_(nullptr),
     rhoF_(0), CpF_(0), diffusivity_(0),
     x_(Zero), u_(Zero), m_(0), y0_(0), mdot_(0), Qf_(0), Qp_(0), Ff_(Zero),

@@ -169,15 +169,30 @@ void Foam::vapourDroplet::addGrainCoefficients
         // applies m g and the contacts itself, so the droplet's
         // force is the above minus m g + P
         const scalar mi = sys.mass(g);
-        const scalar x = ci*dt/mi;
-        const scalar phi = x > 1e-12 ? -std::expm1(-x)/x : 1.0;
+        // absorbedGrains carried: the coupling rate c/(1 - f), infinite
+        // once the grain is fully inside (f = 1): phi = 0, phi c = m/dt,
+        // so F_i = m (u - v^n)/dt - (m g + P) gives the grain the
+        // droplet's velocity and puts its mass, weight and other forces
+        // into the droplet's equation; the liquid's pressure on it
+        // (w = phi a/V) vanishes, its buoyancy in the liquid being
+        // internal to the combined body (README, "The model")
+        scalar phi = 0;
+        scalar phiC = mi/dt;
+        if (!carryGrains_ || f < 1 - 1e-12)
+        {
+            const scalar carry = carryGrains_ ? 1 - f : 1;
+            const scalar x = ci*dt/(mi*carry);
+            phi = x > 1e-12 ? -std::expm1(-x)/x : 1.0;
+            // phi c' = (1 - e^{-x}) m/dt, c' = c/carry the coupling rate
+            phiC = carryGrains_ ? -std::expm1(-x)*mi/dt : phi*ci;
+        }
         vector P(Zero);
         if (lf.history)
         {
             P = otherForcePredictor(g, v, mi, b, lf, lf.gasChange[g]);
         }
         k = (1 - phi)*mi/dt;
-        e = phi*ci*(un - v) - (1 - phi)*(mi*lf.gGrain + P);
+        e = phiC*(un - v) - (1 - phi)*(mi*lf.gGrain + P);
         w = phi*a/lf.V;
     }
     if (twoD)

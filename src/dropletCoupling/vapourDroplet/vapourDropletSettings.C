@@ -55,7 +55,8 @@ void Foam::vapourDroplet::readDict()
         "centre", "radius", "diameter", "velocity", "liquidDensity",
         "latentHeat", "vapourisationTemperature", "vapourDensity", "moving",
         "blowing", "penalisationFactor", "grainDrag", "liquidViscosity",
-        "surfaceTension", "vapourRelease", "filmConduction", "vapourViscosity"
+        "surfaceTension", "vapourRelease", "filmConduction", "vapourViscosity",
+        "absorbedGrains"
     };
     grainTools::checkKeywords(dict_, allowed);
 
@@ -149,6 +150,24 @@ void Foam::vapourDroplet::readModelOptions()
                 << " entered)." << exit(FatalIOError);
         }
         localRelease_ = (release == "heatFlux");
+    }
+
+    // what the grains inside the droplet are (README, "The model",
+    // absorbedGrains): bodies dragged by the liquid, or carried with it
+    {
+        const word absorbed =
+            dict_.getOrDefault<word>("absorbedGrains", "drag");
+        if (absorbed != "drag" && absorbed != "carried")
+        {
+            FatalIOErrorInFunction(dict_)
+                << "absorbedGrains " << absorbed << " in " << dict_.name()
+                << " is not a mode of the absorbed grains." << nl
+                << "    Fix: 'absorbedGrains drag;' (grains inside feel the"
+                << " liquid drag law, the default) or 'absorbedGrains"
+                << " carried;' (grains inside move with the droplet, their"
+                << " mass and weight in its equation)." << exit(FatalIOError);
+        }
+        carryGrains_ = (absorbed == "carried");
     }
 
     // Leidenfrost film conduction (vapourDroplet.H)

@@ -2,7 +2,8 @@
 """Run settings of the droplet-digging tutorial read from the environment
 (Allrun's and the benches' switches): the contact solver's tolerance,
 sweep cap and compliance, the vapour cohesion's persistence and strength,
-the droplet's capillary barrier, vapour release and film conduction.  Each
+the droplet's capillary barrier, vapour release, film conduction and
+absorbed grains.  Each
 returns the value to write into the case, or raises ValueError naming the
 variable and the values it accepts.  setupCase.py loads this module and
 re-exports its functions (setupCase.contact_tolerance, ...)."""
@@ -107,6 +108,18 @@ def vapour_release(value=None):
     value = value or os.environ.get("VAPOUR_RELEASE") or "uniform"
     if value not in ("uniform", "heatFlux"):
         raise ValueError(f"VAPOUR_RELEASE={value}: give 'uniform' (thesis, default) or 'heatFlux'")
+    return value
+
+
+def absorbed_grains():
+    """What the grains inside the droplet are (dropletProperties
+    absorbedGrains, src/dropletCoupling/README.md "The model"): env
+    ABSORBED_GRAINS, else "drag" (the liquid drag law, the default);
+    "carried": they move with the droplet, their mass and weight in its
+    equation.  Raises ValueError for anything else."""
+    value = os.environ.get("ABSORBED_GRAINS") or "drag"
+    if value not in ("drag", "carried"):
+        raise ValueError(f"ABSORBED_GRAINS={value}: give 'drag' (default) or 'carried'")
     return value
 
 

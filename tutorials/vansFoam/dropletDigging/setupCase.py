@@ -73,6 +73,7 @@ contact_compliance = settings.contact_compliance
 cohesion_settings = settings.cohesion_settings
 surface_tension = settings.surface_tension
 vapour_release = settings.vapour_release
+absorbed_grains = settings.absorbed_grains
 yes_no = settings.yes_no
 film_conduction = settings.film_conduction
 
@@ -461,6 +462,7 @@ def setup(
     sig = surface_tension(sigma)
     release = vapour_release(release)
     film = film_conduction(film)
+    absorbed = absorbed_grains()
     if film and not sig > 0:
         raise ValueError(
             "FILM_CONDUCTION=yes needs the capillary barrier: set "
@@ -478,7 +480,7 @@ def setup(
         f"velocity (0 0 0);\nliquidDensity {RHO_L};\nlatentHeat {LATENT};\n"
         f"vapourisationTemperature {T_D};\nvapourDensity {RHO_V};\nmoving yes;\nblowing yes;\n"
         f"liquidViscosity {mu_l:.9g};\nsurfaceTension {sig:.9g};\nvapourRelease {release};\n"
-        f"filmConduction {'yes' if film else 'no'};\n",
+        f"filmConduction {'yes' if film else 'no'};\nabsorbedGrains {absorbed};\n",
     )
     write(
         case,
@@ -541,6 +543,7 @@ def setup(
             "similarity_reference_diameter": similarity,
             "surface_tension": sig,
             "vapour_release": release,
+            "absorbed_grains": absorbed,
             "film_conduction": film,
             "front_rear_walls_tau": tau,
             "similarity_s": sim["s"],
