@@ -246,9 +246,10 @@ def test_grains_leaving_through_the_top_keep_alpha_bounded(tmp_path, env, level,
 @pytest.mark.fast
 @pytest.mark.mpi
 def test_grains_leaving_through_the_top_in_parallel(tmp_path, env):
-    """The submerged risers on 2 ranks (x slabs; the grains are replicated
-    with outletPatches): every grain leaves, alpha stays 1, the water
-    balance closes to round-off, the water in is the grains' volume."""
+    """The submerged risers on 2 ranks (x slabs; the grains decomposed, each
+    removed through the outlet by the rank that owns it): every grain
+    leaves, alpha stays 1, the water balance closes to round-off, the water
+    in is the grains' volume."""
     from foamcase import run_parallel
 
     case = risers(tmp_path, env, 1.0, 1)

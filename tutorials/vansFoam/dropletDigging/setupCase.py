@@ -406,6 +406,10 @@ def setup(
     top = bed_top(dep)
     with open(os.path.join(case, "constant", "grainProperties"), "a") as f:
         f.write(f"initialTemperature {t_bed};\nwallTemperatures {{ walls {t_bed}; }}\n")
+        if "outletPatches" not in open(os.path.join(case, "constant", "grainProperties")).read():
+            # a grain the vapour blasts out of the bed to the open top leaves
+            # (counted in grainOutlets.dat) instead of stopping the run
+            f.write("outletPatches (outlet);\n")
         tau = front_rear_walls(walls)
         if tau:
             f.write(f"frontRearWalls {{ temperature {t_bed}; relaxationTime {tau:.6g}; }}\n")
