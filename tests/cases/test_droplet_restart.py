@@ -61,6 +61,45 @@ def test_restart_continues_exactly(tmp_path, env, release):
     assert np.allclose(rest, full[5:], rtol=1e-9, atol=1e-15)
 
 
+def _set_end_time(case, end):
+    cd = os.path.join(case, "system", "controlDict")
+    txt = re.sub(r"endTime\s+[^;]+;", f"endTime {end};", open(cd).read())
+    open(cd, "w").write(txt.replace("adjustTimeStep yes;", "adjustTimeStep no;"))
+
+
+def test_restart_from_an_unscheduled_write(tmp_path, env):
+    """The droplet's state is written with the fields at every write, not only
+    at the scheduled ones: a run that ends off the write grid (endTime 0.07,
+    writeInterval 0.1: the last step is written by runTime.writeNow(), the
+    same path as a SIGTERM/SIGUSR1 stop, grainRunControl::writeStep) has
+    0.07/uniform/droplet, and continued to 0.1 it ends as the uninterrupted
+    run, to 1e-9 relative on every droplet.dat column (reference: the
+    uninterrupted run).  Before, the file was written only at scheduled
+    write times, so such a restart silently started a fresh droplet."""
+    import shutil
+
+    dt = 0.01
+    case = str(tmp_path / "full")
+    extra = "velocity (0.004 -0.01 0);\n"
+    blowing_droplet_case(case, env, 6, dt, 10, extra=extra, moving=True)
+    _set_end_time(case, 10 * dt)
+    stopped = str(tmp_path / "stopped")
+    shutil.copytree(case, stopped)
+    run("vansFoam", case, env)
+    full = read_droplet(case)
+    assert len(full) == 10
+    _set_end_time(stopped, 0.07)
+    run("vansFoam", stopped, env)
+    assert os.path.isfile(os.path.join(stopped, "0.07", "uniform", "droplet"))
+    _set_end_time(stopped, 10 * dt)
+    run("vansFoam", stopped, env)
+    rest = np.loadtxt(
+        os.path.join(stopped, "postProcessing", "droplet", "0.07", "droplet.dat"), ndmin=2
+    )
+    assert len(rest) == 3
+    assert np.allclose(rest, full[7:], rtol=1e-9, atol=1e-15)
+
+
 HISTORY = (
     "dropletPrevVelocity",
     "dropletPrevForce",

@@ -101,7 +101,8 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     releaseWeight_(mesh.nCells(), Zero),
     K_(0),
     timeIndex_(-1),
-    cloud_(nullptr)
+    cloud_(nullptr),
+    restart_(mesh, *this)
 {
     readDict();
     readRestart();

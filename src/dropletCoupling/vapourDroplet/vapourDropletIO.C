@@ -5,7 +5,8 @@
 Description
     The restart file <time>/uniform/droplet (droplet state, the step of
     the grain predictor's history, film heat and heat-sink directions),
-    read at the start and written at the write times; the predictor's
+    read at the start and written with the fields at every write (the
+    scheduled ones, the last step, a stop signal: restartFile); the predictor's
     per-grain history as restart columns of the grain state (attach; a
     file written before holds it as per-grain lists, still read); and the
     per-step line of postProcessing/droplet/<startTime>/droplet.dat.
@@ -59,6 +60,12 @@ void Foam::vapourDroplet::readRestart()
     );
     if (!io.typeHeaderOk<IOdictionary>(true))
     {
+        if (mesh_.time().timeIndex() > 0 || mesh_.time().value() > 0)
+        {
+            Info<< "vapourDroplet: no " << mesh_.time().timeName()
+                << "/uniform/droplet: the droplet starts as"
+                << " constant/dropletProperties gives it" << nl;
+        }
         return;
     }
     const IOdictionary d(io);
@@ -187,16 +194,9 @@ void Foam::vapourDroplet::restoreGrainHistory(const nscd::System& sys)
 }
 
 
-void Foam::vapourDroplet::writeRestart() const
+void Foam::vapourDroplet::writeRestart(Ostream& os) const
 {
-    IOdictionary d
-    (
-        IOobject
-        (
-            "droplet", mesh_.time().timeName(), "uniform", mesh_,
-            IOobject::NO_READ, IOobject::NO_WRITE, false
-        )
-    );
+    dictionary d;
     d.add("centre", x_);
     d.add("velocity", u_);
     d.add("mass", m_);
@@ -223,7 +223,7 @@ void Foam::vapourDroplet::writeRestart() const
         h.add("second", history2_);
         d.add("grainHistory", h);
     }
-    d.regIOobject::write();
+    d.writeEntries(os);
 }
 
 
@@ -275,11 +275,39 @@ void Foam::vapourDroplet::finishStep()
         datPtr_() << os.str().c_str() << nl;
         datPtr_().flush();
     }
+}
 
-    if (runTime.writeTime())
-    {
-        writeRestart();
-    }
+
+// * * * * * * * * * * * * * * * restartFile  * * * * * * * * * * * * * * * //
+
+Foam::vapourDroplet::restartFile::restartFile
+(
+    const fvMesh& mesh,
+    const vapourDroplet& droplet
+)
+:
+    regIOobject
+    (
+        IOobject
+        (
+            "droplet", mesh.time().timeName(), "uniform", mesh,
+            IOobject::NO_READ, IOobject::AUTO_WRITE
+        )
+    ),
+    droplet_(droplet)
+{}
+
+
+const Foam::word& Foam::vapourDroplet::restartFile::type() const
+{
+    return IOdictionary::typeName;
+}
+
+
+bool Foam::vapourDroplet::restartFile::writeData(Ostream& os) const
+{
+    droplet_.writeRestart(os);
+    return os.good();
 }
 
 // ************************************************************************* //
