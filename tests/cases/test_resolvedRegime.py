@@ -310,7 +310,9 @@ def test_rigid_viscosity_ratio_checked(tmp_path, env):
         "scheme (from a hydrostatic initial p), the rest a first-step spike from p = 0; 1.79 x at "
         "dt 2e-4.  The earlier '2.02 x' was the mean acceleration u(0.02 s)/0.02 s of the "
         "pre-0145616 test on the same trajectory (traced 2026-11-22).  The resolved-regime scheme "
-        "fixes it (test above)"
+        "fixes it (test above) but is not the default: with it for every grain the fluidisation "
+        "heave and the Rayleigh-Taylor front leave their tolerance (docs/validation/"
+        "resolvedGrains.md, Implicit scheme for every grain)"
     ),
 )
 def test_released_disc_added_mass_default_scheme(tmp_path, env):
