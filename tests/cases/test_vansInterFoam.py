@@ -281,6 +281,20 @@ def test_unknown_transport_keyword(tmp_path, env):
     assert p.returncode != 0 and "Unknown keyword" in out and "sigmaa" in out
 
 
+@pytest.mark.fast
+def test_resolved_scheme_refused(tmp_path, env):
+    """resolvedCellsPerDiameter is vansFoam's (its pEqn.H carries the
+    resolved grains' solid flux): vansInterFoam stops with a FatalIOError
+    naming the keyword and the fix instead of running every grain
+    unresolved without a word."""
+    case = str(tmp_path / "resolved")
+    basin(case, env, [(0.0143, 0.0301, 0, 2e-3)], fixed=True, end=0.002)
+    with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
+        f.write("resolvedCellsPerDiameter 4;\n")
+    p = run("vansInterFoam", case, env, check=False)
+    fails_with(p, "resolvedCellsPerDiameter 4", "vansFoam only", "Fix:", banner="FOAM FATAL IO ERROR")
+
+
 def closed_form_slip(drho, mu, rho, d):
     """Slip velocity w of a single sphere, drho g = gamma(eps = 1, Re(w)) w,
     with the coded DallavalleDiFelice law (consistency check: test_drag.py
