@@ -292,7 +292,9 @@ def test_resolved_scheme_refused(tmp_path, env):
     with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
         f.write("resolvedCellsPerDiameter 4;\n")
     p = run("vansInterFoam", case, env, check=False)
-    fails_with(p, "resolvedCellsPerDiameter 4", "vansFoam only", "Fix:", banner="FOAM FATAL IO ERROR")
+    fails_with(
+        p, "resolvedCellsPerDiameter 4", "vansFoam only", "Fix:", banner="FOAM FATAL IO ERROR"
+    )
 
 
 def closed_form_slip(drho, mu, rho, d):
