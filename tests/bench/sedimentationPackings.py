@@ -90,9 +90,13 @@ def snapshots(png, runs):
             ax.set_aspect("equal")
             ax.set_xticks([])
             ax.set_yticks([0.2, 0.3, 0.4, 0.5, 0.6] if j == 0 else [])
-            ax.set_title(f"{label}, t = {t:g} s", fontsize=7)
+            ax.set_title(f"{label}, t = {t:g} s", fontsize=6)
     fig.tight_layout()
-    fig.savefig(png, dpi=90)
+    fig.savefig(png, dpi=80)
+    # 32-colour palette: the figures go to docs/ (<= 200 kB each)
+    from PIL import Image
+
+    Image.open(png).convert("RGB").quantize(32).save(png, optimize=True)
 
 
 def main():

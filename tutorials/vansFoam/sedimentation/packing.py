@@ -76,5 +76,5 @@ def row_spread(row, y, lowest=10, d=2 * R):
     lowest starting rows).  A row falling as a sheet keeps it below ~1; a
     row broken into fingers spreads over the fingers' length."""
     last = int(row.max())
-    s = [np.std(y[row == j]) / d for j in range(last, last - lowest, -1)]
+    s = [np.std(y[row == j]) / d for j in range(last, max(last - lowest, -1), -1)]
     return float(s[0]), float(np.median(s))
