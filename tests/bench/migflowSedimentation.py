@@ -30,6 +30,7 @@ t0.5, ...: (n, 2) arrays [m]; row: each grain's starting row).  Reference: MigFl
 issue 25: leading-edge fall 0.118 m at 1 s, 0.283 m at 2 s.
 
 usage: migflowSedimentation.py OUTDIR [ENDTIME [DT]] [--packing square|hexagonal]
+           [--effective-diameter-factor K]   (the fluid sees radius K r)
        ->  OUTDIR/front.json, OUTDIR/positions.npz
 
 Install MigFlow in a virtual environment (`python3 -m venv v; v/bin/pip
@@ -127,6 +128,7 @@ def arguments():
     a.add_argument("end", nargs="?", type=float, default=2.0)
     a.add_argument("dt", nargs="?", type=float, default=5e-3)
     a.add_argument("--packing", choices=list(packing.ROWS), default="square")
+    a.add_argument("--effective-diameter-factor", type=float, default=1.0, metavar="K")
     return a.parse_args()
 
 
@@ -147,6 +149,12 @@ def main():
     f = fluid.FluidProblem(2, G, [MU], [RHO], solver="scipy")  # default drag, stabilisation
     f.linear_system_package = PinnedPressureSystem
     f.load_msh(None)
+    if args.effective_diameter_factor != 1.0:
+        # the fluid sees discs of radius K r (vansFoam's effectiveDiameterFactor,
+        # thesis section 3.2.3): MigFlow's fluid takes the radius from the
+        # volume it is given (fluid.set_particles), the grains keep theirs
+        k2, set_particles = args.effective_diameter_factor**2, f.set_particles
+        f.set_particles = lambda delassus, volume, *a: set_particles(delassus, k2 * volume, *a)
     f.set_wall_boundary(list(SIDES), velocity=[0.0, 0.0])  # no-slip walls
     f.set_mean_pressure(0.0)  # closed box: fix the pressure level
     weight = p.volume() * RHO_P * G  # buoyancy comes from the fluid pressure
@@ -181,6 +189,7 @@ def main():
     out = {
         "case": "tutorials/vansFoam/sedimentation (thesis section 3.2.2)",
         "packing": args.packing,
+        "effective_diameter_factor": args.effective_diameter_factor,
         "time": times,
         "front_height": front,
         "fall_1s": fall(1.0),

@@ -14,8 +14,10 @@ import re
 import subprocess
 import sys
 
+import nscdpost
 import numpy as np
 import pytest
+from foamcase import run
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 TUT = os.path.join(ROOT, "tutorials", "vansFoam", "sedimentation")
@@ -23,11 +25,11 @@ D = 3e-3  # grain diameter [m]
 BOX = (0.4, 0.6)
 
 
-def grain_list(case, env, *args):
+def grain_list(case, env, *args, end="2"):
     """(centres (n, 2), diameters (n,)) of the grainDepositDict written by
-    `setupCase.py case overlap 2 *args`."""
+    `setupCase.py case overlap END *args`."""
     subprocess.run(
-        [sys.executable, os.path.join(TUT, "setupCase.py"), case, "overlap", "2", *args],
+        [sys.executable, os.path.join(TUT, "setupCase.py"), case, "overlap", end, *args],
         env=env,
         check=True,
         capture_output=True,
@@ -103,3 +105,45 @@ def test_perturbed_lattice_has_no_overlap(tmp_path, env):
     nearest, _ = neighbour_counts(xy, D)
     assert nearest.min() >= 0.9 * D * (1 - 1e-8)
     assert nearest.min() < 0.95 * D  # the offsets did move the discs
+
+
+@pytest.mark.slow
+def test_thesis_mode_short_run(tmp_path, env):
+    """The thesis mode's overlap case (./Allrun thesis: hexagonal packing,
+    effectiveDiameterFactor 0.88, jiggled mesh) to 0.5 s.  Independent
+    checks: the mixture stays incompressible -- every grain is kept with its
+    diameter, the final corrector's continuity error stays at solver
+    tolerance and the fluid volume sum(eps V) (V from writeCellVolumes on the
+    jiggled mesh) equals the box volume minus the fluid-side grain volume
+    k^2 sum(pi d^2 / 4) x depth, computed here from the diameters, to 1e-9;
+    and the leading edge at 0.5 s lies in the band of MigFlow 1.4 on the
+    same packing (tests/bench/migflowSedimentation.py --packing hexagonal,
+    fall 0.0511 m with the true discs, 0.0750 m with the fluid seeing
+    0.88 d; docs/validation/sedimentation.md): between them, widened by
+    5 mm (the two jiggled-mesh runs there fall 0.0755 and 0.0740 m)."""
+    case = str(tmp_path / "thesis")
+    k = 0.88
+    xy0, _ = grain_list(
+        case, env, "--packing", "hexagonal", "--effective-diameter-factor", str(k), end="0.5"
+    )
+    run("blockMesh", case, env)
+    subprocess.run(
+        [sys.executable, os.path.join(TUT, "jiggleMesh.py"), case, "0.2"], env=env, check=True
+    )
+    run("grainDeposit", case, env)
+    run("vansFoam", case, env)
+    run("postProcess", case, env, args=["-func", "writeCellVolumes", "-time", "0.5"])
+    g = nscdpost.read_grains(case, "0.5")
+    assert len(g["d"]) == len(xy0) == 7553
+    assert np.allclose(g["d"], D * (1 - 1e-9), rtol=1e-12)
+    errs = nscdpost.read_step_data(case, "continuityErrors")["sumLocal"]
+    assert len(errs) and max(errs) < 1e-7
+    eps = nscdpost.read_internal_field(os.path.join(case, "0.5", "voidFraction"))
+    V = nscdpost.read_internal_field(os.path.join(case, "0.5", "V"))
+    depth = 3e-3
+    assert np.sum(V) == pytest.approx(BOX[0] * BOX[1] * depth, rel=1e-12)
+    grains = k**2 * np.sum(np.pi * g["d"] ** 2 / 4) * depth
+    assert np.sum(eps * V) == pytest.approx(BOX[0] * BOX[1] * depth - grains, rel=1e-9)
+    front = np.percentile(g["x"][:, 1], 0.5) - D / 2
+    start = np.percentile(xy0[:, 1], 0.5) - D / 2
+    assert 0.0511 - 0.005 < start - front < 0.0750 + 0.005, start - front
