@@ -10,7 +10,10 @@ front, the 0.5 % quantile of the grain centres' heights minus the grain radius
 the top of the granular layer.  Thesis section 3.2.2 (Figure 3.9): with the
 exact overlap representation only the leading edge moves while the grains
 behind stay packed; PCM needs artificial pressure diffusion in the thesis'
-finite-element code and opens a void at the top.
+finite-element code and opens a void at the top.  row_spread(t): the
+coherence of the rows (packing.row_spread: the standard deviation of the
+heights of the grains that started in one row, in d, for the lowest starting
+row and the median over the lowest 10), grains followed by their grainId.
 """
 
 import os
@@ -19,20 +22,26 @@ import sys
 import nscdpost
 import nscdrender
 import numpy as np
+import packing
 from foamlib import FoamCase
 
 
 def measure(case):
-    t, front, top = [], [], []
+    t, front, top, spread, row = [], [], [], [], None
     for time, name in nscdpost.time_dirs(case):
         g = nscdpost.read_grains(case, name)
         y, r = g["x"][:, 1], 0.5 * g["d"]
         t.append(time)
-        front.append(float(np.percentile(y, 0.5) - np.mean(r)))
+        front.append(packing.front_height(y, np.mean(r)))
         top.append(float(np.percentile(y, 99.5) + np.mean(r)))
+        y = y[np.argsort(g["grainId"])] if "grainId" in g else y
+        if row is None:
+            row = packing.rows_of(y)
+        spread.append(packing.row_spread(row, y) if len(y) == len(row) else None)
     method = open(os.path.join(case, "constant", "couplingProperties")).read()
     method = "centroid" if "method      centroid" in method else "overlap"
     out = {"time": t, "front_height": front, "top_height": top, "completed": True}
+    out["row_spread"] = spread  # per time: (lowest starting row, median of the lowest 10) [d]
     # a run that stopped (the time step collapsed) has its last row of the
     # run-time file postProcessing/continuityErrors before endTime
     end = float(FoamCase(case).control_dict["endTime"])
