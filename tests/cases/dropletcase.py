@@ -10,6 +10,7 @@ import os
 
 import correlations
 import nscdpost
+import numpy as np
 from foamcase import add_fluid, add_scalar_transport, make_box_case, replace_in, run, write
 
 D = 2.5e-3
@@ -212,3 +213,33 @@ def held_suspension_case(case, env, r_frac, n, write_every, nu_gas, dg=5e-5):
         extra=f"liquidViscosity {MU_W};\n",
     )
     return grains, dt
+
+
+def replicated_copy(case, par):
+    """Copy case to par for a parallel run with every grain on every rank
+    (grainDecomposition replicated: the droplet needs them all, vansFoam
+    README, Parallel)."""
+    import shutil
+
+    shutil.copytree(case, par)
+    with open(os.path.join(par, "constant", "grainProperties"), "a") as f:
+        f.write("grainDecomposition replicated;\n")
+
+
+def rerun_from(case, half, mid, last, env, edit=None, check=True):
+    """Copy case to half without its last write (time name last) and its
+    postProcessing, apply edit(half) if given, run vansFoam again from mid
+    (startFrom latestTime); returns (the droplet.dat of the restarted run,
+    None), or (None, the process) when check is False."""
+    import shutil
+
+    shutil.copytree(case, half)
+    shutil.rmtree(os.path.join(half, last))
+    shutil.rmtree(os.path.join(half, "postProcessing"))
+    if edit:
+        edit(half)
+    p = run("vansFoam", half, env, check=check)
+    if not check:
+        return None, p
+    path = os.path.join(half, "postProcessing", "droplet", mid, "droplet.dat")
+    return np.loadtxt(path, ndmin=2), None

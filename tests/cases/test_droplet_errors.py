@@ -24,7 +24,7 @@ pytestmark = pytest.mark.fast
             ["liquidDensity", "positive"],
         ),
         (lambda s: s + "liquidViscosity -2e-4;\n", ["liquidViscosity", "positive"]),
-        (lambda s: s + "vapourRelease bottom;\n", ["vapourRelease", "heatFlux"]),
+        (lambda s: s + "vapourRelease bottom;\n", ["vapourRelease", "heatFlux", "grains"]),
         (lambda s: s + "absorbedGrains rigid;\n", ["absorbedGrains", "carried"]),
     ],
 )

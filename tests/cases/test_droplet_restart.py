@@ -12,7 +12,15 @@ import h5py
 import nscdpost
 import numpy as np
 import pytest
-from dropletcase import D, W, blowing_droplet_case, held_suspension_case, read_droplet
+from dropletcase import (
+    D,
+    W,
+    blowing_droplet_case,
+    held_suspension_case,
+    read_droplet,
+    replicated_copy,
+    rerun_from,
+)
 from foamcase import fails_with, run
 
 pytestmark = pytest.mark.fast
@@ -157,7 +165,6 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
     that does not fit the case's grains (a label out of range), or a
     grainHistory whose state lacks the columns, is a FatalIOError naming
     grainHistory and the fix."""
-    import shutil
 
     n = 40
     case = str(tmp_path / "full")
@@ -180,17 +187,9 @@ def test_restart_with_grains_continues_exactly(tmp_path, env):
 
     def restart(name, edit=None, check=True):
         half = str(tmp_path / name)
-        shutil.copytree(case, half)
-        shutil.rmtree(os.path.join(half, last))
-        shutil.rmtree(os.path.join(half, "postProcessing"))
-        if edit:
-            edit(half)
-        p = run("vansFoam", half, env, check=check)
+        rest, p = rerun_from(case, half, mid, last, env, edit, check)
         if not check:
             return p
-        rest = np.loadtxt(
-            os.path.join(half, "postProcessing", "droplet", mid, "droplet.dat"), ndmin=2
-        )
         return rest, nscdpost.read_grains(half, last)["U"], _h5(half, last)
 
     def edit_droplet(f):
@@ -242,7 +241,6 @@ def test_parallel_matches_serial(tmp_path, env, release):
     ring weights are global sums; with vapourRelease heatFlux the heat sink
     is gathered onto all ranks and the droplet sits low, 0.8 D above the
     hot bottom wall, so that the release is not symmetric)."""
-    import shutil
 
     dt, n_steps = 0.01, 5
     case = str(tmp_path / "serial")
@@ -251,10 +249,7 @@ def test_parallel_matches_serial(tmp_path, env, release):
         case, env, 6, dt, n_steps, centre=centre, extra=f"vapourRelease {release};\n"
     )
     par = str(tmp_path / "par")
-    shutil.copytree(case, par)
-    # the droplet needs every grain on every rank (vansFoam README, Parallel)
-    with open(os.path.join(par, "constant", "grainProperties"), "a") as f:
-        f.write("grainDecomposition replicated;\n")
+    replicated_copy(case, par)
     run("vansFoam", case, env)
     from foamcase import run_parallel
 

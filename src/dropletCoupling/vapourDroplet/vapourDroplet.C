@@ -64,6 +64,9 @@ const Foam::word Foam::vapourDroplet::historyColumns[4] =
 };
 
 
+const Foam::word Foam::vapourDroplet::grainVapourColumn("dropletVapourHeat");
+
+
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
 Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
@@ -80,6 +83,7 @@ Foam::vapourDroplet::vapourDroplet(const fvMesh& mesh)
     rhoL_(0), L_(0), Td_(0), rhoV_(0), moving_(false), blowing_(true),
     penalisationFactor_(100),
     grainDrag_(true), muL_(2.82e-4), sigma_(0), localRelease_(false),
+    grainRelease_(false),
     carryGrains_(false),
     film_(false), muV_(0), kappaF_(0), porosity_(0), drag_(nullptr),
     rhoF_(0), CpF_(0), diffusivity_(0),
@@ -220,7 +224,14 @@ void Foam::vapourDroplet::update()
     // whatever the change of time step)
     Vdot_ = blowing_ ? pendingVapour_/(rhoV_*dt) : 0;
     pendingVapour_ = 0;
-    releaseWeights(h);
+    if (grainRelease_)
+    {
+        grainReleaseWeights();
+    }
+    else
+    {
+        releaseWeights(h);
+    }
 }
 
 

@@ -5,9 +5,10 @@
 Description
     Heat and mass (eq. 4.16: L mdot = Q_f + Q_p + Q_film), the vapour volume
     source q_c [1/s] of the ring of cells outside the droplet (uniform or
-    heatFlux release), the heat sink directions of vapourRelease heatFlux,
-    and the Leidenfrost film conduction of the grains pressed on the
-    surface.
+    heatFlux release) or of the cells of the grains that heat it (grains
+    release), the heat sink directions of vapourRelease heatFlux, each
+    grain's heat of vapourRelease grains, and the Leidenfrost film
+    conduction of the grains pressed on the surface.
 \*---------------------------------------------------------------------------*/
 
 #include "vapourDroplet.H"
@@ -17,6 +18,31 @@ Description
 #include <cmath>
 
 using Foam::constant::mathematical::pi;
+
+// * * * * * * * * * * * * * * * * Local helpers * * * * * * * * * * * * * * //
+
+namespace
+{
+
+//- fn(grain i, local cell c, V_ic/W_i) for every local overlap of the
+//  grains' mapping ga with a mapped volume W_i > 0 (summed over the ranks)
+template<class Fn>
+void forEachGrainCell(const Foam::overlapMeshAdapter& ga, const Fn& fn)
+{
+    const std::vector<double>& W = ga.grainMappedVolume();
+    const auto& eg = ga.entryGrain();
+    const auto& ec = ga.entryCell();
+    const auto& ev = ga.entryVolume();
+    for (std::size_t e = 0; e < eg.size(); ++e)
+    {
+        if (W[eg[e]] > 0)
+        {
+            fn(Foam::label(eg[e]), Foam::label(ec[e]), ev[e]/W[eg[e]]);
+        }
+    }
+}
+
+} // End anonymous namespace
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
 
@@ -89,6 +115,44 @@ void Foam::vapourDroplet::releaseWeights(const scalar h)
             }
         }
     }
+}
+
+
+void Foam::vapourDroplet::grainReleaseWeights()
+{
+    releaseWeight_ = 0;
+    if (!blowing_)
+    {
+        return;
+    }
+    // the gas's share (Q_f of the last step) over the ring, as uniform
+    const scalarField& V = mesh_.V();
+    const scalar Wring = gSum(ring_*V);
+    if (Wring > 0)
+    {
+        releaseWeight_ = max(Qf_, scalar(0))*ring_*V/Wring;
+    }
+    if (!cloud_)
+    {
+        return;
+    }
+    // each grain's share over its cells by the exact overlaps V_ic/W_i
+    // (local entries; W_i summed over the ranks)
+    const UList<scalar> Q
+    (
+        cloud_->grains().column<scalar>(grainVapourColumn)
+    );
+    forEachGrainCell
+    (
+        cloud_->adapter(),
+        [&](const label gi, const label c, const scalar f)
+        {
+            if (gi < Q.size() && Q[gi] > 0)
+            {
+                releaseWeight_[c] += Q[gi]*f;
+            }
+        }
+    );
 }
 
 
@@ -209,11 +273,61 @@ Foam::scalar Foam::vapourDroplet::filmThickness
 }
 
 
+Foam::scalar Foam::vapourDroplet::setGrainHeat(const scalarField& T)
+{
+    if (!grainRelease_ || !cloud_)
+    {
+        return 0;
+    }
+    const grainHeatExchange& heat = cloud_->heat();
+    const List<scalar>& H = heat.conductance();
+    const List<scalar>& T0 = heat.startTemperature();
+    const label n = cloud_->grains().system().size();
+    List<scalar> Q(n, Zero);
+    if (H.size() == n && T0.size() == n)
+    {
+        // grain i's part of Q_p: its exchange with the penalised cells
+        // (vansCloud's KT, KTTp term by term, grainHeatExchange.H)
+        forEachGrainCell
+        (
+            cloud_->adapter(),
+            [&](const label gi, const label c, const scalar f)
+            {
+                if (gi < n && chi_[c] > 0)
+                {
+                    Q[gi] += chi_[c]*f*H[gi]*(T0[gi] - T[c]);
+                }
+            }
+        );
+    }
+    Pstream::listCombineGather(Q, plusEqOp<scalar>());
+    Pstream::listCombineScatter(Q);
+    const scalar Qp = sum(Q);
+    // the film heat enters at the grain pressed on the surface
+    if (film_)
+    {
+        forAll(filmGrain_, k)
+        {
+            if (filmGrain_[k] < n)
+            {
+                Q[filmGrain_[k]] += filmHeat_[k];
+            }
+        }
+    }
+    UList<scalar> column
+    (
+        cloud_->grains().column<scalar>(grainVapourColumn)
+    );
+    column.deepCopy(Q);
+    return Qp;
+}
+
+
 Foam::tmp<Foam::scalarField>
 Foam::vapourDroplet::volumeSource(const scalar Vdot) const
 {
     auto tq = tmp<scalarField>::New(ring_.size(), Zero);
-    if (localRelease_)
+    if (localRelease_ || grainRelease_)
     {
         const scalar S = gSum(releaseWeight_);
         if (S > 0)

@@ -84,6 +84,10 @@ void Foam::vapourDroplet::readRestart()
     {
         readListPair(d, "filmGrain", "filmHeat", filmGrain_, filmHeat_);
     }
+    if (grainRelease_ && d.found("gasHeat"))
+    {
+        Qf_ = d.get<scalar>("gasHeat");
+    }
     if (localRelease_ && d.found("sinkHeat"))
     {
         readListPair(d, "sinkDirection", "sinkHeat", sinkDirection_, sinkHeat_);
@@ -95,6 +99,16 @@ void Foam::vapourDroplet::readRestart()
 void Foam::vapourDroplet::attach(vansCloud& cloud)
 {
     cloud_ = &cloud;
+    if (grainRelease_)
+    {
+        // each grain's heat of the last step, following the grains and
+        // written with them (a start state without it: no grain vapour in
+        // the first step, the gas's share in the ring)
+        cloud.grains().addStartColumn<scalar>
+        (
+            grainVapourColumn, 0u, scalar(0)
+        );
+    }
     if (grainDrag_ && drag_.valid())
     {
         declareGrainHistory();
@@ -208,6 +222,10 @@ void Foam::vapourDroplet::writeRestart(Ostream& os) const
     {
         d.add("filmGrain", filmGrain_);
         d.add("filmHeat", filmHeat_);
+    }
+    if (grainRelease_)
+    {
+        d.add("gasHeat", Qf_);      // the gas's share of the last step
     }
     if (localRelease_)
     {

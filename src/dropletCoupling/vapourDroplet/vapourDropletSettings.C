@@ -139,7 +139,11 @@ void Foam::vapourDroplet::readModelOptions()
     {
         const word release =
             dict_.getOrDefault<word>("vapourRelease", "uniform");
-        if (release != "uniform" && release != "heatFlux")
+        if
+        (
+            release != "uniform" && release != "heatFlux"
+         && release != "grains"
+        )
         {
             FatalIOErrorInFunction(dict_)
                 << "vapourRelease " << release << " in " << dict_.name()
@@ -147,9 +151,12 @@ void Foam::vapourDroplet::readModelOptions()
                 << "    Fix: 'vapourRelease uniform;' (uniform blowing over"
                 << " the surface, thesis 4.3.2, the default) or"
                 << " 'vapourRelease heatFlux;' (vapour leaves where the heat"
-                << " entered)." << exit(FatalIOError);
+                << " entered) or 'vapourRelease grains;' (the vapour of each"
+                << " grain's heat leaves in the cells of that grain)."
+                << exit(FatalIOError);
         }
         localRelease_ = (release == "heatFlux");
+        grainRelease_ = (release == "grains");
     }
 
     // what the grains inside the droplet are (README, "The model",

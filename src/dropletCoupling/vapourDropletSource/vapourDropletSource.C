@@ -272,6 +272,16 @@ void Foam::fv::vapourDropletSource::correct(volScalarField& field)
         )
        *mesh_.V()
     );
+    // vapourRelease grains: each grain's part of Q_p (the same sum)
+    if (droplet_.grainRelease())
+    {
+        const scalar sumQi = droplet_.setGrainHeat(field.primitiveField());
+        if (debug)
+        {
+            Info<< "droplet: sum of the grains' heat " << sumQi
+                << " W, Q_p " << Qp << " W" << endl;
+        }
+    }
     // given to the droplet in its step (beforeGrainStep)
     Qf_ = Qf - Qp;
     Qp_ = Qp;

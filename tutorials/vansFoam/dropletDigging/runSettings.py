@@ -103,11 +103,14 @@ def vapour_release(value=None):
     """Where the droplet's vapour leaves its surface (dropletProperties
     vapourRelease, src/dropletCoupling/vapourDroplet/vapourDroplet.H):
     value if given, else env VAPOUR_RELEASE, else "uniform" (the thesis'
-    uniform blowing); "heatFlux": where the heat entered.  Raises ValueError
-    for anything else."""
+    uniform blowing); "heatFlux": where the heat entered; "grains": the
+    vapour of each grain's heat in the cells of that grain.  Raises
+    ValueError for anything else."""
     value = value or os.environ.get("VAPOUR_RELEASE") or "uniform"
-    if value not in ("uniform", "heatFlux"):
-        raise ValueError(f"VAPOUR_RELEASE={value}: give 'uniform' (thesis, default) or 'heatFlux'")
+    if value not in ("uniform", "heatFlux", "grains"):
+        raise ValueError(
+            f"VAPOUR_RELEASE={value}: give 'uniform' (thesis, default), 'heatFlux' or 'grains'"
+        )
     return value
 
 
