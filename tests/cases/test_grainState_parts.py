@@ -153,6 +153,7 @@ def test_restart_from_two_ranks_on_three_and_serially(pile, tmp_path, env):
     _set_end(serial, 0.15)
     run("grainFoam", serial, env)
     _set_end(case, 0.15)
+    run("reconstructPar", case, env, args=("-latestTime",))
     for d in os.listdir(case):
         if d.startswith("processor"):
             shutil.rmtree(os.path.join(case, d))
@@ -198,6 +199,13 @@ def test_killed_during_writes_leaves_whole_states(pile, tmp_path, env):
         assert proc.poll() is None, open(logp).read()[-2000:]
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait(timeout=60)
+    holder = int(open(os.path.join(case, ".nscdFoam.lock")).read().split()[0])
+    for _ in range(100):  # (the killed rank holding the lock file gone)
+        try:
+            os.kill(holder, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
     states = [
         t
         for _, t in nscdpost.numeric_dirs(case)
