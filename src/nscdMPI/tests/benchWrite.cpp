@@ -128,6 +128,13 @@ int main(int argc, char** argv)
     D.step(dt);
     const double readAndStep = statusMB("VmHWM:"); // (before the resets)
 
+    const auto partOnly = measure( // (the part made, not written)
+        [&]
+        {
+            System::StatePart sp;
+            long nextId = 0;
+            D.ownedPart(sp, nextId);
+        });
     const auto parts = measure(
         [&]
         {
@@ -152,7 +159,7 @@ int main(int argc, char** argv)
     const auto before = gather(parts.first, P), peak = gather(parts.second, P),
                gBefore = gather(gathered.first, P), gPeak = gather(gathered.second, P),
                owned = gather(double(D.nOwned()), P), held = gather(double(D.system().size()), P),
-               process = gather(readAndStep, P);
+               process = gather(readAndStep, P), partPeak = gather(partOnly.second, P);
     if (rank == 0)
     {
         const std::size_t back = System::grainIdsHDF5(dir + "/joined.h5").size();
@@ -160,6 +167,7 @@ int main(int argc, char** argv)
           << ",\n  \"owned_grains\": " << list(owned) << ",\n  \"held_grains\": " << list(held)
           << ",\n  \"rss_before_write_mb\": " << list(before)
           << ",\n  \"peak_rss_during_write_mb\": " << list(peak)
+          << ",\n  \"peak_rss_making_the_part_only_mb\": " << list(partPeak)
           << ",\n  \"gathered_rss_before_write_mb\": " << list(gBefore)
           << ",\n  \"gathered_peak_rss_during_write_mb\": " << list(gPeak)
           << ",\n  \"peak_rss_read_and_step_mb\": " << list(process) << "\n}\n";
