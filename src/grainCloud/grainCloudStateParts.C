@@ -5,8 +5,9 @@
 Description
     The HDF5 state of a decomposed run without a gather: each rank writes
     its own grains (and the contacts it solves) into its part,
-    <case>/<time>/grainStateA/rank<N>.h5 (nscd::System::writeHDF5Part, with
-    its XDMF datasets), and the master joins the parts, through one small
+    <case>/<time>/grainStateA/rank<N>.h5 (DecomposedSystem::statePart,
+    then nscd::System::writeHDF5Part of the rank's own System, with its
+    XDMF datasets), and the master joins the parts, through one small
     allgather of the grain counts and HDF5 virtual datasets (serial HDF5 >=
     1.10), into <case>/<time>/grainState.h5 (nscd::System::writeHDF5Joined):
     the one file a serial run, any number of ranks, h5py and ParaView (the
@@ -51,9 +52,9 @@ void Foam::grainCloud::writeStateParts(const fileName& dir) const
     Pstream::scatter(useB);  // (after the master made the directory)
     const word sub(useB ? "grainStateB" : "grainStateA");
 
-    // this rank's part
-    nscd::System::StatePart part;
+    // this rank's part, from its own System (no copy)
     long nextId = 0;
+    const nscd::System::StatePart part(decomposed_->statePart(nextId));
     const fileName piece
     (
         dir/sub/("rank" + Foam::name(Pstream::myProcNo()) + ".h5")
@@ -61,24 +62,18 @@ void Foam::grainCloud::writeStateParts(const fileName& dir) const
     std::string what;
     int code = 0;
     errno = 0;
+    try
     {
-        const std::unique_ptr<nscd::System> mine
+        system_->writeHDF5Part(piece, part);
+        addXdmfDatasets
         (
-            decomposed_->ownedPart(part, nextId)
+            piece, part.first, part.nGrains, system_->lastStepDt()
         );
-        try
-        {
-            mine->writeHDF5Part(piece, part);
-            addXdmfDatasets
-            (
-                piece, part.first, part.nGrains, mine->lastStepDt()
-            );
-        }
-        catch (const std::runtime_error& err)
-        {
-            code = errno;
-            what = std::string("part ") + piece + ": " + err.what();
-        }
+    }
+    catch (const std::runtime_error& err)
+    {
+        code = errno;
+        what = std::string("part ") + piece + ": " + err.what();
     }
     if (returnReduce(!what.empty(), orOp<bool>()))
     {

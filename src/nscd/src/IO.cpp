@@ -114,17 +114,31 @@ void writeWalls(Writer& w, const System::Impl& I)
 void writeContacts(Writer& w, const System::Impl& I, const System::StatePart* part)
 {
     const long N = long(I.x.size());
-    auto row = [&](long b) -> int
+    const bool byRows = part && !part->rowOf.empty();
+    auto row = [&](long b) -> long
     {
-        if (!part) return int(b);
-        if (b >= N) return int(part->nGrains + (b - N)); // a wall
-        if (b < long(part->written)) return int(part->first + b);
-        return int(part->otherRows.at(std::size_t(b) - part->written));
+        if (!part) return b;
+        if (b >= N) return part->nGrains + (b - N); // a wall
+        if (byRows) return part->rowOf.at(std::size_t(b));
+        if (b < long(part->written)) return part->first + b;
+        return part->otherRows.at(std::size_t(b) - part->written);
     };
+    // byRows: the contacts of the written grains of smaller id, both rows known
+    std::vector<char> written(byRows ? std::size_t(N) : 0, 0);
+    if (byRows)
+        for (std::size_t i : part->rows) written.at(i) = 1;
+    std::vector<const Contact*> kept;
+    for (const Contact& c : I.contacts)
+    {
+        const long a = I.grainOf(c.i), b = I.grainOf(I.keptBody(c));
+        const long first = b >= N || I.ids[a] < I.ids[b] ? a : b;
+        if (!byRows || (written[first] && row(a) >= 0 && row(b) >= 0)) kept.push_back(&c);
+    }
     std::vector<int> ij;
     std::vector<double> cd;
-    for (const Contact& c : I.contacts) // slots to grains (external order)
+    for (const Contact* k : kept) // slots to grains (external order)
     {
+        const Contact& c = *k;
         ij.push_back(row(I.grainOf(c.i)));
         ij.push_back(row(I.grainOf(I.keptBody(c))));
         put3(cd, c.n);
@@ -135,8 +149,8 @@ void writeContacts(Writer& w, const System::Impl& I, const System::StatePart* pa
     w.d("contactData", cd, 14);
     // contact ages (optional dataset: files without it read with age 0)
     std::vector<int> age;
-    age.reserve(I.contacts.size());
-    for (const Contact& c : I.contacts) age.push_back(c.age);
+    age.reserve(kept.size());
+    for (const Contact* c : kept) age.push_back(c->age);
     w.i("contactAge", age, 0);
 }
 

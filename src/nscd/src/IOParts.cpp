@@ -141,14 +141,16 @@ std::vector<double> System::grainRadiiHDF5(const std::string& file)
 void System::writeHDF5Part(const std::string& file, const StatePart& part) const
 {
     const Impl& I = *impl_;
-    if (part.written > I.x.size() || part.written + part.otherRows.size() != I.x.size())
+    const bool byRows = !part.rowOf.empty();
+    if (byRows ? part.rowOf.size() != I.x.size()
+               : part.written > I.x.size() || part.written + part.otherRows.size() != I.x.size())
         throw InputError("nscd::System::writeHDF5Part: " + file + ": " + std::to_string(part.written) + " + "
                          + std::to_string(part.otherRows.size()) + " rows for " + std::to_string(I.x.size())
                          + " grains");
     H5File h;
     Writer w{io::createState(h, file, ""), file};
-    writeColumns(w, I.columns, part.written);
-    std::vector<int> order(part.written);
+    writeColumns(w, I.columns, part.written, byRows ? &part.rows : nullptr);
+    std::vector<int> order(byRows ? part.rows.size() : part.written);
     std::iota(order.begin(), order.end(), int(part.first));
     w.i("grainOrder", order, 0);
     io::writeContacts(w, I, &part);

@@ -222,18 +222,18 @@ std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
     return I.systemOf(sorted, allContacts);
 }
 
-std::unique_ptr<System> DecomposedSystem::ownedPart(System::StatePart& part, long& nextId) const
+System::StatePart DecomposedSystem::statePart(long& nextId) const
 {
     Impl& I = *impl_;
     // owned grains in ascending id: rows first, first + 1, ... of the whole
-    std::vector<std::pair<long, int>> mine; // (id, local index)
-    for (int i = 0; i < int(I.owned.size()); ++i)
+    std::vector<std::pair<long, std::size_t>> mine; // (id, local index)
+    for (std::size_t i = 0; i < I.owned.size(); ++i)
         if (I.owned[i]) mine.emplace_back(I.gid[i], i);
     std::sort(mine.begin(), mine.end());
     long n = long(mine.size());
     std::vector<long> counts(I.P);
     MPI_Allgather(&n, 1, MPI_LONG, counts.data(), 1, MPI_LONG, I.comm);
-    part = System::StatePart();
+    System::StatePart part;
     part.written = mine.size();
     part.first = std::accumulate(counts.begin(), counts.begin() + I.rank, 0L);
     part.nGrains = std::accumulate(counts.begin(), counts.end(), 0L);
@@ -241,28 +241,12 @@ std::unique_ptr<System> DecomposedSystem::ownedPart(System::StatePart& part, lon
     MPI_Allreduce(MPI_IN_PLACE, &nextId, 1, MPI_LONG, MPI_MAX, I.comm);
     // the rows of the ghosts, from their owners (exact in a double below 2^53)
     std::vector<double> rows(I.sys.size(), -1.0);
-    for (std::size_t k = 0; k < mine.size(); ++k)
-        rows[std::size_t(mine[k].second)] = double(part.first + long(k));
+    for (std::size_t k = 0; k < mine.size(); ++k) rows[mine[k].second] = double(part.first + long(k));
     I.copyOwnersToGhosts(rows);
-    // the part: owned grains, then the ghost partners of the contacts solved here
-    std::vector<char> records;
-    for (const auto& g : mine) I.appendRecord(g.second, ColumnMigrate, records);
-    const std::vector<ContactRecord> contacts = I.solvedContacts();
-    std::unordered_map<long, int> local;
-    for (int i = 0; i < int(I.gid.size()); ++i) local[I.gid[i]] = i;
-    std::unordered_set<long> added;
-    for (const ContactRecord& c : contacts)
-    {
-        if (c.partner < 0) continue;
-        for (long id : {c.grain, c.partner})
-        {
-            const int i = local.at(id);
-            if (I.owned[i] || !added.insert(id).second) continue;
-            I.appendRecord(i, ColumnMigrate, records);
-            part.otherRows.push_back(long(rows[std::size_t(i)]));
-        }
-    }
-    return I.systemOf(records, contacts);
+    part.rows.reserve(mine.size());
+    for (const auto& g : mine) part.rows.push_back(g.second);
+    part.rowOf.assign(rows.begin(), rows.end());
+    return part;
 }
 
 } // namespace mpi

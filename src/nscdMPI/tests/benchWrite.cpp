@@ -6,7 +6,7 @@
 // a serial run writes. N ranks: each rank reads its x slab of equal grain
 // counts grown by the halo (System::readHDF5 with keep, as grainFoam
 // starts), makes one step, then writes the state in parts joined by
-// virtual datasets (DecomposedSystem::ownedPart, System::writeHDF5Part,
+// virtual datasets (DecomposedSystem::statePart, System::writeHDF5Part,
 // System::writeHDF5Joined: the grainCloud writer without OpenFOAM) and, for
 // comparison, gathered on rank 0 (gatherWhole, System::writeHDF5: the
 // writer before). Per rank: the resident memory before each write and its
@@ -131,17 +131,15 @@ int main(int argc, char** argv)
     const auto partOnly = measure( // (the part made, not written)
         [&]
         {
-            System::StatePart sp;
             long nextId = 0;
-            D.ownedPart(sp, nextId);
+            D.statePart(nextId);
         });
     const auto parts = measure(
         [&]
         {
-            System::StatePart sp;
             long nextId = 0;
-            const std::unique_ptr<System> mine = D.ownedPart(sp, nextId);
-            mine->writeHDF5Part(dir + "/rank" + std::to_string(rank) + ".h5", sp);
+            const System::StatePart sp = D.statePart(nextId);
+            D.system().writeHDF5Part(dir + "/rank" + std::to_string(rank) + ".h5", sp);
             MPI_Barrier(MPI_COMM_WORLD);
             if (rank == 0)
             {
