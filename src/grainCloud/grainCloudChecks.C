@@ -169,7 +169,7 @@ void Foam::grainCloud::stateFileError
 void Foam::grainCloud::writeStateFile
 (
     const fileName& path,
-    const nscd::System& state
+    const std::function<void(const std::string&, const std::string&)>& write
 ) const
 {
     const std::string tmp(path + ".tmp");
@@ -187,8 +187,7 @@ void Foam::grainCloud::writeStateFile
             << path.path().name() << "\";\n    object      " << path.name()
             << ";\n}\n// nscd grain state: an HDF5 file after this header (HDF5"
             << " user block), read it with h5dump or h5py\n";
-        state.writeHDF5(tmp, header.str());
-        addXdmfDatasets(tmp);
+        write(tmp, header.str());
         if (std::rename(tmp.c_str(), path.c_str()) != 0)
         {
             what =
@@ -210,13 +209,25 @@ void Foam::grainCloud::writeStateFile
     }
     const int code = errno;
     std::remove(tmp.c_str());
+    stateWriteFailed(path, what, code);
+}
+
+
+void Foam::grainCloud::stateWriteFailed
+(
+    const fileName& path,
+    const std::string& what,
+    const int code
+) const
+{
     // a time directory this write created and left empty would be taken by
     // startFrom latestTime: remove it
     const fileName dir(path.path());
     bool removed = false;
     if
     (
-        readDir(dir, fileName::FILE).empty()
+        isDir(dir)
+     && readDir(dir, fileName::FILE).empty()
      && readDir(dir, fileName::DIRECTORY).empty()
     )
     {

@@ -22,9 +22,9 @@ Description
     Start: every rank reads its part of the state, the grains within the
     halo of its cells' bounding box (nscd::System::readHDF5 with a region:
     no rank holds the whole system), unless something replicates the grains
-    (then every rank reads the whole state); write: the state is gathered
-    on the master and written whole into the undecomposed case (a run
-    restarts from it on any number of ranks).
+    (then every rank reads the whole state); write: each rank writes its
+    grains into its part, joined into the undecomposed case's grainState.h5
+    (grainCloudStateParts.C; a run restarts from it on any number of ranks).
 \*---------------------------------------------------------------------------*/
 
 #include "grainCloud.H"
@@ -294,12 +294,6 @@ nscd::StepReport Foam::grainCloud::advanceDecomposed(const scalar dt)
     rep.cohesiveContacts = int(cohesive);
     reduce(rep.maxOverlap, maxOp<scalar>());
     return rep;
-}
-
-
-std::unique_ptr<nscd::System> Foam::grainCloud::gatherWhole() const
-{
-    return decomposed_->gatherWhole(Pstream::masterNo());
 }
 
 

@@ -90,29 +90,37 @@ void Foam::grainCloud::write
     const Time& runTime = mesh_.time();
     mkDir(runTime.timePath());
 
-    // HDF5 state. Decomposed: gathered on the master, written into the
-    // undecomposed case (a run on any number of ranks, or serial, restarts
-    // from it). Replicated: every rank holds the whole state and writes its
-    // copy; in parallel the master also writes the undecomposed case's, so
-    // that reconstructPar gives time directories a serial run continues from
+    // HDF5 state. Decomposed: each rank writes its grains into its part,
+    // joined by the master into the undecomposed case's grainState.h5 (a
+    // run on any number of ranks, or serial, restarts from it;
+    // grainCloudStateParts.C). Replicated: every rank holds the whole state
+    // and writes its copy; in parallel the master also writes the
+    // undecomposed case's, so that reconstructPar gives time directories a
+    // serial run continues from
     const fileName global(runTime.globalPath()/runTime.timeName());
+    const auto whole = [this](const fileName& path)
+    {
+        writeStateFile
+        (
+            path,
+            [this](const std::string& tmp, const std::string& header)
+            {
+                system_->writeHDF5(tmp, header);
+                addXdmfDatasets(tmp);
+            }
+        );
+    };
     if (decomposed_)
     {
-        const std::unique_ptr<nscd::System> whole(gatherWhole());
-        if (whole)
-        {
-            mkDir(global);
-            writeStateFile(global/stateFileName, *whole);
-            writeXdmf(global/stateFileName);
-        }
+        writeStateParts(global);
     }
     else
     {
-        writeStateFile(runTime.timePath()/stateFileName, *system_);
+        whole(runTime.timePath()/stateFileName);
         if (Pstream::parRun() && Pstream::master())
         {
             mkDir(global);
-            writeStateFile(global/stateFileName, *system_);
+            whole(global/stateFileName);
         }
         if (!Pstream::parRun() || Pstream::master())
         {

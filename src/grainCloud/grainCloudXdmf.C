@@ -13,7 +13,8 @@ Description
     for the vertices, mixes grain-grain and wall contacts in /contactBodies
     (second body = nGrains + wall index for a wall) and stores impulses, so
     four small datasets are added to each state file before it is renamed
-    into place (addXdmfDatasets):
+    into place (addXdmfDatasets; a decomposed run's parts each get theirs,
+    joined with the rest, grainCloudStateParts.C):
       xdmfVertices        (N)     int    0 ... N-1
       xdmfContactPairs    (m, 2)  int    the grain-grain rows of /contactBodies
       xdmfNormalForce     (m, 3)  double rn n / dt   [N; 2D: N/m]
@@ -328,7 +329,13 @@ std::vector<std::string> keptTimeLines
 
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
 
-void Foam::grainCloud::addXdmfDatasets(const std::string& path)
+void Foam::grainCloud::addXdmfDatasets
+(
+    const std::string& path,
+    const long first,
+    const long nGrains,
+    const double partDt
+)
 {
     h5Handle h;
     h.id = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
@@ -342,12 +349,16 @@ void Foam::grainCloud::addXdmfDatasets(const std::string& path)
         throw std::runtime_error(path + ": dataset 'radii' missing or not 1D");
     }
     const long n = long(r[0]);
+    const long whole = nGrains < 0 ? n : nGrains;  // (a part: its rows)
     const std::vector<int> ij =
         readDataset<int>(h.id, path, "contactBodies", H5T_NATIVE_INT, 2);
     const std::vector<double> cd =
         readDataset<double>(h.id, path, "contactData", H5T_NATIVE_DOUBLE, 14);
+    // (a part has no /time: the last sub-step's dt given)
     const std::vector<double> t =
-        readDataset<double>(h.id, path, "time", H5T_NATIVE_DOUBLE, 1);
+        nGrains < 0
+      ? readDataset<double>(h.id, path, "time", H5T_NATIVE_DOUBLE, 1)
+      : std::vector<double>{0, partDt};
     if (cd.size() != 7*ij.size())
     {
         throw std::runtime_error
@@ -361,13 +372,13 @@ void Foam::grainCloud::addXdmfDatasets(const std::string& path)
     std::vector<int> vertices(n);
     for (long i = 0; i < n; ++i)
     {
-        vertices[i] = int(i);
+        vertices[i] = int(first + i);
     }
     std::vector<int> pairs;
     std::vector<double> fn, ft;
     for (std::size_t k = 0; 2*k < ij.size(); ++k)
     {
-        if (ij[2*k + 1] >= n)
+        if (ij[2*k + 1] >= whole)
         {
             continue;  // wall contact
         }

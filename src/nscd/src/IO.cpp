@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // HDF5 state I/O (C API) for bit-exact restarts.
 #include "ColumnsHDF5.H"
+#include "IOStages.H"
 #include "SystemImpl.H"
 
 #include <hdf5.h>
@@ -16,14 +17,13 @@
 namespace nscd
 {
 
-namespace
-{
-constexpr int formatVersion = 1;
 using h5::H5File;
 using h5::openState;
 using h5::Reader;
 using h5::Writer;
 
+namespace
+{
 void put3(std::vector<double>& a, const Vec3& v)
 {
     a.push_back(v.x());
@@ -31,7 +31,10 @@ void put3(std::vector<double>& a, const Vec3& v)
     a.push_back(v.z());
 }
 Vec3 get3(const std::vector<double>& a, std::size_t k) { return Vec3(a[k], a[k + 1], a[k + 2]); }
+} // namespace
 
+namespace io
+{
 /// writeHDF5 stage: format version, dimension, time, last dt, cohesion force
 /// [s, s, N], gravity [m/s^2], solver settings and materials (SI).
 void writeHeader(Writer& w, const System::Impl& I)
@@ -106,35 +109,60 @@ void writeWalls(Writer& w, const System::Impl& I)
 }
 
 /// writeHDF5 stage: the persistent contacts (bodies in the external grain
-/// order, normal, impulses [N s], Delassus terms, gap [m], ages), the
-/// internal grain order and reorder state, and cohesionMinAge.
-void writeContacts(Writer& w, const System::Impl& I)
+/// order, as rows of the whole state with part, normal, impulses [N s],
+/// Delassus terms, gap [m], ages).
+void writeContacts(Writer& w, const System::Impl& I, const System::StatePart* part)
 {
-    const System::Settings& S = I.settings;
+    const long N = long(I.x.size());
+    const bool byRows = part && !part->rowOf.empty();
+    auto row = [&](long b) -> long
+    {
+        if (!part) return b;
+        if (b >= N) return part->nGrains + (b - N); // a wall
+        if (byRows) return part->rowOf.at(std::size_t(b));
+        if (b < long(part->written)) return part->first + b;
+        return part->otherRows.at(std::size_t(b) - part->written);
+    };
+    // byRows: the contacts of the written grains of smaller id, both rows known
+    std::vector<char> written(byRows ? std::size_t(N) : 0, 0);
+    if (byRows)
+        for (std::size_t i : part->rows) written.at(i) = 1;
+    std::vector<const Contact*> kept;
+    for (const Contact& c : I.contacts)
+    {
+        const long a = I.grainOf(c.i), b = I.grainOf(I.keptBody(c));
+        const long first = b >= N || I.ids[a] < I.ids[b] ? a : b;
+        if (!byRows || (written[first] && row(a) >= 0 && row(b) >= 0)) kept.push_back(&c);
+    }
     std::vector<int> ij;
     std::vector<double> cd;
-    for (const Contact& c : I.contacts) // slots to grains (external order)
+    for (const Contact* k : kept) // slots to grains (external order)
     {
-        ij.push_back(I.grainOf(c.i));
-        ij.push_back(I.grainOf(I.keptBody(c)));
+        const Contact& c = *k;
+        ij.push_back(row(I.grainOf(c.i)));
+        ij.push_back(row(I.grainOf(I.keptBody(c))));
         put3(cd, c.n);
         put3(cd, c.rt);
         for (double a : {c.rn, c.wnn, c.wtt, c.bias, c.mu, c.coh, c.gap, c.change}) cd.push_back(a);
     }
     w.i("contactBodies", ij, 2);
-    // internal order (Settings::reorderInterval; optional datasets: files
-    // without them read with the order of the grains, never reordered):
-    // slot -> grain, and {reorderInterval, steps since the last reorder}
+    w.d("contactData", cd, 14);
+    // contact ages (optional dataset: files without it read with age 0)
+    std::vector<int> age;
+    age.reserve(kept.size());
+    for (const Contact* c : kept) age.push_back(c->age);
+    w.i("contactAge", age, 0);
+}
+
+/// writeHDF5 stage: the internal grain order (slot -> grain), the reorder
+/// state and cohesionMinAge (optional datasets: files without them read with
+/// the order of the grains, never reordered, and cohesionMinAge 0).
+void writeOrder(Writer& w, const System::Impl& I)
+{
+    const System::Settings& S = I.settings;
     w.i("grainOrder", I.order, 0);
     w.write("reorder", std::vector<long>{S.reorderInterval, I.stepsSinceReorder}.data(), 2, 0,
             H5T_NATIVE_LONG);
-    w.d("contactData", cd, 14);
-    // contact ages and the cohesion age threshold (optional datasets: files
-    // without them read with age 0 and cohesionMinAge 0)
-    std::vector<int> age;
-    age.reserve(I.contacts.size());
-    for (const Contact& c : I.contacts) age.push_back(c.age);
-    w.i("contactAge", age, 0);
     w.i("cohesionMinAge", {S.cohesionMinAge}, 0);
 }
 
@@ -150,12 +178,9 @@ void writeHeat(Writer& w, const System::Impl& I)
     w.d("heatSettings", {I.temperatureColumn().defaultValue(), S.heatTolerance, double(S.heatMaxIterations)},
         0);
 }
-} // namespace
 
-void System::writeHDF5(const std::string& file, const std::string& preamble) const
+hid_t createState(H5File& h, const std::string& file, const std::string& preamble)
 {
-    const Impl& I = *impl_;
-    H5File h;
     hid_t fcpl = H5P_DEFAULT;
     if (!preamble.empty())
     {
@@ -167,12 +192,11 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
     h.id = H5Fcreate(file.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
     if (fcpl != H5P_DEFAULT) H5Pclose(fcpl);
     if (h.id < 0) throw InputError("nscd::System::writeHDF5: cannot create " + file);
-    Writer w{h.id, file};
-    writeHeader(w, I);
-    writeGrains(w, I);
-    writeWalls(w, I);
-    writeContacts(w, I);
-    writeHeat(w, I);
+    return h.id;
+}
+
+void closeState(H5File& h, const std::string& file, const std::string& preamble)
+{
     if (H5Fflush(h.id, H5F_SCOPE_LOCAL) < 0)
         throw InputError("nscd::System::writeHDF5: cannot flush " + file);
     if (preamble.empty()) return;
@@ -183,6 +207,21 @@ void System::writeHDF5(const std::string& file, const std::string& preamble) con
     const bool ok = fp && std::fwrite(preamble.data(), 1, preamble.size(), fp) == preamble.size();
     if (!(fp && std::fclose(fp) == 0 && ok))
         throw InputError("nscd::System::writeHDF5: cannot write the preamble of " + file);
+}
+} // namespace io
+
+void System::writeHDF5(const std::string& file, const std::string& preamble) const
+{
+    const Impl& I = *impl_;
+    H5File h;
+    Writer w{io::createState(h, file, preamble), file};
+    io::writeHeader(w, I);
+    io::writeGrains(w, I);
+    io::writeWalls(w, I);
+    io::writeContacts(w, I, nullptr);
+    io::writeOrder(w, I);
+    io::writeHeat(w, I);
+    io::closeState(h, file, preamble);
 }
 
 namespace
@@ -516,26 +555,9 @@ Reader h5::openState(H5File& h, const std::string& file)
                          + ": the file is damaged or truncated"
                            " (e.g. a write cut by a full disk or a kill)");
     Reader r{h.id, file};
-    if (r.i("format", 0, 1)[0] != formatVersion) r.fail("unsupported format version");
+    if (r.i("format", 0, 1)[0] != io::formatVersion) r.fail("unsupported format version");
+    io::checkParts(r);
     return r;
-}
-
-std::vector<long> System::grainIdsHDF5(const std::string& file)
-{
-    H5File h;
-    Reader r = openState(h, file);
-    const long N = r.rows("radii", 0);
-    if (H5Lexists(r.f, "grainIds", H5P_DEFAULT) > 0) return r.read<long>("grainIds", H5T_NATIVE_LONG, 0, N);
-    std::vector<long> ids(N);
-    for (long k = 0; k < N; ++k) ids[k] = k;
-    return ids;
-}
-
-std::vector<double> System::grainRadiiHDF5(const std::string& file)
-{
-    H5File h;
-    Reader r = openState(h, file);
-    return r.d("radii", 0);
 }
 
 // Memory of a partial read: the part, plus the radii and one chunk of 65,536

@@ -126,12 +126,15 @@ long integerEntry(const GrainColumns& c, const DatasetColumns& d, std::size_t i,
 }
 
 template <class S>
-void writeDataset(h5::Writer& w, const GrainColumns& c, const DatasetColumns& d, std::size_t N, hid_t type)
+void writeDataset(h5::Writer& w, const GrainColumns& c, const DatasetColumns& d, std::size_t N, hid_t type,
+                  const std::vector<std::size_t>* rows)
 {
+    if (rows) N = rows->size();
     std::vector<S> buf(N * std::size_t(d.width), S(0));
-    for (std::size_t i = 0; i < N; ++i)
+    for (std::size_t n = 0; n < N; ++n)
     {
-        S* row = &buf[i * d.width];
+        const std::size_t i = rows ? (*rows)[n] : n;
+        S* row = &buf[n * d.width];
         if constexpr (std::is_same<S, double>::value)
             for (int k : d.columns)
                 for (int e = 0; e < c[k].components(); ++e) row[c[k].dataset().offset + e] = c[k].real(i, e);
@@ -179,16 +182,16 @@ void readPicked(h5::Reader& r, GrainColumn& col, const DatasetColumns& d, long N
 }
 } // namespace
 
-void writeColumns(h5::Writer& w, const GrainColumns& c, std::size_t N)
+void writeColumns(h5::Writer& w, const GrainColumns& c, std::size_t N, const std::vector<std::size_t>* rows)
 {
     for (const DatasetColumns& d : restartDatasets(c, "nscd::System::writeHDF5: " + w.file))
     {
         if (d.storage == DatasetColumns::Real)
-            writeDataset<double>(w, c, d, N, H5T_NATIVE_DOUBLE);
+            writeDataset<double>(w, c, d, N, H5T_NATIVE_DOUBLE, rows);
         else if (d.storage == DatasetColumns::Int)
-            writeDataset<int>(w, c, d, N, H5T_NATIVE_INT);
+            writeDataset<int>(w, c, d, N, H5T_NATIVE_INT, rows);
         else
-            writeDataset<long>(w, c, d, N, H5T_NATIVE_LONG);
+            writeDataset<long>(w, c, d, N, H5T_NATIVE_LONG, rows);
     }
 }
 

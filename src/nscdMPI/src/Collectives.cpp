@@ -3,6 +3,7 @@
 // and the whole system gathered on one rank (for writing a state).
 #include "DecomposedSystemImpl.H"
 
+#include <algorithm>
 #include <numeric>
 #include <unordered_map>
 #include <unordered_set>
@@ -117,29 +118,80 @@ void DecomposedSystem::Impl::copyOwnersToGhosts(std::vector<double>& values)
     passAlong(*this, sendTo, ghostFrom, values, 1, TagGhostValues, [](double& v, double got) { v = got; });
 }
 
-std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
+std::vector<ContactRecord> DecomposedSystem::Impl::solvedContacts() const
 {
-    const Impl& I = *impl_;
-    // this rank's owned grains, and the contacts it solves (a grain pair:
-    // the owner of the smaller id; a wall: the grain's owner)
-    // grain records (Impl::appendRecord) of every migrating column
-    const std::size_t bytes = I.recordBytes(ColumnMigrate);
-    std::vector<char> grains;
-    for (int i = 0; i < int(I.owned.size()); ++i)
-        if (I.owned[i]) I.appendRecord(i, ColumnMigrate, grains);
+    // a grain pair: the owner of the smaller id; a wall: the grain's owner
     std::vector<ContactRecord> contacts;
-    for (const System::ContactView& c : I.sys.contacts())
+    for (const System::ContactView& c : sys.contacts())
     {
-        const bool mine = c.j < 0 ? bool(I.owned[c.i]) : bool(I.owned[I.gid[c.i] < I.gid[c.j] ? c.i : c.j]);
+        const bool mine = c.j < 0 ? bool(owned[c.i]) : bool(owned[gid[c.i] < gid[c.j] ? c.i : c.j]);
         if (!mine) continue;
         ContactRecord k;
-        k.grain = I.gid[c.i];
-        k.partner = c.j >= 0 ? I.gid[c.j] : long(c.j);
+        k.grain = gid[c.i];
+        k.partner = c.j >= 0 ? gid[c.j] : long(c.j);
         put(k.n, c.normal);
         put(k.impulse, c.impulse);
         k.age = c.age;
         contacts.push_back(k);
     }
+    return contacts;
+}
+
+std::unique_ptr<System> DecomposedSystem::Impl::systemOf(const std::vector<char>& records,
+                                                         const std::vector<ContactRecord>& contacts) const
+{
+    const std::size_t bytes = recordBytes(ColumnMigrate);
+    auto whole = std::make_unique<System>(Subdomain::withoutGrains(sys));
+    struct NoCoupling : SubdomainCoupling
+    {
+        double maxOverSubdomains(double v) override { return v; }
+        void countCopies(const std::vector<char>& in, std::vector<int>& out) override
+        {
+            out.assign(in.size(), 1);
+        }
+        void averageCopies(std::vector<Vec3>&, std::vector<Vec3>&) override {}
+    } none;
+    Subdomain access(*whole, none);
+    std::unordered_map<long, int> index;
+    for (std::size_t k = 0; k < records.size() / bytes; ++k)
+    {
+        const char* g = &records[k * bytes];
+        const std::size_t i = access.addGrain(ColumnMigrate, g + sizeof(long));
+        access.setGrainId(i, recordId(g));
+        index[recordId(g)] = int(i);
+    }
+    if (sys.lastStepDt() > 0 && !contacts.empty())
+    {
+        std::vector<System::ContactView> views;
+        views.reserve(contacts.size());
+        for (const ContactRecord& k : contacts)
+        {
+            System::ContactView c;
+            c.point = Vec3::Zero();
+            c.gap = 0;
+            c.cohesive = false;
+            c.i = index.at(k.grain);
+            c.j = k.partner >= 0 ? index.at(k.partner) : int(k.partner);
+            c.normal = get(k.n);
+            c.impulse = get(k.impulse);
+            c.age = k.age;
+            views.push_back(c);
+        }
+        whole->setContactImpulses(views, sys.lastStepDt());
+    }
+    return whole;
+}
+
+std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
+{
+    const Impl& I = *impl_;
+    // this rank's owned grains (records of every migrating column) and the
+    // contacts it solves
+    const std::size_t bytes = I.recordBytes(ColumnMigrate);
+    std::vector<char> grains;
+    for (int i = 0; i < int(I.owned.size()); ++i)
+        if (I.owned[i]) I.appendRecord(i, ColumnMigrate, grains);
+    const std::vector<ContactRecord> contacts = I.solvedContacts();
     auto gather = [&](const auto& mine, auto& all)
     {
         using T = typename std::decay_t<decltype(mine)>::value_type;
@@ -162,44 +214,39 @@ std::unique_ptr<System> DecomposedSystem::gatherWhole(int root) const
     std::vector<std::pair<long, std::size_t>> byId(allGrains.size() / bytes); // (id, record)
     for (std::size_t k = 0; k < byId.size(); ++k) byId[k] = {recordId(&allGrains[k * bytes]), k};
     std::sort(byId.begin(), byId.end());
-    auto whole = std::make_unique<System>(Subdomain::withoutGrains(I.sys));
-    struct NoCoupling : SubdomainCoupling
-    {
-        double maxOverSubdomains(double v) override { return v; }
-        void countCopies(const std::vector<char>& in, std::vector<int>& out) override
-        {
-            out.assign(in.size(), 1);
-        }
-        void averageCopies(std::vector<Vec3>&, std::vector<Vec3>&) override {}
-    } none;
-    Subdomain access(*whole, none);
-    std::unordered_map<long, int> index;
-    for (const auto& [id, k] : byId)
-    {
-        const std::size_t i = access.addGrain(ColumnMigrate, &allGrains[k * bytes] + sizeof(long));
-        access.setGrainId(i, id);
-        index[id] = int(i);
-    }
-    if (I.sys.lastStepDt() > 0 && !allContacts.empty())
-    {
-        std::vector<System::ContactView> views;
-        views.reserve(allContacts.size());
-        for (const ContactRecord& k : allContacts)
-        {
-            System::ContactView c;
-            c.point = Vec3::Zero();
-            c.gap = 0;
-            c.cohesive = false;
-            c.i = index.at(k.grain);
-            c.j = k.partner >= 0 ? index.at(k.partner) : int(k.partner);
-            c.normal = get(k.n);
-            c.impulse = get(k.impulse);
-            c.age = k.age;
-            views.push_back(c);
-        }
-        whole->setContactImpulses(views, I.sys.lastStepDt());
-    }
-    return whole;
+    std::vector<char> sorted(allGrains.size());
+    for (std::size_t k = 0; k < byId.size(); ++k)
+        std::copy_n(&allGrains[byId[k].second * bytes], bytes, &sorted[k * bytes]);
+    allGrains.clear();
+    allGrains.shrink_to_fit();
+    return I.systemOf(sorted, allContacts);
+}
+
+System::StatePart DecomposedSystem::statePart(long& nextId) const
+{
+    Impl& I = *impl_;
+    // owned grains in ascending id: rows first, first + 1, ... of the whole
+    std::vector<std::pair<long, std::size_t>> mine; // (id, local index)
+    for (std::size_t i = 0; i < I.owned.size(); ++i)
+        if (I.owned[i]) mine.emplace_back(I.gid[i], i);
+    std::sort(mine.begin(), mine.end());
+    long n = long(mine.size());
+    std::vector<long> counts(I.P);
+    MPI_Allgather(&n, 1, MPI_LONG, counts.data(), 1, MPI_LONG, I.comm);
+    System::StatePart part;
+    part.written = mine.size();
+    part.first = std::accumulate(counts.begin(), counts.begin() + I.rank, 0L);
+    part.nGrains = std::accumulate(counts.begin(), counts.end(), 0L);
+    nextId = I.sys.nextGrainId();
+    MPI_Allreduce(MPI_IN_PLACE, &nextId, 1, MPI_LONG, MPI_MAX, I.comm);
+    // the rows of the ghosts, from their owners (exact in a double below 2^53)
+    std::vector<double> rows(I.sys.size(), -1.0);
+    for (std::size_t k = 0; k < mine.size(); ++k) rows[mine[k].second] = double(part.first + long(k));
+    I.copyOwnersToGhosts(rows);
+    part.rows.reserve(mine.size());
+    for (const auto& g : mine) part.rows.push_back(g.second);
+    part.rowOf.assign(rows.begin(), rows.end());
+    return part;
 }
 
 } // namespace mpi

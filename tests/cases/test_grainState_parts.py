@@ -1,0 +1,225 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The grain state of a decomposed run written in parts (issue 57, item 3):
+each rank writes its own grains into <time>/grainStateA/rank<N>.h5 and the
+master joins them by HDF5 virtual datasets into <time>/grainState.h5
+(src/grainCloud/grainCloudStateParts.C, src/nscd/src/IOParts.cpp).
+
+References, independent of the parallel writer:
+  - the serial run of the same pile at rest (one whole file, no parts): the
+    same grain ids and radii, positions within 1e-3 d_min, the walls
+    carrying the weight sum m g to 2e-3 of it, read with h5py through the
+    virtual datasets;
+  - geometry: every grain-grain contact of a joined state links two grains
+    whose centres are r_i + r_j apart (to 5 % of d_min) along its normal, so
+    the rows of a contact whose partner another rank wrote are right;
+  - a restart from the 2-rank write on 3 ranks and serially carries the
+    weight at once, with every grain id once;
+  - a run killed (SIGKILL to mpirun) at a random point of its writes leaves
+    every grainState.h5 of the case whole (every id once) and a restart
+    continues from the latest.
+"""
+
+import os
+import re
+import shutil
+import signal
+import subprocess
+import time
+
+import h5py
+import nscdpost
+import numpy as np
+import pytest
+from foamcase import log_message, make_box_case, run, run_parallel, write
+from test_grainFoam_decomposed import _copy, _set_control
+from test_grainFoam_decomposed import _wall_load as _wall_load_of
+from test_grainFoam_physics import G, _deposit_dict
+
+pytestmark = [pytest.mark.slow, pytest.mark.mpi]
+
+N = 300
+DMIN = 2e-3
+RHO = 2500
+
+
+@pytest.fixture(scope="module")
+def pile(tmp_path_factory, env):
+    """300 discs deposited at rest (grainDeposit), once."""
+    case = str(tmp_path_factory.mktemp("parts") / "pile")
+    hi = (0.04, 0.06, 0.004)
+    make_box_case(
+        case,
+        (0, 0, 0),
+        hi,
+        (4, 6, 1),
+        (0, -G, 0),
+        {"glass": {"density": RHO, "friction": 0.4}},
+        grains=[],
+        end_time=0.1,
+        dt=5e-4,
+        write_interval=0.05,
+        deposit=_deposit_dict((0, 0, 0), hi, N),
+    )
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    return case
+
+
+def _set_end(case, end):
+    _set_control(case, endTime=end)
+
+
+def _state(case, t):
+    """Whole-state arrays (through the virtual datasets) sorted by grain id."""
+    path = os.path.join(case, t, "grainState.h5")
+    ids = nscdpost.read_h5(path, "/grainIds").astype(int)
+    o = np.argsort(ids)
+    x = nscdpost.read_h5(path, "/positions").astype(float)[o]
+    r = nscdpost.read_h5(path, "/radii").astype(float)[o]
+    return ids[o], x, r
+
+
+def _wall_load(case, t):
+    return _wall_load_of(case, t, RHO, G)
+
+
+def _check_contacts_geometry(case, t):
+    """Grain-grain contacts in file rows: centres r_i + r_j apart, along the
+    normal (from B to A)."""
+    path = os.path.join(case, t, "grainState.h5")
+    c = nscdpost.read_contacts(case, t)
+    x = nscdpost.read_h5(path, "/positions").astype(float)
+    r = nscdpost.read_h5(path, "/radii").astype(float)
+    p = c["j"] >= 0
+    i, j = c["i"][p], c["j"][p]
+    d = x[i] - x[j]
+    dist = np.linalg.norm(d, axis=1)
+    assert np.all(np.abs(dist - r[i] - r[j]) < 0.05 * DMIN), np.max(np.abs(dist - r[i] - r[j]))
+    assert np.all(np.einsum("ij,ij->i", d / dist[:, None], c["normal"][p]) > 0.99)
+    return int(p.sum())
+
+
+def _parts(case, t, n):
+    """The part files the joined state reads, checked: one per rank that
+    holds grains (a rank without maps no rows), none holding every grain."""
+    path = os.path.join(case, t, "grainState.h5")
+    with h5py.File(path, "r") as f:
+        assert f["radii"].is_virtual and f["positions"].is_virtual
+        src = sorted({s.file_name for s in f["radii"].virtual_sources()})
+    assert set(src) <= {f"grainStateA/rank{k}.h5" for k in range(n)} and len(src) >= 2, src
+    for k in range(n):
+        assert os.path.isfile(os.path.join(case, t, f"grainStateA/rank{k}.h5"))
+    rows = []
+    for s in src:
+        with h5py.File(os.path.join(case, t, s), "r") as f:
+            rows.append(len(f["radii"]))
+    assert sum(rows) == N and max(rows) < N, rows
+    return rows
+
+
+def test_parallel_write_equals_serial(pile, tmp_path, env):
+    serial = _copy(pile, str(tmp_path / "serial"))
+    run("grainFoam", serial, env)
+    ids_s, x_s, r_s = _state(serial, "0.1")
+    assert list(ids_s) == list(range(N))
+    load_s = _wall_load(serial, "0.1")
+    for n in (2, 4):
+        case = _copy(pile, str(tmp_path / f"np{n}"))
+        run_parallel("grainFoam", case, env, n=n, split=(1, n, 1))
+        for t in ("0.05", "0.1"):
+            rows = _parts(case, t, n)
+            ids, x, r = _state(case, t)
+            assert list(ids) == list(range(N)), t
+            assert np.array_equal(r, r_s)
+        moved = np.max(np.linalg.norm(x - x_s, axis=1))
+        pairs = _check_contacts_geometry(case, "0.1")
+        load = _wall_load(case, "0.1")
+        print(
+            f"{n} ranks: rows per part {rows}, max |x - x_serial| {moved:.2e} m, {pairs} pair contacts, load {load:.6f} (serial {load_s:.6f})"
+        )
+        assert moved < 1e-3 * DMIN
+        assert load == pytest.approx(1.0, abs=2e-3)
+        # ParaView: the XDMF's vertex list runs over the joined rows
+        path = os.path.join(case, "0.1", "grainState.h5")
+        assert list(nscdpost.read_h5(path, "/xdmfVertices")) == list(range(N))
+        assert os.path.isfile(os.path.join(case, "grainState.xmf"))
+
+
+def test_restart_from_two_ranks_on_three_and_serially(pile, tmp_path, env):
+    case = _copy(pile, str(tmp_path / "np2"))
+    run_parallel("grainFoam", case, env, n=2, split=(1, 2, 1))
+    _parts(case, "0.1", 2)
+    serial = _copy(case, str(tmp_path / "serialRestart"))  # (the parts with it)
+    _set_end(serial, 0.15)
+    run("grainFoam", serial, env)
+    _set_end(case, 0.15)
+    run("reconstructPar", case, env, args=("-latestTime",))
+    for d in os.listdir(case):
+        if d.startswith("processor"):
+            shutil.rmtree(os.path.join(case, d))
+    p = run_parallel("grainFoam", case, env, n=3, split=(1, 3, 1))
+    log_message(p.stdout, r"grains decomposed over 3 ranks.*each rank read its part")
+    _parts(case, "0.15", 3)
+    for c in (case, serial):
+        ids, _, _ = _state(c, "0.15")
+        assert list(ids) == list(range(N))
+        load = _wall_load(c, "0.15")
+        print(f"{os.path.basename(c)}: wall load / weight at 0.15 s {load:.6f}")
+        assert load == pytest.approx(1.0, abs=2e-3)
+
+
+def test_killed_during_writes_leaves_whole_states(pile, tmp_path, env):
+    """A write every step; mpirun killed (SIGKILL) 40 steps in, at whatever
+    point of a write its ranks are."""
+    case = _copy(pile, str(tmp_path / "kill"))
+    path = os.path.join(case, "system", "controlDict")
+    text = re.sub(r"^(\s*writeInterval\s+)[^;]*;", r"\g<1>5e-4;", open(path).read(), flags=re.M)
+    open(path, "w").write(text)
+    write(
+        os.path.join(case, "system", "decomposeParDict"),
+        "dictionary",
+        "decomposeParDict",
+        "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (1 2 1); delta 0.001; }\n",
+    )
+    run("decomposePar", case, env, args=("-force",), cwd=case)
+    logp = os.path.join(case, "log.killed")
+    with open(logp, "w") as log:
+        proc = subprocess.Popen(
+            ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+            env=env,
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            start_new_session=True,
+        )
+        deadline = time.time() + 120
+        while time.time() < deadline and open(logp).read().count("\nTime = ") < 40:
+            time.sleep(0.05)
+            if proc.poll() is not None:
+                break
+        assert proc.poll() is None, open(logp).read()[-2000:]
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=60)
+    holder = int(open(os.path.join(case, ".nscdFoam.lock")).read().split()[0])
+    for _ in range(100):  # (the killed rank holding the lock file gone)
+        try:
+            os.kill(holder, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
+    states = [
+        t
+        for _, t in nscdpost.numeric_dirs(case)
+        if os.path.isfile(os.path.join(case, t, "grainState.h5"))
+    ]
+    assert len(states) > 10, states
+    for t in states:
+        ids, _, _ = _state(case, t)
+        assert list(ids) == list(range(N)), t
+    # a serial run continues from the latest whole state
+    last = states[-1]
+    for t in [t for _, t in nscdpost.numeric_dirs(case) if float(t) > float(last)]:
+        shutil.rmtree(os.path.join(case, t))
+    _set_end(case, round(float(last) + 2e-3, 6))
+    run("grainFoam", case, env)
+    ids, _, _ = _state(case, nscdpost.numeric_dirs(case)[-1][1])
+    assert list(ids) == list(range(N))
