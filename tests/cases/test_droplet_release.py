@@ -22,7 +22,7 @@ from dropletcase import (
     replicated_copy,
     rerun_from,
 )
-from foamcase import run
+from foamcase import fails_with, run
 
 pytestmark = pytest.mark.fast
 
@@ -38,7 +38,7 @@ DG = 0.8 * H
 GRAIN = (W_BOX / 2 + 0.1 * H, W_BOX / 2 - 0.49 * D, DEPTH / 2, DG)
 
 
-def hot_grain_case(case, env, release, n_steps=N_STEPS, write_every=1):
+def hot_grain_case(case, env, release, n_steps=N_STEPS, write_every=1, grain=GRAIN):
     blowing_droplet_case(
         case,
         env,
@@ -48,7 +48,7 @@ def hot_grain_case(case, env, release, n_steps=N_STEPS, write_every=1):
         rho_l=1e6,  # constant radius over the run
         centre=CENTRE,
         T_w=T_D,
-        grains=[GRAIN],
+        grains=[grain],
         fixed_grains=True,
         T_grains=T_D + 300,
         write_interval=DT * write_every,
@@ -181,3 +181,14 @@ def test_grain_release_parallel_matches_serial(tmp_path, env):
     a, b = read_droplet(case), read_droplet(par)
     assert a.shape == b.shape and np.all(a[1:, 11] > 0)
     assert np.allclose(a[:, :12], b[:, :12], rtol=1e-8, atol=1e-18)
+
+
+def test_grain_release_refuses_a_grain_wider_than_two_cells(tmp_path, env):
+    """A hot grain of 6 cells on the droplet's surface: the cells it covers
+    have no gas for its vapour (the fluid blew up without the check), so
+    vapourRelease grains stops with a FatalIOError naming the grain, the
+    size ratio and the fix, before the first release."""
+    case = str(tmp_path / "wide")
+    hot_grain_case(case, env, "grains", n_steps=2, grain=GRAIN[:3] + (6 * H,))
+    p = run("vansFoam", case, env, check=False)
+    fails_with(p, "vapourRelease grains", "times the size", "Fix:", banner="FOAM FATAL IO ERROR")

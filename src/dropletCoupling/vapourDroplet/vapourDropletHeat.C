@@ -142,6 +142,7 @@ void Foam::vapourDroplet::grainReleaseWeights()
     (
         cloud_->grains().column<scalar>(grainVapourColumn)
     );
+    checkReleasingGrainSizes(Q);
     forEachGrainCell
     (
         cloud_->adapter(),
@@ -153,6 +154,50 @@ void Foam::vapourDroplet::grainReleaseWeights()
             }
         }
     );
+}
+
+
+void Foam::vapourDroplet::checkReleasingGrainSizes
+(
+    const UList<scalar>& Q
+) const
+{
+    // the mean size of the cells each heating grain overlaps, weighted by
+    // its overlaps (sqrt(V/depth) in 2D, cbrt(V) in 3D; summed over the
+    // ranks: the grains are replicated, the same list on every rank)
+    const scalarField& V = mesh_.V();
+    const scalar depth = adapter_.depth();
+    const bool twoD = adapter_.twoD();
+    scalarList h(Q.size(), Zero);
+    forEachGrainCell
+    (
+        cloud_->adapter(),
+        [&](const label gi, const label c, const scalar f)
+        {
+            if (gi < Q.size() && Q[gi] > 0)
+            {
+                h[gi] += f*(twoD ? std::sqrt(V[c]/depth) : std::cbrt(V[c]));
+            }
+        }
+    );
+    Pstream::listCombineGather(h, plusEqOp<scalar>());
+    Pstream::listCombineScatter(h);
+    const auto& r = cloud_->grains().system().radii();
+    forAll(h, gi)
+    {
+        if (h[gi] > 0 && 2*r[gi] > 2*h[gi])
+        {
+            FatalIOErrorInFunction(dict_)
+                << "vapourRelease grains in " << dict_.name() << ": grain "
+                << gi << " (diameter " << 2*r[gi] << " m) heats the droplet"
+                << " but is " << 2*r[gi]/h[gi] << " times the size of the"
+                << " cells it overlaps (" << h[gi] << " m): the cells it"
+                << " covers have no gas for its vapour." << nl
+                << "    Fix: vapourRelease uniform or heatFlux for grains"
+                << " larger than about two cells, or a mesh whose cells are"
+                << " at least half the grain diameter." << exit(FatalIOError);
+        }
+    }
 }
 
 
