@@ -6,6 +6,7 @@ import os
 import re
 import shutil
 import subprocess
+import time
 
 import nscdpost
 from foamlib import FoamFile
@@ -265,6 +266,23 @@ def run_parallel(app, case, env, n=2, delta=0.001, split=None, args=()):
         pytest.skip("mpirun cannot start here: " + p.stderr[-300:])
     assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
     return p
+
+
+def run_in_background(cmd, env, logpath, reached, timeout=60, poll=0.5, **popen):
+    """Start cmd with its output in logpath and return its Popen once
+    reached(the log text) holds, the process has ended or timeout seconds
+    have passed (the caller checks proc.poll()); popen: more Popen
+    arguments (start_new_session=True to signal a whole mpirun group)."""
+    with open(logpath, "w") as log:
+        proc = subprocess.Popen(
+            cmd, env=env, stdout=log, stderr=subprocess.STDOUT, text=True, **popen
+        )
+    deadline = time.time() + timeout
+    while time.time() < deadline and not reached(open(logpath).read()):
+        time.sleep(poll)
+        if proc.poll() is not None:
+            break
+    return proc
 
 
 def mpirun_could_not_start(p):

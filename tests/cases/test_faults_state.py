@@ -27,7 +27,15 @@ from faultcase import (
     times,
     umount_small_disk,
 )
-from foamcase import fails_with, log_message, make_box_case, run, run_parallel, write
+from foamcase import (
+    fails_with,
+    log_message,
+    make_box_case,
+    run,
+    run_in_background,
+    run_parallel,
+    write,
+)
 
 pytestmark = pytest.mark.fast
 
@@ -165,18 +173,15 @@ def test_sigterm_writes_and_stops(tmp_path, env):
     case = stack(tmp_path, "sigterm", end=1000, write_interval=500)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
-    log = open(os.path.join(case, "log.grainFoam"), "w")
-    proc = subprocess.Popen(
-        ["grainFoam", "-case", case], env=env, stdout=log, stderr=subprocess.STDOUT, text=True
+    proc = run_in_background(
+        ["grainFoam", "-case", case],
+        env,
+        os.path.join(case, "log.grainFoam"),
+        lambda log: "Time = 0.05" in log,
+        poll=0.01,
     )
-    deadline = time.time() + 60
-    while time.time() < deadline:
-        time.sleep(0.01)
-        if "Time = 0.05" in open(os.path.join(case, "log.grainFoam")).read():
-            break
     proc.send_signal(signal.SIGTERM)
     assert proc.wait(timeout=60) == 0
-    log.close()
     out = open(os.path.join(case, "log.grainFoam")).read()
     assert "Stop signal 15 (SIGTERM) received: wrote time" in out
     last = times(case)[-1]
@@ -441,23 +446,16 @@ def test_sigusr1_to_mpirun_writes_and_stops(tmp_path, env):
     )
     run("decomposePar", case, env)
     logp = os.path.join(case, "log.grainFoam")
-    with open(logp, "w") as log:
-        proc = subprocess.Popen(
-            ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
-            env=env,
-            stdout=log,
-            stderr=subprocess.STDOUT,
-            text=True,
-        )
-        deadline = time.time() + 60
-        while time.time() < deadline and "Time = 0.05" not in open(logp).read():
-            time.sleep(0.5)
-            if proc.poll() is not None:
-                break
-        if proc.poll() is not None:
-            pytest.skip("mpirun cannot start here: " + open(logp).read()[-300:])
-        proc.send_signal(signal.SIGUSR1)
-        assert proc.wait(timeout=60) == 0
+    proc = run_in_background(
+        ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+        env,
+        logp,
+        lambda log: "Time = 0.05" in log,
+    )
+    if proc.poll() is not None:
+        pytest.skip("mpirun cannot start here: " + open(logp).read()[-300:])
+    proc.send_signal(signal.SIGUSR1)
+    assert proc.wait(timeout=60) == 0
     out = open(logp).read()
     m = log_message(out, r"Stop signal 10 \(SIGUSR1\) received: wrote time (\S+) ")
     t = m.group(1)

@@ -23,14 +23,13 @@ import os
 import re
 import shutil
 import signal
-import subprocess
 import time
 
 import h5py
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import log_message, make_box_case, run, run_parallel, write
+from foamcase import log_message, make_box_case, run, run_in_background, run_parallel, write
 from test_grainFoam_decomposed import _copy, _set_control
 from test_grainFoam_decomposed import _wall_load as _wall_load_of
 from test_grainFoam_physics import G, _deposit_dict
@@ -183,22 +182,18 @@ def test_killed_during_writes_leaves_whole_states(pile, tmp_path, env):
     )
     run("decomposePar", case, env, args=("-force",), cwd=case)
     logp = os.path.join(case, "log.killed")
-    with open(logp, "w") as log:
-        proc = subprocess.Popen(
-            ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
-            env=env,
-            stdout=log,
-            stderr=subprocess.STDOUT,
-            start_new_session=True,
-        )
-        deadline = time.time() + 120
-        while time.time() < deadline and open(logp).read().count("\nTime = ") < 40:
-            time.sleep(0.05)
-            if proc.poll() is not None:
-                break
-        assert proc.poll() is None, open(logp).read()[-2000:]
-        os.killpg(proc.pid, signal.SIGKILL)
-        proc.wait(timeout=60)
+    proc = run_in_background(
+        ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+        env,
+        logp,
+        lambda log: log.count("\nTime = ") >= 40,
+        timeout=120,
+        poll=0.05,
+        start_new_session=True,
+    )
+    assert proc.poll() is None, open(logp).read()[-2000:]
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait(timeout=60)
     holder = int(open(os.path.join(case, ".nscdFoam.lock")).read().split()[0])
     for _ in range(100):  # (the killed rank holding the lock file gone)
         try:
