@@ -182,11 +182,10 @@ def _wall_load(case, time_name, rho, g):
     return fy / (rho * np.pi * (r**2).sum() * g)
 
 
-@pytest.mark.mpi
-def test_pile_at_rest_across_ranks_and_restart(tmp_path, env):
-    """300 discs at rest on y slabs (horizontal processor boundaries: the
-    weight crosses them) on 2 ranks, then restarted on 4 ranks."""
-    case = str(tmp_path / "pile")
+def deposited_pile(case, env, end, write_interval, n=300):
+    """n glass discs of 2 mm (2500 kg/m^3, mu 0.4) deposited at rest by
+    grainDeposit in a 2D box 40 x 60 mm of 4 x 6 cells, dt 5e-4 s; returns
+    the case."""
     hi = (0.04, 0.06, 0.004)
     make_box_case(
         case,
@@ -196,13 +195,21 @@ def test_pile_at_rest_across_ranks_and_restart(tmp_path, env):
         (0, -G, 0),
         {"glass": {"density": 2500, "friction": 0.4}},
         grains=[],
-        end_time=0.2,
+        end_time=end,
         dt=5e-4,
-        write_interval=0.1,
-        deposit=_deposit_dict((0, 0, 0), hi, 300),
+        write_interval=write_interval,
+        deposit=_deposit_dict((0, 0, 0), hi, n),
     )
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
+    return case
+
+
+@pytest.mark.mpi
+def test_pile_at_rest_across_ranks_and_restart(tmp_path, env):
+    """300 discs at rest on y slabs (horizontal processor boundaries: the
+    weight crosses them) on 2 ranks, then restarted on 4 ranks."""
+    case = deposited_pile(str(tmp_path / "pile"), env, 0.2, 0.1)
     run_parallel("grainFoam", case, env, n=2, split=(1, 2, 1))
     x0, _, ids0, _ = _state(case, "0.1")
     x1, _, ids1, _ = _state(case, "0.2")

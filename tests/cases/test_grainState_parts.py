@@ -29,10 +29,10 @@ import h5py
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import log_message, make_box_case, run, run_in_background, run_parallel, write
-from test_grainFoam_decomposed import _copy, _set_control
+from foamcase import log_message, run, run_in_background, run_parallel, write
+from test_grainFoam_decomposed import _copy, _set_control, deposited_pile
 from test_grainFoam_decomposed import _wall_load as _wall_load_of
-from test_grainFoam_physics import G, _deposit_dict
+from test_grainFoam_physics import G
 
 pytestmark = [pytest.mark.slow, pytest.mark.mpi]
 
@@ -44,24 +44,7 @@ RHO = 2500
 @pytest.fixture(scope="module")
 def pile(tmp_path_factory, env):
     """300 discs deposited at rest (grainDeposit), once."""
-    case = str(tmp_path_factory.mktemp("parts") / "pile")
-    hi = (0.04, 0.06, 0.004)
-    make_box_case(
-        case,
-        (0, 0, 0),
-        hi,
-        (4, 6, 1),
-        (0, -G, 0),
-        {"glass": {"density": RHO, "friction": 0.4}},
-        grains=[],
-        end_time=0.1,
-        dt=5e-4,
-        write_interval=0.05,
-        deposit=_deposit_dict((0, 0, 0), hi, N),
-    )
-    run("blockMesh", case, env)
-    run("grainDeposit", case, env)
-    return case
+    return deposited_pile(str(tmp_path_factory.mktemp("parts") / "pile"), env, 0.1, 0.05, N)
 
 
 def _set_end(case, end):
