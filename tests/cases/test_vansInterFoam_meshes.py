@@ -26,9 +26,8 @@ from interfoamcase import G, add_two_phase, basin
 from test_vansFoam import shear_box
 from test_vansInterFoam import ode_fall
 
-pytestmark = pytest.mark.fast
 
-
+@pytest.mark.fast
 @pytest.mark.parametrize(
     "degrees",
     [
@@ -128,6 +127,7 @@ def tet_basin(case, env, level, monkeypatch, polyhedral=False):
     return U, a, nscdpost.read_step_data(case, "waterVolume")
 
 
+@pytest.mark.fast
 def test_still_water_on_tets(tmp_path, env, monkeypatch):
     """Hydrostatics on tetrahedra (U = 0).  Water alone filling the box: the
     p_rgh form is exact there, |U| < 1e-10 m/s at 0.1 s (measured 1.1e-14).
@@ -174,6 +174,7 @@ def settle(case, env, degrees, monkeypatch):
     return t, np.array([s[1] for s in series]), nscdpost.read_step_data(case, "waterVolume")
 
 
+@pytest.mark.fast
 def test_grains_settle_on_a_sheared_mesh_as_on_the_orthogonal_one(tmp_path, env, monkeypatch):
     """Five discs settle through the water of the basin sheared by 10 deg
     as in the orthogonal basin (the reference; same code), and both agree
@@ -200,6 +201,7 @@ def test_grains_settle_on_a_sheared_mesh_as_on_the_orthogonal_one(tmp_path, env,
     assert speeds[10] == pytest.approx(speeds[0], rel=0.05)
 
 
+@pytest.mark.fast
 def test_still_water_on_polyhedra(tmp_path, env, monkeypatch):
     """Hydrostatics (U = 0) on the tet box's dual mesh (polyDualMesh 70:
     polyhedral cells).  Water alone filling the box, and water below air
@@ -241,6 +243,7 @@ def settle_3d(case, env, mesh, monkeypatch):
     return speed, y[-1], nscdpost.read_step_data(case, "waterVolume")["waterVolume"]
 
 
+@pytest.mark.slow
 def test_spheres_settle_on_tets_and_polyhedra_as_on_hexahedra(tmp_path, env, monkeypatch):
     """Sedimentation through the free surface on unstructured meshes: five
     spheres settle on gmsh tets and on their polyhedral dual as on the
