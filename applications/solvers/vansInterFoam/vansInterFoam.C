@@ -57,6 +57,7 @@ Usage
 #include "localMixtureFluidProperties.H"
 #include "couplingStepTools.H"
 #include "faceReconstruct.H"
+#include "interfaceSnGrad.H"
 #include "grainDictionaryTools.H"
 #include "fvCFD.H"
 #include "CMULES.H"
