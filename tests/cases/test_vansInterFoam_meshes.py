@@ -93,11 +93,11 @@ def test_still_basin_on_a_sheared_mesh(tmp_path, env, monkeypatch, degrees):
 
 
 @pytest.mark.fast
-@pytest.mark.parametrize("degrees", [10, 30, 60])
-def test_still_basin_exactly_at_rest_on_a_sheared_mesh(tmp_path, env, monkeypatch, degrees):
+def test_still_basin_exactly_at_rest_on_a_sheared_mesh(tmp_path, env, monkeypatch):
     """Hydrostatics, exact (the reference: U = 0, p_rgh uniform in each
     phase and its jump at the surface y_s = 30 mm (rho_a - rho_w) g y_s,
-    -294.0057 Pa): the basin sheared by 10, 30 and 60 deg without surface
+    -294.0057 Pa): the basin sheared by 60 deg (10 and 30 deg measured
+    alike, docs/validation/unstructuredMeshes.md) without surface
     tension, with the explicit non-orthogonal correction converged (6
     correctors, p_rgh to 1e-12).  With interfaceSnGrad.H (the correction
     off on the faces next to the interface, for p_rgh, rho and alpha
@@ -107,6 +107,7 @@ def test_still_basin_exactly_at_rest_on_a_sheared_mesh(tmp_path, env, monkeypatc
     jump exact to 1e-9 (measured 5e-8 Pa and 3e-9 Pa at 60 deg).  With the
     correction kept there (the scheme before) the same run gives 0.22 m/s
     in the water and 3.7 in the air at 60 deg."""
+    degrees = 60
     U, a, d = sheared_basin(
         str(tmp_path / "sheared"), env, monkeypatch, degrees, sigma=0, converged=True
     )
