@@ -52,7 +52,7 @@ section 4.3.3).
     tolerance bound); without vapour thrust the droplet sinks at least as
     deep as on the 300 C bed.  It does sink: nothing keeps grains out of
     the droplet (no capillary force in eq. 4.17), so the liquid seeps
-    through a packing that does not move (dropletDigging/README.md,
+    through a packing that does not move (docs/validation/dropletDigging.md,
     "contact-tolerance study"): the reason regime (i) is missing.
 (f) With the capillary entry barrier (dropletProperties surfaceTension,
     docs/validation/vapourDroplet.md "Capillary entry barrier") the droplet at T_d

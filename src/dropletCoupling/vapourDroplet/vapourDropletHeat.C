@@ -318,6 +318,70 @@ Foam::scalar Foam::vapourDroplet::filmThickness
 }
 
 
+Foam::scalar Foam::vapourDroplet::setLiquidHeat()
+{
+    liquidHeat_.clear();
+    if (!(kL_ > 0) || !cloud_ || !(m_ > 0))
+    {
+        return 0;
+    }
+    const grainHeatExchange& heat = cloud_->heat();
+    const List<scalar>& Hs = heat.conductance();
+    const List<scalar>& T0 = heat.startTemperature();
+    const nscd::System& sys = cloud_->grains().system();
+    const label n = sys.size();
+    if (Hs.size() != n || T0.size() != n)
+    {
+        return 0;
+    }
+    // x_i = sum_c chi_c V_ic/W_i, the part of grain i inside the droplet
+    List<scalar> x(n, Zero);
+    forEachGrainCell
+    (
+        cloud_->adapter(),
+        [&](const label gi, const label c, const scalar f)
+        {
+            if (gi < n && chi_[c] > 0)
+            {
+                x[gi] += chi_[c]*f;
+            }
+        }
+    );
+    Pstream::listCombineGather(x, plusEqOp<scalar>());
+    Pstream::listCombineScatter(x);
+    // the liquid's conductance of the part inside, H x (k_l/kappa), of
+    // which vansCloud's exchange already gives H x: the extra
+    // G = H x (k_l/kappa - 1), implicit with the grain's capacity C as
+    // H* (grainHeatExchange.H), E = (H + G) C/(C + dt (H + G)) - H*
+    const scalar dt = mesh_.time().deltaTValue();
+    const scalar depth = adapter_.depth();
+    const scalar f = kL_/kappaF_ - 1;
+    liquidHeat_.setSize(n, Zero);
+    scalar sumE = 0;
+    for (label i = 0; i < n; ++i)
+    {
+        const scalar dT = T0[i] - Td_;
+        if (!(x[i] > 0) || !(dT > 0) || !(Hs[i] > 0))
+        {
+            continue;
+        }
+        const bool bath = sys.fixedTemperature(i);
+        const scalar C =
+            sys.mass(i)*sys.material(sys.materials()[i]).heatCapacity*depth;
+        if (!(C > 0) && !bath)
+        {
+            continue;   // temperature not integrated: no heat to give
+        }
+        const scalar H = bath ? Hs[i] : Hs[i]*C/(C - dt*Hs[i]);
+        const scalar Ht = H*(1 + f*x[i]);
+        const scalar E = (bath ? Ht : Ht*C/(C + dt*Ht)) - Hs[i];
+        liquidHeat_[i] = max(E, scalar(0))*dT;
+        sumE += liquidHeat_[i];
+    }
+    return sumE;
+}
+
+
 Foam::scalar Foam::vapourDroplet::setGrainHeat(const scalarField& T)
 {
     if (!grainRelease_ || !cloud_)
@@ -348,6 +412,14 @@ Foam::scalar Foam::vapourDroplet::setGrainHeat(const scalarField& T)
     Pstream::listCombineGather(Q, plusEqOp<scalar>());
     Pstream::listCombineScatter(Q);
     const scalar Qp = sum(Q);
+    // the liquid heat enters at its grain
+    forAll(liquidHeat_, i)
+    {
+        if (i < n)
+        {
+            Q[i] += liquidHeat_[i];
+        }
+    }
     // the film heat enters at the grain pressed on the surface
     if (film_)
     {
@@ -394,8 +466,9 @@ Foam::List<Foam::scalar> Foam::vapourDroplet::heatIntoGrains() const
 {
     // the film heat of the grains pressed on the surface in the last NSCD
     // step leaves them over this step (the same grains as Q_film of setHeat)
+    // and the liquid heat of this step (setLiquidHeat) leaves its grain
     List<scalar> Q;
-    if (film_ && cloud_)
+    if ((film_ || liquidHeat_.size()) && cloud_)
     {
         const label n = cloud_->grains().system().size();
         const scalar depth = adapter_.depth();
@@ -405,6 +478,13 @@ Foam::List<Foam::scalar> Foam::vapourDroplet::heatIntoGrains() const
             if (filmGrain_[k] < n)
             {
                 Q[filmGrain_[k]] -= filmHeat_[k]/depth;
+            }
+        }
+        forAll(liquidHeat_, i)
+        {
+            if (i < n)
+            {
+                Q[i] -= liquidHeat_[i]/depth;
             }
         }
     }
@@ -430,6 +510,11 @@ void Foam::vapourDroplet::setHeat(const scalar Qf, const scalar Qp)
                 Qfilm_ += filmHeat_[k];
             }
         }
+    }
+    // the grains' extra heat to the liquid of this step (setLiquidHeat)
+    forAll(liquidHeat_, i)
+    {
+        Qfilm_ += liquidHeat_[i];
     }
     mdot_ = (Qf_ + Qp_ + Qfilm_)/L_;     // eq. 4.16
     scalar loss = mdot_*dt;

@@ -56,7 +56,7 @@ void Foam::vapourDroplet::readDict()
         "latentHeat", "vapourisationTemperature", "vapourDensity", "moving",
         "blowing", "penalisationFactor", "grainDrag", "liquidViscosity",
         "surfaceTension", "vapourRelease", "filmConduction", "vapourViscosity",
-        "absorbedGrains"
+        "absorbedGrains", "liquidConductivity"
     };
     grainTools::checkKeywords(dict_, allowed);
 
@@ -176,6 +176,15 @@ void Foam::vapourDroplet::readModelOptions()
         }
         carryGrains_ = (absorbed == "carried");
     }
+
+    // the grains' heat exchange with the liquid (vapourDroplet.H; water at
+    // 100 C: 0.679 W/(m K), IAPWS 2011 thermal conductivity formulation,
+    // Huber et al., J. Phys. Chem. Ref. Data 41 (2012) 033102); not given:
+    // as in the gas (the thesis' eq. 4.13)
+    kL_ =
+        dict_.found("liquidConductivity")
+      ? grainTools::getPositive(dict_, "liquidConductivity")
+      : -1;
 
     // Leidenfrost film conduction (vapourDroplet.H)
     film_ = dict_.getOrDefault<Switch>("filmConduction", false);

@@ -272,6 +272,9 @@ void Foam::fv::vapourDropletSource::correct(volScalarField& field)
         )
        *mesh_.V()
     );
+    // liquidConductivity: the grains' extra heat to the liquid (into
+    // the grains' heat sources and mdot with Q_film)
+    droplet_.setLiquidHeat();
     // vapourRelease grains: each grain's part of Q_p (the same sum)
     if (droplet_.grainRelease())
     {

@@ -126,6 +126,29 @@ def absorbed_grains():
     return value
 
 
+def liquid_conductivity():
+    """Conductivity k_l [W/(m K)] with which the grains inside the droplet
+    exchange heat with the liquid (dropletProperties liquidConductivity,
+    src/dropletCoupling/README.md "The model"): env LIQUID_CONDUCTIVITY,
+    "water" (0.679, water at 100 C, IAPWS 2011) or a value > 0; None when
+    unset or "gas" (the keyword not written: as in the gas, the thesis'
+    eq. 4.13).  Raises ValueError for anything else."""
+    value = os.environ.get("LIQUID_CONDUCTIVITY") or "gas"
+    if value == "gas":
+        return None
+    if value == "water":
+        return 0.679
+    try:
+        k = float(value)
+    except ValueError:
+        k = float("nan")
+    if not k > 0:
+        raise ValueError(
+            f"LIQUID_CONDUCTIVITY={value}: give 'gas' (default), 'water' or a value > 0"
+        )
+    return k
+
+
 def yes_no(value, env_name):
     """bool(value) if value is not None, else the environment variable
     env_name, "yes" or "no" (default "no").  Raises ValueError for another

@@ -74,6 +74,7 @@ cohesion_settings = settings.cohesion_settings
 surface_tension = settings.surface_tension
 vapour_release = settings.vapour_release
 absorbed_grains = settings.absorbed_grains
+liquid_conductivity = settings.liquid_conductivity
 yes_no = settings.yes_no
 film_conduction = settings.film_conduction
 
@@ -467,6 +468,7 @@ def setup(
     release = vapour_release(release)
     film = film_conduction(film)
     absorbed = absorbed_grains()
+    k_l = liquid_conductivity()
     if film and not sig > 0:
         raise ValueError(
             "FILM_CONDUCTION=yes needs the capillary barrier: set "
@@ -484,7 +486,8 @@ def setup(
         f"velocity (0 0 0);\nliquidDensity {RHO_L};\nlatentHeat {LATENT};\n"
         f"vapourisationTemperature {T_D};\nvapourDensity {RHO_V};\nmoving yes;\nblowing yes;\n"
         f"liquidViscosity {mu_l:.9g};\nsurfaceTension {sig:.9g};\nvapourRelease {release};\n"
-        f"filmConduction {'yes' if film else 'no'};\nabsorbedGrains {absorbed};\n",
+        f"filmConduction {'yes' if film else 'no'};\nabsorbedGrains {absorbed};\n"
+        + (f"liquidConductivity {k_l:.9g};\n" if k_l else ""),
     )
     write(
         case,
@@ -548,6 +551,7 @@ def setup(
             "surface_tension": sig,
             "vapour_release": release,
             "absorbed_grains": absorbed,
+            "liquid_conductivity": k_l,
             "film_conduction": film,
             "front_rear_walls_tau": tau,
             "similarity_s": sim["s"],
