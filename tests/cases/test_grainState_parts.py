@@ -217,6 +217,22 @@ def _rank_pid(mpirun_pid, rank):
     raise AssertionError(f"rank {rank} not among mpirun's children {children}")
 
 
+def _restart_on_two_ranks(case, end, env):
+    """The case run on to end on 2 ranks as it is (no decomposePar, no
+    clean-up); returns its log (log.restart)."""
+    _set_end(case, end)
+    p = subprocess.run(
+        ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+        env=env,
+        capture_output=True,
+        text=True,
+    )
+    log = p.stdout + p.stderr
+    open(os.path.join(case, "log.restart"), "w").write(log)
+    assert p.returncode == 0, log[-4000:]
+    return log
+
+
 def test_killed_during_writes_leaves_whole_states(pile, tmp_path, env):
     """A write every step; mpirun killed (SIGKILL) 40 steps in, at whatever
     point of a write its ranks are."""
@@ -255,15 +271,7 @@ def test_one_rank_killed_during_writes_restarts_on_the_ranks(pile, tmp_path, env
     _wait_for_the_lock_holder(case)
     states = _whole_states(case)
     end = round(float(states[-1]) + 2e-3, 6)
-    _set_end(case, end)
-    p = subprocess.run(
-        ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
-        env=env,
-        capture_output=True,
-        text=True,
-    )
-    open(os.path.join(case, "log.restart"), "w").write(p.stdout + p.stderr)
-    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    _restart_on_two_ranks(case, end, env)
     print(f"rank {rank} killed: {len(states)} whole writes, the latest {states[-1]}")
     t_end, last = nscdpost.numeric_dirs(case)[-1]
     assert t_end == pytest.approx(end, abs=1e-9), last
@@ -308,16 +316,7 @@ def test_restart_after_a_write_killed_at_each_stage(pile, tmp_path, env, how):
     _leave_interrupted(case, "0.1", how)
     start = "0.1" if how == "rewrite" else "0.05"
     end = float(start) + 2.5e-3
-    _set_end(case, end)
-    p = subprocess.run(
-        ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
-        env=env,
-        capture_output=True,
-        text=True,
-    )
-    open(os.path.join(case, "log.restart"), "w").write(p.stdout + p.stderr)
-    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
-    log = p.stdout + p.stderr
+    log = _restart_on_two_ranks(case, end, env)
     log_message(log, rf"Create mesh for time = {start}\b")
     if how != "rewrite":
         log_message(log, r"The latest time directory 0\.1 is\s+incomplete")
