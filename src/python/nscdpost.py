@@ -358,6 +358,20 @@ def load_module(name, path):
     return mod
 
 
+def write_json_with_history(path, rec):
+    """Write the record `rec` to `path`, the records the file held before
+    kept under rec["earlier_measurements"] (the latest last)."""
+    old = json.load(open(path)) if os.path.exists(path) else {}
+    earlier = old.pop("earlier_measurements", [])
+    if old:
+        earlier.append(old)
+    if earlier:
+        rec["earlier_measurements"] = earlier
+    with open(path, "w") as f:
+        json.dump(rec, f, indent=1)
+        f.write("\n")
+
+
 def write_json(path, obj):
     with open(path, "w") as f:
         json.dump(obj, f, indent=2, sort_keys=True)

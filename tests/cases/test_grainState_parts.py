@@ -16,13 +16,15 @@ References, independent of the parallel writer:
     weight at once, with every grain id once;
   - a run killed (SIGKILL to mpirun) at a random point of its writes leaves
     every grainState.h5 of the case whole (every id once) and a restart
-    continues from the latest.
+    continues from the latest; the same when one rank alone is killed (the
+    master, which joins the parts, or the other), and the case restarts on
+    2 ranks as it was left.
 """
 
 import os
-import re
 import shutil
 import signal
+import subprocess
 import time
 
 import h5py
@@ -150,13 +152,11 @@ def test_restart_from_two_ranks_on_three_and_serially(pile, tmp_path, env):
         assert load == pytest.approx(1.0, abs=2e-3)
 
 
-def test_killed_during_writes_leaves_whole_states(pile, tmp_path, env):
-    """A write every step; mpirun killed (SIGKILL) 40 steps in, at whatever
-    point of a write its ranks are."""
-    case = _copy(pile, str(tmp_path / "kill"))
-    path = os.path.join(case, "system", "controlDict")
-    text = re.sub(r"^(\s*writeInterval\s+)[^;]*;", r"\g<1>5e-4;", open(path).read(), flags=re.M)
-    open(path, "w").write(text)
+def _writing_every_step(pile, case, env):
+    """The pile on 2 ranks (y slabs) writing every step, started in its own
+    session; returns the mpirun Popen 40 steps in (the log in log.killed)."""
+    case = _copy(pile, case)
+    _set_control(case, writeInterval="5e-4")
     write(
         os.path.join(case, "system", "decomposeParDict"),
         "dictionary",
@@ -175,15 +175,23 @@ def test_killed_during_writes_leaves_whole_states(pile, tmp_path, env):
         start_new_session=True,
     )
     assert proc.poll() is None, open(logp).read()[-2000:]
-    os.killpg(proc.pid, signal.SIGKILL)
-    proc.wait(timeout=60)
+    return proc
+
+
+def _wait_for_the_lock_holder(case):
+    """Until the killed process holding the case's lock file is gone."""
     holder = int(open(os.path.join(case, ".nscdFoam.lock")).read().split()[0])
-    for _ in range(100):  # (the killed rank holding the lock file gone)
+    for _ in range(100):
         try:
             os.kill(holder, 0)
         except ProcessLookupError:
             break
         time.sleep(0.1)
+
+
+def _whole_states(case):
+    """The times of the case holding a grainState.h5, each checked whole
+    (every id once, read through its virtual datasets)."""
     states = [
         t
         for _, t in nscdpost.numeric_dirs(case)
@@ -193,6 +201,47 @@ def test_killed_during_writes_leaves_whole_states(pile, tmp_path, env):
     for t in states:
         ids, _, _ = _state(case, t)
         assert list(ids) == list(range(N)), t
+    return states
+
+
+def _rank_pid(mpirun_pid, rank):
+    """The pid of the MPI rank `rank` among mpirun's children (its
+    OMPI_COMM_WORLD_RANK)."""
+    with open(f"/proc/{mpirun_pid}/task/{mpirun_pid}/children") as f:
+        children = [int(c) for c in f.read().split()]
+    for pid in children:
+        with open(f"/proc/{pid}/environ", "rb") as f:
+            env = dict(e.split(b"=", 1) for e in f.read().split(b"\0") if b"=" in e)
+        if env.get(b"OMPI_COMM_WORLD_RANK") == str(rank).encode():
+            return pid
+    raise AssertionError(f"rank {rank} not among mpirun's children {children}")
+
+
+def _restart_on_two_ranks(case, end, env):
+    """The case run on to end on 2 ranks as it is (no decomposePar, no
+    clean-up); returns its log (log.restart)."""
+    _set_end(case, end)
+    p = subprocess.run(
+        ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
+        env=env,
+        capture_output=True,
+        text=True,
+    )
+    log = p.stdout + p.stderr
+    open(os.path.join(case, "log.restart"), "w").write(log)
+    assert p.returncode == 0, log[-4000:]
+    return log
+
+
+def test_killed_during_writes_leaves_whole_states(pile, tmp_path, env):
+    """A write every step; mpirun killed (SIGKILL) 40 steps in, at whatever
+    point of a write its ranks are."""
+    case = str(tmp_path / "kill")
+    proc = _writing_every_step(pile, case, env)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait(timeout=60)
+    _wait_for_the_lock_holder(case)
+    states = _whole_states(case)
     # a serial run continues from the latest whole state
     last = states[-1]
     for t in [t for _, t in nscdpost.numeric_dirs(case) if float(t) > float(last)]:
@@ -201,3 +250,78 @@ def test_killed_during_writes_leaves_whole_states(pile, tmp_path, env):
     run("grainFoam", case, env)
     ids, _, _ = _state(case, nscdpost.numeric_dirs(case)[-1][1])
     assert list(ids) == list(range(N))
+
+
+@pytest.mark.parametrize("rank", [0, 1])
+def test_one_rank_killed_during_writes_restarts_on_the_ranks(pile, tmp_path, env, rank):
+    """A write every step; one rank (the master, which joins the parts, or
+    the other) SIGKILLed alone 40 steps in, mpirun ending the other. Every
+    grainState.h5 left is whole, and the same case restarted on 2 ranks
+    (startFrom latestTime, nothing cleaned by hand: the solver moves an
+    incomplete latest time aside) goes on from the latest whole write with
+    every grain."""
+    case = str(tmp_path / f"kill{rank}")
+    proc = _writing_every_step(pile, case, env)
+    os.kill(_rank_pid(proc.pid, rank), signal.SIGKILL)
+    try:
+        proc.wait(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    _wait_for_the_lock_holder(case)
+    states = _whole_states(case)
+    end = round(float(states[-1]) + 2e-3, 6)
+    _restart_on_two_ranks(case, end, env)
+    print(f"rank {rank} killed: {len(states)} whole writes, the latest {states[-1]}")
+    t_end, last = nscdpost.numeric_dirs(case)[-1]
+    assert t_end == pytest.approx(end, abs=1e-9), last
+    ids, _, _ = _state(case, last)
+    assert list(ids) == list(range(N))
+
+
+def _cut_short(path):
+    """Truncate a file to half its size (a write killed half-way)."""
+    with open(path, "r+b") as f:
+        f.truncate(os.path.getsize(path) // 2)
+
+
+def _leave_interrupted(case, t, how):
+    """Turn the write of time t of a finished 2-rank run into what a kill
+    during it leaves (grainCloudStateParts.C's order: the parts into
+    grainStateA, or grainStateB for a rewrite of the same time, then the
+    joined file into grainState.h5.tmp, renamed into place)."""
+    d = os.path.join(case, t)
+    if how == "part":  # a rank killed writing its part: no joined file yet
+        os.remove(os.path.join(d, "grainState.h5"))
+        _cut_short(os.path.join(d, "grainStateA", "rank1.h5"))
+    elif how == "join":  # the master killed writing the joined file
+        os.rename(os.path.join(d, "grainState.h5"), os.path.join(d, "grainState.h5.tmp"))
+        _cut_short(os.path.join(d, "grainState.h5.tmp"))
+    else:  # "rewrite": a rewrite of the same time killed in its parts
+        shutil.copytree(os.path.join(d, "grainStateA"), os.path.join(d, "grainStateB"))
+        _cut_short(os.path.join(d, "grainStateB", "rank0.h5"))
+
+
+@pytest.mark.parametrize("how", ["part", "join", "rewrite"])
+def test_restart_after_a_write_killed_at_each_stage(pile, tmp_path, env, how):
+    """Each state a kill during a parts write can leave, made on purpose in
+    the latest write (0.1 s) of a 2-rank run: a part cut short with no
+    joined file, the joined file cut short as grainState.h5.tmp, a rewrite's
+    grainStateB cut short. The case restarted on 2 ranks as it was left
+    (startFrom latestTime) goes on from the latest readable write: 0.05 s
+    (the 0.1 s directory moved aside), or 0.1 s for the rewrite (its joined
+    file still reads grainStateA), with every grain."""
+    case = _copy(pile, str(tmp_path / how))
+    run_parallel("grainFoam", case, env, n=2, split=(1, 2, 1))
+    _leave_interrupted(case, "0.1", how)
+    start = "0.1" if how == "rewrite" else "0.05"
+    end = float(start) + 2.5e-3
+    log = _restart_on_two_ranks(case, end, env)
+    log_message(log, rf"Create mesh for time = {start}\b")
+    if how != "rewrite":
+        log_message(log, r"The latest time directory 0\.1 is\s+incomplete")
+    last = [t for v, t in nscdpost.numeric_dirs(os.path.join(case, "processor0")) if v < 1]
+    assert float(last[-1]) == pytest.approx(end, abs=1e-9), last
+    for t in (start, last[-1]):
+        ids, _, _ = _state(case, t)
+        assert list(ids) == list(range(N)), t
