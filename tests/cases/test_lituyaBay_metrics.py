@@ -21,6 +21,11 @@ References (exact results of the constructions):
   and the weighted speed sum m_i v_i / sum m_i (each grain's steps in the
   band share the sampling error of numerator and denominator: exact).
 - Froude: 110 m/s in h = 122 m is 3.18 (thesis 5.3.1).
+- Spray outflow (postProcess.atmosphere_outflow): a constant flux F through
+  the atmosphere leaves F t by time t; a run stopped by a signal at t_r and
+  restarted there has no flux row for its last step: the outflow at the
+  water-volume steps stays F t (exact for a constant flux), one step late at
+  the stopped step (counted with the next row, over both steps' dt).
 - Thesis-grains slide (setupCase.py --packing, grainDeposit method rain,
   packed_block): geometry only, no run: the rock area is the stated mass
   98.5e6 kg / 2640 kg/m^3 to round-off, the mean radius 1.35 m within the
@@ -37,7 +42,9 @@ from foamcase import run, tutorial_modules
 
 pytestmark = pytest.mark.fast
 
-sm, setup = tutorial_modules("vansInterFoam", "lituyaBay", names=("slideMetrics", "setupCase"))
+sm, setup, post = tutorial_modules(
+    "vansInterFoam", "lituyaBay", names=("slideMetrics", "setupCase", "postProcess")
+)
 
 SQ2 = math.sqrt(2.0)
 
@@ -136,6 +143,24 @@ def test_froude_and_energy_budget():
     assert b["water_to_slide_energy_ratio"] == pytest.approx(3 / 8)
     assert b["energy_bound_excess"] == pytest.approx(-0.0)
     assert sm.energy_budget([0.0, 6.0], [0.0, 5.0])["energy_bound_excess"] > 0
+
+
+def test_atmosphere_outflow_across_a_signal_restart(tmp_path):
+    flux, dt = 2.0, 0.1
+    t = np.round(np.arange(1, 21) * dt, 12)  # the water-volume steps
+    for start, rows in (("0", t[(t <= 1.0) & (np.abs(t - 1.0) > 1e-9)]), ("1", t[t > 1.0])):
+        d = tmp_path / "postProcessing" / "atmosphereFlux" / start
+        d.mkdir(parents=True)
+        np.savetxt(
+            d / "surfaceFieldValue.dat",
+            np.c_[rows, np.full(len(rows), flux)],
+            header="Time\tsum(alphaPhi0.water)",
+        )
+    out = post.atmosphere_outflow(str(tmp_path), t)
+    assert len(out) == len(t)
+    expected = flux * t
+    expected[9] = flux * 0.9  # the stopped step's outflow counted with the next row
+    np.testing.assert_allclose(out, expected, rtol=1e-12)
 
 
 def test_thesis_packing(tmp_path, env):

@@ -72,19 +72,25 @@ RUNUP_THESIS = (500.0, 750.0)  # [m] thesis section 5.3.2, Fig. 5.11
 
 
 def water_volumes(case):
-    """(n,) sum(eps alpha V) [m^3] of every step of a vansInterFoam run,
-    from postProcessing/waterVolume/<start>/waterVolume.dat (the values of
-    the log's "water volume" line)."""
-    return nscdpost.read_step_data(case, "waterVolume")["waterVolume"]
+    """(t, V): the times [s] and sum(eps alpha V) [m^3] of every step of a
+    vansInterFoam run, from postProcessing/waterVolume/<start>/waterVolume.dat
+    (the values of the log's "water volume" line)."""
+    d = nscdpost.read_step_data(case, "waterVolume")
+    return d["Time"], d["waterVolume"]
 
 
-def atmosphere_outflow(case):
+def atmosphere_outflow(case, times):
     """(n,) cumulative water volume [m^3] that left through the atmosphere
-    after each step: sum_n F_n dt_n, F_n the `atmosphereFlux` function object's
-    sum of alphaPhi0.water over the patch (m^3/s, outflow > 0)."""
+    by each of `times` (the water-volume steps): sum F_k dt_k over the rows
+    of the `atmosphereFlux` function object up to that time, F_k its sum of
+    alphaPhi0.water over the patch (m^3/s, outflow > 0).  Aligned by time:
+    a run stopped by a signal writes its last step's water volume but not
+    that step's flux row (that step's outflow is then counted with the next
+    row's flux, over both steps' dt)."""
     d = nscdpost.read_dat_history(case, "atmosphereFlux", "surfaceFieldValue.dat")
     dt = np.diff(np.concatenate([[0.0], d[:, 0]]))
-    return np.cumsum(d[:, 1] * dt)
+    cum = np.concatenate([[0.0], np.cumsum(d[:, 1] * dt)])
+    return cum[np.searchsorted(d[:, 0], np.asarray(times) * (1 + 1e-12), side="right")]
 
 
 def gauge_history(case, H):
@@ -211,12 +217,8 @@ def main():
     case = sys.argv[1] if len(sys.argv) > 1 else "full"
     p = json.load(open(os.path.join(case, "caseParameters.json")))
     H = p["water_depth"]
-    vols = water_volumes(case)
-    out = atmosphere_outflow(case)
-    if len(out) != len(vols):
-        raise RuntimeError(
-            f"{case}: {len(vols)} steps in waterVolume, {len(out)} in atmosphereFlux"
-        )
+    tv, vols = water_volumes(case)
+    out = atmosphere_outflow(case, tv)
     tg, eta = gauge_history(case, H)
     h = histories(case, p)
     vf, fr, t_imp = front_froude(h, H)
