@@ -23,11 +23,30 @@ import argparse
 import json
 import os
 
+import correlations
 import nscdpost
 import nscdrender
 import numpy as np
 
 THESIS_ORDER = 1.65  # thesis section 3.3: terminal velocity error O(h^1.65)
+RHO_P, RHO_F, MU, PHI = 2450.0, 1030.0, 0.6, 0.2  # as setupCase.py
+
+
+def references(radius, width):
+    """Stokes terminal velocities of a body of the cloud's excess weight
+    (rho_p - rho_f) phi g pi R^2 per unit length: in 2D midway between the
+    box's side walls (correlations.faxen_cylinder_drag, k = 2 R / W) as a
+    solid cylinder and as a drop of the fluid's viscosity (lambda = 1); the
+    3D Hadamard-Rybczynski drop for scale."""
+    drho = (RHO_P - RHO_F) * PHI
+    weight = drho * correlations.G * np.pi * radius**2
+    k = 2 * radius / width
+    return {
+        "channel_k": k,
+        "channel_solid_cylinder": weight / (MU * correlations.faxen_cylinder_drag(k)),
+        "channel_drop_lambda1": weight / (MU * correlations.faxen_cylinder_drag(k, 1.0)),
+        "hadamard_rybczynski_3d": correlations.hadamard_rybczynski_velocity(drho, radius, MU),
+    }
 
 
 def setup(case):
@@ -194,6 +213,15 @@ def main():
                 f"fit: v_inf {f['v_inf'] * 1e3:.3f} mm/s, order {f['order']:.2f} "
                 f"(thesis {THESIS_ORDER})"
             )
+    if a.convergence:
+        s = setup(a.convergence[0])
+        res["reference"] = references(s["cloud_radius"], s["width"])
+        print(
+            "references [mm/s]: "
+            + ", ".join(
+                f"{k} {v * 1e3:.3f}" for k, v in res["reference"].items() if k != "channel_k"
+            )
+        )
     if a.drop:
         res["drop"] = []
         for case in a.drop:
