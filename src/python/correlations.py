@@ -99,6 +99,33 @@ def terminal_velocity(cd, d, nu, rho, rhop, g=G):
     return w
 
 
+def faxen_cylinder_drag(k, viscosity_ratio=math.inf):
+    """Drag per unit length / (mu U) of a circular cylinder of diameter D
+    moving midway between plane walls H apart, k = D/H < 0.5, Stokes flow.
+    Solid cylinder (viscosity_ratio inf): Faxen (1946) (Happel & Brenner
+    1965; Ben Richou et al. 2004 eq. 1).  Fluid cylinder of viscosity ratio
+    lambda without surface tension (a 2D drop): the inner Stokes solution
+    outside a circle, f(r) sin(theta) with f = C (r ln(r/a) + B r - B a^2/r),
+    gives B = -1/2 for the solid (no slip) and, with the inner flow and the
+    continuity of tangential velocity and stress, B = -lambda / (2 (1 +
+    lambda)) for the drop (the 2D Hadamard-Rybczynski); Faxen's constant
+    -0.9157 = -1/2 - 0.4157 becomes -0.4157 + B.  The walls' k^2 .. k^8 terms
+    are the solid's (the drop's dipole is weaker: an approximation of a few
+    per cent of the sum at k = 1/6)."""
+    lam = viscosity_ratio
+    b = -0.5 if math.isinf(lam) else -lam / (2 * (1 + lam))
+    walls = 1.7244 * k**2 - 1.7302 * k**4 + 2.4056 * k**6 - 4.5913 * k**8
+    return 4 * math.pi / (-math.log(k) - 0.4157 + b + walls)
+
+
+def hadamard_rybczynski_velocity(drho, radius, mu, viscosity_ratio=1.0, g=G):
+    """Terminal velocity of a 3D drop of radius a in an unbounded fluid,
+    Stokes flow, no surface tension: 2/3 drho g a^2 / mu (1 + lambda) /
+    (2 + 3 lambda) (Hadamard 1911, Rybczynski 1911)."""
+    lam = viscosity_ratio
+    return 2 / 3 * drho * g * radius**2 / mu * (1 + lam) / (2 + 3 * lam)
+
+
 def ergun_gradient(eps, Us, d, mu, rho):
     """Ergun (1952) pressure gradient [Pa/m] at superficial velocity Us."""
     return 150 * mu * (1 - eps) ** 2 * Us / (eps**3 * d**2) + 1.75 * rho * (1 - eps) * Us**2 / (

@@ -60,6 +60,7 @@ grains spanning many cells, eps -> epsMin inside them, the semi-implicit drag
 import math
 import os
 
+import correlations
 import nscdpost
 import numpy as np
 import pytest
@@ -74,11 +75,7 @@ def faxen_drag(k):
     """Faxen (1946) drag per unit length / (mu U) of a cylinder of diameter
     D translating midway between plane walls H apart, k = D/H < 0.5, Stokes
     flow (Happel & Brenner 1965; Ben Richou et al. 2004 eq. 1)."""
-    return (
-        4
-        * math.pi
-        / (-math.log(k) - 0.9157 + 1.7244 * k**2 - 1.7302 * k**4 + 2.4056 * k**6 - 4.5913 * k**8)
-    )
+    return correlations.faxen_cylinder_drag(k)
 
 
 def fixed_disc_drag(

@@ -43,6 +43,7 @@ SMOKE = {
     "vansFoam/packedBedHeat": (["DiFeliceColburn", "1", "100"], "results.json", "Re*/Re*_T_t*.png"),
     "vansFoam/rayleighTaylor": (["0.1", "0.005"], "results.json", "case/case_voidFraction_t*.png"),
     "vansFoam/settling3D": (["0.02"], "results.json", "settling3D_voidFraction_t*.png"),
+    "vansFoam/mergingClouds": (["0.05", "0.05"], "results.json", "merge/merge_voidFraction_t*.png"),
     # 100,000 spheres on 2 ranks for 20 steps
     "vansFoam/fluidisedBed3D": (
         ["0.02", "2"],
