@@ -137,35 +137,13 @@ void Foam::vapourDroplet::grainReleaseWeights()
         return;
     }
     // each grain's share over its cells by the exact overlaps V_ic/W_i
-    // (local entries; W_i summed over the ranks)
+    // (local entries; W_i summed over the ranks), and in the same pass the
+    // overlap-weighted size of its cells (sqrt(V/depth) in 2D, cbrt(V) in
+    // 3D) for checkReleasingGrainSizes
     const UList<scalar> Q
     (
         cloud_->grains().column<scalar>(grainVapourColumn)
     );
-    checkReleasingGrainSizes(Q);
-    forEachGrainCell
-    (
-        cloud_->adapter(),
-        [&](const label gi, const label c, const scalar f)
-        {
-            if (gi < Q.size() && Q[gi] > 0)
-            {
-                releaseWeight_[c] += Q[gi]*f;
-            }
-        }
-    );
-}
-
-
-void Foam::vapourDroplet::checkReleasingGrainSizes
-(
-    const UList<scalar>& Q
-) const
-{
-    // the mean size of the cells each heating grain overlaps, weighted by
-    // its overlaps (sqrt(V/depth) in 2D, cbrt(V) in 3D; summed over the
-    // ranks: the grains are replicated, the same list on every rank)
-    const scalarField& V = mesh_.V();
     const scalar depth = adapter_.depth();
     const bool twoD = adapter_.twoD();
     scalarList h(Q.size(), Zero);
@@ -176,10 +154,19 @@ void Foam::vapourDroplet::checkReleasingGrainSizes
         {
             if (gi < Q.size() && Q[gi] > 0)
             {
+                releaseWeight_[c] += Q[gi]*f;
                 h[gi] += f*(twoD ? std::sqrt(V[c]/depth) : std::cbrt(V[c]));
             }
         }
     );
+    checkReleasingGrainSizes(h);
+}
+
+
+void Foam::vapourDroplet::checkReleasingGrainSizes(List<scalar>& h) const
+{
+    // summed over the ranks: the grains are replicated, the same list on
+    // every rank
     Pstream::listCombineGather(h, plusEqOp<scalar>());
     Pstream::listCombineScatter(h);
     const auto& r = cloud_->grains().system().radii();
