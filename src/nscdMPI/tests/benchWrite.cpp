@@ -4,8 +4,9 @@
 //   mpirun -np N nscdMPIWriteBench state.h5 outdir out.json
 // One rank: the state read whole and written whole (System::writeHDF5), as
 // a serial run writes: once as read, once after one step (the figure
-// compared, as a serial run holds its step's data when it writes). N ranks: each rank reads its x slab of equal grain
-// counts grown by the halo (System::readHDF5 with keep, as grainFoam
+// compared, as a serial run holds its step's data when it writes). N ranks:
+// each rank reads its x slab of equal grain counts grown by the halo
+// (System::readHDF5 with keep, as grainFoam
 // starts), makes one step, then writes the state in parts joined by
 // virtual datasets (DecomposedSystem::statePart, System::writeHDF5Part,
 // System::writeHDF5Joined: the grainCloud writer without OpenFOAM) and, for
