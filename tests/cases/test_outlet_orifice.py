@@ -154,7 +154,7 @@ def small_silo(case, env, end, write_interval=0.05):
     return grains
 
 
-@pytest.mark.fast
+@pytest.mark.slow
 def test_small_silo_discharge_runs_to_its_end(tmp_path, env):
     """A 2D silo 6 cm wide, 5 mm cells, a 2 cm central orifice in its floor,
     288 discs of 2.7-3.3 mm (fixed pseudo-random sizes) in a loose lattice:
