@@ -21,8 +21,11 @@
 // usage: siloDischarge DISCHARGE_TIME
 // env NSCD_BETA (Material::relativeCompliance), NSCD_COMPLIANCE (compliance
 //     [m^2/N]), NSCD_RELAX (Settings::relaxation), NSCD_TOL (tolerance),
-//     NSCD_SILO_STATE=<file.h5> (the settled silo: read if present, else
-//     settled with the hard law and written there).
+//     NSCD_RMS (Settings::convergence rms with this rmsTolerance; unset: the
+//     default max test), NSCD_SILO_SEED (seed of the pour's diameters and
+//     lattice jitter, default 7: another seed is another start of the same
+//     silo), NSCD_SILO_STATE=<file.h5> (the settled silo: read if present,
+//     else settled with the hard law and written there).
 #include "nscd/System.H"
 
 #include <algorithm>
@@ -50,11 +53,11 @@ double cpu()
 }
 
 /// The silo with its grains poured and settled on the gate (wall 4).
-System settledSilo()
+System settledSilo(unsigned seed)
 {
     System s(2);
     const int m = s.addMaterial({rho, mu});
-    std::mt19937_64 rng(7);
+    std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0, 1);
     const double sp = 1.15 * 2.4e-3;
     const int perRow = int(width / sp);
@@ -86,10 +89,12 @@ int main(int argc, char** argv)
     }
     const double tEnd = std::atof(argv[1]);
     const char* state = std::getenv("NSCD_SILO_STATE");
+    const unsigned seed =
+        std::getenv("NSCD_SILO_SEED") ? unsigned(std::atol(std::getenv("NSCD_SILO_SEED"))) : 7u;
     System s = [&]()
     {
         if (state && std::ifstream(state).good()) return System::readHDF5(state);
-        System t = settledSilo();
+        System t = settledSilo(seed);
         if (state) t.writeHDF5(state);
         return t;
     }();
@@ -100,6 +105,12 @@ int main(int argc, char** argv)
     if (const char* e = std::getenv("NSCD_RELAX")) s.settings().relaxation = std::atof(e);
     s.settings().tolerance = std::getenv("NSCD_TOL") ? std::atof(std::getenv("NSCD_TOL")) : 1e-5;
     s.settings().maxIterations = 10000;
+    const char* rmsTol = std::getenv("NSCD_RMS");
+    if (rmsTol)
+    {
+        s.settings().convergence = System::Settings::Convergence::RMS;
+        s.settings().rmsTolerance = std::atof(rmsTol);
+    }
     s.setWallFriction(4, 0.0);
     s.setWallVelocity(4, Vec3(0, -2, 0)); // the gate drops away
     std::vector<int> sweeps;
@@ -137,9 +148,10 @@ int main(int argc, char** argv)
         "\"sweeps_mean\": %.1f, \"sweeps_max\": %d, \"cpu_seconds\": %.3f, \"cpu_seconds_per_step\": %.4f, "
         "\"grains_out\": %zu, \"discharge_rate_grains_per_s\": %.1f, \"discharge_rate_kg_per_m_s\": %.3f, "
         "\"beverloo_kg_per_m_s\": %.3f, \"max_overlap_over_d\": %.2e, \"relativeCompliance\": %g, "
-        "\"compliance\": %g, \"relaxation\": %g, \"tolerance\": %g}\n",
+        "\"compliance\": %g, \"relaxation\": %g, \"tolerance\": %g, \"convergence\": \"%s\", "
+        "\"rms_tolerance\": %g, \"seed\": %u}\n",
         tEnd, steps, capped, sorted.empty() ? 0 : sorted[sorted.size() / 2], mean,
         sorted.empty() ? 0 : sorted.back(), sec, sec / std::max(1, steps), tOut.size(), rate, rate * mGrain,
         beverloo, maxOverlap / dMean, mat.relativeCompliance, mat.compliance, s.settings().relaxation,
-        s.settings().tolerance);
+        s.settings().tolerance, rmsTol ? "rms" : "max", rmsTol ? s.settings().rmsTolerance : 0.0, seed);
 }
