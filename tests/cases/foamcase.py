@@ -478,6 +478,20 @@ def replace_in(path, *pairs, count=-1):
         f.write(txt)
 
 
+def set_contact_tolerance(case, tol):
+    """Set contactSolver's `tolerance` in constant/grainProperties to tol
+    (text edit of the `contactSolver { ... }` block, on one line as
+    make_box_case writes it or over several as the tutorials'); an
+    AssertionError if there is not exactly one such entry."""
+    path = os.path.join(case, "constant", "grainProperties")
+    text, n = re.subn(
+        r"(contactSolver\s*\{[^}]*?\btolerance\s+)[^;]*;", rf"\g<1>{tol};", open(path).read()
+    )
+    assert n == 1, f"contactSolver tolerance not found once in {path}"
+    with open(path, "w") as f:
+        f.write(text)
+
+
 def add_scalar_transport(
     case,
     field,

@@ -37,7 +37,15 @@ import sys
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import copy_tutorial, log_message, make_box_case, run, run_parallel, tutorial_modules
+from foamcase import (
+    copy_tutorial,
+    log_message,
+    make_box_case,
+    run,
+    run_parallel,
+    set_contact_tolerance,
+    tutorial_modules,
+)
 from test_grainFoam_physics import G, _deposit_dict
 
 pytestmark = pytest.mark.slow
@@ -78,13 +86,6 @@ def _centre_of_mass(case, time_name):
     x, r, _, fixed = _state(case, time_name)
     m = r[~fixed] ** 2
     return (x[~fixed, :2] * m[:, None]).sum(axis=0) / m.sum()
-
-
-def _set_tolerance(case, tol):
-    path = os.path.join(case, "constant", "grainProperties")
-    text, n = re.subn(r"(\n\s*tolerance\s+)[^;]*;", rf"\g<1>{tol};", open(path).read())
-    assert n == 1
-    open(path, "w").write(text)
 
 
 def _set_control(case, **entries):
@@ -144,7 +145,7 @@ def test_decomposed_collapse_matches_serial(deposited, tmp_path, env):
     for k, scale in enumerate((1.0, 0.8, 0.9, 1.1, 1.2)):
         case = _copy(deposited, str(tmp_path / f"serial{k}"))
         if scale != 1.0:
-            _set_tolerance(case, 1e-5 * scale)
+            set_contact_tolerance(case, 1e-5 * scale)
         run("grainFoam", case, env)
         serial.append(case)
     end = _last_time(serial[0])

@@ -46,7 +46,7 @@ import shutil
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import log_message, run, run_parallel, tutorial_modules
+from foamcase import log_message, run, run_parallel, set_contact_tolerance, tutorial_modules
 from interfoamcase import basin
 
 pytestmark = pytest.mark.slow
@@ -116,13 +116,6 @@ def test_sinking_discs_match_serial(tmp_path, env):
         _check_water(serial, case)
 
 
-def _set_tolerance(case, tol):
-    path = os.path.join(case, "constant", "grainProperties")
-    text, n = re.subn(r"(contactSolver \{ tolerance )[^;]*;", rf"\g<1>{tol};", open(path).read())
-    assert n == 1
-    open(path, "w").write(text)
-
-
 def _gauges(case):
     """(time, eta at each gauge) rows of waveGauges.dat."""
     return np.loadtxt(os.path.join(case, "postProcessing", "gauges", "0", "waveGauges.dat"))
@@ -171,8 +164,8 @@ def test_granular_collapse_matches_serial_scatter(tmp_path, env):
     for name in ("tol0.8", "tol1.2", 2, 4):
         cases[name] = str(tmp_path / str(name))
         shutil.copytree(base, cases[name])
-    _set_tolerance(cases["tol0.8"], 8e-6)
-    _set_tolerance(cases["tol1.2"], 1.2e-5)
+    set_contact_tolerance(cases["tol0.8"], 8e-6)
+    set_contact_tolerance(cases["tol1.2"], 1.2e-5)
     for name in ("tol0.8", "tol1.2"):
         run("vansInterFoam", cases[name], env)
     run("vansInterFoam", base, env)
