@@ -366,7 +366,11 @@ def test_falling_cylinder_terminal_velocity(tmp_path, env):
     Reduced copy of tutorials/vansFoam/cylinderSedimentation (resolved
     scheme, rotation coupling, released D/100 off the axis, measured as
     tests/bench/cylinderConvergence: the mean fall speed over 2.75-3.5 s,
-    on the plateau before the lateral oscillation grows):
+    on the plateau before the lateral oscillation grows; the reference's
+    2.501 is the speed once the wake sheds, which this window does not
+    reach: the speed before shedding overshoots it, so the bound checks
+    the overshoot against the terminal value; docs/validation/
+    resolvedGrains.md, "Why the speed drops once the wake sheds"):
     - coarser: D/h = 12 instead of 15;
     - maxDeltaT 2e-3 s instead of 1e-3 (Courant number <= 0.19; the
       plateau moves by -0.64 %, 2.4294 -> 2.4139 cm/s, measured
