@@ -2,6 +2,7 @@
 """Write small grainFoam cases from Python (test helper); dictionaries are
 edited in place with foamlib."""
 
+import glob
 import os
 import re
 import shutil
@@ -535,6 +536,37 @@ def copy_tutorial(solver, case, dst):
         os.makedirs(os.path.join(dst, os.path.dirname(f)), exist_ok=True)
         shutil.copy2(os.path.join(src, f), os.path.join(dst, f))
     return dst
+
+
+def run_allrun(work, env, args, results, pngs, timeout=900):
+    """Run work/Allrun with args (a copied tutorial) and check what every
+    Allrun promises: exit 0, no log.* ending in FOAM FATAL (unless the
+    Allrun says it "stopped" on purpose), a non-empty results.json at
+    work/results and, for the glob work/pngs, at least one PNG that is not
+    blank (the field and its colour bar drawn).  Returns results.json's
+    content."""
+    import json
+
+    import matplotlib.image as mpimg
+    import numpy as np
+
+    p = subprocess.run(
+        ["./Allrun", *args], cwd=work, env=env, capture_output=True, text=True, timeout=timeout
+    )
+    assert p.returncode == 0, f"./Allrun {' '.join(args)}:\n" + p.stdout[-3000:] + p.stderr[-3000:]
+    for log in glob.glob(os.path.join(work, "**", "log.*"), recursive=True):
+        text = open(log, errors="replace").read()
+        if "FOAM FATAL" in text:
+            # the Allruns that tolerate an early stop say so on their output
+            assert "stopped" in p.stdout, f"{log}:\n{text[-2000:]}"
+    res = json.load(open(os.path.join(work, results)))
+    assert res, results
+    found = glob.glob(os.path.join(work, pngs))
+    assert found, f"no {pngs} in {work}: {sorted(os.listdir(work))}"
+    for f in found:
+        px = np.asarray(mpimg.imread(f))[..., :3]
+        assert px.std() > 0.05 and len(np.unique(px.reshape(-1, 3), axis=0)) > 20, f
+    return res
 
 
 def heat_cell_case(case, grains, rhop, depth, end_time):

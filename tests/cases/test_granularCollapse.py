@@ -20,14 +20,13 @@ References:
   function object.
 """
 
-import json
 import math
 import os
 
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import make_box_case, run, tutorial_modules
+from foamcase import copy_tutorial, make_box_case, run, run_allrun, tutorial_modules
 
 pytestmark = pytest.mark.slow
 
@@ -144,30 +143,26 @@ def test_regime_classification():
 
 
 def test_three_regimes(tmp_path, env):
-    """Reduced tutorial (20 mm cells = 4 d, 0.5 m basin, 0.25 s): the three
+    """Reduced tutorial (20 mm cells = 4 d, 0.5 m basin, 0.25 s), run by its
+    own `./Allrun 0.02 0.5 0.25` (blockMesh, setFields, grainDeposit,
+    vansInterFoam, foamToVTK, postProcess.py, snapshot PNGs; the checks of
+    test_tutorialAllruns.py through foamcase.run_allrun): the three
     configurations give Fr_f in their three regimes (Sarlin et al. 2021)
     and a wave (positive elevation at the first gauge)."""
-    setup, post = tutorial_modules("vansInterFoam", "granularCollapse")
-    cases = []
-    for config in ("nonlinearTransition", "solitary", "bore"):
-        case = str(tmp_path / config)
-        setup.setup(case, config, dx=0.02, basin=0.5, end_time=0.25)
-        for app in ("blockMesh", "setFields", "grainDeposit", "vansInterFoam"):
-            run(app, case, env)
-        cases.append(case)
-    post.main([str(tmp_path)] + cases)
-    res = json.load(open(tmp_path / "results.json"))
+    _, post = tutorial_modules("vansInterFoam", "granularCollapse")
+    work = copy_tutorial("vansInterFoam", "granularCollapse", str(tmp_path / "granularCollapse"))
+    res = run_allrun(work, env, ["0.02", "0.5", "0.25"], "results.json", "*/*_alpha.water_t*.png")
     for config, expected in post.EXPECTED_REGIME.items():
         r = res[config]
         assert r["regime"] == expected, (config, r["front_froude_number"])
         assert r["max_wave_amplitude"] > 0, config
-        assert os.path.isfile(tmp_path / f"{config}.png")
+        assert os.path.isfile(os.path.join(work, f"{config}.png"))
     # the water volume sum(eps alpha V) may only change through the
     # atmosphere (no overflow here): conserved to 1e-6 relative
-    for case in cases:
-        vol = nscdpost.read_step_data(case, "waterVolume")["waterVolume"]
+    for config in post.EXPECTED_REGIME:
+        vol = nscdpost.read_step_data(os.path.join(work, config), "waterVolume")["waterVolume"]
         assert len(vol) > 10
-        assert max(abs(v - vol[0]) for v in vol) < 1e-6 * vol[0], case
+        assert max(abs(v - vol[0]) for v in vol) < 1e-6 * vol[0], config
 
 
 def test_gate_3d_rectangle(tmp_path, env):
