@@ -29,6 +29,7 @@ import json
 import os
 import re
 import shutil
+import subprocess
 
 import numpy as np
 from foamlib import FoamCase, FoamFieldFile, FoamFile
@@ -356,6 +357,16 @@ def load_module(name, path):
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
+
+
+def run_apps(case, apps):
+    """Run each application of apps (names on PATH, etc/bashrc sourced) in
+    case, one after the other, the output of each in case/log.<app>, as
+    OpenFOAM's runApplication does; raises subprocess.CalledProcessError on
+    the first that fails."""
+    for app in apps:
+        with open(os.path.join(case, f"log.{app}"), "w") as log:
+            subprocess.run([app], cwd=case, stdout=log, stderr=subprocess.STDOUT, check=True)
 
 
 def write_json_with_history(path, rec):

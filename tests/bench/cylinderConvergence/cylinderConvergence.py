@@ -254,9 +254,7 @@ def run_level(work, cpd, end, walls=None, height=None):
         check=True,
         stdout=subprocess.DEVNULL,
     )
-    for app in ("blockMesh", "grainDeposit", "vansFoam"):
-        with open(os.path.join(case, f"log.{app}"), "w") as log:
-            subprocess.run([app], cwd=case, stdout=log, stderr=subprocess.STDOUT, check=True)
+    nscdpost.run_apps(case, ("blockMesh", "grainDeposit", "vansFoam"))
     return case
 
 

@@ -1,0 +1,170 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Benchmark: self-convergence of drafting-kissing-tumbling in the mesh
+(thesis 3.3.4, Figure 3.21 at D/h = 12.5; issue 59, item 4).
+
+No published kissing time of this set-up has been verified
+(tutorials/vansFoam/draftingKissingTumbling/postProcess.py,
+REFERENCE_KISSING_TIME), so the times are compared between meshes: the
+tutorial's case (setupCase.py CASE END D/h yes 1e-3 resolved: resolved
+scheme, rotation coupling, maxDeltaT 1e-3 s, the same step at every D/h)
+at D/h = 12.5, 18 and 25, and the relative change of each time between the
+two finest meshes (criterion of the issue: within 5 %).
+
+Times [s], from the discs' centres written every 0.01 s:
+  - kissing_time: first gap < h (the tutorial's measure; its threshold
+    shrinks with h);
+  - kissing_time_fixed_gap: first gap < D/12.5 (h of the thesis mesh: the
+    same threshold at every D/h);
+  - contact_time: first gap < D/100;
+  - tumbling_time: first time after kissing with y1 < y2.
+Cost: vansFoam's CPU seconds from stepTiming.dat.
+
+usage: dktConvergence.py [--end T] [--workdir DIR] [D/h ...]
+           build and run each level (default 12.5 18 25, 3 s) one after
+           the other, then post-process
+       dktConvergence.py --post CASEDIR ...
+           the JSON and PNG from existing case directories
+Writes tests/bench/results/dktConvergence.json and
+tests/bench/dktConvergence/dktConvergence.png.  Assumes ./Allwmake has run.
+"""
+
+import argparse
+import importlib.util
+import os
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
+TUT = os.path.join(ROOT, "tutorials", "vansFoam", "draftingKissingTumbling")
+OUT = os.path.join(ROOT, "tests", "bench", "results", "dktConvergence.json")
+PNG = os.path.join(HERE, "dktConvergence.png")
+sys.path.insert(0, os.path.join(ROOT, "src", "python"))
+import nscdpost  # noqa: E402
+
+
+def _module(name):
+    spec = importlib.util.spec_from_file_location(name, os.path.join(TUT, name + ".py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+setupCase = _module("setupCase")
+postProcess = _module("postProcess")
+D = setupCase.D
+FIXED_GAP = D / 12.5  # h of the thesis mesh [m]
+TIMES = ("kissing_time", "kissing_time_fixed_gap", "contact_time", "tumbling_time")
+
+
+def first_below(t, gap, threshold):
+    """First time [s] with gap < threshold, None if never."""
+    k = np.nonzero(gap < threshold)[0]
+    return float(t[k[0]]) if k.size else None
+
+
+def measure(case):
+    """The times, the gap history and the cost of one case directory."""
+    t, x, _ = postProcess.grain_history(case)
+    h = postProcess.cell_size(case)
+    kiss, tumble, gap = postProcess.dkt_measure(t, x, D, h)
+    timing = nscdpost.step_timing(case)
+    return {
+        "case": os.path.abspath(case),
+        "cells_per_diameter": D / h,
+        "h": h,
+        "end_time": float(t[-1]),
+        "kissing_time": kiss,
+        "kissing_time_fixed_gap": first_below(t, gap, FIXED_GAP),
+        "contact_time": postProcess.contact_time(t, x, D),
+        "tumbling_time": tumble,
+        "min_gap": float(gap.min()),
+        "steps": timing["steps"],
+        "vansFoam_cpu_seconds": timing["executionTime"],
+        "cpu_seconds_per_step_median": float(np.median(timing["cpu_per_step"])),
+        "series": {
+            "time": t.tolist(),
+            "gap": gap.tolist(),
+            "y1": x[0, :, 1].tolist(),
+            "y2": x[1, :, 1].tolist(),
+        },
+    }
+
+
+def run_level(workdir, cpd, end):
+    """Build and run one level in workdir/dh<cpd>; returns the case path."""
+    case = os.path.join(workdir, f"dh{cpd:g}")
+    setupCase.dkt_case(case, end, cpd, rotation=True, max_dt=1e-3, resolved=True)
+    nscdpost.run_apps(case, ("blockMesh", "grainDeposit", "vansFoam"))
+    return case
+
+
+def post(cases):
+    levels = sorted((measure(c) for c in cases), key=lambda L: L["cells_per_diameter"])
+    out = {
+        "benchmark": "dktConvergence",
+        "what": "tutorials/vansFoam/draftingKissingTumbling (resolved scheme, rotationCoupling "
+        "yes, maxDeltaT 1e-3 s) at several D/h: kissing, contact and tumbling times",
+        "command": "tests/bench/dktConvergence/dktConvergence.py "
+        + " ".join(f"{L['cells_per_diameter']:g}" for L in levels),
+        "reference": "self-convergence (no verified published kissing time; postProcess.py)",
+        "fixed_gap_threshold_m": FIXED_GAP,
+        "levels": levels,
+    }
+    if len(levels) >= 2:
+        a, b = levels[-2], levels[-1]
+        out["change_between_two_finest"] = {
+            k: (abs(b[k] - a[k]) / b[k] if a[k] is not None and b[k] is not None else None)
+            for k in TIMES
+        }
+    nscdpost.write_json(OUT, out)
+    for L in levels:
+        print(
+            f"D/h {L['cells_per_diameter']:5.3g}: "
+            + ", ".join(f"{k} {L[k]}" for k in TIMES)
+            + f", CPU {L['vansFoam_cpu_seconds']:.0f} s"
+        )
+    if "change_between_two_finest" in out:
+        print("change between the two finest:", out["change_between_two_finest"])
+    import nscdrender
+
+    plt = nscdrender.pyplot(PNG)
+    if plt is not None:
+        fig, ax = plt.subplots(1, 2, figsize=(9, 3.8))
+        for k, L in enumerate(levels):
+            s = L["series"]
+            lab = f"D/h = {L['cells_per_diameter']:.3g}"
+            ax[0].semilogy(s["time"], np.maximum(np.array(s["gap"]) / D, 1e-6), f"C{k}", label=lab)
+            ax[1].plot(s["time"], 100 * np.array(s["y1"]), f"C{k}", label=f"disc 1, {lab}")
+            ax[1].plot(s["time"], 100 * np.array(s["y2"]), f"C{k}", ls="--", label=f"disc 2, {lab}")
+        ax[0].axhline(FIXED_GAP / D, color="k", lw=0.7, ls=":", label="gap D/12.5")
+        ax[0].set_ylabel("gap / D")
+        ax[1].set_ylabel("y [cm]")
+        for a in ax:
+            a.set_xlabel("t [s]")
+            a.grid(alpha=0.3)
+            a.legend(fontsize=7)
+        fig.suptitle("Drafting-kissing-tumbling, self-convergence in the mesh", fontsize=9)
+        fig.tight_layout()
+        fig.savefig(PNG, dpi=120)
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("levels", nargs="*", type=float, default=[12.5, 18, 25])
+    ap.add_argument("--end", type=float, default=3.0)
+    ap.add_argument("--workdir", default=os.path.join(HERE, "work"))
+    ap.add_argument("--post", nargs="+", metavar="CASEDIR")
+    a = ap.parse_args()
+    if a.post:
+        post(a.post)
+        return
+    os.makedirs(a.workdir, exist_ok=True)
+    post([run_level(a.workdir, cpd, a.end) for cpd in a.levels])
+
+
+if __name__ == "__main__":
+    main()
