@@ -17,13 +17,15 @@ Times [s], from the discs' centres written every 0.01 s:
   - kissing_time_fixed_gap: first gap < D/12.5 (h of the thesis mesh: the
     same threshold at every D/h);
   - contact_time: first gap < D/100;
-  - tumbling_time: first time after kissing with y1 < y2.
+  - tumbling_time: first time after kissing with y1 < y2, and
+    tumbling_side: the side (+x or -x) the upper disc passes the lower one
+    on (the initial offset puts the upper disc 10 um on the -x side).
 Cost: vansFoam's CPU seconds from stepTiming.dat.
 
 usage: dktConvergence.py [--end T] [--workdir DIR] [D/h ...]
            build and run each level (default 12.5 18 25, 3 s) one after
            the other, then post-process
-       dktConvergence.py --post CASEDIR ...
+       dktConvergence.py --post CASEDIR ... [--note TEXT]
            the JSON and PNG from existing case directories
 Writes tests/bench/results/dktConvergence.json and
 tests/bench/dktConvergence/dktConvergence.png.  Assumes ./Allwmake has run.
@@ -80,6 +82,13 @@ def measure(case):
         "kissing_time_fixed_gap": first_below(t, gap, FIXED_GAP),
         "contact_time": postProcess.contact_time(t, x, D),
         "tumbling_time": tumble,
+        # the side the upper disc (1) passes the lower one on: the sign of
+        # x1 - x2 at the tumbling time
+        "tumbling_side": (
+            None
+            if tumble is None
+            else ("+x" if x[0, t == tumble, 0] > x[1, t == tumble, 0] else "-x")
+        ),
         "min_gap": float(gap.min()),
         "steps": timing["steps"],
         "vansFoam_cpu_seconds": timing["executionTime"],
@@ -101,7 +110,7 @@ def run_level(workdir, cpd, end):
     return case
 
 
-def post(cases):
+def post(cases, note=None):
     levels = sorted((measure(c) for c in cases), key=lambda L: L["cells_per_diameter"])
     out = {
         "benchmark": "dktConvergence",
@@ -111,6 +120,7 @@ def post(cases):
         + " ".join(f"{L['cells_per_diameter']:g}" for L in levels),
         "reference": "self-convergence (no verified published kissing time; postProcess.py)",
         "fixed_gap_threshold_m": FIXED_GAP,
+        "note": note,
         "levels": levels,
     }
     if len(levels) >= 2:
@@ -158,12 +168,13 @@ def main():
     ap.add_argument("--end", type=float, default=3.0)
     ap.add_argument("--workdir", default=os.path.join(HERE, "work"))
     ap.add_argument("--post", nargs="+", metavar="CASEDIR")
+    ap.add_argument("--note", help="how the runs were made (machine, sharing), kept in the JSON")
     a = ap.parse_args()
     if a.post:
-        post(a.post)
+        post(a.post, a.note)
         return
     os.makedirs(a.workdir, exist_ok=True)
-    post([run_level(a.workdir, cpd, a.end) for cpd in a.levels])
+    post([run_level(a.workdir, cpd, a.end) for cpd in a.levels], a.note)
 
 
 if __name__ == "__main__":
