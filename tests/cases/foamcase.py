@@ -3,6 +3,7 @@
 edited in place with foamlib."""
 
 import glob
+import json
 import os
 import re
 import shutil
@@ -545,8 +546,6 @@ def run_allrun(work, env, args, results, pngs, timeout=900):
     work/results and, for the glob work/pngs, at least one PNG that is not
     blank (the field and its colour bar drawn).  Returns results.json's
     content."""
-    import json
-
     import matplotlib.image as mpimg
     import numpy as np
 
