@@ -32,7 +32,6 @@ tests/bench/dktConvergence/dktConvergence.png.  Assumes ./Allwmake has run.
 """
 
 import argparse
-import importlib.util
 import os
 import sys
 
@@ -46,25 +45,11 @@ PNG = os.path.join(HERE, "dktConvergence.png")
 sys.path.insert(0, os.path.join(ROOT, "src", "python"))
 import nscdpost  # noqa: E402
 
-
-def _module(name):
-    spec = importlib.util.spec_from_file_location(name, os.path.join(TUT, name + ".py"))
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-setupCase = _module("setupCase")
-postProcess = _module("postProcess")
+setupCase = nscdpost.load_module("dkt_setupCase", os.path.join(TUT, "setupCase.py"))
+postProcess = nscdpost.load_module("dkt_postProcess", os.path.join(TUT, "postProcess.py"))
 D = setupCase.D
 FIXED_GAP = D / 12.5  # h of the thesis mesh [m]
 TIMES = ("kissing_time", "kissing_time_fixed_gap", "contact_time", "tumbling_time")
-
-
-def first_below(t, gap, threshold):
-    """First time [s] with gap < threshold, None if never."""
-    k = np.nonzero(gap < threshold)[0]
-    return float(t[k[0]]) if k.size else None
 
 
 def measure(case):
@@ -79,7 +64,7 @@ def measure(case):
         "h": h,
         "end_time": float(t[-1]),
         "kissing_time": kiss,
-        "kissing_time_fixed_gap": first_below(t, gap, FIXED_GAP),
+        "kissing_time_fixed_gap": postProcess.contact_time(t, x, D, tol=FIXED_GAP / D),
         "contact_time": postProcess.contact_time(t, x, D),
         "tumbling_time": tumble,
         # the side the upper disc (1) passes the lower one on: the sign of
