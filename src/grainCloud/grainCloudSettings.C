@@ -170,6 +170,12 @@ void readContactMethod(const Foam::dictionary& cs, solverSettings& s)
         {{"max", Convergence::Max}, {"rms", Convergence::RMS}}
     );
     s.rmsTolerance = positive("rmsTolerance", s.rmsTolerance);
+    using FrictionLaw = nscd::System::Settings::FrictionLaw;
+    s.frictionLaw = contactSolverChoice<FrictionLaw>
+    (
+        cs, "frictionLaw", s.frictionLaw,
+        {{"coulomb", FrictionLaw::Coulomb}, {"anitescu", FrictionLaw::Anitescu}}
+    );
     using Method = nscd::System::Settings::Method;
     s.method = contactSolverChoice<Method>
     (
@@ -295,7 +301,8 @@ void readContactLimits(const Foam::dictionary& cs, solverSettings& s)
 }
 
 
-//- contactSolver convergence rms only with the Gauss-Seidel methods
+//- contactSolver convergence rms only with the Gauss-Seidel methods,
+//  frictionLaw anitescu not with APGD
 void checkConvergenceChoice
 (
     const Foam::dictionary& cs,
@@ -317,6 +324,17 @@ void checkConvergenceChoice
             << " overRelaxedNLGS); APGD and NNCG stop on convergence max,"
             << " newton on newtonTolerance" << exit(FatalIOError);
     }
+    if
+    (
+        s.frictionLaw == nscd::System::Settings::FrictionLaw::Anitescu
+     && s.method == nscd::System::Settings::Method::APGD
+    )
+    {
+        FatalIOErrorInFunction(cs)
+            << "frictionLaw anitescu in " << cs.name() << " is solved by"
+            << " method NLGS, overRelaxedNLGS, NNCG or newton; APGD solves"
+            << " frictionLaw coulomb" << exit(FatalIOError);
+    }
 }
 
 } // End anonymous namespace
@@ -335,7 +353,8 @@ void Foam::grainCloud::applySolverSettings()
                 "tolerance", "maxIterations", "overlapTolerance", "method",
                 "relaxation", "maxSubSteps", "reorderInterval", "verletSkin",
                 "ordering", "convergence", "rmsTolerance", "newtonTolerance",
-                "tangentialRegularisation", "newtonLinearSolver"
+                "tangentialRegularisation", "newtonLinearSolver",
+                "frictionLaw"
             }
         );
         readContactMethod(cs, s);

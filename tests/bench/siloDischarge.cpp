@@ -22,7 +22,8 @@
 // env NSCD_BETA (Material::relativeCompliance), NSCD_COMPLIANCE (compliance
 //     [m^2/N]), NSCD_RELAX (Settings::relaxation), NSCD_TOL (tolerance),
 //     NSCD_RMS (Settings::convergence rms with this rmsTolerance; unset: the
-//     default max test), NSCD_SILO_SEED (seed of the pour's diameters and
+//     default max test), NSCD_FRICTION (Settings::frictionLaw: coulomb,
+//     the default, or anitescu), NSCD_SILO_SEED (seed of the pour's diameters and
 //     lattice jitter, default 7: another seed is another start of the same
 //     silo), NSCD_SILO_STATE=<file.h5> (the settled silo: read if present,
 //     else settled with the hard law and written there).
@@ -35,6 +36,7 @@
 #include <ctime>
 #include <fstream>
 #include <random>
+#include <string>
 #include <vector>
 
 using namespace nscd;
@@ -111,6 +113,14 @@ int main(int argc, char** argv)
         s.settings().convergence = System::Settings::Convergence::RMS;
         s.settings().rmsTolerance = std::atof(rmsTol);
     }
+    const char* friction = std::getenv("NSCD_FRICTION");
+    const bool anitescu = friction && std::string(friction) == "anitescu";
+    if (friction && !anitescu && std::string(friction) != "coulomb")
+    {
+        std::fprintf(stderr, "siloDischarge: NSCD_FRICTION must be coulomb or anitescu, not %s\n", friction);
+        std::exit(1);
+    }
+    if (anitescu) s.settings().frictionLaw = System::Settings::FrictionLaw::Anitescu;
     s.setWallFriction(4, 0.0);
     s.setWallVelocity(4, Vec3(0, -2, 0)); // the gate drops away
     std::vector<int> sweeps;
@@ -149,9 +159,10 @@ int main(int argc, char** argv)
         "\"grains_out\": %zu, \"discharge_rate_grains_per_s\": %.1f, \"discharge_rate_kg_per_m_s\": %.3f, "
         "\"beverloo_kg_per_m_s\": %.3f, \"max_overlap_over_d\": %.2e, \"relativeCompliance\": %g, "
         "\"compliance\": %g, \"relaxation\": %g, \"tolerance\": %g, \"convergence\": \"%s\", "
-        "\"rms_tolerance\": %g, \"seed\": %u}\n",
+        "\"rms_tolerance\": %g, \"friction_law\": \"%s\", \"seed\": %u}\n",
         tEnd, steps, capped, sorted.empty() ? 0 : sorted[sorted.size() / 2], mean,
         sorted.empty() ? 0 : sorted.back(), sec, sec / std::max(1, steps), tOut.size(), rate, rate * mGrain,
         beverloo, maxOverlap / dMean, mat.relativeCompliance, mat.compliance, s.settings().relaxation,
-        s.settings().tolerance, rmsTol ? "rms" : "max", rmsTol ? s.settings().rmsTolerance : 0.0, seed);
+        s.settings().tolerance, rmsTol ? "rms" : "max", rmsTol ? s.settings().rmsTolerance : 0.0,
+        anitescu ? "anitescu" : "coulomb", seed);
 }

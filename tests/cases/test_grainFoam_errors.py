@@ -105,6 +105,14 @@ def test_unknown_material_name(tmp_path, env):
             ("unknown contactSolver method", "Jacobi", "NLGS, overRelaxedNLGS, APGD, NNCG"),
         ),
         ("ordering random", ("unknown contactSolver ordering", "random", "fifo, symmetric")),
+        (
+            "frictionLaw tresca",
+            ("unknown contactSolver frictionLaw", "tresca", "coulomb, anitescu"),
+        ),
+        (
+            "frictionLaw anitescu; method APGD",
+            ("frictionLaw anitescu", "method NLGS, overRelaxedNLGS, NNCG or newton"),
+        ),
     ],
 )
 def test_unknown_contact_solver_choice(tmp_path, env, entry, words):

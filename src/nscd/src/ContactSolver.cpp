@@ -14,20 +14,31 @@ namespace nscd
 using local::projectNormal;
 using local::projectTangent;
 
-double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, const Body& B, double dt)
+double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, const Body& B, double dt,
+                      bool anitescu)
 {
     const Vec3& n = c.n;
     const Vec3 du = A.v - B.v - (A.r * A.w + B.r * B.w).cross(n);
     const double un = du.dot(n);
     const double unFree = un - c.wnn * c.rn + c.bias;
     const Vec3 utFree = (du - un * n) - c.wtt * rt;
-    const double rn = projectNormal(-unFree * c.iwnn, c);
-    const double rnt = rn + c.coh;
+    double rn;
     Vec3 rtNew = Vec3::Zero();
-    if (rnt > 0.0)
+    if (local::convexRow(c, anitescu))
     {
+        rn = -unFree * c.iwnn;
         rtNew = utFree * (-c.iwtt);
-        projectTangent(rtNew, c.mu * rnt);
+        local::projectConvex3D(rn, rtNew, c);
+    }
+    else
+    {
+        rn = projectNormal(-unFree * c.iwnn, c);
+        const double rnt = rn + c.coh;
+        if (rnt > 0.0)
+        {
+            rtNew = utFree * (-c.iwtt);
+            projectTangent(rtNew, c.mu * rnt);
+        }
     }
     const double dn = rn - c.rn;
     return (c.wnn * c.wnn * dn * dn + c.wtt * c.wtt * (rtNew - rt).squaredNorm()) * dt * dt
@@ -36,11 +47,12 @@ double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, con
 
 double System::Impl::residualPass(double dt, bool scalarTangent) const
 {
+    const bool anitescu = settings.frictionLaw == Settings::FrictionLaw::Anitescu;
     double res = 0;
     for (const SolverContact& c : rows)
     {
         const Vec3 rt = scalarTangent ? Vec3(c.rts * Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
-        res = std::max(res, localResidual2(c, rt, body[c.i], body[c.j], dt));
+        res = std::max(res, localResidual2(c, rt, body[c.i], body[c.j], dt, anitescu));
     }
     return res;
 }
@@ -83,6 +95,7 @@ struct NlgsSolve
     StepReport& rep;
     const double dt, omega;
     const bool twoD = I.dim == 2;
+    const bool anitescu = I.settings.frictionLaw == System::Settings::FrictionLaw::Anitescu;
     const double dmin = 2 * I.rMin();
     const int NC = int(I.rows.size());
     const bool hist = I.settings.residualHistory;
@@ -165,8 +178,8 @@ struct NlgsSolve
         }
         SolverContact& c = cs[k];
         const double before = rms ? ref2(c) : 0.0;
-        const bool changed = twoD ? local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega)
-                                  : local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega);
+        const bool changed = twoD ? local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega, anitescu)
+                                  : local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, omega, anitescu);
         if (hist && solves % NC == 0) rep.residualHistory.push_back(historyEntry(twoD));
         if (rms)
         {

@@ -29,6 +29,7 @@ namespace nscd
 void System::Impl::solveNNCG(double dt, StepReport& rep)
 {
     const bool twoD = dim == 2;
+    const bool anitescu = settings.frictionLaw == Settings::FrictionLaw::Anitescu;
     const double dmin = 2 * rMin();
     const int NC = int(rows.size());
     const bool hist = settings.residualHistory;
@@ -63,9 +64,9 @@ void System::Impl::solveNNCG(double dt, StepReport& rep)
             prev[k].n = c.rn;
             prev[k].t = tangent(c);
             if (twoD)
-                local::update2D(c, B[c.i], B[c.j], dt2, 0.0, 1.0);
+                local::update2D(c, B[c.i], B[c.j], dt2, 0.0, 1.0, anitescu);
             else
-                local::update3D(c, B[c.i], B[c.j], dt2, 0.0, 1.0);
+                local::update3D(c, B[c.i], B[c.j], dt2, 0.0, 1.0, anitescu);
             maxChange = std::max(maxChange, c.change);
         }
         forward = !forward;

@@ -57,6 +57,15 @@ void System::Impl::checkSettings(const System::Settings& S, const char* where)
             throw InputError(std::string(where) + ": invalid settings (unknown newtonLinearSolver "
                              + std::to_string(ls) + "; Cholesky, ConjugateGradient)");
     }
+    const int fl = int(S.frictionLaw);
+    if (fl < 0 || fl > int(System::Settings::FrictionLaw::Anitescu))
+        throw InputError(std::string(where) + ": invalid settings (unknown friction law " + std::to_string(fl)
+                         + "; laws: Coulomb, Anitescu)");
+    if (S.frictionLaw == System::Settings::FrictionLaw::Anitescu
+        && S.method == System::Settings::Method::APGD)
+        throw InputError(std::string(where)
+                         + ": invalid settings (FrictionLaw::Anitescu is solved by the Gauss-Seidel methods "
+                           "NLGS, OverRelaxedNLGS and NNCG, and by Newton; APGD solves the Coulomb law)");
     const int cv = int(S.convergence);
     if (cv < 0 || cv > int(System::Settings::Convergence::RMS))
         throw InputError(std::string(where) + ": invalid settings (unknown convergence test "

@@ -160,6 +160,7 @@ private:
     const std::vector<int>* const seed;
     const int NC;
     const bool twoD;
+    const bool anitescu = I.settings.frictionLaw == System::Settings::FrictionLaw::Anitescu;
     const double dt, dmin, xi, xi2, dt2;
     SolverContact* const cs;
     Body* const bodies;
@@ -245,8 +246,8 @@ private:
                 solved.push_back(k);
             }
             SolverContact& c = cs[k];
-            const bool changed = twoD ? local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, 1.0)
-                                      : local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, 1.0);
+            const bool changed = twoD ? local::update2D(c, bodies[c.i], bodies[c.j], dt2, xi2, 1.0, anitescu)
+                                      : local::update3D(c, bodies[c.i], bodies[c.j], dt2, xi2, 1.0, anitescu);
             if (!changed) continue;
             q.push(k);
             for (int b : {c.i, c.j})
@@ -260,7 +261,7 @@ private:
     {
         const SolverContact& c = cs[k];
         const Vec3 rt = twoD ? Vec3(c.rts * Vec3(-c.n.y(), c.n.x(), 0.0)) : c.rt;
-        return localResidual2(c, rt, bodies[c.i], bodies[c.j], dt);
+        return localResidual2(c, rt, bodies[c.i], bodies[c.j], dt, anitescu);
     }
 
     /// The residual, squared: the last change of each row solved, evaluated

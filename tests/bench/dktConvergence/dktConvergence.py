@@ -19,16 +19,19 @@ Times [s], from the discs' centres written every 0.01 s:
   - contact_time: first gap < D/100;
   - tumbling_time: first time after kissing with y1 < y2, and
     tumbling_side: the side (+x or -x) the upper disc passes the lower one
-    on (the initial offset puts the upper disc 10 um on the -x side).
+    on (the initial offset puts the upper disc on the -x side: 10 um, D/200,
+    as Glowinski et al. 2001, unless --offset says otherwise).
 Cost: vansFoam's CPU seconds from stepTiming.dat.
 
-usage: dktConvergence.py [--end T] [--workdir DIR] [D/h ...]
+usage: dktConvergence.py [--end T] [--workdir DIR] [--offset M] [D/h ...]
            build and run each level (default 12.5 18 25, 3 s) one after
            the other, then post-process
-       dktConvergence.py --post CASEDIR ... [--note TEXT]
+       dktConvergence.py --post CASEDIR ... [--offset M] [--note TEXT]
            the JSON and PNG from existing case directories
-Writes tests/bench/results/dktConvergence.json and
-tests/bench/dktConvergence/dktConvergence.png.  Assumes ./Allwmake has run.
+--offset M: the upper disc's initial offset from the centre line [m]
+(default 1e-5, the tutorial's).  Writes tests/bench/results/dktConvergence.json
+and tests/bench/dktConvergence/dktConvergence.png, or with another offset
+dktConvergenceOffset<M in um>um.json / .png.  Assumes ./Allwmake has run.
 """
 
 import argparse
@@ -40,8 +43,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
 TUT = os.path.join(ROOT, "tutorials", "vansFoam", "draftingKissingTumbling")
-OUT = os.path.join(ROOT, "tests", "bench", "results", "dktConvergence.json")
-PNG = os.path.join(HERE, "dktConvergence.png")
+RESULTS = os.path.join(ROOT, "tests", "bench", "results")
 sys.path.insert(0, os.path.join(ROOT, "src", "python"))
 import nscdpost  # noqa: E402
 
@@ -87,22 +89,32 @@ def measure(case):
     }
 
 
-def run_level(workdir, cpd, end):
+def output_name(offset):
+    """dktConvergence for the tutorial's offset, else dktConvergenceOffset<um>um."""
+    if abs(offset - setupCase.OFFSET) < 1e-12:
+        return "dktConvergence"
+    return f"dktConvergenceOffset{offset * 1e6:g}um"
+
+
+def run_level(workdir, cpd, end, offset):
     """Build and run one level in workdir/dh<cpd>; returns the case path."""
     case = os.path.join(workdir, f"dh{cpd:g}")
-    setupCase.dkt_case(case, end, cpd, rotation=True, max_dt=1e-3, resolved=True)
+    setupCase.dkt_case(case, end, cpd, rotation=True, max_dt=1e-3, resolved=True, offset=offset)
     nscdpost.run_apps(case, ("blockMesh", "grainDeposit", "vansFoam"))
     return case
 
 
-def post(cases, note=None):
+def post(cases, offset, note=None):
+    name = output_name(offset)
     levels = sorted((measure(c) for c in cases), key=lambda L: L["cells_per_diameter"])
     out = {
-        "benchmark": "dktConvergence",
+        "benchmark": name,
         "what": "tutorials/vansFoam/draftingKissingTumbling (resolved scheme, rotationCoupling "
         "yes, maxDeltaT 1e-3 s) at several D/h: kissing, contact and tumbling times",
         "command": "tests/bench/dktConvergence/dktConvergence.py "
+        + ("" if name == "dktConvergence" else f"--offset {offset:g} ")
         + " ".join(f"{L['cells_per_diameter']:g}" for L in levels),
+        "upper_disc_offset_m": offset,
         "reference": "self-convergence (no verified published kissing time; postProcess.py)",
         "fixed_gap_threshold_m": FIXED_GAP,
         "note": note,
@@ -114,7 +126,7 @@ def post(cases, note=None):
             k: (abs(b[k] - a[k]) / b[k] if a[k] is not None and b[k] is not None else None)
             for k in TIMES
         }
-    nscdpost.write_json(OUT, out)
+    nscdpost.write_json(os.path.join(RESULTS, name + ".json"), out)
     for L in levels:
         print(
             f"D/h {L['cells_per_diameter']:5.3g}: "
@@ -125,7 +137,8 @@ def post(cases, note=None):
         print("change between the two finest:", out["change_between_two_finest"])
     import nscdrender
 
-    plt = nscdrender.pyplot(PNG)
+    png = os.path.join(HERE, name + ".png")
+    plt = nscdrender.pyplot(png)
     if plt is not None:
         fig, ax = plt.subplots(1, 2, figsize=(9, 3.8))
         for k, L in enumerate(levels):
@@ -141,9 +154,12 @@ def post(cases, note=None):
             a.set_xlabel("t [s]")
             a.grid(alpha=0.3)
             a.legend(fontsize=7)
-        fig.suptitle("Drafting-kissing-tumbling, self-convergence in the mesh", fontsize=9)
+        fig.suptitle(
+            f"Drafting-kissing-tumbling, self-convergence in the mesh (offset {offset * 1e6:g} um)",
+            fontsize=9,
+        )
         fig.tight_layout()
-        fig.savefig(PNG, dpi=120)
+        fig.savefig(png, dpi=120)
     return out
 
 
@@ -154,12 +170,17 @@ def main():
     ap.add_argument("--workdir", default=os.path.join(HERE, "work"))
     ap.add_argument("--post", nargs="+", metavar="CASEDIR")
     ap.add_argument("--note", help="how the runs were made (machine, sharing), kept in the JSON")
+    ap.add_argument(
+        "--offset", type=float, default=setupCase.OFFSET, help="upper disc's offset [m]"
+    )
     a = ap.parse_args()
+    if not a.offset > 0:
+        ap.error(f"--offset must be > 0 m, not {a.offset!r}")
     if a.post:
-        post(a.post, a.note)
+        post(a.post, a.offset, a.note)
         return
     os.makedirs(a.workdir, exist_ok=True)
-    post([run_level(a.workdir, cpd, a.end) for cpd in a.levels], a.note)
+    post([run_level(a.workdir, cpd, a.end, a.offset) for cpd in a.levels], a.offset, a.note)
 
 
 if __name__ == "__main__":

@@ -9,9 +9,10 @@ off the centre line (x = 0.999 cm against 1 cm), the perturbation Glowinski
 et al. (2001) used to break the symmetry; without it the pair would fall
 kissing along the axis.  SI units in the case.
 
-usage: setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [ROTATION yes|no] [MAXDT] [SCHEME]
+usage: setupCase.py CASEDIR [ENDTIME] [CELLS_PER_D] [ROTATION yes|no] [MAXDT] [SCHEME] [OFFSET]
   (default 4 s, D/h = 12.5 as in thesis 3.3.4: 125 x 500 cells, rotation no,
-  maxDeltaT 1e-3 s, SCHEME resolved.)
+  maxDeltaT 1e-3 s, SCHEME resolved, OFFSET 1e-5 m: the upper disc's
+  distance [m] to the -x side of the centre line.)
   SCHEME resolved: couplingProperties `resolvedCellsPerDiameter 4;`, the
   resolved-regime scheme of vansCloud.H (grain velocity out of the pressure
   solve, added mass C_A = 1); SCHEME default: no keyword (the unresolved
@@ -45,7 +46,8 @@ W, H = 0.02, 0.08  # [m]
 D = 0.002  # [m]
 RHO_F, RHO_P = 1000.0, 1010.0
 NU = 1e-6  # [m^2/s] = 0.01 g/(cm s) / 1 g/cm^3
-START = [(0.00999, 0.072), (0.010, 0.068)]  # [m] upper (1), lower (2)
+OFFSET = 1e-5  # [m] the upper disc's offset to -x (Glowinski et al. 2001)
+START = [(0.010 - OFFSET, 0.072), (0.010, 0.068)]  # [m] upper (1), lower (2)
 
 
 def dkt_case(
@@ -56,10 +58,14 @@ def dkt_case(
     rotation=False,
     max_dt=1e-3,
     resolved=False,
+    offset=OFFSET,
 ):
     """Write the DKT case (see the module docstring); resolved: add
-    `resolvedCellsPerDiameter 4;` to constant/couplingProperties.  Returns
-    the number of cells."""
+    `resolvedCellsPerDiameter 4;` to constant/couplingProperties; offset [m]:
+    the upper disc's distance to the -x side of the centre line (> 0).
+    Returns the number of cells."""
+    if not offset > 0:
+        raise ValueError(f"setupCase.py: the offset must be > 0 m, not {offset!r}")
     h = D / cells_per_d
     nx, ny = round(W / h), round(H / h)
     cyl.write_case(
@@ -67,7 +73,7 @@ def dkt_case(
         (0.0, 0.0),
         (W, H),
         (nx, ny),
-        [(x, y, D) for x, y in START],
+        [(0.010 - offset, START[0][1], D), (*START[1], D)],
         RHO_P,
         RHO_F,
         NU,
@@ -89,12 +95,17 @@ def main():
     rot = len(sys.argv) > 4 and sys.argv[4] in ("yes", "on", "true", "1")
     max_dt = float(sys.argv[5]) if len(sys.argv) > 5 else 1e-3
     scheme = sys.argv[6] if len(sys.argv) > 6 else "resolved"
+    offset = float(sys.argv[7]) if len(sys.argv) > 7 else OFFSET
     if scheme not in ("resolved", "default"):
         sys.exit(f"setupCase.py: SCHEME must be resolved or default, not {scheme!r}")
-    n = dkt_case(case, end, cpd, rotation=rot, max_dt=max_dt, resolved=scheme == "resolved")
+    if not offset > 0:
+        sys.exit(f"setupCase.py: OFFSET (7th argument) must be > 0 m, not {offset!r}")
+    n = dkt_case(
+        case, end, cpd, rotation=rot, max_dt=max_dt, resolved=scheme == "resolved", offset=offset
+    )
     print(
         f"{case}: {n} cells, D/h = {cpd:g}, endTime {end:g} s, rotationCoupling {rot}, "
-        f"maxDeltaT {max_dt:g} s, scheme {scheme}"
+        f"maxDeltaT {max_dt:g} s, scheme {scheme}, offset {offset:g} m"
     )
 
 
