@@ -11,9 +11,6 @@
 namespace nscd
 {
 
-using local::projectNormal;
-using local::projectTangent;
-
 double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, const Body& B, double dt,
                       bool anitescu)
 {
@@ -23,23 +20,8 @@ double localResidual2(const SolverContact& c, const Vec3& rt, const Body& A, con
     const double unFree = un - c.wnn * c.rn + c.bias;
     const Vec3 utFree = (du - un * n) - c.wtt * rt;
     double rn;
-    Vec3 rtNew = Vec3::Zero();
-    if (local::convexRow(c, anitescu))
-    {
-        rn = -unFree * c.iwnn;
-        rtNew = utFree * (-c.iwtt);
-        local::projectConvex3D(rn, rtNew, c);
-    }
-    else
-    {
-        rn = projectNormal(-unFree * c.iwnn, c);
-        const double rnt = rn + c.coh;
-        if (rnt > 0.0)
-        {
-            rtNew = utFree * (-c.iwtt);
-            projectTangent(rtNew, c.mu * rnt);
-        }
-    }
+    Vec3 rtNew;
+    local::localSolution3D(c, unFree, utFree, local::convexRow(c, anitescu), rn, rtNew);
     const double dn = rn - c.rn;
     return (c.wnn * c.wnn * dn * dn + c.wtt * c.wtt * (rtNew - rt).squaredNorm()) * dt * dt
            * c.residualWeight2;
