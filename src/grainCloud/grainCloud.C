@@ -402,6 +402,11 @@ const nscd::StepReport& Foam::grainCloud::evolve(scalar dt)
         << ", max overlap/d_min "
         << report_.maxOverlap/max(minDiameter(), VSMALL)
         << endl;
+    if (report_.substepCause != nscd::StepReport::SubStepCause::None)
+    {
+        Info<< "NSCD sub-steps set by: "
+            << grainTools::subStepCauseText(report_).c_str() << endl;
+    }
     if (statisticsFile_)
     {
         scalarList row({scalar(nGrainsTotal())});

@@ -162,6 +162,12 @@ def test_decomposed_collapse_matches_serial(deposited, tmp_path, env):
             _, _, ids, _ = _state(case, name)
             assert sorted(ids) == sorted(ids_s), name
         assert _last_time(case) == end
+        # the rule that set each sub-stepped step (nscd::StepReport::substepCause,
+        # agreed over the ranks): in grainStatistics and named in the log
+        g = nscdpost.read_step_data(case, "grainStatistics")
+        subbed = g["subSteps"] > 1
+        assert list(g["subStepCause"] > 0) == list(subbed)
+        assert p.stdout.count("NSCD sub-steps set by: ") == int(subbed.sum())
         got = _collapse_measures(case, end)
         # the height: 2 % of the serial run's; every measure: within the
         # serial ensemble's band widened by half its spread

@@ -15,6 +15,7 @@ import subprocess
 import nscdpost
 import numpy as np
 import pytest
+from faultcase import box, set_control
 from foamcase import run
 from interfoamcase import dam_break
 from test_faults_boundaries import outlet_case
@@ -65,6 +66,12 @@ def check_nscd(case, log):
         same(g[name], [ln[k + 1] for ln in lines])
     assert set(g["converged"]) <= {0.0, 1.0}
     assert np.all(g["grains"] > 0) and np.all(g["kineticEnergy"] >= 0)
+    # the rule that set the sub-steps (nscd::StepReport::substepCause): set
+    # exactly when a step was sub-stepped, and named in the log then
+    assert set(g["subStepCause"]) <= {0.0, 1.0, 2.0, 3.0, 4.0}
+    assert list(g["subStepCause"] > 0) == list(g["subSteps"] > 1)
+    named = [bool(re.search(r"^NSCD sub-steps set by: \S", text, re.M)) for _, text in steps(log)]
+    assert named == list(g["subSteps"] > 1)
     return g
 
 
@@ -106,6 +113,28 @@ def test_grainFoam_files_match_log(tmp_path, env):
     same(column(o, "bottom_mass", rows), [v[1] for v in out])
     same(column(o, "bottom_totalGrains", rows), [v[3] for v in out])
     same(column(o, "bottom_totalMass", rows), [v[4] for v in out])
+
+
+@pytest.mark.fast
+def test_substep_cause_in_log_and_file(tmp_path, env):
+    """A sub-stepped step names the rule of nscd::System::advance that set
+    its count, the grain and the speed, in the log and in grainStatistics'
+    subStepCause: a grain of d 1 cm released at rest over steps of 0.1 s
+    changes its velocity by g dt = 0.981 m/s a step (its free velocity, also
+    once it rests on the floor), ceil(0.981 * 0.1 / (0.1 * 0.01)) = 99
+    sub-steps by the velocity-change rule (System.H)."""
+    case = box(tmp_path, "cause", [(0.05, 0.08, 0, 0.01)])
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    set_control(case, endTime=0.3, deltaT=0.1, writeInterval=0.1)
+    log = run("grainFoam", case, env).stdout
+    g = check_nscd(case, log)
+    assert list(g["subSteps"]) == [99] * 3
+    assert list(g["subStepCause"]) == [1] * 3
+    assert (
+        "NSCD sub-steps set by: the step's forces change the velocity of grain 0 by 0.981 m/s"
+        in log
+    )
 
 
 def check_continuity(case, log):

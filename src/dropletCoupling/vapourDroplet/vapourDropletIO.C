@@ -6,10 +6,11 @@ Description
     The restart file <time>/uniform/droplet (droplet state, the step of
     the grain predictor's history, film heat and heat-sink directions),
     read at the start and written with the fields at every write (the
-    scheduled ones, the last step, a stop signal: restartFile); the predictor's
-    per-grain history as restart columns of the grain state (attach; a
-    file written before holds it as per-grain lists, still read); and the
-    per-step line of postProcessing/droplet/<startTime>/droplet.dat.
+    scheduled ones, the last step, a stop signal: vapourDropletRestartFile);
+    the predictor's per-grain history as restart columns of the grain
+    state (attach; a file written before holds it as per-grain lists,
+    still read); and the per-step line of
+    postProcessing/droplet/<startTime>/droplet.dat.
 \*---------------------------------------------------------------------------*/
 
 #include "vapourDroplet.H"
@@ -296,9 +297,9 @@ void Foam::vapourDroplet::finishStep()
 }
 
 
-// * * * * * * * * * * * * * * * restartFile  * * * * * * * * * * * * * * * //
+// * * * * * * * * * * * * * * vapourDropletRestartFile * * * * * * * * * * * //
 
-Foam::vapourDroplet::restartFile::restartFile
+Foam::vapourDropletRestartFile::vapourDropletRestartFile
 (
     const fvMesh& mesh,
     const vapourDroplet& droplet
@@ -316,13 +317,13 @@ Foam::vapourDroplet::restartFile::restartFile
 {}
 
 
-const Foam::word& Foam::vapourDroplet::restartFile::type() const
+const Foam::word& Foam::vapourDropletRestartFile::type() const
 {
     return IOdictionary::typeName;
 }
 
 
-bool Foam::vapourDroplet::restartFile::writeData(Ostream& os) const
+bool Foam::vapourDropletRestartFile::writeData(Ostream& os) const
 {
     droplet_.writeRestart(os);
     return os.good();

@@ -131,14 +131,36 @@ double subStepsOf(const ImplT& I, double dt, double fraction, const Fastest& f, 
     if (cause) *cause = k;
     return std::max(1.0, std::ceil(a[k] * (1 - 1e-12))); // guard round-off
 }
+
+/// The cause, body (a grain by its id, System::grainIds) and speed of rule
+/// k of subStepsOf (0 velocity change, 1 tangential slide, 2 travel) for
+/// the count n (None when n = 1).
+template <class ImplT>
+SubStepChoice choiceOf(const ImplT& I, double n, int k, const Fastest& f)
+{
+    SubStepChoice c;
+    c.count = n;
+    if (n <= 1) return c;
+    using Cause = StepReport::SubStepCause;
+    c.cause = k == 0 ? Cause::VelocityChange : (k == 1 ? Cause::TangentialSlide : Cause::Travel);
+    const int who = k == 0 ? f.whoDv : (k == 1 ? f.whoVt : f.whoV);
+    c.body = who >= 0 ? I.ids[std::size_t(who)] : long(who);
+    c.speed = k == 0 ? f.dv : (k == 1 ? f.vt : f.v);
+    return c;
+}
 } // namespace
 
-double System::subStep(double dt, double fraction) const
+double System::subStep(double dt, double fraction) const { return dt / subStepChoice(dt, fraction).count; }
+
+SubStepChoice System::subStepChoice(double dt, double fraction) const
 {
     if (!(dt > 0)) throw InputError("nscd::System::subStep: dt must be > 0");
     if (!(fraction > 0)) throw InputError("nscd::System::subStep: fraction must be > 0");
     Impl& I = *impl_; // fastest() fills the work array body only
-    return dt / subStepsOf(I, dt, fraction, fastest(I, dt));
+    const Fastest f = fastest(I, dt);
+    int cause = 0;
+    const double n = subStepsOf(I, dt, fraction, f, &cause);
+    return choiceOf(I, n, cause, f);
 }
 
 // The sub-step rules of advance (System.H), and why. Contacts are detected
@@ -182,7 +204,8 @@ StepReport System::advance(double dt, double fraction)
             throw StepError(os.str());
         }
         int cause = 0;
-        double h = std::min(remaining, dt / subStepsOf(I, dt, fraction, f, &cause));
+        const double n = subStepsOf(I, dt, fraction, f, &cause);
+        double h = std::min(remaining, dt / n);
         if (h >= remaining * (1 - 1e-12)) h = remaining;
         const double needed = total.substeps + std::ceil(remaining / h * (1 - 1e-12));
         if (needed > double(maxSub))
@@ -215,6 +238,13 @@ StepReport System::advance(double dt, double fraction)
                 os << "; this may move a grain by " << fraction << " d_min = " << fraction * dmin
                    << " m per sub-step)";
             throw StepError(os.str());
+        }
+        if (total.substeps == 0)
+        {
+            const SubStepChoice c = choiceOf(I, n, cause, f);
+            total.substepCause = c.cause;
+            total.substepBody = c.body;
+            total.substepSpeed = c.speed;
         }
         const StepReport r = step(h);
         remaining = (h == remaining) ? 0.0 : remaining - h;

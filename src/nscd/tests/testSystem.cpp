@@ -90,8 +90,12 @@ TEST(SubStepping, PicksDtFromDminAndVelocityChange)
     s.velocities()[b] = Vec3(3.0, 4.0, 0); // |v| = 5: 2.5 d_min per step
     const double frac = 0.1, dmin = 0.02;
     const double dt = 1e-2;
+    using Cause = StepReport::SubStepCause;
     EXPECT_EQ(s.subStep(dt, frac), dt);
-    EXPECT_EQ(s.advance(dt, frac).substeps, 1);
+    EXPECT_EQ(s.subStepChoice(dt, frac).cause, Cause::None);
+    const StepReport one = s.advance(dt, frac);
+    EXPECT_EQ(one.substeps, 1);
+    EXPECT_EQ(one.substepCause, Cause::None);
     // a force changing its velocity by 5 m/s over dt: 25 sub-steps
     const double mass = s.mass(b);
     s.setExternalForce(b, Vec3(0, 500 * mass, 0), Vec3::Zero());
@@ -102,10 +106,44 @@ TEST(SubStepping, PicksDtFromDminAndVelocityChange)
     const StepReport r = s.advance(dt, frac);
     EXPECT_EQ(r.substeps, int(std::ceil(5.0 * dt / (frac * dmin))));
     EXPECT_NEAR(s.time() - t0, dt, 1e-15);
+    // the report names the rule, the grain (by id) and its velocity change
+    EXPECT_EQ(r.substepCause, Cause::VelocityChange);
+    EXPECT_EQ(r.substepBody, s.grainIds()[std::size_t(b)]);
+    EXPECT_NEAR(r.substepSpeed, 5.0, 1e-9);
     // no force, an absurd speed of 1e4 m/s: 1e4 dt / (100 d_min) = 50 sub-steps
     s.setExternalForce(b, Vec3::Zero(), Vec3::Zero());
     s.velocities()[b] = Vec3(1e4, 0, 0);
-    EXPECT_EQ(s.advance(dt, frac).substeps, 50);
+    const SubStepChoice c = s.subStepChoice(dt, frac);
+    EXPECT_EQ(c.count, 50);
+    EXPECT_EQ(c.cause, Cause::Travel);
+    EXPECT_NEAR(c.speed, 1e4, 1e-6);
+    const StepReport fast = s.advance(dt, frac);
+    EXPECT_EQ(fast.substeps, 50);
+    EXPECT_EQ(fast.substepCause, Cause::Travel);
+    EXPECT_EQ(fast.substepBody, s.grainIds()[std::size_t(b)]);
+}
+
+// Consistency check of the tangential rule of advance() (System.H): two
+// touching discs (a contact of the last step) sliding past each other at
+// v_t move by at most fraction d_min per sub-step, and the report names the
+// rule and the sliding speed.
+TEST(SubStepping, TangentialSlideOfTouchingGrainsIsReported)
+{
+    System s(2);
+    const int m = s.addMaterial({1000, 0.0});
+    const double r = 0.01, frac = 0.1, dt = 1e-2;
+    s.addGrain(Vec3(0, 0, 0), r, m, true);
+    const int b = s.addGrain(Vec3(0, 2 * r, 0), r, m);
+    s.setGravity(Vec3(0, -9.81, 0));
+    s.step(1e-4); // the resting pair becomes a contact of the last step
+    ASSERT_EQ(s.contacts().size(), 1u);
+    s.velocities()[b] = Vec3(0.5, 0, 0); // sliding over the fixed disc: 0.25 d_min per step of 1e-2 s
+    const SubStepChoice c = s.subStepChoice(dt, frac);
+    using Cause = StepReport::SubStepCause;
+    EXPECT_EQ(c.cause, Cause::TangentialSlide);
+    EXPECT_NEAR(c.speed, 0.5, 1e-9);
+    EXPECT_EQ(c.count, std::ceil(0.5 * dt / (frac * 2 * r)));
+    EXPECT_EQ(s.advance(dt, frac).substepCause, Cause::TangentialSlide);
 }
 
 // Reference: Newton's third law in every local update (eq. 2.26-2.27):

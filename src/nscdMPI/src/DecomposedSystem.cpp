@@ -100,6 +100,37 @@ const std::vector<char>& DecomposedSystem::owned() const { return impl_->owned; 
 const std::vector<long>& DecomposedSystem::globalIds() const { return impl_->gid; }
 const ExchangeCounters& DecomposedSystem::counters() const { return impl_->counters; }
 
+void DecomposedSystem::Impl::reportSubStepCause(StepReport& rep, const SubStepChoice& local, double n,
+                                                double nHalo, double fastestSpeed)
+{
+    using Cause = StepReport::SubStepCause;
+    // the rank whose own rule asked for the most sub-steps (lowest rank on a tie)
+    struct
+    {
+        double count;
+        int rank;
+    } mine{local.count, rank};
+    {
+        CpuTimer t(counters.solveCommCpuSeconds);
+        MPI_Allreduce(MPI_IN_PLACE, &mine, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm);
+    }
+    if (nHalo >= n && nHalo > mine.count)
+    {
+        rep.substepCause = Cause::Halo;
+        rep.substepBody = -3;
+        rep.substepSpeed = fastestSpeed;
+        return;
+    }
+    double what[3] = {double(int(local.cause)), double(local.body), local.speed}; // (body: global id)
+    {
+        CpuTimer t(counters.solveCommCpuSeconds);
+        MPI_Bcast(what, 3, MPI_DOUBLE, mine.rank, comm);
+    }
+    rep.substepCause = Cause(int(what[0]));
+    rep.substepBody = long(what[1]);
+    rep.substepSpeed = what[2];
+}
+
 StepReport DecomposedSystem::advance(double dt, double fraction)
 {
     Impl& I = *impl_;
@@ -131,7 +162,8 @@ StepReport DecomposedSystem::advance(double dt, double fraction)
             speed = std::max(speed, vFree.norm() + I.sys.radii()[i] * I.sys.angularVelocities()[i].norm());
         }
         // sub-steps: System::subStep's rule on each rank, and the halo's
-        double need[4] = {bounds[0], bounds[1], speed, dt / I.sys.subStep(dt, fraction)};
+        const SubStepChoice local = I.sys.subStepChoice(dt, fraction);
+        double need[4] = {bounds[0], bounds[1], speed, local.count};
         {
             CpuTimer t(I.counters.solveCommCpuSeconds);
             MPI_Allreduce(MPI_IN_PLACE, need, 4, MPI_DOUBLE, MPI_MAX, I.comm);
@@ -153,6 +185,7 @@ StepReport DecomposedSystem::advance(double dt, double fraction)
                             + " sub-steps, more than maxSubSteps = " + std::to_string(set.maxSubSteps)
                             + " (fastest grain: free speed " + std::to_string(need[2]) + " m/s; halo "
                             + std::to_string(I.halo) + " m)");
+        if (total.substeps == 0 && n > 1) I.reportSubStepCause(total, local, n, nHalo, need[2]);
         total.addSubStep(step(h));
         remaining = (h == remaining) ? 0.0 : remaining - h;
     }
