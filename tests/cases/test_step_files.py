@@ -122,7 +122,8 @@ def test_substep_cause_in_log_and_file(tmp_path, env):
     subStepCause: a grain of d 1 cm released at rest over steps of 0.1 s
     changes its velocity by g dt = 0.981 m/s a step (its free velocity, also
     once it rests on the floor), ceil(0.981 * 0.1 / (0.1 * 0.01)) = 99
-    sub-steps by the velocity-change rule (System.H)."""
+    sub-steps by the velocity-change rule (System.H).  A consistency check of
+    the report against the documented rule (a diagnostic, no physics model)."""
     case = box(tmp_path, "cause", [(0.05, 0.08, 0, 0.01)])
     run("blockMesh", case, env)
     run("grainDeposit", case, env)

@@ -132,9 +132,21 @@ double subStepsOf(const ImplT& I, double dt, double fraction, const Fastest& f, 
     return std::max(1.0, std::ceil(a[k] * (1 - 1e-12))); // guard round-off
 }
 
+/// The body that rule k of subStepsOf (0 velocity change, 1 tangential
+/// slide, 2 travel) measured (who: grain index, -1 wall, -2 droplet, -3
+/// nothing moves) and its speed [m/s].
+struct RuleBody
+{
+    int who;
+    double speed;
+};
+RuleBody ruleBody(int k, const Fastest& f)
+{
+    return k == 0 ? RuleBody{f.whoDv, f.dv} : (k == 1 ? RuleBody{f.whoVt, f.vt} : RuleBody{f.whoV, f.v});
+}
+
 /// The cause, body (a grain by its id, System::grainIds) and speed of rule
-/// k of subStepsOf (0 velocity change, 1 tangential slide, 2 travel) for
-/// the count n (None when n = 1).
+/// k of subStepsOf for the count n (None when n = 1).
 template <class ImplT>
 SubStepChoice choiceOf(const ImplT& I, double n, int k, const Fastest& f)
 {
@@ -143,9 +155,9 @@ SubStepChoice choiceOf(const ImplT& I, double n, int k, const Fastest& f)
     if (n <= 1) return c;
     using Cause = StepReport::SubStepCause;
     c.cause = k == 0 ? Cause::VelocityChange : (k == 1 ? Cause::TangentialSlide : Cause::Travel);
-    const int who = k == 0 ? f.whoDv : (k == 1 ? f.whoVt : f.whoV);
-    c.body = who >= 0 ? I.ids[std::size_t(who)] : long(who);
-    c.speed = k == 0 ? f.dv : (k == 1 ? f.vt : f.v);
+    const RuleBody b = ruleBody(k, f);
+    c.body = b.who >= 0 ? I.ids[std::size_t(b.who)] : long(b.who);
+    c.speed = b.speed;
     return c;
 }
 } // namespace
@@ -211,8 +223,9 @@ StepReport System::advance(double dt, double fraction)
         if (needed > double(maxSub))
         {
             const double dmin = 2 * I.rMin();
-            const int who = cause == 0 ? f.whoDv : (cause == 1 ? f.whoVt : f.whoV);
-            const double val = cause == 0 ? f.dv : (cause == 1 ? f.vt : f.v);
+            const RuleBody b = ruleBody(cause, f);
+            const int who = b.who;
+            const double val = b.speed;
             std::ostringstream os;
             os << "nscd::System::advance: the step of " << dt << " s needs about " << needed
                << " sub-steps, more than maxSubSteps = " << maxSub << " (";

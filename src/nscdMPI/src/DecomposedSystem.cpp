@@ -100,8 +100,8 @@ const std::vector<char>& DecomposedSystem::owned() const { return impl_->owned; 
 const std::vector<long>& DecomposedSystem::globalIds() const { return impl_->gid; }
 const ExchangeCounters& DecomposedSystem::counters() const { return impl_->counters; }
 
-void DecomposedSystem::Impl::reportSubStepCause(StepReport& rep, const SubStepChoice& local, double n,
-                                                double nHalo, double fastestSpeed)
+void DecomposedSystem::Impl::reportSubStepCause(StepReport& rep, const SubStepChoice& local, double nHalo,
+                                                double fastestSpeed)
 {
     using Cause = StepReport::SubStepCause;
     // the rank whose own rule asked for the most sub-steps (lowest rank on a tie)
@@ -114,7 +114,7 @@ void DecomposedSystem::Impl::reportSubStepCause(StepReport& rep, const SubStepCh
         CpuTimer t(counters.solveCommCpuSeconds);
         MPI_Allreduce(MPI_IN_PLACE, &mine, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm);
     }
-    if (nHalo >= n && nHalo > mine.count)
+    if (nHalo > mine.count) // (mine.count: the largest rule count, need[3] of advance)
     {
         rep.substepCause = Cause::Halo;
         rep.substepBody = -3;
@@ -185,7 +185,7 @@ StepReport DecomposedSystem::advance(double dt, double fraction)
                             + " sub-steps, more than maxSubSteps = " + std::to_string(set.maxSubSteps)
                             + " (fastest grain: free speed " + std::to_string(need[2]) + " m/s; halo "
                             + std::to_string(I.halo) + " m)");
-        if (total.substeps == 0 && n > 1) I.reportSubStepCause(total, local, n, nHalo, need[2]);
+        if (total.substeps == 0 && n > 1) I.reportSubStepCause(total, local, nHalo, need[2]);
         total.addSubStep(step(h));
         remaining = (h == remaining) ? 0.0 : remaining - h;
     }
