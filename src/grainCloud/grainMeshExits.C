@@ -4,10 +4,10 @@
 
 Description
     The cell of this rank holding a grain centre (its last cell, that
-    cell's clear ball, pointInCell, then a search) and, for a centre no
-    rank holds after a step, the boundary face its path crossed first
-    (exact point-in-face test, an outlet face winning a tie with another
-    face at a shared edge).  Moved out of grainCloudLeaving.C unchanged.
+    cell's clear ball, pointInCell, the cell's neighbours, then a search)
+    and, for a centre no rank holds after a step, the boundary face its
+    path crossed first (exact point-in-face test, an outlet face winning a
+    tie with another face at a shared edge).
 \*---------------------------------------------------------------------------*/
 
 #include "grainMeshExits.H"
@@ -15,6 +15,12 @@ Description
 #include "indexedOctree.H"
 #include "treeDataFace.H"
 #include "Random.H"
+
+namespace
+{
+//- Bound of a cell's clear ball, in cell sizes (computeCellClearance)
+constexpr Foam::scalar clearanceCellSizes = 16;
+}
 
 // * * * * * * * * * * * * * * * * Constructors  * * * * * * * * * * * * * * //
 
@@ -68,6 +74,15 @@ Foam::label Foam::grainMeshExits::findLocalCell
         {
             return hint;
         }
+        // a grain that left its cell's clear ball is most often in a
+        // neighbour: those before a search of the whole rank
+        for (const label nbr : mesh_.cellCells()[hint])
+        {
+            if (mesh_.pointInCell(p, nbr))
+            {
+                return nbr;
+            }
+        }
     }
     return local.contains(p) ? mesh_.findCell(p) : -1;
 }
@@ -119,19 +134,46 @@ void Foam::grainMeshExits::computeCellClearance()
     );
     bb.min() -= point::uniform(ROOTVSMALL);
     bb.max() += point::uniform(ROOTVSMALL);
+    if (dimension_ == 2)
+    {
+        // A one-cell-thick mesh: every face spans the thickness, so an
+        // octree on the flat box would put each face in both halves of
+        // every split and stop refining at its duplicity limit (leaves of
+        // hundreds of faces). On a box as deep as it is wide the splits in
+        // z pass above the slab and the tree refines in x and y.
+        bb.max().z() = bb.min().z() + cmptMax(bb.span());
+    }
     const indexedOctree<treeDataFace> tree
     (
         treeDataFace(false, mesh_, labelList(faces)),
         bb, 8, 10, 3.0
     );
-    const scalar span2 = magSqr(bb.span());
+    // The search is bounded by clearanceCellSizes of the cell's own size
+    // (its largest centre-to-point distance, in the grains' plane in 2D): a
+    // grain is looked for from its last cell and that cell's neighbours, so
+    // a larger ball would save little, and an unbounded search visits every
+    // face nearer than a cell's nearest one (most of the boundary for the
+    // cells far from it); a ball that meets no face within the bound is
+    // clear up to it.
+    const pointField& pts = mesh_.points();
+    const labelListList& cellPts = mesh_.cellPoints();
     forAll(clearCentres_, celli)
     {
-        const pointIndexHit hit = tree.findNearest(clearCentres_[celli], span2);
+        const point& c = clearCentres_[celli];
+        scalar size2 = 0;
+        for (const label pi : cellPts[celli])
+        {
+            vector d = pts[pi] - c;
+            if (dimension_ == 2)
+            {
+                d.z() = 0;
+            }
+            size2 = max(size2, magSqr(d));
+        }
+        const scalar bound2 = sqr(clearanceCellSizes)*size2;
+        const pointIndexHit hit = tree.findNearest(c, bound2);
         clearRadiusSqr_[celli] =
-            hit.hit()
-          ? sqr(0.9)*magSqr(hit.hitPoint() - clearCentres_[celli])
-          : 0;
+            sqr(0.9)*(hit.hit() ? magSqr(hit.hitPoint() - c) : bound2);
     }
 }
 
