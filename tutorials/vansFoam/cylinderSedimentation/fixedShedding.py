@@ -11,7 +11,9 @@ penalised) cylinder with the lateral motion suppressed: the frame of a
 cylinder falling at U_t = 2.501 cm/s between fixed walls 8 D apart, i.e. a
 fixed disc (grainDeposit `fixed yes`) in a uniform inflow U_t with the walls
 moving at U_t (setupCase.write_case `inflow`), Re = U_t D/nu = 156, same
-fluid, D and width as the tutorial; 8 D upstream, 24 D downstream.  The disc
+fluid, D and width as the tutorial (or WIDTH_IN_D diameters wide, e.g. 24 for
+the walls 12 D from the axis of the falling runs away from the thesis box);
+8 D upstream, 24 D downstream.  The disc
 is put D/50 off the axis to seed the wake instability.
 
 The lift (y component of the grain's `Ffluid`, the integral of the coupling
@@ -20,9 +22,14 @@ postProcess.shedding_analysis (zero crossings over the developed part, number
 of periods, FFT cross-check; the drag oscillates at twice the frequency).
 Reference: the fixed unbounded cylinder at Re = 156, St = 0.2175 - 5.1064/Re =
 0.185 (Williamson 1996) and St = 0.2665 - 1.018/sqrt(Re) = 0.185 (Williamson &
-Brown 1998); the blockage D/W = 1/8 raises St by some percent.
+Brown 1998); the blockage D/W = 1/8 raises St by some percent. The mean drag
+coefficient over the last lift period (developed shedding; the analysis
+window still holds the growth of the shedding) is set beside the
+two-dimensional computations of Henderson (1995, Phys. Fluids 7, 2102) in the periodic regime,
+1.350 at Re = 100 and 1.341 at Re = 200 (docs/validation/resolvedGrains.md).
 
-usage: fixedShedding.py setup CASEDIR [CELLS_PER_D [ENDTIME]]   (default 15, 8 s)
+usage: fixedShedding.py setup CASEDIR [CELLS_PER_D [ENDTIME [WIDTH_IN_D]]]
+       (default 15, 8 s, the tutorial's width 8 D)
        fixedShedding.py post CASEDIR      -> shedding.json, shedding.png (cwd)
 """
 
@@ -47,9 +54,11 @@ UPSTREAM, DOWNSTREAM = 8, 24  # [D]
 SEED = 1.0 / 50  # [D] lateral offset of the disc
 
 
-def setup(case, cells_per_d=15.0, end_time=8.0):
-    """Write the fixed-cylinder case; returns the number of cells."""
-    D, W = setupCase.D, setupCase.WIDTH
+def setup(case, cells_per_d=15.0, end_time=8.0, width_in_d=None):
+    """Write the fixed-cylinder case, width_in_d diameters wide (None: the
+    tutorial's width); returns the number of cells."""
+    D = setupCase.D
+    W = setupCase.WIDTH if width_in_d is None else width_in_d * D
     h = D / cells_per_d
     lo, hi = (-UPSTREAM * D, -W / 2), (DOWNSTREAM * D, W / 2)
     cells = (round((hi[0] - lo[0]) / h), round(W / h))
@@ -95,13 +104,23 @@ def analyse(case):
     sel = t >= (sh["window_start"] if sh["window_start"] is not None else t[-1])
     txt = open(os.path.join(case, "system", "blockMeshDict")).read()
     ny = int(txt.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[1])
+    width = setupCase.mesh_layout(case)[3]  # the y extent: the distance of the walls
+    # the last full lift period (between the last two upward zero crossings)
+    up = [
+        t[i] - F[i, 1] * (t[i + 1] - t[i]) / (F[i + 1, 1] - F[i, 1])
+        for i in range(len(t) - 1)
+        if F[i, 1] < 0 <= F[i + 1, 1]
+    ]
+    last = (t >= up[-2]) & (t <= up[-1]) if len(up) >= 2 else np.zeros(len(t), bool)
+    cd_last = float(np.mean(F[last, 0]) / rhoU2D) if last.any() else None
     return (
         t,
         F,
         sh,
         {
             "fixed_cylinder_reynolds_number": re,
-            "fixed_cylinder_cells_per_diameter": D / (setupCase.WIDTH / ny),
+            "fixed_cylinder_cells_per_diameter": D / (width / ny),
+            "fixed_cylinder_width_in_diameters": width / D,
             "fixed_cylinder_shedding_frequency": f,
             "fixed_cylinder_shedding_periods_used": sh["periods"],
             "fixed_cylinder_shedding_window": [sh["window_start"], sh["window_end"]],
@@ -109,6 +128,7 @@ def analyse(case):
             "fixed_cylinder_drag_fft_frequency_half": sh["streamwise_fft_frequency_half"],
             "fixed_cylinder_strouhal_number": f * D / U,
             "fixed_cylinder_mean_drag_coefficient": float(np.mean(F[sel, 0]) / rhoU2D),
+            "fixed_cylinder_drag_coefficient_last_period": cd_last,
             "fixed_cylinder_lift_coefficient_amplitude": sh["oscillation_amplitude"] / rhoU2D,
             "strouhal_reference_williamson1996": st_ref,
             "strouhal_reference_williamson_brown1998": float(post.strouhal_williamson_brown(re)),
@@ -123,7 +143,8 @@ def main():
     if sys.argv[1] == "setup":
         cpd = float(sys.argv[3]) if len(sys.argv) > 3 else 15.0
         end = float(sys.argv[4]) if len(sys.argv) > 4 else 8.0
-        n = setup(case, cpd, end)
+        wid = float(sys.argv[5]) if len(sys.argv) > 5 else None
+        n = setup(case, cpd, end, wid)
         print(f"{case}: fixed cylinder, {n} cells, D/h = {cpd:g}, endTime {end:g} s")
         return
     t, F, sh, res = analyse(case)
