@@ -102,16 +102,12 @@ def analyse(case):
     f = sh["shedding_frequency"]
     rhoU2D = 0.5 * setupCase.RHO_F * U * U * D
     sel = t >= (sh["window_start"] if sh["window_start"] is not None else t[-1])
-    txt = open(os.path.join(case, "system", "blockMeshDict")).read()
-    ny = int(txt.split("hex (0 1 2 3 4 5 6 7) (")[1].split()[1])
-    width = setupCase.mesh_layout(case)[3]  # the y extent: the distance of the walls
-    # the last full lift period (between the last two upward zero crossings)
-    up = [
-        t[i] - F[i, 1] * (t[i + 1] - t[i]) / (F[i + 1, 1] - F[i, 1])
-        for i in range(len(t) - 1)
-        if F[i, 1] < 0 <= F[i + 1, 1]
-    ]
-    last = (t >= up[-2]) & (t <= up[-1]) if len(up) >= 2 else np.zeros(len(t), bool)
+    # one block, nx along the flow; the y extent is the distance of the walls
+    nx, ncells, _, width = setupCase.mesh_layout(case)
+    ny = ncells // nx
+    # the last full lift period: the last three of the analysis' crossings
+    tc = sh["crossings"]
+    last = (t >= tc[-3]) & (t <= tc[-1]) if len(tc) >= 3 else np.zeros(len(t), bool)
     cd_last = float(np.mean(F[last, 0]) / rhoU2D) if last.any() else None
     return (
         t,
