@@ -277,7 +277,7 @@ void Foam::grainCloud::checkState() const
     {
         for (std::size_t i = 0; i < system_->size(); ++i)
         {
-            found[i] = mesh_.findCell(meshPosition(i)) >= 0 ? 1 : 0;
+            found[i] = exits_.findCell(meshPosition(i)) >= 0 ? 1 : 0;
         }
         Pstream::listCombineGather(found, maxEqOp<label>());
         Pstream::listCombineScatter(found);

@@ -150,6 +150,7 @@ void Foam::grainCloud::writeCloud
     // grains give the same files (the start time is rewritten at start)
     particle::particleCount_ = 0;
     const label n = system_->size();
+    const UList<label> cellHint(column<label>(cellHintColumn));
     labelList cells(n, -1);
     labelList owner(n, labelMax);
     for (label i = 0; i < n; ++i)
@@ -158,7 +159,7 @@ void Foam::grainCloud::writeCloud
         {
             continue;
         }
-        cells[i] = mesh_.findCell(meshPosition(i));
+        cells[i] = exits_.findCellFrom(meshPosition(i), cellHint[i]);
         if (cells[i] >= 0)
         {
             owner[i] = Pstream::myProcNo();

@@ -45,11 +45,93 @@ void Foam::grainMeshExits::updateClearance()
     {
         clearCentres_.clear();
         clearRadiusSqr_.clear();
+        planeCellTree_.clear();
     }
     else if (clearRadiusSqr_.size() != mesh_.nCells())
     {
         computeCellClearance();
     }
+}
+
+
+Foam::treeBoundBox Foam::grainMeshExits::searchBox(const label seed) const
+{
+    Random rndGen(seed);
+    treeBoundBox bb(treeBoundBox(mesh_.points()).extend(rndGen, 1e-4));
+    bb.min() -= point::uniform(ROOTVSMALL);
+    bb.max() += point::uniform(ROOTVSMALL);
+    if (dimension_ == 2)
+    {
+        // A one-cell-thick mesh: every cell and face spans the thickness,
+        // so an octree on the flat box would put each in both halves of
+        // every split and stop refining at its duplicity limit (leaves of
+        // hundreds of cells or faces). On a box as deep as it is wide the
+        // splits in z pass above the slab and the tree refines in x and y.
+        bb.max().z() = bb.min().z() + cmptMax(bb.span());
+    }
+    return bb;
+}
+
+
+Foam::label Foam::grainMeshExits::findCell(const point& p) const
+{
+    if (dimension_ != 2 || mesh_.changing())
+    {
+        return mesh_.findCell(p);
+    }
+    if (mesh_.nCells() == 0)
+    {
+        return -1;
+    }
+    if (!planeCellTree_.valid())
+    {
+        // polyMesh::cellTree's data, limits and test (CELL_TETS)
+        planeCellTree_.reset
+        (
+            new indexedOctree<treeDataCell>
+            (
+                treeDataCell(false, mesh_, polyMesh::CELL_TETS),
+                searchBox(261782),
+                8, 10, 5.0
+            )
+        );
+    }
+    return planeCellTree_().findInside(p);
+}
+
+
+Foam::label Foam::grainMeshExits::hintOrNeighbour
+(
+    const point& p,
+    const label hint
+) const
+{
+    if (mesh_.pointInCell(p, hint))
+    {
+        return hint;
+    }
+    // a grain that left its cell is most often in a neighbour: those
+    // before a search of the whole rank
+    for (const label nbr : mesh_.cellCells()[hint])
+    {
+        if (mesh_.pointInCell(p, nbr))
+        {
+            return nbr;
+        }
+    }
+    return -1;
+}
+
+
+Foam::label Foam::grainMeshExits::findCellFrom
+(
+    const point& p,
+    const label hint
+) const
+{
+    const label c =
+        hint >= 0 && hint < mesh_.nCells() ? hintOrNeighbour(p, hint) : -1;
+    return c >= 0 ? c : findCell(p);
 }
 
 
@@ -70,21 +152,13 @@ Foam::label Foam::grainMeshExits::findLocalCell
         {
             return hint;
         }
-        if (mesh_.pointInCell(p, hint))
+        const label c = hintOrNeighbour(p, hint);
+        if (c >= 0)
         {
-            return hint;
-        }
-        // a grain that left its cell's clear ball is most often in a
-        // neighbour: those before a search of the whole rank
-        for (const label nbr : mesh_.cellCells()[hint])
-        {
-            if (mesh_.pointInCell(p, nbr))
-            {
-                return nbr;
-            }
+            return c;
         }
     }
-    return local.contains(p) ? mesh_.findCell(p) : -1;
+    return local.contains(p) ? findCell(p) : -1;
 }
 
 
@@ -127,22 +201,7 @@ void Foam::grainMeshExits::computeCellClearance()
         clearRadiusSqr_ = GREAT;
         return;
     }
-    Random rndGen(123456);
-    treeBoundBox bb
-    (
-        treeBoundBox(mesh_.points()).extend(rndGen, 1e-4)
-    );
-    bb.min() -= point::uniform(ROOTVSMALL);
-    bb.max() += point::uniform(ROOTVSMALL);
-    if (dimension_ == 2)
-    {
-        // A one-cell-thick mesh: every face spans the thickness, so an
-        // octree on the flat box would put each face in both halves of
-        // every split and stop refining at its duplicity limit (leaves of
-        // hundreds of faces). On a box as deep as it is wide the splits in
-        // z pass above the slab and the tree refines in x and y.
-        bb.max().z() = bb.min().z() + cmptMax(bb.span());
-    }
+    const treeBoundBox bb(searchBox(123456));
     const indexedOctree<treeDataFace> tree
     (
         treeDataFace(false, mesh_, labelList(faces)),

@@ -201,6 +201,17 @@ def run(app, case, env, args=(), check=True, cwd=None):
     return p
 
 
+def run_check(app, case, env, args=()):
+    """Run a test application of tests/foam that writes <case>/<app>, a
+    dictionary of "name value;" lines, and return it as {name: float}."""
+    run(app, case, env, args=args)
+    out = {}
+    for line in open(os.path.join(case, app)):
+        key, value = line.rstrip(";\n").split()
+        out[key] = float(value)
+    return out
+
+
 def log_message(text, pattern, every=False):
     """A message of a tool's output that a user reads: a FATAL ERROR or
     warning naming a keyword, a start-up report of the settings, an end of

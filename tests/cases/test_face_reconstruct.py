@@ -16,24 +16,17 @@ aliased fvc::reconstruct's error is recorded (it is what the solvers
 avoid), not bounded: another compiler may build it right."""
 
 import math
-import os
 
 import pytest
-from foamcase import gmsh_box, make_box_case, run
+from foamcase import gmsh_box, make_box_case, run, run_check
 from test_vansFoam import shear_box
 
 pytestmark = pytest.mark.fast
 
 
 def check(case, env):
-    """Run faceReconstructCheck on the case; its results (a dictionary of
-    name value; lines)."""
-    run("faceReconstructCheck", case, env)
-    out = {}
-    for line in open(os.path.join(case, "faceReconstructCheck")):
-        key, value = line.rstrip(";\n").split()
-        out[key] = float(value)
-    return out
+    """Run faceReconstructCheck on the case; its results."""
+    return run_check("faceReconstructCheck", case, env)
 
 
 @pytest.mark.parametrize("mesh", ["sheared2", "sheared30", "tet"])
