@@ -34,7 +34,15 @@ Foam::grainMeshExits::grainMeshExits
     mesh_(mesh),
     dimension_(dimension),
     zMid_(zMid)
-{}
+{
+    // The tet decomposition of pointInCell (CELL_TETS) is built by a
+    // collective exchange: on every rank now (as OpenFOAM's Cloud does),
+    // not at the first search of one rank
+    if (Pstream::parRun())
+    {
+        (void)mesh_.tetBasePtIs();
+    }
+}
 
 
 // * * * * * * * * * * * * * * * Member Functions  * * * * * * * * * * * * * //
