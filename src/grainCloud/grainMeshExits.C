@@ -114,6 +114,10 @@ Foam::label Foam::grainMeshExits::hintOrNeighbour
     const label hint
 ) const
 {
+    if (hint < 0 || hint >= mesh_.nCells())
+    {
+        return -1;
+    }
     if (mesh_.pointInCell(p, hint))
     {
         return hint;
@@ -137,8 +141,7 @@ Foam::label Foam::grainMeshExits::findCellFrom
     const label hint
 ) const
 {
-    const label c =
-        hint >= 0 && hint < mesh_.nCells() ? hintOrNeighbour(p, hint) : -1;
+    const label c = hintOrNeighbour(p, hint);
     return c >= 0 ? c : findCell(p);
 }
 
@@ -150,21 +153,20 @@ Foam::label Foam::grainMeshExits::findLocalCell
     const boundBox& local
 ) const
 {
-    if (hint >= 0)
+    if
+    (
+        hint >= 0
+     && clearRadiusSqr_.size() == mesh_.nCells()
+     && hint < mesh_.nCells()
+     && magSqr(p - clearCentres_[hint]) < clearRadiusSqr_[hint]
+    )
     {
-        if
-        (
-            clearRadiusSqr_.size() == mesh_.nCells()
-         && magSqr(p - clearCentres_[hint]) < clearRadiusSqr_[hint]
-        )
-        {
-            return hint;
-        }
-        const label c = hintOrNeighbour(p, hint);
-        if (c >= 0)
-        {
-            return c;
-        }
+        return hint;
+    }
+    const label c = hintOrNeighbour(p, hint);
+    if (c >= 0)
+    {
+        return c;
     }
     return local.contains(p) ? findCell(p) : -1;
 }

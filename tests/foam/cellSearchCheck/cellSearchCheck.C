@@ -18,7 +18,8 @@ Description
         inside          points polyMesh::findCell puts in a cell
         findCellMismatches      points where findCell differs
         findCellFromMismatches  points where findCellFrom differs
-        searchSeconds   CPU time of findCell over the points [s]
+        searchSeconds   CPU time of findCell over the points, its
+                        octree's construction included [s]
         referenceSeconds  the same for polyMesh::findCell [s]
     Usage: cellSearchCheck -case <case> [-points N] [-twoD]
 \*---------------------------------------------------------------------------*/
