@@ -5,6 +5,7 @@
 // rebuilt when a grain leaves its cover.
 #include "DetectPair.H"
 
+#include <cmath>
 #include <cstdint>
 
 namespace nscd
@@ -15,6 +16,10 @@ namespace
 /// Share of the half skin a grain may use (Verlet.H, eq. 3): the
 /// rest, 1e-6 S/2, absorbs the round-off of the distance tests.
 constexpr double halfSkinUsable = 1 - 1e-6;
+/// A list is built only if a grain at the fastest speed would cross half
+/// the skin in no fewer than this many detections, 2D and 3D (Verlet.H,
+/// "When a list is built").
+constexpr double minListLife2D = 3, minListLife3D = 1;
 } // namespace
 
 void System::Impl::detectListed(DetectGrid& g)
@@ -24,6 +29,14 @@ void System::Impl::detectListed(DetectGrid& g)
                          && g.margin <= verlet.margin;
     if (current && detectFromList(g)) return;
     newContacts.clear();
+    // a list that would not outlive a few detections costs more than the
+    // grid scan it saves (Verlet.H, "When a list is built")
+    if (!listWorthBuilding(g, skin))
+    {
+        verlet.invalidate();
+        scanGrid(g, false);
+        return;
+    }
     buildVerletList(g);
     // a list just built covers the step, unless a centre or speed is not
     // finite: then the grid scan, as without the list
@@ -32,6 +45,30 @@ void System::Impl::detectListed(DetectGrid& g)
         newContacts.clear();
         scanGrid(g, false);
     }
+}
+
+bool System::Impl::listWorthBuilding(const DetectGrid& g, double skin) const
+{
+    // the fastest translation of a body this step (free velocities): a
+    // new list covers about (S/2) / (dt v_max) detections (Verlet.H, eq. 3)
+    // (a non-finite speed: built, and its cover test sends the detection
+    // to the grid scan, as before the rule; tested before any comparison,
+    // which would raise FE_INVALID)
+    const int N = int(x.size());
+    double v2 = 0;
+    auto fastest = [&v2](const Vec3& v)
+    {
+        const double q = v.squaredNorm();
+        if (!std::isfinite(q)) return false;
+        v2 = q > v2 ? q : v2;
+        return true;
+    };
+    for (int s = 0; s < N; ++s)
+        if (!fastest(body[s].v)) return true;
+    for (const Wall& W : walls)
+        if (!fastest(W.velocity)) return true;
+    const double reach = (dim == 2 ? minListLife2D : minListLife3D) * g.dt * std::sqrt(v2);
+    return reach <= 0.5 * skin * halfSkinUsable;
 }
 
 void System::Impl::buildVerletList(const DetectGrid& g)
