@@ -60,8 +60,9 @@ def alpha_under(h):
     return np.clip((h(X) - (Y - 0.5 * DY)) / DY, 0.0, 1.0)
 
 
-def write_alpha(case, time, a, field="alpha.water"):
-    """Cell values a of the water fraction as <case>/<time>/<field>."""
+def write_alpha(case, time, a, field="alpha.water", empty="frontAndBack"):
+    """Cell values a of the water fraction as <case>/<time>/<field>; empty:
+    the 2D case's empty patch (None in 3D)."""
     a = np.asarray(a).ravel()
     write(
         os.path.join(case, time, field),
@@ -71,7 +72,9 @@ def write_alpha(case, time, a, field="alpha.water"):
         f"internalField nonuniform List<scalar> {a.size} (\n"
         + "\n".join(f"{v:.17g}" for v in a)
         + "\n);\n"
-        "boundaryField { walls { type zeroGradient; } frontAndBack { type empty; } }\n",
+        "boundaryField { walls { type zeroGradient; }"
+        + (f" {empty} {{ type empty; }}" if empty else "")
+        + " }\n",
     )
 
 
@@ -184,6 +187,53 @@ def test_wave_gauges_parallel_equals_serial(tmp_path, env):
     run_parallel("postProcess", case, env, split=(1, 2, 1), args=("-time", "0"))
     par = read_dat(case, "gauges", "waveGauges.dat")[0, 1:]
     assert np.allclose(par, serial, rtol=0, atol=1e-12), (par, serial)
+
+
+def gauges_3d_case(tmp_path, env):
+    """A 3D box of two cell layers in z under y = h(x) = 0.2307 + 0.1 x;
+    returns the case and the expected elevations h(x_c) - 0.2."""
+
+    def h(x):
+        return 0.2307 + 0.1 * x
+
+    case = str(tmp_path / "gauges3d")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (LX, LY, 0.1),
+        (NX, NY, 2),
+        (0, -G, 0),
+        {"glass": {"density": 2500, "friction": 0.5}},
+        two_d=False,
+    )
+    with open(os.path.join(case, "system", "controlDict"), "a") as f:
+        f.write("functions {\n" + gauges_fo() + "\n}\n")
+    a = alpha_under(h).ravel()
+    write_alpha(case, "0", np.concatenate([a, a]), empty=None)  # z layer by z layer
+    run("blockMesh", case, env)
+    col = [min(int(x / DX + 1e-9), NX - 1) for x in GAUGES]
+    return case, [h(XC[c]) - 0.2 for c in col]
+
+
+def test_wave_gauges_3d_line_on_faces(tmp_path, env):
+    """3D, two cell layers in z: the gauge line (the mesh centre along z)
+    lies in the face between them.  Each cell crossed counts once: eta =
+    h(x_c) - still water level to 1e-12 (the line counted in the cells on
+    both sides gave eta = 2 h - still)."""
+    case, expected = gauges_3d_case(tmp_path, env)
+    run("postProcess", case, env, ["-time", "0"])
+    eta = read_dat(case, "gauges", "waveGauges.dat")[0, 1:]
+    assert np.allclose(eta, expected, rtol=0, atol=1e-12), (eta, expected)
+
+
+@pytest.mark.mpi
+def test_wave_gauges_3d_line_on_a_processor_boundary(tmp_path, env):
+    """The same on 2 ranks, one z layer each: the line on the processor
+    boundary counts once over the ranks."""
+    case, expected = gauges_3d_case(tmp_path, env)
+    run_parallel("postProcess", case, env, split=(1, 1, 2), args=("-time", "0"))
+    eta = read_dat(case, "gauges", "waveGauges.dat")[0, 1:]
+    assert np.allclose(eta, expected, rtol=0, atol=1e-12), (eta, expected)
 
 
 def test_run_up_prescribed(tmp_path, env):

@@ -69,8 +69,14 @@ void Foam::functionObjects::waveGauges::buildColumns()
                 {
                     // face parallel to the line: the line is inside, outside
                     // or on it; a gauge on a face belongs to the cell on the
-                    // +h side (half-open, as [hmin, hmax))
-                    if (d > tol || (d > -tol && (n & horizontal_) > 0))
+                    // +h side (half-open, as [hmin, hmax)), and on a face
+                    // normal to w (3D: the mesh centre on a face between two
+                    // cell layers, or a processor boundary) to the cell on
+                    // the +w side, so that no cell is counted twice
+                    const scalar nh = n & horizontal_;
+                    const bool plusSide =
+                        mag(nh) > 1e-12 ? nh > 0 : (n & w) > 0;
+                    if (d > tol || (d > -tol && plusSide))
                     {
                         inside = false;
                         break;
