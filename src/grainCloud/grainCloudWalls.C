@@ -296,7 +296,8 @@ void Foam::grainCloud::readMovingWalls()
 
 void Foam::grainCloud::readWallFriction()
 {
-    // a friction saved in a state is replaced (the dictionary rules);
+    // a friction saved in a state is replaced (the dictionary rules; the
+    // gates' friction too);
     // FatalIOError naming the entry: not '<patch> <mu>;', mu negative or
     // not finite, or an entry matching no wall patch
     const wordList patches(patchWalls_.sortedToc());
@@ -321,6 +322,16 @@ void Foam::grainCloud::readWallFriction()
             {
                 Info<< "grainCloud: wall patch " << p << " friction " << mu[p]
                     << nl;
+            }
+        }
+        // the gates (read before): their own friction, else the grain's
+        for (const gate& g : gates_)
+        {
+            system_->setWallFriction(g.wallId, g.friction);
+            if (g.friction >= 0)
+            {
+                Info<< "grainCloud: gate " << g.name << " friction "
+                    << g.friction << nl;
             }
         }
     }
@@ -351,7 +362,8 @@ void Foam::grainCloud::readGates(const label nMeshWalls)
             const dictionary& d = e.dict();
             grainTools::checkKeywords
             (
-                d, {"start", "end", "velocity", "startTime", "endTime"}
+                d,
+                {"start", "end", "velocity", "startTime", "endTime", "friction"}
             );
             gate g;
             g.name = e.keyword();
@@ -360,6 +372,20 @@ void Foam::grainCloud::readGates(const label nMeshWalls)
             g.velocity = d.get<vector>("velocity");
             g.startTime = d.getOrDefault<scalar>("startTime", -GREAT);
             g.endTime = d.getOrDefault<scalar>("endTime", GREAT);
+            g.friction = d.getOrDefault<scalar>("friction", -1);
+            if
+            (
+                d.found("friction")
+             && !(g.friction >= 0 && std::isfinite(g.friction))
+            )
+            {
+                FatalIOErrorInFunction(d)
+                    << "friction " << g.friction << " of gate " << g.name
+                    << " in " << d.name() << " must be a finite value >= 0."
+                    << " Fix: give the Coulomb coefficient of the"
+                    << " grain-gate contacts, or leave it out (the grain's"
+                    << " material friction)." << exit(FatalIOError);
+            }
             g.wallId = nMeshWalls + gates_.size();
             if (dimension_ == 2 && mag(g.velocity.z()) > 0)
             {

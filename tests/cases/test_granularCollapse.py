@@ -115,6 +115,7 @@ def test_gate_state_restart(tmp_path, env):
         ("gate { start (0.05 0 0); end (0.05 0.1 0); velocity (0 1 0); startTme 0; }", "startTme"),
         ("gate { start (0.05 0 0); end (0.05 0 0); velocity (0 1 0); }", "coincide"),
         ("gate { start (0.05 0 0); end (0.05 0.1 0); velocity (0 1 1); }", "z component"),
+        ("gate { start (0.05 0 0); end (0.05 0.1 0); velocity (0 1 0); friction -1; }", "friction"),
     ],
 )
 def test_gate_keyword_checks(tmp_path, env, gates, key):
@@ -123,6 +124,47 @@ def test_gate_keyword_checks(tmp_path, env, gates, key):
     p = run("grainDeposit", case, env, check=False)
     out = p.stdout + p.stderr
     assert p.returncode != 0 and key in out and "grainProperties" in out, out[-1500:]
+
+
+@pytest.mark.parametrize("gate_friction", [None, 0.0], ids=["material", "smooth"])
+def test_gate_friction_spins_a_disc(tmp_path, env, gate_friction):
+    """A disc pressed against a rising gate by g_x = 2 m/s^2 on a
+    frictionless floor: the gate's friction mu m g_x on the disc's side
+    spins it (I = m r^2/2: the contact point accelerates at 2 mu g_x) until
+    its contact point moves with the gate, then it rolls: omega = v/r for
+    t >= v/(2 mu g_x) = 0.01 s (rigid-body mechanics; material friction 0.5,
+    v = 0.02 m/s: the gate's lower end, 2 mm up at 0.1 s, stays below the
+    contact point).  A smooth gate (friction 0) leaves it without spin.  The
+    centre stays on the floor (the friction, m g_x mu = 0.1 m g, is below
+    the weight)."""
+    r, v = 0.005, 0.02
+    mu = 0.5 if gate_friction is None else gate_friction
+    extra = "" if gate_friction is None else f" friction {gate_friction};"
+    case = str(tmp_path / "gateFriction")
+    make_box_case(
+        case,
+        (0, 0, 0),
+        (0.2, 0.1, 0.01),
+        (8, 4, 1),
+        (2.0, -G, 0),
+        {"glass": {"density": 2500, "friction": 0.5}},
+        grains=[(GATE - r, r, 0, 2 * r)],
+        end_time=0.1,
+        dt=1e-3,
+        write_interval=0.1,
+        extra_props="wallFriction { walls 0; }\n"
+        f"gates {{ gate {{ start ({GATE} 0 0); end ({GATE} 0.1 0); velocity (0 {v} 0);"
+        f" startTime 0; endTime 1;{extra} }} }}\n",
+    )
+    run("blockMesh", case, env)
+    run("grainDeposit", case, env)
+    run("grainFoam", case, env)
+    path = os.path.join(case, "0.1", "grainState.h5")
+    omega = nscdpost.read_h5(path, "angularVelocities", 3)[0]
+    x = nscdpost.read_h5(path, "positions", 3)[0]
+    expected = v / r if mu > 0 else 0.0
+    assert omega[2] == pytest.approx(expected, abs=1e-3 * v / r), omega
+    assert abs(x[1] - r) < 1e-6 * r and abs(x[0] - (GATE - r)) < 1e-6 * r, x
 
 
 def test_regime_classification():
