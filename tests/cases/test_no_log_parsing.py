@@ -69,6 +69,9 @@ ALLOWED = {
         "the start-up report 'grains decomposed over N ranks (owned per rank"
         " ...)' (a message, no per-step number; no file holds it)"
     ),
+    ("tests/bench/granularCollapse3DDecomposed", "re-output"): (
+        "the same start-up report as granularCollapseDecomposed's"
+    ),
     ("tests/cases/test_faults_boundaries.py", "step-line:grainOutlets:"): (
         "the removal message names the removed grains' ids, which no file holds"
     ),
