@@ -19,7 +19,7 @@ CASEDIR/results.json and CASEDIR/granularCollapse3D.png:
 - conservation: the water volume sum(eps alpha V) against the water that
   left through the atmosphere (waterVolume.dat), and the sphere count
   (grainStatistics.dat);
-- the run's cost (stepTiming.dat: steps, contact sweeps).
+- the contact solve (grainStatistics.dat: steps, sweeps, converged).
 """
 
 import json
@@ -40,16 +40,10 @@ CONFIG = "solitary"  # thesis case 2
 FRONT_START = 0.03  # [s] v_f taken after the release kick (README)
 
 
-def dat(case, name, fname):
-    base = os.path.join(case, "postProcessing", name)
-    times = sorted(os.listdir(base), key=float)
-    return np.loadtxt(os.path.join(base, times[0], fname), comments="#")
-
-
 def measure(case):
     params = json.load(open(os.path.join(case, "caseParameters.json")))
-    front = dat(case, "front", "granularFront.dat")
-    gauges = dat(case, "gauges", "waveGauges.dat")
+    front = post2d.read_dat(post2d.dat_path(case, "front", "granularFront.dat"))
+    gauges = post2d.read_dat(post2d.dat_path(case, "gauges", "waveGauges.dat"))
     later = front[:, 0] > FRONT_START
     if not later.any():  # a run shorter than FRONT_START (smoke test)
         later[:] = True

@@ -133,10 +133,10 @@ def read_slab_info(slab_case):
         return json.load(f)
 
 
-def tiled(slab_case, copies):
-    """(x, y, z, d) of `copies` slices of the settled slab side by side in z,
-    every other one mirrored about the plane it shares with its neighbour."""
-    ws = read_slab_info(slab_case)["width"]
+def tiled(slab_case, ws, copies):
+    """(x, y, z, d) of `copies` slices of the settled slab (ws [m] wide) side
+    by side in z, every other one mirrored about the plane it shares with its
+    neighbour."""
     # grainDeposit writes the start time
     path = os.path.join(slab_case, "0", "grainState.h5")
     xs = nscdpost.read_h5(path, "positions", 3)
@@ -146,7 +146,7 @@ def tiled(slab_case, copies):
         for x, d in zip(xs, ds):
             z = x[2] if k % 2 == 0 else ws - x[2]
             out.append((x[0], x[1], z + k * ws, d))
-    return out, ws
+    return out
 
 
 def case(
@@ -163,8 +163,9 @@ def case(
     friction_law=FRICTION_LAW,
 ):
     """The run: COPIES slices across a channel of COPIES x slab width."""
-    dx = read_slab_info(slab_case)["dx"]
-    grains, ws = tiled(slab_case, copies)
+    info = read_slab_info(slab_case)
+    dx, ws = info["dx"], info["width"]
+    grains = tiled(slab_case, ws, copies)
     lz = copies * ws
     ly = snap(H0W + H0 + 0.1, dx)
     contact = {
