@@ -417,8 +417,9 @@ def test_contact_compliance_settings(tmp_path, monkeypatch):
     """setupCase's CONTACT_COMPLIANCE / CONTACT_RELAXATION (the settings that
     settle the 55 um bed, docs/validation/contactCompliance.md) reach
     constant/grainProperties as the grains' relativeCompliance and the
-    contactSolver's relaxation; unset, the dictionary has neither (the hard
-    law); a negative compliance or a factor outside (0, 2) is a ValueError
+    contactSolver's relaxation, CONTACT_COMPLIANCE_ABSOLUTE as their
+    compliance; unset, the dictionary has none (the hard law); a negative
+    compliance, both compliances, or a factor outside (0, 2) is a ValueError
     naming the variable.  Consistency check of the script only.  < 1 s."""
     setup, _ = tutorial_modules("vansFoam", "dropletDigging")
     monkeypatch.delenv("CONTACT_COMPLIANCE", raising=False)
@@ -439,6 +440,24 @@ def test_contact_compliance_settings(tmp_path, monkeypatch):
         setup.contact_compliance,
         {"CONTACT_COMPLIANCE": "0", "CONTACT_RELAXATION": "2"},
         "CONTACT_RELAXATION",
+    )
+    monkeypatch.setenv("CONTACT_RELAXATION", "1.5")
+    monkeypatch.setenv("CONTACT_COMPLIANCE", "0")
+    monkeypatch.setenv("CONTACT_COMPLIANCE_ABSOLUTE", "5.5e-5")
+    setup.mesh_and_grains(str(tmp_path / "absolute"), 1e-3)
+    txt = open(tmp_path / "absolute" / "constant" / "grainProperties").read()
+    assert " compliance 5.5e-05;" in txt and "relativeCompliance" not in txt
+    assert_env_error(
+        monkeypatch,
+        setup.contact_compliance_absolute,
+        {"CONTACT_COMPLIANCE_ABSOLUTE": "-1"},
+        "CONTACT_COMPLIANCE_ABSOLUTE",
+    )
+    assert_env_error(
+        monkeypatch,
+        setup.contact_compliance_absolute,
+        {"CONTACT_COMPLIANCE_ABSOLUTE": "1e-5", "CONTACT_COMPLIANCE": "2e-3"},
+        "CONTACT_COMPLIANCE",
     )
 
 

@@ -224,6 +224,10 @@ struct NlgsSolve
             const SolverContact& c = cs[queue[h >= NC ? h - NC : h]];
             prefetch(bodies + c.i, sizeof(Body));
             prefetch(bodies + c.j, sizeof(Body));
+            // the rows sharing its bodies, which a changed row pushes
+            // (perf: the loads of adjItems were 2/3 of the queue's own time)
+            prefetch(adjI + adjS[c.i], sizeof(int));
+            prefetch(adjI + adjS[c.j], sizeof(int));
         }
     }
 

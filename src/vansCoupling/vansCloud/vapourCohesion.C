@@ -105,8 +105,7 @@ void Foam::vapourCohesion::read(const IOdictionary& dict, const bool vapourOn)
             (
                 [this](int i, int j)
                 {
-                    const auto it = dryPairs_.find(pairKeyOfIndices(i, j));
-                    return it != dryPairs_.end() && it->second;
+                    return dryPairs_.find(pairKeyOfIndices(i, j)) == 1;
                 },
                 force_
             );
@@ -249,25 +248,27 @@ void Foam::vapourCohesion::lookupVapour()
         Pstream::listCombineScatter(state);
     }
 
-    dryPairs_.clear();
-    dryPairs_.reserve(2*nc);
+    // several contacts of a grain with one wall (a crease): dry if all are
+    // (the table ANDs the flags of a repeated key)
+    std::vector<std::uint64_t> keys(nc);
+    std::vector<char> dry(nc);
     for (label k = 0; k < nc; ++k)
     {
-        const bool dry = state[k] == 1;
-        // several contacts of a grain with one wall (a crease): dry if all are
-        const auto ins =
-            dryPairs_.emplace(pairKeyOfIndices(cs[k].i, cs[k].j), dry);
-        if (!ins.second)
-        {
-            ins.first->second = ins.first->second && dry;
-        }
+        keys[k] = pairKeyOfIndices(cs[k].i, cs[k].j);
+        dry[k] = state[k] == 1;
     }
-    nDryPairs_ = 0;
-    nWetPairs_ = 0;
-    for (const auto& kv : dryPairs_)
+    try
     {
-        ++(kv.second ? nDryPairs_ : nWetPairs_);
+        dryPairs_.build(keys, dry);
     }
+    catch (const std::invalid_argument& err)
+    {
+        FatalErrorInFunction
+            << err.what() << ": the vapour cohesion keys contact pairs by"
+            << " grain ids below 2^31" << exit(FatalError);
+    }
+    nDryPairs_ = dryPairs_.count(true);
+    nWetPairs_ = dryPairs_.count(false);
 }
 
 

@@ -62,6 +62,31 @@ def contact_compliance():
     return beta, omega
 
 
+def contact_compliance_absolute():
+    """Absolute compliance c [m^2/N per unit depth] of the grains' contacts
+    (nscd Material::compliance): env CONTACT_COMPLIANCE_ABSOLUTE=<c> (default
+    0: none).  Unlike relativeCompliance (c = beta W_nn dt^2), c does not
+    change with the step: a bed settled at one step keeps its overlaps in a
+    run whose step the droplet sets (4.5e-6 to 6e-5 s).  c must be at least
+    the settle's beta W_nn dt_settle^2 of the bed's lightest pair divided by
+    the run's density over the settle's (the state's impulses are scaled by
+    that ratio when the porous grains replace the solid ones), or the settled
+    overlaps fail the initial-overlap check: 5.5e-5 for the rain bed of
+    49.5-55 um discs settled at 2e-4 s with beta 2e-3 and run with porous
+    grains (1511 against 3200 kg/m^3; docs/validation/contactCompliance.md).
+    Raises ValueError if c < 0 or if CONTACT_COMPLIANCE is set too (a
+    material takes one of the two)."""
+    c = float(os.environ.get("CONTACT_COMPLIANCE_ABSOLUTE", "0"))
+    if not c >= 0:
+        raise ValueError(f"CONTACT_COMPLIANCE_ABSOLUTE={c}: the contact compliance must be >= 0")
+    if c > 0 and float(os.environ.get("CONTACT_COMPLIANCE", "0")) > 0:
+        raise ValueError(
+            "CONTACT_COMPLIANCE_ABSOLUTE and CONTACT_COMPLIANCE are both set: a material takes"
+            " either the absolute or the relative compliance, unset one of them"
+        )
+    return c
+
+
 def cohesion_settings():
     """(minAge, factor) of the grains' vapour cohesion (couplingProperties
     cohesion): minAge, the NSCD steps a contact must persist before it is

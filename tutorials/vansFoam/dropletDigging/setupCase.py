@@ -70,6 +70,7 @@ SIGMA_WATER = settings.SIGMA_WATER
 contact_tolerance = settings.contact_tolerance
 contact_max_iterations = settings.contact_max_iterations
 contact_compliance = settings.contact_compliance
+contact_compliance_absolute = settings.contact_compliance_absolute
 cohesion_settings = settings.cohesion_settings
 surface_tension = settings.surface_tension
 vapour_release = settings.vapour_release
@@ -140,7 +141,9 @@ def mesh_and_grains(case, d_grain, rho_grain=RHO_P, inlet=False):
         " frontAndBack { type empty; faces ((0 3 2 1) (4 5 6 7)); }\n);\n",
     )
     beta, omega = contact_compliance()
+    c_abs = contact_compliance_absolute()
     compliance = f" relativeCompliance {beta:g};" if beta > 0 else ""
+    compliance += f" compliance {c_abs:g};" if c_abs > 0 else ""
     relaxation = f" relaxation {omega:g};" if omega != 1 else ""
     write(
         case,
