@@ -107,6 +107,8 @@ void System::setMaterial(int id, const Material& m)
                 c.rt *= ratio;
             }
         }
+        I.impulseScaledMaterial = id;
+        I.materialImpulseScale = ratio;
     }
     I.materials[id] = m;
     for (std::size_t i = 0; i < I.x.size(); ++i)

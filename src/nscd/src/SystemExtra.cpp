@@ -457,6 +457,13 @@ void System::checkInitialOverlaps() const
            << " m:\n";
         for (const auto& m : msgs) os << m << "\n";
         if (count > int(msgs.size())) os << "  ... and " << count - int(msgs.size()) << " more\n";
+        if (I.anyCompliance() && I.impulseScaledMaterial >= 0)
+            os << "  The density of material " << I.impulseScaledMaterial << " was changed after the contact"
+               << " impulses were set (setMaterial): they were scaled by " << I.materialImpulseScale
+               << ", the weight the grains now carry, and a compliant contact admits the overlap c F_n of its"
+               << " law at that load. A bed settled at the former density keeps its overlaps with the"
+               << " absolute compliance divided by " << I.materialImpulseScale
+               << " (relativeCompliance does so by itself).\n";
         throw InputError(os.str());
     }
 }

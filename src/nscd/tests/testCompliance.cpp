@@ -295,6 +295,49 @@ TEST(Compliance, LoadedCompliantOverlapsPassTheInitialCheck)
     }
 }
 
+// A compliant column settled at one density and given a lighter one
+// (setMaterial, as a run with porous grains does to a bed settled solid):
+// its contact impulses scale with the density (the weight carried), so
+// with the same absolute compliance the law's overlap c F_n halves and the
+// settled overlaps are refused, the message saying why and what keeps them;
+// the compliance divided by the density ratio keeps them (c F_n unchanged:
+// the law's own overlap at rest, an identity of the law g + c F_n = 0).
+TEST(Compliance, DensityChangeNeedsTheCompliancePerRatio)
+{
+    const int n = 20;
+    const double mass = rho * M_PI * rad * rad; // [kg/m]
+    Material mat{rho, 0.3};
+    mat.compliance = 5e-2 * rad / (n * mass * gAcc); // bottom overlap 5e-2 r
+    System s = column2D(n, mat);
+    for (int k = 0; k < 2000; ++k) ASSERT_TRUE(s.step(1e-4).converged) << "step " << k;
+    const std::string file = "compliance_density.h5";
+    s.writeHDF5(file);
+    // the check's message for the saved column given material m ("" if none)
+    auto refusal = [&](const Material& m)
+    {
+        System b = System::readHDF5(file);
+        b.setMaterial(0, m);
+        std::string what;
+        try
+        {
+            b.checkInitialOverlaps();
+        }
+        catch (const InputError& e)
+        {
+            what = e.what();
+        }
+        return what;
+    };
+    Material lighter = mat;
+    lighter.density = 0.5 * rho;
+    const std::string what = refusal(lighter);
+    EXPECT_NE(what.find("scaled by 0.5"), std::string::npos) << what;
+    EXPECT_NE(what.find("absolute compliance divided by 0.5"), std::string::npos) << what;
+    lighter.compliance = mat.compliance / 0.5;
+    EXPECT_EQ(refusal(lighter), "");
+    std::remove(file.c_str());
+}
+
 // A compliant sphere at rest in the corner of one triangulated wall (floor and
 // side face of the same surface) touches it twice; the initial-overlap check
 // takes the grain's largest overlap with the wall, so it must admit the law's
