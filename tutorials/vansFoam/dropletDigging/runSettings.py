@@ -67,7 +67,7 @@ def contact_compliance_absolute():
     (nscd Material::compliance): env CONTACT_COMPLIANCE_ABSOLUTE=<c> (default
     0: none).  Unlike relativeCompliance (c = beta W_nn dt^2), c does not
     change with the step: a bed settled at one step keeps its overlaps in a
-    run whose step the droplet sets (4.5e-6 to 6e-5 s).  c must be at least
+    run whose step the droplet sets (4.5e-6 to 5e-4 s).  c must be at least
     the settle's beta W_nn dt_settle^2 of the bed's lightest pair divided by
     the run's density over the settle's (the state's impulses are scaled by
     that ratio when the porous grains replace the solid ones), or the settled
