@@ -170,7 +170,9 @@ double System::Impl::conductance(int i, int j, double rn, double dt) const
         ks = 2.0 / (1.0 / mi.conductivity + 1.0 / mj.conductivity);
     }
     const double dstar = 1.0 / invD, Estar = 1.0 / invE;
-    return 4 * ks * std::pow(rn * dstar / (2 * pi * 1.0 * Estar * dt), 0.25);
+    // x^(1/4) as two square roots: correctly rounded each, within 2 ulp of
+    // pow(x, 0.25), and cheaper (pow was 2 % of the droplet run's profile)
+    return 4 * ks * std::sqrt(std::sqrt(rn * dstar / (2 * pi * 1.0 * Estar * dt)));
 }
 
 // ============================================================================

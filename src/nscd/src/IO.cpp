@@ -42,6 +42,7 @@ void writeHeader(Writer& w, const System::Impl& I)
     w.i("format", {formatVersion}, 0);
     w.i("dimension", {I.dim}, 0);
     w.d("time", {I.time, I.lastDt, I.cohesionForce}, 0);
+    w.d("complianceStep", {I.lastComplianceDt}, 0); // relativeCompliance's T of the last step
     std::vector<double> g;
     put3(g, I.g);
     w.d("gravity", g, 0);
@@ -234,6 +235,9 @@ void readHeader(Reader& r, System::Impl& I)
     I.time = tm[0];
     I.lastDt = tm[1];
     I.cohesionForce = tm[2];
+    // (optional: files written before it existed read the law of lastDt)
+    I.lastComplianceDt =
+        H5Lexists(r.f, "complianceStep", H5P_DEFAULT) > 0 ? r.d("complianceStep", 0, 1)[0] : 0.0;
     I.g = get3(r.d("gravity", 0, 3), 0);
     const auto st = r.d("settings", 0, 10);
     I.settings.tolerance = st[0];

@@ -199,6 +199,14 @@ StepReport System::advance(double dt, double fraction)
     if (maxSub < 1) throw InputError("nscd::System::advance: maxSubSteps must be >= 1");
     StepReport total;
     double remaining = dt;
+    // the sub-steps keep relativeCompliance's law of the step dt (Material.H)
+    struct ComplianceStep
+    {
+        Impl& I;
+        const double before;
+        ComplianceStep(Impl& impl, double T) : I(impl), before(impl.complianceDt) { I.complianceDt = T; }
+        ~ComplianceStep() { I.complianceDt = before; }
+    } complianceStep(I, dt);
     using clock = std::chrono::steady_clock;
     clock::time_point lastBeat = clock::now();
     const auto beatEvery = std::chrono::duration<double>(I.settings.heartbeatSeconds);
@@ -301,7 +309,7 @@ long long pairKey(int i, int j) { return (static_cast<long long>(i) << 32) | sta
 
 // The overlap [m] each loaded compliant contact of the state's contact
 // list carries under its impulse: at rest the compliant law holds the gap
-// at g = -eps dt r_n (CompliantSignorini, eps = c/dt^2 + beta W_nn), so a
+// at g = -eps dt r_n (CompliantSignorini, eps = c/dt^2 + beta W_nn (T/dt)^2), so a
 // state the solver left loaded (a restart, a settled bed written with its
 // contact impulses) has overlaps of that size. Keyed by pairKey(i, j),
 // grains i < j or a wall j < 0; empty without a compliant material or a
@@ -312,6 +320,10 @@ std::unordered_map<long long, double> System::Impl::compliantOverlaps() const
     const int N = int(x.size());
     const double dt = lastDt;
     if (!(dt > 0) || !anyCompliance()) return out;
+    // the law of the step the impulses were solved in: relativeCompliance's
+    // T (the step asked for) over its sub-step dt
+    const double lawDt = lastComplianceDt > 0 ? lastComplianceDt : dt;
+    const double ratio2 = (lawDt / dt) * (lawDt / dt);
     auto inverseMass = [&](int g) { return fix[g] ? 0.0 : 1.0 / mass[g]; };
     auto complianceOf = [&](int g)
     {
@@ -328,8 +340,8 @@ std::unordered_map<long long, double> System::Impl::compliantOverlaps() const
         const std::array<double, 2> b = gj >= 0 ? complianceOf(gj) : a;
         // the step's own W_nn (effective masses); a seeded contact has none
         const double wnn = c.wnn > 0 ? c.wnn : inverseMass(gi) + (gj >= 0 ? inverseMass(gj) : 0.0);
-        const double eps =
-            law::CompliantSignorini::contactRegularisation(a, gj >= 0 ? &b : nullptr, wnn, 1.0 / (dt * dt));
+        const double eps = law::CompliantSignorini::contactRegularisation(a, gj >= 0 ? &b : nullptr, wnn,
+                                                                          1.0 / (dt * dt), ratio2);
         if (eps > 0)
         {
             // a grain may touch one wall (a mesh patch) at several faces:
@@ -472,6 +484,18 @@ std::size_t System::nContacts() const { return impl_->contacts.size(); }
 
 double System::lastStepDt() const { return impl_->lastDt; }
 
+void System::setComplianceStep(double T)
+{
+    if (!(T >= 0) || !std::isfinite(T))
+        throw InputError(
+            "nscd::System::setComplianceStep: the step must be >= 0 and finite (0: each step's own dt),"
+            " got "
+            + std::to_string(T));
+    impl_->complianceDt = T;
+}
+
+double System::complianceStep() const { return impl_->complianceDt; }
+
 void System::setContactImpulses(const std::vector<ContactView>& views, double dt)
 {
     Impl& I = *impl_;
@@ -517,6 +541,7 @@ void System::setContactImpulses(const std::vector<ContactView>& views, double dt
     I.contacts = std::move(cs);
     I.keptContactsN = -1; // written for the grains there are now
     I.lastDt = dt;
+    I.lastComplianceDt = 0; // impulses of a step dt
 }
 
 std::vector<System::ContactView> System::contacts() const

@@ -151,6 +151,15 @@ StepReport DecomposedSystem::advance(double dt, double fraction)
     }
     StepReport total;
     double remaining = dt;
+    // the sub-steps keep relativeCompliance's law of the step dt
+    // (System::setComplianceStep, as System::advance)
+    struct ComplianceStep
+    {
+        System& sys;
+        const double before;
+        ComplianceStep(System& s, double T) : sys(s), before(s.complianceStep()) { sys.setComplianceStep(T); }
+        ~ComplianceStep() { sys.setComplianceStep(before); }
+    } complianceStep(I.sys, dt);
     while (remaining > 0)
     {
         double speed = 0;
