@@ -87,6 +87,19 @@ def contact_compliance_absolute():
     return c
 
 
+def droplet_offset():
+    """Horizontal offset [m] of the droplet's centre from the cell's
+    mid-plane x = W/2 (env DROPLET_X_OFFSET, default 0): a perturbed start,
+    the droplet landing on another arrangement of the grains under it, for
+    the spread of the observables (depth, lift) between runs that differ
+    only by where the droplet meets the bed.  Raises ValueError if the
+    offset is not finite."""
+    dx = float(os.environ.get("DROPLET_X_OFFSET", "0"))
+    if not abs(dx) < float("inf"):
+        raise ValueError(f"DROPLET_X_OFFSET={dx}: the droplet offset must be a finite length [m]")
+    return dx
+
+
 def cohesion_settings():
     """(minAge, factor) of the grains' vapour cohesion (couplingProperties
     cohesion): minAge, the NSCD steps a contact must persist before it is

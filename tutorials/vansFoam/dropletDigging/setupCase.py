@@ -78,6 +78,7 @@ absorbed_grains = settings.absorbed_grains
 liquid_conductivity = settings.liquid_conductivity
 yes_no = settings.yes_no
 film_conduction = settings.film_conduction
+droplet_offset = settings.droplet_offset
 
 
 def similarity_factors(d_grain, d_ref, permeability_ratio=1.0):
@@ -480,12 +481,18 @@ def setup(
     # with the barrier the droplet starts resting on the bed (no grain inside
     # its surface); without it at the bed top (98th percentile, as measured
     # in README.md)
-    y_drop = resting_height(g, W / 2, D_DROP / 2) if sig > 0 else top + D_DROP / 2
+    x_drop = W / 2 + droplet_offset()
+    if not D_DROP / 2 < x_drop < W - D_DROP / 2:
+        raise ValueError(
+            f"DROPLET_X_OFFSET={x_drop - W / 2:g} m puts the droplet through a side wall:"
+            f" keep |offset| < {W / 2 - D_DROP / 2:g} m"
+        )
+    y_drop = resting_height(g, x_drop, D_DROP / 2) if sig > 0 else top + D_DROP / 2
     write(
         case,
         "constant/dropletProperties",
         "dictionary",
-        f"centre ({W / 2:.9g} {y_drop:.9g} {DEPTH / 2:.9g});\ndiameter {D_DROP};\n"
+        f"centre ({x_drop:.9g} {y_drop:.9g} {DEPTH / 2:.9g});\ndiameter {D_DROP};\n"
         f"velocity (0 0 0);\nliquidDensity {RHO_L};\nlatentHeat {LATENT};\n"
         f"vapourisationTemperature {T_D};\nvapourDensity {RHO_V};\nmoving yes;\nblowing yes;\n"
         f"liquidViscosity {mu_l:.9g};\nsurfaceTension {sig:.9g};\nvapourRelease {release};\n"
