@@ -515,13 +515,14 @@ def test_cohesion_settings(monkeypatch):
 def test_droplet_offset_setting(monkeypatch):
     """setupCase's DROPLET_X_OFFSET (the perturbed starts of
     tests/bench/dropletDiggingSpread.py): 0 by default, the value in metres
-    when set; a non-finite offset is a ValueError naming the variable.
-    Consistency check of the script only.  < 1 s."""
+    when set; a non-finite or non-numeric offset is a ValueError naming the
+    variable.  Consistency check of the script only.  < 1 s."""
     setup, _ = tutorial_modules("vansFoam", "dropletDigging")
     monkeypatch.delenv("DROPLET_X_OFFSET", raising=False)
     assert setup.droplet_offset() == 0.0
     monkeypatch.setenv("DROPLET_X_OFFSET", "-2.75e-5")
     assert setup.droplet_offset() == -2.75e-5
-    assert_env_error(
-        monkeypatch, setup.droplet_offset, {"DROPLET_X_OFFSET": "nan"}, "DROPLET_X_OFFSET"
-    )
+    for bad in ("nan", "2 mm"):
+        assert_env_error(
+            monkeypatch, setup.droplet_offset, {"DROPLET_X_OFFSET": bad}, "DROPLET_X_OFFSET"
+        )

@@ -92,11 +92,15 @@ def droplet_offset():
     mid-plane x = W/2 (env DROPLET_X_OFFSET, default 0): a perturbed start,
     the droplet landing on another arrangement of the grains under it, for
     the spread of the observables (depth, lift) between runs that differ
-    only by where the droplet meets the bed.  Raises ValueError if the
-    offset is not finite."""
-    dx = float(os.environ.get("DROPLET_X_OFFSET", "0"))
+    only by where the droplet meets the bed.  Raises ValueError, naming the
+    variable, if the offset is not a finite number."""
+    text = os.environ.get("DROPLET_X_OFFSET", "0")
+    try:
+        dx = float(text)
+    except ValueError:
+        dx = float("nan")
     if not abs(dx) < float("inf"):
-        raise ValueError(f"DROPLET_X_OFFSET={dx}: the droplet offset must be a finite length [m]")
+        raise ValueError(f"DROPLET_X_OFFSET={text}: the droplet offset must be a finite length [m]")
     return dx
 
 
