@@ -43,23 +43,26 @@ sys.path.insert(0, os.path.join(root, "src", "python"))
 import nscdpost  # noqa: E402
 
 TIMES = (0.05, 0.1, 0.15, 0.2)
-# droplet.dat columns (tutorials/vansFoam/dropletDigging/postProcess.py COL)
-DEPTH, MASS, INSIDE = 10, 5, 17
+# droplet.dat's columns, as the tutorial's postProcess.py names them
+COL = nscdpost.load_module(
+    "dropletDigging_postProcess",
+    os.path.join(root, "tutorials", "vansFoam", "dropletDigging", "postProcess.py"),
+).COL
 
 
 def observables(case):
     """The observables of one kept case directory (module docstring); raises
     FileNotFoundError without a droplet history."""
     d = nscdpost.read_droplet_history(case)
-    t, depth = d[:, 0], d[:, DEPTH]
+    t, depth = d[:, 0], d[:, COL["depth"]]
     out = {f"depth_{x:g}": float(np.interp(x, t, depth)) for x in TIMES if x <= t[-1] + 1e-9}
     k = int(np.argmin(depth))
     out["lift_max"] = float(-depth[k])
     out["lift_time"] = float(t[k])
     w = (t >= 0.1) & (t <= 0.2)
     out["sinking_speed_01_02"] = float(np.polyfit(t[w], depth[w], 1)[0]) if w.sum() > 2 else None
-    out["grains_inside_end"] = int(d[-1, INSIDE])
-    out["mass_ratio_end"] = float(d[-1, MASS] / d[0, MASS])
+    out["grains_inside_end"] = int(d[-1, COL["nGrainsIn"]])
+    out["mass_ratio_end"] = float(d[-1, COL["m"]] / d[0, COL["m"]])
     out["end_time"] = float(t[-1])
     return out
 

@@ -147,8 +147,7 @@ bool System::Impl::prepareContacts(double dt, int NC0)
     // overlap/dt in one sub-step, added up over the layers (measured: grains
     // launched at 1.6-49 m/s from 360-layer settling beds), and the push
     // raising the sub-step count further.
-    const double lawDt = complianceDt > 0 ? complianceDt : dt;
-    const double ratio2 = (lawDt / dt) * (lawDt / dt);
+    const double T = lawStep(dt), ratio2 = (T / dt) * (T / dt);
     for (int k = 0; k < NC; ++k)
     {
         if (k + bodiesAhead < NC) // the bodies of a later row (random access: a hint)
@@ -241,7 +240,7 @@ void System::Impl::storeImpulses(double dt, int NC0, StepReport& rep)
     const double xi = settings.tolerance * (2 * rMin()); // as the solver's xi
     std::vector<Contact>& C = newContacts;
     lastDt = dt;
-    lastComplianceDt = complianceDt > 0 ? complianceDt : dt;
+    lastComplianceDt = lawStep(dt);
     double ov = 0;
     int nCoh = 0;
     for (int k = 0; k < NC0; ++k)

@@ -3,6 +3,7 @@
 // that leave their reach (raiseReaches), checks, contact views, conductance.
 #include "ContactLaws.H"
 #include "SystemImpl.H"
+#include "nscd/ComplianceStepScope.H"
 
 #include <algorithm>
 #include <chrono>
@@ -199,14 +200,7 @@ StepReport System::advance(double dt, double fraction)
     if (maxSub < 1) throw InputError("nscd::System::advance: maxSubSteps must be >= 1");
     StepReport total;
     double remaining = dt;
-    // the sub-steps keep relativeCompliance's law of the step dt (Material.H)
-    struct ComplianceStep
-    {
-        Impl& I;
-        const double before;
-        ComplianceStep(Impl& impl, double T) : I(impl), before(impl.complianceDt) { I.complianceDt = T; }
-        ~ComplianceStep() { I.complianceDt = before; }
-    } complianceStep(I, dt);
+    const ComplianceStepScope lawStep(*this, dt); // the sub-steps keep relativeCompliance's law of dt
     using clock = std::chrono::steady_clock;
     clock::time_point lastBeat = clock::now();
     const auto beatEvery = std::chrono::duration<double>(I.settings.heartbeatSeconds);

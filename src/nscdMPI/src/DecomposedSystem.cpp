@@ -2,6 +2,7 @@
 // nscd::mpi::DecomposedSystem: construction (from nothing or by decomposing
 // a whole system), grains added, the step and the sub-stepped advance.
 #include "DecomposedSystemImpl.H"
+#include "nscd/ComplianceStepScope.H"
 
 #include <utility>
 
@@ -151,15 +152,7 @@ StepReport DecomposedSystem::advance(double dt, double fraction)
     }
     StepReport total;
     double remaining = dt;
-    // the sub-steps keep relativeCompliance's law of the step dt
-    // (System::setComplianceStep, as System::advance)
-    struct ComplianceStep
-    {
-        System& sys;
-        const double before;
-        ComplianceStep(System& s, double T) : sys(s), before(s.complianceStep()) { sys.setComplianceStep(T); }
-        ~ComplianceStep() { sys.setComplianceStep(before); }
-    } complianceStep(I.sys, dt);
+    const ComplianceStepScope lawStep(I.sys, dt); // the sub-steps keep relativeCompliance's law of dt
     while (remaining > 0)
     {
         double speed = 0;
