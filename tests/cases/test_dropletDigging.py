@@ -526,3 +526,28 @@ def test_droplet_offset_setting(monkeypatch):
         assert_env_error(
             monkeypatch, setup.droplet_offset, {"DROPLET_X_OFFSET": bad}, "DROPLET_X_OFFSET"
         )
+
+
+def test_height_above_the_initial_surface():
+    """postProcess.initial_surface / above_surface (the `ejected` and
+    `highest_above_surface` diagnostics): a bed of two layers of touching
+    discs of diameter d (surface = top layer's centre + d/2 in every column,
+    geometry), a grain 6 d above that surface and one resting on it; a
+    column left empty takes its neighbours' height.  Consistency check of
+    the script against the construction.  < 1 s."""
+    _, post = tutorial_modules("vansFoam", "dropletDigging")
+    d, width = 1e-3, 0.02
+    xs = (np.arange(20) + 0.5) * d
+    xs = xs[(xs < 0.006) | (xs > 0.008)]  # the column 6-8 mm (of width 2 d) empty
+    layers = [
+        np.column_stack((xs, np.full_like(xs, (k + 0.5) * d), np.zeros_like(xs))) for k in (0, 1)
+    ]
+    g = {"x": np.vstack(layers), "d": np.full(2 * len(xs), d)}
+    surface = post.initial_surface(g, width)
+    top = 2 * d
+    assert np.allclose(surface[1], top, rtol=0, atol=1e-12)
+    h = post.above_surface(
+        surface, np.array([0.0055, 0.0105, 0.00625]), np.array([top + 6 * d, top + 0.5 * d, top])
+    )
+    assert np.allclose(h, [6 * d, 0.5 * d, 0.0], atol=1e-12)
+    assert np.sum(h > 5 * d) == 1

@@ -266,8 +266,14 @@ def bed_diagnostics(case, info, d, umf):
       eps u.r_hat over the same cells; `ring_speed_over_Umf`,
       `ring_radial_over_Umf`: both over U_mf (`U_mf` above);
     - `ejected`: grains outside the droplet (r > R) whose centre is more than
-      5 d above the initial bed top (d the mean grain diameter; chimney /
-      ejection), `above_top_1d`: the same count above top + d (crater rim);
+      5 d above the initial bed surface where it lies (d the mean grain
+      diameter; chimney / ejection), `above_top_1d`: the same count above
+      the surface + d (crater rim), `highest_above_surface` [m]: the
+      largest height of a grain centre outside the droplet above that
+      surface (`initial_surface`, `above_surface`: the surface of the
+      grains at t = 0, not the bed top of case.json, the 98th percentile
+      of the grain tops, which on a bed of ~180 grains across lies some
+      rows below its surface);
     - `cohesive_near`: fraction of the grains with R < r < R + 2 d whose cell
       has psi < psi^0 (cohesive, eq. 4.18; psi of the cell holding the grain
       centre, as vansCloud evaluates it; per grain, not per contact:
@@ -282,6 +288,7 @@ def bed_diagnostics(case, info, d, umf):
     X, Y = (a.ravel() for a in np.meshgrid(xc, yc))
     top, dg = info["bed_top"], info["grain_diameter"]
     psi0 = cohesion_threshold(case)
+    surface = initial_surface(initial_grains(case), W)
     out = {
         k: []
         for k in (
@@ -292,6 +299,7 @@ def bed_diagnostics(case, info, d, umf):
             "ring_radial_over_Umf",
             "ejected",
             "above_top_1d",
+            "highest_above_surface",
             "cohesive_near",
             "near_grains",
         )
@@ -329,11 +337,48 @@ def bed_diagnostics(case, info, d, umf):
         out["ring_radial"].append(rad)
         out["ring_speed_over_Umf"].append(sp / umf)
         out["ring_radial_over_Umf"].append(rad / umf)
-        out["ejected"].append(int(np.sum((rg > R) & (gy > top + 5 * dg))))
-        out["above_top_1d"].append(int(np.sum((rg > R) & (gy > top + dg))))
+        h = above_surface(surface, gx, gy)[rg > R]
+        out["ejected"].append(int(np.sum(h > 5 * dg)))
+        out["above_top_1d"].append(int(np.sum(h > dg)))
+        out["highest_above_surface"].append(float(h.max()) if h.size else float("nan"))
         out["cohesive_near"].append(coh)
         out["near_grains"].append(int(np.sum(near)))
     return out
+
+
+def initial_grains(case):
+    """Centres `x` (n, 3) [m] and diameters `d` [m] of the grains at t = 0
+    (0/grainState.h5: the case starts from the deposit's state, whose
+    lagrangian fields are not copied)."""
+    path = os.path.join(case, "0", "grainState.h5")
+    return {"x": nscdpost.read_h5(path, "positions"), "d": 2 * nscdpost.read_h5(path, "radii")}
+
+
+def initial_surface(g, width):
+    """The bed surface of grains g (`x`, `d`: initial_grains) across a cell of
+    width [m]: (edges, height), the highest grain top y + d/2 [m] in each
+    of the columns of width ~2 d_max between the side walls (a column
+    without a grain interpolated from its neighbours), for
+    `above_surface`."""
+    x, y, d = g["x"][:, 0], g["x"][:, 1], g["d"]
+    n = max(1, int(width / (2 * d.max())))
+    edges = np.linspace(0, width, n + 1)
+    col = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, n - 1)
+    height = np.full(n, -np.inf)
+    np.maximum.at(height, col, y + 0.5 * d)
+    empty = ~np.isfinite(height)
+    if empty.all():
+        raise ValueError("initial_surface: no grains")
+    height[empty] = np.interp(np.flatnonzero(empty), np.flatnonzero(~empty), height[~empty])
+    return edges, height
+
+
+def above_surface(surface, x, y):
+    """Height [m] of the points (x, y) above the surface of
+    `initial_surface` in their column (negative below it)."""
+    edges, height = surface
+    col = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, len(height) - 1)
+    return y - height[col]
 
 
 def summary(d, uv, umf, times=(0.1, 0.3, 0.6, 1.0, 1.5)):
