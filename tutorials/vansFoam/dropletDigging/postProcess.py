@@ -348,8 +348,8 @@ def bed_diagnostics(case, info, d, umf):
 
 def initial_grains(case):
     """Centres `x` (n, 3) [m] and diameters `d` [m] of the grains at t = 0
-    (0/grainState.h5: the case starts from the deposit's state, whose
-    lagrangian fields are not copied)."""
+    (0/grainState.h5, the state the case starts from; its 0/lagrangian
+    may hold no fields)."""
     path = os.path.join(case, "0", "grainState.h5")
     return {"x": nscdpost.read_h5(path, "positions"), "d": 2 * nscdpost.read_h5(path, "radii")}
 
