@@ -363,7 +363,7 @@ def initial_surface(g, width):
     x, y, d = g["x"][:, 0], g["x"][:, 1], g["d"]
     n = max(1, int(width / (2 * d.max())))
     edges = np.linspace(0, width, n + 1)
-    col = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, n - 1)
+    col = surface_column(edges, x)
     height = np.full(n, -np.inf)
     np.maximum.at(height, col, y + 0.5 * d)
     empty = ~np.isfinite(height)
@@ -377,8 +377,13 @@ def above_surface(surface, x, y):
     """Height [m] of the points (x, y) above the surface of
     `initial_surface` in their column (negative below it)."""
     edges, height = surface
-    col = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, len(height) - 1)
-    return y - height[col]
+    return y - height[surface_column(edges, x)]
+
+
+def surface_column(edges, x):
+    """Column of `initial_surface` (bounded by edges [m]) holding each
+    abscissa x [m]; those beyond the side walls in the end columns."""
+    return np.clip(np.searchsorted(edges, x, side="right") - 1, 0, len(edges) - 2)
 
 
 def summary(d, uv, umf, times=(0.1, 0.3, 0.6, 1.0, 1.5)):
