@@ -179,9 +179,16 @@ void Foam::vapourDroplet::update()
         const bool twoD = adapter_.twoD();
         const auto& pos = sys.positions();
         const auto& rad = sys.radii();
+        // over every grain once: the owned ones, summed over the ranks
+        // when the grains are decomposed
+        const grainCloud& grains = cloud_->grains();
         scalar Vp = 0;
         for (std::size_t g = 0; g < rad.size(); ++g)
         {
+            if (!grains.owned(label(g)))
+            {
+                continue;
+            }
             const double dx = pos[g][0] - x_.x();
             const double dy = pos[g][1] - x_.y();
             const double dz = twoD ? 0.0 : pos[g][2] - x_.z();
@@ -189,6 +196,10 @@ void Foam::vapourDroplet::update()
             (
                 Rprev, rad[g], std::sqrt(dx*dx + dy*dy + dz*dz), twoD
             );
+        }
+        if (grains.decomposed())
+        {
+            reduce(Vp, sumOp<scalar>());
         }
         Vp_ = twoD ? Vp*adapter_.depth() : Vp;
     }

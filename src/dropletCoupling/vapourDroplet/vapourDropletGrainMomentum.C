@@ -39,7 +39,9 @@ Foam::List<Foam::scalar> Foam::vapourDroplet::gasRelaxationFactors
     // volume-weighted mean over the free grains in the cell (field Kp =
     // sum_p (V_pc/V_c) b_p over the solid fraction 1 - eps) at the cell
     // of the grain centre; 0 without a vansCloud (no field Kp) or for a
-    // grain outside the mesh; max over the processors
+    // grain outside the mesh; max over the processors (decomposed grains:
+    // the owner's value, the centre lying in its cells, copied to the
+    // ghosts)
     const label n = sys.size();
     const bool twoD = adapter_.twoD();
     const scalar R = radius();
@@ -51,9 +53,15 @@ Foam::List<Foam::scalar> Foam::vapourDroplet::gasRelaxationFactors
     const volScalarField* epsPtr = cloud ? &cloud->voidFraction() : nullptr;
     if (history && KpPtr && epsPtr)
     {
+        const grainCloud& grains = cloud->grains();
+        const bool decomposed = grains.decomposed();
         const scalar zc = mesh_.bounds().centre().z();
         for (label g = 0; g < n; ++g)
         {
+            if (decomposed && !grains.owned(g))
+            {
+                continue;
+            }
             const vector xg
             (
                 pos[g][0], pos[g][1], twoD ? zc : pos[g][2]
@@ -77,8 +85,17 @@ Foam::List<Foam::scalar> Foam::vapourDroplet::gasRelaxationFactors
                   : 0;
             }
         }
-        Pstream::listCombineGather(bGas, maxEqOp<scalar>());
-        Pstream::listCombineScatter(bGas);
+        if (decomposed)
+        {
+            std::vector<double> b(bGas.begin(), bGas.end());
+            cloud_->grains().sumOverCopies(b, 1);
+            std::copy(b.begin(), b.end(), bGas.begin());
+        }
+        else
+        {
+            Pstream::listCombineGather(bGas, maxEqOp<scalar>());
+            Pstream::listCombineScatter(bGas);
+        }
     }
     return bGas;
 }
@@ -118,6 +135,7 @@ void Foam::vapourDroplet::addGrainCoefficients
     const nscd::System& sys,
     const label g,
     const scalar b,
+    const bool owned,
     grainLinearForces& lf
 )
 {
@@ -199,11 +217,14 @@ void Foam::vapourDroplet::addGrainCoefficients
     {
         e.z() = 0;
     }
-    lf.C += lf.depth*k;
-    lf.W += lf.depth*w;
-    lf.Bv += lf.depth*(k*un - e);
     lf.inside[g] = true;
-    ++nGrainsIn_;
+    if (owned)
+    {
+        lf.C += lf.depth*k;
+        lf.W += lf.depth*w;
+        lf.Bv += lf.depth*(k*un - e);
+        ++nGrainsIn_;
+    }
 }
 
 
@@ -221,6 +242,7 @@ void Foam::vapourDroplet::grainForceCoefficients
 {
     const nscd::System& sys = cloud.system();
     lf.sys = &sys;
+    lf.grains = &cloud;
     lf.n = sys.size();
     const label n = lf.n;
     // the predictor history: columns that follow the grains (declareGrain
@@ -250,7 +272,16 @@ void Foam::vapourDroplet::grainForceCoefficients
     const List<scalar> bGas(gasRelaxationFactors(sys, lf.history));
     for (label g = 0; g < n; ++g)
     {
-        addGrainCoefficients(sys, g, bGas[g], lf);
+        addGrainCoefficients(sys, g, bGas[g], cloud.owned(g), lf);
+    }
+    // the droplet sums over every grain once: each rank's owned grains,
+    // summed over the ranks (the same on every rank, as the droplet)
+    if (cloud.decomposed())
+    {
+        reduce(lf.C, sumOp<scalar>());
+        reduce(lf.W, sumOp<scalar>());
+        reduce(lf.Bv, sumOp<vector>());
+        reduce(nGrainsIn_, sumOp<label>());
     }
     // the liquid keeps a share 1 - W > 0 of S (round-off guard for a
     // droplet with almost no liquid left: cap W at 1 - 1e-3 by scaling
@@ -333,7 +364,11 @@ void Foam::vapourDroplet::applyGrainForces
     const bool twoD = lf.twoD;
     const auto& vel = lf.sys->velocities();
 
-    // F_i = k_i (u^{n+1} - u^n) + e_i + w_i S, F_p = -depth sum F_i
+    // F_i = k_i (u^{n+1} - u^n) + e_i + w_i S on every copy of a grain,
+    // F_p = -depth sum F_i over every grain once (owned, summed over the
+    // ranks when decomposed)
+    const grainCloud& grains = *lf.grains;
+    vector Fp(Zero);
     for (label g = 0; g < n; ++g)
     {
         if (lf.inside[g])
@@ -344,9 +379,20 @@ void Foam::vapourDroplet::applyGrainForces
                 F.z() = 0;
             }
             grainForce_[g] = F;
-            Fp_ -= lf.depth*F;
+            if (grains.owned(g))
+            {
+                Fp -= lf.depth*F;
+            }
         }
     }
+    if (grains.decomposed())
+    {
+        reduce(Fp, sumOp<vector>());
+    }
+    Fp_ += Fp;
+    grainForceTotal_ = -Fp;
+    historyGrains_ =
+        grains.decomposed() ? returnReduce(n > 0, orOp<bool>()) : n > 0;
 
     // history for the predictor P of the next step
     // (v^{n-2} of a step without a history: whatever v1 held, unused)
@@ -376,6 +422,7 @@ void Foam::vapourDroplet::exchangeGrainMomentum
     S_ = Zero;
     Fw_ = Zero;
     nGrainsIn_ = 0;
+    grainForceTotal_ = Zero;
 
     // Per grain i (nscd units): the force of the droplet on the grain,
     //   F_i = k_i (u - u^n) + e_i + w_i S,
@@ -396,6 +443,7 @@ void Foam::vapourDroplet::exchangeGrainMomentum
     const bool grains =
         grainDrag_ && drag_.valid() && m_ > 0
      && cloud_;
+    grainExchange_ = grains;
     if (grains)
     {
         grainForceCoefficients(cloud_->grains(), lf);

@@ -121,9 +121,16 @@ void Foam::vapourDroplet::declareGrainHistory()
 {
     grainCloud& grains = cloud_->grains();
     bool read = true;
+    // decomposed grains: carried with a grain that changes rank and copied
+    // to its ghosts, so that every copy predicts the same force
     for (const word& name : historyColumns)
     {
-        read = grains.addStartColumn<vector>(name, 0u, Zero) && read;
+        read =
+            grains.addStartColumn<vector>
+            (
+                name, nscd::ColumnMigrate | nscd::ColumnGhost, Zero
+            )
+         && read;
     }
     if (restartHistory_.empty() || restartHistory_.found("grains"))
     {
@@ -154,6 +161,19 @@ void Foam::vapourDroplet::restoreGrainHistory(const nscd::System& sys)
 {
     const dictionary h(restartHistory_);
     restartHistory_.clear();
+    if (cloud_->grains().decomposed())
+    {
+        FatalIOErrorInFunction(h)
+            << "grainHistory of the droplet restart file lists per-grain"
+            << " values by grain index (a file written before the history"
+            << " became grainState.h5 columns), which decomposed grains"
+            << " cannot follow." << nl
+            << "    Fix: restart with grainDecomposition replicated; in"
+            << " constant/grainProperties and write once, or delete"
+            << " grainHistory from <time>/uniform/droplet (the first step"
+            << " then runs without the contact predictor)."
+            << exit(FatalIOError);
+    }
     const label n = sys.size();
     const labelList grains(h.get<labelList>("grains"));
     const List<vector> v1(h.get<List<vector>>("velocity"));
@@ -235,7 +255,7 @@ void Foam::vapourDroplet::writeRestart(Ostream& os) const
     }
     // the predictor's step and whether it has a second step (its per-grain
     // values: columns of grainState.h5, vapourDroplet.H historyColumns)
-    if (history_ && prevDt_ > 0 && cloud_ && cloud_->grains().system().size())
+    if (history_ && prevDt_ > 0 && cloud_ && historyGrains_)
     {
         dictionary h;
         h.add("dt", prevDt_);
@@ -274,12 +294,7 @@ void Foam::vapourDroplet::finishStep()
         }
         // the force of the droplet on the grains, summed (the log's
         // "droplet-grain force" line, fv::vapourDropletSource)
-        vector Fg(Zero);
-        for (const vector& F : grainForce_)
-        {
-            Fg += F;
-        }
-        Fg *= adapter_.depth();
+        const vector& Fg = grainForceTotal_;
         std::ostringstream os;
         os.precision(16);
         os  << runTime.value() << ' ' << x_.x() << ' ' << x_.y() << ' '

@@ -366,6 +366,12 @@ Foam::word Foam::fv::vapourDropletSource::couplingName() const
 }
 
 
+Foam::string Foam::fv::vapourDropletSource::replicatedGrainsReason() const
+{
+    return droplet_.replicatedGrainsReason();
+}
+
+
 void Foam::fv::vapourDropletSource::addGrainHeat(List<scalar>& Q) const
 {
     addPerGrain(droplet_.heatIntoGrains(), Q);
@@ -392,17 +398,11 @@ void Foam::fv::vapourDropletSource::beforeGrainStep(const scalar)
     }
     droplet_.endStep();
 
-    const List<vector>& F = droplet_.forceOnGrains();
-    if (F.size())
+    if (droplet_.grainExchange())
     {
+        const vector& sumF = droplet_.forceOnGrainsTotal();
         std::ostringstream os;
         os.precision(16);
-        vector sumF(Zero);
-        forAll(F, i)
-        {
-            sumF += F[i];
-        }
-        sumF *= cloud_->adapter().depth();
         os  << "droplet-grain force: sum over grains = (" << sumF.x()
             << ' ' << sumF.y() << ' ' << sumF.z() << ") N";
         Info<< os.str().c_str() << endl;

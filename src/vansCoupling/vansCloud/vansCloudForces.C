@@ -313,15 +313,12 @@ void Foam::vansCloud::evolve(const scalar dt)
     cohesion_.beforeGrainStep();
 
     grains_.evolve(dt);
-    if (!grains_.decomposed())
+    // bodies that moved inside the NSCD step read their state back
+    for (grainCouplingSource* src : couplingSources_)
     {
-        // bodies that moved inside the NSCD step read their state back
-        for (grainCouplingSource* src : couplingSources_)
-        {
-            src->afterGrainStep();
-        }
+        src->afterGrainStep();
     }
-    else
+    if (grains_.decomposed())
     {
         // (the carried fluid forces are those of the step start)
         fluidForcesSet_ = true;

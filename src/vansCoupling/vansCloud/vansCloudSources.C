@@ -23,13 +23,15 @@ void Foam::vansCloud::addCouplingSource(grainCouplingSource& source)
             return;
         }
     }
-    if (grains_.decomposed())
+    const string why(source.replicatedGrainsReason());
+    if (grains_.decomposed() && !why.empty())
     {
         FatalErrorInFunction
             << "The coupling source " << source.couplingName() << " needs"
-            << " every grain on every rank." << nl
+            << " every grain on every rank: " << why.c_str() << "." << nl
             << "    Fix: grainDecomposition replicated; in"
-            << " constant/grainProperties." << exit(FatalError);
+            << " constant/grainProperties (or change that setting)."
+            << exit(FatalError);
     }
     source.attach(*this);
     couplingSources_.append(&source);
