@@ -217,8 +217,9 @@ def held_suspension_case(case, env, r_frac, n, write_every, nu_gas, dg=5e-5):
 
 def replicated_copy(case, par):
     """Copy case to par for a parallel run with every grain on every rank
-    (grainDecomposition replicated: the droplet needs them all, vansFoam
-    README, Parallel)."""
+    (grainDecomposition replicated, an option: the droplet's sums over the
+    ranks rather than over a grain's copies; decomposed grains:
+    test_droplet_decomposed.py)."""
     import shutil
 
     shutil.copytree(case, par)

@@ -8,6 +8,7 @@ blowing droplet (16 cells per D, walls and gas at T_d, open top), so the
 droplet's heat is mostly the grain's.  Case set-up in dropletcase.py."""
 
 import os
+import shutil
 
 import h5py
 import nscdpost
@@ -22,7 +23,7 @@ from dropletcase import (
     replicated_copy,
     rerun_from,
 )
-from foamcase import fails_with, run
+from foamcase import fails_with, run, run_parallel
 
 pytestmark = pytest.mark.fast
 
@@ -164,20 +165,24 @@ def test_grain_release_restart_continues_exactly(tmp_path, env):
 
 
 @pytest.mark.mpi
-def test_grain_release_parallel_matches_serial(tmp_path, env):
-    """Two ranks with the grains replicated (the droplet needs every grain
-    on every rank, vansFoam README, Parallel): the grains' heats are summed
-    over the ranks and the release weights use each rank's overlaps, so the
-    droplet.dat columns of the heat and vapour (time to Vdot) equal the
-    serial run's to 1e-8 relative (reference: the serial run)."""
-    from foamcase import run_parallel
-
+@pytest.mark.parametrize("grains", ["replicated", "decomposed"])
+def test_grain_release_parallel_matches_serial(tmp_path, env, grains):
+    """Two ranks, the grains replicated (grainDecomposition replicated: the
+    grains' heats summed over the ranks) or decomposed (the default: summed
+    over each grain's copies, the column copied to the ghosts); the release
+    weights use each rank's overlaps, so the droplet.dat columns of the heat
+    and vapour (time to Vdot) equal the serial run's to 1e-8 relative
+    (reference: the serial run)."""
     case = str(tmp_path / "serial")
     hot_grain_case(case, env, "grains")
     par = str(tmp_path / "par")
-    replicated_copy(case, par)
+    if grains == "replicated":
+        replicated_copy(case, par)
+    else:
+        shutil.copytree(case, par)
     run("vansFoam", case, env)
-    run_parallel("vansFoam", par, env, n=2)
+    p = run_parallel("vansFoam", par, env, n=2)
+    assert ("grains decomposed over 2 ranks" in p.stdout) == (grains == "decomposed")
     a, b = read_droplet(case), read_droplet(par)
     assert a.shape == b.shape and np.all(a[1:, 11] > 0)
     assert np.allclose(a[:, :12], b[:, :12], rtol=1e-8, atol=1e-18)

@@ -31,12 +31,19 @@ nscd::System* Foam::vapourDroplet::barrierSystem()
             barrierId_ = sysPtr->addDroplet(d);
             // grains inside the surface at the start are pushed out with up
             // to F_max each and kick the droplet: say so
+            // (decomposed: each grain counted by its owner, the droplet
+            // added identically on every rank, nscd::Subdomain)
+            const grainCloud& grains = cloud_->grains();
             const bool twoD = adapter_.twoD();
             const auto& pos = sysPtr->positions();
             const auto& rad = sysPtr->radii();
             label nIn = 0;
             for (std::size_t gi = 0; gi < rad.size(); ++gi)
             {
+                if (!grains.owned(label(gi)))
+                {
+                    continue;
+                }
                 const scalar dx = pos[gi][0] - x_.x();
                 const scalar dy = pos[gi][1] - x_.y();
                 const scalar dz = twoD ? 0.0 : pos[gi][2] - x_.z();
@@ -46,6 +53,10 @@ nscd::System* Foam::vapourDroplet::barrierSystem()
                 {
                     ++nIn;
                 }
+            }
+            if (grains.decomposed())
+            {
+                reduce(nIn, sumOp<label>());
             }
             if (nIn > 0)
             {

@@ -46,6 +46,38 @@ void forEachGrainCell(const Foam::overlapMeshAdapter& ga, const Fn& fn)
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
 
+void Foam::vapourDroplet::sumPerGrain(List<scalar>& v) const
+{
+    grainCloud& grains = cloud_->grains();
+    if (grains.decomposed())
+    {
+        std::vector<double> w(v.begin(), v.end());
+        grains.sumOverCopies(w, 1);
+        std::copy(w.begin(), w.end(), v.begin());
+    }
+    else
+    {
+        Pstream::listCombineGather(v, plusEqOp<scalar>());
+        Pstream::listCombineScatter(v);
+    }
+}
+
+
+Foam::scalar Foam::vapourDroplet::sumOverGrains(const UList<scalar>& v) const
+{
+    const grainCloud& grains = cloud_->grains();
+    scalar s = 0;
+    forAll(v, i)
+    {
+        if (grains.owned(i))
+        {
+            s += v[i];
+        }
+    }
+    return grains.decomposed() ? returnReduce(s, sumOp<scalar>()) : s;
+}
+
+
 void Foam::vapourDroplet::releaseWeights(const scalar h)
 {
     releaseWeight_ = 0;
@@ -165,18 +197,17 @@ void Foam::vapourDroplet::grainReleaseWeights()
 
 void Foam::vapourDroplet::checkReleasingGrainSizes(List<scalar>& h) const
 {
-    // summed over the ranks: the grains are replicated, the same list on
-    // every rank
-    Pstream::listCombineGather(h, plusEqOp<scalar>());
-    Pstream::listCombineScatter(h);
-    const auto& r = cloud_->grains().system().radii();
+    sumPerGrain(h);
+    const nscd::System& sys = cloud_->grains().system();
+    const auto& r = sys.radii();
     forAll(h, gi)
     {
         if (h[gi] > 0 && 2*r[gi] > 2*h[gi])
         {
             FatalIOErrorInFunction(dict_)
                 << "vapourRelease grains in " << dict_.name() << ": grain "
-                << gi << " (diameter " << 2*r[gi] << " m) heats the droplet"
+                << sys.grainIds()[gi] << " (diameter " << 2*r[gi]
+                << " m) heats the droplet"
                 << " but is " << 2*r[gi]/h[gi] << " times the size of the"
                 << " cells it overlaps (" << h[gi] << " m): the cells it"
                 << " covers have no gas for its vapour." << nl
@@ -200,6 +231,11 @@ void Foam::vapourDroplet::computeFilmHeat
     {
         return;
     }
+    // decomposed grains: the grain's normal impulse on the droplet is its
+    // owner's (zero in a ghost, nscd::Subdomain); the heat is computed
+    // there and copied to the ghosts (so that every copy gives it)
+    const bool decomposed = cloud_->grains().decomposed();
+    List<scalar> perGrain(decomposed ? label(sys.size()) : 0, Zero);
     const scalar depth = adapter_.depth();
     const std::vector<double>& rn = sys.droplet(barrierId_).grainImpulse;
     const std::vector<double>& T = sys.temperatures();
@@ -224,8 +260,26 @@ void Foam::vapourDroplet::computeFilmHeat
         const scalar G = pi*kappaF_*std::sqrt(2*r/delta);     // W/(m K)
         const scalar C = sys.mass(i)*c;                        // J/(m K)
         const scalar Gstar = bath ? G : G*C/(C + dt*G);
+        if (decomposed)
+        {
+            perGrain[i] = Gstar*dT*depth;
+            continue;
+        }
         grains.append(label(i));
         heat.append(Gstar*dT*depth);                           // W
+    }
+    if (decomposed)
+    {
+        std::vector<double> w(perGrain.begin(), perGrain.end());
+        cloud_->grains().sumOverCopies(w, 1);
+        for (std::size_t i = 0; i < w.size(); ++i)
+        {
+            if (w[i] > 0)
+            {
+                grains.append(label(i));
+                heat.append(w[i]);
+            }
+        }
     }
     filmGrain_.transfer(grains);
     filmHeat_.transfer(heat);
@@ -252,6 +306,14 @@ void Foam::vapourDroplet::setHeatSink(const scalarField& sink)
             heat.append(sink[ci]*mesh_.V()[ci]);
         }
     }
+    // the film heat enters at the grains: decomposed, each owner adds its
+    // grains before the gather; replicated, after it (the same list on
+    // every rank)
+    const bool decomposed = cloud_ && cloud_->grains().decomposed();
+    if (decomposed)
+    {
+        addFilmSinks(dirs, heat, true);
+    }
     List<List<vector>> allDirs(Pstream::nProcs());
     List<List<scalar>> allHeat(Pstream::nProcs());
     allDirs[Pstream::myProcNo()] = dirs;
@@ -265,21 +327,44 @@ void Foam::vapourDroplet::setHeatSink(const scalarField& sink)
     sinkHeat_ =
         ListListOps::combine<List<scalar>>(allHeat, accessOp<List<scalar>>());
 
-    // the film heat enters at the grains (the same on every rank: the
-    // grain system is replicated)
-    if (film_ && filmGrain_.size() && cloud_)
+    if (!decomposed)
     {
-        const nscd::System& sys = cloud_->grains().system();
-        forAll(filmGrain_, k)
+        DynamicList<vector> filmDirs;
+        DynamicList<scalar> filmHeat;
+        addFilmSinks(filmDirs, filmHeat, false);
+        sinkDirection_.append(filmDirs);
+        sinkHeat_.append(filmHeat);
+    }
+}
+
+
+void Foam::vapourDroplet::addFilmSinks
+(
+    DynamicList<vector>& dirs,
+    DynamicList<scalar>& heat,
+    const bool ownedOnly
+) const
+{
+    if (!film_ || filmGrain_.empty() || !cloud_)
+    {
+        return;
+    }
+    const grainCloud& grains = cloud_->grains();
+    const nscd::System& sys = grains.system();
+    forAll(filmGrain_, k)
+    {
+        const label i = filmGrain_[k];
+        if
+        (
+            i >= label(sys.size()) || !(filmHeat_[k] > 0)
+         || (ownedOnly && !grains.owned(i))
+        )
         {
-            if (filmGrain_[k] >= label(sys.size()) || !(filmHeat_[k] > 0))
-            {
-                continue;
-            }
-            const auto& xg = sys.positions()[filmGrain_[k]];
-            sinkDirection_.append(directionTo(vector(xg[0], xg[1], xg[2])));
-            sinkHeat_.append(filmHeat_[k]);
+            continue;
         }
+        const auto& xg = sys.positions()[i];
+        dirs.append(directionTo(vector(xg[0], xg[1], xg[2])));
+        heat.append(filmHeat_[k]);
     }
 }
 
@@ -317,7 +402,13 @@ Foam::scalar Foam::vapourDroplet::setLiquidHeat()
     const List<scalar>& T0 = heat.startTemperature();
     const nscd::System& sys = cloud_->grains().system();
     const label n = sys.size();
-    if (Hs.size() != n || T0.size() != n)
+    // (the same answer on every rank: the sums below are collective)
+    bool ready = Hs.size() == n && T0.size() == n;
+    if (cloud_->grains().decomposed())
+    {
+        reduce(ready, andOp<bool>());
+    }
+    if (!ready)
     {
         return 0;
     }
@@ -334,8 +425,7 @@ Foam::scalar Foam::vapourDroplet::setLiquidHeat()
             }
         }
     );
-    Pstream::listCombineGather(x, plusEqOp<scalar>());
-    Pstream::listCombineScatter(x);
+    sumPerGrain(x);
     // the liquid's conductance of the part inside, H x (k_l/kappa), of
     // which vansCloud's exchange already gives H x: the extra
     // G = H x (k_l/kappa - 1), implicit with the grain's capacity C as
@@ -344,7 +434,6 @@ Foam::scalar Foam::vapourDroplet::setLiquidHeat()
     const scalar depth = adapter_.depth();
     const scalar f = kL_/kappaF_ - 1;
     liquidHeat_.setSize(n, Zero);
-    scalar sumE = 0;
     for (label i = 0; i < n; ++i)
     {
         const scalar dT = T0[i] - Td_;
@@ -363,9 +452,8 @@ Foam::scalar Foam::vapourDroplet::setLiquidHeat()
         const scalar Ht = H*(1 + f*x[i]);
         const scalar E = (bath ? Ht : Ht*C/(C + dt*Ht)) - Hs[i];
         liquidHeat_[i] = max(E, scalar(0))*dT;
-        sumE += liquidHeat_[i];
     }
-    return sumE;
+    return sumOverGrains(liquidHeat_);
 }
 
 
@@ -396,9 +484,8 @@ Foam::scalar Foam::vapourDroplet::setGrainHeat(const scalarField& T)
             }
         );
     }
-    Pstream::listCombineGather(Q, plusEqOp<scalar>());
-    Pstream::listCombineScatter(Q);
-    const scalar Qp = sum(Q);
+    sumPerGrain(Q);
+    const scalar Qp = sumOverGrains(Q);
     // the liquid heat enters at its grain
     forAll(liquidHeat_, i)
     {
@@ -486,22 +573,28 @@ void Foam::vapourDroplet::setHeat(const scalar Qf, const scalar Qp)
     Qp_ = Qp;
     // Leidenfrost film heat of the grains pressed on the surface (last NSCD
     // step), taken from them over this step by vansCloud's heat sources
+    // (over every grain once: the owned ones, reduced when decomposed)
     Qfilm_ = 0;
     if (film_ && cloud_)
     {
-        const label n = cloud_->grains().system().size();
+        const grainCloud& grains = cloud_->grains();
+        const label n = grains.system().size();
         forAll(filmGrain_, k)
         {
-            if (filmGrain_[k] < n)
+            if (filmGrain_[k] < n && grains.owned(filmGrain_[k]))
             {
                 Qfilm_ += filmHeat_[k];
             }
         }
+        if (grains.decomposed())
+        {
+            reduce(Qfilm_, sumOp<scalar>());
+        }
     }
     // the grains' extra heat to the liquid of this step (setLiquidHeat)
-    forAll(liquidHeat_, i)
+    if (cloud_)
     {
-        Qfilm_ += liquidHeat_[i];
+        Qfilm_ += sumOverGrains(liquidHeat_);
     }
     mdot_ = (Qf_ + Qp_ + Qfilm_)/L_;     // eq. 4.16
     scalar loss = mdot_*dt;

@@ -104,10 +104,14 @@ void Foam::vapourDroplet::attach(vansCloud& cloud)
     {
         // each grain's heat of the last step, following the grains and
         // written with them (a start state without it: no grain vapour in
-        // the first step, the gas's share in the ring)
+        // the first step, the gas's share in the ring); decomposed: carried
+        // with a grain that changes rank and copied to its ghosts, whose
+        // overlaps release it in this rank's cells
         cloud.grains().addStartColumn<scalar>
         (
-            grainVapourColumn, 0u, scalar(0)
+            grainVapourColumn,
+            nscd::ColumnMigrate | nscd::ColumnGhost,
+            scalar(0)
         );
     }
     if (grainDrag_ && drag_.valid())

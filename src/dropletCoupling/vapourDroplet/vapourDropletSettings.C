@@ -287,36 +287,4 @@ void Foam::vapourDroplet::readFluidProperties()
     }
 }
 
-Foam::string Foam::vapourDroplet::replicatedGrainsReason() const
-{
-    DynamicList<string> why;
-    if (sigma_ > 0)
-    {
-        why.append("surfaceTension > 0 (the capillary barrier)");
-    }
-    if (film_)
-    {
-        why.append("filmConduction yes");
-    }
-    if (kL_ > 0)
-    {
-        why.append("liquidConductivity");
-    }
-    if (grainRelease_)
-    {
-        why.append("vapourRelease grains");
-    }
-    string out;
-    forAll(why, k)
-    {
-        out += (k ? ", " : "") + why[k];
-    }
-    if (!out.empty())
-    {
-        out = "the droplet's " + out + " in " + dict_.name();
-    }
-    return out;
-}
-
-
 // ************************************************************************* //
