@@ -239,6 +239,7 @@ def main():
         max_runup, max_runup_time = float(h["runup"][i]), float(h["t"][i])
     res = {
         "mode": p["mode"],
+        "slope_friction": p.get("slope_friction", 0.93),
         "gauge_x": p["gauge_x"],
         "gauge_time": tg.tolist(),
         "gauge_elevation": eta.tolist(),

@@ -196,6 +196,24 @@ def packed_block(packing):
     return x, d, phi, float(surface.mean())
 
 
+def slope_friction():
+    """SLOPE_FRICTION=<mu> (environment): the Coulomb coefficient of the
+    grains on the left shore, the slide's bed (grainProperties wallFriction;
+    default: the rock's 0.93).  A sensitivity of issue 58: 0 lets the slide
+    reach the shore near its frictionless speed, as Fritz et al.'s pneumatic
+    generator launched theirs.  None when unset."""
+    text = os.environ.get("SLOPE_FRICTION", "").strip()
+    if not text:
+        return None
+    try:
+        mu = float(text)
+    except ValueError:
+        mu = -1.0
+    if not (mu >= 0 and math.isfinite(mu)):
+        sys.exit(f"setupCase.py: SLOPE_FRICTION={text!r}: give a Coulomb coefficient >= 0 (e.g. 0)")
+    return mu
+
+
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
@@ -235,6 +253,12 @@ def main():
         "@GRAINS@": grains,
     }
     nscdpost.instantiate_case(os.path.join(here, "base"), case, subs)
+    slope_mu = slope_friction()
+    if slope_mu is not None:
+        with open(os.path.join(case, "constant", "grainProperties"), "a") as fh:
+            fh.write(
+                f"wallFriction {{ leftShore {slope_mu:g}; }}   // SLOPE_FRICTION: the slide's bed\n"
+            )
     mass = RHO_S * math.pi / 4 * float(np.sum(d**2)) * DZ
     zc = float(np.sum(d**2 * x[:, 1]) / np.sum(d**2))
     params = {
@@ -257,6 +281,7 @@ def main():
         "h_fine": m["hFine"],
         "h_coarse": m["hCoarse"],
         "y_top": m["ytop"],
+        "slope_friction": 0.93 if slope_mu is None else slope_mu,
     }
     with open(os.path.join(case, "caseParameters.json"), "w") as fh:
         json.dump(params, fh, indent=2)
