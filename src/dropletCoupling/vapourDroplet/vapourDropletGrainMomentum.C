@@ -19,6 +19,7 @@ Description
 
 #include "vapourDropletGrainMomentum.H"
 #include "vansCloud.H"
+#include "grainSums.H"
 #include "meshTools.H"
 #include "mathematicalConstants.H"
 
@@ -87,9 +88,7 @@ Foam::List<Foam::scalar> Foam::vapourDroplet::gasRelaxationFactors
         }
         if (decomposed)
         {
-            std::vector<double> b(bGas.begin(), bGas.end());
-            cloud_->grains().sumOverCopies(b, 1);
-            std::copy(b.begin(), b.end(), bGas.begin());
+            grainTools::sumOverCopies(cloud_->grains(), bGas);
         }
         else
         {

@@ -13,6 +13,7 @@ Description
 
 #include "vapourDroplet.H"
 #include "vansCloud.H"
+#include "grainSums.H"
 #include "mathematicalConstants.H"
 
 #include <cmath>
@@ -45,38 +46,6 @@ void forEachGrainCell(const Foam::overlapMeshAdapter& ga, const Fn& fn)
 } // End anonymous namespace
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
-
-void Foam::vapourDroplet::sumPerGrain(List<scalar>& v) const
-{
-    grainCloud& grains = cloud_->grains();
-    if (grains.decomposed())
-    {
-        std::vector<double> w(v.begin(), v.end());
-        grains.sumOverCopies(w, 1);
-        std::copy(w.begin(), w.end(), v.begin());
-    }
-    else
-    {
-        Pstream::listCombineGather(v, plusEqOp<scalar>());
-        Pstream::listCombineScatter(v);
-    }
-}
-
-
-Foam::scalar Foam::vapourDroplet::sumOverGrains(const UList<scalar>& v) const
-{
-    const grainCloud& grains = cloud_->grains();
-    scalar s = 0;
-    forAll(v, i)
-    {
-        if (grains.owned(i))
-        {
-            s += v[i];
-        }
-    }
-    return grains.decomposed() ? returnReduce(s, sumOp<scalar>()) : s;
-}
-
 
 void Foam::vapourDroplet::releaseWeights(const scalar h)
 {
@@ -197,7 +166,7 @@ void Foam::vapourDroplet::grainReleaseWeights()
 
 void Foam::vapourDroplet::checkReleasingGrainSizes(List<scalar>& h) const
 {
-    sumPerGrain(h);
+    grainTools::sumOverCopies(cloud_->grains(), h);
     const nscd::System& sys = cloud_->grains().system();
     const auto& r = sys.radii();
     forAll(h, gi)
@@ -270,14 +239,13 @@ void Foam::vapourDroplet::computeFilmHeat
     }
     if (decomposed)
     {
-        std::vector<double> w(perGrain.begin(), perGrain.end());
-        cloud_->grains().sumOverCopies(w, 1);
-        for (std::size_t i = 0; i < w.size(); ++i)
+        grainTools::sumOverCopies(cloud_->grains(), perGrain);
+        forAll(perGrain, i)
         {
-            if (w[i] > 0)
+            if (perGrain[i] > 0)
             {
-                grains.append(label(i));
-                heat.append(w[i]);
+                grains.append(i);
+                heat.append(perGrain[i]);
             }
         }
     }
@@ -425,7 +393,7 @@ Foam::scalar Foam::vapourDroplet::setLiquidHeat()
             }
         }
     );
-    sumPerGrain(x);
+    grainTools::sumOverCopies(cloud_->grains(), x);
     // the liquid's conductance of the part inside, H x (k_l/kappa), of
     // which vansCloud's exchange already gives H x: the extra
     // G = H x (k_l/kappa - 1), implicit with the grain's capacity C as
@@ -453,7 +421,7 @@ Foam::scalar Foam::vapourDroplet::setLiquidHeat()
         const scalar E = (bath ? Ht : Ht*C/(C + dt*Ht)) - Hs[i];
         liquidHeat_[i] = max(E, scalar(0))*dT;
     }
-    return sumOverGrains(liquidHeat_);
+    return grainTools::sumOverGrains(cloud_->grains(), liquidHeat_);
 }
 
 
@@ -484,8 +452,8 @@ Foam::scalar Foam::vapourDroplet::setGrainHeat(const scalarField& T)
             }
         );
     }
-    sumPerGrain(Q);
-    const scalar Qp = sumOverGrains(Q);
+    grainTools::sumOverCopies(cloud_->grains(), Q);
+    const scalar Qp = grainTools::sumOverGrains(cloud_->grains(), Q);
     // the liquid heat enters at its grain
     forAll(liquidHeat_, i)
     {
@@ -594,7 +562,7 @@ void Foam::vapourDroplet::setHeat(const scalar Qf, const scalar Qp)
     // the grains' extra heat to the liquid of this step (setLiquidHeat)
     if (cloud_)
     {
-        Qfilm_ += sumOverGrains(liquidHeat_);
+        Qfilm_ += grainTools::sumOverGrains(cloud_->grains(), liquidHeat_);
     }
     mdot_ = (Qf_ + Qp_ + Qfilm_)/L_;     // eq. 4.16
     scalar loss = mdot_*dt;

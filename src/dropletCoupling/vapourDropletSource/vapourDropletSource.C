@@ -368,7 +368,9 @@ Foam::word Foam::fv::vapourDropletSource::couplingName() const
 
 Foam::string Foam::fv::vapourDropletSource::replicatedGrainsReason() const
 {
-    return droplet_.replicatedGrainsReason();
+    // every setting works on decomposed grains (vapourDroplet: sums over the
+    // owned grains reduced, per-grain lists completed over a grain's copies)
+    return string();
 }
 
 
