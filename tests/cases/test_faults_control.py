@@ -7,14 +7,22 @@ documented; the earlier results of the case stay intact.  Small 2D cases
 
 import math
 import os
-import shutil
 import subprocess
 import time
 
 import nscdpost
 import pytest
 from faultcase import MAT, G, box, digest, set_control, stack, times
-from foamcase import add_fluid, fails_with, log_message, make_box_case, run, run_parallel, write
+from foamcase import (
+    add_fluid,
+    decompose,
+    fails_with,
+    log_message,
+    make_box_case,
+    run,
+    run_parallel,
+    write,
+)
 
 pytestmark = pytest.mark.fast
 
@@ -252,18 +260,10 @@ def test_decomposed_restart_before_later_writes_is_refused(tmp_path, env):
     run_parallel("grainFoam", case, env, n=2)
     before = digest(case, "0.02")
     set_control(case, endTime=0.03)
-    write(
-        os.path.join(case, "system", "decomposeParDict"),
-        "dictionary",
-        "decomposeParDict",
-        "numberOfSubdomains 3;\nmethod simple;\nsimpleCoeffs { n (3 1 1); delta 0.001; }\n",
-    )
-    # a fresh decomposition: the time directories of the case hold only the
-    # grain state (no field), so the new processor directories start at 0
-    for d in os.listdir(case):
-        if d.startswith("processor"):
-            shutil.rmtree(os.path.join(case, d))
-    run("decomposePar", case, env, args=("-force",))
+    # a fresh decomposition (-force replaces the processor directories): the
+    # time directories of the case hold only the grain state (no field), so
+    # the new processor directories start at 0
+    decompose(case, env, n=3)
     mpi = ["mpirun", "-np", "3", "grainFoam", "-parallel", "-case", case]
     p = subprocess.run(mpi, env=env, capture_output=True, text=True)
     out = fails_with(p, "holds the grain state of t = 0.02", "reconstructPar -latestTime")

@@ -28,13 +28,13 @@ from faultcase import (
     umount_small_disk,
 )
 from foamcase import (
+    decompose,
     fails_with,
     log_message,
     make_box_case,
     run,
     run_in_background,
     run_parallel,
-    write,
 )
 
 pytestmark = pytest.mark.fast
@@ -438,13 +438,7 @@ def test_sigusr1_to_mpirun_writes_and_stops(tmp_path, env):
     case = stack(tmp_path, "sigpar", end=100, write_interval=50)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
-    write(
-        os.path.join(case, "system", "decomposeParDict"),
-        "dictionary",
-        "decomposeParDict",
-        "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (2 1 1); delta 0.001; }\n",
-    )
-    run("decomposePar", case, env)
+    decompose(case, env, n=2)
     logp = os.path.join(case, "log.grainFoam")
     proc = run_in_background(
         ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],

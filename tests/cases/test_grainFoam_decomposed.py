@@ -285,20 +285,14 @@ def test_grain_leaving_the_mesh_stops_a_decomposed_run(tmp_path, env):
     cells claim it, and the run stops (no hang) naming the grain and the
     patch crossed, as the serial run does (test_faults_boundaries.py)."""
     from faultcase import box
-    from foamcase import mpirun_could_not_start, write
+    from foamcase import decompose, mpirun_could_not_start
     from test_faults_boundaries import open_bottom
 
     case = box(tmp_path, "open", [(0.03, 0.03, 0, 0.01)], end=0.5, write_interval=0.05)
     open_bottom(case)
     run("blockMesh", case, env)
     run("grainDeposit", case, env)
-    write(
-        os.path.join(case, "system", "decomposeParDict"),
-        "dictionary",
-        "decomposeParDict",
-        "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (2 1 1); delta 0.001; }\n",
-    )
-    run("decomposePar", case, env, cwd=case)
+    decompose(case, env, n=2)
     p = subprocess.run(
         ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
         env=env,

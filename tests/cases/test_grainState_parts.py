@@ -31,7 +31,7 @@ import h5py
 import nscdpost
 import numpy as np
 import pytest
-from foamcase import log_message, run, run_in_background, run_parallel, write
+from foamcase import decompose, log_message, run, run_in_background, run_parallel
 from test_grainFoam_decomposed import _copy, _set_control, deposited_pile
 from test_grainFoam_decomposed import _wall_load as _wall_load_of
 from test_grainFoam_physics import G
@@ -157,13 +157,7 @@ def _writing_every_step(pile, case, env):
     session; returns the mpirun Popen 40 steps in (the log in log.killed)."""
     case = _copy(pile, case)
     _set_control(case, writeInterval="5e-4")
-    write(
-        os.path.join(case, "system", "decomposeParDict"),
-        "dictionary",
-        "decomposeParDict",
-        "numberOfSubdomains 2;\nmethod simple;\nsimpleCoeffs { n (1 2 1); delta 0.001; }\n",
-    )
-    run("decomposePar", case, env, args=("-force",), cwd=case)
+    decompose(case, env, n=2, split=(1, 2, 1))
     logp = os.path.join(case, "log.killed")
     proc = run_in_background(
         ["mpirun", "-np", "2", "grainFoam", "-parallel", "-case", case],
