@@ -124,7 +124,7 @@ void Foam::vapourDroplet::readDict()
 
 void Foam::vapourDroplet::readModelOptions()
 {
-    // capillary entry barrier (vapourDroplet.H, "Capillary entry barrier")
+    // capillary entry barrier (vapourDroplet.md, "Capillary entry barrier")
     sigma_ = dict_.getOrDefault<scalar>("surfaceTension", 0);
     if (!(sigma_ >= 0) || !std::isfinite(sigma_))
     {
@@ -135,7 +135,7 @@ void Foam::vapourDroplet::readModelOptions()
             << " 0 (no capillary barrier)." << exit(FatalIOError);
     }
 
-    // where the vapour leaves the surface (vapourDroplet.H, "Blowing")
+    // where the vapour leaves the surface (README "The model", Blowing)
     {
         const word release =
             dict_.getOrDefault<word>("vapourRelease", "uniform");
