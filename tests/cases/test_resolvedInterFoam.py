@@ -16,6 +16,7 @@ import nscdpost
 import numpy as np
 import pytest
 from foamcase import replace_in, run, run_parallel, tutorial_modules, write, write_schemes
+from interfoamcase import water_below
 
 setupCase, postProcess = tutorial_modules("vansFoam", "cylinderSedimentation")
 
@@ -55,22 +56,7 @@ def two_phase(case, level, top):
         "dimensions [0 0 0 0 0 0 0];\ninternalField uniform 0;\n"
         f"boundaryField {{ walls {{ type zeroGradient; }} {emp} }}\n",
     )
-    write(
-        os.path.join(case, "system", "setFieldsDict"),
-        "dictionary",
-        "setFieldsDict",
-        "defaultFieldValues ( volScalarFieldValue alpha.water 0 );\n"
-        f"regions ( boxToCell {{ box (-1 -1 -1) (1 {level} 1);\n"
-        "  fieldValues ( volScalarFieldValue alpha.water 1 ); } );\n",
-    )
-    write(
-        os.path.join(case, "constant", "transportProperties"),
-        "dictionary",
-        "transportProperties",
-        "phases (water air);\n"
-        f"water {{ transportModel Newtonian; nu {NU}; rho {RHO_F}; }}\n"
-        "air { transportModel Newtonian; nu 1.48e-5; rho 1; }\nsigma 0.072;\n",
-    )
+    water_below(case, level, NU, RHO_F)
     write_schemes(
         case,
         "div(rhoPhi,U) Gauss limitedLinearV 1;\n"
