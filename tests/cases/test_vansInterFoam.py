@@ -285,9 +285,10 @@ def test_unknown_transport_keyword(tmp_path, env):
 @pytest.mark.fast
 def test_resolved_scheme_runs(tmp_path, env):
     """resolvedCellsPerDiameter 0 (every grain resolved; resolvedGrains.H,
-    dynamic form) runs in vansInterFoam, a fixed resolved grain (SIMPLEC
-    pressure) and a free one below the surface, the penalty's smoothSolver
-    warning given (add_two_phase writes it); no silent fall-back to the
+    dynamic form) runs in vansInterFoam, two free resolved grains below
+    the surface (SIMPLEC pressure with the penalty), the penalty's
+    smoothSolver warning given (add_two_phase writes it); no silent
+    fall-back to the
     unresolved scheme: the log names the rigid interior.  The resolved
     scheme's measurements: test_resolvedInterFoam.py."""
     case = str(tmp_path / "resolved")
