@@ -83,6 +83,28 @@ def zero_grains(case):
     )
 
 
+def water_below(case, level, nu_water=1e-6, rho_water=1000):
+    """system/setFieldsDict (water below y = level, air above) and
+    constant/transportProperties (water nu_water, rho_water; air)."""
+    write(
+        os.path.join(case, "system", "setFieldsDict"),
+        "dictionary",
+        "setFieldsDict",
+        "defaultFieldValues ( volScalarFieldValue alpha.water 0 );\n"
+        f"regions ( boxToCell {{ box (-1 -1 -1) (1 {level} 1);\n"
+        "  fieldValues ( volScalarFieldValue alpha.water 1 ); } );\n",
+    )
+    write(
+        os.path.join(case, "constant", "transportProperties"),
+        "dictionary",
+        "transportProperties",
+        "phases (water air);\n"
+        f"water {{ transportModel Newtonian; nu {nu_water}; rho {rho_water}; }}\n"
+        "air { transportModel Newtonian; nu 1.48e-5; rho 1; }\n"
+        "sigma 0.072;\n",
+    )
+
+
 def add_two_phase(
     case,
     env,
@@ -140,23 +162,7 @@ def add_two_phase(
         "dimensions [0 0 0 0 0 0 0];\ninternalField uniform 0;\n"
         f"boundaryField {{ walls {{ type zeroGradient; }} {emp} {top['alpha.water']} }}\n",
     )
-    write(
-        os.path.join(case, "system", "setFieldsDict"),
-        "dictionary",
-        "setFieldsDict",
-        "defaultFieldValues ( volScalarFieldValue alpha.water 0 );\n"
-        f"regions ( boxToCell {{ box (-1 -1 -1) (1 {level} 1);\n"
-        "  fieldValues ( volScalarFieldValue alpha.water 1 ); } );\n",
-    )
-    write(
-        os.path.join(case, "constant", "transportProperties"),
-        "dictionary",
-        "transportProperties",
-        "phases (water air);\n"
-        f"water {{ transportModel Newtonian; nu {nu_water}; rho 1000; }}\n"
-        "air { transportModel Newtonian; nu 1.48e-5; rho 1; }\n"
-        "sigma 0.072;\n",
-    )
+    water_below(case, level, nu_water)
     write_coupling(case)
     write_schemes(
         case,

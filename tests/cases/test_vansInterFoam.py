@@ -27,7 +27,8 @@
 - Grains leaving through an open top (outletPatches, issue 60): alpha
   bounded, water volume + water out through the boundaries constant to
   round-off; alpha out of [0, 1] by 0.25 stops the run with a FatalError.
-- Keyword checks.
+- Keyword checks; the resolved-grain scheme runs (its measurements in
+  test_resolvedInterFoam.py).
 Case set-up in interfoamcase.py.
 """
 
@@ -282,19 +283,23 @@ def test_unknown_transport_keyword(tmp_path, env):
 
 
 @pytest.mark.fast
-def test_resolved_scheme_refused(tmp_path, env):
-    """resolvedCellsPerDiameter is vansFoam's (its pEqn.H carries the
-    resolved grains' solid flux): vansInterFoam stops with a FatalIOError
-    naming the keyword and the fix instead of running every grain
-    unresolved without a word."""
+def test_resolved_scheme_runs(tmp_path, env):
+    """resolvedCellsPerDiameter 0 (every grain resolved; resolvedGrains.H,
+    dynamic form) runs in vansInterFoam, two free resolved grains below
+    the surface (SIMPLEC pressure with the penalty), the penalty's
+    smoothSolver warning given (add_two_phase writes it); no silent
+    fall-back to the
+    unresolved scheme: the log names the rigid interior.  The resolved
+    scheme's measurements: test_resolvedInterFoam.py."""
     case = str(tmp_path / "resolved")
-    basin(case, env, [(0.0143, 0.0301, 0, 2e-3)], fixed=True, end=0.002)
+    basin(case, env, [(0.0143, 0.02, 0, 2e-3), (0.025, 0.02, 0, 2e-3)], fixed=False, end=0.002)
     with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
-        f.write("resolvedCellsPerDiameter 4;\n")
-    p = run("vansInterFoam", case, env, check=False)
-    fails_with(
-        p, "resolvedCellsPerDiameter 4", "vansFoam only", "Fix:", banner="FOAM FATAL IO ERROR"
-    )
+        f.write("resolvedCellsPerDiameter 0;\n")
+    p = run("vansInterFoam", case, env)
+    assert "rigid viscosity ratio 1000 in resolved free grains" in p.stdout
+    assert "it stalls inside the grains" in p.stdout + p.stderr
+    g = nscdpost.read_grains(case, "0.002")
+    assert np.all(np.isfinite(np.asarray(g["U"])))
 
 
 def closed_form_slip(drho, mu, rho, d):

@@ -27,10 +27,13 @@ Foam::resolvedGrains::resolvedGrains
         IOobject("Bs", mesh.time().timeName(), mesh),
         mesh, dimensionedScalar(dimless, Zero), patchTypes
     ),
+    // Kg: gamma* dt/rho [-] (kinematic) or gamma* dt [kg/m^3] (dynamic)
     Kg_
     (
         IOobject("Kg", mesh.time().timeName(), mesh),
-        mesh, dimensionedScalar(dimless, Zero), patchTypes
+        mesh,
+        dimensionedScalar(fluid.kinematic() ? dimless : dimDensity, Zero),
+        patchTypes
     ),
     Br_
     (
@@ -50,14 +53,10 @@ void Foam::resolvedGrains::mark()
     resolved_.setSize(n);
     resolved_ = false;
     fixedResolved_ = false;
-    // without constant properties (vansInterFoam) the solver does not add
-    // the B part of the solid flux: keep every grain unresolved (decomposed:
-    // a rank without grains goes on, the sums below are collective)
-    if
-    (
-        !fluid_.kinematic()
-     || !(settings_.resolvedCellsPerDiameter < GREAT)
-    )
+    // off: every grain unresolved (the same decision on every rank;
+    // decomposed: a rank without grains goes on, the sums below are
+    // collective)
+    if (!(settings_.resolvedCellsPerDiameter < GREAT))
     {
         return;
     }
@@ -122,13 +121,78 @@ Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::simplecRAU
     // (docs/validation/resolvedGrains.md).  Same fixed point as with 1/A
     // (the deferred part vanishes when p = p_old); only the PISO iteration
     // differs.
-    return 1.0/(1.0/rAU - UEqn.H1());
+    tmp<volScalarField> trAtU(1.0/(1.0/rAU - UEqn.H1()));
+    if (fluid_.kinematic())
+    {
+        return trAtU;
+    }
+    // Dynamic form (vansInterFoam, p_rgh): rAtU only in the cells that a
+    // resolved grain overlaps, rAU elsewhere.  With rAtU everywhere the
+    // free surface, where -Dp snGrad(p_rgh) balances -Dp gh_f snGrad(rho)
+    // (the rho part is known, with rAU in phig), was balanced only at
+    // PISO convergence: a resolved disc resting on the floor 8 D below the
+    // surface left 0.05-0.09 m/s in the surface's water cells and up to
+    // 1.6 m/s in the air over 0.05 s (1e-3 m/s with the option off;
+    // measured, tests/cases/test_resolvedInterFoam.py).
+    volScalarField& rAtU = trAtU.ref();
+    scalarField inside(mesh_.nCells(), 0.0);
+    const auto& eg = adapter_.entryGrain();
+    const auto& ec = adapter_.entryCell();
+    for (std::size_t e = 0; e < ec.size(); ++e)
+    {
+        if (resolved_.size() > eg[e] && resolved_[eg[e]])
+        {
+            inside[ec[e]] = 1;
+        }
+    }
+    // and one layer of cells around them (the rim faces see rAtU on both
+    // sides: with the bare overlap the added mass of a released disc fell
+    // to 0.83 of C_A = 1, measured)
+    {
+        const scalarField core(inside);
+        const labelUList& own = mesh_.owner();
+        const labelUList& nei = mesh_.neighbour();
+        forAll(nei, facei)
+        {
+            if (core[own[facei]] > 0 || core[nei[facei]] > 0)
+            {
+                inside[own[facei]] = 1;
+                inside[nei[facei]] = 1;
+            }
+        }
+    }
+    forAll(inside, celli)
+    {
+        if (inside[celli] == 0)
+        {
+            rAtU.primitiveFieldRef()[celli] = rAU[celli];
+        }
+    }
+    forAll(rAtU.boundaryField(), patchi)
+    {
+        fvPatchScalarField& pf = rAtU.boundaryFieldRef()[patchi];
+        const labelUList& fc = pf.patch().faceCells();
+        forAll(pf, facei)
+        {
+            if (inside[fc[facei]] == 0)
+            {
+                pf[facei] = rAU.boundaryField()[patchi][facei];
+            }
+        }
+    }
+    return trAtU;
 }
 
 
 Foam::tmp<Foam::surfaceScalarField>
 Foam::resolvedGrains::rigidViscosityf() const
 {
+    if (!fluid_.kinematic())
+    {
+        FatalErrorInFunction
+            << "rigidViscosityf(): constant properties only; with a"
+            << " variable fluid call rigidViscosityf(mu)" << exit(FatalError);
+    }
     const dimensionedScalar nu("nu", dimViscosity, fluid_.nu());
     // chi = max(0, 2 Br - 1): 0 in cells at most half covered, 1 in fully
     // covered ones, continuous in Br (smooth in time as the grain moves)
@@ -140,6 +204,27 @@ Foam::resolvedGrains::rigidViscosityf() const
     (
         1/fvc::interpolate(1/nuPen) - nu,
         dimensionedScalar(dimViscosity, Zero)
+    );
+}
+
+
+Foam::tmp<Foam::surfaceScalarField>
+Foam::resolvedGrains::rigidViscosityf(const volScalarField& mu) const
+{
+    // Dynamic form (vansInterFoam: rho, mu per cell, momentum in rho U):
+    // the penalised viscosity mu (1 + lambda chi) [Pa s] with the cell's
+    // own mixture viscosity mu = rho nu, its harmonic face mean minus the
+    // face viscosity of the solver's own term laplacian(mu, U) (its linear
+    // face mean), clipped at 0.  The clip also removes the negative
+    // difference (harmonic - linear mean) where mu jumps across the free
+    // surface outside the grains (chi = 0 on both sides).  Same chi as
+    // the constant form above: both solvers penalise the same cells.
+    const volScalarField chi(max(2*Br_ - 1, dimensionedScalar(dimless, Zero)));
+    const volScalarField muPen(mu*(1 + settings_.rigidViscosityRatio*chi));
+    return max
+    (
+        1/fvc::interpolate(1/muPen) - fvc::interpolate(mu),
+        dimensionedScalar(mu.dimensions(), Zero)
     );
 }
 

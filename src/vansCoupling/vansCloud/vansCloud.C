@@ -185,19 +185,6 @@ Foam::vansCloud::vansCloud
     drag_ = dragModel::New(dict_);
 
     const dictionary td(transportDict(mesh));
-    if (!fluid_->kinematic() && settings_.resolvedCellsPerDiameter < GREAT)
-    {
-        // the resolved-grain scheme's solid flux and pressure term are in
-        // vansFoam's pEqn.H only (docs/validation/resolvedGrains.md,
-        // "Implicit scheme for every grain")
-        FatalIOErrorInFunction(dict_)
-            << "resolvedCellsPerDiameter " << settings_.resolvedCellsPerDiameter
-            << " in " << dict_.name() << ": the resolved-grain scheme is"
-            << " available in vansFoam only, not with variable fluid"
-            << " properties (vansInterFoam)." << nl
-            << "    Fix: remove resolvedCellsPerDiameter (every grain"
-            << " unresolved), or run vansFoam." << exit(FatalIOError);
-    }
     if (!fluid_->kinematic())
     {
         // coupling fields per unit volume in dynamic units

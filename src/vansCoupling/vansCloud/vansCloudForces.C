@@ -211,7 +211,9 @@ void Foam::vansCloud::addMomentumSources
 ) const
 {
     UEqn += fvm::Sp(Kdrag_, UEqn.psi());
-    if (fluid_->kinematic() && settings_.resolvedCellsPerDiameter < GREAT)
+    // resolved grains on (both forms: Kg g [m/s^2] kinematic, [N/m^3]
+    // dynamic): their weight leaves the cell source for the faces
+    if (settings_.resolvedCellsPerDiameter < GREAT)
     {
         UEqn -= KUs_ - Kg()*g;
     }
