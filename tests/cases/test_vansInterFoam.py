@@ -288,9 +288,8 @@ def test_resolved_scheme_runs(tmp_path, env):
     dynamic form) runs in vansInterFoam, two free resolved grains below
     the surface (SIMPLEC pressure with the penalty), the penalty's
     smoothSolver warning given (add_two_phase writes it); no silent
-    fall-back to the
-    unresolved scheme: the log names the rigid interior.  The resolved
-    scheme's measurements: test_resolvedInterFoam.py."""
+    fall-back to the unresolved scheme: the log names the rigid interior.
+    The resolved scheme's measurements: test_resolvedInterFoam.py."""
     case = str(tmp_path / "resolved")
     basin(case, env, [(0.0143, 0.02, 0, 2e-3), (0.025, 0.02, 0, 2e-3)], fixed=False, end=0.002)
     with open(os.path.join(case, "constant", "couplingProperties"), "a") as f:
