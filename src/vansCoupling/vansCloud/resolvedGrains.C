@@ -184,6 +184,29 @@ Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::simplecRAU
 }
 
 
+void Foam::resolvedGrains::checkUSolver(const volVectorField& U) const
+{
+    // the penalty makes the U matrix nearly singular inside the grain
+    // (viscous coupling ~lambda nu/h^2 against ~rho_p/(rho dt)):
+    // Gauss-Seidel stalls there (1000 sweeps, residual 1e-3, measured), a
+    // Krylov solver converges in ~15 iterations
+    if
+    (
+        rigidViscosity()
+     && mesh_.solverDict(U.select(false))
+            .getOrDefault<word>("solver", word::null) == "smoothSolver"
+    )
+    {
+        WarningInFunction
+            << "rigidViscosityRatio " << settings_.rigidViscosityRatio
+            << " (resolved free grains) with the smoothSolver for U in "
+            << "system/fvSolution: it stalls inside the grains."
+            << nl << "    Fix: \"(U|UFinal)\" { solver PBiCGStab;"
+            << " preconditioner DILU; tolerance 1e-9; relTol 0; }" << endl;
+    }
+}
+
+
 Foam::tmp<Foam::surfaceScalarField>
 Foam::resolvedGrains::rigidViscosityf() const
 {
