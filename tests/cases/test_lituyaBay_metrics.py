@@ -32,9 +32,16 @@ References (exact results of the constructions):
   sampling of 6,015 uniform diameters (2 %), no two discs overlap, none
   crosses the slope, and the interior's solid fraction is that of a dense
   2D disc packing (0.75-0.86: random close packing of discs ~0.82).
+- Launched slide (SLIDE_SPEED): a consistency check of the case set-up (the
+  launch velocity lies along the 45 deg left shore, pointing down).
 """
 
+import json
 import math
+import os
+import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -191,3 +198,35 @@ def test_thesis_packing(tmp_path, env):
             gap = np.linalg.norm(x[near] - x[i], axis=1) - 0.5 * (d[near] + d[i])
             worst = min(worst, gap.min())
     assert worst > 0, worst
+
+
+def test_launched_slide_moves_down_the_slope(tmp_path, env):
+    """SLIDE_SPEED=110 (Fritz et al.'s mean impact speed): setupCase.py
+    writes grainDepositDict `initialVelocity` of magnitude 110 m/s along the
+    left shore (orthogonal to its normal (1, 1)/sqrt 2, pointing down) and
+    records the launch speed; a bad value stops it before anything is
+    written."""
+    script = os.path.join(os.path.dirname(setup.__file__), "setupCase.py")
+    case = str(tmp_path / "reduced")
+    p = subprocess.run(
+        [sys.executable, script, case, "reduced"],
+        env=env | {"SLIDE_SPEED": "110"},
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode == 0, p.stderr
+    text = open(os.path.join(case, "system", "grainDepositDict")).read()
+    v = np.array(
+        [float(c) for c in re.search(r"initialVelocity \((\S+) (\S+) (\S+)\)", text).groups()]
+    )
+    assert np.linalg.norm(v) == pytest.approx(110, rel=1e-9)
+    assert abs(v[0] + v[1]) / SQ2 < 1e-6 and v[1] < 0
+    assert json.load(open(os.path.join(case, "caseParameters.json")))["slide_launch_speed"] == 110
+    bad = str(tmp_path / "bad")
+    p = subprocess.run(
+        [sys.executable, script, bad, "reduced"],
+        env=env | {"SLIDE_SPEED": "-5"},
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode != 0 and "SLIDE_SPEED" in p.stderr and not os.path.exists(bad)

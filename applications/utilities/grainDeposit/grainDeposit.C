@@ -47,6 +47,11 @@ Description
     seed        1;
     fixedRow    { from (0 0.001 0); to (0.5 0.001 0); diameter 2e-3; }
                                     // optional rough floor
+    initialVelocity (0 0 0);        // [m/s] optional: the velocity of every
+                                    // movable grain in the written state
+                                    // (after the settling), e.g. a slide
+                                    // launched at a given speed; fixed
+                                    // grains stay at rest; 2D: z must be 0
     writeContactImpulses no;        // yes: the settled contact impulses are
                                     // written with the grains (warm start of
                                     // the run; needed by a replicate source);
@@ -424,10 +429,29 @@ void settle(const dictionary& sd, grainCloud& settling)
 }
 
 
+//- The optional initialVelocity [m/s] of grainDepositDict in the grain
+//  system's frame (zero when absent).  Errors: FatalIOError when a 2D case
+//  gives a non-zero z component (the grains move in the x-y plane).
+nscd::Vec3 initialVelocity(const IOdictionary& depositDict, const grainCloud& c)
+{
+    const vector v =
+        depositDict.getOrDefault<vector>("initialVelocity", Zero);
+    if (c.dimension() == 2 && mag(v.z()) > 0)
+    {
+        FatalIOErrorInFunction(depositDict)
+            << "initialVelocity " << v << ": a 2D case's grains move in the"
+            << " x-y plane; set the z component to 0"
+            << exit(FatalIOError);
+    }
+    return c.toSystem(v);
+}
+
+
 //- Fills initial (an empty grainCloud of the mesh: mesh walls only) with
 //  the initial state and writes it (grainState.h5 and lagrangian/grains of
-//  the start time): the settled movable grains at rest, then the fixed
-//  grains of placement (material matId).  With writeContactImpulses yes
+//  the start time): the settled movable grains with the velocity
+//  initialVelocity [m/s] (at rest by default), then the fixed grains of
+//  placement (material matId), at rest.  With writeContactImpulses yes
 //  (the default with a compliant material), the settled contact impulses
 //  [N s] go with the grains (renumbered by
 //  placement.writtenIndex; contacts with temporary walls dropped).
@@ -442,14 +466,16 @@ void writeInitialState
 )
 {
     const nscd::System& s = settling.system();
+    const nscd::Vec3 v0 = initialVelocity(depositDict, initial);
     for (std::size_t i = 0; i < s.size(); ++i)
     {
         if (!s.fixed(i))
         {
-            initial.system().addGrain
+            const int k = initial.system().addGrain
             (
                 s.positions()[i], s.radii()[i], s.materials()[i]
             );
+            initial.system().velocities()[k] = v0;
         }
     }
     for (const grainSpec& f : placement.fixedLater)
@@ -528,7 +554,7 @@ int main(int argc, char *argv[])
             "material", "method", "box", "cellZone", "grains", "number",
             "solidFraction", "dMin", "sizeRatio", "seed", "settle",
             "fixedRow", "fixed", "replicate", "writeContactImpulses",
-            "staticLoad"
+            "staticLoad", "initialVelocity"
         }
     );
 

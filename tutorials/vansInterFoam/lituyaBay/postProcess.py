@@ -40,9 +40,11 @@ usage: postProcess.py CASEDIR
 - Energy bound (conservation of energy, dissipation >= 0, air's share
   neglected, 2 % margin): the rise of the water's centre of mass satisfies
   dz_w(t) <= dE_slide(t) / (m_w g), dE_slide the potential energy lost by the
-  grains up to t, m_w the water mass.  The run-up bound of the issue is the
+  grains up to t plus their kinetic energy at t = 0 (a launched slide,
+  SLIDE_SPEED), m_w the water mass.  The run-up bound of the issue is the
   same ratio with the slide's whole drop down to the bay bottom,
-  R_E = m_s g (z_s0 + H) / (m_w g)  (order-of-magnitude ceiling; a thin film
+  R_E = m_s (g (z_s0 + H) + v_0^2/2) / (m_w g), v_0 the launch speed
+  (order-of-magnitude ceiling; a thin film
   can in principle exceed it, the centre-of-mass check cannot).  The same
   check in energies: `water_potential_energy_rise_max` against
   `slide_potential_energy_drop_then` and `energy_bound_excess` <= 0.
@@ -140,7 +142,10 @@ def histories(case, p):
         m = p["grain_density"] * math.pi / 4 * g["d"] ** 2 * p["thickness"]
         if g0 is None:
             g0 = g
-        out["dE"].append(float(G * np.sum(m * (g0["x"][:, 1] - g["x"][:, 1]))))
+        # the energy the slide has given up by t: its potential-energy drop
+        # plus its kinetic energy at t = 0 (a launched slide, SLIDE_SPEED)
+        ke0 = 0.5 * float(np.sum(m * np.sum(g0["U"] ** 2, axis=1)))
+        out["dE"].append(float(G * np.sum(m * (g0["x"][:, 1] - g["x"][:, 1]))) + ke0)
         k = max(1, len(g["d"]) // 10)
         lead = np.argsort(g["x"][:, 1])[:k]
         out["front_y"].append(float(g["x"][:, 1].min()))
@@ -225,7 +230,8 @@ def main():
     mw = h["mw"][0]
     dzw = h["zw"] - h["zw"][0]
     ebound = h["dE"] / (mw * G)
-    runup_bound = p["slide_mass"] * G * (p["slide_centre_height"] + H) / (mw * G)
+    v0 = p.get("slide_launch_speed", 0.0)
+    runup_bound = p["slide_mass"] * (G * (p["slide_centre_height"] + H) + 0.5 * v0**2) / (mw * G)
     i = int(np.argmax(h["runup"]))
     j = int(np.argmax(h["layer_runup"]))
     budget = slideMetrics.energy_budget(mw * G * dzw, h["dE"])
@@ -240,6 +246,7 @@ def main():
     res = {
         "mode": p["mode"],
         "slope_friction": p.get("slope_friction", 0.93),
+        "slide_launch_speed": p.get("slide_launch_speed", 0.0),
         "gauge_x": p["gauge_x"],
         "gauge_time": tg.tolist(),
         "gauge_elevation": eta.tolist(),

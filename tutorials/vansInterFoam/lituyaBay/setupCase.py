@@ -196,22 +196,35 @@ def packed_block(packing):
     return x, d, phi, float(surface.mean())
 
 
+def env_nonnegative(name, what):
+    """The environment variable `name` as a number >= 0, None when unset;
+    exits naming the variable and `what` it must be otherwise."""
+    text = os.environ.get(name, "").strip()
+    if not text:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not (value >= 0 and math.isfinite(value)):
+        sys.exit(f"setupCase.py: {name}={text!r}: give {what}")
+    return value
+
+
 def slope_friction():
     """SLOPE_FRICTION=<mu> (environment): the Coulomb coefficient of the
     grains on the left shore, the slide's bed (grainProperties wallFriction;
     default: the rock's 0.93).  A sensitivity of issue 58: 0 lets the slide
-    reach the shore near its frictionless speed, as Fritz et al.'s pneumatic
-    generator launched theirs.  None when unset."""
-    text = os.environ.get("SLOPE_FRICTION", "").strip()
-    if not text:
-        return None
-    try:
-        mu = float(text)
-    except ValueError:
-        mu = -1.0
-    if not (mu >= 0 and math.isfinite(mu)):
-        sys.exit(f"setupCase.py: SLOPE_FRICTION={text!r}: give a Coulomb coefficient >= 0 (e.g. 0)")
-    return mu
+    reach the shore near its frictionless speed.  None when unset."""
+    return env_nonnegative("SLOPE_FRICTION", "a Coulomb coefficient >= 0 (e.g. 0)")
+
+
+def slide_speed():
+    """SLIDE_SPEED=<v> (environment) [m/s]: every grain of the slide starts
+    moving down the left slope at v (grainDepositDict initialVelocity), as
+    Fritz et al.'s pneumatic generator launched theirs (110 m/s mean speed
+    at impact); issue 58's sensitivity.  None when unset."""
+    return env_nonnegative("SLIDE_SPEED", "a speed >= 0 in m/s (e.g. 110)")
 
 
 def main():
@@ -225,6 +238,7 @@ def main():
     if mode not in MODES:
         sys.exit(f"setupCase.py: mode must be one of {sorted(MODES)}")
     m = MODES[mode]
+    slope_mu, v0 = slope_friction(), slide_speed()  # checked before anything is written
     rng = np.random.default_rng(1958)
     if m.get("packing") == "rain":
         packing = case.rstrip("/") + "_packing"
@@ -253,11 +267,16 @@ def main():
         "@GRAINS@": grains,
     }
     nscdpost.instantiate_case(os.path.join(here, "base"), case, subs)
-    slope_mu = slope_friction()
     if slope_mu is not None:
         with open(os.path.join(case, "constant", "grainProperties"), "a") as fh:
             fh.write(
                 f"wallFriction {{ leftShore {slope_mu:g}; }}   // SLOPE_FRICTION: the slide's bed\n"
+            )
+    if v0 is not None:
+        down = v0 / math.sqrt(2)  # down the 45 deg left slope: (1, -1)/sqrt(2)
+        with open(os.path.join(case, "system", "grainDepositDict"), "a") as fh:
+            fh.write(
+                f"initialVelocity ({down:.10g} {-down:.10g} 0);   // SLIDE_SPEED: the launch\n"
             )
     mass = RHO_S * math.pi / 4 * float(np.sum(d**2)) * DZ
     zc = float(np.sum(d**2 * x[:, 1]) / np.sum(d**2))
@@ -282,6 +301,7 @@ def main():
         "h_coarse": m["hCoarse"],
         "y_top": m["ytop"],
         "slope_friction": 0.93 if slope_mu is None else slope_mu,
+        "slide_launch_speed": 0.0 if v0 is None else v0,
     }
     with open(os.path.join(case, "caseParameters.json"), "w") as fh:
         json.dump(params, fh, indent=2)
