@@ -200,20 +200,25 @@ def test_thesis_packing(tmp_path, env):
     assert worst > 0, worst
 
 
+def set_up_reduced(case, env, slide_speed):
+    """setupCase.py CASE reduced with SLIDE_SPEED=slide_speed; the run."""
+    script = os.path.join(os.path.dirname(setup.__file__), "setupCase.py")
+    return subprocess.run(
+        [sys.executable, script, case, "reduced"],
+        env=env | {"SLIDE_SPEED": slide_speed},
+        capture_output=True,
+        text=True,
+    )
+
+
 def test_launched_slide_moves_down_the_slope(tmp_path, env):
     """SLIDE_SPEED=110 (Fritz et al.'s mean impact speed): setupCase.py
     writes grainDepositDict `initialVelocity` of magnitude 110 m/s along the
     left shore (orthogonal to its normal (1, 1)/sqrt 2, pointing down) and
     records the launch speed; a bad value stops it before anything is
     written."""
-    script = os.path.join(os.path.dirname(setup.__file__), "setupCase.py")
     case = str(tmp_path / "reduced")
-    p = subprocess.run(
-        [sys.executable, script, case, "reduced"],
-        env=env | {"SLIDE_SPEED": "110"},
-        capture_output=True,
-        text=True,
-    )
+    p = set_up_reduced(case, env, "110")
     assert p.returncode == 0, p.stderr
     text = open(os.path.join(case, "system", "grainDepositDict")).read()
     v = np.array(
@@ -223,10 +228,5 @@ def test_launched_slide_moves_down_the_slope(tmp_path, env):
     assert abs(v[0] + v[1]) / SQ2 < 1e-6 and v[1] < 0
     assert json.load(open(os.path.join(case, "caseParameters.json")))["slide_launch_speed"] == 110
     bad = str(tmp_path / "bad")
-    p = subprocess.run(
-        [sys.executable, script, bad, "reduced"],
-        env=env | {"SLIDE_SPEED": "-5"},
-        capture_output=True,
-        text=True,
-    )
+    p = set_up_reduced(bad, env, "-5")
     assert p.returncode != 0 and "SLIDE_SPEED" in p.stderr and not os.path.exists(bad)
