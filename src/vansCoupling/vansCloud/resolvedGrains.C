@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "resolvedGrains.H"
+#include "syncTools.H"
 #include "fvc.H"
 #include "fvMatrices.H"
 #include "zeroGradientFvPatchFields.H"
@@ -147,7 +148,9 @@ Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::simplecRAU
     }
     // and one layer of cells around them (the rim faces see rAtU on both
     // sides: with the bare overlap the added mass of a released disc fell
-    // to 0.83 of C_A = 1, measured)
+    // to 0.83 of C_A = 1, measured), across processor faces too (the
+    // neighbour rank's cells, syncTools), so that a decomposed run marks
+    // the serial run's cells
     {
         const scalarField core(inside);
         const labelUList& own = mesh_.owner();
@@ -160,6 +163,16 @@ Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::simplecRAU
                 inside[nei[facei]] = 1;
             }
         }
+        scalarField nbrCore;
+        syncTools::swapBoundaryCellList(mesh_, core, nbrCore);
+        const label start = mesh_.nInternalFaces();
+        forAll(nbrCore, bFacei)
+        {
+            if (nbrCore[bFacei] > 0)
+            {
+                inside[own[start + bFacei]] = 1;
+            }
+        }
     }
     forAll(inside, celli)
     {
@@ -168,9 +181,15 @@ Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::simplecRAU
             rAtU.primitiveFieldRef()[celli] = rAU[celli];
         }
     }
+    // boundary values: a wall face takes the coefficient of its cell; a
+    // coupled (processor, cyclic) face the neighbour cell's, by evaluation
     forAll(rAtU.boundaryField(), patchi)
     {
         fvPatchScalarField& pf = rAtU.boundaryFieldRef()[patchi];
+        if (pf.coupled())
+        {
+            continue;
+        }
         const labelUList& fc = pf.patch().faceCells();
         forAll(pf, facei)
         {
@@ -180,6 +199,7 @@ Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::simplecRAU
             }
         }
     }
+    rAtU.correctBoundaryConditions();
     return trAtU;
 }
 
