@@ -25,7 +25,9 @@ References (exact results of the constructions):
   the atmosphere leaves F t by time t; a run stopped by a signal at t_r and
   restarted there has no flux row for its last step: the outflow at the
   water-volume steps stays F t (exact for a constant flux), one step late at
-  the stopped step (counted with the next row, over both steps' dt).
+  the stopped step (counted with the next row, over both steps' dt); a run
+  stopped at its end has no next row: that last step's outflow is unknown
+  and the water balance leaves it out (`outflow_known`).
 - Thesis-grains slide (setupCase.py --packing, grainDeposit method rain,
   packed_block): geometry only, no run: the rock area is the stated mass
   98.5e6 kg / 2640 kg/m^3 to round-off, the mean radius 1.35 m within the
@@ -168,6 +170,10 @@ def test_atmosphere_outflow_across_a_signal_restart(tmp_path):
     expected = flux * t
     expected[9] = flux * 0.9  # the stopped step's outflow counted with the next row
     np.testing.assert_allclose(out, expected, rtol=1e-12)
+    # a run stopped by a signal at its end (2.1 s written, no flux row):
+    # that step's outflow is unknown, every earlier one known
+    known = post.outflow_known(str(tmp_path), np.append(t, 2.1))
+    assert known[:-1].all() and not known[-1]
 
 
 def test_thesis_packing(tmp_path, env):
