@@ -181,8 +181,9 @@ Foam::tmp<Foam::volScalarField> Foam::resolvedGrains::simplecRAU
             rAtU.primitiveFieldRef()[celli] = rAU[celli];
         }
     }
-    // boundary values: a wall face takes the coefficient of its cell; a
-    // coupled (processor, cyclic) face the neighbour cell's, by evaluation
+    // boundary values: a non-coupled face keeps rAtU where its cell is
+    // marked and takes rAU elsewhere; a coupled (processor, cyclic) face
+    // takes its neighbour cell's value, by evaluation
     forAll(rAtU.boundaryField(), patchi)
     {
         fvPatchScalarField& pf = rAtU.boundaryFieldRef()[patchi];
