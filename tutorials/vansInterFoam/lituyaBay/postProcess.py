@@ -152,9 +152,10 @@ def histories(case, p):
         m = p["grain_density"] * math.pi / 4 * g["d"] ** 2 * p["thickness"]
         if g0 is None:
             g0 = g
+            # the slide's kinetic energy at t = 0 (a launched slide, SLIDE_SPEED)
+            ke0 = 0.5 * float(np.sum(m * np.sum(g0["U"] ** 2, axis=1)))
         # the energy the slide has given up by t: its potential-energy drop
-        # plus its kinetic energy at t = 0 (a launched slide, SLIDE_SPEED)
-        ke0 = 0.5 * float(np.sum(m * np.sum(g0["U"] ** 2, axis=1)))
+        # plus its kinetic energy at t = 0
         out["dE"].append(float(G * np.sum(m * (g0["x"][:, 1] - g["x"][:, 1]))) + ke0)
         k = max(1, len(g["d"]) // 10)
         lead = np.argsort(g["x"][:, 1])[:k]
