@@ -86,13 +86,21 @@ def analyse(case):
     """Shedding frequency of the lift on the fixed disc: dict for shedding.json."""
     t, F = [], []
     for time, name in nscdpost.time_dirs(case):
-        if time <= 0:
-            continue
-        t.append(time)
-        F.append(
-            nscdpost.read_vector_field(os.path.join(case, name, "lagrangian", "grains", "Ffluid"))[
-                0
-            ]
+        path = os.path.join(case, name, "lagrangian", "grains", "Ffluid")
+        if time > 0 and os.path.isfile(path):
+            t.append(time)
+            F.append(nscdpost.read_vector_field(path)[0])
+    if len(t) < 8:
+        decomposed = os.path.isdir(os.path.join(case, "processor0"))
+        sys.exit(
+            f"fixedShedding.py post: {len(t)} write times of {case} hold the grains' "
+            "lagrangian/grains/Ffluid (at least 8 needed)"
+            + (
+                "; a decomposed run writes them in processor*/: run "
+                f"`reconstructPar -case {case} -fields '(none)'` first"
+                if decomposed
+                else "; run the case (vansFoam) past its first write times"
+            )
         )
     t, F = np.array(t), np.array(F)
     U, D, nu = setupCase.UT_REF, setupCase.D, setupCase.NU
@@ -153,6 +161,13 @@ def main():
         )
         fo.write("\n")
     st, sr = res["fixed_cylinder_strouhal_number"], res["strouhal_reference_williamson1996"]
+    if sh["periods"] == 0:
+        print(
+            f"fixed cylinder: no developed shedding by t = {t[-1]:g} s (fewer than two full lift "
+            f"periods past the onset; lift amplitude {res['fixed_cylinder_lift_coefficient_amplitude']:.3g} "
+            "C_L): run longer (fixedShedding.py setup ... ENDTIME); a finer mesh seeds the "
+            "instability less and sheds later"
+        )
     print(
         f"fixed cylinder Re = {res['fixed_cylinder_reynolds_number']:.1f}: shedding "
         f"{res['fixed_cylinder_shedding_frequency']:.4f} Hz over {sh['periods']:.1f} periods "
