@@ -27,13 +27,27 @@ usage: dktFilmForce.py CASEDIR [JSON]
 """
 
 import json
+import os
 import sys
 
 import nscdpost
 import numpy as np
 
-D = 0.002  # [m] the tutorial's discs (setupCase.py)
-RHO_F, RHO_P, MU, G = 1000.0, 1010.0, 1e-3, 9.81  # [kg/m^3], [Pa s], [m/s^2]
+_setup = nscdpost.load_module(
+    "draftingKissingTumbling_setupCase",
+    os.path.join(
+        os.path.dirname(os.path.abspath(__file__)),
+        "..",
+        "..",
+        "..",
+        "tutorials",
+        "vansFoam",
+        "draftingKissingTumbling",
+        "setupCase.py",
+    ),
+)
+D, RHO_F, RHO_P = _setup.D, _setup.RHO_F, _setup.RHO_P  # [m], [kg/m^3] (the tutorial's)
+MU, G = _setup.RHO_F * _setup.NU, 9.81  # [Pa s], [m/s^2]
 
 
 def squeeze_film_force(delta, un, a=D / 2, mu=MU):
