@@ -33,8 +33,9 @@ import sys
 import nscdpost
 import numpy as np
 
-_setup = nscdpost.load_module(
-    "draftingKissingTumbling_setupCase",
+# the tutorial's post-processing: its set-up (discs, fluid) and its contact time
+_dkt = nscdpost.load_module(
+    "draftingKissingTumbling_postProcess",
     os.path.join(
         os.path.dirname(os.path.abspath(__file__)),
         "..",
@@ -43,9 +44,10 @@ _setup = nscdpost.load_module(
         "tutorials",
         "vansFoam",
         "draftingKissingTumbling",
-        "setupCase.py",
+        "postProcess.py",
     ),
 )
+_setup = _dkt.setupCase
 D, RHO_F, RHO_P = _setup.D, _setup.RHO_F, _setup.RHO_P  # [m], [kg/m^3] (the tutorial's)
 MU, G = _setup.RHO_F * _setup.NU, 9.81  # [Pa s], [m/s^2]
 
@@ -59,10 +61,10 @@ def squeeze_film_force(delta, un, a=D / 2, mu=MU):
 
 def film_history(case):
     """Rows (t [s], delta/D, U_n [m/s], F_n/W, F_lub/W) at the write times
-    that hold the grains' Ffluid."""
+    that hold the grains' Ffluid, and the discs' centres there [2, nt, 3] m."""
     a = D / 2
     W = (RHO_P - RHO_F) * G * np.pi * a * a
-    rows = []
+    rows, centres = [], []
     for time, name in nscdpost.time_dirs(case):
         g = nscdpost.read_grains(case, name)
         if "Ffluid" not in g or len(g["d"]) != 2:
@@ -75,13 +77,14 @@ def film_history(case):
         fn = 0.5 * float(np.dot(F[0] - F[1], n))
         flub = squeeze_film_force(max(delta, 1e-3 * D), un) if delta > 0 else float("nan")
         rows.append((time, delta / D, un, fn / W, flub / W))
-    return rows
+        centres.append(x)
+    return rows, np.transpose(np.array(centres), (1, 0, 2)) if centres else None
 
 
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
-    rows = film_history(sys.argv[1])
+    rows, x = film_history(sys.argv[1])
     if not rows:
         sys.exit(f"dktFilmForce.py: no write time of {sys.argv[1]} holds the two discs' Ffluid")
     print(" t [s]   gap/D    U_n [mm/s]   F_n/W (coupling)   F_lub/W (squeeze film)")
@@ -89,7 +92,7 @@ def main():
         if g < 0.5:
             print(f"{t:6.3f}  {g:7.4f}  {1e3 * un:9.3f}  {fn:14.3f}  {fl:14.3f}")
     if len(sys.argv) > 2:
-        contact = next((r[0] for r in rows if r[1] < 0.01), None)
+        contact = _dkt.contact_time(np.array([r[0] for r in rows]), x, D)
         near = [r for r in rows if r[1] < 0.5]
         top = max(near, key=lambda r: r[3]) if near else None
         out = {
