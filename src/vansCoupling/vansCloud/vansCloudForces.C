@@ -4,7 +4,8 @@
 
 Description
     The fluid force on each grain from the final U and p (pressure force
-    explicit, drag implicit in the contact solve), extra forces, the NSCD
+    explicit, drag implicit in the contact solve; a resolved grain's drag
+    explicit too), extra forces, the NSCD
     step and the per-grain impulses it leaves for the next fluid prediction
     (contact impulse p^n of eq. 3.46, the drag impulse the fluid owes, the
     held fraction and the inverse mass the fluid's prediction gives a held
@@ -128,6 +129,8 @@ void Foam::vansCloud::applyGrainForces(const UList<vector>& extra)
     const UList<vector> explicitForce(vectors(columns::explicitFluidForce));
     const UList<vector> fluidTorque(vectors(columns::fluidTorque));
     const UList<vector> fluidVelocity(vectors(columns::fluidVelocity));
+    const UList<vector> dragGiven(vectors(columns::fluidDragGiven));
+    const bool anyResolved = resolved_.size() == n;
     for (label i = 0; i < n; ++i)
     {
         vector F = explicitForce[i];
@@ -135,13 +138,26 @@ void Foam::vansCloud::applyGrainForces(const UList<vector>& extra)
         {
             F += extra[i];
         }
+        // A resolved free grain gets the drag the fluid took, W gamma*
+        // (U - v**) (eq. 3.50), as an explicit force, as the thesis does
+        // for every grain (Figure 3.8): its b_p ~ 1 ties it to the fluid
+        // inside it, and an implicit drag towards that fixed U would make
+        // a contact stop the grain against all of it, an impulse W dt
+        // gamma/m times the grain's own, handed to the fluid at the next
+        // step as a kick apart (docs/validation/resolvedGrains.md,
+        // "The contact kick")
+        const bool explicitDrag = anyResolved && resolved_[i] && !s.fixed(i);
+        if (explicitDrag)
+        {
+            F += dragGiven[i]/dt_;
+        }
         const vector T = torque ? fluidTorque[i] : vector(Zero);
         s.setExternalForce(i, foamTools::toVec3(F), foamTools::toVec3(T));
         // drag coefficient W gamma [kg/s] (2D: per unit depth)
         s.setFluidDrag
         (
             i,
-            s.fixed(i) ? 0.0 : W[i]/depth*gamma_[i],
+            (s.fixed(i) || explicitDrag) ? 0.0 : W[i]/depth*gamma_[i],
             foamTools::toVec3(fluidVelocity[i])
         );
     }
@@ -178,7 +194,15 @@ void Foam::vansCloud::updateGrainImpulses(const scalar dt)
             continue;
         }
         const scalar m = s.mass(i);
-        const vector Jd(foamTools::toVector(J[i]));
+        // the drag impulse the grain received: from the contact solve, or
+        // the fluid's own W dt gamma* (U - v**) where it was applied as an
+        // explicit force (resolved grains, applyGrainForces: coefficient 0)
+        const bool explicitDrag =
+            coupled && s.fluidDragCoefficient(i) == 0;
+        const vector Jd
+        (
+            explicitDrag ? dragGiven[i] : foamTools::toVector(J[i])
+        );
         // rotation on: F0 includes the rotational drag part
         const vector F0 = coupled ? explicitForce[i] : vector::zero;
         contactImpulse[i] =
@@ -192,7 +216,12 @@ void Foam::vansCloud::updateGrainImpulses(const scalar dt)
         // held fraction: how much of the free drift P the contacts cancelled
         const vector u = coupled ? fluidVelocity[i] : v0[i];
         const vector P =
-            dt*(m*g + F0 + s.fluidDragCoefficient(i)*(u - v0[i]));
+            dt*(m*g + F0)
+          + (
+                explicitDrag
+              ? Jd
+              : dt*s.fluidDragCoefficient(i)*(u - v0[i])
+            );
         const scalar P2 = magSqr(P);
         held[i] =
             P2 > 0
