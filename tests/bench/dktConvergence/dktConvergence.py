@@ -21,6 +21,12 @@ Times [s], from the discs' centres written every 0.01 s:
     tumbling_side: the side (+x or -x) the upper disc passes the lower one
     on (the initial offset puts the upper disc on the -x side: 10 um, D/200,
     as Glowinski et al. 2001, unless --offset says otherwise).
+The kissing pair's turning, from its lateral offset s = x1 - x2
+(tilt_measures): s/D at the contact, the growth rate of |s| while the
+pair touches [1/s], and tumbling_after_tilt, the tumbling time minus the
+first time |s| >= 0.1 D: a turning that grows from a seed set by the mesh
+tumbles at a time that moves with the seed, while the growth and the time
+from a given tilt are properties of the dynamics.
 Cost: vansFoam's CPU seconds from stepTiming.dat.
 
 usage: dktConvergence.py [--end T] [--workdir DIR] [--offset M] [D/h ...]
@@ -54,12 +60,48 @@ FIXED_GAP = D / 12.5  # h of the thesis mesh [m]
 TIMES = ("kissing_time", "kissing_time_fixed_gap", "contact_time", "tumbling_time")
 
 
+TILT = 0.1 * D  # lateral offset of the kissing pair that starts the tumbling clock [m]
+
+
+def tilt_measures(t, x, contact, tumble):
+    """The kissing pair's turning, from its lateral offset s = x1 - x2 [m]
+    (discs' centres x [2, nt, 3], times t [s]): s/D at the first contact;
+    the growth rate [1/s] of |s| while the pair touches (least-squares
+    slope of ln|s| where 0.02 D <= |s| <= 0.2 D after the contact); the
+    first time after the contact with |s| >= TILT (0.1 D) and the
+    tumbling time minus it [s].  None where a time is None or no such
+    point exists."""
+    s = x[0, :, 0] - x[1, :, 0]
+    out = {
+        "lateral_offset_at_contact_over_D": None,
+        "tilt_growth_rate_per_s": None,
+        "tilt_time": None,
+        "tumbling_after_tilt": None,
+    }
+    if contact is None:
+        return out
+    after = t >= contact - 1e-9
+    out["lateral_offset_at_contact_over_D"] = float(s[after][0] / D)
+    grow = after & (np.abs(s) >= 0.02 * D) & (np.abs(s) <= 0.2 * D)
+    if tumble is not None:
+        grow &= t <= tumble
+    if grow.sum() >= 3:
+        out["tilt_growth_rate_per_s"] = float(np.polyfit(t[grow], np.log(np.abs(s[grow])), 1)[0])
+    tilted = np.flatnonzero(after & (np.abs(s) >= TILT))
+    if tilted.size:
+        out["tilt_time"] = float(t[tilted[0]])
+        if tumble is not None:
+            out["tumbling_after_tilt"] = tumble - out["tilt_time"]
+    return out
+
+
 def measure(case):
     """The times, the gap history and the cost of one case directory."""
     t, x, _ = postProcess.grain_history(case)
     h = postProcess.cell_size(case)
     kiss, tumble, gap = postProcess.dkt_measure(t, x, D, h)
     timing = nscdpost.step_timing(case)
+    contact = postProcess.contact_time(t, x, D)
     return {
         "case": os.path.abspath(case),
         "cells_per_diameter": D / h,
@@ -67,8 +109,9 @@ def measure(case):
         "end_time": float(t[-1]),
         "kissing_time": kiss,
         "kissing_time_fixed_gap": postProcess.contact_time(t, x, D, tol=FIXED_GAP / D),
-        "contact_time": postProcess.contact_time(t, x, D),
+        "contact_time": contact,
         "tumbling_time": tumble,
+        **tilt_measures(t, x, contact, tumble),
         # the side the upper disc (1) passes the lower one on: the sign of
         # x1 - x2 at the tumbling time
         "tumbling_side": (
@@ -85,6 +128,7 @@ def measure(case):
             "gap": gap.tolist(),
             "y1": x[0, :, 1].tolist(),
             "y2": x[1, :, 1].tolist(),
+            "x1_minus_x2": (x[0, :, 0] - x[1, :, 0]).tolist(),
         },
     }
 
@@ -124,13 +168,16 @@ def post(cases, offset, note=None):
         a, b = levels[-2], levels[-1]
         out["change_between_two_finest"] = {
             k: (abs(b[k] - a[k]) / b[k] if a[k] is not None and b[k] is not None else None)
-            for k in TIMES
+            for k in TIMES + ("tilt_growth_rate_per_s", "tumbling_after_tilt")
         }
     nscdpost.write_json(os.path.join(RESULTS, name + ".json"), out)
     for L in levels:
         print(
             f"D/h {L['cells_per_diameter']:5.3g}: "
             + ", ".join(f"{k} {L[k]}" for k in TIMES)
+            + f", x1-x2 at contact {L['lateral_offset_at_contact_over_D']} D"
+            + f", tilt growth {L['tilt_growth_rate_per_s']} 1/s"
+            + f", tumbling {L['tumbling_after_tilt']} s after |x1-x2| = 0.1 D"
             + f", CPU {L['vansFoam_cpu_seconds']:.0f} s"
         )
     if "change_between_two_finest" in out:
@@ -140,16 +187,24 @@ def post(cases, offset, note=None):
     png = os.path.join(HERE, name + ".png")
     plt = nscdrender.pyplot(png)
     if plt is not None:
-        fig, ax = plt.subplots(1, 2, figsize=(9, 3.8))
+        fig, ax = plt.subplots(1, 3, figsize=(13, 3.8))
         for k, L in enumerate(levels):
             s = L["series"]
             lab = f"D/h = {L['cells_per_diameter']:.3g}"
             ax[0].semilogy(s["time"], np.maximum(np.array(s["gap"]) / D, 1e-6), f"C{k}", label=lab)
             ax[1].plot(s["time"], 100 * np.array(s["y1"]), f"C{k}", label=f"disc 1, {lab}")
             ax[1].plot(s["time"], 100 * np.array(s["y2"]), f"C{k}", ls="--", label=f"disc 2, {lab}")
+            ax[2].semilogy(
+                s["time"],
+                np.maximum(np.abs(np.array(s["x1_minus_x2"])) / D, 1e-5),
+                f"C{k}",
+                label=lab,
+            )
         ax[0].axhline(FIXED_GAP / D, color="k", lw=0.7, ls=":", label="gap D/12.5")
         ax[0].set_ylabel("gap / D")
         ax[1].set_ylabel("y [cm]")
+        ax[2].axhline(TILT / D, color="k", lw=0.7, ls=":", label="0.1 D (tilt clock)")
+        ax[2].set_ylabel("|x1 - x2| / D (pair's lateral offset)")
         for a in ax:
             a.set_xlabel("t [s]")
             a.grid(alpha=0.3)
