@@ -36,9 +36,8 @@ def landing_disc(case, env, cells_per_d=16, rho_p=2000.0, nu=1e-5, rotation=Fals
     at ~0.1 s).  Returns a dict: fall_speed, the largest fall speed [m/s];
     arrival_speed, the fall speed at the write before the first one with a
     gap below 1e-4 D [m/s]; their Stokes numbers; and from that first
-    write on, up_speed,
-    the largest velocity away from the floor [m/s], and gap_after, the
-    largest gap [m]."""
+    write on, up_speed, the largest velocity away from the floor [m/s],
+    and gap_after, the largest gap [m]."""
     width, height, h = 5 * D, 4 * D, D / cells_per_d
     setupCase.write_case(
         case,
@@ -64,6 +63,7 @@ def landing_disc(case, env, cells_per_d=16, rho_p=2000.0, nu=1e-5, rotation=Fals
     touching = np.flatnonzero(gap < 1e-4 * D)
     assert touching.size, f"the disc never reached the floor (smallest gap {gap.min():.3e} m)"
     k = touching[0]
+    assert k > 0, "the disc starts on the floor: no arrival speed"
     mu = nu * 1000.0
     r = {
         "fall_speed": -vy[: k + 1].min(),
@@ -81,18 +81,18 @@ def landing_disc(case, env, cells_per_d=16, rho_p=2000.0, nu=1e-5, rotation=Fals
 @pytest.mark.parametrize("rotation", [False, True], ids=["rotationOff", "rotationOn"])
 def test_resolved_disc_lands_without_rebound(tmp_path, env, rotation):
     """A resolved disc (D/h 16, rho_p/rho_f 2, nu 1e-5 m^2/s) falls at up to
-        ~6.7-6.9 cm/s (Stokes number ~3) and reaches the floor at ~1 mm/s (rotation
-    off; 44 mm/s at the write before its first contact with rotation on), all
-        below the rebound threshold St ~ 10 (Joseph et al. 2001; Gondret et
-        al. 2002): after the first contact it must not move up faster than 5 %
-        of its arrival speed nor leave the floor by more than 1e-3 D, with the
-        rotation coupling off (the thesis) and on (the resolved tutorials'
-        default).  Measured 2026-11-29: up 0, gap 0 in both.  With the former
-        implicit drag in the contact solve: rotation off, the disc left the
-        floor at 30 mm/s (33 times its arrival speed) to a gap of 0.015 D and
-        bounced three more times by 0.14 s; rotation on, the contact engaged
-        at a gap of 0.015 D while the disc fell at 44 mm/s and sent it up at
-        2.9 m/s, to 2.5 D above the floor.  ~12 s each."""
+    6.7-6.9 cm/s (Stokes number ~3) and reaches the floor at ~1 mm/s
+    (rotation off; 44 mm/s at the write before its first contact with
+    rotation on), all below the rebound threshold St ~ 10 (Joseph et al.
+    2001; Gondret et al. 2002): after the first contact it must not move up
+    faster than 5 % of its arrival speed nor leave the floor by more than
+    1e-3 D, with the rotation coupling off (the thesis) and on (the resolved
+    tutorials' default).  Measured 2026-11-29: up 0, gap 0 in both.  With
+    the former implicit drag in the contact solve: rotation off, the disc
+    left the floor at 30 mm/s (33 times its arrival speed) to a gap of
+    0.015 D and bounced three more times by 0.14 s; rotation on, the
+    contact engaged at a gap of 0.015 D while the disc fell at 44 mm/s and
+    sent it up at 2.9 m/s, to 2.5 D above the floor.  ~12 s each."""
     r = landing_disc(str(tmp_path / "land"), env, rotation=rotation)
     print(", ".join(f"{k} {v:.4g}" for k, v in r.items()))
     assert r["fall_stokes"] < 10, r
