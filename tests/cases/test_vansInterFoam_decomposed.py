@@ -29,16 +29,24 @@ References, independent of the decomposition:
     turns any round-off difference into a different grain arrangement
     (serial runs at contact tolerances 0.8 and 1.2 x 1e-5 differ from the
     1e-5 run by up to 16 d for single grains at 0.25 s), so the decomposed
-    runs are checked against that serial scatter, grain by grain by id (the
-    root mean square of the grains' distances from their serial positions at
-    every write), at the wave gauges and for the granular front, each
-    within 1.5 times the largest deviation of a perturbed serial run;
+    runs are checked against that serial scatter: an ensemble of seven
+    serial runs (contact tolerance 0.7 to 1.3 x 1e-5), grain by grain by id
+    (the root mean square of the grains' distances at every write), at the
+    wave gauges and for the granular front; each decomposed run's deviation
+    from the 1e-5 run must lie within 1.5 times the largest difference
+    between two members of the ensemble (21 pairs).  The deviation is one
+    draw of that pair difference, whose tail is heavy: the largest gauge
+    difference of the 0.8 and 1.2 runs from the 1e-5 run fell from 4.7e-3
+    to 1.1e-3 m when a change of summation order changed the runs'
+    round-off (2026-11-29; the np 2 run's stayed 3.2-3.4e-3 m), and the 21
+    pairs then spread from 2.9e-4 to 3.4e-3 m, all growing after 0.1 s;
   - the water volume sum(eps alpha V): conserved to round-off (closed
     domain, explicit MULES) on every rank count, and equal to the serial
     run's;
   - no grain lost or duplicated: every id once at every write.
 """
 
+import itertools
 import os
 import re
 import shutil
@@ -161,17 +169,18 @@ def test_granular_collapse_matches_serial_scatter(tmp_path, env):
         run(app, base, env)
     n_grains = params["n_grains"]
     cases = {}
-    for name in ("tol0.8", "tol1.2", 2, 4):
+    perturbed = [f"tol{f}" for f in (0.7, 0.8, 0.9, 1.1, 1.2, 1.3)]
+    for name in perturbed + [2, 4]:
         cases[name] = str(tmp_path / str(name))
         shutil.copytree(base, cases[name])
-    set_contact_tolerance(cases["tol0.8"], 8e-6)
-    set_contact_tolerance(cases["tol1.2"], 1.2e-5)
-    for name in ("tol0.8", "tol1.2"):
+    for name in perturbed:
+        set_contact_tolerance(cases[name], float(name[3:]) * 1e-5)
         run("vansInterFoam", cases[name], env)
     run("vansInterFoam", base, env)
     times = [name for _, name in nscdpost.numeric_dirs(base)][1:]
     assert len(times) == 10
-    scatter = [_measures(base, cases[k], n_grains, times) for k in ("tol0.8", "tol1.2")]
+    ensemble = [base] + [cases[k] for k in perturbed]
+    scatter = [_measures(a, b, n_grains, times) for a, b in itertools.combinations(ensemble, 2)]
     rms_band = np.max([s[0] for s in scatter], axis=0)
     eta_band = max(s[1] for s in scatter)
     front_band = max(s[2] for s in scatter)
