@@ -35,6 +35,7 @@ const Foam::word Foam::vansCloudColumns::fluidTorque("vansFluidTorque");
 const Foam::word Foam::vansCloudColumns::grainReynolds("vansGrainReynolds");
 const Foam::word
     Foam::vansCloudColumns::stepStartVelocity("vansStepStartVelocity");
+const Foam::word Foam::vansCloudColumns::explicitDrag("vansExplicitDrag");
 
 
 // * * * * * * * * * * * * * Private Member Functions  * * * * * * * * * * * //
@@ -62,6 +63,7 @@ void Foam::vansCloud::declareGrainColumns(nscd::System& s)
     add<vector>(s, columns::fluidTorque, 0u, Zero);
     add<scalar>(s, columns::grainReynolds, carried, 0);
     add<vector>(s, columns::stepStartVelocity, carried, Zero);
+    add<label>(s, columns::explicitDrag, carried, 0);
 }
 
 
@@ -130,6 +132,7 @@ void Foam::vansCloud::applyGrainForces(const UList<vector>& extra)
     const UList<vector> fluidTorque(vectors(columns::fluidTorque));
     const UList<vector> fluidVelocity(vectors(columns::fluidVelocity));
     const UList<vector> dragGiven(vectors(columns::fluidDragGiven));
+    UList<label> explicitDrag(grains_.column<label>(columns::explicitDrag));
     const bool anyResolved = resolved_.size() == n;
     for (label i = 0; i < n; ++i)
     {
@@ -146,8 +149,8 @@ void Foam::vansCloud::applyGrainForces(const UList<vector>& extra)
         // gamma/m times the grain's own, handed to the fluid at the next
         // step as a kick apart (docs/validation/resolvedGrains.md,
         // "The contact kick")
-        const bool explicitDrag = anyResolved && resolved_[i] && !s.fixed(i);
-        if (explicitDrag)
+        explicitDrag[i] = anyResolved && resolved_[i] && !s.fixed(i);
+        if (explicitDrag[i])
         {
             F += dragGiven[i]/dt_;
         }
@@ -157,7 +160,7 @@ void Foam::vansCloud::applyGrainForces(const UList<vector>& extra)
         s.setFluidDrag
         (
             i,
-            (s.fixed(i) || explicitDrag) ? 0.0 : W[i]/depth*gamma_[i],
+            (s.fixed(i) || explicitDrag[i]) ? 0.0 : W[i]/depth*gamma_[i],
             foamTools::toVec3(fluidVelocity[i])
         );
     }
@@ -179,6 +182,10 @@ void Foam::vansCloud::updateGrainImpulses(const scalar dt)
     const UList<vector> explicitForce(vectors(columns::explicitFluidForce));
     const UList<vector> dragGiven(vectors(columns::fluidDragGiven));
     const UList<vector> fluidVelocity(vectors(columns::fluidVelocity));
+    const UList<label> explicitDrag
+    (
+        grains_.column<label>(columns::explicitDrag)
+    );
     UList<vector> fluidForce(vectors(columns::fluidForce));
     UList<vector> defect(vectors(columns::dragImpulseDefect));
     UList<vector> contactImpulse(vectors(columns::contactImpulse));
@@ -195,13 +202,12 @@ void Foam::vansCloud::updateGrainImpulses(const scalar dt)
         }
         const scalar m = s.mass(i);
         // the drag impulse the grain received: from the contact solve, or
-        // the fluid's own W dt gamma* (U - v**) where it was applied as an
-        // explicit force (resolved grains, applyGrainForces: coefficient 0)
-        const bool explicitDrag =
-            coupled && s.fluidDragCoefficient(i) == 0;
+        // the fluid's own W dt gamma* (U - v**) where applyGrainForces
+        // gave it as an explicit force (a resolved free grain)
+        const bool explicitGiven = coupled && explicitDrag[i];
         const vector Jd
         (
-            explicitDrag ? dragGiven[i] : foamTools::toVector(J[i])
+            explicitGiven ? dragGiven[i] : foamTools::toVector(J[i])
         );
         // rotation on: F0 includes the rotational drag part
         const vector F0 = coupled ? explicitForce[i] : vector::zero;
@@ -218,7 +224,7 @@ void Foam::vansCloud::updateGrainImpulses(const scalar dt)
         const vector P =
             dt*(m*g + F0)
           + (
-                explicitDrag
+                explicitGiven
               ? Jd
               : dt*s.fluidDragCoefficient(i)*(u - v0[i])
             );
