@@ -271,6 +271,10 @@ void Foam::grainCloud::recordStepHealth()
         health_.worstOverlap = ov;
         health_.worstOverlapTime = t;
     }
+    if (report_.relaxationFallbacks > 0)
+    {
+        ++health_.relaxationFallbacks;
+    }
     if (report_.energyLimited > 0)
     {
         ++health_.energyLimited;
@@ -307,6 +311,13 @@ Foam::grainCloud::~grainCloud()
         return;
     }
     logOutletSummary();
+    if (health_.relaxationFallbacks)
+    {
+        Info<< "grainCloud: in " << health_.relaxationFallbacks << " of "
+            << health_.steps << " grain steps the over-relaxed contact solve"
+            << " had not converged after half of maxIterations and went on"
+            << " with relaxation 1" << nl;
+    }
     if (health_.notConverged)
     {
         OSstream& os = WarningInFunction;

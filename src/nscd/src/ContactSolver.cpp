@@ -75,7 +75,9 @@ struct NlgsSolve
 {
     System::Impl& I;
     StepReport& rep;
-    const double dt, omega;
+    const double dt;
+    /// over-relaxation factor: set to 1 once solves reach fallbackSolves
+    double omega;
     const bool twoD = I.dim == 2;
     const bool anitescu = I.settings.frictionLaw == System::Settings::FrictionLaw::Anitescu;
     const double dmin = 2 * I.rMin();
@@ -83,6 +85,9 @@ struct NlgsSolve
     const bool hist = I.settings.residualHistory;
     const double xi = I.settings.tolerance * dmin;
     const long maxSolves = long(I.settings.maxIterations) * long(std::max(NC, 1));
+    /// an over-relaxed solve not converged after half of the cap goes on
+    /// with plain Gauss-Seidel (Settings::relaxation)
+    const long fallbackSolves = maxSolves / 2;
     const double dt2 = dt * dt;
     /// squared threshold of a row's update below which it is converged:
     /// Max test xi^2; RMS test (rmsTolerance V dt)^2, updated every pass
@@ -152,7 +157,11 @@ struct NlgsSolve
     /// impulse is kept, as in Algorithm 2).
     bool solveOne(int k)
     {
-        ++solves;
+        if (++solves > fallbackSolves && omega != 1.0)
+        {
+            omega = 1.0;
+            ++rep.relaxationFallbacks;
+        }
         if (seed && !I.seedSolvedFlag[k])
         {
             I.seedSolvedFlag[k] = 1;

@@ -290,3 +290,38 @@ TEST(Solver, VariantsGiveTheStaticColumn)
     s.settings().relaxation = 2.5;
     EXPECT_THROW(s.step(1e-3), InputError);
 }
+
+// Over-relaxation near 2 cycles on the column's slow mode (successive
+// over-relaxation contracts by |omega - 1| a sweep past its optimum: 0.99
+// at 1.99, ~2,000 sweeps for the 1e-9 d_min tolerance); the safeguard of
+// Settings::relaxation goes on with plain Gauss-Seidel after half of
+// maxIterations, and the step converges to the static solution (floor
+// impulse = weight of the column, 1e-5 relative).
+TEST(Solver, OverRelaxationFallsBackToGaussSeidel)
+{
+    for (const double relax : {1.99, 1.0})
+    {
+        System s(2);
+        const int m = s.addMaterial({2500, 0.4});
+        const double r = 0.005;
+        const int n = 4;
+        for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r * (2 * k + 1), 0), r, m);
+        s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
+        s.setGravity(Vec3(0, -g0, 0));
+        s.settings().tolerance = 1e-9;
+        s.settings().overlapSlop = 0;
+        s.settings().relaxation = relax;
+        s.settings().maxIterations = 400;
+        const StepReport rep = s.step(1e-3);
+        EXPECT_TRUE(rep.converged) << "relaxation " << relax;
+        EXPECT_EQ(rep.relaxationFallbacks, relax == 1.0 ? 0 : 1);
+        if (relax != 1.0) EXPECT_GT(rep.sweeps, 200);
+        double bottom = 0;
+        for (const auto& c : s.contacts())
+            if (c.j < 0) bottom = c.impulse.y();
+        const double w = n * s.mass(0) * g0 * 1e-3;
+        EXPECT_NEAR(bottom, w, 1e-5 * w) << "relaxation " << relax;
+        std::printf("[ relaxation %g ] sweeps %d, fallbacks %d\n", relax, rep.sweeps,
+                    rep.relaxationFallbacks);
+    }
+}
