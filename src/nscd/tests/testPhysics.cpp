@@ -47,6 +47,20 @@ InclineResult incline(int dim, double thetaDeg, double mu, bool lockRotation, do
     const Vec3 vc = v + w.cross(Vec3(0, -r, 0));
     return {v.x(), vc.x(), s.positions()[0].x()};
 }
+
+/// A column of n discs of radius r [m] (density 2500 kg/m^3, friction 0.4)
+/// touching each other and the floor y = 0, under gravity, solver
+/// tolerance 1e-9 d_min.
+System discColumn(int n, double r)
+{
+    System s(2);
+    const int m = s.addMaterial({2500, 0.4});
+    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r * (2 * k + 1), 0), r, m);
+    s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
+    s.setGravity(Vec3(0, -g0, 0));
+    s.settings().tolerance = 1e-9;
+    return s;
+}
 } // namespace
 
 // Reference: sliding block on an incline, a = g (sin t - mu cos t) if
@@ -119,15 +133,10 @@ TEST(Drop, StopsOnPlaneWithoutOverlap)
 // the floor carries the weight (1e-5 relative, solver tolerance 1e-9 d_min).
 TEST(Rest, StackOfDiscsStaysAtRest)
 {
-    System s(2);
-    const int m = s.addMaterial({2500, 0.4});
     const double r = 0.005;
     const int n = 8;
-    for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r * (2 * k + 1), 0), r, m);
-    s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-    s.setGravity(Vec3(0, -g0, 0));
     // xi = 1e-9 d_min: impulse error per contact ~ xi/(W dt^2 g) relative
-    s.settings().tolerance = 1e-9;
+    System s = discColumn(n, r);
     s.checkInitialOverlaps();
     const auto x0 = s.positions();
     for (int k = 0; k < 2000; ++k)
@@ -263,14 +272,9 @@ TEST(Solver, VariantsGiveTheStaticColumn)
                              Variant{System::Settings::Ordering::Symmetric, 1e-4, 1.0},
                              Variant{System::Settings::Ordering::Fifo, 1e-4, 1.3}})
     {
-        System s(2);
-        const int m = s.addMaterial({2500, 0.4});
         const double r = 0.005;
         const int n = 8;
-        for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r * (2 * k + 1), 0), r, m);
-        s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-        s.setGravity(Vec3(0, -g0, 0));
-        s.settings().tolerance = 1e-9;
+        System s = discColumn(n, r);
         s.settings().ordering = v.o;
         s.settings().overlapSlop = v.slop;
         s.settings().relaxation = v.relax;
@@ -301,14 +305,8 @@ TEST(Solver, OverRelaxationFallsBackToGaussSeidel)
 {
     for (const double relax : {1.99, 1.0})
     {
-        System s(2);
-        const int m = s.addMaterial({2500, 0.4});
-        const double r = 0.005;
         const int n = 4;
-        for (int k = 0; k < n; ++k) s.addGrain(Vec3(0, r * (2 * k + 1), 0), r, m);
-        s.addPlane(Vec3(0, 0, 0), Vec3(0, 1, 0));
-        s.setGravity(Vec3(0, -g0, 0));
-        s.settings().tolerance = 1e-9;
+        System s = discColumn(n, 0.005);
         s.settings().overlapSlop = 0;
         s.settings().relaxation = relax;
         s.settings().maxIterations = 400;
