@@ -169,12 +169,13 @@ def test_granular_collapse_matches_serial_scatter(tmp_path, env):
         run(app, base, env)
     n_grains = params["n_grains"]
     cases = {}
-    perturbed = [f"tol{f}" for f in (0.7, 0.8, 0.9, 1.1, 1.2, 1.3)]
-    for name in perturbed + [2, 4]:
+    # the perturbed serial runs: name -> contact tolerance
+    perturbed = {f"tol{f}": f * 1e-5 for f in (0.7, 0.8, 0.9, 1.1, 1.2, 1.3)}
+    for name in [*perturbed, 2, 4]:
         cases[name] = str(tmp_path / str(name))
         shutil.copytree(base, cases[name])
-    for name in perturbed:
-        set_contact_tolerance(cases[name], float(name[3:]) * 1e-5)
+    for name, tol in perturbed.items():
+        set_contact_tolerance(cases[name], tol)
         run("vansInterFoam", cases[name], env)
     run("vansInterFoam", base, env)
     times = [name for _, name in nscdpost.numeric_dirs(base)][1:]
