@@ -91,6 +91,51 @@ namespace
         }
         return false;
     }
+
+    //- notDecomposable with the contactSolver settings of dict that the
+    //  decomposed solve does not follow (nscd::Subdomain: plain Gauss-Seidel
+    //  sweeps, relaxation 1, stopping on the max test, alternating with the
+    //  averaging of the interface grains' copies) appended; unknown method
+    //  or convergence words are left to applySolverSettings' check
+    Foam::string withSolverReasons
+    (
+        const Foam::dictionary& dict,
+        const Foam::string& notDecomposable
+    )
+    {
+        using namespace Foam;
+        const dictionary& cs = dict.subOrEmptyDict("contactSolver");
+        const word method(cs.getOrDefault<word>("method", "NLGS"));
+        const scalar relaxation(cs.getOrDefault<scalar>("relaxation", 1));
+        const word convergence(cs.getOrDefault<word>("convergence", "max"));
+        OStringStream os;
+        if
+        (
+            method == "overRelaxedNLGS" || method == "APGD"
+         || method == "NNCG" || method == "newton"
+        )
+        {
+            os << " method " << method;
+        }
+        if (relaxation != 1)
+        {
+            os << " relaxation " << relaxation;
+        }
+        if (convergence == "rms")
+        {
+            os << " convergence rms";
+        }
+        if (os.str().empty())
+        {
+            return notDecomposable;
+        }
+        return
+            notDecomposable + (notDecomposable.empty() ? "" : "; ")
+          + "contactSolver" + os.str().c_str()
+          + " (the decomposed contact solve is method NLGS, relaxation 1,"
+            " convergence max: its sweeps alternate with the averaging of"
+            " the interface grains)";
+    }
 }
 
 
@@ -102,7 +147,7 @@ bool Foam::grainCloud::partStart(const string& notDecomposable) const
     // known before the state is read
     return
         Pstream::parRun()
-     && notDecomposable.empty()
+     && withSolverReasons(dict_, notDecomposable).empty()
      && dict_.getOrDefault<word>("grainDecomposition", "decomposed")
         == "decomposed";
 }
@@ -176,7 +221,10 @@ void Foam::grainCloud::selectDecomposition(const string& notDecomposable)
     }
     if
     (
-        replicatedBecause(dict_, mode, notDecomposable, partRead)
+        replicatedBecause
+        (
+            dict_, mode, withSolverReasons(dict_, notDecomposable), partRead
+        )
     )
     {
         return;

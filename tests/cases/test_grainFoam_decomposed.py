@@ -306,3 +306,40 @@ def test_grain_leaving_the_mesh_stops_a_decomposed_run(tmp_path, env):
     assert p.returncode != 0
     assert "grains decomposed over 2 ranks" in out
     assert "Grain 0 (grainId 0) left the mesh" in out and "open patch bottom" in out, out[-3000:]
+
+
+@pytest.mark.mpi
+def test_solver_settings_the_decomposed_solve_does_not_follow(tmp_path, env):
+    """The decomposed contact solve is plain NLGS (its sweeps alternate with
+    the averaging of the interface grains): a parallel run with
+    contactSolver relaxation 1.5 keeps every grain on every rank and says
+    why in the log (the over-relaxed serial solver then runs on each rank),
+    and with grainDecomposition decomposed asked for explicitly it stops
+    with a FatalIOError naming the keyword, instead of quietly solving
+    with relaxation 1."""
+    from faultcase import box
+    from foamcase import fails_with
+
+    grains = [(0.02 + 0.012 * k, 0.01, 0, 0.01) for k in range(6)]
+    for name, extra in (("implicit", ""), ("explicit", "grainDecomposition decomposed;\n")):
+        case = box(tmp_path, name, grains, end=0.01, write_interval=0.01)
+        path = os.path.join(case, "constant", "grainProperties")
+        text = open(path).read()
+        text, n = re.subn(r"(contactSolver\s*\{[^}]*?)\}", r"\g<1> relaxation 1.5; }", text)
+        assert n == 1
+        open(path, "w").write(text + extra)
+        run("blockMesh", case, env)
+        run("grainDeposit", case, env)
+        p = run_parallel("grainFoam", case, env, n=2, check=not extra)
+        if extra:
+            fails_with(
+                p,
+                "grainDecomposition decomposed: not available with contactSolver relaxation 1.5",
+                "use grainDecomposition replicated",
+                banner="FOAM FATAL IO ERROR",
+            )
+        else:
+            assert (
+                "every rank holds every grain (grainDecomposition replicated: "
+                "contactSolver relaxation 1.5 (the decomposed contact solve is method NLGS"
+            ) in p.stdout

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace nscd;
@@ -398,6 +399,33 @@ TEST(Decomposed, BadInputIsRefused)
                 EXPECT_NE(what.find("tolerance > 0"), std::string::npos) << what;
             else
                 EXPECT_NE(what.find("another subdomain refused"), std::string::npos) << what;
+        }
+    }
+    // settings the interface-averaged solve does not follow (it is plain
+    // Gauss-Seidel), set on every rank: refused, not silently replaced
+    for (const auto& set :
+         std::vector<std::pair<const char*, void (*)(System::Settings&)>>{
+             {"method APGD", [](System::Settings& s) { s.method = System::Settings::Method::APGD; }},
+             {"method NNCG", [](System::Settings& s) { s.method = System::Settings::Method::NNCG; }},
+             {"method OverRelaxedNLGS",
+              [](System::Settings& s) { s.method = System::Settings::Method::OverRelaxedNLGS; }},
+             {"relaxation 1.5", [](System::Settings& s) { s.relaxation = 1.5; }}})
+    {
+        DecomposedSystem D(2, MPI_COMM_WORLD, slabs(0, 0, 10e-3), 3e-3);
+        const int m = D.system().addMaterial({2500, 0.3});
+        for (int k = 0; k < 8; ++k) D.addGrain(k, Vec3((k + 0.5) * 1.25e-3, 1e-3, 0), 0.5e-3, m);
+        D.exchange();
+        set.second(D.system().settings());
+        try
+        {
+            D.step(1e-4);
+            ADD_FAILURE() << "no error for " << set.first;
+        }
+        catch (const InputError& e)
+        {
+            const std::string what = e.what();
+            EXPECT_NE(what.find("use NLGS with relaxation 1"), std::string::npos)
+                << set.first << ": " << what;
         }
     }
     DecomposedSystem D(
