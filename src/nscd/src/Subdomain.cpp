@@ -111,12 +111,16 @@ bool checkStep(System::Impl& I, SubdomainCoupling& coupling, double dt, const st
             throw InputError("nscd::Subdomain::step: the Newton contact solver is not available with "
                              "decomposed grains (the interface averaging is a Gauss-Seidel's); use NLGS");
         if (I.settings.method != System::Settings::Method::NLGS || I.settings.relaxation != 1.0)
+        {
+            static const char* const methods[] = {"NLGS", "OverRelaxedNLGS", "APGD", "NNCG", "Newton"};
+            const int m = int(I.settings.method);
             throw InputError(
                 "nscd::Subdomain::step: decomposed grains are solved by plain NLGS (method NLGS, "
                 "relaxation 1: its sweeps alternate with the averaging of the interface grains), "
                 "got method "
-                + std::to_string(int(I.settings.method)) + " (Settings::Method), relaxation "
+                + std::string(m >= 0 && m < 5 ? methods[m] : "?") + ", relaxation "
                 + std::to_string(I.settings.relaxation) + "; use NLGS with relaxation 1");
+        }
         if (I.settings.convergence != System::Settings::Convergence::Max)
             throw InputError("nscd::Subdomain::step: the RMS convergence test is not available with "
                              "decomposed grains (its interface averaging stops on the Max test); use Max");

@@ -426,6 +426,8 @@ TEST(Decomposed, BadInputIsRefused)
             const std::string what = e.what();
             EXPECT_NE(what.find("use NLGS with relaxation 1"), std::string::npos)
                 << set.first << ": " << what;
+            if (std::string(set.first).rfind("method", 0) == 0)
+                EXPECT_NE(what.find(std::string("got ") + set.first), std::string::npos) << what;
         }
     }
     DecomposedSystem D(
