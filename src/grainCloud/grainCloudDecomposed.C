@@ -95,8 +95,9 @@ namespace
     //- notDecomposable with the contactSolver settings of dict that the
     //  decomposed solve does not follow (nscd::Subdomain: plain Gauss-Seidel
     //  sweeps, relaxation 1, stopping on the max test, alternating with the
-    //  averaging of the interface grains' copies) appended; unknown method
-    //  or convergence words are left to applySolverSettings' check
+    //  averaging of the interface grains' copies) appended; an unknown
+    //  method or convergence word stops the run in applySolverSettings,
+    //  before selectDecomposition
     Foam::string withSolverReasons
     (
         const Foam::dictionary& dict,
@@ -109,11 +110,7 @@ namespace
         const scalar relaxation(cs.getOrDefault<scalar>("relaxation", 1));
         const word convergence(cs.getOrDefault<word>("convergence", "max"));
         OStringStream os;
-        if
-        (
-            method == "overRelaxedNLGS" || method == "APGD"
-         || method == "NNCG" || method == "newton"
-        )
+        if (method != "NLGS")
         {
             os << " method " << method;
         }
@@ -121,9 +118,9 @@ namespace
         {
             os << " relaxation " << relaxation;
         }
-        if (convergence == "rms")
+        if (convergence != "max")
         {
-            os << " convergence rms";
+            os << " convergence " << convergence;
         }
         if (os.str().empty())
         {

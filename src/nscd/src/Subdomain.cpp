@@ -107,9 +107,6 @@ bool checkStep(System::Impl& I, SubdomainCoupling& coupling, double dt, const st
         for (const System::Droplet& d : I.droplets) checkDroplet(d, "nscd::Subdomain::step");
         System::Impl::checkSettings(I.settings, "nscd::Subdomain::step");
         I.checkComplianceMethod("nscd::Subdomain::step");
-        if (I.settings.method == System::Settings::Method::Newton)
-            throw InputError("nscd::Subdomain::step: the Newton contact solver is not available with "
-                             "decomposed grains (the interface averaging is a Gauss-Seidel's); use NLGS");
         if (I.settings.method != System::Settings::Method::NLGS || I.settings.relaxation != 1.0)
         {
             static const char* const methods[] = {"NLGS", "OverRelaxedNLGS", "APGD", "NNCG", "Newton"};
