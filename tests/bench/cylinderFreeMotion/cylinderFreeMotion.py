@@ -157,34 +157,50 @@ def history(variant, case):
     return t, drag / (0.5 * RHO_F * speed**2 * D), speed, lateral
 
 
+#: the references of both benchmarks' JSON
+REFERENCE = (
+    "Namkoong, Yoo & Choi (2008) J. Fluid Mech. 604:33-53: U_t = 2.501 cm/s, "
+    "C_D = 1.232 from the net weight; Henderson (1995) Phys. Fluids 7:2102: fixed cylinder "
+    "1.350 (Re 100), 1.341 (Re 200); Williamson (1996) Annu. Rev. Fluid Mech. 28:477: "
+    "St = 0.2175 - 5.1064/Re (0.185 at Re 156)"
+)
+
+#: the columns of half_second_rows
+HALF_SECOND_COLUMNS = ["window start [s]", "C_D", "speed [m/s]", "lateral velocity rms [m/s]"]
+
+
+def half_second_rows(t, cd, speed, lateral):
+    """Per half second of the samples (t [s]): mean drag coefficient, mean
+    speed [m/s], rms of the lateral velocity [m/s]."""
+    rows = []
+    for a in np.arange(0.0, t[-1] - 1e-9, 0.5):
+        s = (t > a) & (t <= a + 0.5)
+        if s.any():
+            rows.append(
+                [
+                    float(a),
+                    float(np.mean(cd[s])),
+                    float(np.mean(speed[s])),
+                    float(np.std(lateral[s])),
+                ]
+            )
+    return rows
+
+
 def post(out, pairs):
     variants = {}
     for pair in pairs:
         variant, case = pair.split(":", 1)
         t, cd, speed, lateral = history(variant, case)
-        rows = []
-        for a in np.arange(0.0, t[-1] - 1e-9, 0.5):
-            s = (t > a) & (t <= a + 0.5)
-            if s.any():
-                rows.append(
-                    [
-                        float(a),
-                        float(np.mean(cd[s])),
-                        float(np.mean(speed[s])),
-                        float(np.std(lateral[s])),
-                    ]
-                )
         variants[variant] = {
             "end_time": float(t[-1]),
-            "per_half_second": rows,
-            "columns": ["window start [s]", "C_D", "speed [m/s]", "lateral velocity rms [m/s]"],
+            "per_half_second": half_second_rows(t, cd, speed, lateral),
+            "columns": HALF_SECOND_COLUMNS,
         }
     result = {
         "benchmark": "cylinderFreeMotion",
         "date": datetime.date.today().isoformat(),
-        "reference": "Namkoong, Yoo & Choi (2008) J. Fluid Mech. 604:33-53: U_t = 2.501 cm/s, "
-        "C_D = 1.232 from the net weight; Henderson (1995) Phys. Fluids 7:2102: fixed cylinder "
-        "1.350 (Re 100), 1.341 (Re 200)",
+        "reference": REFERENCE,
         "command": "cylinderFreeMotion.py setup VARIANT CASE 10; blockMesh; grainDeposit; "
         "cylinderFreeMotion.py start VARIANT CASE; taskset -c K vansFoam; cylinderFreeMotion.py post "
         + " ".join([os.path.basename(out)] + [p.split(":", 1)[0] + ":CASE" for p in pairs]),
