@@ -8,7 +8,7 @@ independent reference for the free cylinder's drag against the fixed one's
 The mesh is a 2D O-grid around the cylinder (D = 5 mm, rho_s/rho_f = 1.01,
 nu = 8e-7 m^2/s, the values of tutorials/vansFoam/cylinderSedimentation),
 out to a circle of radius 30 D: an unconfined fluid, like Namkoong, Yoo &
-Choi (2008).  Two modes on the same mesh:
+Choi (2008).  The modes, all on the same mesh:
 
   fixed  the cylinder at rest in a uniform stream U_t = 2.501 cm/s entering
          through the lower half of the outer circle (Re 156): the fixed
@@ -40,7 +40,6 @@ import datetime
 import json
 import math
 import os
-import shutil
 import sys
 
 import nscdpost
@@ -52,14 +51,14 @@ setupCase = nscdpost.load_module("cs_setupCase", os.path.join(tutorial, "setupCa
 freeMotion = nscdpost.load_module("cylinderFreeMotion", os.path.join(here, "cylinderFreeMotion.py"))
 
 D, RHO_F, NU, UT = setupCase.D, setupCase.RHO_F, setupCase.NU, setupCase.UT_REF
-RHO_S = 1.01 * RHO_F
+RHO_S = setupCase.RHO_S  # 1.01 rho_f
 G = 9.81
 R_OUT = 30 * D  # outer circle [m]
 LZ = 1e-3  # mesh thickness [m]; forces are per LZ
 MODES = ("fixed", "free", "norotation", "heavy")
-HEAVY = 10.0  # rho_s / rho_f of the heavy mode
-#: gravity [m/s^2] that gives the heavy cylinder the light one's net weight
-HEAVY_G = (RHO_S / RHO_F - 1) * G / (HEAVY - 1)
+#: rho_s / rho_f of the heavy mode, and the gravity [m/s^2] that gives it the
+#: light cylinder's net weight (those of the resolved `heavy` variant)
+HEAVY, HEAVY_G = freeMotion.HEAVY, freeMotion.HEAVY_G
 
 HEADER = """FoamFile
 {
@@ -209,8 +208,8 @@ boundary
 def setup(mode, case, n_theta=200, end_time=10.0):
     if mode not in MODES:
         sys.exit(f"bodyFitted.py: unknown mode {mode}; modes: {', '.join(MODES)}")
-    if os.path.exists(case):
-        shutil.rmtree(case)
+    if os.path.isdir(case) and os.listdir(case):
+        sys.exit(f"bodyFitted.py: {case} exists and is not empty; remove it or name another case")
     moving = mode != "fixed"
     h_wall = math.pi * D / n_theta
     _write(
