@@ -434,33 +434,37 @@ regions
         )
 
 
-def history(mode, case):
-    """Per forces write: time, drag coefficient, fall speed, lateral velocity."""
-    rows = []
-    for name in sorted(os.listdir(os.path.join(case, "postProcessing", "forces"))):
-        path = os.path.join(case, "postProcessing", "forces", name, "force.dat")
-        for line in open(path):
+def _rows(case, function_object, file_name):
+    """The rows of a function object's .dat file over every start time
+    (restarts), by time: {time: [numbers after the time]}; brackets dropped,
+    a later start's rows replacing an earlier one's."""
+    root = os.path.join(case, "postProcessing", function_object)
+    rows = {}
+    for name in sorted(os.listdir(root), key=float):
+        for line in open(os.path.join(root, name, file_name)):
             if line.startswith("#") or not line.strip():
                 continue
             nums = [float(x) for x in line.replace("(", " ").replace(")", " ").split()]
-            rows.append((nums[0], nums[1], nums[2]))  # time, total Fx, Fy
-    force = {t: (fx, fy) for t, fx, fy in rows}
+            rows[nums[0]] = nums[1:]
+    return rows
+
+
+def history(mode, case):
+    """Per forces write: time, drag coefficient, fall speed, lateral velocity."""
+    # total force (x, y, z) first
+    force = {t: r[:2] for t, r in _rows(case, "forces", "force.dat").items()}
     if mode == "fixed":
         t = np.array(sorted(force))
         fy = np.array([force[x][1] for x in t])
         speed, lateral = np.full(len(t), UT), np.zeros(len(t))
         omega = np.zeros(len(t))
     else:
-        state = {}
-        for name in sorted(os.listdir(os.path.join(case, "postProcessing", "body"))):
-            path = os.path.join(case, "postProcessing", "body", name, "sixDoFRigidBodyState.dat")
-            for line in open(path):
-                if line.startswith("#") or not line.strip():
-                    continue
-                nums = [float(x) for x in line.replace("(", " ").replace(")", " ").split()]
-                # time, centre of rotation (3), centre of mass (3), rotation angle (3),
-                # velocity (3), angular velocity (3)
-                state[nums[0]] = nums[10:13] + [math.radians(nums[15])]
+        # after the time: centre of rotation (3), centre of mass (3), rotation
+        # angle (3), velocity (3), angular velocity (3, degrees/s)
+        state = {
+            t: r[9:12] + [math.radians(r[14])]
+            for t, r in _rows(case, "body", "sixDoFRigidBodyState.dat").items()
+        }
         t = np.array(sorted(set(force) & set(state)))
         fy = np.array([force[x][1] for x in t])
         speed = np.array([-state[x][1] for x in t])
