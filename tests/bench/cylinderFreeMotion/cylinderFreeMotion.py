@@ -15,6 +15,8 @@ the scheme's drag from the free motion's:
              resolved 12): rotation coupling on
   norotation the same with rotationCoupling no and rigidViscosityRatio 0
              (the thesis' model: no grain rotation, no viscosity penalty)
+  rigid      rotationCoupling no with the resolved scheme's default for it,
+             the rigid interior (rigidViscosityRatio 1000)
   heavy      rho_s/rho_f = 10 under gravity 0.0109 m/s^2: the light
              cylinder's net weight, released at U_t; ten times the inertia
              against the lift, so it hardly sways: the free scheme in
@@ -57,7 +59,7 @@ D, RHO_F, UT = setupCase.D, setupCase.RHO_F, setupCase.UT_REF
 HEAVY = 10.0  # rho_s / rho_f of the heavy variant
 #: gravity [m/s^2] that gives the heavy cylinder the light one's net weight
 HEAVY_G = 0.01 * 9.81 / (HEAVY - 1)
-VARIANTS = ("light", "norotation", "heavy", "kinematic", "upstream16")
+VARIANTS = ("light", "norotation", "rigid", "heavy", "kinematic", "upstream16")
 
 
 def _replace(path, old, new):
@@ -81,7 +83,7 @@ def set_start_velocity(case, velocity):
 def setup(variant, case, cells_per_d=10.0):
     """Write the case of a variant; the kinematic and heavy start
     velocities are set by `start` after grainDeposit."""
-    if variant in ("light", "norotation", "heavy"):
+    if variant in ("light", "norotation", "rigid", "heavy"):
         # setupCase.py CASE 8 D/h 0.28 ROTATION 1e-3 resolved 12
         setupCase.cylinder_case(
             case,
@@ -89,7 +91,7 @@ def setup(variant, case, cells_per_d=10.0):
             cells_per_d,
             0.28,
             write_interval=0.05,
-            rotation=variant != "norotation",
+            rotation=variant not in ("norotation", "rigid"),
             max_dt=1e-3,
             wall_distance=12 * D,
             rho_s=HEAVY * RHO_F if variant == "heavy" else None,
