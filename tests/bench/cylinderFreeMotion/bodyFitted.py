@@ -24,13 +24,20 @@ Choi (2008).  The modes, all on the same mesh:
   heavy  free with rho_s/rho_f = 10 under the gravity that gives it the
          light cylinder's net weight, released at U_t: ten times the
          inertia against the lift, so it hardly sways
+  forced fixed's stream with the whole mesh swaying sideways as a rigid
+         body, x = A sin(2 pi f t), f = St U_t / D (solidBody motion,
+         oscillatingLinearMotion): the free light cylinder's sway (A/D
+         0.092, St 0.167) or another (setup's last two arguments) imposed
+         on a cylinder that cannot otherwise move
 
 A small lateral kick (a velocity of 1 % of U_t across a wake strip, fixed;
 a lateral body velocity of 1 % of U_t, free) starts the shedding early.
 
-usage: bodyFitted.py setup fixed|free|norotation|heavy CASE [cells around] [end time]
+usage: bodyFitted.py setup fixed|free|norotation|heavy|forced CASE [cells around] [end time]
+           [A/D St (forced)]
        (cd CASE && blockMesh && [setFields (fixed) &&] pimpleFoam)
-           one core, 200 cells around, 25 s: fixed ~10 CPU min, free ~45
+           one core, 200 cells around, 25 s: fixed ~10 CPU min, free ~45;
+           forced ~12 for 20 s
        bodyFitted.py post OUT.json [LABEL:]MODE:CASE ...
            C_D and speed per half second, and over the whole shedding
            periods of the last 10 s: C_D, speed, Strouhal number
@@ -55,7 +62,10 @@ RHO_S = setupCase.RHO_S  # 1.01 rho_f
 G = 9.81
 R_OUT = 30 * D  # outer circle [m]
 LZ = 1e-3  # mesh thickness [m]; forces are per LZ
-MODES = ("fixed", "free", "norotation", "heavy")
+MODES = ("fixed", "free", "norotation", "heavy", "forced")
+#: the forced mode's default sway: the free light cylinder's lateral
+#: amplitude over D and Strouhal number (cylinderFreeMotionBodyFitted.json)
+FORCED_AMPLITUDE, FORCED_STROUHAL = 0.092, 0.167
 #: rho_s / rho_f of the heavy mode, and the gravity [m/s^2] that gives it the
 #: light cylinder's net weight (those of the resolved `heavy` variant)
 HEAVY, HEAVY_G = freeMotion.HEAVY, freeMotion.HEAVY_G
@@ -205,19 +215,23 @@ boundary
     )
 
 
-def setup(mode, case, n_theta=200, end_time=10.0):
+def setup(
+    mode, case, n_theta=200, end_time=10.0, amplitude=FORCED_AMPLITUDE, strouhal=FORCED_STROUHAL
+):
     if mode not in MODES:
         sys.exit(f"bodyFitted.py: unknown mode {mode}; modes: {', '.join(MODES)}")
     if os.path.isdir(case) and os.listdir(case):
         sys.exit(f"bodyFitted.py: {case} exists and is not empty; remove it or name another case")
     moving = mode != "fixed"
+    stream = mode in ("fixed", "forced")  # a uniform stream of U_t, else fluid at rest
+    six_dof = moving and not stream
     h_wall = math.pi * D / n_theta
     _write(
         case, "system/blockMeshDict", "dictionary", block_mesh(n_theta, h_wall / 2, n_theta // 2)
     )
     cyl = "movingWallVelocity" if moving else "noSlip"
     cyl_value = "value uniform (0 0 0);" if moving else ""
-    inflow = "(0 0 0)" if moving else "(0 %.12g 0)" % UT
+    inflow = "(0 %.12g 0)" % UT if stream else "(0 0 0)"
     _write(
         case,
         "0/U",
@@ -249,7 +263,7 @@ boundaryField
 }
 """,
     )
-    if moving:
+    if six_dof:
         _write(
             case,
             "0/pointDisplacement",
@@ -281,7 +295,21 @@ boundaryField
         if mode == "norotation"
         else "        axis { sixDoFRigidBodyMotionConstraint axis; axis (0 0 1); }\n"
     )
-    if moving:
+    if mode == "forced":
+        _write(
+            case,
+            "constant/dynamicMeshDict",
+            "dictionary",
+            """dynamicFvMesh dynamicMotionSolverFvMesh;
+motionSolverLibs (fvMotionSolvers);
+motionSolver solidBody;   // no cellZone: the entire mesh
+solidBodyMotionFunction oscillatingLinearMotion;
+amplitude (%.12g 0 0);
+omega %.12g;
+"""
+            % (amplitude * D, 2 * math.pi * strouhal * UT / D),
+        )
+    elif moving:
         _write(
             case,
             "constant/dynamicMeshDict",
@@ -336,7 +364,7 @@ sixDoFRigidBodyMotionCoeffs
         CofR (0 0 %.12g);
     }
 """ % (RHO_F, LZ / 2)
-    if moving:
+    if six_dof:
         functions += """    body
     {
         type sixDoFRigidBodyState;
@@ -413,7 +441,7 @@ PIMPLE
     moveMeshOuterCorrectors %s;
 }
 """
-        % (3 if moving else 1, "yes" if moving else "no"),
+        % (3 if six_dof else 1, "yes" if moving else "no"),
     )
     if not moving:  # the lateral kick: 1 % of U_t across the wake strip
         _write(
@@ -449,15 +477,26 @@ def _rows(case, function_object, file_name):
     return rows
 
 
+def forced_motion(case):
+    """The forced mode's sway amplitude [m] and angular frequency [rad/s],
+    read back from CASE/constant/dynamicMeshDict."""
+    words = open(os.path.join(case, "constant", "dynamicMeshDict")).read().replace(";", " ").split()
+    amplitude = float(words[words.index("amplitude") + 1].strip("("))
+    return amplitude, float(words[words.index("omega") + 1])
+
+
 def history(mode, case):
     """Per forces write: time, drag coefficient, fall speed, lateral velocity."""
     # total force (x, y, z) first
     force = {t: r[:2] for t, r in _rows(case, "forces", "force.dat").items()}
-    if mode == "fixed":
+    if mode in ("fixed", "forced"):
         t = np.array(sorted(force))
         fy = np.array([force[x][1] for x in t])
         speed, lateral = np.full(len(t), UT), np.zeros(len(t))
         omega = np.zeros(len(t))
+        if mode == "forced":
+            amplitude, w = forced_motion(case)
+            lateral = amplitude * w * np.cos(w * t)
     else:
         # after the time: centre of rotation (3), centre of mass (3), rotation
         # angle (3), velocity (3), angular velocity (3, degrees/s)
@@ -472,7 +511,7 @@ def history(mode, case):
         omega = np.array([state[x][3] for x in t])
     cd = fy / (0.5 * RHO_F * speed**2 * D * LZ)
     # the shedding signal: the lift (fixed), the lateral velocity (free)
-    signal = np.array([force[x][0] for x in t]) if mode == "fixed" else lateral
+    signal = np.array([force[x][0] for x in t]) if mode in ("fixed", "forced") else lateral
     return t, cd, speed, lateral, signal, omega
 
 
@@ -501,6 +540,28 @@ def summary(t, cd, speed, signal, omega, window):
     }
 
 
+def forced_lift(case, window=10.0):
+    """Forced mode, over the last `window` seconds: the lift coefficient's
+    components at the forcing frequency, in phase with the displacement
+    A sin(w t) and with the velocity (least squares; the second, positive,
+    is the work the fluid does on the swaying cylinder, zero for a free one
+    without damping)."""
+    amplitude, w = forced_motion(case)
+    force = _rows(case, "forces", "force.dat")
+    t = np.array(sorted(force))
+    s = t >= t[-1] - window
+    t = t[s]
+    cl = np.array([force[x][0] for x in t]) / (0.5 * RHO_F * UT**2 * D * LZ)
+    basis = np.column_stack([np.sin(w * t), np.cos(w * t), np.ones(len(t))])
+    (a, b, _), *_ = np.linalg.lstsq(basis, cl, rcond=None)
+    return {
+        "amplitude_over_D": amplitude / D,
+        "strouhal_forced": float(w / (2 * math.pi) * D / UT),
+        "lift_in_phase_with_displacement": float(a),
+        "lift_in_phase_with_velocity": float(b),
+    }
+
+
 def post(out, pairs):
     modes = {}
     for pair in pairs:
@@ -515,6 +576,8 @@ def post(out, pairs):
             "per_half_second": freeMotion.half_second_rows(t, cd, speed, lateral),
             "columns": freeMotion.HALF_SECOND_COLUMNS,
         }
+        if mode == "forced":
+            modes[label or mode]["forced_lift"] = forced_lift(case)
     result = {
         "benchmark": "cylinderFreeMotion/bodyFitted",
         "date": datetime.date.today().isoformat(),
@@ -537,6 +600,8 @@ if __name__ == "__main__":
             sys.argv[3],
             int(sys.argv[4]) if len(sys.argv) > 4 else 200,
             float(sys.argv[5]) if len(sys.argv) > 5 else 10.0,
+            float(sys.argv[6]) if len(sys.argv) > 6 else FORCED_AMPLITUDE,
+            float(sys.argv[7]) if len(sys.argv) > 7 else FORCED_STROUHAL,
         )
     elif len(sys.argv) >= 4 and sys.argv[1] == "post":
         post(sys.argv[2], sys.argv[3:])
