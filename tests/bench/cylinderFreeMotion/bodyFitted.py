@@ -31,7 +31,8 @@ Choi (2008).  The modes, all on the same mesh:
          on a cylinder that cannot otherwise move
 
 A small lateral kick (a velocity of 1 % of U_t across a wake strip, fixed;
-a lateral body velocity of 1 % of U_t, free) starts the shedding early.
+a lateral body velocity of 1 % of U_t, free; none for forced, whose sway
+breaks the symmetry) starts the shedding early.
 
 usage: bodyFitted.py setup fixed|free|norotation|heavy|forced CASE [cells around] [end time]
            [A/D St (forced)]
@@ -220,6 +221,8 @@ def setup(
 ):
     if mode not in MODES:
         sys.exit(f"bodyFitted.py: unknown mode {mode}; modes: {', '.join(MODES)}")
+    if mode == "forced" and not (amplitude > 0 and strouhal > 0):
+        sys.exit(f"bodyFitted.py: forced sway A/D {amplitude:g}, St {strouhal:g}: both must be > 0")
     if os.path.isdir(case) and os.listdir(case):
         sys.exit(f"bodyFitted.py: {case} exists and is not empty; remove it or name another case")
     moving = mode != "fixed"
