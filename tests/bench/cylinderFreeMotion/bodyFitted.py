@@ -52,6 +52,7 @@ import sys
 
 import nscdpost
 import numpy as np
+from foamlib import FoamFile
 
 here = os.path.dirname(os.path.abspath(__file__))
 tutorial = os.path.join(here, "..", "..", "..", "tutorials", "vansFoam", "cylinderSedimentation")
@@ -482,10 +483,9 @@ def _rows(case, function_object, file_name):
 
 def forced_motion(case):
     """The forced mode's sway amplitude [m] and angular frequency [rad/s],
-    read back from CASE/constant/dynamicMeshDict."""
-    words = open(os.path.join(case, "constant", "dynamicMeshDict")).read().replace(";", " ").split()
-    amplitude = float(words[words.index("amplitude") + 1].strip("("))
-    return amplitude, float(words[words.index("omega") + 1])
+    read back from CASE/constant/dynamicMeshDict (foamlib)."""
+    mesh_dict = FoamFile(os.path.join(case, "constant", "dynamicMeshDict"))
+    return float(mesh_dict["amplitude"][0]), float(mesh_dict["omega"])
 
 
 def history(mode, case):
@@ -543,18 +543,17 @@ def summary(t, cd, speed, signal, omega, window):
     }
 
 
-def forced_lift(case, window=10.0):
-    """Forced mode, over the last `window` seconds: the lift coefficient's
-    components at the forcing frequency, in phase with the displacement
-    A sin(w t) and with the velocity (least squares; the second, positive,
-    is the work the fluid does on the swaying cylinder, zero for a free one
-    without damping)."""
+def forced_lift(case, t, lift, window=10.0):
+    """Forced mode, over the last `window` seconds of the lift force [N]
+    at times t [s] (history's signal): the lift coefficient's components at
+    the forcing frequency, in phase with the displacement A sin(w t) and
+    with the velocity (least squares; the second, positive, is the work the
+    fluid does on the swaying cylinder, zero for a free one without
+    damping)."""
     amplitude, w = forced_motion(case)
-    force = _rows(case, "forces", "force.dat")
-    t = np.array(sorted(force))
     s = t >= t[-1] - window
     t = t[s]
-    cl = np.array([force[x][0] for x in t]) / (0.5 * RHO_F * UT**2 * D * LZ)
+    cl = lift[s] / (0.5 * RHO_F * UT**2 * D * LZ)
     basis = np.column_stack([np.sin(w * t), np.cos(w * t), np.ones(len(t))])
     (a, b, _), *_ = np.linalg.lstsq(basis, cl, rcond=None)
     return {
@@ -580,7 +579,7 @@ def post(out, pairs):
             "columns": freeMotion.HALF_SECOND_COLUMNS,
         }
         if mode == "forced":
-            modes[label or mode]["forced_lift"] = forced_lift(case)
+            modes[label or mode]["forced_lift"] = forced_lift(case, t, signal)
     result = {
         "benchmark": "cylinderFreeMotion/bodyFitted",
         "date": datetime.date.today().isoformat(),
